@@ -1,0 +1,37 @@
+// Errors: the library throws cshapes::Error with a message a user can act on (which file, which element,
+// what was expected); it never prints or exits. The CLI catches, prints one line and exits non-zero.
+#pragma once
+
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace cshapes {
+
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+namespace detail {
+template <typename... Args>
+std::string concat(const Args&... args) {
+  std::ostringstream out;
+  (out << ... << args);
+  return out.str();
+}
+}  // namespace detail
+
+// Throws cshapes::Error whose message is the concatenation of the arguments.
+template <typename... Args>
+[[noreturn]] void fail(const Args&... args) {
+  throw Error(detail::concat(args...));
+}
+
+}  // namespace cshapes
+
+// Checks a precondition in every build type (unlike assert): CSHAPES_REQUIRE(n > 0, "mesh ", name, " is empty").
+#define CSHAPES_REQUIRE(cond, ...)          \
+  do {                                      \
+    if (!(cond)) ::cshapes::fail(__VA_ARGS__); \
+  } while (0)

@@ -1,0 +1,128 @@
+#include "core/synthetic.h"
+
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "core/error.h"
+
+namespace cshapes {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+Mesh from_vectors(const std::vector<Eigen::Vector3d>& verts, const std::vector<Eigen::Vector3i>& tris) {
+  Mesh m;
+  m.V.resize(verts.size(), 3);
+  for (size_t i = 0; i < verts.size(); ++i) m.V.row(i) = verts[i];
+  m.F.resize(tris.size(), 3);
+  for (size_t f = 0; f < tris.size(); ++f) m.F.row(f) = tris[f];
+  return m;
+}
+}  // namespace
+
+Mesh icosphere(int subdivisions, double radius) {
+  CSHAPES_REQUIRE(subdivisions >= 0 && subdivisions <= 8, "icosphere: subdivisions must be in 0..8, got ",
+                  subdivisions);
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> verts = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                                        {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& v : verts) v.normalize();
+  std::vector<Eigen::Vector3i> tris = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      verts.push_back((verts[a] + verts[b]).normalized());
+      return midpoint[key] = static_cast<int>(verts.size()) - 1;
+    };
+    std::vector<Eigen::Vector3i> next;
+    next.reserve(4 * tris.size());
+    for (const auto& f : tris) {
+      int a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
+      next.emplace_back(f[0], a, c);
+      next.emplace_back(f[1], b, a);
+      next.emplace_back(f[2], c, b);
+      next.emplace_back(a, b, c);
+    }
+    tris.swap(next);
+  }
+  for (auto& v : verts) v *= radius;
+  return from_vectors(verts, tris);
+}
+
+Mesh torus(int nu, int nv, double R, double r) {
+  CSHAPES_REQUIRE(nu >= 3 && nv >= 3, "torus: needs nu, nv >= 3, got ", nu, ", ", nv);
+  std::vector<Eigen::Vector3d> verts;
+  std::vector<Eigen::Vector3i> tris;
+  for (int i = 0; i < nu; ++i) {
+    double u = 2 * kPi * i / nu;
+    for (int j = 0; j < nv; ++j) {
+      double v = 2 * kPi * j / nv;
+      verts.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+    }
+  }
+  auto id = [&](int i, int j) { return ((i + nu) % nu) * nv + (j + nv) % nv; };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      tris.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      tris.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  return from_vectors(verts, tris);
+}
+
+Mesh grid(int nx, int ny, double width, double height) {
+  CSHAPES_REQUIRE(nx >= 2 && ny >= 2, "grid: needs nx, ny >= 2, got ", nx, ", ", ny);
+  std::vector<Eigen::Vector3d> verts;
+  std::vector<Eigen::Vector3i> tris;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) verts.emplace_back(width * i / (nx - 1), height * j / (ny - 1), 0.0);
+  auto id = [&](int i, int j) { return j * nx + i; };
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      if ((i + j) % 2 == 0) {
+        tris.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+        tris.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+      } else {
+        tris.emplace_back(id(i, j), id(i + 1, j), id(i, j + 1));
+        tris.emplace_back(id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+      }
+    }
+  return from_vectors(verts, tris);
+}
+
+double swiss_roll_length(double t0, double t1) {
+  auto primitive = [](double t) { return 0.5 * (t * std::sqrt(1 + t * t) + std::asinh(t)); };
+  return primitive(t1) - primitive(t0);
+}
+
+Mesh swiss_roll(const SwissRollOptions& o) {
+  CSHAPES_REQUIRE(o.nu >= 2 && o.nv >= 2, "swiss_roll: needs nu, nv >= 2, got ", o.nu, ", ", o.nv);
+  CSHAPES_REQUIRE(o.t1 > o.t0 && o.t0 >= 0 && o.height > 0, "swiss_roll: needs 0 <= t0 < t1 and height > 0");
+  // Sample t so that consecutive columns are equally spaced in arc length (Newton on the arc-length map).
+  double total = swiss_roll_length(o.t0, o.t1);
+  std::vector<double> ts(o.nu);
+  double t = o.t0;
+  for (int i = 0; i < o.nu; ++i) {
+    double target = total * i / (o.nu - 1);
+    for (int it = 0; it < 50; ++it) {
+      double f = swiss_roll_length(o.t0, t) - target;
+      t -= f / std::sqrt(1 + t * t);
+    }
+    ts[i] = t;
+  }
+  Mesh flat = grid(o.nu, o.nv, 1.0, o.height);
+  for (Index k = 0; k < flat.V.rows(); ++k) {
+    int i = static_cast<int>(k % o.nu);
+    double y = flat.V(k, 1);
+    flat.V.row(k) << ts[i] * std::cos(ts[i]), y, ts[i] * std::sin(ts[i]);
+  }
+  return flat;
+}
+
+}  // namespace cshapes

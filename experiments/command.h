@@ -1,0 +1,68 @@
+// The cshapes command registry. Each experiments/cmd_*.cpp registers its sub-commands with a static
+// registrar, so adding a command touches no shared file:
+//
+//   static const bool registered = cshapes::cli::register_command(
+//       {{"bench", "coulomb"}, "Coulomb gradient: fast vs direct", add_options, run});
+//
+// `cshapes canon` is one command for every method; a method registers with register_canon_method and gets
+// its own option group ("coulomb options", ...) in `cshapes canon --help`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/io.h"
+#include "core/mesh.h"
+#include "core/progress.h"
+
+namespace cshapes::cli {
+
+struct Command {
+  std::vector<std::string> path;  // {"info"} or {"bench", "coulomb"}
+  std::string summary;            // one line for --help
+  std::function<void(CLI::App&)> add_options;  // declares options, bound to the command's own variables
+  std::function<int()> run;        // runs after a successful parse; returns the exit code
+};
+bool register_command(Command command);
+
+// What `cshapes canon` hands a method: the mesh (reduced to its largest component when asked) and names.
+struct CanonJob {
+  std::string input_path;
+  Mesh mesh;
+  std::vector<int> vertex_map;  // vertex k of mesh is vertex vertex_map[k] of the input file
+  std::string history_path;     // empty: no history requested
+};
+// What a method gives back: the canonical form (same vertex order and faces as job.mesh), per-vertex
+// scalars to write as PLY properties (e.g. "torn"), a history table to write as CSV, and a JSON summary.
+struct CanonOutput {
+  Points X;
+  std::vector<VertexScalar> scalars;
+  std::vector<std::string> history_columns;
+  std::vector<std::vector<double>> history_rows;
+  nlohmann::json summary;
+};
+struct CanonMethod {
+  std::string name;     // value of --method
+  std::string summary;  // one line for --help
+  std::function<void(CLI::Option_group&)> add_options;
+  std::function<CanonOutput(const CanonJob&)> run;
+};
+bool register_canon_method(CanonMethod method);
+const std::vector<CanonMethod>& canon_methods();
+
+// Global options (given before or after the command).
+bool quiet();
+int threads();  // 0: OpenMP's default
+// Prints "[stage] 42% (ETA 3 s)" to stderr, at most a few times a second; silent with --quiet.
+ProgressFn progress_printer();
+// Prints a line to stderr unless --quiet.
+void note(const std::string& line);
+
+// Writes a CSV (header + rows) atomically.
+void write_csv(const std::string& path, const std::vector<std::string>& columns,
+               const std::vector<std::vector<double>>& rows);
+
+}  // namespace cshapes::cli

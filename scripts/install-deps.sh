@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs, with apt-get, the Debian packages cshapes needs that are missing. Idempotent; silent when
+# everything is present. Usage: scripts/install-deps.sh [--with-optional]
+#   required: compiler, CMake, Eigen, CGAL, nanoflann, CLI11, nlohmann-json, Spectra, SuiteSparse, GoogleTest,
+#             Python matplotlib (plots)
+#   --with-optional: also the benchmark anchors (scikit-learn, Open3D) and clang (fuzzers)
+set -euo pipefail
+
+required=(g++ cmake make libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libnanoflann-dev libcli11-dev
+  nlohmann-json3-dev libspectra-dev libsuitesparse-dev libgtest-dev python3 python3-matplotlib python3-numpy)
+optional=(python3-sklearn python3-open3d clang libomp-dev)
+
+wanted=("${required[@]}")
+[[ "${1:-}" == "--with-optional" ]] && wanted+=("${optional[@]}")
+
+missing=()
+for pkg in "${wanted[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+# Refresh the package lists only when they are missing or older than a day.
+if [[ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1)" ]]; then
+  $sudo apt-get update -qq >&2
+fi
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

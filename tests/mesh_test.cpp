@@ -1,0 +1,126 @@
+#include "core/mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(Synthetic, IcosphereCountsAndArea) {
+  for (int s = 0; s <= 4; ++s) {
+    Mesh m = icosphere(s);
+    MeshInfo info = mesh_info(m);
+    long f = 20L << (2 * s);
+    EXPECT_EQ(info.vertices, f / 2 + 2);
+    EXPECT_EQ(info.faces, f);
+    EXPECT_EQ(info.edges, 3 * f / 2);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    EXPECT_EQ(info.genus, 0);
+    EXPECT_EQ(info.components, 1);
+    EXPECT_EQ(info.boundary_edges, 0);
+  }
+  // The inscribed polyhedron converges to the sphere's area from below.
+  double area = mesh_info(icosphere(5)).area;
+  EXPECT_LT(area, 4 * kPi);
+  EXPECT_NEAR(area, 4 * kPi, 4 * kPi * 2e-3);
+}
+
+TEST(Synthetic, TorusIsGenusOne) {
+  Mesh m = torus(64, 32, 2.0, 0.5);
+  MeshInfo info = mesh_info(m);
+  EXPECT_EQ(info.vertices, 64 * 32);
+  EXPECT_EQ(info.faces, 2 * 64 * 32);
+  EXPECT_EQ(info.euler_characteristic, 0);
+  EXPECT_EQ(info.genus, 1);
+  EXPECT_NEAR(info.area, 4 * kPi * kPi * 2.0 * 0.5, 4 * kPi * kPi * 2.0 * 0.5 * 5e-3);
+}
+
+TEST(Synthetic, GridIsAFlatDisk) {
+  Mesh m = grid(11, 7, 2.0, 3.0);
+  MeshInfo info = mesh_info(m);
+  EXPECT_EQ(info.vertices, 77);
+  EXPECT_EQ(info.faces, 2 * 10 * 6);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  EXPECT_EQ(info.boundary_edges, 2 * (10 + 6));
+  EXPECT_EQ(info.boundary_loops, 1);
+  EXPECT_EQ(info.genus, 0);
+  EXPECT_NEAR(info.area, 6.0, 1e-12);
+  EXPECT_NEAR(info.bbox_diagonal, std::sqrt(13.0), 1e-12);
+}
+
+TEST(Synthetic, SwissRollHasThePapersSizeAndItsLength) {
+  SwissRollOptions o;
+  Mesh m = swiss_roll(o);
+  MeshInfo info = mesh_info(m);
+  EXPECT_EQ(info.vertices, 561);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  // Polyline length along one row approaches the analytic arc length from below.
+  double polyline = 0;
+  for (int i = 0; i + 1 < o.nu; ++i) polyline += (m.V.row(i + 1) - m.V.row(i)).norm();
+  double exact = swiss_roll_length(o.t0, o.t1);
+  EXPECT_LT(polyline, exact);
+  EXPECT_NEAR(polyline, exact, exact * 0.01);
+  EXPECT_NEAR(info.area, exact * o.height, exact * o.height * 0.01);
+}
+
+TEST(Mesh, AdjacencyIsSymmetricAndSorted) {
+  Mesh m = icosphere(2);
+  Edges E = mesh_edges(m.F);
+  Adjacency adj = adjacency(m.num_vertices(), E);
+  for (Index i = 0; i < m.num_vertices(); ++i) {
+    for (int k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k) {
+      int j = adj.neighbors[k];
+      if (k > adj.offsets[i]) {
+        EXPECT_LT(adj.neighbors[k - 1], j);
+      }
+      const Eigen::RowVector2i& e = E.row(adj.edge_ids[k]);
+      EXPECT_TRUE((e(0) == i && e(1) == j) || (e(0) == j && e(1) == i));
+      // j lists i back
+      bool back = false;
+      for (int q = adj.offsets[j]; q < adj.offsets[j + 1]; ++q) back |= adj.neighbors[q] == i;
+      EXPECT_TRUE(back);
+    }
+  }
+}
+
+TEST(Mesh, ComponentsAndLargestComponent) {
+  Mesh a = icosphere(1), b = torus(8, 6);
+  Mesh both;
+  both.V.resize(a.V.rows() + b.V.rows(), 3);
+  both.V << a.V, (b.V.rowwise() + Eigen::RowVector3d(5, 0, 0));
+  both.F.resize(a.F.rows() + b.F.rows(), 3);
+  both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+  MeshInfo info = mesh_info(both);
+  EXPECT_EQ(info.components, 2);
+  EXPECT_EQ(info.euler_characteristic, 2);
+  EXPECT_EQ(info.genus, 1);
+  EXPECT_THROW(require_connected(both, "two.off", false, nullptr), Error);
+  std::string note;
+  Submesh sub = require_connected(both, "two.off", true, &note);
+  EXPECT_EQ(sub.mesh.num_vertices(), b.V.rows());  // the torus: 48 vertices against the sphere's 42
+  EXPECT_EQ(mesh_info(sub.mesh).genus, 1);
+  EXPECT_NE(note.find("two.off"), std::string::npos);
+}
+
+TEST(Mesh, ToscaCatIsAClosedSphere) {
+  CSHAPES_REQUIRE_DATA();
+  Mesh cat = read_mesh(test::tosca5k("cat0"));
+  MeshInfo info = mesh_info(cat);
+  EXPECT_EQ(info.vertices, 5000);
+  EXPECT_EQ(info.faces, 9996);
+  EXPECT_EQ(info.euler_characteristic, 2);
+  EXPECT_EQ(info.components, 1);
+  EXPECT_EQ(info.boundary_edges, 0);
+  EXPECT_NEAR(info.bbox_diagonal, 224, 5);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,34 @@
+// Helpers shared by the GoogleTest files: where the shared data is, scratch directories, running the CLI.
+#pragma once
+
+#include <string>
+
+namespace cshapes::test {
+
+// The TOSCA data folder: $CSHAPES_DATA, else ../shared/data beside the repository. "" when absent.
+std::string data_dir();
+// Path of a tosca5k shape, e.g. tosca5k("cat0") -> ".../tosca5k/cat0.off". Skips the test when absent
+// (use inside a TEST body via CSHAPES_REQUIRE_DATA).
+std::string tosca5k(const std::string& name);
+
+// A fresh empty directory under the build's temp area, unique per call.
+std::string scratch_dir(const std::string& tag);
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+// Runs build/cshapes with the given argument string (shell-quoted by the caller).
+CliResult run_cli(const std::string& arguments);
+
+// Writes text to a file (creating parent directories).
+void write_text(const std::string& path, const std::string& text);
+
+}  // namespace cshapes::test
+
+// Skips the current test with a message when the shared TOSCA data is not available.
+#define CSHAPES_REQUIRE_DATA()                                                                 \
+  do {                                                                                          \
+    if (::cshapes::test::data_dir().empty()) GTEST_SKIP() << "../shared/data not found (set CSHAPES_DATA)"; \
+  } while (0)
