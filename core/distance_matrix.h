@@ -1,0 +1,27 @@
+// All-pairs distance matrices (geodesic distances for MDS) and their binary file format.
+//
+// File format (.bin), little endian:
+//   bytes 0-7    magic "CSHDIST1"
+//   bytes 8-15   n, uint64
+//   then n×n float32, row-major: entry (i, j) at offset 16 + 4·(i·n + j)
+// The matrix is symmetric with a zero diagonal; infinity marks unreachable pairs (disconnected meshes).
+#pragma once
+
+#include <string>
+
+#include "core/types.h"
+
+namespace cshapes {
+
+// n×n single precision (22,738 vertices: 2.07 GB). Symmetric, so storage order does not matter.
+using DistanceMatrix = Eigen::MatrixXf;
+
+void write_distance_matrix(const std::string& path, const DistanceMatrix& D);  // atomic (temp + rename)
+DistanceMatrix read_distance_matrix(const std::string& path);
+
+// Bytes needed for an n×n float matrix.
+double distance_matrix_bytes(Index n);
+// Throws, with the figures, when `bytes` (for `what`) exceed the memory available now (MemAvailable).
+void require_memory(double bytes, const std::string& what);
+
+}  // namespace cshapes
