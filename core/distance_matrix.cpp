@@ -65,7 +65,7 @@ DistanceMatrix read_distance_matrix(const std::string& path) {
   in.seekg(16);
   in.read(reinterpret_cast<char*>(D.data()), static_cast<std::streamsize>(4 * n * n));
   if (!in) fail(path, ": read error");
-  // Store as read (row-major); symmetrise defensively in case a writer was not symmetric.
+  // The file is row-major and Eigen column-major: transposing makes D(i, j) the file's entry (i, j).
   D.transposeInPlace();
   return D;
 }
