@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/intrinsic_delaunay.h"
 
 #ifdef CSHAPES_HAVE_CHOLMOD
 #include <cholmod.h>
@@ -127,9 +128,10 @@ class SparseCholesky {
 }  // namespace
 
 struct HeatMethod::Impl {
-  Faces F;
-  // Per face and corner c, r_c = ½ N × e_c (e_c the edge opposite c, counter-clockwise): the face's area
-  // times the gradient of the hat function of its corner c. 9 values per face.
+  Faces F;  // faces of the triangulation used (the mesh's, or its intrinsic Delaunay flips)
+  // Per face and corner c, r_c = ½ J e_c in the face's own plane (e_c the edge opposite c, counter-clockwise,
+  // J the rotation by +90°): the face's area times the gradient of the hat function of corner c.
+  // 6 values per face (2-D: an intrinsic triangle has no embedding, only a layout from its edge lengths).
   std::vector<double> r;
   std::vector<int> component;  // connected component of each vertex; -1 for a vertex in no face
   std::vector<int> pinned;     // one vertex per component: φ = 0 there
@@ -140,15 +142,17 @@ struct HeatMethod::Impl {
     std::fill(b, b + n, 0.0);
     const Index m = F.rows();
     for (Index f = 0; f < m; ++f) {
-      const double* rf = &r[9 * f];
-      const double u0 = u[F(f, 0)], u1 = u[F(f, 1)], u2 = u[F(f, 2)];
-      double gx = u0 * rf[0] + u1 * rf[3] + u2 * rf[6];
-      double gy = u0 * rf[1] + u1 * rf[4] + u2 * rf[7];
-      double gz = u0 * rf[2] + u1 * rf[5] + u2 * rf[8];
-      const double norm = std::sqrt(gx * gx + gy * gy + gz * gz);
+      const double* rf = &r[6 * f];
+      const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
+      const double u0 = u[v0], u1 = u[v1], u2 = u[v2];
+      double gx = u0 * rf[0] + u1 * rf[2] + u2 * rf[4];
+      double gy = u0 * rf[1] + u1 * rf[3] + u2 * rf[5];
+      const double norm = std::sqrt(gx * gx + gy * gy);
       if (!(norm > 0)) continue;  // u underflowed to a constant here: no direction to follow
-      gx /= -norm, gy /= -norm, gz /= -norm;
-      for (int c = 0; c < 3; ++c) b[F(f, c)] += rf[3 * c] * gx + rf[3 * c + 1] * gy + rf[3 * c + 2] * gz;
+      gx /= -norm, gy /= -norm;
+      b[v0] += rf[0] * gx + rf[1] * gy;
+      b[v1] += rf[2] * gx + rf[3] * gy;
+      b[v2] += rf[4] * gx + rf[5] * gy;
     }
     for (int p : pinned) b[p] = 0;
   }
@@ -161,33 +165,36 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ", options.time_factor);
   CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
   Impl& im = *impl_;
-  im.F = mesh.F;
-  im.r.resize(9 * m);
+  IntrinsicTriangulation T = options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  flips_ = T.flips;
+  im.F = T.F;
+  im.r.resize(6 * m);
   std::vector<Eigen::Triplet<double>> stiffness;
   stiffness.reserve(9 * m);
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
+  double length_sum = 0;
   for (Index f = 0; f < m; ++f) {
-    int v[3];
+    const int v[3] = {T.F(f, 0), T.F(f, 1), T.F(f, 2)};
+    // Layout: corner 0 at the origin, corner 1 on the x axis, corner 2 above.
+    const double l01 = T.length(f, 0), l12 = T.length(f, 1), l20 = T.length(f, 2);
+    length_sum += l01 + l12 + l20;
+    const double x2 = (l01 * l01 + l20 * l20 - l12 * l12) / (2 * l01);
+    const double y2 = std::sqrt(std::max(0.0, l20 * l20 - x2 * x2));
+    const double area = 0.5 * l01 * y2;
+    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1], ", ",
+                    v[2], ") has zero area; the heat method needs non-degenerate triangles");
+    const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
+    Eigen::Vector2d rc[3];
     for (int c = 0; c < 3; ++c) {
-      v[c] = mesh.F(f, c);
-      CSHAPES_REQUIRE(v[c] >= 0 && v[c] < n, "heat method: face ", f, " has vertex index ", v[c], " outside 0..",
-                      n - 1);
-    }
-    Eigen::Vector3d x[3] = {mesh.V.row(v[0]), mesh.V.row(v[1]), mesh.V.row(v[2])};
-    Eigen::Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]);
-    const double twice_area = normal.norm();
-    CSHAPES_REQUIRE(twice_area > 0, "heat method: face ", f, " (vertices ", v[0], ", ", v[1], ", ", v[2],
-                    ") has zero area; the heat method needs non-degenerate triangles");
-    normal /= twice_area;
-    Eigen::Vector3d rc[3];
-    for (int c = 0; c < 3; ++c) {
-      rc[c] = 0.5 * normal.cross(x[(c + 2) % 3] - x[(c + 1) % 3]);
-      for (int d = 0; d < 3; ++d) im.r[9 * f + 3 * c + d] = rc[c][d];
-      mass[v[c]] += twice_area / 6;  // eq. (lumped mass): a third of each incident triangle
+      const Eigen::Vector2d e = x[(c + 2) % 3] - x[(c + 1) % 3];
+      rc[c] = 0.5 * Eigen::Vector2d(-e.y(), e.x());
+      im.r[6 * f + 2 * c] = rc[c].x();
+      im.r[6 * f + 2 * c + 1] = rc[c].y();
+      mass[v[c]] += area / 3;  // lumped (barycentric) mass: a third of each incident triangle
     }
     // L_ab = Σ_f A_f ∇ψ_a·∇ψ_b = Σ_f r_a·r_b / A_f: the cotangent Laplacian.
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) stiffness.emplace_back(v[a], v[b], rc[a].dot(rc[b]) / (0.5 * twice_area));
+      for (int b = 0; b < 3; ++b) stiffness.emplace_back(v[a], v[b], rc[a].dot(rc[b]) / area);
   }
   SparseMatrix L(n, n);
   L.setFromTriplets(stiffness.begin(), stiffness.end());
@@ -206,9 +213,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   for (int p : first)
     if (p >= 0) im.pinned.push_back(p);
 
-  // eq. (5): t = m h², h the mean edge length.
-  Edges E = mesh_edges(mesh.F);
-  const double h = edge_lengths(mesh.V, E).mean();
+  // eq. (5): t = m h², h the mean edge length (over half-edges: on a closed mesh, the mean edge length).
+  const double h = length_sum / (3.0 * m);
   time_step_ = options.time_factor * h * h;
 
   // Vertices in no face get an identity row, so both systems stay definite.
