@@ -1,6 +1,6 @@
-// libFuzzer target for one mesh reader, chosen at compile time: -DCSHAPES_FUZZ_FORMAT="off" (or ply, obj, stl,
-// xyz; "vert" for the TOSCA pair, whose input is the .vert text, a NUL byte, then the .tri text).
-// Any cshapes::Error is the expected outcome for bad input; anything else (crash, sanitizer report, other
+// libFuzzer target for one mesh reader, chosen at compile time: -DCSHAPES_FUZZ_FORMAT="off" (or ply, obj,
+// stl, xyz; "vert" for the TOSCA pair, whose input is the .vert text, a NUL byte, then the .tri text). Any
+// cshapes::Error is the expected outcome for bad input; anything else (crash, sanitizer report, other
 // exception, leak, huge allocation) is a finding. Built and run by tests/fuzz/run.sh.
 #include <cstddef>
 #include <cstdint>
