@@ -207,6 +207,28 @@ TEST(IoRead, BinaryBigEndianPlyWithOtherPropertiesAndElements) {
   fs::remove_all(dir);
 }
 
+TEST(IoRead, BinaryFormatsNameTheElement) {
+  std::string dir = test::scratch_dir("io");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, nan}) put<double>(ply, v, false);
+  std::string faces;
+  put<uint8_t>(faces, 3, false);
+  for (int32_t i : {0, 1, 2}) put<int32_t>(faces, i, false);
+  std::string path = write_bytes(dir + "/nan.ply", ply + faces);
+  expect_refused(path, {path + ": vertex 2", "non-finite z"});
+  std::string stl(80, ' ');
+  put<uint32_t>(stl, 1, false);
+  for (float v : {0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, std::numeric_limits<float>::infinity()})
+    put<float>(stl, v, false);
+  put<uint16_t>(stl, 0, false);
+  path = write_bytes(dir + "/inf.stl", stl);
+  expect_refused(path, {path + ": triangle 0 corner 2", "non-finite"});
+  fs::remove_all(dir);
+}
+
 TEST(IoRead, AsciiPlyPolygonsAndLineNumbers) {
   std::string dir = test::scratch_dir("io");
   std::string header =
