@@ -79,7 +79,9 @@ NamedDistances read_distance_csv(const std::string& path) {
   };
   NamedDistances result;
   size_t first_row = 0;
-  bool header = !all_numbers(rows[0], 0);
+  // No header but a name column: every row "name,d_1,…,d_N" with N the number of rows.
+  bool names_only_in_rows = rows[0].size() == rows.size() + 1 && !all_numbers(rows[0], 0) && all_numbers(rows[0], 1);
+  bool header = !names_only_in_rows && !all_numbers(rows[0], 0);
   size_t n = header ? rows.size() - 1 : rows.size();
   // A name column: data rows with N+1 fields whose first is not a number (or a header with N+1 cells).
   bool name_column = false;
