@@ -88,7 +88,9 @@ NamedDistances read_distance_csv(const std::string& path) {
   if (header) {
     first_row = 1;
     std::vector<std::string> names = rows[0];
-    if (names.size() == n + 1) {
+    double v;
+    bool rows_named = rows.size() > 1 && !parse_number(rows[1][0], v);
+    if (names.size() == n + 1 && rows_named) {
       name_column = true;
       names.erase(names.begin());
     }
