@@ -8,6 +8,9 @@
 
 #include "core/error.h"
 #include "core/io.h"
+#include "matching/shape_distance.h"
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -283,6 +286,28 @@ TEST(Icp, KeyStringDistinguishesOptions) {
   b.trim_fraction = 0.1;
   EXPECT_NE(to_key_string(a), to_key_string(b));
   EXPECT_EQ(to_key_string(a), to_key_string(IcpOptions{}));
+}
+
+TEST(AlignCli, RecoversAMirroredCopy) {
+  std::string dir = test::scratch_dir("align");
+  Mesh a{lumpy_blob(800, 19), Faces(0, 3)};
+  Mesh b{random_rigid_transform(20, 3.0, true).apply(a.V), Faces(0, 3)};
+  write_mesh(dir + "/a.off", a);
+  write_mesh(dir + "/b.off", b);
+  test::CliResult r = test::run_cli("align '" + dir + "/a.off' '" + dir + "/b.off' --json -o '" + dir + "/moved.off'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["reflection"].get<bool>());
+  EXPECT_LT(j["hausdorff"].get<double>(), 1e-6);
+  EXPECT_EQ(j["transform"].size(), 4u);
+  EXPECT_LT(shape_distance(read_mesh(dir + "/moved.off").V, b.V).hausdorff, 1e-5);
+  // Rotations only: the mirror image cannot be undone.
+  r = test::run_cli("align '" + dir + "/a.off' '" + dir + "/b.off' --json --no-reflections");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j["reflection"].get<bool>());
+  EXPECT_GT(j["hausdorff"].get<double>(), 1e-3);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -5,6 +5,12 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "eval/distance_csv.h"
+#include "tests/test_support.h"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <fstream>
 
 namespace cshapes {
 namespace {
@@ -195,6 +201,35 @@ TEST(Retrieval, LabelsFromClassNames) {
   std::vector<std::string> names;
   EXPECT_EQ(labels_from_classes({"cat", "dog", "cat", "man"}, &names), (std::vector<int>{0, 1, 0, 2}));
   EXPECT_EQ(names, (std::vector<std::string>{"cat", "dog", "man"}));
+}
+
+TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
+  // The hand matrix with names whose prefixes give the classes (man0 alone: skipped as a query).
+  std::string dir = test::scratch_dir("evaluate");
+  write_distance_csv(dir + "/d.csv", {"cat0", "cat1", "cat2", "dog0", "dog1", "dog2", "man0"}, hand_matrix());
+  test::CliResult r = test::run_cli("evaluate '" + dir + "/d.csv' -o '" + dir + "/out' --json -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json m = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(m["map"].get<double>(), (0.75 + 1 + 7.0 / 12 + 0.7 + 1 + 0.7) / 6, 1e-12);
+  EXPECT_NEAR(m["nn"].get<double>(), 5.0 / 6, 1e-12);
+  EXPECT_NEAR(m["ft"].get<double>(), 4.0 / 6, 1e-12);
+  EXPECT_NEAR(m["st"].get<double>(), 5.0 / 6, 1e-12);
+  EXPECT_NEAR(m["e"].get<double>(), 0.5, 1e-12);
+  EXPECT_EQ(m["pr"]["recall"].size(), 21u);
+  EXPECT_EQ(m["skipped"].get<int>(), 1);
+  for (const char* file : {"metrics.json", "pr.csv", "queries.csv", "matrix.csv", "confusion.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
+  // Labels from a file override the names: all seven in one class → every result relevant.
+  test::write_text(dir + "/labels.csv", "a\na\na\na\na\na\na\n");
+  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' -o '" + dir + "/out2' --json -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
+  // A broken file: a one-line error, non-zero exit.
+  test::write_text(dir + "/bad.csv", "a,b\n0,1\n");
+  r = test::run_cli("evaluate '" + dir + "/bad.csv' -o '" + dir + "/out3' -q");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("bad.csv"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
