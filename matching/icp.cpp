@@ -429,7 +429,8 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
   // The best one to convergence on all points.
   const int best = order.front();
   Track& winner = tracks[static_cast<size_t>(best)];
-  iterate(winner, source, target, levels - 1, o.max_iterations, o);
+  const bool refined = o.refine_on_all_points || levels == 1;
+  if (refined) iterate(winner, source, target, levels - 1, o.max_iterations, o);
 
   // Back from centred coordinates: y − c_t = R (x − c_s) + t'  ⇒  t = t' + c_t − R c_s.
   result.transform.rotation = winner.T.rotation;
@@ -469,6 +470,11 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
     result.target_to_source[target_rows[static_cast<size_t>(k)]] = source_rows[static_cast<size_t>(winner.nn_ts[k])];
     result.target_to_source_distance[target_rows[static_cast<size_t>(k)]] = std::sqrt(winner.d2_ts[k]);
   }
+  if (!refined) {  // the RMSE of all pairs under the subsample's transform
+    result.rmse = std::sqrt((winner.d2_st.sum() + winner.d2_ts.sum()) / static_cast<double>(S.rows() + Tg.rows()));
+    result.inlier_fraction = 1;
+    result.iterations = 0;
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   return result;
 }
@@ -484,7 +490,7 @@ std::string to_key_string(const IcpOptions& o) {
   out << "icp;try_principal_axes=" << o.try_principal_axes << ";allow_reflections=" << o.allow_reflections << ";try_axis_swaps=" << o.try_axis_swaps
       << ";try_identity=" << o.try_identity << ";pyramid=";
   for (Index m : o.pyramid) out << m << ',';
-  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists << ";seed=" << o.seed
+  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists << ";seed=" << o.seed << ";refine_on_all_points=" << o.refine_on_all_points
       << ";max_iterations=" << o.max_iterations << ";relative_tolerance=" << o.relative_tolerance
       << ";absolute_tolerance=" << o.absolute_tolerance << ";symmetric=" << o.symmetric
       << ";trim_fraction=" << o.trim_fraction << ";max_correspondence_distance=" << o.max_correspondence_distance;

@@ -82,6 +82,10 @@ struct IcpOptions {
   int screening_iterations = 8;  // ICP steps per start on the coarsest level before ranking the starts
   int finalists = 2;             // starts carried to convergence on the finer subsamples
   uint64_t seed = 1;             // for the subsamples
+  // Iterate on all points after the finest subsample. false: keep the finest subsample's transform (its
+  // RMSE is an unbiased estimate of the full one) and only compute the final correspondences on all
+  // points — about 40% faster for 5,000 points, distances within ~0.5% (see cshapes bench icp).
+  bool refine_on_all_points = true;
 
   // Iterations.
   int max_iterations = 100;           // per start and level
@@ -145,9 +149,11 @@ class IcpShape {
 
 struct IcpResult {
   RigidTransform transform;  // maps source onto target: y ≈ R·x + t
-  double rmse = 0;           // RMS distance of the kept pairs at the last step on all points (target units)
+  // RMS distance of the kept pairs at the last step on all points (target units); without
+  // refine_on_all_points, of all nearest-neighbour pairs of both directions under the final transform.
+  double rmse = 0;
   double inlier_fraction = 1;  // fraction of pairs kept at that step (below 1 with trimming / max distance)
-  int iterations = 0;          // ICP steps of the winning start on all points
+  int iterations = 0;          // ICP steps of the winning start on all points (0 without refine_on_all_points)
   int total_iterations = 0;    // ICP steps of every start on every level
   bool converged = false;      // stopped by a tolerance rather than max_iterations
   std::string stop_reason;     // "relative change", "exact fit" or "max iterations"

@@ -204,6 +204,26 @@ TEST(Icp, NoReflectionsWhenForbidden) {
   }
 }
 
+TEST(Icp, WithoutRefinementStillExactAndConsistent) {
+  // Subsample queries are matched against all points, so the finest subsample alone pins an exact copy
+  // down; the reported RMSE is then that of all nearest-neighbour pairs.
+  Points A = lumpy_blob(3000, 21);
+  const double radius = rms_radius(A);
+  IcpOptions options;
+  options.refine_on_all_points = false;
+  for (int trial = 0; trial < 5; ++trial) {
+    RigidTransform truth = random_rigid_transform(900 + trial, radius, trial % 2 == 0);
+    IcpResult r = icp(A, truth.apply(A), options);
+    EXPECT_LT(transform_error(r.transform, truth, radius), 1e-6);
+    EXPECT_EQ(r.iterations, 0);
+  }
+  Points B = lumpy_blob(2500, 22);
+  IcpResult r = icp(A, B, options);
+  double all_pairs = std::sqrt((r.source_to_target_distance.squaredNorm() + r.target_to_source_distance.squaredNorm()) /
+                               double(A.rows() + B.rows()));
+  EXPECT_NEAR(r.rmse, all_pairs, 1e-12 * radius);
+}
+
 TEST(Icp, DifferentSizesOneDirection) {
   // B: 2,000 of A's points, moved. Matched from B to all of A (one direction), every B point has its exact
   // partner, so the motion is recovered exactly although the sets differ in size.
