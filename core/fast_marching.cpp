@@ -14,7 +14,9 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross2(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 // Faces around each undirected edge, found by binary search in a sorted (edge key, face) list.
 class EdgeFaces {
@@ -73,7 +75,7 @@ double triangle_update(const FastMarching::Stencil& s, double t_p, double t_q) {
   // Work relative to T_P for accuracy far from the source: T' = T_C - T_P, right-hand side (0, T_Q - T_P).
   const double dq = t_q - t_p;
   const double a0 = s.inv00 + s.inv01, a1 = s.inv10 + s.inv11;  // a = M^{-1} 1
-  const double b0 = s.inv01 * dq, b1 = s.inv11 * dq;              // b = M^{-1} (0, dq)
+  const double b0 = s.inv01 * dq, b1 = s.inv11 * dq;            // b = M^{-1} (0, dq)
   const double aa = a0 * a0 + a1 * a1, ab = a0 * b0 + a1 * b1, bb = b0 * b0 + b1 * b1;
   // |b - T' a|^2 = 1
   const double disc = ab * ab - aa * (bb - 1.0);
@@ -97,8 +99,8 @@ FastMarching::FastMarching(const Mesh& mesh, const FastMarchingOptions& options)
   const Faces& F = mesh.F;
   for (Index f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      CSHAPES_REQUIRE(F(f, c) >= 0 && F(f, c) < num_vertices_, "fast marching: face ", f, " has vertex index ",
-                      F(f, c), " outside 0..", num_vertices_ - 1);
+      CSHAPES_REQUIRE(F(f, c) >= 0 && F(f, c) < num_vertices_, "fast marching: face ", f,
+                      " has vertex index ", F(f, c), " outside 0..", num_vertices_ - 1);
   EdgeFaces edge_faces(F);
   auto length = [&](int i, int j) { return (V.row(i) - V.row(j)).norm(); };
 
@@ -185,7 +187,8 @@ void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& d
   using Item = std::pair<double, int>;
   std::vector<Item> storage;
   storage.reserve(2 * static_cast<size_t>(num_vertices_));
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap(std::greater<Item>(), std::move(storage));
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap(std::greater<Item>(),
+                                                                        std::move(storage));
   for (int s : sources) {
     CSHAPES_REQUIRE(s >= 0 && s < num_vertices_, "fast marching: source vertex ", s, " out of range 0..",
                     num_vertices_ - 1);
@@ -201,7 +204,8 @@ void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& d
       const Stencil& s = stencils_[k];
       if (alive[s.target]) continue;
       double candidate = t_i + s.p_len;
-      if (s.other >= 0 && alive[s.other]) candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
+      if (s.other >= 0 && alive[s.other])
+        candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
       if (candidate < dist[s.target]) {
         dist[s.target] = candidate;
         heap.emplace(candidate, s.target);

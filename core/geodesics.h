@@ -1,4 +1,5 @@
-// Geodesic distances on a triangle mesh: single-source, multi-source and all-pairs, by one of several methods.
+// Geodesic distances on a triangle mesh: single-source, multi-source and all-pairs, by one of several
+// methods.
 //
 // Methods (GeodesicOptions::method; names as parse_geodesic_method takes them):
 //   heat       the heat method of our own (core/heat_method.h): both systems factorised once (CHOLMOD),
@@ -15,7 +16,8 @@
 // graph ~5-10%.
 //
 // Distances are in the mesh's units. Unreachable vertices (other components) get +infinity in the
-// single-source functions; all-pairs refuses disconnected meshes (an n×n matrix of infinities is useless to MDS).
+// single-source functions; all-pairs refuses disconnected meshes (an n×n matrix of infinities is useless to
+// MDS).
 #pragma once
 
 #include <string>
@@ -41,10 +43,11 @@ GeodesicMethod parse_geodesic_method(const std::string& name);
 std::string to_string(GeodesicMethod method);
 
 struct GeodesicOptions {
-  GeodesicMethod method = GeodesicMethod::Heat;     // see the table above
-  CgalHeatMode heat_mode = CgalHeatMode::IntrinsicDelaunay;  // heat and heat-cgal: Direct or IntrinsicDelaunay
-  double heat_time_factor = 1.0;                    // heat (ours): t = factor · h²
-  ProgressFn progress;                              // all-pairs only: called as sources finish
+  GeodesicMethod method = GeodesicMethod::Heat;  // see the table above
+  CgalHeatMode heat_mode =
+      CgalHeatMode::IntrinsicDelaunay;  // heat and heat-cgal: Direct or IntrinsicDelaunay
+  double heat_time_factor = 1.0;        // heat (ours): t = factor · h²
+  ProgressFn progress;                  // all-pairs only: called as sources finish
 };
 
 // Distances from the nearest of `sources` to every vertex (n values); +infinity where unreachable.

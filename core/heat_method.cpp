@@ -66,7 +66,8 @@ class SparseCholesky {
     Eigen::SimplicialLLT<SparseMatrix> llt(A);
     CSHAPES_REQUIRE(llt.info() == Eigen::Success, "heat method: the ", what,
                     " matrix could not be factorised; degenerate triangles?");
-    // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of A.
+    // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of
+    // A.
     SparseMatrix L = llt.matrixL();
     L.makeCompressed();
     colptr_.assign(L.outerIndexPtr(), L.outerIndexPtr() + n_ + 1);
@@ -112,7 +113,9 @@ class SparseCholesky {
     for (Index r = 0; r < n_; ++r) B.row(perm_[r]) = work.row(r);
   }
 
-  Index factor_nonzeros() const { return static_cast<Index>(value_.size()); }
+  Index factor_nonzeros() const {
+    return static_cast<Index>(value_.size());
+  }
 
   static std::string backend() {
 #ifdef CSHAPES_HAVE_CHOLMOD
@@ -200,10 +203,12 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     : impl_(std::make_unique<Impl>()), num_vertices_(mesh.num_vertices()), options_(options) {
   const Index n = num_vertices_, m = mesh.num_faces();
   CSHAPES_REQUIRE(m > 0, "heat method: the mesh has no faces (a point cloud); use --method graph");
-  CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ", options.time_factor);
+  CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ",
+                  options.time_factor);
   CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
   Impl& im = *impl_;
-  IntrinsicTriangulation T = options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  IntrinsicTriangulation T =
+      options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
   flips_ = T.flips;
   im.F = T.F;
   im.r.resize(6 * m);
@@ -219,8 +224,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     const double x2 = (l01 * l01 + l20 * l20 - l12 * l12) / (2 * l01);
     const double y2 = std::sqrt(std::max(0.0, l20 * l20 - x2 * x2));
     const double area = 0.5 * l01 * y2;
-    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1], ", ",
-                    v[2], ") has zero area; the heat method needs non-degenerate triangles");
+    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1],
+                    ", ", v[2], ") has zero area; the heat method needs non-degenerate triangles");
     const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
     Eigen::Vector2d rc[3];
     for (int c = 0; c < 3; ++c) {
@@ -279,7 +284,9 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
 
 HeatMethod::~HeatMethod() = default;
 
-std::string HeatMethod::backend() const { return SparseCholesky::backend(); }
+std::string HeatMethod::backend() const {
+  return SparseCholesky::backend();
+}
 
 Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
   const Index n = num_vertices_;
@@ -338,35 +345,37 @@ void HeatMethod::for_each_source(
       failed = static_cast<bool>(error);
       if (failed) continue;
       try {
-      const Index begin = b * block, k = std::min(block, count - begin);
-      U.setZero(n, k);
-      for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
-      im.heat.solve(U, work);
-      im.divergence(U, phi);
-      im.poisson.solve(phi, work);
-      // Transpose to one column per source in tiles of rows (the row-major block is too large for the cache).
-      columns.resize(n, k);
-      constexpr Index tile = 64;
-      for (Index i0 = 0; i0 < n; i0 += tile)
-        for (Index j = 0; j < k; ++j)
-          for (Index i = i0; i < std::min(n, i0 + tile); ++i) columns(i, j) = phi(i, j);
-      for (Index j = 0; j < k; ++j) {
-        const int s = sources[begin + j];
-        const int c = im.component[s];
-        const double phi_s = phi(s, j);
-        double* __restrict col = columns.col(j).data();
-        for (Index i = 0; i < n; ++i) {
-          // |φ - φ(s)| as CGAL's Heat_method_3 does: slightly negative values next to the source are rounding.
-          col[i] = (c >= 0 && im.component[i] == c) ? std::abs(col[i] - phi_s) : inf;
+        const Index begin = b * block, k = std::min(block, count - begin);
+        U.setZero(n, k);
+        for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
+        im.heat.solve(U, work);
+        im.divergence(U, phi);
+        im.poisson.solve(phi, work);
+        // Transpose to one column per source in tiles of rows (the row-major block is too large for the
+        // cache).
+        columns.resize(n, k);
+        constexpr Index tile = 64;
+        for (Index i0 = 0; i0 < n; i0 += tile)
+          for (Index j = 0; j < k; ++j)
+            for (Index i = i0; i < std::min(n, i0 + tile); ++i) columns(i, j) = phi(i, j);
+        for (Index j = 0; j < k; ++j) {
+          const int s = sources[begin + j];
+          const int c = im.component[s];
+          const double phi_s = phi(s, j);
+          double* __restrict col = columns.col(j).data();
+          for (Index i = 0; i < n; ++i) {
+            // |φ - φ(s)| as CGAL's Heat_method_3 does: slightly negative values next to the source are
+            // rounding.
+            col[i] = (c >= 0 && im.component[i] == c) ? std::abs(col[i] - phi_s) : inf;
+          }
+          col[s] = 0;
+          sink(begin + j, columns.col(j));
         }
-        col[s] = 0;
-        sink(begin + j, columns.col(j));
-      }
-      Index finished = done += k;
-      if (options_.progress) {
+        Index finished = done += k;
+        if (options_.progress) {
 #pragma omp critical(cshapes_progress)
-        options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
-      }
+          options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
+        }
       } catch (...) {
 #pragma omp critical(cshapes_heat_error)
         if (!error) error = std::current_exception();
@@ -378,11 +387,13 @@ void HeatMethod::for_each_source(
 
 Eigen::MatrixXd HeatMethod::distances_each(const std::vector<int>& sources) const {
   Eigen::MatrixXd D(num_vertices_, static_cast<Index>(sources.size()));
-  for_each_source(sources, [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) { D.col(k) = column; });
+  for_each_source(sources,
+                  [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) { D.col(k) = column; });
   return D;
 }
 
-Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources, const HeatMethodOptions& options) {
+Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
+                            const HeatMethodOptions& options) {
   return HeatMethod(mesh, options).distances(sources);
 }
 

@@ -163,15 +163,15 @@ int run() {
     mesh = read_mesh(args.mesh_path);
     description = args.mesh_path;
     if (args.vertices > 0) {
-      CSHAPES_REQUIRE(args.vertices >= mesh.num_vertices(), "--vertices ", args.vertices, " is below the mesh's ",
-                      mesh.num_vertices(), " (only refinement is available)");
+      CSHAPES_REQUIRE(args.vertices >= mesh.num_vertices(), "--vertices ", args.vertices,
+                      " is below the mesh's ", mesh.num_vertices(), " (only refinement is available)");
       mesh = refine_to(std::move(mesh), args.vertices, description);
     }
   }
   const Index n = mesh.num_vertices();
   const int threads = omp_get_max_threads();
-  note("bench geodesics: " + description + ": " + std::to_string(n) + " vertices, " + std::to_string(threads) +
-       " threads");
+  note("bench geodesics: " + description + ": " + std::to_string(n) + " vertices, " +
+       std::to_string(threads) + " threads");
   const double h = edge_lengths(mesh.V, mesh_edges(mesh.F)).mean();
   std::mt19937 rng(args.seed);
   auto sample = [&](int count) {
@@ -233,7 +233,8 @@ int run() {
 
   // Accuracy against exact geodesics on sampled sources (vertices farther than 3 mean edge lengths).
   std::vector<int> exact_sources = sample(args.exact_samples);
-  std::vector<double> err_ours(exact_sources.size()), err_anchor(exact_sources.size()), err_fmm(exact_sources.size());
+  std::vector<double> err_ours(exact_sources.size()), err_anchor(exact_sources.size()),
+      err_fmm(exact_sources.size());
   Clock exact_clock;
 #pragma omp parallel for schedule(dynamic, 1)
   for (size_t k = 0; k < exact_sources.size(); ++k) {
@@ -244,7 +245,9 @@ int run() {
     err_fmm[k] = mean_relative_error(fmm.distances({s}), exact, 3 * h);
   }
   const double exact_wall = exact_clock.wall_seconds();
-  auto mean = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); };
+  auto mean = [](const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+  };
 
   std::map<Index, double> paper = {{3505, 10.24}, {22738, 647.6}};
   nlohmann::json out = {
@@ -261,7 +264,8 @@ int run() {
         {"cpu_seconds", ours_cpu},
         {"mean_relative_error_vs_exact", mean(err_ours)}}},
       {"anchor",
-       {{"method", "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread"},
+       {{"method",
+         "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread"},
         {"seconds", anchor_wall},
         {"cpu_seconds", anchor_cpu},
         {"extrapolated", extrapolated},
@@ -289,19 +293,21 @@ int run() {
   else
     std::cout << "ours " << ours_wall << " s, anchor " << anchor_wall << " s"
               << (extrapolated ? " (extrapolated)" : "") << ", speedup " << anchor_wall / ours_wall
-              << "; mean relative error ours " << mean(err_ours) << ", anchor " << mean(err_anchor) << ", fmm "
-              << mean(err_fmm) << std::endl;
+              << "; mean relative error ours " << mean(err_ours) << ", anchor " << mean(err_anchor)
+              << ", fmm " << mean(err_fmm) << std::endl;
   return 0;
 }
 
 const bool registered = register_command(
     {{"bench", "geodesics"},
-     "All-pairs geodesics: our block heat method vs CGAL's Heat_method_3 one source at a time, errors vs exact",
+     "All-pairs geodesics: our block heat method vs CGAL's Heat_method_3 one source at a time, errors vs "
+     "exact",
      [](CLI::App& app) {
        app.add_option("--n", args.n, "generate a torus refined to exactly N vertices");
        app.add_option("--mesh", args.mesh_path, "benchmark this mesh")->check(CLI::ExistingFile);
-       app.add_option("--vertices", args.vertices,
-                      "refine --mesh to exactly this many vertices (1-to-4 subdivision, then longest-edge splits)");
+       app.add_option(
+           "--vertices", args.vertices,
+           "refine --mesh to exactly this many vertices (1-to-4 subdivision, then longest-edge splits)");
        app.add_option("--heat-mode", args.heat_mode, "idt or direct, for both heat methods")
            ->capture_default_str()
            ->check(CLI::IsMember({"idt", "direct"}));
@@ -310,7 +316,8 @@ const bool registered = register_command(
            ->capture_default_str();
        app.add_option("--exact-samples", args.exact_samples, "sources with exact geodesics for the errors")
            ->capture_default_str();
-       app.add_option("--fmm-samples", args.fmm_samples, "sources timed for fast marching")->capture_default_str();
+       app.add_option("--fmm-samples", args.fmm_samples, "sources timed for fast marching")
+           ->capture_default_str();
        app.add_option("--seed", args.seed, "random seed for the sampled sources")->capture_default_str();
        app.add_flag("--json", args.json, "print JSON");
      },

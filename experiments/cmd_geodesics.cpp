@@ -38,7 +38,8 @@ int run() {
     summary["heat_mode"] = to_string(options.heat_mode);
 
   if (args.source >= 0 || args.csv) {
-    CSHAPES_REQUIRE(args.source >= 0 && args.csv, "--source i and --csv go together: one row of distances as CSV");
+    CSHAPES_REQUIRE(args.source >= 0 && args.csv,
+                    "--source i and --csv go together: one row of distances as CSV");
     CSHAPES_REQUIRE(args.source < input.num_vertices(), "--source ", args.source, " is out of range 0..",
                     input.num_vertices() - 1);
     int local = -1;
@@ -77,17 +78,19 @@ const bool registered = register_command(
        app.add_option("-o,--output", args.output,
                       "output: D.bin (CSHDIST1 header, n, then n×n float32 row-major), or CSV with --source; "
                       "'-' or omitted with --source: stdout");
-       app.add_option("--method", args.method,
-                      "heat (ours: block solves, CHOLMOD), heat-cgal (CGAL Heat_method_3, one source at a time), "
-                      "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
-                      "edges)")
+       app.add_option(
+              "--method", args.method,
+              "heat (ours: block solves, CHOLMOD), heat-cgal (CGAL Heat_method_3, one source at a time), "
+              "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
+              "edges)")
            ->capture_default_str()
            ->check(CLI::IsMember({"heat", "heat-cgal", "fmm", "exact", "graph"}));
        app.add_option("--heat-mode", args.heat_mode,
                       "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
            ->capture_default_str()
            ->check(CLI::IsMember({"idt", "direct"}));
-       app.add_option("--source", args.source, "one source vertex (0-based, input numbering): one row, with --csv");
+       app.add_option("--source", args.source,
+                      "one source vertex (0-based, input numbering): one row, with --csv");
        app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
        app.add_flag("--largest-component", args.largest_component,
                     "keep the largest connected component instead of refusing a disconnected mesh");

@@ -123,7 +123,8 @@ TEST(Geodesics, RefusesWhatDoesNotFitInMemory) {
 TEST(GeodesicsCli, AllPairsAndOneRow) {
   std::string dir = test::scratch_dir("geodesics_cli");
   write_mesh(dir + "/t.off", torus(24, 10, 2.0, 0.7));
-  test::CliResult r = test::run_cli("-q geodesics " + dir + "/t.off -o " + dir + "/D.bin --method fmm --json");
+  test::CliResult r =
+      test::run_cli("-q geodesics " + dir + "/t.off -o " + dir + "/D.bin --method fmm --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"vertices\": 240"), std::string::npos) << r.out;
   DistanceMatrix D = read_distance_matrix(dir + "/D.bin");
