@@ -202,7 +202,8 @@ void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& d
     alive[i] = 1;
     for (int k = offsets_[i]; k < offsets_[i + 1]; ++k) {
       const Stencil& s = stencils_[k];
-      if (alive[s.target]) continue;
+      // Both candidates are at least t_i: nothing to gain where the target is already that close.
+      if (alive[s.target] || t_i >= dist[s.target]) continue;
       double candidate = t_i + s.p_len;
       if (s.other >= 0 && alive[s.other])
         candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));

@@ -76,7 +76,7 @@ class HeatMethod {
   }  // edges flipped to reach the intrinsic Delaunay triangulation
   Index num_vertices() const { return num_vertices_; }
   // "cholmod" or "eigen-ldlt": which factorisation is used.
-  std::string backend() const;
+  static std::string backend();
 
  private:
   struct Impl;
