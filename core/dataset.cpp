@@ -1,6 +1,8 @@
 #include "core/dataset.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cctype>
 #include <filesystem>
 #include <map>
@@ -181,6 +183,24 @@ void write_manifest(const std::string& manifest_path, const std::vector<DatasetE
                       "write_manifest: commas are not allowed in file or class names: ", shown);
       out << shown << ',' << e.class_name << ',' << e.pose << ',' << (e.noisy ? 1 : 0) << '\n';
     }
+  });
+}
+
+void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals) {
+  CSHAPES_REQUIRE(decimals >= 0 && decimals <= 17, "write_off_fixed: decimals must be in 0..17, got ", decimals);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
+    char buffer[128];
+    for (Index i = 0; i < mesh.num_vertices(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        double v = mesh.V(i, k);
+        // No "-0.000000": a coordinate rounding to zero is written as zero whatever its sign.
+        if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0;
+        std::snprintf(buffer, sizeof buffer, k < 2 ? "%.*f " : "%.*f\n", decimals, v);
+        out << buffer;
+      }
+    }
+    for (Index f = 0; f < mesh.num_faces(); ++f) out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
   });
 }
 

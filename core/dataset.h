@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
+
 namespace cshapes {
 
 struct DatasetEntry {
@@ -47,5 +49,9 @@ int pose_from_name(const std::string& stem);
 // Writes manifest.csv (columns file,class,pose,noisy) with paths relative to the manifest's folder when the
 // files lie inside it. Atomic.
 void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries);
+
+// Writes an OFF file with a fixed number of decimals (e.g. "12.345678"), so that generated data is byte-identical
+// across runs and platforms whose last-bit rounding differs. Atomic.
+void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals = 6);
 
 }  // namespace cshapes

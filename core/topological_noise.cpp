@@ -216,46 +216,55 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
 
   // Cheap rejection: the edge-graph distance is an upper bound of the surface geodesic, so a pair that the graph
   // joins by a path shorter than its threshold cannot qualify. One Dijkstra per distinct first vertex, stopped
-  // at the largest threshold among its pairs (the balls are small next to the whole mesh).
-  {
-    const Edges E = mesh_edges(mesh.F);
-    const Adjacency adj = adjacency(n, E);
-    const Eigen::VectorXd w = edge_lengths(mesh.V, E);
-    std::vector<std::vector<int>> by_source(n);
-    for (size_t k = 0; k < candidates.size(); ++k) by_source[candidates[k].a].push_back(static_cast<int>(k));
+  // at the largest threshold among its pairs, run lazily when the selection first reaches that vertex.
+  // (Valid after gluing too: tubes only shorten distances.)
+  const Edges graph_edges = mesh_edges(mesh.F);
+  const Adjacency graph = adjacency(n, graph_edges);
+  const Eigen::VectorXd graph_lengths = edge_lengths(mesh.V, graph_edges);
+  std::vector<std::vector<int>> by_source(n);
+  for (size_t k = 0; k < candidates.size(); ++k) by_source[candidates[k].a].push_back(static_cast<int>(k));
+  std::vector<bool> filtered(n, false);
+  std::vector<double> ball(n, std::numeric_limits<double>::infinity());
+  std::vector<int> touched;
+  std::vector<bool> is_target(n, false);
+  auto prefilter = [&](int a) {
+    filtered[a] = true;
     const double inf = std::numeric_limits<double>::infinity();
-    std::vector<double> dist(n, inf);
-    std::vector<int> touched;
-    for (Index a = 0; a < n; ++a) {
-      if (by_source[a].empty()) continue;
-      double radius = 0;
-      for (int k : by_source[a]) radius = std::max(radius, threshold(candidates[k]));
-      using Item = std::pair<double, int>;
-      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-      dist[a] = 0;
-      touched.push_back(static_cast<int>(a));
-      queue.emplace(0.0, static_cast<int>(a));
-      while (!queue.empty()) {
-        auto [d, i] = queue.top();
-        queue.pop();
-        if (d > dist[i]) continue;
-        if (d >= radius) break;
-        for (int k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k) {
-          int j = adj.neighbors[k];
-          double nd = d + w[adj.edge_ids[k]];
-          if (nd < dist[j]) {
-            if (dist[j] == inf) touched.push_back(j);
-            dist[j] = nd;
-            queue.emplace(nd, j);
-          }
+    double radius = 0;
+    for (int k : by_source[a]) radius = std::max(radius, threshold(candidates[k]));
+    // Stop as soon as every partner is settled: near partners (the common, inadmissible case) end it early.
+    for (int k : by_source[a]) is_target[candidates[k].b] = true;
+    size_t remaining = by_source[a].size();
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    ball[a] = 0;
+    touched.push_back(a);
+    queue.emplace(0.0, a);
+    while (!queue.empty() && remaining > 0) {
+      auto [d, i] = queue.top();
+      queue.pop();
+      if (d > ball[i]) continue;
+      if (d >= radius) break;
+      if (is_target[i]) {
+        is_target[i] = false;
+        --remaining;
+      }
+      for (int k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
+        int j = graph.neighbors[k];
+        double nd = d + graph_lengths[graph.edge_ids[k]];
+        if (nd < ball[j]) {
+          if (ball[j] == inf) touched.push_back(j);
+          ball[j] = nd;
+          queue.emplace(nd, j);
         }
       }
-      for (int k : by_source[a])
-        if (dist[candidates[k].b] < threshold(candidates[k])) candidates[k].rejected = true;
-      for (int i : touched) dist[i] = inf;
-      touched.clear();
     }
-  }
+    for (int k : by_source[a])
+      if (ball[candidates[k].b] < threshold(candidates[k])) candidates[k].rejected = true;
+    for (int i : touched) ball[i] = inf;
+    for (int k : by_source[a]) is_target[candidates[k].b] = false;
+    touched.clear();
+  };
 
   WorkingMesh work(mesh);
   Mesh current = mesh;
@@ -268,6 +277,8 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
     for (auto& c : candidates) {
       if (c.rejected || c.spot_distance < separation) continue;
       if (result.geodesic_checks >= o.max_checks) break;
+      if (!filtered[c.a]) prefilter(c.a);
+      if (c.rejected) continue;
       // The triangles at each end: the pair of incident faces whose centroids are closest.
       int best_fa = -1, best_fb = -1;
       double best_d = std::numeric_limits<double>::infinity();
@@ -310,9 +321,14 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
         for (auto [x, y] : new_edges) segments.emplace_back(mesh.V.row(x), mesh.V.row(y));
         segments.emplace_back(work.centroid(best_fa), work.centroid(best_fb));
         std::set<int> ends = {fa[0], fa[1], fa[2], fb[0], fb[1], fb[2]};
+        Eigen::AlignedBox3d box;
+        for (const auto& [p, q] : segments) box.extend(p), box.extend(q);
         for (size_t f = 0; f < work.faces.size() && !clash; ++f) {
           if (work.removed[f]) continue;
           const Eigen::Vector3i& t = work.faces[f];
+          Eigen::AlignedBox3d face_box(Eigen::Vector3d(mesh.V.row(t[0])));
+          face_box.extend(Eigen::Vector3d(mesh.V.row(t[1]))).extend(Eigen::Vector3d(mesh.V.row(t[2])));
+          if (!box.intersects(face_box)) continue;
           if (ends.count(t[0]) || ends.count(t[1]) || ends.count(t[2])) continue;
           for (const auto& [p, q] : segments)
             if (segment_hits_triangle(p, q, mesh.V.row(t[0]), mesh.V.row(t[1]), mesh.V.row(t[2]))) {
