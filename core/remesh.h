@@ -23,6 +23,7 @@ struct RemeshOptions {
   int max_attempts = 8;           // edge-length adjustments before giving up
   bool protect_border = false;    // true: border edges are neither split nor collapsed (the border polyline is kept)
   double feature_angle_deg = 60;  // edges whose dihedral angle exceeds this stay on their polyline; 0: none
+  double presimplify_factor = 6;  // input with more than this × target vertices: collapse to half of that first; 0: never
   ProgressFn progress;            // called after every attempt (stage "remesh")
 };
 
