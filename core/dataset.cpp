@@ -132,7 +132,11 @@ Dataset read_manifest(const fs::path& manifest) {
 std::string class_from_name(const std::string& stem) {
   size_t end = stem.size();
   while (end > 0 && std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
-  return end == 0 ? stem : stem.substr(0, end);
+  if (end == 0) return stem;
+  // A separator before the pose number is not part of the class ("horse_7" -> "horse").
+  while (end > 1 && (stem[end - 1] == '_' || stem[end - 1] == '-' || stem[end - 1] == '.' || stem[end - 1] == ' '))
+    --end;
+  return stem.substr(0, end);
 }
 
 int pose_from_name(const std::string& stem) {

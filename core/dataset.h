@@ -40,8 +40,8 @@ struct Dataset {
 // Reads a folder or a manifest.csv (by path). Throws cshapes::Error naming the problem.
 Dataset read_dataset(const std::string& path);
 
-// The class of a file name: the stem without trailing digits ("michael12" -> "michael"); the whole stem when it
-// has no non-digit character.
+// The class of a file name: the stem without trailing digits and a separator before them ("michael12" ->
+// "michael", "horse_7" -> "horse"); the whole stem when it has no non-digit character.
 std::string class_from_name(const std::string& stem);
 // The trailing digits of a stem as a number, -1 when there are none.
 int pose_from_name(const std::string& stem);

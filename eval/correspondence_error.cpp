@@ -76,7 +76,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     for (int k = 0; k < used; ++k)
       result.errors[k] = (*geodesics_b)(truth[static_cast<size_t>(k)], mapped[static_cast<size_t>(k)]);
   } else {
-    // One Dijkstra per distinct true vertex, serving every sample that shares it.
+    // One single-source solve per distinct true vertex, serving every sample that shares it.
     std::map<int, std::vector<int>> by_truth;
     for (int k = 0; k < used; ++k) by_truth[truth[static_cast<size_t>(k)]].push_back(k);
     std::vector<std::pair<int, std::vector<int>>> groups(by_truth.begin(), by_truth.end());
@@ -84,7 +84,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
 #pragma omp parallel for schedule(dynamic, 8)
     for (long g = 0; g < static_cast<long>(groups.size()); ++g) {
       try {
-        Eigen::VectorXd d = geodesic_distances(b, {groups[static_cast<size_t>(g)].first});
+        Eigen::VectorXd d = geodesic_distances(b, {groups[static_cast<size_t>(g)].first}, options.geodesics);
         for (int k : groups[static_cast<size_t>(g)].second) result.errors[k] = d[mapped[static_cast<size_t>(k)]];
       } catch (...) {
 #pragma omp critical(cshapes_correspondence_error)

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/distance_matrix.h"
+#include "core/geodesics.h"
 #include "core/mesh.h"
 
 namespace cshapes {
@@ -31,6 +32,7 @@ struct CorrespondenceErrorOptions {
   double max_threshold = 0.25;  // largest error threshold of the curve (in units of √area(B))
   int curve_points = 101;       // thresholds 0, max/(points−1), …, max
   bool normalise = true;        // divide errors by √area(B); false: errors in B's units
+  GeodesicOptions geodesics;    // B's geodesics when no matrix is given (default: the heat method, ~2% accurate)
 };
 
 struct CorrespondenceErrorResult {
@@ -44,7 +46,8 @@ struct CorrespondenceErrorResult {
 };
 
 // map_a_to_b: for every vertex of A, a vertex of B (0-based). truth_a, truth_b: the 0-based .vts lists of
-// A and B (equal lengths). geodesics_b: B's all-pairs geodesic distances, or null to run Dijkstra.
+// A and B (equal lengths). geodesics_b: B's all-pairs geodesic distances, or null to compute single-source
+// distances from each true vertex with options.geodesics.
 CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::VectorXi& map_a_to_b,
                                                const std::vector<int>& truth_a, const std::vector<int>& truth_b,
                                                const CorrespondenceErrorOptions& options = {},

@@ -1,5 +1,7 @@
 #include "eval/distance_csv.h"
 
+#include "core/dataset.h"
+
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
@@ -138,14 +140,7 @@ void write_distance_csv(const std::string& path, const std::vector<std::string>&
   });
 }
 
-std::string class_from_name(const std::string& name) {
-  std::string s = stem(name);
-  size_t digit = s.find_first_of("0123456789");
-  if (digit == 0) return s;
-  std::string c = s.substr(0, digit);
-  while (!c.empty() && (c.back() == '_' || c.back() == '-' || c.back() == '.' || c.back() == ' ')) c.pop_back();
-  return c.empty() ? s : c;
-}
+std::string class_from_path(const std::string& name) { return class_from_name(stem(name)); }
 
 std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names) {
   std::vector<int> line_of;

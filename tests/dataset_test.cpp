@@ -29,6 +29,7 @@ TEST(Dataset, ClassAndPoseFromTheFileName) {
   EXPECT_EQ(pose_from_name("centaur"), -1);
   EXPECT_EQ(class_from_name("x2y10"), "x2y");
   EXPECT_EQ(class_from_name("007"), "007");
+  EXPECT_EQ(class_from_name("horse_7"), "horse");
 }
 
 TEST(Dataset, FolderIsSortedByClassThenNumericPose) {

@@ -57,13 +57,15 @@ void expect_glued_correctly(const Mesh& input, const TopologicalNoiseResult& r, 
   EXPECT_TRUE(consistently_oriented(r.mesh.F));
   EXPECT_NO_THROW(validate_mesh(r.mesh, "glued"));
   EXPECT_TRUE(r.mesh.V == input.V);  // vertex positions and order unchanged
-  // Thresholds, re-measured independently on the input (distances on the glued mesh can only be shorter).
+  // Thresholds, re-measured independently on the input (exact distances on the glued mesh can only be shorter;
+  // the heat method's are within its 3% accuracy contract, tests/heat_method_test.cpp).
   for (const GluedPair& p : r.pairs) {
     double euclidean = (input.V.row(p.a) - input.V.row(p.b)).norm();
     EXPECT_NEAR(euclidean, p.euclidean, 1e-12 * r.mean_edge_length);
     EXPECT_LE(euclidean, r.max_gap);
     double geodesic = geodesic_distances(input, {p.a}, o.geodesic)[p.b];
-    EXPECT_GE(geodesic, p.geodesic - 1e-9 * r.mean_edge_length);
+    const double approximation = o.geodesic.method == GeodesicMethod::Graph ? 1e-9 : 0.03;
+    EXPECT_GE(geodesic, p.geodesic * (1 - approximation) - 1e-9 * r.mean_edge_length);
     EXPECT_GE(p.geodesic, o.min_ratio * euclidean);
     EXPECT_GE(p.geodesic, o.min_geodesic_fraction * r.geodesic_diameter);
   }
