@@ -7,7 +7,9 @@
 // Distance floor: distances below `min_distance` are raised to it, so coincident points give finite values:
 // two coincident points add 1/min_distance to each other's potential and exert no force on each other
 // (x_i − x_j = 0). Points closer than the floor but distinct get the force (x_i − x_j)/min_distance³.
-// The float paths (DirectFloat, Fast) further raise the floor to at least 1e-15 × the bounding-box size.
+// A given min_distance is raised to at least 1e-12 × the bounding-box diagonal, and the float paths
+// (DirectFloat, Fast) raise it to 1e-10 × half the largest extent, so 1/r³ stays finite. When all points
+// coincide the diagonal is replaced by max(1, max |coordinate|).
 //
 // Units: X in the input's length unit L; energy and potentials in 1/L, gradient in 1/L².
 // Summations (all deterministic: identical inputs and thread count give bit-identical outputs; in fact the
@@ -72,7 +74,11 @@ struct CoulombTargetSums {
 CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
                                          double min_distance = 0);
 
-// The floor actually used for X when options.min_distance is 0.
+// The floor used for X when options.min_distance is 0: 1e-9 × floor_reference_length(X).
 double default_min_distance(const Points& X);
+// The bounding-box diagonal of X, or max(1, max |coordinate|) when it is 0 (all points coincide).
+double floor_reference_length(const Points& X);
+// The floor the double-precision paths use for a requested min_distance (0: the default).
+double effective_min_distance(const Points& X, double min_distance);
 
 }  // namespace cshapes

@@ -264,6 +264,7 @@ class Fmm {
     order_.resize(n_);
     keys_.resize(n_);
     xd_.resize(n_), yd_.resize(n_), zd_.resize(n_), xf_.resize(n_), yf_.resize(n_), zf_.resize(n_);
+    xl_.resize(n_), yl_.resize(n_), zl_.resize(n_);
 #pragma omp parallel for schedule(static)
     for (Index s = 0; s < n_; ++s) {
       const Index i = keyed[s].second;
@@ -272,7 +273,9 @@ class Fmm {
       xd_[s] = (X_(i, 0) - norm_.center[0]) / norm_.scale;
       yd_[s] = (X_(i, 1) - norm_.center[1]) / norm_.scale;
       zd_[s] = (X_(i, 2) - norm_.center[2]) / norm_.scale;
-      xf_[s] = static_cast<float>(xd_[s]), yf_[s] = static_cast<float>(yd_[s]), zf_[s] = static_cast<float>(zd_[s]);
+      coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
+      coulomb_detail::split_float(yd_[s], yf_[s], yl_[s]);
+      coulomb_detail::split_float(zd_[s], zf_[s], zl_[s]);
     }
 
     // Breadth-first: parents precede children, siblings are contiguous, depth never decreases.
@@ -426,7 +429,7 @@ class Fmm {
   void interactions() {
     const int count = tables_.count;
     potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
-    const FloatPoints points{xf_.data(), yf_.data(), zf_.data()};
+    const FloatPoints points{xf_.data(), yf_.data(), zf_.data(), xl_.data(), yl_.data(), zl_.data()};
     Index m2l_total = 0, p2p_total = 0;
 #pragma omp parallel reduction(+ : m2l_total, p2p_total)
     {
@@ -551,7 +554,7 @@ class Fmm {
   std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
   std::vector<uint64_t> keys_;
   std::vector<double> xd_, yd_, zd_;
-  std::vector<float> xf_, yf_, zf_;
+  std::vector<float> xf_, yf_, zf_, xl_, yl_, zl_;  // float high and low parts (coulomb_p2p.h)
   std::vector<Cell> cells_;
   std::vector<int32_t> leaves_;
   std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
