@@ -18,6 +18,7 @@
 #include <iostream>
 #include <numeric>
 #include <random>
+#include <ctime>
 
 #include "canon/coulomb_energy.h"
 #include "canon/coulomb_fmm.h"
@@ -95,15 +96,27 @@ Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
   return X;
 }
 
+double process_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// Median wall-clock seconds over the runs; cpu_seconds (if given) gets the median process CPU seconds, which
+// on a machine shared with other jobs shows the work done independently of the share of the cores obtained.
 template <class F>
-double median_seconds(int repeats, F&& f) {
-  std::vector<double> t;
+double median_seconds(int repeats, F&& f, double* cpu_seconds = nullptr) {
+  std::vector<double> t, cpu;
   for (int r = 0; r < repeats; ++r) {
+    const double cpu_start = process_cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
     f();
     t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu.push_back(process_cpu_seconds() - cpu_start);
   }
   std::sort(t.begin(), t.end());
+  std::sort(cpu.begin(), cpu.end());
+  if (cpu_seconds) *cpu_seconds = cpu[cpu.size() / 2];
   return t[t.size() / 2];
 }
 
@@ -135,15 +148,17 @@ int run() {
   fmm_options.want_potentials = true;
   CoulombFmmStats stats;
   CoulombEvaluation fast;
-  const double fast_seconds = median_seconds(args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); });
+  double fast_cpu_seconds = 0;
+  const double fast_seconds =
+      median_seconds(args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); }, &fast_cpu_seconds);
 
   const bool full = n <= args.full_direct_max;
-  double direct_seconds = 0, direct_float_seconds = 0, gradient_error = 0, energy_error = 0;
+  double direct_cpu_seconds = 0, direct_float_cpu_seconds = 0, direct_seconds = 0, direct_float_seconds = 0, gradient_error = 0, energy_error = 0;
   Index error_targets = n;
   if (full) {
     CoulombEvaluation direct;
-    direct_seconds = median_seconds(args.repeats, [&] { direct = coulomb_direct(X); });
-    direct_float_seconds = median_seconds(args.repeats, [&] { coulomb_direct_float(X); });
+    direct_seconds = median_seconds(args.repeats, [&] { direct = coulomb_direct(X); }, &direct_cpu_seconds);
+    direct_float_seconds = median_seconds(args.repeats, [&] { coulomb_direct_float(X); }, &direct_float_cpu_seconds);
     gradient_error = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
     energy_error = std::abs(fast.energy - direct.energy) / std::abs(direct.energy);
   } else {
@@ -155,8 +170,9 @@ int run() {
     std::vector<Index> targets(all.begin(), all.begin() + error_targets);
     CoulombTargetSums exact;
     const double sample_seconds =
-        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); });
+        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); }, &direct_cpu_seconds);
     direct_seconds = sample_seconds * double(n) / double(error_targets);
+    direct_cpu_seconds *= double(n) / double(error_targets);
     double diff2 = 0, ref2 = 0, phi_fast = 0, phi_exact = 0;
     for (Index t = 0; t < error_targets; ++t) {
       diff2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
@@ -173,6 +189,8 @@ int run() {
                       {"direct_seconds", direct_seconds},
                       {"direct_extrapolated", !full},
                       {"fast_seconds", fast_seconds},
+                      {"direct_cpu_seconds", direct_cpu_seconds},
+                      {"fast_cpu_seconds", fast_cpu_seconds},
                       {"speedup", direct_seconds / fast_seconds},
                       {"gradient_rel_error", gradient_error},
                       {"energy_rel_error", energy_error},
@@ -191,8 +209,14 @@ int run() {
                         {"upward", stats.seconds_upward},
                         {"traversal", stats.seconds_traversal},
                         {"interactions", stats.seconds_interactions},
+                        {"m2l_thread_seconds", stats.seconds_m2l},
+                        {"p2p_thread_seconds", stats.seconds_p2p},
                         {"downward", stats.seconds_downward}}}};
-  if (full) j["direct_float_seconds"] = direct_float_seconds;
+  if (full) {
+    j["direct_float_seconds"] = direct_float_seconds;
+    j["direct_float_cpu_seconds"] = direct_float_cpu_seconds;
+    j["speedup_vs_direct_float"] = direct_float_seconds / fast_seconds;
+  }
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
