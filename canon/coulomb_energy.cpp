@@ -11,15 +11,21 @@
 
 namespace cshapes {
 
-// Measured crossover: `cshapes bench coulomb --n N --repeats 9` (uniform cube, 2 threads, default accuracy
-// 1e-3) on the 2-core development machine, median process CPU seconds per gradient, DirectFloat vs Fast:
-//   n = 1000: 0.0004 vs 0.0009   1500: 0.0010 vs 0.0012   2000: 0.0017 vs 0.0018   2500: 0.0027 vs 0.0026
-//   n = 3000: 0.0039 vs 0.0036   4000: 0.0068 vs 0.0063   6000: 0.0152 vs 0.0082
-// (wall-clock figures agreed but were noisy: the machine was shared). Fast wins from ≈ 2,500 points; below,
-// DirectFloat costs the same or less and is ~100× more accurate.
-const Index kAutoFastMinPoints = 2500;
+// Measured crossover: `cshapes bench coulomb --n N --repeats 9` (2 threads, default accuracy 1e-3) on the
+// 2-core development machine, median process CPU seconds per gradient, DirectFloat vs Fast (wall-clock
+// figures agreed but were noisy: the machine was shared by other jobs):
+//   uniform cube        n = 3000: 0.0038 vs 0.0048   4000: 0.0068 vs 0.0082   4500: 0.0087 vs 0.0094
+//                       n = 5000: 0.0105 vs 0.0099   6000: 0.0155 vs 0.0111   8000: 0.0269 vs 0.0142
+//   cat0 surface points n = 1500: 0.0010 vs 0.0014   2000: 0.0017 vs 0.0020   2500: 0.0027 vs 0.0023
+//                       n = 3000: 0.0038 vs 0.0028   4000: 0.0068 vs 0.0039
+//   tosca5k/cat0 vertices (n = 5000): 0.0106 vs 0.0053
+// Fast wins from ≈ 2,200 points on surfaces and ≈ 4,800 in a volume. Auto serves surfaces (meshes, point
+// clouds of surfaces) first, so it switches at 3,000.
+const Index kAutoFastMinPoints = 3000;
 
-double default_min_distance(const Points& X) { return 1e-9 * floor_reference_length(X); }
+double default_min_distance(const Points& X) {
+  return 1e-9 * floor_reference_length(X);
+}
 
 double floor_reference_length(const Points& X) {
   if (X.rows() == 0) return 1;
@@ -69,10 +75,12 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   return result;
 }
 
-CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets, double min_distance) {
+CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
+                                         double min_distance) {
   const Index n = X.rows();
   min_distance = effective_min_distance(X, min_distance);
-  for (Index t : targets) CSHAPES_REQUIRE(t >= 0 && t < n, "coulomb_direct_targets: target index ", t, " outside [0, ", n, ")");
+  for (Index t : targets)
+    CSHAPES_REQUIRE(t >= 0 && t < n, "coulomb_direct_targets: target index ", t, " outside [0, ", n, ")");
   std::vector<double> x(X.col(0).data(), X.col(0).data() + n), y(X.col(1).data(), X.col(1).data() + n),
       z(X.col(2).data(), X.col(2).data() + n);
   const double floor2 = min_distance * min_distance;
@@ -120,7 +128,6 @@ NormalizedPoints normalize_points(const Points& X, double min_distance) {
   // half box (1e-12 of the diagonal is raised here), far below any meaningful geometry.
   const double floor = std::max(min_distance / out.scale, 1e-10);
   out.floor2 = static_cast<float>(floor * floor);
-  out.floor2_double = floor * floor;
   return out;
 }
 

@@ -31,15 +31,15 @@ struct MultiIndexTables {
   int count = 0;
   std::vector<std::array<int, 3>> exponent;
   std::vector<int> degree;
-  std::vector<double> factorial;                   // k! = k_x! k_y! k_z!
-  std::vector<double> sign;                        // (−1)^|k|
-  std::vector<int> parent, axis;                   // k = parent + e_axis (axis: last nonzero component)
-  std::vector<std::array<int, 3>> minus_one;       // index of k − e_i, or −1
-  std::vector<std::array<int, 3>> minus_two;       // index of k − 2e_i, or −1
-  std::vector<std::array<int, 3>> pair_sum;        // (m, k, m+k) with |m| + |k| ≤ p: M2L
-  std::vector<std::array<int, 3>> shift;           // (k, a, k−a) with a ≤ k: M2M and L2L
+  std::vector<double> factorial;              // k! = k_x! k_y! k_z!
+  std::vector<double> sign;                   // (−1)^|k|
+  std::vector<int> parent, axis;              // k = parent + e_axis (axis: last nonzero component)
+  std::vector<std::array<int, 3>> minus_one;  // index of k − e_i, or −1
+  std::vector<std::array<int, 3>> minus_two;  // index of k − 2e_i, or −1
+  std::vector<std::array<int, 3>> pair_sum;   // (m, k, m+k) with |m| + |k| ≤ p: M2L
+  std::vector<std::array<int, 3>> shift;      // (k, a, k−a) with a ≤ k: M2M and L2L
   std::array<std::vector<std::array<int, 2>>, 3> gradient;  // (n, n + e_i) with |n| ≤ p − 1: L2P
-  std::vector<int> lookup_table;                   // (p+1)³ → index, −1 when |k| > p
+  std::vector<int> lookup_table;                            // (p+1)³ → index, −1 when |k| > p
   // pair_sum grouped by m: entries [m2l_offset[m], m2l_offset[m+1]) of m2l_k / m2l_mk
   std::vector<int> m2l_offset, m2l_k, m2l_mk;
   // The recurrence's terms for each k: the existing k − e_i (with their axis i) and k − 2e_i
@@ -125,25 +125,9 @@ struct MultiIndexTables {
     for (int k = 1; k < count; ++k) out[k] = out[parent[k]] * d[axis[k]] / exponent[k][axis[k]];
   }
 
-  // out[k] = ∂^k (1/‖R‖), from the recurrence for the Taylor coefficients T_k = ∂^k(1/‖R‖)/k! of
-  // Duan & Krasny (2001):  |k| ‖R‖² T_k + (2|k|−1) Σ_i R_i T_{k−e_i} + (|k|−1) Σ_i T_{k−2e_i} = 0.
-  void derivatives(const double R[3], double* out) const {
-    const double r2 = R[0] * R[0] + R[1] * R[1] + R[2] * R[2];
-    const double inv_r2 = 1 / r2;
-    out[0] = std::sqrt(inv_r2);
-    for (int k = 1; k < count; ++k) {
-      const int d = degree[k];
-      double s1 = 0, s2 = 0;
-      for (int i = 0; i < 3; ++i) {
-        if (minus_one[k][i] >= 0) s1 += R[i] * out[minus_one[k][i]];
-        if (minus_two[k][i] >= 0) s2 += out[minus_two[k][i]];
-      }
-      out[k] = -((2 * d - 1) * s1 + (d - 1) * s2) * inv_r2 / d;
-    }
-    for (int k = 1; k < count; ++k) out[k] *= factorial[k];
-  }
-
-  // The same for four separation vectors at once, one per SIMD lane.
+  // out[k] = ∂^k (1/‖R‖) for four separation vectors R at once, one per SIMD lane, from the recurrence for
+  // the Taylor coefficients T_k = ∂^k(1/‖R‖)/k! of Duan & Krasny (2001):
+  //   |k| ‖R‖² T_k + (2|k|−1) Σ_i R_i T_{k−e_i} + (|k|−1) Σ_i T_{k−2e_i} = 0.
   void derivatives4(const V4 R[3], V4* out) const {
     const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
     for (int l = 0; l < 4; ++l) out[0][l] = std::sqrt(inv_r2[l]);
@@ -168,7 +152,8 @@ struct StaticM2L {
   static constexpr int kPairs = (P + 1) * (P + 2) * (P + 3) * (P + 4) * (P + 5) * (P + 6) / 720;
   struct Tables {
     int exponent[kCount][3] = {};
-    int n1[kCount] = {}, axis1[kCount][3] = {}, index1[kCount][3] = {}, n2[kCount] = {}, index2[kCount][3] = {};
+    int n1[kCount] = {}, axis1[kCount][3] = {}, index1[kCount][3] = {}, n2[kCount] = {},
+        index2[kCount][3] = {};
     double c1[kCount] = {}, c2[kCount] = {}, factorial[kCount] = {};
     int pair_m[kPairs] = {}, pair_k[kPairs] = {}, pair_mk[kPairs] = {};
   };
@@ -244,24 +229,31 @@ struct StaticM2L {
 using StaticM2LFunction = void (*)(const V4*, const V4*, V4*);
 StaticM2LFunction static_m2l(int order) {
   switch (order) {
-    case 1: return &StaticM2L<1>::apply;
-    case 2: return &StaticM2L<2>::apply;
-    case 3: return &StaticM2L<3>::apply;
-    case 4: return &StaticM2L<4>::apply;
-    case 5: return &StaticM2L<5>::apply;
-    case 6: return &StaticM2L<6>::apply;
-    default: return nullptr;  // higher orders use the table-driven loop
+    case 1:
+      return &StaticM2L<1>::apply;
+    case 2:
+      return &StaticM2L<2>::apply;
+    case 3:
+      return &StaticM2L<3>::apply;
+    case 4:
+      return &StaticM2L<4>::apply;
+    case 5:
+      return &StaticM2L<5>::apply;
+    case 6:
+      return &StaticM2L<6>::apply;
+    default:
+      return nullptr;  // higher orders use the table-driven loop
   }
 }
 
 struct Cell {
-  int32_t begin = 0, end = 0;        // points [begin, end) in Morton order
-  int32_t child_begin = -1;          // children are cells [child_begin, child_begin + child_count)
+  int32_t begin = 0, end = 0;  // points [begin, end) in Morton order
+  int32_t child_begin = -1;    // children are cells [child_begin, child_begin + child_count)
   int32_t child_count = 0;
   int32_t parent = -1;
-  int32_t depth = 0;                 // in the collapsed tree
-  double center[3] = {0, 0, 0};      // centre of mass (unit charges): the expansion centre
-  double radius = 0;                 // max distance of the cell's points from center
+  int32_t depth = 0;             // in the collapsed tree
+  double center[3] = {0, 0, 0};  // centre of mass (unit charges): the expansion centre
+  double radius = 0;             // max distance of the cell's points from center
   bool leaf() const { return child_count == 0; }
   int32_t size() const { return end - begin; }
 };
@@ -279,17 +271,25 @@ uint64_t spread_bits(uint64_t v) {
 
 constexpr int kMortonLevels = 21;
 
-// The accuracy → (order, θ, leaf size) table, measured with `cshapes bench coulomb --threads 1
-// --full-direct-max 0 --sample 500` on uniform cube, sphere, clustered and tosca5k/cat0-surface points.
-// At n = 50,000, over p ∈ 3…10, θ ∈ {0.4 … 0.7}, leaf ∈ {48, 96}, the worst relative L2 gradient errors of
-// the four were (cheapest settings first):
-//   (3, 0.7) 3.0e-3   (3, 0.6) 1.8e-3   (4, 0.6) 5.9e-4   (5, 0.6) 1.7e-4   (4, 0.5) 2.5e-4   (5, 0.5) 6.4e-5
-//   (6, 0.5) 2.3e-5   (6, 0.4) 4.8e-6   (7, 0.4) 1.4e-6   (8, 0.4) 4.8e-7   (10, 0.4) 4.3e-7
-// Small sets can be worse: for p = 4 over n ∈ {1000, 2000, 3505, 7000, 15000, 30000} the worst was 9.4e-4
-// at θ = 0.6 (uniform, n = 3505), 6.1e-4 at θ = 0.55, 3.9e-4 at θ = 0.5. Each row below therefore keeps a
-// margin of about 1.6× or more over the worst error measured. The float near field limits the attainable
-// error to ≈ 5e-7 (order 10, θ = 0.05 still gives 5e-7): tighter requests get the last row; use
-// Summation::Direct for more.
+// The accuracy → (order, θ, leaf size) table, measured with `cshapes bench coulomb --threads 1` (relative L2
+// gradient error against exact direct summation).
+// 1. Synthetic sets, n = 50,000 (--full-direct-max 0 --sample 500), worst of uniform cube, sphere, clustered
+//    and points on tosca5k/cat0's surface, over p ∈ 3…10, θ ∈ {0.4 … 0.7}, leaf ∈ {48, 96}:
+//      (3, 0.7) 3.0e-3   (3, 0.6) 1.8e-3   (4, 0.6) 5.9e-4   (5, 0.6) 1.7e-4   (4, 0.5) 2.5e-4   (5,
+//      0.5) 6.4e-5 (6, 0.5) 2.3e-5   (6, 0.4) 4.8e-6   (7, 0.4) 1.4e-6   (8, 0.4) 4.8e-7   (10, 0.4) 4.3e-7
+//    Smaller sets can be worse: for p = 4 over n ∈ {1000, …, 30000} the worst was 9.4e-4 at θ = 0.6
+//    (uniform, n = 3505), 6.1e-4 at θ = 0.55, 3.9e-4 at θ = 0.5.
+// 2. The vertices of real meshes are harder (regular spacing, a gradient that largely cancels): worst over
+//    all 24 tosca5k meshes (--mesh FILE):
+//      (4, 0.6) 1.9e-3   (4, 0.5) 9.3e-4   (4, 0.45) 4.0e-4   (4, 0.4) 3.1e-4   (5, 0.6) 9.0e-4   (5,
+//      0.5) 4.5e-4 (5, 0.45) 1.2e-4  (6, 0.5) 2.3e-4   (6, 0.45) 6.1e-5   (6, 0.4) 4.1e-5
+//    and over the four worst of them (michael0, victoria10, cat2, cat3):
+//      (3, 0.6) 4.3e-3   (3, 0.4) 9.0e-4   (7, 0.4) 1.2e-5   (8, 0.35) 3.0e-6  (10, 0.35) 4.9e-7
+// Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
+// default 1e-3, whose users include unseen meshes). The float near field limits the attainable error to
+// ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35) gave 1.1e-6 on 3,000
+// uniform points): requests below 3e-6 get the last row; use Summation::Direct for more. Energy errors were ≤
+// accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
 struct FmmParameters {
   double accuracy;
   int order;
@@ -297,8 +297,8 @@ struct FmmParameters {
   int leaf_size;
 };
 constexpr FmmParameters kParameterTable[] = {
-    {1e-2, 3, 0.6, 48}, {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.55, 48}, {3e-4, 5, 0.5, 96}, {1e-4, 6, 0.5, 96},
-    {3e-5, 6, 0.4, 96}, {1e-5, 7, 0.4, 96}, {3e-6, 8, 0.4, 96},  {1e-6, 10, 0.4, 96},
+    {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.45, 48}, {3e-4, 5, 0.45, 96},
+    {1e-4, 6, 0.45, 96}, {3e-5, 7, 0.4, 96}, {1e-5, 8, 0.35, 96}, {3e-6, 10, 0.35, 96},
 };
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {
@@ -342,8 +342,12 @@ void radix_sort(std::vector<std::pair<uint64_t, int32_t>>& items) {
 class Fmm {
  public:
   Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats)
-      : X_(X), n_(X.rows()), tables_(parameters.order), theta_(parameters.opening_angle),
-        leaf_size_(parameters.leaf_size), stats_(stats) {
+      : X_(X),
+        n_(X.rows()),
+        tables_(parameters.order),
+        theta_(parameters.opening_angle),
+        leaf_size_(parameters.leaf_size),
+        stats_(stats) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
   }
 
@@ -378,7 +382,8 @@ class Fmm {
       uint64_t key = 0;
       for (int c = 0; c < 3; ++c) {
         const double u = (X_(i, c) - norm_.center[c]) / norm_.scale;
-        const double g = std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
+        const double g =
+            std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
         key |= spread_bits(static_cast<uint64_t>(g)) << (2 - c);
       }
       keyed[i] = {key, static_cast<int32_t>(i)};
@@ -469,8 +474,12 @@ class Fmm {
     stats_.leaves = std::count_if(cells_.begin(), cells_.end(), [](const Cell& c) { return c.leaf(); });
   }
 
-  double* multipole(size_t c) { return multipoles_.data() + c * tables_.count; }
-  double* local(size_t c) { return locals_.data() + c * tables_.count; }
+  double* multipole(size_t c) {
+    return multipoles_.data() + c * tables_.count;
+  }
+  double* local(size_t c) {
+    return locals_.data() + c * tables_.count;
+  }
 
   // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
   // scheduler time slice, so the cheap per-cell translations (M2M, L2L) run serially and only the per-point
@@ -482,7 +491,7 @@ class Fmm {
     leaves_.clear();
     for (size_t c = 0; c < cells_.size(); ++c)
       if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
-    // P2M: M_k = Σ_j (x_j − z)^k / k!
+        // P2M: M_k = Σ_j (x_j − z)^k / k!
 #pragma omp parallel
     {
       std::vector<double> mono(count);
@@ -519,9 +528,9 @@ class Fmm {
   }
 
   // The traversal in parallel: a serial pass stops at target cells of at most `cut` points and defers their
-  // pairs; then each deferred target's pairs are traversed by one thread, in the serial pass's order. Deferred
-  // targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the lists are
-  // the same as a serial traversal's, whatever the thread count.
+  // pairs; then each deferred target's pairs are traversed by one thread, in the serial pass's order.
+  // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
+  // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
     deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 256), leaf_size_);
     deferred_.assign(cells_.size(), {});
@@ -555,7 +564,8 @@ class Fmm {
         for (int32_t cb = A.child_begin; cb < A.child_begin + A.child_count; ++cb) traverse(ca, cb);
       return;
     }
-    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1], dz = A.center[2] - B.center[2];
+    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
+                 dz = A.center[2] - B.center[2];
     const double distance = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (A.radius + B.radius < theta_ * distance) {
       m2l_lists_[a].push_back(b);

@@ -1,7 +1,7 @@
 // Internal to canon/coulomb_energy.cpp and canon/coulomb_fmm.cpp: the float particle-to-particle kernel.
 //
-// For up to 8 consecutive targets i0 … i0+count−1 and a list of source index ranges (all indices into the same
-// float structure-of-arrays x, y, z) it adds, per target i,
+// For up to 8 consecutive targets i0 … i0+count−1 and a list of source index ranges (all indices into the
+// same float structure-of-arrays x, y, z) it adds, per target i,
 //   potential[i] += Σ_j 1/r_ij,   force[i] += Σ_j (x_i − x_j)/r_ij³,   r_ij = max(‖x_i − x_j‖, floor)
 // skipping j = i. Pair terms are float (AVX2: rsqrt + one Newton step, relative error ≈ 1e-7; elsewhere
 // 1/sqrt), kept in registers, and flushed into the double accumulators at least every kFlushEvery sources, so
@@ -39,14 +39,13 @@ constexpr int kFlushEvery = 512;  // sources summed in float before flushing int
 // underflows whatever the input's units; results are scaled back (potential /scale, gradient /scale²).
 struct NormalizedPoints {
   Eigen::RowVector3d center = Eigen::RowVector3d::Zero();
-  double scale = 1;          // half the largest bounding-box extent (1 for a single point)
-  float floor2 = 0;          // squared distance floor in normalized units
-  double floor2_double = 0;  // the same in double
+  double scale = 1;  // half the largest bounding-box extent (1 for a single point)
+  float floor2 = 0;  // squared distance floor in normalized units
 };
 NormalizedPoints normalize_points(const Points& X, double min_distance);  // min_distance 0: the default
 
 struct FloatPoints {
-  const float *x, *y, *z;        // high parts: float(x)
+  const float *x, *y, *z;           // high parts: float(x)
   const float *x_lo, *y_lo, *z_lo;  // low parts: float(x − float(x))
 };
 
@@ -68,9 +67,10 @@ inline void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRan
   }
   const __m256 vx = _mm256_load_ps(tx), vy = _mm256_load_ps(ty), vz = _mm256_load_ps(tz);
   const __m256 vx_lo = _mm256_load_ps(tx_lo), vy_lo = _mm256_load_ps(ty_lo), vz_lo = _mm256_load_ps(tz_lo);
-  const __m256 vfloor2 = _mm256_set1_ps(floor2), half = _mm256_set1_ps(0.5f), three_halves = _mm256_set1_ps(1.5f);
-  const __m256i lane_index =
-      _mm256_add_epi32(_mm256_set1_epi32(static_cast<int32_t>(i0)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256 vfloor2 = _mm256_set1_ps(floor2), half = _mm256_set1_ps(0.5f),
+               three_halves = _mm256_set1_ps(1.5f);
+  const __m256i lane_index = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int32_t>(i0)),
+                                              _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   __m256d dp[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()}, dx[2] = {dp[0], dp[0]}, dy[2] = {dp[0], dp[0]},
           dz[2] = {dp[0], dp[0]};
   __m256 ap = _mm256_setzero_ps(), ax = ap, ay = ap, az = ap;
@@ -99,7 +99,8 @@ inline void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRan
       r2 = _mm256_max_ps(r2, vfloor2);
       __m256 inv_r = _mm256_rsqrt_ps(r2);
       // One Newton step: y ← y (3/2 − r² y²/2), from 12 to ~23 correct bits.
-      inv_r = _mm256_mul_ps(inv_r, _mm256_fnmadd_ps(_mm256_mul_ps(half, r2), _mm256_mul_ps(inv_r, inv_r), three_halves));
+      inv_r = _mm256_mul_ps(
+          inv_r, _mm256_fnmadd_ps(_mm256_mul_ps(half, r2), _mm256_mul_ps(inv_r, inv_r), three_halves));
       if (has_self) {
         const __m256i same = _mm256_cmpeq_epi32(lane_index, _mm256_set1_epi32(j));
         inv_r = _mm256_andnot_ps(_mm256_castsi256_ps(same), inv_r);
@@ -133,7 +134,8 @@ inline void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRan
                       float floor2, double* potential, double* fx, double* fy, double* fz) {
   for (int l = 0; l < count; ++l) {
     const Index i = i0 + l;
-    const float xi = p.x[i], yi = p.y[i], zi = p.z[i], xi_lo = p.x_lo[i], yi_lo = p.y_lo[i], zi_lo = p.z_lo[i];
+    const float xi = p.x[i], yi = p.y[i], zi = p.z[i], xi_lo = p.x_lo[i], yi_lo = p.y_lo[i],
+                zi_lo = p.z_lo[i];
     double sp = 0, sx = 0, sy = 0, sz = 0;
     for (int r = 0; r < num_ranges; ++r) {
       for (int32_t chunk = ranges[r].begin; chunk < ranges[r].end; chunk += kFlushEvery) {

@@ -15,10 +15,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 #include <numeric>
 #include <random>
-#include <ctime>
 
 #include "canon/coulomb_energy.h"
 #include "canon/coulomb_fmm.h"
@@ -81,7 +81,8 @@ Points generate_points(Index n, const std::string& distribution, std::mt19937_64
 Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
   std::vector<double> area(mesh.F.rows());
   for (Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                             c = mesh.V.row(mesh.F(f, 2));
     area[f] = 0.5 * (b - a).cross(c - a).norm();
   }
   std::discrete_distribution<Index> pick(area.begin(), area.end());
@@ -91,7 +92,8 @@ Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
     const Index f = pick(rng);
     double u = uniform(rng), v = uniform(rng);
     if (u + v > 1) u = 1 - u, v = 1 - v;
-    X.row(i) = (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
+    X.row(i) =
+        (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
   }
   return X;
 }
@@ -149,16 +151,19 @@ int run() {
   CoulombFmmStats stats;
   CoulombEvaluation fast;
   double fast_cpu_seconds = 0;
-  const double fast_seconds =
-      median_seconds(args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); }, &fast_cpu_seconds);
+  const double fast_seconds = median_seconds(
+      args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); }, &fast_cpu_seconds);
 
   const bool full = n <= args.full_direct_max;
-  double direct_cpu_seconds = 0, direct_float_cpu_seconds = 0, direct_seconds = 0, direct_float_seconds = 0, gradient_error = 0, energy_error = 0;
+  double direct_cpu_seconds = 0, direct_float_cpu_seconds = 0, direct_seconds = 0, direct_float_seconds = 0,
+         gradient_error = 0, energy_error = 0;
   Index error_targets = n;
   if (full) {
     CoulombEvaluation direct;
-    direct_seconds = median_seconds(args.repeats, [&] { direct = coulomb_direct(X); }, &direct_cpu_seconds);
-    direct_float_seconds = median_seconds(args.repeats, [&] { coulomb_direct_float(X); }, &direct_float_cpu_seconds);
+    direct_seconds = median_seconds(
+        args.repeats, [&] { direct = coulomb_direct(X); }, &direct_cpu_seconds);
+    direct_float_seconds = median_seconds(
+        args.repeats, [&] { coulomb_direct_float(X); }, &direct_float_cpu_seconds);
     gradient_error = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
     energy_error = std::abs(fast.energy - direct.energy) / std::abs(direct.energy);
   } else {
@@ -169,8 +174,8 @@ int run() {
       std::swap(all[t], all[t + std::uniform_int_distribution<Index>(0, n - 1 - t)(rng)]);
     std::vector<Index> targets(all.begin(), all.begin() + error_targets);
     CoulombTargetSums exact;
-    const double sample_seconds =
-        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); }, &direct_cpu_seconds);
+    const double sample_seconds = median_seconds(
+        1, [&] { exact = coulomb_direct_targets(X, targets); }, &direct_cpu_seconds);
     direct_seconds = sample_seconds * double(n) / double(error_targets);
     direct_cpu_seconds *= double(n) / double(error_targets);
     double diff2 = 0, ref2 = 0, phi_fast = 0, phi_exact = 0;
@@ -220,11 +225,12 @@ int run() {
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
-    std::printf("n %ld (%s), %d threads\n", static_cast<long>(n), distribution.c_str(), omp_get_max_threads());
+    std::printf("n %ld (%s), %d threads\n", static_cast<long>(n), distribution.c_str(),
+                omp_get_max_threads());
     std::printf("  direct  %.4g s%s\n", direct_seconds, full ? "" : " (extrapolated from the sample)");
     if (full) std::printf("  direct (float)  %.4g s\n", direct_float_seconds);
-    std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", fast_seconds, stats.order,
-                stats.opening_angle, stats.leaf_size, direct_seconds / fast_seconds);
+    std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", fast_seconds,
+                stats.order, stats.opening_angle, stats.leaf_size, direct_seconds / fast_seconds);
     std::printf("  relative L2 error: gradient %.3g, energy %.3g (over %ld targets)\n", gradient_error,
                 energy_error, static_cast<long>(error_targets));
   }
@@ -247,7 +253,8 @@ const bool registered = register_command(
        app.add_option("--theta", args.opening_angle, "override the opening angle (0: from --accuracy)");
        app.add_option("--leaf-size", args.leaf_size, "override the leaf size (0: from --accuracy)");
        app.add_option("--sample", args.sample, "error targets when the full direct sum is skipped");
-       app.add_option("--full-direct-max", args.full_direct_max, "largest n summed completely by direct summation");
+       app.add_option("--full-direct-max", args.full_direct_max,
+                      "largest n summed completely by direct summation");
        app.add_option("--seed", args.seed, "random seed for points and the error sample");
        app.add_flag("--json", args.json, "print JSON on stdout");
      },

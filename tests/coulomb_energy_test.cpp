@@ -21,7 +21,9 @@ Points random_points(Index n, unsigned seed, double scale = 1.0) {
   return X;
 }
 
-double relative_l2(const Points& a, const Points& b) { return (a - b).norm() / b.norm(); }
+double relative_l2(const Points& a, const Points& b) {
+  return (a - b).norm() / b.norm();
+}
 
 CoulombEvaluation evaluate(const Points& X, Summation summation) {
   CoulombOptions o;
@@ -131,7 +133,8 @@ TEST(CoulombEnergy, CoincidentPointsGiveFiniteResults) {
 
 TEST(CoulombEnergy, TranslationInvariantRotationEquivariant) {
   const Points X = random_points(2500, 21);
-  const Eigen::Matrix3d Rot = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d Rot =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Eigen::RowVector3d shift(10, -4, 2.5);
   const Points moved = (X * Rot.transpose()).rowwise() + shift;
   for (Summation s : {Summation::Direct, Summation::DirectFloat, Summation::Fast}) {
