@@ -7,7 +7,8 @@
 // cells A, B interact through one multipole-to-local translation when r_A + r_B < θ·‖z_A − z_B‖ (r = radius
 // of the cell's points about its centre z), otherwise the larger cell is split; leaf pairs that stay close
 // are summed directly with the float SIMD kernel (coulomb_p2p.h). Translations use the recurrence of
-// Duan & Krasny for the Taylor coefficients of 1/r. Cost O(n) for fixed (p, θ); memory O(n).
+// Duan & Krasny for the Taylor coefficients of 1/r. Cost for fixed (p, θ): O(n) interactions plus an
+// O(n · tree depth) pass for the cells' radii; memory O(n).
 //
 // Accuracy: `accuracy` is the target relative L2 error of the gradient, ‖g_fast − g_direct‖ / ‖g_direct‖;
 // (p, θ) are chosen from it by a table measured on the 24 tosca5k meshes and on uniform, sphere, clustered
@@ -25,10 +26,10 @@ namespace cshapes {
 
 struct CoulombFmmOptions {
   double accuracy = 1e-3;  // target relative L2 error of the gradient; picks order and opening_angle
-  int order = 0;           // expansion order p (1 … 12); 0: chosen from accuracy
-  double opening_angle =
-      0;  // θ in (0, 1): cells interact by expansion when r_A + r_B < θ·distance; 0: from accuracy
-  int leaf_size = 0;             // most points in a leaf; 0: chosen with the order (≈ 32–64)
+  int order = 0;           // expansion order p (1 … 16); 0: chosen from accuracy
+  // θ in (0, 1): cells interact by expansion when r_A + r_B < θ·distance; 0: chosen from accuracy
+  double opening_angle = 0;
+  int leaf_size = 0;             // most points in a leaf; 0: chosen from accuracy (48 or 96)
   double min_distance = 0;       // distance floor (see coulomb_energy.h); 0: 1e-9 × bounding-box diagonal
   bool want_potentials = false;  // also return the potentials φ_i
 };
