@@ -71,8 +71,10 @@ CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options
   return form;
 }
 
-CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given) {
+CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given,
+                       double given_seconds) {
   CanonicalForm form;
+  form.precompute_seconds = given_seconds;
   DistanceMatrix computed;
   if (!given) {
     auto start = std::chrono::steady_clock::now();
@@ -154,9 +156,10 @@ const std::vector<std::string>& canonical_form_methods() {
   return methods;
 }
 
-CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D) {
+CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
+                             double D_seconds) {
   if (options.method == "coulomb") return coulomb_form(mesh, options);
-  if (options.method == "cmds" || options.method == "smacof") return mds_form(mesh, options, D);
+  if (options.method == "cmds" || options.method == "smacof") return mds_form(mesh, options, D, D_seconds);
   fail("unknown canonization method '", options.method, "'; known: coulomb, cmds, smacof");
 }
 
@@ -201,15 +204,19 @@ std::string mesh_content_key(const Mesh& mesh) {
   return sha256_hex(bytes);
 }
 
+std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
+  return cache_key({"canonical-form-v1", mesh_content_key(mesh), canonical_form_key(options)});
+}
+
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, const CanonicalFormOptions& options,
-                                    bool* was_cached, const DistanceMatrix* D) {
-  const std::string key = cache_key({"canonical-form-v1", mesh_content_key(mesh), canonical_form_key(options)});
+                                    bool* was_cached, const DistanceMatrix* D, double D_seconds) {
+  const std::string key = canonical_form_cache_key(mesh, options);
   if (auto hit = cache.get(key)) {
     if (was_cached) *was_cached = true;
     return deserialize(*hit);
   }
   if (was_cached) *was_cached = false;
-  CanonicalForm form = canonical_form(mesh, options, D);
+  CanonicalForm form = canonical_form(mesh, options, D, D_seconds);
   cache.put(key, serialize(form));
   return form;
 }

@@ -55,9 +55,10 @@ struct CanonicalForm {
 };
 
 // Computes the canonical form. D: optional precomputed all-pairs distances for MDS (n×n), reused instead
-// of computing geodesics (e.g. one matrix shared by cmds and smacof).
+// of computing geodesics (e.g. one matrix shared by cmds and smacof); D_seconds: what computing it took,
+// reported as the form's precompute_seconds.
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options,
-                             const DistanceMatrix* D = nullptr);
+                             const DistanceMatrix* D = nullptr, double D_seconds = 0);
 
 // The part of the cache key that depends on the options: every field that changes the result.
 std::string canonical_form_key(const CanonicalFormOptions& options);
@@ -65,7 +66,10 @@ std::string canonical_form_key(const CanonicalFormOptions& options);
 std::string mesh_content_key(const Mesh& mesh);
 
 // canonical_form through a DiskCache (a disabled cache computes every time). *was_cached tells which.
+// The cache key of that form.
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, const CanonicalFormOptions& options,
-                                    bool* was_cached = nullptr, const DistanceMatrix* D = nullptr);
+                                    bool* was_cached = nullptr, const DistanceMatrix* D = nullptr,
+                                    double D_seconds = 0);
+std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options);
 
 }  // namespace cshapes
