@@ -56,14 +56,19 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
   return s;
 }
 
-// B·v = −½ J (D∘D) J v without forming B: centre v, one pass y = (D∘D) v over columns (= rows), centre y.
+// (B + sI)·v = −½ J (D∘D) J v + s v without forming B: centre v, one pass y = (D∘D) v over columns (= rows),
+// centre y. The shift s ≈ ‖B‖_F leaves the Krylov spaces (and so Lanczos' iterates) unchanged but makes
+// Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
+// third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
+// need.
 template <typename Entry>
 class DoubleCentredOp {
  public:
   using Scalar = double;  // Spectra requires this name
 
-  DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, const ProgressFn& progress)
-      : D_(D), progress_(progress), centred_(D.rows()) {}
+  DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, double shift,
+                  const ProgressFn& progress)
+      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {}
   Index rows() const { return D_.rows(); }
   Index cols() const { return D_.rows(); }
 
@@ -84,14 +89,17 @@ class DoubleCentredOp {
       y_out[i] = sum;
     }
     Eigen::Map<Eigen::VectorXd> y(y_out, n);
-    y = -0.5 * (y.array() - y.mean());
+    y = -0.5 * (y.array() - y.mean()) + shift_ * x.array();
     ++products_;
     if (progress_) progress_("classical mds", products_, 0);
   }
-  int products() const { return products_; }
+  int products() const {
+    return products_;
+  }
 
  private:
   const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D_;
+  double shift_;
   const ProgressFn& progress_;
   mutable Eigen::VectorXd centred_;
   mutable int products_ = 0;
@@ -118,34 +126,32 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
   result.frobenius_squared =
       0.25 * (sums.sum_fourth - 2.0 / nd * sums.row_sums.squaredNorm() + total * total / (nd * nd));
 
-  DoubleCentredOp<Scalar> op(D, options.progress);
+  const double shift = std::sqrt(std::max(0.0, result.frobenius_squared));
+  DoubleCentredOp<Scalar> op(D, shift, options.progress);
   const Index ncv = std::min<Index>(options.lanczos_vectors, n);
-  {
-    Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, 3, ncv);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestAlge, options.max_restarts, options.tolerance,
-                 Spectra::SortRule::LargestAlge);
-    if (eigs.info() != Spectra::CompInfo::Successful)
-      fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
-           " restarts (raise lanczos_vectors or the tolerance)");
-    result.eigenvalues = eigs.eigenvalues();
-    Eigen::MatrixXd vectors = eigs.eigenvectors();
-    result.X.resize(n, 3);
-    for (int k = 0; k < 3; ++k)
-      result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
-    result.X.rowwise() -= result.X.colwise().mean();
-  }
-  result.most_negative_eigenvalue = std::numeric_limits<double>::quiet_NaN();
-  if (options.most_negative_eigenvalue) {
-    Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, 1, ncv);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::SmallestAlge, options.max_restarts, options.tolerance,
-                 Spectra::SortRule::SmallestAlge);
-    if (eigs.info() == Spectra::CompInfo::Successful) result.most_negative_eigenvalue = eigs.eigenvalues()[0];
-  }
+  // One Lanczos run for both ends when λ_min is wanted: 3 from the top and 2 from the bottom share the
+  // Krylov space, far cheaper than a second run.
+  const bool both_ends = options.most_negative_eigenvalue && n >= 8;
+  const Index nev = both_ends ? 5 : 3;
+  Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
+  eigs.init();
+  eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge, options.max_restarts,
+               options.tolerance, Spectra::SortRule::LargestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
+         " restarts (raise lanczos_vectors or the tolerance)");
+  const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
+  const Eigen::MatrixXd vectors = eigs.eigenvectors();
+  result.eigenvalues = values.head(3);
+  result.most_negative_eigenvalue = both_ends ? values[nev - 1] : std::numeric_limits<double>::quiet_NaN();
+  result.X.resize(n, 3);
+  for (int k = 0; k < 3; ++k)
+    result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
+  result.X.rowwise() -= result.X.colwise().mean();
   const double top_sum = result.eigenvalues.sum();
   const double top_energy = result.eigenvalues.squaredNorm();
-  result.explained_energy = result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
+  result.explained_energy =
+      result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
   result.negative_energy_upper_bound = 1 - result.explained_energy;
   result.negative_mass_lower_bound = top_sum > 0 ? std::max(0.0, top_sum - result.trace) / top_sum : 0;
   result.matrix_products = op.products();

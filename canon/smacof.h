@@ -13,10 +13,11 @@
 // Uniform weights give the textbook X⁺ = B(X) X / n. Each transform never increases σ.
 //
 // Cost per iteration: ONE streaming pass over the upper triangle of D (symmetry: each pair read once and
-// credited to both rows), computing B(X)X and σ(X) together. Tiles of 256×256 entries, OpenMP over tiles,
-// single-precision distance arithmetic (AVX2 when compiled for it) with float partial sums of at most 256
-// terms flushed into double accumulators. Extra memory O(n · threads). D is single precision, symmetric
-// (only entries i < j are read), finite and ≥ 0: an infinite entry (disconnected mesh) is refused.
+// credited to both rows), computing B(X)X and σ(X) together. Tiles of 256×256 entries (the next rows
+// prefetched), OpenMP over tiles, single-precision distance arithmetic (AVX2 when compiled for it) with float
+// partial sums of at most 256 terms flushed into double accumulators. Extra memory O(n · threads). D is
+// single precision, symmetric (only entries i < j are read), finite and ≥ 0: an infinite entry (disconnected
+// mesh) is refused.
 //
 // Acceleration (RRE / MPE, "cycling mode"): after `extrapolation_window` + 1 Guttman steps, the iterates are
 // combined into an extrapolated configuration; it is kept only when its stress is lower than the last
@@ -44,32 +45,36 @@ SmacofAcceleration parse_smacof_acceleration(const std::string& name);
 std::string to_string(SmacofAcceleration acceleration);
 
 struct SmacofOptions {
-  int max_iterations = 300;     // passes over D after the initial one (each a Guttman transform or extrapolation)
+  int max_iterations =
+      300;  // passes over D after the initial one (each a Guttman transform or extrapolation)
   // Stop when the relative stress decrease (σₖ₋₁ − σₖ)/σₖ₋₁ per pass falls below this (with acceleration:
   // averaged over an extrapolation cycle); ≤ 0: never, run max_iterations.
   double tolerance = 1e-5;
-  double target_stress = 0;     // also stop once the normalised stress is ≤ this (0: off)
+  double target_stress = 0;  // also stop once the normalised stress is ≤ this (0: off)
   SmacofAcceleration acceleration = SmacofAcceleration::None;  // see the table above
-  int extrapolation_window = 6;  // Guttman steps combined per extrapolation (k in Rosman et al.), ≥ 1
+  int extrapolation_window = 6;    // Guttman steps combined per extrapolation (k in Rosman et al.), ≥ 1
   Eigen::VectorXd vertex_weights;  // n positive weights wᵢ (wᵢⱼ = wᵢwⱼ); empty: uniform
-  ProgressFn progress;          // stage "smacof": (iterations done, max_iterations)
+  ProgressFn progress;             // stage "smacof": (iterations done, max_iterations)
 };
 
 struct SmacofResult {
-  Points X;                          // n×3, weighted-centred (Σ wᵢ xᵢ = 0), units of D
-  double stress = 0;                 // σ(X), unnormalised
-  double normalized_stress = 0;      // σ(X) / Σ_{i<j} wᵢⱼ δᵢⱼ²
+  Points X;                      // n×3, weighted-centred (Σ wᵢ xᵢ = 0), units of D
+  double stress = 0;             // σ(X), unnormalised
+  double normalized_stress = 0;  // σ(X) / Σ_{i<j} wᵢⱼ δᵢⱼ²
   // One entry per accepted configuration, starting with the initial one: its normalised stress, the number
   // of passes over D spent when it was evaluated, and whether it came from an extrapolation. Non-increasing.
   std::vector<double> stress_history;
   std::vector<int> passes_history;
   std::vector<bool> extrapolated_history;
-  int iterations = 0;                // passes over D after the initial one
+  int iterations = 0;  // passes over D after the initial one
   int extrapolations_accepted = 0;
   int extrapolations_rejected = 0;
   std::string stop_reason;           // "converged", "target stress", "max iterations"
   double seconds = 0;                // wall time of the iterations (validation pass included)
-  double seconds_per_iteration = 0;  // seconds / passes
+  double seconds_per_iteration = 0;  // seconds / passes, validation excluded
+  // CPU seconds of the process (all threads) per pass: on a shared machine, the part of the cost that does
+  // not depend on how much CPU the other processes leave us.
+  double cpu_seconds_per_iteration = 0;
 };
 
 // SMACOF from the initial configuration X0 (n×3: classical MDS, the mesh itself, ...).

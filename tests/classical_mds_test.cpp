@@ -155,7 +155,8 @@ TEST(ClassicalMdsCli, CanonWritesFiniteFormWithTheInputsFaces) {
   std::string dir = test::scratch_dir("cmds");
   Mesh mesh = torus(24, 12, 2.0, 0.6);
   write_mesh(dir + "/torus.off", mesh);
-  auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method cmds --geodesics graph --json");
+  auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Mesh out = read_mesh(dir + "/out.off");
   EXPECT_EQ(out.num_vertices(), mesh.num_vertices());
@@ -173,11 +174,13 @@ TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
   both.F.resize(a.F.rows() * 2, 3);
   both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
   write_mesh(dir + "/two.off", both);
-  auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --geodesics graph");
+  auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("component"), std::string::npos) << r.err;
   // With --largest-component it succeeds on one sphere.
-  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --geodesics graph "
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                    "/out.off' --method cmds --geodesics graph "
                     "--largest-component");
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }

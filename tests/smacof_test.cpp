@@ -37,7 +37,9 @@ DistanceMatrix euclidean_distances(const Points& P) {
 }
 
 // Geodesic (graph) distances on a torus: a curved, non-Euclidean metric.
-DistanceMatrix torus_geodesics(int nu = 40, int nv = 16) { return all_pairs_geodesics(torus(nu, nv, 2.0, 0.7)); }
+DistanceMatrix torus_geodesics(int nu = 40, int nv = 16) {
+  return all_pairs_geodesics(torus(nu, nv, 2.0, 0.7));
+}
 
 // Dense reference: σ(X) = Σ_{i<j} wᵢwⱼ (δᵢⱼ − dᵢⱼ)² and X⁺ = V⁺ B(X) X with V = Σ wᵢⱼ (eᵢ − eⱼ)(eᵢ − eⱼ)ᵀ.
 struct DenseGuttman {
@@ -71,7 +73,8 @@ Points weighted_centred(const Points& X, const Eigen::VectorXd& w) {
 
 TEST(Smacof, GuttmanTransformMatchesDenseReference) {
   const Index n = 70;
-  DistanceMatrix D = all_pairs_geodesics(icosphere(2)).topLeftCorner(n, n);  // non-Euclidean, connected enough
+  DistanceMatrix D =
+      all_pairs_geodesics(icosphere(2)).topLeftCorner(n, n);  // non-Euclidean, connected enough
   Points X = random_points(n, 11);
   for (bool weighted : {false, true}) {
     Eigen::VectorXd w = weighted ? Eigen::VectorXd((Eigen::VectorXd::Random(n).array() + 1.5).matrix())
@@ -218,9 +221,10 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
   write_mesh(dir + "/torus.off", mesh);
   write_distance_matrix(dir + "/D.bin", all_pairs_geodesics(mesh));
   for (const char* source : {"--geodesics graph", "--distances D.bin"}) {
-    std::string args = std::string(source) == "--distances D.bin" ? "--distances '" + dir + "/D.bin'" : source;
-    auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " + args +
-                           " --iters 30 --accelerate rre --history '" + dir + "/h.csv' --json");
+    std::string args =
+        std::string(source) == "--distances D.bin" ? "--distances '" + dir + "/D.bin'" : source;
+    auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " +
+                           args + " --iters 30 --accelerate rre --history '" + dir + "/h.csv' --json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Mesh out = read_mesh(dir + "/out.off");
     EXPECT_EQ(out.F, mesh.F);
@@ -242,7 +246,8 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
     }
     EXPECT_GT(rows, 5);
   }
-  auto bad = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof "
+  auto bad = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir +
+                           "/out.off' --method smacof "
                            "--geodesics graph --accelerate bogus");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("rre"), std::string::npos) << bad.err;
