@@ -5,11 +5,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
 namespace cshapes {
 namespace {
+
+// Tile edge of the product's pass over D (column sums of a tile stay in L1).
+constexpr Index kTile = 256;
 
 // First pass over D: validity, and the sums behind tr B and ‖B‖²_F.
 struct SquaredDistanceSums {
@@ -68,7 +73,11 @@ class DoubleCentredOp {
 
   DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, double shift,
                   const ProgressFn& progress)
-      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {}
+      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {
+    const Index n = D.rows(), blocks = (n + kTile - 1) / kTile;
+    for (Index bj = 0; bj < blocks; ++bj)
+      for (Index bi = 0; bi <= bj; ++bi) tiles_.emplace_back(bi, bj);
+  }
   Index rows() const { return D_.rows(); }
   Index cols() const { return D_.rows(); }
 
@@ -77,17 +86,49 @@ class DoubleCentredOp {
     Eigen::Map<const Eigen::VectorXd> x(x_in, n);
     centred_ = x.array() - x.mean();
     const double* v = centred_.data();
-#pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      const Entry* column = D_.data() + i * n;
-      double sum = 0;
-#pragma omp simd reduction(+ : sum)
-      for (Index j = 0; j < n; ++j) {
-        double d = static_cast<double>(column[j]);
-        sum += d * d * v[j];
+    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
+    // Symmetry: only the tiles above the diagonal are read, each entry credited to its row and its column,
+    // so a product streams half of D.
+#pragma omp parallel
+    {
+      Eigen::VectorXd local = Eigen::VectorXd::Zero(n);
+      alignas(64) double column_sums[kTile];
+#pragma omp for schedule(dynamic, 1) nowait
+      for (size_t t = 0; t < tiles_.size(); ++t) {
+        const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
+        const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
+        std::fill(column_sums, column_sums + kTile, 0.0);
+        for (Index i = i0; i < i1; ++i) {
+          const Index ja = std::max(j0, i + 1);
+          if (ja >= j1) continue;
+          if (i + 2 < i1) {  // the row two ahead: each tile row is a separate short run of D
+            const char* next = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + std::max(j0, i + 3));
+            const char* end = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + j1);
+            for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
+          }
+          const Entry* column = D_.data() + i * n;  // column i = row i
+          const double vi = v[i];
+          double row = 0;
+          double* sums = column_sums - j0;
+#pragma omp simd reduction(+ : row)
+          for (Index j = ja; j < j1; ++j) {
+            const double d = static_cast<double>(column[j]);
+            const double a = d * d;
+            row += a * v[j];
+            sums[j] += a * vi;
+          }
+          local[i] += row;
+        }
+        for (Index j = j0; j < j1; ++j) local[j] += column_sums[j - j0];
       }
-      y_out[i] = sum;
+#pragma omp critical(cshapes_cmds_reduce)
+      product += local;
     }
+    for (Index i = 0; i < n; ++i) {  // the diagonal (zero for a proper distance matrix)
+      const double d = static_cast<double>(D_(i, i));
+      product[i] += d * d * v[i];
+    }
+    std::copy(product.data(), product.data() + n, y_out);
     Eigen::Map<Eigen::VectorXd> y(y_out, n);
     y = -0.5 * (y.array() - y.mean()) + shift_ * x.array();
     ++products_;
@@ -102,6 +143,7 @@ class DoubleCentredOp {
   double shift_;
   const ProgressFn& progress_;
   mutable Eigen::VectorXd centred_;
+  std::vector<std::pair<Index, Index>> tiles_;  // upper-triangle tiles (row block ≤ column block)
   mutable int products_ = 0;
 };
 
