@@ -473,6 +473,7 @@ SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptio
     }
   }
 
+  if (options.progress) options.progress("smacof", options.max_iterations, options.max_iterations);  // done
   result.X = X;
   result.stress = current.stress;
   result.normalized_stress = current.stress / energy;
