@@ -9,6 +9,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/geodesics.h"
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "tests/test_support.h"
@@ -183,6 +184,17 @@ TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
                     "/out.off' --method cmds --geodesics graph "
                     "--largest-component");
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // A distance matrix of the whole input (infinite between the spheres): refused as such, and restricted to
+  // the kept component with --largest-component.
+  const Index m = a.num_vertices();
+  DistanceMatrix D = DistanceMatrix::Constant(2 * m, 2 * m, std::numeric_limits<float>::infinity());
+  D.topLeftCorner(m, m) = all_pairs_geodesics(a);
+  D.bottomRightCorner(m, m) = all_pairs_geodesics(a);  // the second sphere is a translated copy
+  write_distance_matrix(dir + "/D.bin", D);
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --distances '" +
+                    dir + "/D.bin' --largest-component");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_mesh(dir + "/out.off").num_vertices(), a.num_vertices());
 }
 
 }  // namespace

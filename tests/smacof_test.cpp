@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <Eigen/QR>
 #include <cmath>
 #include <fstream>
@@ -251,6 +253,21 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
                            "--geodesics graph --accelerate bogus");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("rre"), std::string::npos) << bad.err;
+}
+
+TEST(SmacofCli, BenchAgreesWithScikitLearnOnTheSameProblem) {
+  auto r = test::run_cli("-q bench smacof --n 300 --iters 5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["n"], 300);
+  EXPECT_GT(j["seconds_per_iteration"].get<double>(), 0);
+  EXPECT_GT(j["peak_rss_mb"].get<double>(), 0);
+  EXPECT_LT(j["normalized_stress_end"].get<double>(), j["normalized_stress_start"].get<double>());
+  if (!j["reference"].contains("stress"))
+    GTEST_SKIP() << "scikit-learn not available: " << j["reference"].dump();
+  // Same matrix, same start, same number of Guttman transforms: the same stress, to float rounding.
+  EXPECT_LT(j["reference"]["stress_relative_difference"].get<double>(), 1e-5);
+  EXPECT_GT(j["speedup_vs_reference"].get<double>(), 0);
 }
 
 }  // namespace
