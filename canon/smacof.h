@@ -4,7 +4,8 @@
 //
 // Stress of an embedding X (n×3) against distances δ (the n×n matrix D), over pairs i < j:
 //   σ(X) = Σ_{i<j} wᵢⱼ (δᵢⱼ − dᵢⱼ(X))²,   dᵢⱼ(X) = ‖xᵢ − xⱼ‖,   wᵢⱼ = wᵢ wⱼ
-// Normalised stress (what the history reports): σ(X) / Σ_{i<j} wᵢⱼ δᵢⱼ², in [0, 1] for X = 0 → 1.
+// Normalised stress (what the history reports): σ(X) / Σ_{i<j} wᵢⱼ δᵢⱼ² (1 for X = 0; Guttman iterates
+// stay below 1).
 //
 // Weights are products of positive per-vertex weights (e.g. vertex areas, so that σ approximates the
 // continuous stress integral). For them the Guttman transform stays O(n) beyond the pass over D:
@@ -19,10 +20,13 @@
 // single precision, symmetric (only entries i < j are read), finite and ≥ 0: an infinite entry (disconnected
 // mesh) is refused.
 //
-// Acceleration (RRE / MPE, "cycling mode"): after `extrapolation_window` + 1 Guttman steps, the iterates are
-// combined into an extrapolated configuration; it is kept only when its stress is lower than the last
-// Guttman iterate's, so the reported stresses never increase either. Iterations are counted as passes over
-// D (the cost), including those spent on rejected extrapolations.
+// Acceleration (RRE / MPE, "cycling mode"): from x₀, K = `extrapolation_window` Guttman steps give x₁ … x_K
+// (K − 1 passes: each pass at x_k yields x_{k+1}); their K differences are combined into an extrapolated
+// configuration, evaluated by one more pass. It is kept only when its stress is below the last evaluated
+// Guttman iterate's (else the cycle continues from x_K), so the reported stresses never increase either.
+// Iterations are counted as passes over D (the cost), including those spent on rejected extrapolations.
+// Measured on tosca5k cat0 (fast-marching geodesics, from classical MDS): plain SMACOF converges
+// (tolerance 1e-6) in 59 iterations; RRE reaches the same stress in 18, MPE in 17 (K = 6).
 #pragma once
 
 #include <string>
