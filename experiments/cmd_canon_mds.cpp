@@ -129,7 +129,7 @@ const bool cmds_registered = register_canon_method(
     {"cmds", "classical MDS (Young-Householder) of all-pairs geodesic distances",
      [](CLI::Option_group& g) {
        g.add_option("--geodesics", args.geodesics,
-                    "cmds/smacof: geodesic distances to embed (heat, fmm, exact, graph)")
+                    "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph)")
            ->capture_default_str();
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
