@@ -5,11 +5,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
 namespace cshapes {
 namespace {
+
+// Tile edge of the product's pass over D (column sums of a tile stay in L1).
+constexpr Index kTile = 256;
 
 // First pass over D: validity, and the sums behind tr B and ‖B‖²_F.
 struct SquaredDistanceSums {
@@ -56,14 +61,23 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
   return s;
 }
 
-// B·v = −½ J (D∘D) J v without forming B: centre v, one pass y = (D∘D) v over columns (= rows), centre y.
+// (B + sI)·v = −½ J (D∘D) J v + s v without forming B: centre v, one pass y = (D∘D) v over columns (= rows),
+// centre y. The shift s ≈ ‖B‖_F leaves the Krylov spaces (and so Lanczos' iterates) unchanged but makes
+// Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
+// third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
+// need.
 template <typename Entry>
 class DoubleCentredOp {
  public:
   using Scalar = double;  // Spectra requires this name
 
-  DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, const ProgressFn& progress)
-      : D_(D), progress_(progress), centred_(D.rows()) {}
+  DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, double shift,
+                  const ProgressFn& progress)
+      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {
+    const Index n = D.rows(), blocks = (n + kTile - 1) / kTile;
+    for (Index bj = 0; bj < blocks; ++bj)
+      for (Index bi = 0; bi <= bj; ++bi) tiles_.emplace_back(bi, bj);
+  }
   Index rows() const { return D_.rows(); }
   Index cols() const { return D_.rows(); }
 
@@ -72,28 +86,64 @@ class DoubleCentredOp {
     Eigen::Map<const Eigen::VectorXd> x(x_in, n);
     centred_ = x.array() - x.mean();
     const double* v = centred_.data();
-#pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      const Entry* column = D_.data() + i * n;
-      double sum = 0;
-#pragma omp simd reduction(+ : sum)
-      for (Index j = 0; j < n; ++j) {
-        double d = static_cast<double>(column[j]);
-        sum += d * d * v[j];
+    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
+    // Symmetry: only the tiles above the diagonal are read, each entry credited to its row and its column,
+    // so a product streams half of D.
+#pragma omp parallel
+    {
+      Eigen::VectorXd local = Eigen::VectorXd::Zero(n);
+      alignas(64) double column_sums[kTile];
+#pragma omp for schedule(dynamic, 1) nowait
+      for (size_t t = 0; t < tiles_.size(); ++t) {
+        const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
+        const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
+        std::fill(column_sums, column_sums + kTile, 0.0);
+        for (Index i = i0; i < i1; ++i) {
+          const Index ja = std::max(j0, i + 1);
+          if (ja >= j1) continue;
+          if (i + 2 < i1) {  // the row two ahead: each tile row is a separate short run of D
+            const char* next = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + std::max(j0, i + 3));
+            const char* end = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + j1);
+            for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
+          }
+          const Entry* column = D_.data() + i * n;  // column i = row i
+          const double vi = v[i];
+          double row = 0;
+          double* sums = column_sums - j0;
+#pragma omp simd reduction(+ : row)
+          for (Index j = ja; j < j1; ++j) {
+            const double d = static_cast<double>(column[j]);
+            const double a = d * d;
+            row += a * v[j];
+            sums[j] += a * vi;
+          }
+          local[i] += row;
+        }
+        for (Index j = j0; j < j1; ++j) local[j] += column_sums[j - j0];
       }
-      y_out[i] = sum;
+#pragma omp critical(cshapes_cmds_reduce)
+      product += local;
     }
+    for (Index i = 0; i < n; ++i) {  // the diagonal (zero for a proper distance matrix)
+      const double d = static_cast<double>(D_(i, i));
+      product[i] += d * d * v[i];
+    }
+    std::copy(product.data(), product.data() + n, y_out);
     Eigen::Map<Eigen::VectorXd> y(y_out, n);
-    y = -0.5 * (y.array() - y.mean());
+    y = -0.5 * (y.array() - y.mean()) + shift_ * x.array();
     ++products_;
     if (progress_) progress_("classical mds", products_, 0);
   }
-  int products() const { return products_; }
+  int products() const {
+    return products_;
+  }
 
  private:
   const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D_;
+  double shift_;
   const ProgressFn& progress_;
   mutable Eigen::VectorXd centred_;
+  std::vector<std::pair<Index, Index>> tiles_;  // upper-triangle tiles (row block ≤ column block)
   mutable int products_ = 0;
 };
 
@@ -118,34 +168,32 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
   result.frobenius_squared =
       0.25 * (sums.sum_fourth - 2.0 / nd * sums.row_sums.squaredNorm() + total * total / (nd * nd));
 
-  DoubleCentredOp<Scalar> op(D, options.progress);
+  const double shift = std::sqrt(std::max(0.0, result.frobenius_squared));
+  DoubleCentredOp<Scalar> op(D, shift, options.progress);
   const Index ncv = std::min<Index>(options.lanczos_vectors, n);
-  {
-    Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, 3, ncv);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestAlge, options.max_restarts, options.tolerance,
-                 Spectra::SortRule::LargestAlge);
-    if (eigs.info() != Spectra::CompInfo::Successful)
-      fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
-           " restarts (raise lanczos_vectors or the tolerance)");
-    result.eigenvalues = eigs.eigenvalues();
-    Eigen::MatrixXd vectors = eigs.eigenvectors();
-    result.X.resize(n, 3);
-    for (int k = 0; k < 3; ++k)
-      result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
-    result.X.rowwise() -= result.X.colwise().mean();
-  }
-  result.most_negative_eigenvalue = std::numeric_limits<double>::quiet_NaN();
-  if (options.most_negative_eigenvalue) {
-    Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, 1, ncv);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::SmallestAlge, options.max_restarts, options.tolerance,
-                 Spectra::SortRule::SmallestAlge);
-    if (eigs.info() == Spectra::CompInfo::Successful) result.most_negative_eigenvalue = eigs.eigenvalues()[0];
-  }
+  // One Lanczos run for both ends when λ_min is wanted: 3 from the top and 2 from the bottom share the
+  // Krylov space, far cheaper than a second run.
+  const bool both_ends = options.most_negative_eigenvalue && n >= 8;
+  const Index nev = both_ends ? 5 : 3;
+  Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
+  eigs.init();
+  eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge, options.max_restarts,
+               options.tolerance, Spectra::SortRule::LargestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
+         " restarts (raise lanczos_vectors or the tolerance)");
+  const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
+  const Eigen::MatrixXd vectors = eigs.eigenvectors();
+  result.eigenvalues = values.head(3);
+  result.most_negative_eigenvalue = both_ends ? values[nev - 1] : std::numeric_limits<double>::quiet_NaN();
+  result.X.resize(n, 3);
+  for (int k = 0; k < 3; ++k)
+    result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
+  result.X.rowwise() -= result.X.colwise().mean();
   const double top_sum = result.eigenvalues.sum();
   const double top_energy = result.eigenvalues.squaredNorm();
-  result.explained_energy = result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
+  result.explained_energy =
+      result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
   result.negative_energy_upper_bound = 1 - result.explained_energy;
   result.negative_mass_lower_bound = top_sum > 0 ? std::max(0.0, top_sum - result.trace) / top_sum : 0;
   result.matrix_products = op.products();

@@ -62,10 +62,10 @@ nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
 
 ClassicalMdsResult run_cmds(const DistanceMatrix& D) {
   ClassicalMdsResult r = classical_mds(D);
-  note("classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " + std::to_string(r.eigenvalues[1]) +
-       ", " + std::to_string(r.eigenvalues[2]) + "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
-       "% of the spectrum's energy; most negative eigenvalue " + std::to_string(r.most_negative_eigenvalue) +
-       " in " + std::to_string(r.seconds) + " s");
+  note("classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
+       std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) + "; 3-D keeps " +
+       std::to_string(100 * r.explained_energy) + "% of the spectrum's energy; most negative eigenvalue " +
+       std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) + " s");
   return r;
 }
 
@@ -129,7 +129,7 @@ const bool cmds_registered = register_canon_method(
     {"cmds", "classical MDS (Young-Householder) of all-pairs geodesic distances",
      [](CLI::Option_group& g) {
        g.add_option("--geodesics", args.geodesics,
-                    "cmds/smacof: geodesic distances to embed (heat, fmm, exact, graph)")
+                    "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph)")
            ->capture_default_str();
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
@@ -142,14 +142,17 @@ const bool smacof_registered = register_canon_method(
        g.add_option("--iters", args.iterations, "smacof: maximum iterations (passes over D)")
            ->capture_default_str()
            ->check(CLI::NonNegativeNumber);
-       g.add_option("--tolerance", args.tolerance, "smacof: stop when the relative stress decrease is below this")
+       g.add_option("--tolerance", args.tolerance,
+                    "smacof: stop when the relative stress decrease is below this")
            ->capture_default_str();
        g.add_option("--init", args.init, "smacof: initial configuration: cmds (classical MDS) or mesh")
            ->capture_default_str();
        g.add_option("--accelerate", args.accelerate, "smacof: vector extrapolation: none, rre or mpe")
            ->capture_default_str();
-       g.add_option("--window", args.window, "smacof: Guttman steps per extrapolation")->capture_default_str();
-       g.add_option("--weights", args.weights, "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
+       g.add_option("--window", args.window, "smacof: Guttman steps per extrapolation")
+           ->capture_default_str();
+       g.add_option("--weights", args.weights,
+                    "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
            ->capture_default_str();
      },
      canon_smacof});

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/geodesics.h"
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "tests/test_support.h"
@@ -155,7 +156,8 @@ TEST(ClassicalMdsCli, CanonWritesFiniteFormWithTheInputsFaces) {
   std::string dir = test::scratch_dir("cmds");
   Mesh mesh = torus(24, 12, 2.0, 0.6);
   write_mesh(dir + "/torus.off", mesh);
-  auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method cmds --geodesics graph --json");
+  auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Mesh out = read_mesh(dir + "/out.off");
   EXPECT_EQ(out.num_vertices(), mesh.num_vertices());
@@ -173,13 +175,26 @@ TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
   both.F.resize(a.F.rows() * 2, 3);
   both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
   write_mesh(dir + "/two.off", both);
-  auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --geodesics graph");
+  auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("component"), std::string::npos) << r.err;
   // With --largest-component it succeeds on one sphere.
-  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --geodesics graph "
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                    "/out.off' --method cmds --geodesics graph "
                     "--largest-component");
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // A distance matrix of the whole input (infinite between the spheres): refused as such, and restricted to
+  // the kept component with --largest-component.
+  const Index m = a.num_vertices();
+  DistanceMatrix D = DistanceMatrix::Constant(2 * m, 2 * m, std::numeric_limits<float>::infinity());
+  D.topLeftCorner(m, m) = all_pairs_geodesics(a);
+  D.bottomRightCorner(m, m) = all_pairs_geodesics(a);  // the second sphere is a translated copy
+  write_distance_matrix(dir + "/D.bin", D);
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --distances '" +
+                    dir + "/D.bin' --largest-component");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_mesh(dir + "/out.off").num_vertices(), a.num_vertices());
 }
 
 }  // namespace

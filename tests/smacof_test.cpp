@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <Eigen/QR>
 #include <cmath>
 #include <fstream>
@@ -37,7 +39,9 @@ DistanceMatrix euclidean_distances(const Points& P) {
 }
 
 // Geodesic (graph) distances on a torus: a curved, non-Euclidean metric.
-DistanceMatrix torus_geodesics(int nu = 40, int nv = 16) { return all_pairs_geodesics(torus(nu, nv, 2.0, 0.7)); }
+DistanceMatrix torus_geodesics(int nu = 40, int nv = 16) {
+  return all_pairs_geodesics(torus(nu, nv, 2.0, 0.7));
+}
 
 // Dense reference: σ(X) = Σ_{i<j} wᵢwⱼ (δᵢⱼ − dᵢⱼ)² and X⁺ = V⁺ B(X) X with V = Σ wᵢⱼ (eᵢ − eⱼ)(eᵢ − eⱼ)ᵀ.
 struct DenseGuttman {
@@ -71,7 +75,8 @@ Points weighted_centred(const Points& X, const Eigen::VectorXd& w) {
 
 TEST(Smacof, GuttmanTransformMatchesDenseReference) {
   const Index n = 70;
-  DistanceMatrix D = all_pairs_geodesics(icosphere(2)).topLeftCorner(n, n);  // non-Euclidean, connected enough
+  DistanceMatrix D =
+      all_pairs_geodesics(icosphere(2)).topLeftCorner(n, n);  // non-Euclidean, connected enough
   Points X = random_points(n, 11);
   for (bool weighted : {false, true}) {
     Eigen::VectorXd w = weighted ? Eigen::VectorXd((Eigen::VectorXd::Random(n).array() + 1.5).matrix())
@@ -218,9 +223,10 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
   write_mesh(dir + "/torus.off", mesh);
   write_distance_matrix(dir + "/D.bin", all_pairs_geodesics(mesh));
   for (const char* source : {"--geodesics graph", "--distances D.bin"}) {
-    std::string args = std::string(source) == "--distances D.bin" ? "--distances '" + dir + "/D.bin'" : source;
-    auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " + args +
-                           " --iters 30 --accelerate rre --history '" + dir + "/h.csv' --json");
+    std::string args =
+        std::string(source) == "--distances D.bin" ? "--distances '" + dir + "/D.bin'" : source;
+    auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " +
+                           args + " --iters 30 --accelerate rre --history '" + dir + "/h.csv' --json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Mesh out = read_mesh(dir + "/out.off");
     EXPECT_EQ(out.F, mesh.F);
@@ -242,10 +248,26 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
     }
     EXPECT_GT(rows, 5);
   }
-  auto bad = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof "
+  auto bad = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir +
+                           "/out.off' --method smacof "
                            "--geodesics graph --accelerate bogus");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("rre"), std::string::npos) << bad.err;
+}
+
+TEST(SmacofCli, BenchAgreesWithScikitLearnOnTheSameProblem) {
+  auto r = test::run_cli("-q bench smacof --n 300 --iters 5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["n"], 300);
+  EXPECT_GT(j["seconds_per_iteration"].get<double>(), 0);
+  EXPECT_GT(j["peak_rss_mb"].get<double>(), 0);
+  EXPECT_LT(j["normalized_stress_end"].get<double>(), j["normalized_stress_start"].get<double>());
+  if (!j["reference"].contains("stress"))
+    GTEST_SKIP() << "scikit-learn not available: " << j["reference"].dump();
+  // Same matrix, same start, same number of Guttman transforms: the same stress, to float rounding.
+  EXPECT_LT(j["reference"]["stress_relative_difference"].get<double>(), 1e-5);
+  EXPECT_GT(j["speedup_vs_reference"].get<double>(), 0);
 }
 
 }  // namespace
