@@ -419,21 +419,19 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
             random_pose(cls.skeleton, derive_seed(ao.seed, 7777777ULL + 1000003ULL * k + attempt), ao.amplitude);
         Mesh posed{pose_mesh(cls.skeleton, cls.rest.V, W, angles), cls.rest.F};
         if (self_intersects(posed)) continue;
-        for (double widen : {1.0, 1.5, 2.0}) {
-          TopologicalNoiseOptions no;
-          no.glue_count = o.glue_count;
-          no.seed = derive_seed(ao.seed, 555ULL + k);
-          no.gap_edge_lengths *= widen;
-          try {
-            TopologicalNoiseResult r = glue_topological_noise(posed, no);
-            s.mesh = r.mesh;
-            for (const GluedPair& g : r.pairs) s.glued_pairs.emplace_back(g.a, g.b);
-            s.isometry = edge_length_change(cls.rest, posed.V);
-            done = true;
-            break;
-          } catch (const Error&) {
-            // this pose has too few almost-touching spots at this gap: widen, then redraw
-          }
+        // Prefer poses whose parts almost touch at the default gap; widen the gap only after many draws.
+        TopologicalNoiseOptions no;
+        no.glue_count = o.glue_count;
+        no.seed = derive_seed(ao.seed, 555ULL + k);
+        no.gap_edge_lengths *= attempt < 10 ? 1.0 : attempt < 20 ? 1.5 : 2.0;
+        try {
+          TopologicalNoiseResult r = glue_topological_noise(posed, no);
+          s.mesh = r.mesh;
+          for (const GluedPair& g : r.pairs) s.glued_pairs.emplace_back(g.a, g.b);
+          s.isometry = edge_length_change(cls.rest, posed.V);
+          done = true;
+        } catch (const Error&) {
+          // too few almost-touching spots in this pose: draw another
         }
       }
       CSHAPES_REQUIRE(done, "dataset: no pose of class ", names[c], " could be glued ", o.glue_count,

@@ -106,7 +106,7 @@ GluedHand generate_glued_hand(std::uint64_t seed = 0, int glues = 3);
 
 // A whole dataset: `classes` classes (in the order of articulated_classes()), each with `poses` clean poses named
 // CLASS0..CLASS{poses-1} and `noisy` more poses CLASS{poses}.. carrying topological noise (glue_count glues; the
-// gap is widened step by step when a pose offers no almost-touching spot, and the pose redrawn after that).
+// pose is redrawn when it offers too few almost-touching spots; after 10 and 20 draws the gap is widened 1.5×, 2×).
 struct ArticulatedDatasetOptions {
   int classes = 4;          // first this many of articulated_classes()
   int poses = 5;            // clean poses per class
