@@ -2,6 +2,9 @@
 // the triangle quality survived (Hausdorff distance, angles). The implementation (remesh_cgal.cpp) uses CGAL's
 // isotropic remeshing and Lindstrom-Turk edge-collapse simplification; this header shows only Eigen types.
 //
+// Shape: a first run without constraints gives the best triangles; when its Hausdorff distance to the input
+// exceeds max_hausdorff_fraction × the bbox diagonal (thin fins, sharp tips), a second run keeps the sharp edges
+// (dihedral angle > feature_angle_deg) as polylines, and the closer of the two is returned.
 // How the count is hit: isotropic remeshing of the input with a target edge length L gives roughly
 // 2A / (√3 L²) vertices (A: area; equilateral triangles, F ≈ 2V). L is adjusted from the count obtained
 // (N ∝ 1/L²) until the remeshed surface has a few more vertices than asked, then edges are collapsed (cheapest
@@ -22,7 +25,8 @@ struct RemeshOptions {
   int relaxation_iterations = 3;  // isotropic remeshing iterations (split, collapse, flip, relax, project) per attempt
   int max_attempts = 8;           // edge-length adjustments before giving up
   bool protect_border = false;    // true: border edges are neither split nor collapsed (the border polyline is kept)
-  double feature_angle_deg = 60;  // edges whose dihedral angle exceeds this stay on their polyline; 0: none
+  double feature_angle_deg = 60;  // fallback: edges whose dihedral angle exceeds this stay on their polyline; 0: none
+  double max_hausdorff_fraction = 0.01;  // Hausdorff goal (× bbox diagonal) that triggers the feature-line fallback
   double presimplify_factor = 6;  // input with more than this × target vertices: collapse to half of that first; 0: never
   ProgressFn progress;            // called after every attempt (stage "remesh")
 };
@@ -33,6 +37,8 @@ struct RemeshResult {
   int attempts = 0;                // isotropic remeshing runs made
   Index remeshed_vertices = 0;     // vertex count after the last isotropic remeshing, before collapsing
   Index collapsed_edges = 0;       // edges collapsed to reach the target
+  double hausdorff = -1;           // Hausdorff distance to the input when measured (-1: not measured)
+  bool feature_lines = false;      // whether sharp edges were kept as constraints (the fallback)
 };
 
 // Remeshes `mesh` (a valid triangle mesh, manifold; boundaries allowed) to target_vertices within the tolerance.

@@ -102,24 +102,11 @@ double one_sided_distance(const Mesh& from, const SurfaceMesh& to) {
 
 }  // namespace
 
-RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
-  CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ", o.target_vertices);
-  CSHAPES_REQUIRE(o.tolerance > 0 && o.tolerance < 0.5, "remesh: tolerance must be in (0, 0.5), got ", o.tolerance);
-  CSHAPES_REQUIRE(!mesh.is_point_cloud(), "remesh: the input has no faces (a point cloud cannot be remeshed)");
-  validate_mesh(mesh, "remesh input");
-  SurfaceMesh input = to_cgal(mesh);
-  // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times the
-  // target: isotropic remeshing would otherwise spend most of its time collapsing tiny edges, once per attempt.
-  if (o.presimplify_factor > 0 && static_cast<double>(input.number_of_vertices()) >
-                                      o.presimplify_factor * static_cast<double>(o.target_vertices)) {
-    // Shortest edge first, collapsed to its midpoint: several times cheaper than Lindstrom-Turk, and on a surface
-    // this dense (edges far below the target length) the midpoints stay within a tiny distance of it.
-    VertexCountStop stop{&input, static_cast<std::size_t>(o.presimplify_factor / 2 * static_cast<double>(o.target_vertices))};
-    SMS::edge_collapse(input, stop,
-                       CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
-                           .get_placement(SMS::Midpoint_placement<SurfaceMesh>()));
-    input.collect_garbage();
-  }
+namespace {
+
+// One full run (edge-length search, collapse to the target) on the prepared input, with sharp edges above
+// feature_angle_deg kept as constraints (0: none).
+RemeshResult remesh_once(const SurfaceMesh& input, const Mesh& mesh, const RemeshOptions& o, double feature_angle_deg) {
   const double area = surface_area(mesh.V, mesh.F);  // of the original: the simplified one is barely smaller
   const auto target = static_cast<double>(o.target_vertices);
   // Aim a little above the target so that the final collapse, not a refinement, fixes the count.
@@ -135,7 +122,7 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
     // Sharp edges (thin fins such as ears, crease lines) are kept as polylines that may be split but not
     // smoothed away; without them the tip of a thin part is cut off by about one edge length.
     auto sharp = sm.add_property_map<SurfaceMesh::Edge_index, bool>("e:sharp", false).first;
-    if (o.feature_angle_deg > 0) PMP::detect_sharp_edges(sm, o.feature_angle_deg, sharp);
+    if (feature_angle_deg > 0) PMP::detect_sharp_edges(sm, feature_angle_deg, sharp);
     PMP::isotropic_remeshing(faces(sm), length, sm,
                              PMP::parameters::number_of_iterations(o.relaxation_iterations)
                                  .protect_constraints(o.protect_border)
@@ -175,6 +162,39 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   CSHAPES_REQUIRE(std::abs(static_cast<double>(got) - target) <= o.tolerance * target + 1, "remesh: got ", got,
                   " vertices, more than ", o.tolerance * 100, "% away from ", o.target_vertices);
   return result;
+}
+
+}  // namespace
+
+RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
+  CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ", o.target_vertices);
+  CSHAPES_REQUIRE(o.tolerance > 0 && o.tolerance < 0.5, "remesh: tolerance must be in (0, 0.5), got ", o.tolerance);
+  CSHAPES_REQUIRE(!mesh.is_point_cloud(), "remesh: the input has no faces (a point cloud cannot be remeshed)");
+  validate_mesh(mesh, "remesh input");
+  SurfaceMesh input = to_cgal(mesh);
+  // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times the
+  // target: isotropic remeshing would otherwise spend most of its time collapsing tiny edges, once per attempt.
+  if (o.presimplify_factor > 0 && static_cast<double>(input.number_of_vertices()) >
+                                      o.presimplify_factor * static_cast<double>(o.target_vertices)) {
+    // Shortest edge first, collapsed to its midpoint: several times cheaper than Lindstrom-Turk, and on a surface
+    // this dense (edges far below the target length) the midpoints stay within a tiny distance of it.
+    VertexCountStop stop{&input, static_cast<std::size_t>(o.presimplify_factor / 2 * static_cast<double>(o.target_vertices))};
+    SMS::edge_collapse(input, stop,
+                       CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
+                           .get_placement(SMS::Midpoint_placement<SurfaceMesh>()));
+    input.collect_garbage();
+  }
+  // Without feature lines the triangles are best; keep the feature lines only when the shape needs them
+  // (thin fins such as ears are otherwise cut back by about an edge length, beyond the Hausdorff goal).
+  RemeshResult plain = remesh_once(input, mesh, o, 0);
+  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0) return plain;
+  const double diagonal = bbox_diagonal(mesh.V);
+  plain.hausdorff = hausdorff_distance(mesh, plain.mesh);
+  if (plain.hausdorff <= o.max_hausdorff_fraction * diagonal) return plain;
+  RemeshResult featured = remesh_once(input, mesh, o, o.feature_angle_deg);
+  featured.hausdorff = hausdorff_distance(mesh, featured.mesh);
+  featured.feature_lines = true;
+  return featured.hausdorff < plain.hausdorff ? featured : plain;
 }
 
 double hausdorff_distance(const Mesh& a, const Mesh& b) {
