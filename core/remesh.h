@@ -3,8 +3,10 @@
 // isotropic remeshing and Lindstrom-Turk edge-collapse simplification; this header shows only Eigen types.
 //
 // Shape: a first run without constraints gives the best triangles; when its Hausdorff distance to the input
-// exceeds max_hausdorff_fraction × the bbox diagonal (thin fins, sharp tips), a second run keeps the sharp edges
-// (dihedral angle > feature_angle_deg) as polylines, and the closer of the two is returned.
+// exceeds max_hausdorff_fraction × the bbox diagonal (thin fins, sharp tips), further runs keep the sharp edges
+// (dihedral angle > feature_angle_deg, then 0.75 and 0.5 times that) as polylines, until one meets the goal;
+// otherwise the closest is returned. Badly shaped triangles are finally improved by edge flips where the surface
+// is flat (and caps flipped anywhere), which moves no vertex.
 // How the count is hit: isotropic remeshing of the input with a target edge length L gives roughly
 // 2A / (√3 L²) vertices (A: area; equilateral triangles, F ≈ 2V). L is adjusted from the count obtained
 // (N ∝ 1/L²) until the remeshed surface has a few more vertices than asked, then edges are collapsed (cheapest
@@ -34,11 +36,12 @@ struct RemeshOptions {
 struct RemeshResult {
   Mesh mesh;                       // the remeshed surface (new vertices, new faces)
   double target_edge_length = 0;   // L of the last isotropic remeshing attempt, in mesh units
-  int attempts = 0;                // isotropic remeshing runs made
+  int attempts = 0;                // isotropic remeshing runs made (all feature-line variants together)
   Index remeshed_vertices = 0;     // vertex count after the last isotropic remeshing, before collapsing
   Index collapsed_edges = 0;       // edges collapsed to reach the target
   double hausdorff = -1;           // Hausdorff distance to the input when measured (-1: not measured)
   bool feature_lines = false;      // whether sharp edges were kept as constraints (the fallback)
+  double feature_angle_deg = 0;    // the dihedral-angle threshold of those feature lines
 };
 
 // Remeshes `mesh` (a valid triangle mesh, manifold; boundaries allowed) to target_vertices within the tolerance.

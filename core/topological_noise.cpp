@@ -149,7 +149,7 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
   validate_mesh(mesh, "noise input");
   const MeshInfo info = mesh_info(mesh);
   CSHAPES_REQUIRE(info.components == 1, "noise: the input must have one connected component, it has ",
-                  info.components, " (use `cshapes canon --largest-component` style extraction first)");
+                  info.components, " (glue within one component: extract it first)");
   const Index n = mesh.num_vertices();
 
   TopologicalNoiseResult result;

@@ -55,7 +55,8 @@ int run() {
                       {"mean_min_angle_deg", angles_out.mean_min_angle},
                       {"target_edge_length", r.target_edge_length},
                       {"attempts", r.attempts},
-                      {"collapsed_edges", r.collapsed_edges}};
+                      {"collapsed_edges", r.collapsed_edges},
+                      {"feature_angle_deg", r.feature_lines ? r.feature_angle_deg : 0.0}};
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
     return 0;
@@ -71,6 +72,7 @@ int run() {
               angles_in.min_angle, angles_out.mean_min_angle);
   std::printf("  edge length     %.4g after %d attempt(s), %ld edges collapsed\n", r.target_edge_length, r.attempts,
               static_cast<long>(r.collapsed_edges));
+  if (r.feature_lines) std::printf("  feature lines   edges sharper than %.0f deg kept\n", r.feature_angle_deg);
   return 0;
 }
 
