@@ -21,16 +21,17 @@ struct NoiseArgs {
 
 // Only vertex indices are integers in this JSON (render_mesh.py --red-json reads every integer as a vertex).
 nlohmann::json pairs_to_json(const TopologicalNoiseResult& r) {
-  nlohmann::json pairs = nlohmann::json::array(), rims = nlohmann::json::array(), eu = nlohmann::json::array(),
-                 geo = nlohmann::json::array();
+  nlohmann::json pairs = nlohmann::json::array(), rims = nlohmann::json::array(),
+                 eu = nlohmann::json::array(), geo = nlohmann::json::array();
   for (const GluedPair& p : r.pairs) {
     pairs.push_back({p.a, p.b});
     rims.push_back({p.rim_a[0], p.rim_a[1], p.rim_a[2], p.rim_b[0], p.rim_b[1], p.rim_b[2]});
     eu.push_back(p.euclidean);
     geo.push_back(p.geodesic);
   }
-  return {{"input", args.input}, {"output", args.output}, {"pairs", pairs},
-          {"rims", rims},        {"euclidean", eu},        {"geodesic", geo},
+  return {{"input", args.input},  {"output", args.output},
+          {"pairs", pairs},       {"rims", rims},
+          {"euclidean", eu},      {"geodesic", geo},
           {"max_gap", r.max_gap}, {"geodesic_diameter", r.geodesic_diameter}};
 }
 
@@ -64,29 +65,39 @@ int run() {
   std::printf("%s -> %s: %zu glue(s), euler characteristic %ld -> %ld, genus %ld -> %ld, %d component(s)\n",
               args.input.c_str(), args.output.c_str(), r.pairs.size(), before.euler_characteristic,
               after.euler_characteristic, before.genus, after.genus, after.components);
-  std::printf("  max gap %.4g (mean edge %.4g), geodesic diameter %.4g, %ld candidate pairs, %d geodesic checks\n",
-              r.max_gap, r.mean_edge_length, r.geodesic_diameter, static_cast<long>(r.candidates), r.geodesic_checks);
+  std::printf(
+      "  max gap %.4g (mean edge %.4g), geodesic diameter %.4g, %ld candidate pairs, %d geodesic checks\n",
+      r.max_gap, r.mean_edge_length, r.geodesic_diameter, static_cast<long>(r.candidates), r.geodesic_checks);
   for (const GluedPair& p : r.pairs)
-    std::printf("  glued %d - %d: euclidean %.4g, geodesic %.4g (ratio %.1f, %.0f%% of the diameter)\n", p.a, p.b,
-                p.euclidean, p.geodesic, p.geodesic / p.euclidean, 100 * p.geodesic / r.geodesic_diameter);
+    std::printf("  glued %d - %d: euclidean %.4g, geodesic %.4g (ratio %.1f, %.0f%% of the diameter)\n", p.a,
+                p.b, p.euclidean, p.geodesic, p.geodesic / p.euclidean,
+                100 * p.geodesic / r.geodesic_diameter);
   return 0;
 }
 
 const bool registered = register_command(
     {{"noise"},
-     "Topological noise: glue K almost-touching spots (small Euclidean, large geodesic distance) by short tubes",
+     "Topological noise: glue K almost-touching spots (small Euclidean, large geodesic distance) by short "
+     "tubes",
      [](CLI::App& app) {
-       app.add_option("MESH", args.input, "input mesh (one component, manifold)")->required()->check(CLI::ExistingFile);
+       app.add_option("MESH", args.input, "input mesh (one component, manifold)")
+           ->required()
+           ->check(CLI::ExistingFile);
        app.add_option("-o,--output", args.output, "output mesh (same vertices, K handles more)")->required();
        app.add_option("--glue", args.glue, "number of glues K (each adds a handle: chi drops by 2)")
            ->capture_default_str();
-       app.add_option("--seed", args.seed, "random seed (picks among admissible pairs)")->capture_default_str();
-       app.add_option("--max-gap", args.max_gap, "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)");
-       app.add_option("--gap-edges", args.gap_edges, "default gap in mean edge lengths")->capture_default_str();
-       app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")->capture_default_str();
+       app.add_option("--seed", args.seed, "random seed (picks among admissible pairs)")
+           ->capture_default_str();
+       app.add_option("--max-gap", args.max_gap,
+                      "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)");
+       app.add_option("--gap-edges", args.gap_edges, "default gap in mean edge lengths")
+           ->capture_default_str();
+       app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")
+           ->capture_default_str();
        app.add_option("--min-fraction", args.min_fraction, "geodesic must be >= this x geodesic diameter")
            ->capture_default_str();
-       app.add_option("--separation", args.separation, "glued spots this x diameter apart (halved when needed)")
+       app.add_option("--separation", args.separation,
+                      "glued spots this x diameter apart (halved when needed)")
            ->capture_default_str();
        app.add_option("--geodesics", args.geodesic_method, "geodesic method")->capture_default_str();
        app.add_option("--pairs-json", args.pairs_json, "write the glued vertex pairs and tube rims as JSON");
