@@ -1,4 +1,4 @@
-// Topological noise the paper's way (§4): "adding faces to connect between almost-touching vertices with
+// Topological noise the paper's way (§3, Results): "adding faces to connect between almost-touching vertices with
 // large geodesic and small Euclidean distances". Each glue joins two surface spots by a short tube, adding
 // one handle.
 //
