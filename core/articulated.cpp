@@ -14,8 +14,8 @@ namespace cshapes {
 
 namespace {
 
-// Builds a skeleton joint by joint; mirror() adds the left/right copy of a limb (x -> -x, axes mirrored so that
-// the same angle moves both sides symmetrically).
+// Builds a skeleton joint by joint; mirror() adds the left/right copy of a limb (x -> -x, axes mirrored so
+// that the same angle moves both sides symmetrically).
 struct SkeletonBuilder {
   Skeleton s;
   int add(const std::string& name, int parent, Eigen::Vector3d position, double radius,
@@ -35,10 +35,14 @@ struct SkeletonBuilder {
 };
 
 const Eigen::Vector3d kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1);
-Eigen::Vector2d range(double lo, double hi) { return {lo, hi}; }
+Eigen::Vector2d range(double lo, double hi) {
+  return {lo, hi};
+}
 
 // Mirror of an axis through the plane x = 0, as a rotation axis (a pseudovector): (x, y, z) -> (x, -y, -z).
-Eigen::Vector3d mirror_axis(const Eigen::Vector3d& a) { return {a.x(), -a.y(), -a.z()}; }
+Eigen::Vector3d mirror_axis(const Eigen::Vector3d& a) {
+  return {a.x(), -a.y(), -a.z()};
+}
 
 // A limb: a chain of joints, added for side +1 (x > 0) or -1 (mirrored).
 struct LimbJoint {
@@ -178,13 +182,15 @@ double bone_distance(const Skeleton& s, int j, const Eigen::Vector3d& x) {
   return (x - (parent.position + t * ab)).norm() - r;
 }
 
-// Rigid transforms of the joints' frames for a pose (forward kinematics): G_j = G_parent · (rotation R_j about x_j).
+// Rigid transforms of the joints' frames for a pose (forward kinematics): G_j = G_parent · (rotation R_j
+// about x_j).
 std::vector<Eigen::Isometry3d> joint_transforms(const Skeleton& s, const PoseAngles& angles) {
   std::vector<Eigen::Isometry3d> G(s.joints.size(), Eigen::Isometry3d::Identity());
   for (size_t j = 0; j < s.joints.size(); ++j) {
     const Joint& joint = s.joints[j];
     Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    for (size_t a = 0; a < joint.axes.size(); ++a) R = R * Eigen::AngleAxisd(angles[j][a], joint.axes[a]).toRotationMatrix();
+    for (size_t a = 0; a < joint.axes.size(); ++a)
+      R = R * Eigen::AngleAxisd(angles[j][a], joint.axes[a]).toRotationMatrix();
     Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
     local.linear() = R;
     local.translation() = joint.position - R * joint.position;
@@ -195,7 +201,9 @@ std::vector<Eigen::Isometry3d> joint_transforms(const Skeleton& s, const PoseAng
 
 }  // namespace
 
-std::vector<std::string> articulated_classes() { return {"biped", "quadruped", "hand", "spider"}; }
+std::vector<std::string> articulated_classes() {
+  return {"biped", "quadruped", "hand", "spider"};
+}
 
 Skeleton articulated_skeleton(const std::string& name) {
   if (name == "biped") return biped();
@@ -220,7 +228,8 @@ double skeleton_field(const Skeleton& s, const Eigen::Vector3d& x) {
 }
 
 Mesh articulated_rest_mesh(const Skeleton& s, const RestMeshOptions& o) {
-  CSHAPES_REQUIRE(s.joints.size() >= 2 && s.joints.size() <= 128, "articulated: a skeleton needs 2..128 joints");
+  CSHAPES_REQUIRE(s.joints.size() >= 2 && s.joints.size() <= 128,
+                  "articulated: a skeleton needs 2..128 joints");
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double min_radius = std::numeric_limits<double>::infinity(), max_radius = 0;
   for (const Joint& j : s.joints) {
@@ -266,8 +275,7 @@ Eigen::MatrixXd skinning_weights(const Skeleton& s, const Points& rest) {
 
 PoseAngles neutral_pose(const Skeleton& s) {
   PoseAngles angles(s.joints.size());
-  for (size_t j = 0; j < s.joints.size(); ++j)
-    angles[j].assign(s.joints[j].limits.size(), 0.0);
+  for (size_t j = 0; j < s.joints.size(); ++j) angles[j].assign(s.joints[j].limits.size(), 0.0);
   return angles;
 }
 
@@ -284,9 +292,11 @@ PoseAngles random_pose(const Skeleton& s, std::uint64_t seed, double amplitude) 
 
 Points pose_mesh(const Skeleton& s, const Points& rest, const Eigen::MatrixXd& W, const PoseAngles& angles) {
   CSHAPES_REQUIRE(W.rows() == rest.rows() && W.cols() == static_cast<Index>(s.joints.size()),
-                  "pose_mesh: weights are ", W.rows(), "x", W.cols(), ", expected ", rest.rows(), "x", s.joints.size());
+                  "pose_mesh: weights are ", W.rows(), "x", W.cols(), ", expected ", rest.rows(), "x",
+                  s.joints.size());
   const std::vector<Eigen::Isometry3d> G = joint_transforms(s, angles);
-  // Dual quaternion of each bone (parent(j) -> j moves with its parent's frame): real part q, dual part ½ t q.
+  // Dual quaternion of each bone (parent(j) -> j moves with its parent's frame): real part q, dual part ½ t
+  // q.
   const int m = static_cast<int>(s.joints.size());
   std::vector<Eigen::Quaterniond> real(m), dual(m);
   for (int j = 1; j < m; ++j) {
@@ -337,9 +347,10 @@ ArticulatedClass generate_articulated(const std::string& class_name, const Artic
   const Eigen::MatrixXd W = skinning_weights(c.skeleton, c.rest.V);
   for (int p = 0; p < o.poses; ++p) {
     for (int attempt = 0;; ++attempt) {
-      CSHAPES_REQUIRE(attempt <= o.max_redraws, "articulated: ", class_name, " pose ", p, " still self-intersects after ",
-                      o.max_redraws, " redraws; lower the amplitude");
-      // One random stream per (pose, attempt): pose p does not depend on how many redraws earlier poses needed.
+      CSHAPES_REQUIRE(attempt <= o.max_redraws, "articulated: ", class_name, " pose ", p,
+                      " still self-intersects after ", o.max_redraws, " redraws; lower the amplitude");
+      // One random stream per (pose, attempt): pose p does not depend on how many redraws earlier poses
+      // needed.
       PoseAngles angles = random_pose(c.skeleton, derive_seed(o.seed, 1000003ULL * p + attempt), o.amplitude);
       Mesh posed{pose_mesh(c.skeleton, c.rest.V, W, angles), c.rest.F};
       if (self_intersects(posed)) {
@@ -386,8 +397,8 @@ GluedHand generate_glued_hand(std::uint64_t seed, int glues) {
 
 std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetOptions& o) {
   const std::vector<std::string> names = articulated_classes();
-  CSHAPES_REQUIRE(o.classes >= 1 && o.classes <= static_cast<int>(names.size()), "dataset: classes must be in 1..",
-                  names.size(), ", got ", o.classes);
+  CSHAPES_REQUIRE(o.classes >= 1 && o.classes <= static_cast<int>(names.size()),
+                  "dataset: classes must be in 1..", names.size(), ", got ", o.classes);
   CSHAPES_REQUIRE(o.poses >= 0 && o.noisy >= 0 && o.poses + o.noisy >= 1, "dataset: needs at least one pose");
   std::vector<ArticulatedShape> shapes;
   for (int c = 0; c < o.classes; ++c) {
@@ -415,25 +426,23 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
       s.noisy = true;
       bool done = false;
       for (int attempt = 0; attempt < 40 && !done; ++attempt) {
-        PoseAngles angles =
-            random_pose(cls.skeleton, derive_seed(ao.seed, 7777777ULL + 1000003ULL * k + attempt), ao.amplitude);
+        PoseAngles angles = random_pose(
+            cls.skeleton, derive_seed(ao.seed, 7777777ULL + 1000003ULL * k + attempt), ao.amplitude);
         Mesh posed{pose_mesh(cls.skeleton, cls.rest.V, W, angles), cls.rest.F};
         if (self_intersects(posed)) continue;
-        for (double widen : {1.0, 1.5, 2.0}) {
-          TopologicalNoiseOptions no;
-          no.glue_count = o.glue_count;
-          no.seed = derive_seed(ao.seed, 555ULL + k);
-          no.gap_edge_lengths *= widen;
-          try {
-            TopologicalNoiseResult r = glue_topological_noise(posed, no);
-            s.mesh = r.mesh;
-            for (const GluedPair& g : r.pairs) s.glued_pairs.emplace_back(g.a, g.b);
-            s.isometry = edge_length_change(cls.rest, posed.V);
-            done = true;
-            break;
-          } catch (const Error&) {
-            // this pose has too few almost-touching spots at this gap: widen, then redraw
-          }
+        // Prefer poses whose parts almost touch at the default gap; widen the gap only after many draws.
+        TopologicalNoiseOptions no;
+        no.glue_count = o.glue_count;
+        no.seed = derive_seed(ao.seed, 555ULL + k);
+        no.gap_edge_lengths *= attempt < 10 ? 1.0 : attempt < 20 ? 1.5 : 2.0;
+        try {
+          TopologicalNoiseResult r = glue_topological_noise(posed, no);
+          s.mesh = r.mesh;
+          for (const GluedPair& g : r.pairs) s.glued_pairs.emplace_back(g.a, g.b);
+          s.isometry = edge_length_change(cls.rest, posed.V);
+          done = true;
+        } catch (const Error&) {
+          // too few almost-touching spots in this pose: draw another
         }
       }
       CSHAPES_REQUIRE(done, "dataset: no pose of class ", names[c], " could be glued ", o.glue_count,

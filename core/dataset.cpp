@@ -1,9 +1,9 @@
 #include "core/dataset.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <cctype>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -47,7 +47,8 @@ Dataset read_folder(const fs::path& folder) {
     e.pose = pose_from_name(e.name);
     d.entries.push_back(e);
   }
-  CSHAPES_REQUIRE(!d.entries.empty(), folder.string(), ": no mesh files (.off .ply .obj .stl .vert) in this folder");
+  CSHAPES_REQUIRE(!d.entries.empty(), folder.string(),
+                  ": no mesh files (.off .ply .obj .stl .vert) in this folder");
   std::sort(d.entries.begin(), d.entries.end(), [](const DatasetEntry& a, const DatasetEntry& b) {
     if (a.class_name != b.class_name) return a.class_name < b.class_name;
     if (a.pose != b.pose) return a.pose < b.pose;
@@ -73,8 +74,11 @@ Dataset read_manifest(const fs::path& manifest) {
       columns = cells;
       for (size_t c = 0; c < columns.size(); ++c) {
         const std::string& name = columns[c];
-        int* slot = name == "file" ? &col_file : name == "class" ? &col_class : name == "pose" ? &col_pose
-                    : name == "noisy" ? &col_noisy : nullptr;
+        int* slot = name == "file"    ? &col_file
+                    : name == "class" ? &col_class
+                    : name == "pose"  ? &col_pose
+                    : name == "noisy" ? &col_noisy
+                                      : nullptr;
         CSHAPES_REQUIRE(slot, where, ":", line_number, ": unknown column '", name,
                         "' (known: file, class, pose, noisy)");
         CSHAPES_REQUIRE(*slot < 0, where, ":", line_number, ": column '", name, "' appears twice");
@@ -105,8 +109,8 @@ Dataset read_manifest(const fs::path& manifest) {
       } catch (const std::exception&) {
         used = 0;
       }
-      CSHAPES_REQUIRE(!v.empty() && used == v.size(), where, ":", line_number, ": 'pose' must be an integer, got '",
-                      v, "'");
+      CSHAPES_REQUIRE(!v.empty() && used == v.size(), where, ":", line_number,
+                      ": 'pose' must be an integer, got '", v, "'");
     }
     if (col_noisy >= 0) {
       const std::string& v = cells[col_noisy];
@@ -116,7 +120,8 @@ Dataset read_manifest(const fs::path& manifest) {
     }
     d.entries.push_back(e);
   }
-  CSHAPES_REQUIRE(!columns.empty(), where, ": empty manifest (expected a header line: file,class[,pose,noisy])");
+  CSHAPES_REQUIRE(!columns.empty(), where,
+                  ": empty manifest (expected a header line: file,class[,pose,noisy])");
   CSHAPES_REQUIRE(!d.entries.empty(), where, ": the manifest lists no shapes");
   // Poses not given and not in the name: rank within the class.
   std::map<std::string, int> rank;
@@ -150,18 +155,21 @@ std::vector<int> Dataset::labels() const {
   std::vector<int> out;
   out.reserve(entries.size());
   for (const auto& e : entries)
-    out.push_back(static_cast<int>(std::find(classes.begin(), classes.end(), e.class_name) - classes.begin()));
+    out.push_back(
+        static_cast<int>(std::find(classes.begin(), classes.end(), e.class_name) - classes.begin()));
   return out;
 }
 
 Dataset read_dataset(const std::string& path) {
   fs::path p(path);
-  CSHAPES_REQUIRE(fs::exists(p), path, ": no such file or folder (expected a folder of meshes or a manifest.csv)");
+  CSHAPES_REQUIRE(fs::exists(p), path,
+                  ": no such file or folder (expected a folder of meshes or a manifest.csv)");
   Dataset d;
   if (fs::is_directory(p)) {
     d = fs::is_regular_file(p / "manifest.csv") ? read_manifest(p / "manifest.csv") : read_folder(p);
   } else {
-    CSHAPES_REQUIRE(file_extension(path) == "csv", path, ": expected a folder of meshes or a manifest .csv file");
+    CSHAPES_REQUIRE(file_extension(path) == "csv", path,
+                    ": expected a folder of meshes or a manifest .csv file");
     d = read_manifest(p);
   }
   for (const auto& e : d.entries)
@@ -191,7 +199,8 @@ void write_manifest(const std::string& manifest_path, const std::vector<DatasetE
 }
 
 void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals) {
-  CSHAPES_REQUIRE(decimals >= 0 && decimals <= 17, "write_off_fixed: decimals must be in 0..17, got ", decimals);
+  CSHAPES_REQUIRE(decimals >= 0 && decimals <= 17, "write_off_fixed: decimals must be in 0..17, got ",
+                  decimals);
   write_file_atomically(path, [&](std::ostream& out) {
     out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
     char buffer[128];
@@ -204,7 +213,8 @@ void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals) {
         out << buffer;
       }
     }
-    for (Index f = 0; f < mesh.num_faces(); ++f) out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
+    for (Index f = 0; f < mesh.num_faces(); ++f)
+      out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
   });
 }
 

@@ -1,17 +1,17 @@
 // Datasets for every multi-shape command: a folder of meshes, or a manifest.csv listing them.
 //
-// Folder: every mesh file in it (extensions .off .ply .obj .stl .vert, not recursive); the class is the file name
-// without extension and trailing digits (TOSCA's convention: cat3.off -> class "cat", pose 3; victoria10 ->
-// "victoria", 10). Entries are sorted by class name, then pose number, then file name. A folder holding a
+// Folder: every mesh file in it (extensions .off .ply .obj .stl .vert, not recursive); the class is the file
+// name without extension and trailing digits (TOSCA's convention: cat3.off -> class "cat", pose 3; victoria10
+// -> "victoria", 10). Entries are sorted by class name, then pose number, then file name. A folder holding a
 // manifest.csv is read through its manifest.
 //
 // manifest.csv: a header line naming the columns, then one line per shape; comma-separated, no quoting.
 //   file   (required) path of the mesh, relative to the manifest's folder (or absolute)
 //   class  (required) class label
-//   pose   (optional) integer pose number; default: the file name's trailing digits, else the line's rank in its class
-//   noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
-// Any other column, a missing required column, a missing file, or an unreadable value is refused with a message
-// naming the manifest, the line and the column or file. Manifest order is kept.
+//   pose   (optional) integer pose number; default: the file name's trailing digits, else the line's rank in
+//   its class noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
+// Any other column, a missing required column, a missing file, or an unreadable value is refused with a
+// message naming the manifest, the line and the column or file. Manifest order is kept.
 #pragma once
 
 #include <string>
@@ -50,8 +50,8 @@ int pose_from_name(const std::string& stem);
 // files lie inside it. Atomic.
 void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries);
 
-// Writes an OFF file with a fixed number of decimals (e.g. "12.345678"), so that generated data is byte-identical
-// across runs and platforms whose last-bit rounding differs. Atomic.
+// Writes an OFF file with a fixed number of decimals (e.g. "12.345678"), so that generated data is
+// byte-identical across runs and platforms whose last-bit rounding differs. Atomic.
 void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals = 6);
 
 }  // namespace cshapes

@@ -1,6 +1,6 @@
-// Random numbers that are identical on every platform for a given seed: std::mt19937_64 is specified bit for bit
-// by the standard, but std::uniform_real_distribution and friends are not (libstdc++ and libc++ differ), so the
-// distributions used by the generators are written here.
+// Random numbers that are identical on every platform for a given seed: std::mt19937_64 is specified bit for
+// bit by the standard, but std::uniform_real_distribution and friends are not (libstdc++ and libc++ differ),
+// so the distributions used by the generators are written here.
 #pragma once
 
 #include <cmath>

@@ -10,15 +10,19 @@
 
 namespace cshapes {
 
-Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& field, const Eigen::Vector3d& lo,
-                         const Eigen::Vector3d& hi, const MarchingTetrahedraOptions& o) {
+Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& field,
+                         const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                         const MarchingTetrahedraOptions& o) {
   CSHAPES_REQUIRE(o.cell_size > 0, "marching_tetrahedra: cell size must be positive, got ", o.cell_size);
   CSHAPES_REQUIRE((hi.array() > lo.array()).all(), "marching_tetrahedra: empty box");
   Eigen::Array3i count = (((hi - lo) / o.cell_size).array().ceil().cast<int>() + 1).max(2);
   const long total = static_cast<long>(count[0]) * count[1] * count[2];
-  CSHAPES_REQUIRE(total <= 200'000'000L, "marching_tetrahedra: ", total, " grid points are too many; raise the cell size");
+  CSHAPES_REQUIRE(total <= 200'000'000L, "marching_tetrahedra: ", total,
+                  " grid points are too many; raise the cell size");
   const long nx = count[0], ny = count[1], nz = count[2];
-  auto point = [&](long i, long j, long k) { return Eigen::Vector3d(lo + o.cell_size * Eigen::Vector3d(i, j, k)); };
+  auto point = [&](long i, long j, long k) {
+    return Eigen::Vector3d(lo + o.cell_size * Eigen::Vector3d(i, j, k));
+  };
 
   std::vector<double> value(total);
 #pragma omp parallel for schedule(static)
@@ -29,9 +33,10 @@ Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& fi
         value[i + nx * (j + ny * k)] = v == 0 ? 1e-300 : v;  // no vertex exactly on the surface
       }
 
-  // Cube corners (bit 0: +x, bit 1: +y, bit 2: +z) and the Kuhn tetrahedra: the 6 monotone paths from corner 0
-  // to corner 7, each tetrahedron (0, a, a|b, 7).
-  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+  // Cube corners (bit 0: +x, bit 1: +y, bit 2: +z) and the Kuhn tetrahedra: the 6 monotone paths from corner
+  // 0 to corner 7, each tetrahedron (0, a, a|b, 7).
+  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
+                                  {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
   std::vector<Eigen::Vector3d> verts;
   std::vector<Eigen::Vector3i> tris;
   std::unordered_map<std::uint64_t, int> edge_vertex;
@@ -57,7 +62,8 @@ Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& fi
     for (long j = 0; j + 1 < ny; ++j)
       for (long i = 0; i + 1 < nx; ++i) {
         std::array<long, 8> corner;
-        for (int c = 0; c < 8; ++c) corner[c] = (i + (c & 1)) + nx * ((j + (c >> 1 & 1)) + ny * (k + (c >> 2 & 1)));
+        for (int c = 0; c < 8; ++c)
+          corner[c] = (i + (c & 1)) + nx * ((j + (c >> 1 & 1)) + ny * (k + (c >> 2 & 1)));
         bool any_in = false, any_out = false;
         for (long id : corner) (value[id] < 0 ? any_in : any_out) = true;
         if (!any_in || !any_out) continue;

@@ -93,10 +93,10 @@ struct WorkingMesh {
   }
 };
 
-// The 6 tube triangles bridging faces fa = (a0, a1, a2) and fb = (b0, b1, b2), both given in their mesh order.
-// New faces must use each rim edge in the direction the removed face used it (the neighbours use the reverse).
-// With c_j = b_{(s - j) mod 3}, a walk around the tube adds (a_i, a_{i+1}, c_j) or (a_i, c_{j+1}, c_j); every
-// offset s and interleaving is tried and the one with the shortest new edges is kept.
+// The 6 tube triangles bridging faces fa = (a0, a1, a2) and fb = (b0, b1, b2), both given in their mesh
+// order. New faces must use each rim edge in the direction the removed face used it (the neighbours use the
+// reverse). With c_j = b_{(s - j) mod 3}, a walk around the tube adds (a_i, a_{i+1}, c_j) or (a_i, c_{j+1},
+// c_j); every offset s and interleaving is tried and the one with the shortest new edges is kept.
 std::vector<Eigen::Vector3i> bridge(const Points& V, const Eigen::Vector3i& fa, const Eigen::Vector3i& fb,
                                     std::vector<std::pair<int, int>>* new_edges) {
   double best = std::numeric_limits<double>::infinity();
@@ -149,7 +149,7 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
   validate_mesh(mesh, "noise input");
   const MeshInfo info = mesh_info(mesh);
   CSHAPES_REQUIRE(info.components == 1, "noise: the input must have one connected component, it has ",
-                  info.components, " (use `cshapes canon --largest-component` style extraction first)");
+                  info.components, " (glue within one component: extract it first)");
   const Index n = mesh.num_vertices();
 
   TopologicalNoiseResult result;
@@ -184,7 +184,9 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
   }
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return mesh.V(i, 0) < mesh.V(j, 0) || (mesh.V(i, 0) == mesh.V(j, 0) && i < j); });
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    return mesh.V(i, 0) < mesh.V(j, 0) || (mesh.V(i, 0) == mesh.V(j, 0) && i < j);
+  });
   DeterministicRandom rng(o.seed);
   std::vector<Candidate> candidates;
   for (Index p = 0; p < n; ++p) {
@@ -214,10 +216,10 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
   });
   result.candidates = static_cast<Index>(candidates.size());
 
-  // Cheap rejection: the edge-graph distance is an upper bound of the surface geodesic, so a pair that the graph
-  // joins by a path shorter than its threshold cannot qualify. One Dijkstra per distinct first vertex, stopped
-  // at the largest threshold among its pairs, run lazily when the selection first reaches that vertex.
-  // (Valid after gluing too: tubes only shorten distances.)
+  // Cheap rejection: the edge-graph distance is an upper bound of the surface geodesic, so a pair that the
+  // graph joins by a path shorter than its threshold cannot qualify. One Dijkstra per distinct first vertex,
+  // stopped at the largest threshold among its pairs, run lazily when the selection first reaches that
+  // vertex. (Valid after gluing too: tubes only shorten distances.)
   const Edges graph_edges = mesh_edges(mesh.F);
   const Adjacency graph = adjacency(n, graph_edges);
   const Eigen::VectorXd graph_lengths = edge_lengths(mesh.V, graph_edges);
@@ -368,9 +370,10 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
       continue;
     }
     fail("noise: found only ", result.pairs.size(), " of ", o.glue_count,
-         " admissible pairs (Euclidean gap <= ", gap, ", geodesic >= ", o.min_ratio, " x gap and >= ",
-         o.min_geodesic_fraction, " x diameter ", diameter, ", normals facing across the gap, tube crossing no face; ",
-         candidates.size(), " pairs within the gap, ", result.geodesic_checks,
+         " admissible pairs (Euclidean gap <= ", gap, ", geodesic >= ", o.min_ratio,
+         " x gap and >= ", o.min_geodesic_fraction, " x diameter ", diameter,
+         ", normals facing across the gap, tube crossing no face; ", candidates.size(),
+         " pairs within the gap, ", result.geodesic_checks,
          " geodesic checks); try a larger --max-gap or a smaller --min-ratio");
   }
   result.separation = separation;
@@ -378,10 +381,11 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
 
   // The construction guarantees these; check them anyway, the output is meant as a test input for others.
   MeshInfo out = mesh_info(result.mesh);
-  CSHAPES_REQUIRE(out.components == 1 && out.nonmanifold_edges == 0 && out.boundary_edges == info.boundary_edges &&
-                      out.euler_characteristic == info.euler_characteristic - 2 * o.glue_count,
-                  "noise: internal error, the glued mesh is not as constructed (chi ", out.euler_characteristic,
-                  ", components ", out.components, ", non-manifold edges ", out.nonmanifold_edges, ")");
+  CSHAPES_REQUIRE(
+      out.components == 1 && out.nonmanifold_edges == 0 && out.boundary_edges == info.boundary_edges &&
+          out.euler_characteristic == info.euler_characteristic - 2 * o.glue_count,
+      "noise: internal error, the glued mesh is not as constructed (chi ", out.euler_characteristic,
+      ", components ", out.components, ", non-manifold edges ", out.nonmanifold_edges, ")");
   return result;
 }
 

@@ -1,5 +1,5 @@
-// cshapes generate swissroll | articulated | hand | dataset: shapes made here (deterministic for a seed), written
-// with fixed precision so that the same seed gives byte-identical files.
+// cshapes generate swissroll | articulated | hand | dataset: shapes made here (deterministic for a seed),
+// written with fixed precision so that the same seed gives byte-identical files.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,12 +16,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string join(const std::string& dir, const std::string& file) { return (fs::path(dir) / file).string(); }
+std::string join(const std::string& dir, const std::string& file) {
+  return (fs::path(dir) / file).string();
+}
 
 void write_pairs_json(const std::string& path, const std::vector<std::pair<int, int>>& pairs) {
   nlohmann::json j = nlohmann::json::array();
   for (auto [a, b] : pairs) j.push_back({a, b});
-  write_file_atomically(path, [&](std::ostream& out) { out << nlohmann::json{{"pairs", j}}.dump(2) << '\n'; });
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << nlohmann::json{{"pairs", j}}.dump(2) << '\n';
+  });
 }
 
 // ---- swissroll ----
@@ -76,15 +80,20 @@ int run_articulated() {
   for (size_t p = 0; p < c.poses.size(); ++p) {
     std::string file = join(art.output, art.class_name + std::to_string(p) + ".off");
     write_off_fixed(file, c.poses[p]);
-    poses.push_back({{"file", file}, {"edge_change_mean", c.isometry[p].mean}, {"edge_change_max", c.isometry[p].max}});
+    poses.push_back(
+        {{"file", file}, {"edge_change_mean", c.isometry[p].mean}, {"edge_change_max", c.isometry[p].max}});
   }
-  nlohmann::json j = {{"class", art.class_name}, {"vertices", c.rest.num_vertices()}, {"faces", c.rest.num_faces()},
-                      {"redraws", c.redraws},    {"poses", poses}};
+  nlohmann::json j = {{"class", art.class_name},
+                      {"vertices", c.rest.num_vertices()},
+                      {"faces", c.rest.num_faces()},
+                      {"redraws", c.redraws},
+                      {"poses", poses}};
   if (art.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
-    std::printf("%s: %ld vertices, %zu poses in %s (%d self-intersecting draws redrawn)\n", art.class_name.c_str(),
-                static_cast<long>(c.rest.num_vertices()), c.poses.size(), art.output.c_str(), c.redraws);
+    std::printf("%s: %ld vertices, %zu poses in %s (%d self-intersecting draws redrawn)\n",
+                art.class_name.c_str(), static_cast<long>(c.rest.num_vertices()), c.poses.size(),
+                art.output.c_str(), c.redraws);
     for (size_t p = 0; p < c.poses.size(); ++p)
       std::printf("  pose %zu: edge length change mean %.2f%%, max %.1f%%\n", p, 100 * c.isometry[p].mean,
                   100 * c.isometry[p].max);
@@ -141,9 +150,13 @@ int run_dataset() {
     if (s.noisy) write_pairs_json(join(data.output, s.name + "_glued_pairs.json"), s.glued_pairs);
     entries.push_back(e);
     MeshInfo info = mesh_info(s.mesh);
-    summary.push_back({{"file", s.name + ".off"}, {"class", s.class_name}, {"noisy", s.noisy},
-                       {"vertices", info.vertices}, {"genus", info.genus},
-                       {"edge_change_mean", s.isometry.mean}, {"edge_change_max", s.isometry.max}});
+    summary.push_back({{"file", s.name + ".off"},
+                       {"class", s.class_name},
+                       {"noisy", s.noisy},
+                       {"vertices", info.vertices},
+                       {"genus", info.genus},
+                       {"edge_change_mean", s.isometry.mean},
+                       {"edge_change_max", s.isometry.max}});
   }
   write_manifest(join(data.output, "manifest.csv"), entries);
   if (data.json) {
@@ -160,7 +173,8 @@ const bool registered_swissroll = register_command(
      "The Swiss roll of Table 1 (561 vertices by default)",
      [](CLI::App& app) {
        app.add_option("--vertices", swiss.vertices, "about this many vertices (nu x nv, aspect 5:1)")
-           ->capture_default_str()->check(CLI::Range(4L, 10000000L));
+           ->capture_default_str()
+           ->check(CLI::Range(4L, 10000000L));
        app.add_option("-o,--output", swiss.output, "output mesh")->capture_default_str();
      },
      run_swissroll});
@@ -169,11 +183,13 @@ const bool registered_articulated = register_command(
     {{"generate", "articulated"},
      "Poses of one synthetic articulated class (biped, quadruped, hand, spider), same vertex order",
      [](CLI::App& app) {
-       app.add_option("--class", art.class_name, "class: biped, quadruped, hand, spider")->capture_default_str();
+       app.add_option("--class", art.class_name, "class: biped, quadruped, hand, spider")
+           ->capture_default_str();
        app.add_option("--poses", art.poses, "number of poses")->capture_default_str();
        app.add_option("--seed", art.seed, "random seed")->capture_default_str();
        app.add_option("--vertices", art.vertices, "vertices of the rest mesh")->capture_default_str();
-       app.add_option("--amplitude", art.amplitude, "fraction of the joint ranges used (0..1)")->capture_default_str();
+       app.add_option("--amplitude", art.amplitude, "fraction of the joint ranges used (0..1)")
+           ->capture_default_str();
        app.add_option("-o,--output", art.output, "output folder")->capture_default_str();
        app.add_flag("--json", art.json, "print the summary as JSON");
      },

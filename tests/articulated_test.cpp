@@ -22,8 +22,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 TEST(MarchingTetrahedra, SphereIsClosedAndOnTheSphere) {
   const double r = 3.0, cell = 0.25;
-  Mesh m = marching_tetrahedra([&](const Eigen::Vector3d& x) { return x.norm() - r; }, Eigen::Vector3d::Constant(-4),
-                               Eigen::Vector3d::Constant(4), {cell, 0.05});
+  Mesh m = marching_tetrahedra([&](const Eigen::Vector3d& x) { return x.norm() - r; },
+                               Eigen::Vector3d::Constant(-4), Eigen::Vector3d::Constant(4), {cell, 0.05});
   MeshInfo info = mesh_info(m);
   EXPECT_EQ(info.euler_characteristic, 2);
   EXPECT_EQ(info.components, 1);
@@ -61,8 +61,8 @@ TEST(Articulated, SkinningWeightsArePartitionsOfUnity) {
 }
 
 TEST(Articulated, ClassesArePosedNearIsometricallyAndDifferFromEachOther) {
-  // Pose-invariant descriptor: deciles of the geodesic distances from 12 fixed vertices over the largest of them,
-  // and sqrt(area) over that largest distance (how much surface per length: many limbs or few).
+  // Pose-invariant descriptor: deciles of the geodesic distances from 12 fixed vertices over the largest of
+  // them, and sqrt(area) over that largest distance (how much surface per length: many limbs or few).
   auto descriptor = [](const Mesh& m) {
     std::vector<double> all;
     for (int k = 0; k < 12; ++k) {
@@ -100,8 +100,8 @@ TEST(Articulated, ClassesArePosedNearIsometricallyAndDifferFromEachOther) {
       descriptors[name].push_back(descriptor(c.poses[p]));
     }
   }
-  // Distinct classes differ: every pose's nearest other shape (by descriptor) is a pose of its own class, and on
-  // average a class is much tighter than the distances between classes.
+  // Distinct classes differ: every pose's nearest other shape (by descriptor) is a pose of its own class, and
+  // on average a class is much tighter than the distances between classes.
   double sum_within = 0, sum_between = 0;
   int n_within = 0, n_between = 0;
   for (const auto& [a, da] : descriptors)
@@ -117,8 +117,9 @@ TEST(Articulated, ClassesArePosedNearIsometricallyAndDifferFromEachOther) {
         }
       EXPECT_LT(nearest_same, nearest_other) << a << " pose " << i;
     }
-  std::printf("[ metric   ] geodesic descriptor distance: mean within a class %.3f, mean between classes %.3f\n",
-              sum_within / n_within, sum_between / n_between);
+  std::printf(
+      "[ metric   ] geodesic descriptor distance: mean within a class %.3f, mean between classes %.3f\n",
+      sum_within / n_within, sum_between / n_between);
   EXPECT_LT(2 * sum_within / n_within, sum_between / n_between);
 }
 

@@ -44,7 +44,8 @@ bool consistently_oriented(const Faces& F) {
   return true;
 }
 
-void expect_glued_correctly(const Mesh& input, const TopologicalNoiseResult& r, const TopologicalNoiseOptions& o) {
+void expect_glued_correctly(const Mesh& input, const TopologicalNoiseResult& r,
+                            const TopologicalNoiseOptions& o) {
   MeshInfo before = mesh_info(input), after = mesh_info(r.mesh);
   const long k = static_cast<long>(o.glue_count);
   ASSERT_EQ(static_cast<long>(r.pairs.size()), k);
@@ -88,7 +89,8 @@ TEST(TopologicalNoise, RefusesWhenNoPairQualifiesAndSaysSo) {
     glue_topological_noise(icosphere(3), o);  // convex: no two spots face each other across a gap
     FAIL() << "a sphere has no admissible pair";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("found only 0 of 1 admissible pairs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("found only 0 of 1 admissible pairs"), std::string::npos)
+        << e.what();
   }
   // The sausage has one almost-touching place; twenty glues, kept at least two gaps apart, cannot fit there.
   o.glue_count = 20;
@@ -118,8 +120,8 @@ TEST(TopologicalNoise, Tosca5kCatGetsTwoHandles) {
 TEST(TopologicalNoise, CliNoiseThenInfoShowsChiMinusTwo) {
   CSHAPES_REQUIRE_DATA();
   std::string dir = test::scratch_dir("noise_cli");
-  auto r = test::run_cli("-q noise " + test::tosca5k("cat0") + " -o " + dir + "/n.off --glue 2 --pairs-json " + dir +
-                         "/p.json");
+  auto r = test::run_cli("-q noise " + test::tosca5k("cat0") + " -o " + dir +
+                         "/n.off --glue 2 --pairs-json " + dir + "/p.json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto info = test::run_cli("info --json " + dir + "/n.off");
   ASSERT_EQ(info.exit_code, 0) << info.err;
