@@ -22,6 +22,21 @@ struct RowMajorCloud {
   }
 };
 
+// Result set for one neighbour that starts from a known upper bound of its squared distance.
+struct NearestWithin {
+  double best_d2;
+  uint32_t best_index;
+  double worstDist() const { return best_d2; }
+  bool addPoint(double d2, uint32_t index) {
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best_index = index;
+    }
+    return true;
+  }
+  bool full() const { return true; }
+};
+
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, RowMajorCloud>,
                                                  RowMajorCloud, 3, uint32_t>;
 
@@ -56,6 +71,17 @@ Index NearestNeighbors::nearest(const Eigen::Vector3d& q, double* squared_distan
   impl_->tree->knnSearch(q.data(), 1, &index, &d2);
   if (squared_distance) *squared_distance = d2;
   return static_cast<Index>(index);
+}
+
+Index NearestNeighbors::nearest(const Eigen::Vector3d& q, Index hint, double* squared_distance) const {
+  const Points& P = impl_->points;
+  const double hint_d2 = (P.row(hint).transpose() - q).squaredNorm();
+  // Strict '<' in the search: inflate the bound a little so that the hint itself (or a tie) qualifies.
+  NearestWithin result{hint_d2 * (1 + 1e-12) + 1e-300, static_cast<uint32_t>(hint)};
+  impl_->tree->findNeighbors(result, q.data(), nanoflann::SearchParams());
+  if (result.best_d2 > hint_d2) result = {hint_d2, static_cast<uint32_t>(hint)};
+  if (squared_distance) *squared_distance = result.best_d2;
+  return static_cast<Index>(result.best_index);
 }
 
 void NearestNeighbors::nearest_all(const Points& queries, Eigen::VectorXi& index,
