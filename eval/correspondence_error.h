@@ -27,26 +27,27 @@ namespace cshapes {
 std::vector<int> read_vts(const std::string& path, Index num_vertices = 0);
 
 struct CorrespondenceErrorOptions {
-  int max_samples = 1000;      // ground-truth samples used, evenly spaced in the file's order; ≤ 0: all
+  int max_samples = 1000;       // ground-truth samples used, evenly spaced in the file's order; ≤ 0: all
   double max_threshold = 0.25;  // largest error threshold of the curve (in units of √area(B))
   int curve_points = 101;       // thresholds 0, max/(points−1), …, max
   bool normalise = true;        // divide errors by √area(B); false: errors in B's units
 };
 
 struct CorrespondenceErrorResult {
-  std::vector<int> samples;       // the sample indices used (into the .vts lists)
-  Eigen::VectorXd errors;         // per sample used, normalised as requested
-  Eigen::VectorXd thresholds;     // curve_points values
-  Eigen::VectorXd fraction;       // fraction of samples with error ≤ threshold (non-decreasing, in [0, 1])
+  std::vector<int> samples;    // the sample indices used (into the .vts lists)
+  Eigen::VectorXd errors;      // per sample used, normalised as requested
+  Eigen::VectorXd thresholds;  // curve_points values
+  Eigen::VectorXd fraction;    // fraction of samples with error ≤ threshold (non-decreasing, in [0, 1])
   double mean_error = 0;
   double median_error = 0;
-  double normaliser = 1;          // √area(B), or 1
+  double normaliser = 1;  // √area(B), or 1
 };
 
 // map_a_to_b: for every vertex of A, a vertex of B (0-based). truth_a, truth_b: the 0-based .vts lists of
 // A and B (equal lengths). geodesics_b: B's all-pairs geodesic distances, or null to run Dijkstra.
 CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::VectorXi& map_a_to_b,
-                                               const std::vector<int>& truth_a, const std::vector<int>& truth_b,
+                                               const std::vector<int>& truth_a,
+                                               const std::vector<int>& truth_b,
                                                const CorrespondenceErrorOptions& options = {},
                                                const DistanceMatrix* geodesics_b = nullptr);
 

@@ -25,7 +25,8 @@ struct NamedDistances {
 // non-square matrix.
 NamedDistances read_distance_csv(const std::string& path);
 // Writes the header-row format, atomically.
-void write_distance_csv(const std::string& path, const std::vector<std::string>& names, const Eigen::MatrixXd& D);
+void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
+                        const Eigen::MatrixXd& D);
 
 // The class of a shape from its name: the file name without directory and extension, up to its first
 // digit, with trailing '_', '-', '.' or ' ' removed ("cat0" → "cat", "dir/victoria10.off" → "victoria",

@@ -15,7 +15,9 @@ namespace {
 struct RowMajorCloud {
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> xyz;
   size_t kdtree_get_point_count() const { return static_cast<size_t>(xyz.rows()); }
-  double kdtree_get_pt(size_t i, size_t dim) const { return xyz(static_cast<Index>(i), static_cast<Index>(dim)); }
+  double kdtree_get_pt(size_t i, size_t dim) const {
+    return xyz(static_cast<Index>(i), static_cast<Index>(dim));
+  }
   template <class BoundingBox>
   bool kdtree_get_bbox(BoundingBox&) const {
     return false;  // let nanoflann compute it
@@ -51,7 +53,8 @@ struct NearestNeighbors::Impl {
 NearestNeighbors::NearestNeighbors(const Points& points) : impl_(std::make_unique<Impl>()) {
   CSHAPES_REQUIRE(points.rows() > 0, "nearest neighbours: the point set is empty");
   CSHAPES_REQUIRE(points.allFinite(), "nearest neighbours: the point set has non-finite coordinates");
-  CSHAPES_REQUIRE(points.rows() < (Index(1) << 31), "nearest neighbours: too many points (", points.rows(), ")");
+  CSHAPES_REQUIRE(points.rows() < (Index(1) << 31), "nearest neighbours: too many points (", points.rows(),
+                  ")");
   impl_->points = points;
   impl_->cloud.xyz = points;
   // Leaf size 10: measured fastest for 5,000-point shapes (4 and 20 are 5-10% slower per query).
@@ -62,8 +65,12 @@ NearestNeighbors::~NearestNeighbors() = default;
 NearestNeighbors::NearestNeighbors(NearestNeighbors&&) noexcept = default;
 NearestNeighbors& NearestNeighbors::operator=(NearestNeighbors&&) noexcept = default;
 
-Index NearestNeighbors::size() const { return impl_->points.rows(); }
-const Points& NearestNeighbors::points() const { return impl_->points; }
+Index NearestNeighbors::size() const {
+  return impl_->points.rows();
+}
+const Points& NearestNeighbors::points() const {
+  return impl_->points;
+}
 
 Index NearestNeighbors::nearest(const Eigen::Vector3d& q, double* squared_distance) const {
   uint32_t index = 0;

@@ -16,7 +16,9 @@ namespace cshapes {
 namespace {
 
 // An 11×11 grid over 10 × 12: columns 1 apart, rows 1.2 apart, area 120. Vertex (i, j) is j·11 + i.
-Mesh test_grid() { return grid(11, 11, 10.0, 12.0); }
+Mesh test_grid() {
+  return grid(11, 11, 10.0, 12.0);
+}
 
 std::vector<int> all_vertices(Index n) {
   std::vector<int> v(static_cast<size_t>(n));
@@ -27,7 +29,8 @@ std::vector<int> all_vertices(Index n) {
 TEST(CorrespondenceError, IdentityMapHasNoError) {
   Mesh b = test_grid();
   std::vector<int> truth = all_vertices(b.num_vertices());
-  Eigen::VectorXi identity = Eigen::VectorXi::LinSpaced(b.num_vertices(), 0, static_cast<int>(b.num_vertices()) - 1);
+  Eigen::VectorXi identity =
+      Eigen::VectorXi::LinSpaced(b.num_vertices(), 0, static_cast<int>(b.num_vertices()) - 1);
   CorrespondenceErrorOptions o;
   o.max_samples = 0;
   CorrespondenceErrorResult r = correspondence_error(b, identity, truth, truth, o);

@@ -58,7 +58,8 @@ TEST(DistanceCsv, LabelsFile) {
   std::string dir = test::scratch_dir("labels");
   std::vector<std::string> names = {"cat0", "dog1", "x"};
   test::write_text(dir + "/named.csv", "name,class\ndog1.off,quadruped\ncat0,quadruped\nx,other\n");
-  EXPECT_EQ(read_labels_csv(dir + "/named.csv", names), (std::vector<std::string>{"quadruped", "quadruped", "other"}));
+  EXPECT_EQ(read_labels_csv(dir + "/named.csv", names),
+            (std::vector<std::string>{"quadruped", "quadruped", "other"}));
   test::write_text(dir + "/ordered.csv", "a\nb\na\n");
   EXPECT_EQ(read_labels_csv(dir + "/ordered.csv", names), (std::vector<std::string>{"a", "b", "a"}));
   test::write_text(dir + "/missing.csv", "cat0,a\ndog1,b\n");
