@@ -87,7 +87,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
 #pragma omp parallel for schedule(dynamic, 8)
     for (long g = 0; g < static_cast<long>(groups.size()); ++g) {
       try {
-        Eigen::VectorXd d = geodesic_distances(b, {groups[static_cast<size_t>(g)].first});
+        Eigen::VectorXd d = geodesic_distances(b, {groups[static_cast<size_t>(g)].first}, options.geodesics);
         for (int k : groups[static_cast<size_t>(g)].second)
           result.errors[k] = d[mapped[static_cast<size_t>(k)]];
       } catch (...) {

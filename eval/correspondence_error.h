@@ -8,16 +8,17 @@
 // is the geodesic distance on B from there to vts_B[s], divided by √area(B) (so errors are comparable
 // across shapes and scales; 0.25 is a quarter of the shape's "size").
 //
-// Geodesics: Dijkstra on B's edges (core/geodesics.h, graph method; an upper bound of the surface distance,
-// a few percent long), one run per distinct true vertex among the samples used; or read from a given
-// all-pairs matrix. Cost without the matrix: O(S · n log n) for S samples (1,000 samples on 5,000 vertices:
-// ~0.5 s on one core), OpenMP over samples.
+// Geodesics: one single-source run per distinct true vertex among the samples used (core/geodesics.h,
+// options.geodesics: by default Dijkstra on B's edges, an upper bound of the surface distance, a few
+// percent long), or read from a given all-pairs matrix. Cost without the matrix: O(S · n log n) for S samples
+// (1,000 samples on 5,000 vertices: ~0.5 s on one core), OpenMP over samples.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/distance_matrix.h"
+#include "core/geodesics.h"
 #include "core/mesh.h"
 
 namespace cshapes {
@@ -31,6 +32,13 @@ struct CorrespondenceErrorOptions {
   double max_threshold = 0.25;  // largest error threshold of the curve (in units of √area(B))
   int curve_points = 101;       // thresholds 0, max/(points−1), …, max
   bool normalise = true;        // divide errors by √area(B); false: errors in B's units
+  // Single-source geodesics on B when no matrix is given: Dijkstra on the edges by default (no set-up per
+  // source; a few percent long). A method with per-call set-up (heat) repeats it for every source.
+  GeodesicOptions geodesics = [] {
+    GeodesicOptions g;
+    g.method = GeodesicMethod::Graph;
+    return g;
+  }();
 };
 
 struct CorrespondenceErrorResult {
