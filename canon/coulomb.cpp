@@ -1,0 +1,285 @@
+#include "canon/coulomb.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/mesh.h"
+
+namespace cshapes {
+
+CoulombScheme parse_coulomb_scheme(const std::string& name) {
+  if (name == "paper") return CoulombScheme::Paper;
+  if (name == "momentum") return CoulombScheme::Momentum;
+  fail("unknown Coulomb scheme '", name, "'; known: paper, momentum");
+}
+
+std::string to_string(CoulombScheme scheme) { return scheme == CoulombScheme::Paper ? "paper" : "momentum"; }
+
+CoulombStepRule parse_coulomb_step_rule(const std::string& name) {
+  if (name == "max-edge") return CoulombStepRule::MaxEdge;
+  if (name == "mean-edge") return CoulombStepRule::MeanEdge;
+  if (name == "median-edge") return CoulombStepRule::MedianEdge;
+  if (name == "fixed") return CoulombStepRule::Fixed;
+  fail("unknown step rule '", name, "'; known: max-edge, mean-edge, median-edge, fixed");
+}
+
+std::string to_string(CoulombStepRule rule) {
+  switch (rule) {
+    case CoulombStepRule::MaxEdge: return "max-edge";
+    case CoulombStepRule::MeanEdge: return "mean-edge";
+    case CoulombStepRule::MedianEdge: return "median-edge";
+    case CoulombStepRule::Fixed: return "fixed";
+  }
+  return "?";
+}
+
+Points rigid_align(const Points& A, const Points& B) {
+  CSHAPES_REQUIRE(A.rows() == B.rows(), "rigid_align: ", A.rows(), " vs ", B.rows(), " points");
+  if (A.rows() == 0) return A;
+  const Eigen::RowVector3d ca = A.colwise().mean(), cb = B.colwise().mean();
+  const Eigen::Matrix3d H = (A.rowwise() - ca).transpose() * (B.rowwise() - cb);
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  // Exclude reflections: a canonical form and its mirror image are different shapes.
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
+  // Row vectors: (R a)ᵀ = aᵀ Rᵀ.
+  return ((A.rowwise() - ca) * R.transpose()).rowwise() + cb;
+}
+
+double rigid_rms_distance(const Points& A, const Points& B) {
+  if (A.rows() == 0) return 0;
+  return std::sqrt((rigid_align(A, B) - B).rowwise().squaredNorm().mean());
+}
+
+std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
+                                        Index num_vertices, Index count) {
+  CSHAPES_REQUIRE(rest_lengths.size() == E.rows(), "tearing: ", rest_lengths.size(), " rest lengths for ",
+                  E.rows(), " edges");
+  std::vector<double> deviation(E.rows());
+  for (Index e = 0; e < E.rows(); ++e)
+    deviation[e] = std::abs((X.row(E(e, 0)) - X.row(E(e, 1))).norm() - rest_lengths(e));
+  std::vector<Index> order(E.rows());
+  std::iota(order.begin(), order.end(), Index(0));
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return deviation[a] > deviation[b]; });
+  std::vector<int> degree(num_vertices, 0);
+  for (Index e = 0; e < E.rows(); ++e) {
+    ++degree[E(e, 0)];
+    ++degree[E(e, 1)];
+  }
+  std::vector<Index> chosen;
+  for (Index e : order) {
+    if (static_cast<Index>(chosen.size()) >= count) break;
+    const int i = E(e, 0), j = E(e, 1);
+    // Never leave a vertex without edges: it would be a free charge drifting away (prototype).
+    if (degree[i] <= 1 || degree[j] <= 1) continue;
+    --degree[i];
+    --degree[j];
+    chosen.push_back(e);
+  }
+  return chosen;
+}
+
+namespace {
+
+double max_row_norm(const Points& G) { return G.rowwise().norm().maxCoeff(); }
+
+double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
+  if (rest.size() == 0) return 0;
+  switch (rule) {
+    case CoulombStepRule::MaxEdge: return rest.maxCoeff();
+    case CoulombStepRule::MedianEdge: {
+      std::vector<double> v(rest.data(), rest.data() + rest.size());
+      auto mid = v.begin() + v.size() / 2;
+      std::nth_element(v.begin(), mid, v.end());
+      return *mid;
+    }
+    case CoulombStepRule::MeanEdge:
+    case CoulombStepRule::Fixed: return rest.mean();
+  }
+  return rest.mean();
+}
+
+void check_options(const CoulombCanonOptions& o) {
+  CSHAPES_REQUIRE(o.step_factor > 0, "coulomb: step_factor must be > 0, got ", o.step_factor);
+  CSHAPES_REQUIRE(o.fixed_step >= 0, "coulomb: fixed_step must be >= 0, got ", o.fixed_step);
+  CSHAPES_REQUIRE(o.coulomb_steps >= 1, "coulomb: coulomb_steps must be >= 1, got ", o.coulomb_steps);
+  CSHAPES_REQUIRE(o.tear_fraction >= 0 && o.tear_fraction < 1, "coulomb: tear_fraction must be in [0, 1), got ",
+                  o.tear_fraction);
+  CSHAPES_REQUIRE(o.tear_after >= 0, "coulomb: tear_after must be >= 0, got ", o.tear_after);
+  CSHAPES_REQUIRE(o.tear_times >= 0, "coulomb: tear_times must be >= 0, got ", o.tear_times);
+  CSHAPES_REQUIRE(o.tear_interval >= 1, "coulomb: tear_interval must be >= 1, got ", o.tear_interval);
+  CSHAPES_REQUIRE(o.max_iterations >= 0, "coulomb: max_iterations must be >= 0, got ", o.max_iterations);
+  CSHAPES_REQUIRE(o.stop_window >= 1, "coulomb: stop_window must be >= 1, got ", o.stop_window);
+  CSHAPES_REQUIRE(o.stop_tolerance >= 0, "coulomb: stop_tolerance must be >= 0, got ", o.stop_tolerance);
+  CSHAPES_REQUIRE(o.momentum >= 0 && o.momentum < 1, "coulomb: momentum must be in [0, 1), got ", o.momentum);
+}
+
+}  // namespace
+
+CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options,
+                                          const Eigen::VectorXd& rest_lengths) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  check_options(options);
+  const Index n = X0.rows();
+  CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);
+  CSHAPES_REQUIRE(X0.allFinite(), "coulomb: the input coordinates contain NaN or infinity");
+  CSHAPES_REQUIRE(E.rows() > 0, "coulomb: the edge graph is empty (a mesh without faces needs a kNN graph)");
+
+  CoulombCanonResult result;
+  Edges edges = E;
+  Eigen::VectorXd rest = rest_lengths.size() ? rest_lengths : edge_lengths(X0, E);
+  CSHAPES_REQUIRE(rest.size() == E.rows(), "coulomb: ", rest.size(), " rest lengths for ", E.rows(), " edges");
+  auto projection = std::make_unique<MetricProjection>(n, edges, rest, options.projection);
+  const double scale = edge_scale(rest, options.step_rule);
+  double fixed_c = options.fixed_step;
+
+  const bool momentum = options.scheme == CoulombScheme::Momentum;
+  const bool tearing = options.tear_fraction > 0 && options.tear_times > 0;
+  int tears_done = 0, next_tear = options.tear_after;
+  std::vector<Index> torn_rows;  // row indices into the ORIGINAL E
+  std::vector<Index> original_row(E.rows());
+  std::iota(original_row.begin(), original_row.end(), Index(0));
+  result.torn_vertices = Eigen::VectorXd::Zero(n);
+
+  Points X = X0, X_prev = X0, Y;
+  Points snapshot = X0;
+  int snapshot_iteration = 0;
+  int since_restart = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
+  double shape_change = -1;
+
+  auto tear_now = [&](int iteration) {
+    const Index count = static_cast<Index>(std::ceil(options.tear_fraction * static_cast<double>(edges.rows())));
+    std::vector<Index> chosen = select_edges_to_tear(X, edges, rest, n, count);
+    std::vector<char> remove(edges.rows(), 0);
+    for (Index e : chosen) {
+      remove[e] = 1;
+      torn_rows.push_back(original_row[e]);
+      result.torn_vertices(edges(e, 0)) = 1;
+      result.torn_vertices(edges(e, 1)) = 1;
+    }
+    Edges kept(edges.rows() - static_cast<Index>(chosen.size()), 2);
+    Eigen::VectorXd kept_rest(kept.rows());
+    std::vector<Index> kept_original;
+    kept_original.reserve(kept.rows());
+    Index k = 0;
+    for (Index e = 0; e < edges.rows(); ++e) {
+      if (remove[e]) continue;
+      kept.row(k) = edges.row(e);
+      kept_rest(k) = rest(e);
+      kept_original.push_back(original_row[e]);
+      ++k;
+    }
+    edges = std::move(kept);
+    rest = std::move(kept_rest);
+    original_row = std::move(kept_original);
+    projection = std::make_unique<MetricProjection>(n, edges, rest, options.projection);
+    ++tears_done;
+    next_tear = iteration + options.tear_interval;
+    // The tear changes the fixed point: momentum built towards the old one would overshoot (it overflowed to
+    // NaN in the prototype), and the stopping window starts again.
+    X_prev = X;
+    since_restart = 1;
+    snapshot = X;
+    snapshot_iteration = iteration;
+  };
+
+  int t = 0;
+  for (t = 1; t <= options.max_iterations; ++t) {
+    CoulombIterationRecord record;
+    record.iteration = t;
+    double beta = 0;
+    if (momentum) {
+      beta = std::min(options.momentum, (since_restart - 1.0) / (since_restart + 2.0));
+      Y = X + beta * (X - X_prev);
+    } else {
+      Y = X;
+    }
+    const Points Y_extrapolated = momentum ? Y : Points();
+    for (int s = 0; s < options.coulomb_steps; ++s) {
+      CoulombEvaluation eval = coulomb_energy_gradient(Y, options.energy);
+      if (s == 0) record.energy = eval.energy;
+      const double gmax = max_row_norm(eval.gradient);
+      CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
+                      " (coincident or diverging vertices?)");
+      double c = 0;
+      if (gmax > 0) {
+        if (options.step_rule == CoulombStepRule::Fixed) {
+          if (fixed_c == 0) fixed_c = options.step_factor * scale / gmax;
+          c = fixed_c;
+        } else {
+          // Step rule after eq. (4): the fastest vertex moves step_factor · (edge scale).
+          c = options.step_factor * scale / gmax;
+        }
+      }
+      // eq. (4)
+      Y -= c * eval.gradient;
+      record.step = c;
+      record.max_move = c * gmax;
+    }
+    projection->project(Y);
+    if (!Y.allFinite())
+      fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme), ", step ",
+           record.step, "); try --scheme paper or a smaller --step-factor");
+    if (options.remove_rigid_motion) Y = rigid_align(Y, X);
+    bool restart = false;
+    if (momentum) {
+      // Gradient-mapping restart: the step from the extrapolated point goes back against the momentum.
+      restart = ((Y_extrapolated - Y).cwiseProduct(Y - X)).sum() > 0;
+    }
+    X_prev.swap(X);
+    X.swap(Y);
+    since_restart = restart ? 1 : since_restart + 1;
+    record.momentum = beta;
+
+    const MetricViolation v = metric_violation(X, edges, rest);
+    record.mean_violation = v.mean_relative;
+    record.max_violation = v.max_relative;
+
+    // Stopping on the change of the shape over a window, after rigid alignment.
+    bool converged = false;
+    if (t - snapshot_iteration >= options.stop_window) {
+      shape_change = rigid_rms_distance(X, snapshot) / std::max(bbox_diagonal(X), 1e-300);
+      snapshot = X;
+      snapshot_iteration = t;
+      converged = shape_change < options.stop_tolerance;
+    }
+    const bool tear_pending = tearing && tears_done < options.tear_times;
+    if (tear_pending && (t >= next_tear || converged)) {
+      // Converged before T: nothing would change until T, so tearing now gives the same result sooner.
+      tear_now(t);
+      converged = false;
+    }
+    record.torn_edges = static_cast<int>(torn_rows.size());
+    record.shape_change = shape_change;
+    record.seconds = elapsed();
+    result.history.push_back(record);
+    if (options.progress) options.progress("coulomb", t, options.max_iterations);
+    if (converged) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.iterations = std::min(t, options.max_iterations);
+  result.stop_reason = result.converged ? "converged" : "max_iterations";
+  if (options.progress) options.progress("coulomb", options.max_iterations, options.max_iterations);
+
+  result.energy = coulomb_energy_gradient(X, options.energy).energy;
+  result.violation = metric_violation(X, edges, rest);
+  result.X = std::move(X);
+  result.edges = std::move(edges);
+  result.rest_lengths = std::move(rest);
+  result.torn_edges.resize(static_cast<Index>(torn_rows.size()), 2);
+  for (size_t k = 0; k < torn_rows.size(); ++k) result.torn_edges.row(static_cast<Index>(k)) = E.row(torn_rows[k]);
+  result.seconds = elapsed();
+  return result;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,124 @@
+// Coulomb canonical forms (§2 of the paper): minimise the Coulomb energy of eq. (1) under the metric constraints
+// of eq. (2)/(3), by alternating gradient steps (eq. 4) with projections on the constraints (eq. 6 or 8–9), and
+// tearing the most violated edges (§2.2).
+//
+// One outer iteration: m Coulomb steps X ← X − c ∇E(X) (eq. 4), then k projection sweeps (metric_projection.h).
+// The result is the fixed point of that map, and it is defined by the step rule and by k: the Coulomb step
+// inflates the shape by about c·‖∇E‖, the k sweeps pull it back, so the final violation grows with c/k
+// (the paper's Fig. 5). Acceleration (momentum, Anderson) reaches the same fixed point in fewer iterations.
+//
+// Works on any edge graph: mesh edges (mesh_edges(F)) or a kNN graph of a point cloud. The rest lengths d_ij
+// are the edge lengths of the input X0 unless given. Units: those of X0. Complexity per iteration:
+// m gradient evaluations (coulomb_energy.h: O(n²) direct, O(n log n) fast) + O(k·|E|) projection.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "canon/coulomb_energy.h"
+#include "canon/metric_projection.h"
+#include "core/progress.h"
+
+namespace cshapes {
+
+enum class CoulombScheme {
+  Paper,    // plain alternation, exactly as §2.1 describes it
+  Momentum  // Nesterov momentum on the outer fixed-point map, adaptive restart, reset at tearing
+};
+CoulombScheme parse_coulomb_scheme(const std::string& name);  // "paper" | "momentum"
+std::string to_string(CoulombScheme scheme);
+
+// c of eq. (4): c = step_factor · L / max_i ‖∇_i E‖, so the fastest vertex moves step_factor · L per step.
+enum class CoulombStepRule {
+  MaxEdge,     // L = max d_ij: the paper's rule (TOSCA's longest edge is ≈ 7× its mean)
+  MeanEdge,    // L = mean d_ij
+  MedianEdge,  // L = median d_ij
+  Fixed        // c = fixed_step, or when that is 0 the mean-edge rule's c at the first iteration, frozen
+};
+CoulombStepRule parse_coulomb_step_rule(const std::string& name);  // "max-edge" | "mean-edge" | ... | "fixed"
+std::string to_string(CoulombStepRule rule);
+
+struct CoulombCanonOptions {
+  CoulombScheme scheme = CoulombScheme::Momentum;  // momentum: same fixed point, far fewer iterations (README)
+  CoulombStepRule step_rule = CoulombStepRule::MeanEdge;  // see README's parameter study
+  double step_factor = 0.1;  // the paper's 0.1
+  double fixed_step = 0;     // c for step_rule Fixed (units: length³/charge²); 0: frozen at the first iteration
+  int coulomb_steps = 1;     // m: Coulomb steps per outer iteration
+  // k (projection.steps), the norm (L2/L1), the L1 floor and the dilation constant of eq. (3).
+  MetricProjectionOptions projection;
+
+  // Tearing (§2.2): after tear_after outer iterations, remove the ceil(tear_fraction·|E|) edges with the
+  // largest |‖x_i − x_j‖ − d_ij| (absolute: ranking by relative deviation never caught glued bridges in the
+  // prototype). An edge whose removal would leave a vertex without edges is skipped (the vertex keeps its
+  // least violated edge) and the next one is taken. Repeated tear_times times, tear_interval iterations apart.
+  double tear_fraction = 0.01;  // p; 0 disables tearing
+  int tear_after = 300;         // T (outer iterations); see README for how it was chosen
+  int tear_times = 1;           // 1: tear once
+  int tear_interval = 100;      // iterations between repeated tears
+
+  // Stopping: every stop_window iterations, the RMS distance between the shape and the shape stop_window
+  // iterations earlier, after rigid alignment (Kabsch, same vertex order), relative to the bounding-box
+  // diagonal. Converged when it is below stop_tolerance and no tear is pending. A single step's energy change
+  // is not used: it fires far too early (prototype: after 431 iterations, the shape still changing by 4%).
+  int max_iterations = 3000;
+  int stop_window = 20;
+  double stop_tolerance = 1e-3;
+
+  // Momentum scheme: extrapolation Y = X + β (X − X_prev) with Nesterov's β_t = (t−1)/(t+2) capped at
+  // `momentum` (t counted from the last restart); restarted when the step opposes the momentum
+  // (gradient-mapping restart of O'Donoghue & Candès) and at every tear.
+  double momentum = 0.9;
+  // Align each new iterate rigidly onto the previous one (Kabsch): the Coulomb and projection forces are
+  // internal, but momentum amplifies round-off rotations into a steady spin (prototype).
+  bool remove_rigid_motion = true;
+
+  CoulombOptions energy;  // summation of eq. (1): direct / fast / auto
+  ProgressFn progress;    // called with ("coulomb", iteration, max_iterations)
+};
+
+struct CoulombIterationRecord {
+  int iteration = 0;          // 1-based outer iteration
+  double energy = 0;          // eq. (1) at the point of the iteration's first gradient
+  double mean_violation = 0;  // mean |r_ij − d_ij| / d_ij over the remaining edges, after the projection
+  double max_violation = 0;   // max of the same
+  double step = 0;            // c of eq. (4) (last Coulomb step of the iteration)
+  double max_move = 0;        // c · max_i ‖∇_i E‖: how far the fastest vertex moved in the Coulomb step
+  int torn_edges = 0;         // edges removed so far
+  double shape_change = -1;   // last measured windowed shape change (see stop_window), −1 before the first
+  double momentum = 0;        // β used (0: plain step or just restarted)
+  double seconds = 0;         // wall time since the start
+};
+
+struct CoulombCanonResult {
+  Points X;                     // n×3 canonical form, input vertex order
+  Edges edges;                  // the edges remaining after tearing
+  Eigen::VectorXd rest_lengths;  // their rest lengths
+  Edges torn_edges;             // the edges removed, in the order they were torn
+  Eigen::VectorXd torn_vertices;  // n values: 1 for a vertex of a torn edge, else 0
+  std::vector<CoulombIterationRecord> history;
+  int iterations = 0;
+  bool converged = false;
+  std::string stop_reason;  // "converged" or "max_iterations"
+  double energy = 0;        // eq. (1) at X
+  MetricViolation violation;  // over the remaining edges, at X
+  double seconds = 0;
+};
+
+// X0: n×3 initial (and reference) shape; E: |E|×2 edges; rest_lengths: |E| values, or empty for the edge
+// lengths of X0. Throws cshapes::Error on bad input or when the iteration produces non-finite coordinates.
+CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options = {},
+                                          const Eigen::VectorXd& rest_lengths = {});
+
+// Selects the edges to tear: the `count` largest deviations |‖x_i − x_j‖ − d_ij|, skipping any edge whose
+// removal would leave a vertex without edges (given the edges already chosen). Returns row indices into E,
+// by decreasing deviation. Ties are broken by edge index, so the choice is deterministic.
+std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
+                                        Index num_vertices, Index count);
+
+// Rigid alignment (Kabsch, no scaling) of A onto B with the same vertex order: the rotation R and translation
+// t minimising Σ ‖R a_i + t − b_i‖². Returns A moved. Reflections are excluded.
+Points rigid_align(const Points& A, const Points& B);
+// RMS of ‖rigid_align(A, B)_i − b_i‖.
+double rigid_rms_distance(const Points& A, const Points& B);
+
+}  // namespace cshapes

@@ -1,0 +1,84 @@
+// Projection onto the metric constraints of §2.1–2.2: pulling edge lengths ‖x_i − x_j‖ back towards their rest
+// lengths d_ij, one Jacobi sweep at a time, on an arbitrary edge graph (mesh edges or a kNN graph).
+//
+//   L2 (eq. 6, Groginsky):  x_i ← (1/v_i) Σ_{j~i} ( x_j + t_ij (x_i − x_j)/‖x_i − x_j‖ )
+//   L1 (eq. 8–9):           x_i ← Σ_{j~i} w_ij ( x_j + t_ij (x_i − x_j)/‖x_i − x_j‖ ),
+//                           w_ij ∝ 1 / max(|‖x_i − x_j‖ − d_ij|, floor · d_ij), normalised over the edges of i
+//
+// v_i is the degree of vertex i (the paper assumes it constant; we use each vertex's own). The target t_ij is
+// d_ij (eq. 2's equality constraints) or, with dilation c > 1, the length clamped into [d_ij/c, c·d_ij]
+// (eq. 3's band: edges inside it exert no pull). All vertices are updated from the previous sweep's positions
+// (Jacobi), so the result does not depend on the thread count.
+//
+// Monotonicity: an L2 sweep never increases the residual of eq. (5) (with t in place of d). It minimises,
+// vertex by vertex, SMACOF's majoriser of eq. (5), and the Jacobi update of that quadratic cannot increase it
+// because the graph Laplacian is bounded by twice its degree matrix. The L1 sweep is the same step for the
+// reweighted residual (iteratively reweighted least squares) and carries no such guarantee for eq. (5).
+//
+// Known limitation (measured, see README): the averaged projection barely pulls back a uniformly dilated smooth
+// surface — the pulls of opposite neighbours cancel — so after Coulomb steps the violation never returns to 0.
+//
+// Coincident endpoints (‖x_i − x_j‖ below 1e-12 · d_ij) get a fixed direction (±e_x, opposite for i and j)
+// so they separate instead of producing NaN.
+//
+// Complexity: O(|E|) per sweep, OpenMP over vertices.
+#pragma once
+
+#include <string>
+
+#include "core/mesh.h"
+
+namespace cshapes {
+
+enum class ProjectionNorm {
+  L2,  // eq. (6): plain average of the projections on the spheres around the neighbours
+  L1   // eq. (8)-(9): weighted by the inverse violation, so strongly stretched edges give way
+};
+ProjectionNorm parse_projection_norm(const std::string& name);  // "l2" | "l1"
+std::string to_string(ProjectionNorm norm);
+
+struct MetricProjectionOptions {
+  ProjectionNorm norm = ProjectionNorm::L2;  // L2: the paper's default scheme; L1 for topological noise (§2.2)
+  int steps = 10;                            // k: Jacobi sweeps per call of project() (measured, see README)
+  // L1 only: |r_ij − d_ij| is floored at l1_floor · d_ij before inverting. The paper's absolute 1e-16 lets
+  // one barely-violated edge take all the weight of its vertex, which made the projection weaker (measured in
+  // the prototype); a relative floor makes edges violated by less than it count equally (a Huber-like norm).
+  double l1_floor = 0.05;
+  // Dilation constant c ≥ 1 of eq. (3): 1 pulls every edge to d_ij; c > 1 pulls only edges outside
+  // [d_ij/c, c·d_ij] to the nearer bound.
+  double dilation = 1.0;
+};
+
+// A reusable projector for a fixed graph (set-up: the CSR adjacency, O(|E|)).
+class MetricProjection {
+ public:
+  // n vertices; E |E|×2 edges (0-based); rest_lengths |E| values d_ij > 0.
+  MetricProjection(Index num_vertices, const Edges& E, const Eigen::VectorXd& rest_lengths,
+                   const MetricProjectionOptions& options = {});
+
+  // One Jacobi sweep, in place. Isolated vertices do not move. X: n×3.
+  void sweep(Points& X) const;
+  // options.steps sweeps.
+  void project(Points& X) const;
+
+  const MetricProjectionOptions& options() const { return options_; }
+
+ private:
+  Index n_;
+  Eigen::VectorXd rest_;
+  Adjacency adj_;
+  MetricProjectionOptions options_;
+  mutable Points scratch_;
+};
+
+// How far X is from the rest lengths, over the edges E.
+struct MetricViolation {
+  double residual = 0;           // eq. (5): Σ (d_ij − r_ij)²
+  double l1 = 0;                 // eq. (7): Σ |d_ij − r_ij|
+  double mean_relative = 0;      // mean of |r_ij − d_ij| / d_ij
+  double max_relative = 0;       // max of |r_ij − d_ij| / d_ij
+  double median_length_ratio = 0;  // median of r_ij / d_ij (1 when lengths are kept; > 1 when inflated)
+};
+MetricViolation metric_violation(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths);
+
+}  // namespace cshapes

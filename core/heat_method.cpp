@@ -1,0 +1,400 @@
+#include "core/heat_method.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include "core/error.h"
+#include "core/intrinsic_delaunay.h"
+
+#ifdef CSHAPES_HAVE_CHOLMOD
+#include <cholmod.h>
+#endif
+
+namespace cshapes {
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+// A block of right-hand sides, one row per vertex: the k values of a vertex are contiguous, so the sparse
+// triangular solves and the gradient/divergence step run vectorised across the k sources.
+using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// A symmetric positive definite matrix, factorised once as P A Pᵀ = L Lᵀ; solve() may run concurrently from
+// several threads. The factorisation is CHOLMOD's (simplicial: with the reference BLAS of a stock system its
+// supernodal solve is slower per block); the triangular solves are ours, one pass over L per block of k
+// right-hand sides, k-wide AXPYs per nonzero of L (CHOLMOD's own solve handles at most 4 columns per pass).
+class SparseCholesky {
+ public:
+  // `what` names the matrix in error messages. A is symmetric with both triangles stored.
+  void factorize(const SparseMatrix& A, const std::string& what) {
+    n_ = A.rows();
+#ifdef CSHAPES_HAVE_CHOLMOD
+    cholmod_common common;
+    cholmod_start(&common);
+    common.print = 0;
+    common.error_handler = nullptr;
+    common.supernodal = CHOLMOD_SIMPLICIAL;
+    common.final_ll = 1;
+    SparseMatrix lower = A.triangularView<Eigen::Lower>();
+    lower.makeCompressed();
+    cholmod_sparse view = sparse_view(lower);
+    cholmod_factor* factor = cholmod_analyze(&view, &common);
+    bool ok = factor && common.status == CHOLMOD_OK;
+    ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
+    // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
+    ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
+    const int status = common.status;
+    if (ok) {
+      const int* p = static_cast<const int*>(factor->p);
+      const int* i = static_cast<const int*>(factor->i);
+      const double* x = static_cast<const double*>(factor->x);
+      const int* perm = static_cast<const int*>(factor->Perm);
+      colptr_.assign(p, p + n_ + 1);
+      row_.assign(i, i + p[n_]);
+      value_.assign(x, x + p[n_]);
+      perm_.assign(perm, perm + n_);
+    }
+    if (factor) cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+    CSHAPES_REQUIRE(ok, "heat method: CHOLMOD could not factorise the ", what, " matrix (status ", status,
+                    "; not positive definite: degenerate or inverted triangles?)");
+#else
+    Eigen::SimplicialLLT<SparseMatrix> llt(A);
+    CSHAPES_REQUIRE(llt.info() == Eigen::Success, "heat method: the ", what,
+                    " matrix could not be factorised; degenerate triangles?");
+    // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of
+    // A.
+    SparseMatrix L = llt.matrixL();
+    L.makeCompressed();
+    colptr_.assign(L.outerIndexPtr(), L.outerIndexPtr() + n_ + 1);
+    row_.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+    value_.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
+    perm_.resize(n_);
+    for (Index i = 0; i < n_; ++i) perm_[llt.permutationP().indices()[i]] = static_cast<int>(i);
+#endif
+  }
+
+  // B (n × k, row-major) is overwritten by A⁻¹ B. `work` is scratch of the same size.
+  void solve(Block& B, Block& work) const {
+    const Index k = B.cols();
+    work.resize(n_, k);
+    double* __restrict y = work.data();
+    for (Index r = 0; r < n_; ++r) work.row(r) = B.row(perm_[r]);
+    // L y = P b, column by column: each column of L updates the rows below its diagonal.
+    for (Index j = 0; j < n_; ++j) {
+      double* __restrict yj = y + j * k;
+      const double inv = 1.0 / value_[colptr_[j]];
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) yj[c] *= inv;
+      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
+        double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
+        const double v = value_[q];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) yi[c] -= v * yj[c];
+      }
+    }
+    // Lᵀ x = y, backwards: row j of Lᵀ is column j of L.
+    for (Index j = n_ - 1; j >= 0; --j) {
+      double* __restrict yj = y + j * k;
+      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
+        const double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
+        const double v = value_[q];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) yj[c] -= v * yi[c];
+      }
+      const double inv = 1.0 / value_[colptr_[j]];
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) yj[c] *= inv;
+    }
+    for (Index r = 0; r < n_; ++r) B.row(perm_[r]) = work.row(r);
+  }
+
+  Index factor_nonzeros() const {
+    return static_cast<Index>(value_.size());
+  }
+
+  static std::string backend() {
+#ifdef CSHAPES_HAVE_CHOLMOD
+    return "cholmod";
+#else
+    return "eigen-llt";
+#endif
+  }
+
+ private:
+#ifdef CSHAPES_HAVE_CHOLMOD
+  static cholmod_sparse sparse_view(SparseMatrix& lower) {
+    cholmod_sparse s;
+    s.nrow = lower.rows();
+    s.ncol = lower.cols();
+    s.nzmax = lower.nonZeros();
+    s.p = lower.outerIndexPtr();
+    s.i = lower.innerIndexPtr();
+    s.nz = nullptr;
+    s.x = lower.valuePtr();
+    s.z = nullptr;
+    s.stype = -1;  // symmetric, lower triangle stored
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    return s;
+  }
+#endif
+  Index n_ = 0;
+  std::vector<int> colptr_, row_;  // L in compressed columns, diagonal first in each column
+  std::vector<double> value_;
+  std::vector<int> perm_;  // row k of the factorised system is row perm_[k] of A
+};
+
+}  // namespace
+
+struct HeatMethod::Impl {
+  Faces F;  // faces of the triangulation used (the mesh's, or its intrinsic Delaunay flips)
+  // Per face and corner c, r_c = ½ J e_c in the face's own plane (e_c the edge opposite c, counter-clockwise,
+  // J the rotation by +90°): the face's area times the gradient of the hat function of corner c.
+  // 6 values per face (2-D: an intrinsic triangle has no embedding, only a layout from its edge lengths).
+  std::vector<double> r;
+  std::vector<int> component;  // connected component of each vertex; -1 for a vertex in no face
+  std::vector<int> pinned;     // one vertex per component: φ = 0 there
+  SparseCholesky heat, poisson;
+
+  // Steps 2-3 for a block of k sources: b = Σ_f Σ_c (r_c · X_f) e_{v_c} with X_f = -∇u / |∇u| per source,
+  // then the pinned rows zeroed. u and b are n × k row-major.
+  void divergence(const Block& u, Block& b) const {
+    const Index k = u.cols();
+    b.setZero(u.rows(), k);
+    std::vector<double> gx(k), gy(k);
+    double* __restrict x = gx.data();
+    double* __restrict y = gy.data();
+    const Index m = F.rows();
+    for (Index f = 0; f < m; ++f) {
+      const double* rf = &r[6 * f];
+      const double* __restrict u0 = u.row(F(f, 0)).data();
+      const double* __restrict u1 = u.row(F(f, 1)).data();
+      const double* __restrict u2 = u.row(F(f, 2)).data();
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) {
+        const double ax = u0[c] * rf[0] + u1[c] * rf[2] + u2[c] * rf[4];
+        const double ay = u0[c] * rf[1] + u1[c] * rf[3] + u2[c] * rf[5];
+        const double norm2 = ax * ax + ay * ay;
+        // Where u underflowed to a constant there is no direction to follow: X = 0.
+        const double scale = norm2 > 0 ? -1.0 / std::sqrt(norm2) : 0.0;
+        x[c] = ax * scale;
+        y[c] = ay * scale;
+      }
+      for (int corner = 0; corner < 3; ++corner) {
+        double* __restrict bv = b.row(F(f, corner)).data();
+        const double rx = rf[2 * corner], ry = rf[2 * corner + 1];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) bv[c] += rx * x[c] + ry * y[c];
+      }
+    }
+    for (int p : pinned) b.row(p).setZero();
+  }
+};
+
+HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
+    : impl_(std::make_unique<Impl>()), num_vertices_(mesh.num_vertices()), options_(options) {
+  const Index n = num_vertices_, m = mesh.num_faces();
+  CSHAPES_REQUIRE(m > 0, "heat method: the mesh has no faces (a point cloud); use --method graph");
+  CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ",
+                  options.time_factor);
+  CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
+  Impl& im = *impl_;
+  IntrinsicTriangulation T =
+      options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  flips_ = T.flips;
+  im.F = T.F;
+  im.r.resize(6 * m);
+  std::vector<Eigen::Triplet<double>> stiffness;
+  stiffness.reserve(9 * m);
+  Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
+  double length_sum = 0;
+  for (Index f = 0; f < m; ++f) {
+    const int v[3] = {T.F(f, 0), T.F(f, 1), T.F(f, 2)};
+    // Layout: corner 0 at the origin, corner 1 on the x axis, corner 2 above.
+    const double l01 = T.length(f, 0), l12 = T.length(f, 1), l20 = T.length(f, 2);
+    length_sum += l01 + l12 + l20;
+    const double x2 = (l01 * l01 + l20 * l20 - l12 * l12) / (2 * l01);
+    const double y2 = std::sqrt(std::max(0.0, l20 * l20 - x2 * x2));
+    const double area = 0.5 * l01 * y2;
+    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1],
+                    ", ", v[2], ") has zero area; the heat method needs non-degenerate triangles");
+    const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
+    Eigen::Vector2d rc[3];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector2d e = x[(c + 2) % 3] - x[(c + 1) % 3];
+      rc[c] = 0.5 * Eigen::Vector2d(-e.y(), e.x());
+      im.r[6 * f + 2 * c] = rc[c].x();
+      im.r[6 * f + 2 * c + 1] = rc[c].y();
+      mass[v[c]] += area / 3;  // lumped (barycentric) mass: a third of each incident triangle
+    }
+    // L_ab = Σ_f A_f ∇ψ_a·∇ψ_b = Σ_f r_a·r_b / A_f: the cotangent Laplacian.
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) stiffness.emplace_back(v[a], v[b], rc[a].dot(rc[b]) / area);
+  }
+  SparseMatrix L(n, n);
+  L.setFromTriplets(stiffness.begin(), stiffness.end());
+
+  // Components (through faces) and the pinned vertex of each.
+  Components comp = connected_components(n, mesh_edges(mesh.F));
+  im.component = comp.label;
+  std::vector<int> first(comp.count, -1);
+  for (Index i = 0; i < n; ++i) {
+    if (mass[i] == 0) {
+      im.component[i] = -1;
+      continue;
+    }
+    if (first[comp.label[i]] < 0) first[comp.label[i]] = static_cast<int>(i);
+  }
+  for (int p : first)
+    if (p >= 0) im.pinned.push_back(p);
+
+  // eq. (5): t = m h², h the mean edge length (over half-edges: on a closed mesh, the mean edge length).
+  const double h = length_sum / (3.0 * m);
+  time_step_ = options.time_factor * h * h;
+
+  // Vertices in no face get an identity row, so both systems stay definite.
+  std::vector<Eigen::Triplet<double>> heat_entries, poisson_entries;
+  heat_entries.reserve(L.nonZeros() + n);
+  poisson_entries.reserve(L.nonZeros() + n);
+  std::vector<char> is_pinned(n, 0);
+  for (int p : im.pinned) is_pinned[p] = 1;
+  for (Index j = 0; j < n; ++j) {
+    if (mass[j] == 0 || is_pinned[j]) poisson_entries.emplace_back(j, j, 1.0);
+    if (mass[j] == 0) heat_entries.emplace_back(j, j, 1.0);
+    for (SparseMatrix::InnerIterator it(L, j); it; ++it) {
+      const Index i = it.row();
+      heat_entries.emplace_back(i, j, time_step_ * it.value() + (i == j ? mass[j] : 0.0));
+      if (!is_pinned[i] && !is_pinned[j]) poisson_entries.emplace_back(i, j, it.value());
+    }
+  }
+  SparseMatrix heat(n, n), poisson(n, n);
+  heat.setFromTriplets(heat_entries.begin(), heat_entries.end());
+  poisson.setFromTriplets(poisson_entries.begin(), poisson_entries.end());
+  im.heat.factorize(heat, "heat-flow (M + tL)");
+  im.poisson.factorize(poisson, "Poisson (cotangent Laplacian)");
+}
+
+HeatMethod::~HeatMethod() = default;
+
+std::string HeatMethod::backend() {
+  return SparseCholesky::backend();
+}
+
+Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
+  const Index n = num_vertices_;
+  const Impl& im = *impl_;
+  CSHAPES_REQUIRE(!sources.empty(), "heat method: no source vertex given");
+  Block U = Block::Zero(n, 1), phi, work;
+  for (int s : sources) {
+    CSHAPES_REQUIRE(s >= 0 && s < n, "heat method: source vertex ", s, " out of range 0..", n - 1);
+    U(s, 0) = 1;
+  }
+  im.heat.solve(U, work);
+  im.divergence(U, phi);
+  im.poisson.solve(phi, work);
+  // φ is defined up to a constant per component: make it zero on average over the component's sources.
+  const double inf = std::numeric_limits<double>::infinity();
+  int max_label = 0;
+  for (int c : im.component) max_label = std::max(max_label, c);
+  std::vector<double> offset_sum(max_label + 1, 0.0);
+  std::vector<int> offset_count(max_label + 1, 0);
+  for (int s : sources)
+    if (im.component[s] >= 0) offset_sum[im.component[s]] += phi(s, 0), ++offset_count[im.component[s]];
+  Eigen::VectorXd d(n);
+  for (Index i = 0; i < n; ++i) {
+    const int c = im.component[i];
+    if (c < 0 || offset_count[c] == 0) {
+      d[i] = inf;
+      continue;
+    }
+    d[i] = std::max(0.0, phi(i, 0) - offset_sum[c] / offset_count[c]);
+  }
+  for (int s : sources) d[s] = 0;
+  return d;
+}
+
+void HeatMethod::for_each_source(
+    const std::vector<int>& sources,
+    const std::function<void(Index k, const Eigen::Ref<const Eigen::VectorXd>& column)>& sink) const {
+  const Index n = num_vertices_;
+  const Impl& im = *impl_;
+  for (int s : sources)
+    CSHAPES_REQUIRE(s >= 0 && s < n, "heat method: source vertex ", s, " out of range 0..", n - 1);
+  const Index count = static_cast<Index>(sources.size());
+  const Index block = options_.block_size;
+  const Index num_blocks = (count + block - 1) / block;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::atomic<Index> done{0};
+  std::exception_ptr error;  // exceptions must not leave an OpenMP region: the first is rethrown after it
+#pragma omp parallel
+  {
+    Block U, phi, work;
+    Eigen::MatrixXd columns;
+#pragma omp for schedule(dynamic, 1)
+    for (Index b = 0; b < num_blocks; ++b) {
+      bool failed = false;
+#pragma omp critical(cshapes_heat_error)
+      failed = static_cast<bool>(error);
+      if (failed) continue;
+      try {
+        const Index begin = b * block, k = std::min(block, count - begin);
+        U.setZero(n, k);
+        for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
+        im.heat.solve(U, work);
+        im.divergence(U, phi);
+        im.poisson.solve(phi, work);
+        // Transpose to one column per source in tiles of rows (the row-major block is too large for the
+        // cache).
+        columns.resize(n, k);
+        constexpr Index tile = 64;
+        for (Index i0 = 0; i0 < n; i0 += tile)
+          for (Index j = 0; j < k; ++j)
+            for (Index i = i0; i < std::min(n, i0 + tile); ++i) columns(i, j) = phi(i, j);
+        for (Index j = 0; j < k; ++j) {
+          const int s = sources[begin + j];
+          const int c = im.component[s];
+          const double phi_s = phi(s, j);
+          double* __restrict col = columns.col(j).data();
+          for (Index i = 0; i < n; ++i) {
+            // |φ - φ(s)| as CGAL's Heat_method_3 does: slightly negative values next to the source are
+            // rounding.
+            col[i] = (c >= 0 && im.component[i] == c) ? std::abs(col[i] - phi_s) : inf;
+          }
+          col[s] = 0;
+          sink(begin + j, columns.col(j));
+        }
+        Index finished = done += k;
+        if (options_.progress) {
+#pragma omp critical(cshapes_progress)
+          options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
+        }
+      } catch (...) {
+#pragma omp critical(cshapes_heat_error)
+        if (!error) error = std::current_exception();
+      }
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+Eigen::MatrixXd HeatMethod::distances_each(const std::vector<int>& sources) const {
+  Eigen::MatrixXd D(num_vertices_, static_cast<Index>(sources.size()));
+  for_each_source(sources,
+                  [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) { D.col(k) = column; });
+  return D;
+}
+
+Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
+                            const HeatMethodOptions& options) {
+  return HeatMethod(mesh, options).distances(sources);
+}
+
+}  // namespace cshapes

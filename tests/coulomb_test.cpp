@@ -1,0 +1,224 @@
+#include "canon/coulomb.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/synthetic.h"
+
+namespace cshapes {
+namespace {
+
+// Smallest principal variance over the total: 0 for a planar point set.
+double flatness(const Points& X) {
+  const Points C = X.rowwise() - X.colwise().mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C.transpose() * C);
+  return eig.eigenvalues()(0) / eig.eigenvalues().sum();
+}
+
+// Mean distance between the two ends of the roll (vertex k lies at column k % nu along the roll).
+double roll_end_to_end(const Points& X, const SwissRollOptions& o) {
+  double sum = 0;
+  for (int row = 0; row < o.nv; ++row) sum += (X.row(row * o.nu) - X.row(row * o.nu + o.nu - 1)).norm();
+  return sum / o.nv;
+}
+
+CoulombCanonOptions roll_options(CoulombScheme scheme) {
+  CoulombCanonOptions o;
+  o.scheme = scheme;
+  o.projection.steps = 10;
+  o.tear_fraction = 0;
+  o.max_iterations = 4000;
+  return o;
+}
+
+void expect_roll_unrolled(CoulombScheme scheme) {
+  const SwissRollOptions ro;
+  const Mesh roll = swiss_roll(ro);
+  ASSERT_EQ(roll.num_vertices(), 561);
+  const CoulombCanonResult r = coulomb_canonical_form(roll.V, mesh_edges(roll.F), roll_options(scheme));
+  const double geodesic = swiss_roll_length(ro.t0, ro.t1);
+  std::printf("[ info ] %s: %d iterations, %.2f s, end-to-end %.3f of the geodesic length, flatness %.4f, "
+              "mean violation %.4f\n", to_string(scheme).c_str(), r.iterations, r.seconds,
+              roll_end_to_end(r.X, ro) / geodesic, flatness(r.X), r.violation.mean_relative);
+  EXPECT_TRUE(r.converged) << r.iterations << " iterations";
+  EXPECT_LT(roll_end_to_end(roll.V, ro), 0.5 * geodesic);  // rolled up at the start
+  EXPECT_NEAR(roll_end_to_end(r.X, ro), geodesic, 0.15 * geodesic);
+  EXPECT_LT(flatness(r.X), 0.01);
+  EXPECT_LT(r.violation.mean_relative, 0.15);
+}
+
+TEST(CoulombCanon, SwissRollUnrollsMomentum) { expect_roll_unrolled(CoulombScheme::Momentum); }
+
+TEST(CoulombCanon, IdenticalInputsGiveIdenticalOutputs) {
+  Mesh m = icosphere(3);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.05);
+  for (Index i = 0; i < m.V.rows(); ++i)
+    for (int c = 0; c < 3; ++c) m.V(i, c) += noise(rng);
+  CoulombCanonOptions o;
+  o.max_iterations = 60;
+  o.tear_after = 20;
+  o.tear_times = 2;
+  o.tear_interval = 15;
+  const Edges E = mesh_edges(m.F);
+  const CoulombCanonResult a = coulomb_canonical_form(m.V, E, o);
+  const CoulombCanonResult b = coulomb_canonical_form(m.V, E, o);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_TRUE(a.X == b.X);
+  EXPECT_TRUE(a.torn_edges == b.torn_edges);
+}
+
+TEST(Tearing, RemovesCeilFractionAndIsolatesNoVertex) {
+  const Mesh m = icosphere(3);
+  const Edges E = mesh_edges(m.F);
+  // Stretch a cap so that its edges are the most violated: all edges of the cap's vertices compete.
+  Points X = m.V;
+  for (Index i = 0; i < X.rows(); ++i)
+    if (X(i, 2) > 0.8) X.row(i) *= 1.0 + 3.0 * (X(i, 2) - 0.8);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  for (double p : {0.01, 0.05, 0.2}) {
+    const Index count = static_cast<Index>(std::ceil(p * E.rows()));
+    const std::vector<Index> torn = select_edges_to_tear(X, E, rest, m.num_vertices(), count);
+    EXPECT_EQ(static_cast<Index>(torn.size()), count);
+    std::set<Index> unique(torn.begin(), torn.end());
+    EXPECT_EQ(unique.size(), torn.size());
+    std::vector<int> degree(m.num_vertices(), 0);
+    for (Index e = 0; e < E.rows(); ++e) {
+      if (unique.count(e)) continue;
+      ++degree[E(e, 0)];
+      ++degree[E(e, 1)];
+    }
+    for (int d : degree) EXPECT_GT(d, 0);
+  }
+}
+
+TEST(Tearing, ChoosesTheLargestDeviationsAndKeepsOneEdgePerVertex) {
+  // A star: vertex 0 joined to 1..4, plus the path 1-2. Tearing 4 edges must keep one edge at each of 3 and 4.
+  Points X(5, 3);
+  X << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 5, 7, 0, 0;
+  Edges E(5, 2);
+  E << 0, 1, 0, 2, 0, 3, 0, 4, 1, 2;
+  Eigen::VectorXd rest = Eigen::VectorXd::Ones(5);
+  rest(4) = std::sqrt(2.0);
+  const std::vector<Index> torn = select_edges_to_tear(X, E, rest, 5, 4);
+  // Edges (0,4) and (0,3) are the most violated but are the only edges of 4 and 3.
+  for (Index e : torn) EXPECT_TRUE(e != 3 && e != 2) << e;
+  EXPECT_LE(torn.size(), 3u);  // only 0-1, 0-2, 1-2 are candidates, and 1-2 leaves 1 or 2 alone after 0-1, 0-2
+}
+
+TEST(CoulombCanon, TearingRemovesEdgesAndMarksVertices) {
+  Mesh m = icosphere(3);
+  CoulombCanonOptions o;
+  o.max_iterations = 50;
+  o.tear_after = 10;
+  o.tear_fraction = 0.02;
+  const Edges E = mesh_edges(m.F);
+  const CoulombCanonResult r = coulomb_canonical_form(m.V, E, o);
+  const Index expected = static_cast<Index>(std::ceil(0.02 * E.rows()));
+  EXPECT_EQ(r.torn_edges.rows(), expected);
+  EXPECT_EQ(r.edges.rows(), E.rows() - expected);
+  EXPECT_GT(r.torn_vertices.sum(), 0);
+  EXPECT_LE(r.torn_vertices.sum(), 2.0 * expected);
+  EXPECT_EQ(r.history.back().torn_edges, expected);
+}
+
+TEST(CoulombCanon, CoincidentVerticesGiveFiniteResults) {
+  Mesh m = icosphere(2);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  Points X = m.V;
+  X.row(E(0, 1)) = X.row(E(0, 0));  // the two ends of an edge coincide
+  X.row(5) = X.row(6);
+  for (CoulombScheme scheme : {CoulombScheme::Paper, CoulombScheme::Momentum}) {
+    CoulombCanonOptions o;
+    o.scheme = scheme;
+    o.max_iterations = 30;
+    o.tear_after = 10;
+    const CoulombCanonResult r = coulomb_canonical_form(X, E, o, rest);
+    EXPECT_TRUE(r.X.allFinite());
+    EXPECT_TRUE(std::isfinite(r.energy));
+  }
+}
+
+TEST(CoulombCanon, MomentumStaysFiniteThroughRepeatedTearing) {
+  // Aggressive settings: large steps, tearing several times while the momentum is high.
+  Mesh m = torus(40, 16, 2.0, 0.6);
+  CoulombCanonOptions o;
+  o.scheme = CoulombScheme::Momentum;
+  o.momentum = 0.95;
+  o.step_rule = CoulombStepRule::MaxEdge;
+  o.step_factor = 0.3;
+  o.projection.steps = 1;
+  o.max_iterations = 200;
+  o.tear_after = 20;
+  o.tear_times = 5;
+  o.tear_interval = 25;
+  o.tear_fraction = 0.03;
+  o.stop_tolerance = 0;
+  const CoulombCanonResult r = coulomb_canonical_form(m.V, mesh_edges(m.F), o);
+  EXPECT_TRUE(r.X.allFinite());
+  for (const CoulombIterationRecord& h : r.history) {
+    ASSERT_TRUE(std::isfinite(h.energy) && std::isfinite(h.mean_violation)) << "iteration " << h.iteration;
+  }
+  EXPECT_EQ(r.iterations, 200);
+  EXPECT_GT(r.torn_edges.rows(), 4 * std::ceil(0.03 * 0.9 * mesh_edges(m.F).rows()));
+}
+
+TEST(CoulombCanon, MomentumReachesThePaperSchemesFixedPoint) {
+  const Mesh m = icosphere(2);
+  Points X = m.V;
+  X.col(2) *= 0.3;  // an ellipsoid, so the fixed point is not the input
+  const Edges E = mesh_edges(m.F);
+  CoulombCanonOptions o;
+  o.tear_fraction = 0;
+  o.max_iterations = 20000;
+  o.stop_tolerance = 1e-5;
+  o.scheme = CoulombScheme::Paper;
+  const CoulombCanonResult paper = coulomb_canonical_form(X, E, o);
+  o.scheme = CoulombScheme::Momentum;
+  const CoulombCanonResult fast = coulomb_canonical_form(X, E, o);
+  ASSERT_TRUE(paper.converged);
+  ASSERT_TRUE(fast.converged);
+  EXPECT_NEAR(fast.energy, paper.energy, 5e-3 * paper.energy);
+  EXPECT_NEAR(fast.violation.mean_relative, paper.violation.mean_relative,
+              0.05 * paper.violation.mean_relative + 1e-4);
+  EXPECT_LT(rigid_rms_distance(fast.X, paper.X), 1e-2 * bbox_diagonal(paper.X));
+  EXPECT_LT(fast.iterations, paper.iterations);
+}
+
+TEST(RigidAlign, RecoversARigidMotion) {
+  const Mesh m = icosphere(2);
+  Points A = m.V;
+  A.col(0) *= 2.0;  // not symmetric
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Points B = (A * R.transpose()).rowwise() + Eigen::RowVector3d(3, -1, 2);
+  EXPECT_LT((rigid_align(A, B) - B).cwiseAbs().maxCoeff(), 1e-12 * 10);
+  EXPECT_LT(rigid_rms_distance(A, B), 1e-12 * 10);
+  // A mirror image is not a rigid motion.
+  Points M = A;
+  M.col(1) *= -1;
+  M.col(2) *= 1.3;
+  EXPECT_GT(rigid_rms_distance(M, A), 1e-3);
+}
+
+TEST(CoulombCanon, RejectsBadInput) {
+  const Mesh m = icosphere(1);
+  CoulombCanonOptions o;
+  EXPECT_THROW(coulomb_canonical_form(m.V, Edges(0, 2), o), Error);
+  Points bad = m.V;
+  bad(0, 0) = NAN;
+  EXPECT_THROW(coulomb_canonical_form(bad, mesh_edges(m.F), o), Error);
+  o.step_factor = -1;
+  EXPECT_THROW(coulomb_canonical_form(m.V, mesh_edges(m.F), o), Error);
+}
+
+}  // namespace
+}  // namespace cshapes

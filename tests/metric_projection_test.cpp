@@ -1,0 +1,176 @@
+#include "canon/metric_projection.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+#include "core/synthetic.h"
+
+namespace cshapes {
+namespace {
+
+Points perturbed(const Points& V, double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0, sigma);
+  Points X = V;
+  for (Index i = 0; i < X.rows(); ++i)
+    for (int c = 0; c < 3; ++c) X(i, c) += noise(rng);
+  return X;
+}
+
+double mean_edge(const Points& V, const Edges& E) { return edge_lengths(V, E).mean(); }
+
+TEST(MetricProjection, UnperturbedMeshIsAFixedPoint) {
+  for (const Mesh& m : {icosphere(3), torus(30, 12), swiss_roll()}) {
+    const Edges E = mesh_edges(m.F);
+    const double h = mean_edge(m.V, E);
+    for (ProjectionNorm norm : {ProjectionNorm::L2, ProjectionNorm::L1}) {
+      MetricProjectionOptions o;
+      o.norm = norm;
+      o.steps = 5;
+      MetricProjection P(m.num_vertices(), E, edge_lengths(m.V, E), o);
+      Points X = m.V;
+      P.project(X);
+      EXPECT_LT((X - m.V).cwiseAbs().maxCoeff(), 1e-12 * h) << to_string(norm);
+    }
+  }
+}
+
+TEST(MetricProjection, DilationBandLeavesLengthsInsideItAlone) {
+  const Mesh m = icosphere(3);
+  const Edges E = mesh_edges(m.F);
+  MetricProjectionOptions o;
+  o.dilation = 1.2;
+  MetricProjection P(m.num_vertices(), E, edge_lengths(m.V, E), o);
+  Points X = m.V * 1.1;  // every edge 10% longer: inside [d/1.2, 1.2 d]
+  const Points before = X;
+  P.project(X);
+  EXPECT_LT((X - before).cwiseAbs().maxCoeff(), 1e-12);
+  // Outside the band, a sweep never increases the squared distance of the lengths to the band: it alternates
+  // an L2 sweep towards the nearest band points with re-choosing them.
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  auto band_residual = [&](const Points& Y) {
+    double sum = 0;
+    for (Index e = 0; e < E.rows(); ++e) {
+      const double r = (Y.row(E(e, 0)) - Y.row(E(e, 1))).norm();
+      const double gap = r - std::clamp(r, rest(e) / 1.2, rest(e) * 1.2);
+      sum += gap * gap;
+    }
+    return sum;
+  };
+  X = perturbed(m.V, 0.5 * rest.mean(), 5);
+  double residual = band_residual(X);
+  const double initial = residual;
+  for (int s = 0; s < 20; ++s) {
+    P.sweep(X);
+    const double next = band_residual(X);
+    EXPECT_LE(next, residual * (1 + 1e-12)) << "sweep " << s;
+    residual = next;
+  }
+  EXPECT_LT(residual, 0.5 * initial);
+}
+
+TEST(MetricProjection, L2SweepNeverIncreasesTheResidualOfEq5) {
+  for (const Mesh& m : {icosphere(3), torus(30, 12), swiss_roll()}) {
+    const Edges E = mesh_edges(m.F);
+    const Eigen::VectorXd rest = edge_lengths(m.V, E);
+    const double h = rest.mean();
+    MetricProjection P(m.num_vertices(), E, rest);
+    for (double sigma : {0.05, 0.3, 1.0}) {
+      Points X = perturbed(m.V, sigma * h, 11);
+      double residual = metric_violation(X, E, rest).residual;
+      const double initial = residual;
+      for (int s = 0; s < 20; ++s) {
+        P.sweep(X);
+        const double next = metric_violation(X, E, rest).residual;
+        EXPECT_LE(next, residual * (1 + 1e-12)) << "sweep " << s << ", sigma " << sigma;
+        residual = next;
+      }
+      EXPECT_LT(residual, 0.9 * initial);
+    }
+  }
+}
+
+TEST(MetricProjection, ScaleInvariant) {
+  const Mesh m = icosphere(2);
+  const Edges E = mesh_edges(m.F);
+  for (ProjectionNorm norm : {ProjectionNorm::L2, ProjectionNorm::L1}) {
+    MetricProjectionOptions o;
+    o.norm = norm;
+    Points X = perturbed(m.V, 0.05, 3);
+    Points big = X * 1e6;
+    MetricProjection(m.num_vertices(), E, edge_lengths(m.V, E), o).project(X);
+    MetricProjection(m.num_vertices(), E, edge_lengths(m.V * 1e6, E), o).project(big);
+    EXPECT_LT((big / 1e6 - X).cwiseAbs().maxCoeff(), 1e-9);
+  }
+}
+
+TEST(MetricProjection, L1GivesWayAtAStronglyStretchedEdge) {
+  // A glued bridge: one extra edge whose rest length is far shorter than the distance it spans.
+  const Mesh m = grid(12, 12, 11.0, 11.0);
+  Edges E = mesh_edges(m.F);
+  Eigen::VectorXd rest = edge_lengths(m.V, E);
+  const Index a = 0, b = 11;  // opposite corners of one side, 11 apart
+  E.conservativeResize(E.rows() + 1, 2);
+  E.row(E.rows() - 1) << a, b;
+  rest.conservativeResize(rest.size() + 1);
+  rest(rest.size() - 1) = 1.0;
+  auto pulled = [&](ProjectionNorm norm) {
+    MetricProjectionOptions o;
+    o.norm = norm;
+    o.steps = 50;
+    Points X = m.V;
+    MetricProjection(m.num_vertices(), E, rest, o).project(X);
+    return (X.row(a) - X.row(b)).norm();
+  };
+  // The L1 weights shrink the bridge's pull, so the corners stay further apart than with L2.
+  EXPECT_GT(pulled(ProjectionNorm::L1), pulled(ProjectionNorm::L2) + 0.5);
+}
+
+TEST(MetricProjection, CoincidentEndpointsGiveFiniteResults) {
+  const Mesh m = icosphere(2);
+  const Edges E = mesh_edges(m.F);
+  Points X = m.V;
+  X.row(E(0, 1)) = X.row(E(0, 0));
+  X.row(E(5, 1)) = X.row(E(5, 0));
+  for (ProjectionNorm norm : {ProjectionNorm::L2, ProjectionNorm::L1}) {
+    MetricProjectionOptions o;
+    o.norm = norm;
+    MetricProjection P(m.num_vertices(), E, edge_lengths(m.V, E), o);
+    Points Y = X;
+    P.project(Y);
+    EXPECT_TRUE(Y.allFinite());
+    EXPECT_GT((Y.row(E(0, 1)) - Y.row(E(0, 0))).norm(), 0);
+  }
+}
+
+TEST(MetricViolation, KnownAnswers) {
+  Points X(3, 3);
+  X << 0, 0, 0, 2, 0, 0, 2, 3, 0;
+  Edges E(2, 2);
+  E << 0, 1, 1, 2;
+  Eigen::VectorXd rest(2);
+  rest << 1, 3;
+  const MetricViolation v = metric_violation(X, E, rest);
+  EXPECT_DOUBLE_EQ(v.residual, 1.0);
+  EXPECT_DOUBLE_EQ(v.l1, 1.0);
+  EXPECT_DOUBLE_EQ(v.mean_relative, 0.5);
+  EXPECT_DOUBLE_EQ(v.max_relative, 1.0);
+}
+
+TEST(MetricProjection, RejectsBadInput) {
+  Edges E(1, 2);
+  E << 0, 3;
+  EXPECT_THROW(MetricProjection(3, E, Eigen::VectorXd::Ones(1)), Error);
+  E << 0, 1;
+  EXPECT_THROW(MetricProjection(3, E, Eigen::VectorXd::Ones(2)), Error);
+  MetricProjectionOptions o;
+  o.dilation = 0.5;
+  EXPECT_THROW(MetricProjection(3, E, Eigen::VectorXd::Ones(1), o), Error);
+}
+
+}  // namespace
+}  // namespace cshapes
