@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/dataset.h"
 #include "core/error.h"
 
 namespace cshapes {
@@ -144,14 +145,8 @@ void write_distance_csv(const std::string& path, const std::vector<std::string>&
   });
 }
 
-std::string class_from_name(const std::string& name) {
-  std::string s = stem(name);
-  size_t digit = s.find_first_of("0123456789");
-  if (digit == 0) return s;
-  std::string c = s.substr(0, digit);
-  while (!c.empty() && (c.back() == '_' || c.back() == '-' || c.back() == '.' || c.back() == ' '))
-    c.pop_back();
-  return c.empty() ? s : c;
+std::string class_of_shape_name(const std::string& name) {
+  return class_from_name(stem(name));
 }
 
 std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names) {

@@ -28,10 +28,9 @@ NamedDistances read_distance_csv(const std::string& path);
 void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
                         const Eigen::MatrixXd& D);
 
-// The class of a shape from its name: the file name without directory and extension, up to its first
-// digit, with trailing '_', '-', '.' or ' ' removed ("cat0" → "cat", "dir/victoria10.off" → "victoria",
-// "dog3_noisy" → "dog"). A name that starts with a digit is its own class.
-std::string class_from_name(const std::string& name);
+// The class of a shape from its name, by the datasets' rule (core/dataset.h class_from_name) after
+// dropping any directory and extension: "cat0" → "cat", "dir/victoria10.off" → "victoria".
+std::string class_of_shape_name(const std::string& name);
 
 // Classes from a labels file for the given shape names. Accepted:
 //   "name,class" lines (an optional header "name,class"), matched by name (as given, or without directory

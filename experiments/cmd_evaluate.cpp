@@ -28,7 +28,7 @@ int run() {
   NamedDistances input = read_distance_csv(args.matrix);
   std::vector<std::string> classes;
   if (args.labels.empty()) {
-    for (const std::string& name : input.names) classes.push_back(class_from_name(name));
+    for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
   } else {
     classes = read_labels_csv(args.labels, input.names);
   }

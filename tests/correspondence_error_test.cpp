@@ -63,7 +63,9 @@ TEST(CorrespondenceError, ShiftedMapKnownCurve) {
   EXPECT_DOUBLE_EQ(r.fraction[100], 1.0);
 
   // Same errors from a precomputed all-pairs matrix (float: relative 1e-6), and unnormalised in B's units.
-  DistanceMatrix G = all_pairs_geodesics(b);
+  GeodesicOptions graph;
+  graph.method = GeodesicMethod::Graph;
+  DistanceMatrix G = all_pairs_geodesics(b, graph);
   CorrespondenceErrorResult from_matrix = correspondence_error(b, map, truth, truth, o, &G);
   EXPECT_LT((from_matrix.errors - r.errors).cwiseAbs().maxCoeff(), 1e-6);
   o.normalise = false;

@@ -44,14 +44,13 @@ TEST(DistanceCsv, ReadsNameColumnPlainAndSpaces) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(DistanceCsv, ClassFromName) {
-  EXPECT_EQ(class_from_name("cat0"), "cat");
-  EXPECT_EQ(class_from_name("victoria10"), "victoria");
-  EXPECT_EQ(class_from_name("/data/tosca5k/michael5.off"), "michael");
-  EXPECT_EQ(class_from_name("dog3_noisy"), "dog");
-  EXPECT_EQ(class_from_name("horse_7.ply"), "horse");
-  EXPECT_EQ(class_from_name("plane"), "plane");
-  EXPECT_EQ(class_from_name("7up"), "7up");
+TEST(DistanceCsv, ClassOfShapeName) {
+  // The datasets' rule (trailing digits dropped), after the directory and extension.
+  EXPECT_EQ(class_of_shape_name("cat0"), "cat");
+  EXPECT_EQ(class_of_shape_name("victoria10"), "victoria");
+  EXPECT_EQ(class_of_shape_name("/data/tosca5k/michael5.off"), "michael");
+  EXPECT_EQ(class_of_shape_name("plane.ply"), "plane");
+  EXPECT_EQ(class_of_shape_name("007"), "007");
 }
 
 TEST(DistanceCsv, LabelsFile) {
