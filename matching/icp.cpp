@@ -286,15 +286,18 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   Points P, Q;
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
-    // From the second pass on, last pass's neighbours bound the search (the pose moved a little).
+    // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
+    // neighbour (the pose moved a little); on the first, the previous query's neighbour (queries are in
+    // Morton order, so consecutive ones are close).
     const bool hinted = step > 0;
     const Eigen::Matrix3d& R = track.T.rotation;
     const Eigen::Vector3d& t = track.T.translation;
     // source → target: nearest target point to R·x + t.
     for (Index i = 0; i < S.rows(); ++i) {
       Eigen::Vector3d q = R * S.row(i).transpose() + t;
-      nn_st[i] = static_cast<int>(hinted ? target_tree.nearest(q, nn_st[i], &d2_st[i])
-                                         : target_tree.nearest(q, &d2_st[i]));
+      nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
+                                  : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
+                                          : target_tree.nearest(q, &d2_st[i]));
     }
     Index kept = keep_pairs(d2_st, o.trim_fraction, max_d2, scratch, keep_st);
     Index total = S.rows();
@@ -303,8 +306,9 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     if (o.symmetric) {
       for (Index j = 0; j < Tg.rows(); ++j) {
         Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
-        nn_ts[j] = static_cast<int>(hinted ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
-                                           : source_tree.nearest(q, &d2_ts[j]));
+        nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
+                                    : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
+                                            : source_tree.nearest(q, &d2_ts[j]));
       }
       kept += keep_pairs(d2_ts, o.trim_fraction, max_d2, scratch, keep_ts);
       total += Tg.rows();
