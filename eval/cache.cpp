@@ -25,13 +25,15 @@ constexpr std::array<uint32_t, 64> kRound = {
     0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
     0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
 
-uint32_t rotr(uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+uint32_t rotr(uint32_t x, int n) {
+  return (x >> n) | (x << (32 - n));
+}
 
 void compress(std::array<uint32_t, 8>& h, const unsigned char* block) {
   uint32_t w[64];
   for (int t = 0; t < 16; ++t)
-    w[t] = (uint32_t(block[4 * t]) << 24) | (uint32_t(block[4 * t + 1]) << 16) | (uint32_t(block[4 * t + 2]) << 8) |
-           uint32_t(block[4 * t + 3]);
+    w[t] = (uint32_t(block[4 * t]) << 24) | (uint32_t(block[4 * t + 1]) << 16) |
+           (uint32_t(block[4 * t + 2]) << 8) | uint32_t(block[4 * t + 3]);
   for (int t = 16; t < 64; ++t) {
     uint32_t s0 = rotr(w[t - 15], 7) ^ rotr(w[t - 15], 18) ^ (w[t - 15] >> 3);
     uint32_t s1 = rotr(w[t - 2], 17) ^ rotr(w[t - 2], 19) ^ (w[t - 2] >> 10);
@@ -86,7 +88,9 @@ std::string sha256_hex(const std::string& bytes) {
   return std::string(hex, 64);
 }
 
-std::string file_content_hash(const std::string& path) { return sha256_hex(read_file(path)); }
+std::string file_content_hash(const std::string& path) {
+  return sha256_hex(read_file(path));
+}
 
 std::string cache_key(const std::vector<std::string>& parts) {
   std::string joined;
@@ -138,7 +142,8 @@ void DiskCache::put(const std::string& key, const std::string& value) const {
       true);
 }
 
-std::string DiskCache::get_or_compute(const std::string& key, const std::function<std::string()>& compute) const {
+std::string DiskCache::get_or_compute(const std::string& key,
+                                      const std::function<std::string()>& compute) const {
   if (std::optional<std::string> cached = get(key)) return *cached;
   std::string value = compute();
   put(key, value);

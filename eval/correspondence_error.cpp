@@ -36,12 +36,14 @@ std::vector<int> read_vts(const std::string& path, Index num_vertices) {
 }
 
 CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::VectorXi& map_a_to_b,
-                                               const std::vector<int>& truth_a, const std::vector<int>& truth_b,
+                                               const std::vector<int>& truth_a,
+                                               const std::vector<int>& truth_b,
                                                const CorrespondenceErrorOptions& options,
                                                const DistanceMatrix* geodesics_b) {
   const Index nb = b.num_vertices();
-  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(), "correspondence error: ", truth_a.size(),
-                  " and ", truth_b.size(), " ground-truth samples (expected equal, non-zero counts)");
+  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(),
+                  "correspondence error: ", truth_a.size(), " and ", truth_b.size(),
+                  " ground-truth samples (expected equal, non-zero counts)");
   CSHAPES_REQUIRE(options.curve_points >= 2 && options.max_threshold > 0,
                   "correspondence error: need curve_points >= 2 and max_threshold > 0");
   CSHAPES_REQUIRE(!geodesics_b || (geodesics_b->rows() == nb && geodesics_b->cols() == nb),
@@ -51,7 +53,8 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
   CorrespondenceErrorResult result;
   const int total = static_cast<int>(truth_a.size());
   const int used = options.max_samples > 0 ? std::min(options.max_samples, total) : total;
-  for (int k = 0; k < used; ++k) result.samples.push_back(static_cast<int>(static_cast<long>(k) * total / used));
+  for (int k = 0; k < used; ++k)
+    result.samples.push_back(static_cast<int>(static_cast<long>(k) * total / used));
 
   // Per sample: the mapped vertex and the true vertex of B.
   std::vector<int> mapped(static_cast<size_t>(used)), truth(static_cast<size_t>(used));
@@ -60,8 +63,8 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     int va = truth_a[static_cast<size_t>(s)], vb = truth_b[static_cast<size_t>(s)];
     CSHAPES_REQUIRE(va >= 0 && va < map_a_to_b.size(), "correspondence error: sample ", s, " is vertex ", va,
                     " of A, but the map covers ", map_a_to_b.size(), " vertices");
-    CSHAPES_REQUIRE(vb >= 0 && vb < nb, "correspondence error: sample ", s, " is vertex ", vb, " of B, which has ",
-                    nb, " vertices");
+    CSHAPES_REQUIRE(vb >= 0 && vb < nb, "correspondence error: sample ", s, " is vertex ", vb,
+                    " of B, which has ", nb, " vertices");
     int m = map_a_to_b[va];
     CSHAPES_REQUIRE(m >= 0 && m < nb, "correspondence error: the map sends vertex ", va, " of A to ", m,
                     ", not a vertex of B");
@@ -76,7 +79,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     for (int k = 0; k < used; ++k)
       result.errors[k] = (*geodesics_b)(truth[static_cast<size_t>(k)], mapped[static_cast<size_t>(k)]);
   } else {
-    // One single-source solve per distinct true vertex, serving every sample that shares it.
+    // One Dijkstra per distinct true vertex, serving every sample that shares it.
     std::map<int, std::vector<int>> by_truth;
     for (int k = 0; k < used; ++k) by_truth[truth[static_cast<size_t>(k)]].push_back(k);
     std::vector<std::pair<int, std::vector<int>>> groups(by_truth.begin(), by_truth.end());
@@ -85,7 +88,8 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     for (long g = 0; g < static_cast<long>(groups.size()); ++g) {
       try {
         Eigen::VectorXd d = geodesic_distances(b, {groups[static_cast<size_t>(g)].first}, options.geodesics);
-        for (int k : groups[static_cast<size_t>(g)].second) result.errors[k] = d[mapped[static_cast<size_t>(k)]];
+        for (int k : groups[static_cast<size_t>(g)].second)
+          result.errors[k] = d[mapped[static_cast<size_t>(k)]];
       } catch (...) {
 #pragma omp critical(cshapes_correspondence_error)
         if (!error) error = std::current_exception();
@@ -104,8 +108,9 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     result.fraction[t] = static_cast<double>(within) / used;
   }
   result.mean_error = result.errors.mean();
-  result.median_error = used % 2 ? sorted[static_cast<size_t>(used / 2)]
-                                 : 0.5 * (sorted[static_cast<size_t>(used / 2 - 1)] + sorted[static_cast<size_t>(used / 2)]);
+  result.median_error =
+      used % 2 ? sorted[static_cast<size_t>(used / 2)]
+               : 0.5 * (sorted[static_cast<size_t>(used / 2 - 1)] + sorted[static_cast<size_t>(used / 2)]);
   return result;
 }
 

@@ -1,7 +1,5 @@
 #include "eval/distance_csv.h"
 
-#include "core/dataset.h"
-
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/dataset.h"
 #include "core/error.h"
 
 namespace cshapes {
@@ -65,7 +64,9 @@ std::vector<std::vector<std::string>> read_rows(const std::string& path, std::ve
   return rows;
 }
 
-std::string stem(const std::string& name) { return std::filesystem::path(name).stem().string(); }
+std::string stem(const std::string& name) {
+  return std::filesystem::path(name).stem().string();
+}
 
 }  // namespace
 
@@ -82,7 +83,8 @@ NamedDistances read_distance_csv(const std::string& path) {
   NamedDistances result;
   size_t first_row = 0;
   // No header but a name column: every row "name,d_1,…,d_N" with N the number of rows.
-  bool names_only_in_rows = rows[0].size() == rows.size() + 1 && !all_numbers(rows[0], 0) && all_numbers(rows[0], 1);
+  bool names_only_in_rows =
+      rows[0].size() == rows.size() + 1 && !all_numbers(rows[0], 0) && all_numbers(rows[0], 1);
   bool header = !names_only_in_rows && !all_numbers(rows[0], 0);
   size_t n = header ? rows.size() - 1 : rows.size();
   // A name column: data rows with N+1 fields whose first is not a number (or a header with N+1 cells).
@@ -98,12 +100,13 @@ NamedDistances read_distance_csv(const std::string& path) {
     }
     result.names = names;
   }
-  if (!name_column && rows.size() > first_row && rows[first_row].size() == n + 1 && !all_numbers(rows[first_row], 0))
+  if (!name_column && rows.size() > first_row && rows[first_row].size() == n + 1 &&
+      !all_numbers(rows[first_row], 0))
     name_column = true;
   if (!header)
     for (size_t i = 0; i < n; ++i) result.names.push_back(name_column ? rows[i][0] : std::to_string(i));
-  CSHAPES_REQUIRE(result.names.size() == n, path, ": the header names ", result.names.size(), " shapes but there are ",
-                  n, " rows (expected a square matrix)");
+  CSHAPES_REQUIRE(result.names.size() == n, path, ": the header names ", result.names.size(),
+                  " shapes but there are ", n, " rows (expected a square matrix)");
   result.D.resize(static_cast<Index>(n), static_cast<Index>(n));
   for (size_t i = 0; i < n; ++i) {
     const std::vector<std::string>& fields = rows[first_row + i];
@@ -113,19 +116,21 @@ NamedDistances read_distance_csv(const std::string& path) {
     for (size_t j = 0; j < n; ++j) {
       double v;
       if (!parse_number(fields[j + offset], v))
-        fail(path, ":", line_of[first_row + i], ": field ", j + offset + 1, " '", fields[j + offset], "' is not a number");
+        fail(path, ":", line_of[first_row + i], ": field ", j + offset + 1, " '", fields[j + offset],
+             "' is not a number");
       result.D(static_cast<Index>(i), static_cast<Index>(j)) = v;
     }
   }
   return result;
 }
 
-void write_distance_csv(const std::string& path, const std::vector<std::string>& names, const Eigen::MatrixXd& D) {
-  CSHAPES_REQUIRE(D.rows() == D.cols() && static_cast<Index>(names.size()) == D.rows(), path, ": ", names.size(),
-                  " names for a ", D.rows(), "x", D.cols(), " matrix");
+void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
+                        const Eigen::MatrixXd& D) {
+  CSHAPES_REQUIRE(D.rows() == D.cols() && static_cast<Index>(names.size()) == D.rows(), path, ": ",
+                  names.size(), " names for a ", D.rows(), "x", D.cols(), " matrix");
   for (const std::string& name : names)
-    CSHAPES_REQUIRE(name.find_first_of(",;\t\n") == std::string::npos && !name.empty(), path, ": shape name '", name,
-                    "' is empty or contains a separator");
+    CSHAPES_REQUIRE(name.find_first_of(",;\t\n") == std::string::npos && !name.empty(), path,
+                    ": shape name '", name, "' is empty or contains a separator");
   write_file_atomically(path, [&](std::ostream& out) {
     for (size_t k = 0; k < names.size(); ++k) out << (k ? "," : "") << names[k];
     out << '\n';
@@ -140,7 +145,9 @@ void write_distance_csv(const std::string& path, const std::vector<std::string>&
   });
 }
 
-std::string class_from_path(const std::string& name) { return class_from_name(stem(name)); }
+std::string class_of_shape_name(const std::string& name) {
+  return class_from_name(stem(name));
+}
 
 std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names) {
   std::vector<int> line_of;
@@ -161,8 +168,8 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
   }
   std::map<std::string, std::string> by_name;
   for (size_t i = 0; i < rows.size(); ++i) {
-    CSHAPES_REQUIRE(rows[i].size() == 2, path, ":", line_of[i], ": expected 'name,class', found ", rows[i].size(),
-                    " fields");
+    CSHAPES_REQUIRE(rows[i].size() == 2, path, ":", line_of[i], ": expected 'name,class', found ",
+                    rows[i].size(), " fields");
     by_name[rows[i][0]] = rows[i][1];
     by_name.emplace(stem(rows[i][0]), rows[i][1]);
   }

@@ -25,11 +25,12 @@ struct NamedDistances {
 // non-square matrix.
 NamedDistances read_distance_csv(const std::string& path);
 // Writes the header-row format, atomically.
-void write_distance_csv(const std::string& path, const std::vector<std::string>& names, const Eigen::MatrixXd& D);
+void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
+                        const Eigen::MatrixXd& D);
 
-// The class of a shape from a name or path: the file name without folder and extension, then
-// class_from_name of core/dataset.h ("dir/victoria10.off" -> "victoria", "horse_7.ply" -> "horse").
-std::string class_from_path(const std::string& name);
+// The class of a shape from its name, by the datasets' rule (core/dataset.h class_from_name) after
+// dropping any directory and extension: "cat0" → "cat", "dir/victoria10.off" → "victoria".
+std::string class_of_shape_name(const std::string& name);
 
 // Classes from a labels file for the given shape names. Accepted:
 //   "name,class" lines (an optional header "name,class"), matched by name (as given, or without directory

@@ -30,8 +30,8 @@ std::string encode(const PairValue& v, const IcpResult& r) {
   std::snprintf(buffer, sizeof buffer,
                 "hausdorff %.17g chamfer %.17g rmse %.17g reflection %d iterations %d "
                 "R %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g t %.17g %.17g %.17g\n",
-                v.hausdorff, v.chamfer, v.rmse, v.reflection, r.total_iterations, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
-                R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t[0], t[1], t[2]);
+                v.hausdorff, v.chamfer, v.rmse, v.reflection, r.total_iterations, R(0, 0), R(0, 1), R(0, 2),
+                R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t[0], t[1], t[2]);
   return buffer;
 }
 
@@ -51,14 +51,17 @@ std::string points_content_key(const Points& X) {
   return sha256_hex(bytes);
 }
 
-PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, const std::vector<std::string>& keys,
+PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
+                                          const std::vector<std::string>& keys,
                                           const PairwiseDistanceOptions& options) {
   auto start = std::chrono::steady_clock::now();
   const int n = static_cast<int>(shapes.size());
-  CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(), " keys for ",
-                  shapes.size(), " shapes");
+  CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(),
+                  " keys for ", shapes.size(), " shapes");
   std::vector<std::string> key(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) key[static_cast<size_t>(i)] = keys.empty() ? points_content_key(shapes[static_cast<size_t>(i)]) : keys[static_cast<size_t>(i)];
+  for (int i = 0; i < n; ++i)
+    key[static_cast<size_t>(i)] =
+        keys.empty() ? points_content_key(shapes[static_cast<size_t>(i)]) : keys[static_cast<size_t>(i)];
 
   PairwiseDistanceResult result;
   result.hausdorff = result.chamfer = result.rmse = Eigen::MatrixXd::Zero(n, n);
@@ -84,7 +87,8 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, con
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
       int s = key[static_cast<size_t>(i)] <= key[static_cast<size_t>(j)] ? i : j, t = s == i ? j : i;
-      std::string pair_key = cache_key({"pairwise-distance-1", key[static_cast<size_t>(s)], key[static_cast<size_t>(t)], option_key});
+      std::string pair_key = cache_key(
+          {"pairwise-distance-1", key[static_cast<size_t>(s)], key[static_cast<size_t>(t)], option_key});
       PairValue v;
       std::optional<std::string> cached = cache.get(pair_key);
       if (cached && decode(*cached, v)) {
@@ -98,7 +102,8 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, con
   // Pass 2: prepare the shapes the remaining pairs need, then align them, OpenMP over pairs.
   std::vector<std::unique_ptr<IcpShape>> prepared(static_cast<size_t>(n));
   std::vector<char> needed(static_cast<size_t>(n), 0);
-  for (const Pair& p : todo) needed[static_cast<size_t>(p.source)] = needed[static_cast<size_t>(p.target)] = 1;
+  for (const Pair& p : todo)
+    needed[static_cast<size_t>(p.source)] = needed[static_cast<size_t>(p.target)] = 1;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::exception_ptr error;
   std::atomic<bool> stop{false};
@@ -106,7 +111,8 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, con
   for (int i = 0; i < n; ++i) {
     if (!needed[static_cast<size_t>(i)] || stop) continue;
     try {
-      prepared[static_cast<size_t>(i)] = std::make_unique<IcpShape>(shapes[static_cast<size_t>(i)], icp_options);
+      prepared[static_cast<size_t>(i)] =
+          std::make_unique<IcpShape>(shapes[static_cast<size_t>(i)], icp_options);
     } catch (...) {
 #pragma omp critical(cshapes_pairwise_error)
       if (!error) error = std::current_exception();
@@ -123,15 +129,17 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, con
     const Pair& p = todo[static_cast<size_t>(k)];
     try {
       IcpResult alignment;
-      ShapeDistance d = aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
-                                               *prepared[static_cast<size_t>(p.target)], icp_options, &alignment);
+      ShapeDistance d =
+          aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
+                                 *prepared[static_cast<size_t>(p.target)], icp_options, &alignment);
       PairValue v{d.hausdorff, d.chamfer, d.rmse, alignment.transform.is_reflection() ? 1 : 0};
       cache.put(p.key, encode(v, alignment));
       store(p.source, p.target, v);  // distinct entries per pair: no race
       long done = ++computed;
       if (options.progress) {
 #pragma omp critical(cshapes_pairwise_progress)
-        options.progress("distances", static_cast<double>(result.cached + done), static_cast<double>(result.pairs));
+        options.progress("distances", static_cast<double>(result.cached + done),
+                         static_cast<double>(result.pairs));
       }
       if (options.fail_after_computed >= 0 && done >= options.fail_after_computed)
         fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");

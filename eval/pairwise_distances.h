@@ -21,10 +21,10 @@
 namespace cshapes {
 
 struct PairwiseDistanceOptions {
-  IcpOptions icp;          // alignment of each pair (IcpOptions::parallel is ignored: pairs run in parallel)
-  std::string cache_dir;   // on-disk cache of pair results; empty: no cache
-  int threads = 0;         // OpenMP threads over pairs; 0: OpenMP's default
-  ProgressFn progress;     // stage "distances", called as pairs finish (from one thread at a time)
+  IcpOptions icp;         // alignment of each pair (IcpOptions::parallel is ignored: pairs run in parallel)
+  std::string cache_dir;  // on-disk cache of pair results; empty: no cache
+  int threads = 0;        // OpenMP threads over pairs; 0: OpenMP's default
+  ProgressFn progress;    // stage "distances", called as pairs finish (from one thread at a time)
   // Test hook simulating a killed run: throw cshapes::Error once this many pairs have been computed and
   // stored in this call (cached pairs do not count). Negative: never.
   long fail_after_computed = -1;
@@ -34,15 +34,16 @@ struct PairwiseDistanceResult {
   // N×N, symmetric, zero diagonal (shape_distance.h): hausdorff is the paper's distance.
   Eigen::MatrixXd hausdorff, chamfer, rmse;
   Eigen::MatrixXi reflection;  // 1 where the best alignment was a reflection
-  long pairs = 0;     // N(N−1)/2
-  long computed = 0;  // pairs aligned in this call (cache misses)
-  long cached = 0;    // pairs read from the cache (hits)
+  long pairs = 0;              // N(N−1)/2
+  long computed = 0;           // pairs aligned in this call (cache misses)
+  long cached = 0;             // pairs read from the cache (hits)
   double seconds = 0;
 };
 
 // shapes: N point sets (canonical forms); keys: N content keys, or empty to hash the coordinates.
 // Throws on invalid input, and rethrows the first error of any pair (pairs finished before it stay cached).
-PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes, const std::vector<std::string>& keys,
+PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
+                                          const std::vector<std::string>& keys,
                                           const PairwiseDistanceOptions& options = {});
 
 // SHA-256 of the row count and the coordinates' bytes: equal points, equal key.

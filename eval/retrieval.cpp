@@ -13,7 +13,8 @@ namespace cshapes {
 namespace {
 
 void check_input(const Eigen::MatrixXd& D, const std::vector<int>& labels) {
-  CSHAPES_REQUIRE(D.rows() == D.cols(), "retrieval: the distance matrix must be square, got ", D.rows(), "x", D.cols());
+  CSHAPES_REQUIRE(D.rows() == D.cols(), "retrieval: the distance matrix must be square, got ", D.rows(), "x",
+                  D.cols());
   CSHAPES_REQUIRE(D.rows() >= 2, "retrieval: need at least 2 shapes, got ", D.rows());
   CSHAPES_REQUIRE(static_cast<Index>(labels.size()) == D.rows(), "retrieval: ", labels.size(), " labels for ",
                   D.rows(), " shapes");
@@ -124,7 +125,8 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
   return result;
 }
 
-std::vector<int> labels_from_classes(const std::vector<std::string>& classes, std::vector<std::string>* names_out) {
+std::vector<int> labels_from_classes(const std::vector<std::string>& classes,
+                                     std::vector<std::string>* names_out) {
   std::map<std::string, int> index;
   std::vector<std::string> names;
   std::vector<int> labels;
@@ -148,8 +150,9 @@ DistanceMatrixImage distance_matrix_image(const Eigen::MatrixXd& D, const std::v
   DistanceMatrixImage image;
   image.order.resize(static_cast<size_t>(n));
   std::iota(image.order.begin(), image.order.end(), 0);
-  std::stable_sort(image.order.begin(), image.order.end(),
-                   [&](int a, int b) { return labels[static_cast<size_t>(a)] < labels[static_cast<size_t>(b)]; });
+  std::stable_sort(image.order.begin(), image.order.end(), [&](int a, int b) {
+    return labels[static_cast<size_t>(a)] < labels[static_cast<size_t>(b)];
+  });
   double largest = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
@@ -157,7 +160,8 @@ DistanceMatrixImage distance_matrix_image(const Eigen::MatrixXd& D, const std::v
   image.values.resize(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
-      image.values(i, j) = D(image.order[static_cast<size_t>(i)], image.order[static_cast<size_t>(j)]) / (largest > 0 ? largest : 1.0);
+      image.values(i, j) = D(image.order[static_cast<size_t>(i)], image.order[static_cast<size_t>(j)]) /
+                           (largest > 0 ? largest : 1.0);
   for (int k = 0; k < n; ++k)
     if (k == 0 || labels[static_cast<size_t>(image.order[static_cast<size_t>(k)])] !=
                       labels[static_cast<size_t>(image.order[static_cast<size_t>(k - 1)])])

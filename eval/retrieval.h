@@ -45,10 +45,10 @@ struct RetrievalScores {
 };
 
 struct QueryResult {
-  int query = 0;              // row of D
-  int label = 0;              // its class
+  int query = 0;  // row of D
+  int label = 0;  // its class
   RetrievalScores scores;
-  std::vector<int> ranking;   // the other shapes, best first
+  std::vector<int> ranking;  // the other shapes, best first
 };
 
 struct PrecisionRecallCurve {
@@ -57,12 +57,12 @@ struct PrecisionRecallCurve {
 };
 
 struct RetrievalResult {
-  RetrievalScores mean;                 // micro average over queries; mean.ap is the mAP
+  RetrievalScores mean;                     // micro average over queries; mean.ap is the mAP
   std::vector<RetrievalScores> class_mean;  // per class label (index = label); zero for skipped classes
   std::vector<int> class_queries;           // queries per class label (0: skipped or absent)
   PrecisionRecallCurve pr;
-  std::vector<QueryResult> queries;     // the evaluated queries, in row order
-  int skipped = 0;                      // shapes not used as queries (class too small)
+  std::vector<QueryResult> queries;  // the evaluated queries, in row order
+  int skipped = 0;                   // shapes not used as queries (class too small)
 };
 
 // D: N×N distances (N ≥ 2, finite, need not be symmetric); labels: N class labels in [0, #classes).
@@ -77,8 +77,8 @@ std::vector<int> labels_from_classes(const std::vector<std::string>& classes,
 
 // The data of the distance-matrix figure (paper Fig. 7) and of a confusion matrix.
 struct DistanceMatrixImage {
-  std::vector<int> order;     // rows of D grouped by class (stable: within a class, input order)
-  Eigen::MatrixXd values;     // D reordered by `order`, divided by its largest finite off-diagonal entry
+  std::vector<int> order;         // rows of D grouped by class (stable: within a class, input order)
+  Eigen::MatrixXd values;         // D reordered by `order`, divided by its largest finite off-diagonal entry
   std::vector<int> class_starts;  // first row of each class block in `order`, plus N at the end
   // confusion(a, b): how many queries of class a have their nearest neighbour in class b (every shape
   // a query here, whatever its class size).

@@ -76,7 +76,8 @@ int run() {
   const Eigen::Matrix4d M = r.transform.matrix();
   std::printf("%s -> %s\n", args.source.c_str(), args.target.c_str());
   std::printf("  transform (x -> R x + t)%s\n", r.transform.is_reflection() ? ", a reflection" : "");
-  for (int i = 0; i < 4; ++i) std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
+  for (int i = 0; i < 4; ++i)
+    std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
   std::printf("  hausdorff  %.6g\n  chamfer    %.6g\n  rmse       %.6g\n", d.hausdorff, d.chamfer, d.rmse);
   std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3f s\n", r.iterations,
               r.total_iterations, r.start_transforms.size(), r.stop_reason.c_str(), r.seconds);
@@ -88,13 +89,16 @@ const bool registered = register_command(
      "Rigidly align shape A onto shape B (ICP) and print the transform and the Hausdorff, Chamfer and RMS "
      "distances",
      [](CLI::App& app) {
-       app.add_option("A", args.source, "source mesh or point cloud (moved)")->required()->check(CLI::ExistingFile);
+       app.add_option("A", args.source, "source mesh or point cloud (moved)")
+           ->required()
+           ->check(CLI::ExistingFile);
        app.add_option("B", args.target, "target mesh or point cloud")->required()->check(CLI::ExistingFile);
        app.add_option("-o,--output", args.output, "write A after alignment (with A's faces)");
        app.add_flag("--json", args.json, "print JSON");
-       app.add_flag("--no-reflections", args.no_reflections,
-                    "rotations only (by default mirror images are tried too: MDS embeddings are defined only up to "
-                    "reflection)");
+       app.add_flag(
+           "--no-reflections", args.no_reflections,
+           "rotations only (by default mirror images are tried too: MDS embeddings are defined only up to "
+           "reflection)");
        app.add_flag("--one-way", args.one_way, "match A to B only (default: both directions)");
        app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
        app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")

@@ -1,7 +1,7 @@
 // cshapes bench icp [--n 5000] [--a A --b B] [--json]: ICP of two ~5,000-point shapes with every starting
-// pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the same points.
-// Everything runs on one thread; times are medians, reported as wall time and as the thread's CPU time
-// (on a shared machine the wall time includes other processes' time slices; see load_average).
+// pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the same
+// points. Everything runs on one thread; times are medians, reported as wall time and as the thread's CPU
+// time (on a shared machine the wall time includes other processes' time slices; see load_average).
 //
 // Shapes: A and B when given, else TOSCA cat0 and cat1 (two poses: different vertex counts' orders, a real
 // non-rigid difference) from the shared data, else two generated non-symmetric blobs. B is moved by a random
@@ -96,8 +96,10 @@ Points subsample(const Points& X, Index n, uint64_t seed) {
 
 std::string default_shape(const std::string& name) {
   std::string dir;
-  if (const char* env = std::getenv("CSHAPES_DATA"); env && *env) dir = env;
-  else dir = std::string(CSHAPES_SOURCE_DIR) + "/../shared/data";
+  if (const char* env = std::getenv("CSHAPES_DATA"); env && *env)
+    dir = env;
+  else
+    dir = std::string(CSHAPES_SOURCE_DIR) + "/../shared/data";
   std::string path = dir + "/tosca5k/" + name + ".off";
   return fs::exists(path) ? path : "";
 }
@@ -232,7 +234,8 @@ int run() {
        << "b = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(np.loadtxt('" << fb << "')))\n"
        << "est = o3d.pipelines.registration.TransformationEstimationPointToPoint()\n"
        << "def run(k):\n"
-       << "    c = o3d.pipelines.registration.ICPConvergenceCriteria(relative_fitness=0, relative_rmse=0, max_iteration=k)\n"
+       << "    c = o3d.pipelines.registration.ICPConvergenceCriteria(relative_fitness=0, relative_rmse=0, "
+          "max_iteration=k)\n"
        << "    t, p = time.perf_counter(), time.process_time()\n"
        << "    o3d.pipelines.registration.registration_icp(a, b, 1e30, np.eye(4), est, c)\n"
        << "    return time.perf_counter() - t, time.process_time() - p\n"
@@ -241,7 +244,8 @@ int run() {
        << "    (w2, c2), (w1, c1) = run(" << k2 << "), run(" << k1 << ")\n"
        << "    wall.append((w2 - w1) / " << (k2 - k1) << "); cpu.append((c2 - c1) / " << (k2 - k1) << ")\n"
        << "wall.sort(); cpu.sort()\n"
-       << "open('" << out << "', 'w').write('%r %r %s' % (wall[len(wall) // 2], cpu[len(cpu) // 2], o3d.__version__))\n";
+       << "open('" << out
+       << "', 'w').write('%r %r %s' % (wall[len(wall) // 2], cpu[len(cpu) // 2], o3d.__version__))\n";
     std::string script = (dir / "bench.py").string();
     write_file_atomically(script, [&](std::ostream& s) { s << py.str(); });
     std::string command = "OMP_NUM_THREADS=1 /usr/bin/python3 '" + script + "' >/dev/null 2>&1";
@@ -249,14 +253,16 @@ int run() {
     double open3d_per_iteration = 0, open3d_cpu_per_iteration = 0;
     std::string version;
     std::ifstream in(out);
-    if (status == 0 && (in >> open3d_per_iteration >> open3d_cpu_per_iteration >> version) && open3d_per_iteration > 0) {
+    if (status == 0 && (in >> open3d_per_iteration >> open3d_cpu_per_iteration >> version) &&
+        open3d_per_iteration > 0) {
       j["open3d_version"] = version;
       j["open3d_ms_per_iteration"] = 1e3 * open3d_per_iteration;
       j["open3d_cpu_ms_per_iteration"] = 1e3 * open3d_cpu_per_iteration;
       j["ratio_open3d_over_ours"] = open3d_per_iteration / ours_per_iteration;
       j["ratio_open3d_over_ours_cpu"] = open3d_cpu_per_iteration / ours_cpu_per_iteration;
     } else {
-      note("Open3D comparison skipped: /usr/bin/python3 with open3d failed (exit status " + std::to_string(status) + ")");
+      note("Open3D comparison skipped: /usr/bin/python3 with open3d failed (exit status " +
+           std::to_string(status) + ")");
       j["open3d_ms_per_iteration"] = nullptr;
     }
     fs::remove_all(dir);
@@ -267,14 +273,16 @@ int run() {
   } else {
     std::printf("ICP %s: %ld vs %ld points, %zu starts\n", source.c_str(), static_cast<long>(A.rows()),
                 static_cast<long>(B.rows()), result.start_transforms.size());
-    std::printf("  total (build + align, one thread): CPU %.2f ms, wall %.2f ms (goal 20; load average %.1f)\n",
-                j["total_cpu_ms_median"].get<double>(), j["total_wall_ms_median"].get<double>(), load_average());
+    std::printf(
+        "  total (build + align, one thread): CPU %.2f ms, wall %.2f ms (goal 20; load average %.1f)\n",
+        j["total_cpu_ms_median"].get<double>(), j["total_wall_ms_median"].get<double>(), load_average());
     std::printf("  without refinement on all points: CPU %.2f ms, wall %.2f ms, hausdorff %.4g\n",
-                j["no_refine_total_cpu_ms_median"].get<double>(), j["no_refine_total_wall_ms_median"].get<double>(),
-                quick_distance.hausdorff);
+                j["no_refine_total_cpu_ms_median"].get<double>(),
+                j["no_refine_total_wall_ms_median"].get<double>(), quick_distance.hausdorff);
     std::printf("  rmse %.4g, hausdorff %.4g, reflection %d\n", result.rmse, distance.hausdorff,
                 result.transform.is_reflection() ? 1 : 0);
-    std::printf("  per iteration (wall / CPU): ours %.3f / %.3f ms", 1e3 * ours_per_iteration, 1e3 * ours_cpu_per_iteration);
+    std::printf("  per iteration (wall / CPU): ours %.3f / %.3f ms", 1e3 * ours_per_iteration,
+                1e3 * ours_cpu_per_iteration);
     if (j.contains("ratio_open3d_over_ours"))
       std::printf(", Open3D %.3f / %.3f ms, ratio %.2f / %.2f", j["open3d_ms_per_iteration"].get<double>(),
                   j["open3d_cpu_ms_per_iteration"].get<double>(), j["ratio_open3d_over_ours"].get<double>(),
@@ -288,10 +296,12 @@ const bool registered = register_command(
     {{"bench", "icp"},
      "ICP of two 5,000-point shapes with every starting pose (goal <= 20 ms); per-iteration time vs Open3D",
      [](CLI::App& app) {
-       app.add_option("--n", args.n, "points per shape (subsampled; 0 keeps all)")->check(CLI::NonNegativeNumber);
+       app.add_option("--n", args.n, "points per shape (subsampled; 0 keeps all)")
+           ->check(CLI::NonNegativeNumber);
        app.add_option("--a", args.a, "source shape (default: TOSCA cat0 from the shared data)");
        app.add_option("--b", args.b, "target shape (default: TOSCA cat1)");
-       app.add_option("--repeats", args.repeats, "timed repetitions (median reported)")->check(CLI::PositiveNumber);
+       app.add_option("--repeats", args.repeats, "timed repetitions (median reported)")
+           ->check(CLI::PositiveNumber);
        app.add_flag("--json", args.json, "print JSON");
        app.add_flag("--no-open3d", args.no_open3d, "skip the Open3D comparison");
      },

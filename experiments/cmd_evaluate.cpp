@@ -28,7 +28,7 @@ int run() {
   NamedDistances input = read_distance_csv(args.matrix);
   std::vector<std::string> classes;
   if (args.labels.empty()) {
-    for (const std::string& name : input.names) classes.push_back(class_from_path(name));
+    for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
   } else {
     classes = read_labels_csv(args.labels, input.names);
   }
@@ -55,7 +55,8 @@ int run() {
   metrics["classes"] = per_class;
   metrics["conventions"] =
       "psbTable: query excluded; tiers over C-1; E over the first min(32, N-1); DCG normalised by the ideal; "
-      "classes with fewer than min_class_size shapes are not queries; PR interpolated (max precision at recall >= r), "
+      "classes with fewer than min_class_size shapes are not queries; PR interpolated (max precision at "
+      "recall >= r), "
       "averaged over queries";
   metrics["min_class_size"] = options.min_class_size;
 
@@ -68,9 +69,9 @@ int run() {
     s << "shape,class,nn,ft,st,e,dcg,ap\n";
     s.precision(10);
     for (const QueryResult& q : r.queries)
-      s << input.names[static_cast<size_t>(q.query)] << ',' << class_names[static_cast<size_t>(q.label)] << ','
-        << q.scores.nn << ',' << q.scores.ft << ',' << q.scores.st << ',' << q.scores.e << ',' << q.scores.dcg << ','
-        << q.scores.ap << '\n';
+      s << input.names[static_cast<size_t>(q.query)] << ',' << class_names[static_cast<size_t>(q.label)]
+        << ',' << q.scores.nn << ',' << q.scores.ft << ',' << q.scores.st << ',' << q.scores.e << ','
+        << q.scores.dcg << ',' << q.scores.ap << '\n';
   });
   std::vector<std::string> ordered_names;
   for (int k : image.order) ordered_names.push_back(input.names[static_cast<size_t>(k)]);
@@ -81,7 +82,8 @@ int run() {
     s << '\n';
     for (size_t a = 0; a < class_names.size(); ++a) {
       s << class_names[a];
-      for (size_t b = 0; b < class_names.size(); ++b) s << ',' << image.confusion(static_cast<Index>(a), static_cast<Index>(b));
+      for (size_t b = 0; b < class_names.size(); ++b)
+        s << ',' << image.confusion(static_cast<Index>(a), static_cast<Index>(b));
       s << '\n';
     }
   });
@@ -91,8 +93,8 @@ int run() {
   } else {
     std::printf("%zu shapes, %zu classes, %zu queries (%d skipped)\n", input.names.size(), class_names.size(),
                 r.queries.size(), r.skipped);
-    std::printf("  mAP %.4f   NN %.4f   FT %.4f   ST %.4f   E %.4f   DCG %.4f\n", r.mean.ap, r.mean.nn, r.mean.ft,
-                r.mean.st, r.mean.e, r.mean.dcg);
+    std::printf("  mAP %.4f   NN %.4f   FT %.4f   ST %.4f   E %.4f   DCG %.4f\n", r.mean.ap, r.mean.nn,
+                r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
   }
   note("wrote " + out + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
   return 0;
@@ -102,16 +104,20 @@ const bool registered = register_command(
     {{"evaluate"},
      "Retrieval measures of a distance matrix: mAP, nearest neighbour, tiers, E-measure, DCG, PR curve",
      [](CLI::App& app) {
-       app.add_option("MATRIX", args.matrix, "distance matrix CSV (header row of shape names, or plain numbers)")
+       app.add_option("MATRIX", args.matrix,
+                      "distance matrix CSV (header row of shape names, or plain numbers)")
            ->required()
            ->check(CLI::ExistingFile);
-       app.add_option("--labels", args.labels,
-                      "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat)")
+       app.add_option(
+              "--labels", args.labels,
+              "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat)")
            ->check(CLI::ExistingFile);
        app.add_option("-o,--output", args.output, "output directory")->required();
-       app.add_option("--min-class-size", args.min_class_size, "classes with fewer shapes are not used as queries")
+       app.add_option("--min-class-size", args.min_class_size,
+                      "classes with fewer shapes are not used as queries")
            ->check(CLI::PositiveNumber);
-       app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")->check(CLI::PositiveNumber);
+       app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
+           ->check(CLI::PositiveNumber);
        app.add_flag("--json", args.json, "print metrics.json to stdout");
      },
      run});

@@ -79,9 +79,10 @@ Eigen::Matrix3d closest_orthogonal(const Eigen::Matrix3d& H, int determinant) {
 
 RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determinant,
                                     const Eigen::VectorXd& weights) {
-  CSHAPES_REQUIRE(P.rows() == Q.rows() && P.rows() > 0, "best_rigid_transform: need equally many (> 0) rows, got ",
-                  P.rows(), " and ", Q.rows());
-  CSHAPES_REQUIRE(determinant == 1 || determinant == -1, "best_rigid_transform: determinant must be +1 or -1");
+  CSHAPES_REQUIRE(P.rows() == Q.rows() && P.rows() > 0,
+                  "best_rigid_transform: need equally many (> 0) rows, got ", P.rows(), " and ", Q.rows());
+  CSHAPES_REQUIRE(determinant == 1 || determinant == -1,
+                  "best_rigid_transform: determinant must be +1 or -1");
   CSHAPES_REQUIRE(weights.size() == 0 || weights.size() == P.rows(), "best_rigid_transform: ", weights.size(),
                   " weights for ", P.rows(), " pairs");
   Eigen::VectorXd w = weights.size() ? weights : Eigen::VectorXd::Ones(P.rows());
@@ -90,8 +91,8 @@ RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determ
   Eigen::Vector3d p_mean = (P.transpose() * w) / total;
   Eigen::Vector3d q_mean = (Q.transpose() * w) / total;
   // Two passes (means first) keep the cross-covariance accurate far from the origin.
-  Eigen::Matrix3d H = (P.rowwise() - p_mean.transpose()).transpose() * w.asDiagonal() *
-                      (Q.rowwise() - q_mean.transpose());
+  Eigen::Matrix3d H =
+      (P.rowwise() - p_mean.transpose()).transpose() * w.asDiagonal() * (Q.rowwise() - q_mean.transpose());
   RigidTransform T;
   T.rotation = closest_orthogonal(H, determinant);
   T.translation = q_mean - T.rotation * p_mean;
@@ -123,9 +124,9 @@ std::vector<int> spatial_order(const Points& X) {
   std::vector<std::pair<uint32_t, int>> keyed(static_cast<size_t>(X.rows()));
   for (Index i = 0; i < X.rows(); ++i) {
     Eigen::RowVector3d u = (X.row(i) - lo) / extent * 1023.0;
-    keyed[static_cast<size_t>(i)] = {morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]),
-                                                 static_cast<uint32_t>(u[2])),
-                                     static_cast<int>(i)};
+    keyed[static_cast<size_t>(i)] = {
+        morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]), static_cast<uint32_t>(u[2])),
+        static_cast<int>(i)};
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<int> order(keyed.size());
@@ -156,12 +157,14 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
     auto level = std::make_shared<Level>();
     level->indices = std::move(indices);
     level->centred.resize(static_cast<Index>(level->indices.size()), 3);
-    for (size_t k = 0; k < level->indices.size(); ++k) level->centred.row(static_cast<Index>(k)) = centred.row(level->indices[k]);
+    for (size_t k = 0; k < level->indices.size(); ++k)
+      level->centred.row(static_cast<Index>(k)) = centred.row(level->indices[k]);
     return std::shared_ptr<const Level>(std::move(level));
   };
   const std::vector<int> spatial = spatial_order(centred);
   std::vector<int> spatial_rank(static_cast<size_t>(n));
-  for (size_t k = 0; k < spatial.size(); ++k) spatial_rank[static_cast<size_t>(spatial[k])] = static_cast<int>(k);
+  for (size_t k = 0; k < spatial.size(); ++k)
+    spatial_rank[static_cast<size_t>(spatial[k])] = static_cast<int>(k);
   std::shared_ptr<const Level> full = make_level(spatial);
   tree_ = std::make_unique<NearestNeighbors>(full->centred);
 
@@ -179,7 +182,9 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
       continue;
     }
     std::vector<int> sample(shuffled.begin(), shuffled.begin() + m);
-    std::sort(sample.begin(), sample.end(), [&](int a, int b) { return spatial_rank[static_cast<size_t>(a)] < spatial_rank[static_cast<size_t>(b)]; });
+    std::sort(sample.begin(), sample.end(), [&](int a, int b) {
+      return spatial_rank[static_cast<size_t>(a)] < spatial_rank[static_cast<size_t>(b)];
+    });
     levels_.push_back(make_level(std::move(sample)));
   }
   levels_.push_back(full);
@@ -191,8 +196,8 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
 namespace {
 
 void check_options(const IcpOptions& o) {
-  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9, "ICP trim_fraction must be in [0, 0.9], got ",
-                  o.trim_fraction);
+  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9,
+                  "ICP trim_fraction must be in [0, 0.9], got ", o.trim_fraction);
   CSHAPES_REQUIRE(o.max_iterations >= 1, "ICP max_iterations must be >= 1");
   CSHAPES_REQUIRE(o.screening_iterations >= 0, "ICP screening_iterations must be >= 0");
   CSHAPES_REQUIRE(o.finalists >= 1, "ICP finalists must be >= 1");
@@ -233,7 +238,8 @@ Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2,
   double threshold = max_d2;
   if (trim_fraction > 0 && m > 1) {
     scratch.assign(d2.data(), d2.data() + m);
-    Index kept = std::max<Index>(1, static_cast<Index>(std::floor((1.0 - trim_fraction) * static_cast<double>(m))));
+    Index kept =
+        std::max<Index>(1, static_cast<Index>(std::floor((1.0 - trim_fraction) * static_cast<double>(m))));
     std::nth_element(scratch.begin(), scratch.begin() + (kept - 1), scratch.end());
     threshold = std::min(threshold, scratch[static_cast<size_t>(kept - 1)]);
   }
@@ -280,12 +286,18 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   Points P, Q;
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
+    // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
+    // neighbour (the pose moved a little); on the first, the previous query's neighbour (queries are in
+    // Morton order, so consecutive ones are close).
+    const bool hinted = step > 0;
     const Eigen::Matrix3d& R = track.T.rotation;
     const Eigen::Vector3d& t = track.T.translation;
     // source → target: nearest target point to R·x + t.
     for (Index i = 0; i < S.rows(); ++i) {
       Eigen::Vector3d q = R * S.row(i).transpose() + t;
-      nn_st[i] = static_cast<int>(target_tree.nearest(q, &d2_st[i]));
+      nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
+                                  : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
+                                          : target_tree.nearest(q, &d2_st[i]));
     }
     Index kept = keep_pairs(d2_st, o.trim_fraction, max_d2, scratch, keep_st);
     Index total = S.rows();
@@ -294,12 +306,15 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     if (o.symmetric) {
       for (Index j = 0; j < Tg.rows(); ++j) {
         Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
-        nn_ts[j] = static_cast<int>(source_tree.nearest(q, &d2_ts[j]));
+        nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
+                                    : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
+                                            : source_tree.nearest(q, &d2_ts[j]));
       }
       kept += keep_pairs(d2_ts, o.trim_fraction, max_d2, scratch, keep_ts);
       total += Tg.rows();
     }
-    if (kept == 0) fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
+    if (kept == 0)
+      fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
     P.resize(kept, 3);
     Q.resize(kept, 3);
     Index k = 0;
@@ -381,7 +396,8 @@ std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& t
     }
   }
   if (o.try_identity) starts.push_back(RigidTransform{});
-  CSHAPES_REQUIRE(!starts.empty(), "ICP: no starting pose (try_principal_axes and try_identity are both off)");
+  CSHAPES_REQUIRE(!starts.empty(),
+                  "ICP: no starting pose (try_principal_axes and try_identity are both off)");
   return starts;
 }
 
@@ -405,10 +421,12 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
   const int levels = source.num_levels();
 
   // Screening: every start, a few steps on the coarsest level.
-  for_each_start(num_starts, o.parallel,
-                 [&](int k) { iterate(tracks[static_cast<size_t>(k)], source, target, 0, o.screening_iterations, o); });
+  for_each_start(num_starts, o.parallel, [&](int k) {
+    iterate(tracks[static_cast<size_t>(k)], source, target, 0, o.screening_iterations, o);
+  });
   result.start_rmse.resize(static_cast<size_t>(num_starts));
-  for (int k = 0; k < num_starts; ++k) result.start_rmse[static_cast<size_t>(k)] = tracks[static_cast<size_t>(k)].rmse;
+  for (int k = 0; k < num_starts; ++k)
+    result.start_rmse[static_cast<size_t>(k)] = tracks[static_cast<size_t>(k)].rmse;
 
   std::vector<int> order(static_cast<size_t>(num_starts));
   std::iota(order.begin(), order.end(), 0);
@@ -422,7 +440,8 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
   // The finalists to convergence on each subsampled level, re-ranked after each.
   for (int level = 0; level + 1 < levels; ++level) {
     for_each_start(static_cast<int>(order.size()), o.parallel, [&](int f) {
-      iterate(tracks[static_cast<size_t>(order[static_cast<size_t>(f)])], source, target, level, o.max_iterations, o);
+      iterate(tracks[static_cast<size_t>(order[static_cast<size_t>(f)])], source, target, level,
+              o.max_iterations, o);
     });
     std::stable_sort(order.begin(), order.end(), by_rmse);
   }
@@ -434,7 +453,8 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
 
   // Back from centred coordinates: y − c_t = R (x − c_s) + t'  ⇒  t = t' + c_t − R c_s.
   result.transform.rotation = winner.T.rotation;
-  result.transform.translation = winner.T.translation + target.centroid() - winner.T.rotation * source.centroid();
+  result.transform.translation =
+      winner.T.translation + target.centroid() - winner.T.rotation * source.centroid();
   result.rmse = winner.rmse;
   result.inlier_fraction = winner.inlier_fraction;
   result.iterations = winner.iterations;
@@ -461,17 +481,20 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
   result.source_to_target.resize(S.rows());
   result.source_to_target_distance.resize(S.rows());
   for (Index k = 0; k < S.rows(); ++k) {
-    result.source_to_target[source_rows[static_cast<size_t>(k)]] = target_rows[static_cast<size_t>(winner.nn_st[k])];
+    result.source_to_target[source_rows[static_cast<size_t>(k)]] =
+        target_rows[static_cast<size_t>(winner.nn_st[k])];
     result.source_to_target_distance[source_rows[static_cast<size_t>(k)]] = std::sqrt(winner.d2_st[k]);
   }
   result.target_to_source.resize(Tg.rows());
   result.target_to_source_distance.resize(Tg.rows());
   for (Index k = 0; k < Tg.rows(); ++k) {
-    result.target_to_source[target_rows[static_cast<size_t>(k)]] = source_rows[static_cast<size_t>(winner.nn_ts[k])];
+    result.target_to_source[target_rows[static_cast<size_t>(k)]] =
+        source_rows[static_cast<size_t>(winner.nn_ts[k])];
     result.target_to_source_distance[target_rows[static_cast<size_t>(k)]] = std::sqrt(winner.d2_ts[k]);
   }
   if (!refined) {  // the RMSE of all pairs under the subsample's transform
-    result.rmse = std::sqrt((winner.d2_st.sum() + winner.d2_ts.sum()) / static_cast<double>(S.rows() + Tg.rows()));
+    result.rmse =
+        std::sqrt((winner.d2_st.sum() + winner.d2_ts.sum()) / static_cast<double>(S.rows() + Tg.rows()));
     result.inlier_fraction = 1;
     result.iterations = 0;
   }
@@ -487,13 +510,15 @@ IcpResult icp(const Points& source, const Points& target, const IcpOptions& opti
 std::string to_key_string(const IcpOptions& o) {
   std::ostringstream out;
   out.precision(17);
-  out << "icp;try_principal_axes=" << o.try_principal_axes << ";allow_reflections=" << o.allow_reflections << ";try_axis_swaps=" << o.try_axis_swaps
-      << ";try_identity=" << o.try_identity << ";pyramid=";
+  out << "icp;try_principal_axes=" << o.try_principal_axes << ";allow_reflections=" << o.allow_reflections
+      << ";try_axis_swaps=" << o.try_axis_swaps << ";try_identity=" << o.try_identity << ";pyramid=";
   for (Index m : o.pyramid) out << m << ',';
-  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists << ";seed=" << o.seed << ";refine_on_all_points=" << o.refine_on_all_points
+  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists
+      << ";seed=" << o.seed << ";refine_on_all_points=" << o.refine_on_all_points
       << ";max_iterations=" << o.max_iterations << ";relative_tolerance=" << o.relative_tolerance
       << ";absolute_tolerance=" << o.absolute_tolerance << ";symmetric=" << o.symmetric
-      << ";trim_fraction=" << o.trim_fraction << ";max_correspondence_distance=" << o.max_correspondence_distance;
+      << ";trim_fraction=" << o.trim_fraction
+      << ";max_correspondence_distance=" << o.max_correspondence_distance;
   return out.str();
 }
 

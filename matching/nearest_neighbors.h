@@ -28,6 +28,11 @@ class NearestNeighbors {
   // Index (0-based) of the point nearest to q; its squared distance in *squared_distance when non-null.
   Index nearest(const Eigen::Vector3d& q, double* squared_distance = nullptr) const;
 
+  // The same, searching only within the distance of point `hint` to q (any point's distance bounds the
+  // nearest one's, so the answer is still exact); a good hint (last ICP step's neighbour) prunes most of the
+  // tree at once.
+  Index nearest(const Eigen::Vector3d& q, Index hint, double* squared_distance) const;
+
   // For every row of `queries` (m×3): the nearest point's index and squared distance (both resized to m).
   // parallel: OpenMP over queries (never inside a parallel region).
   void nearest_all(const Points& queries, Eigen::VectorXi& index, Eigen::VectorXd& squared_distance,

@@ -14,7 +14,8 @@ ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const E
   d.directed_ba = b_to_a.maxCoeff();
   d.hausdorff = std::max(d.directed_ab, d.directed_ba);
   d.chamfer = 0.5 * (a_to_b.mean() + b_to_a.mean());
-  d.rmse = std::sqrt((a_to_b.squaredNorm() + b_to_a.squaredNorm()) / static_cast<double>(a_to_b.size() + b_to_a.size()));
+  d.rmse = std::sqrt((a_to_b.squaredNorm() + b_to_a.squaredNorm()) /
+                     static_cast<double>(a_to_b.size() + b_to_a.size()));
   return d;
 }
 
@@ -28,7 +29,8 @@ ShapeDistance shape_distance(const Points& A, const Points& B) {
 }
 
 ShapeDistance shape_distance(const IcpResult& alignment) {
-  return shape_distance_from_nearest(alignment.source_to_target_distance, alignment.target_to_source_distance);
+  return shape_distance_from_nearest(alignment.source_to_target_distance,
+                                     alignment.target_to_source_distance);
 }
 
 ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const IcpOptions& options,

@@ -2,8 +2,8 @@
 // corresponding points after rigid alignment" (§3), correspondence meaning nearest neighbour, both ways.
 //
 // With d_A(a) = min_b ‖a − b‖ for a ∈ A and d_B(b) = min_a ‖a − b‖ for b ∈ B (Euclidean, NOT squared):
-//   hausdorff = max( max_a d_A(a), max_b d_B(b) )                  (symmetric Hausdorff; the paper's distance)
-//   chamfer   = ( mean_a d_A(a) + mean_b d_B(b) ) / 2              (mean of the two directed means)
+//   hausdorff = max( max_a d_A(a), max_b d_B(b) )                  (symmetric Hausdorff; the paper's
+//   distance) chamfer   = ( mean_a d_A(a) + mean_b d_B(b) ) / 2              (mean of the two directed means)
 //   rmse      = sqrt( (Σ_a d_A(a)² + Σ_b d_B(b)²) / (|A| + |B|) )  (over all pairs of both directions)
 // All three are symmetric in A and B, zero when the sets are equal, in the points' units, and invariant
 // under a rigid motion (or reflection) applied to both sets.
@@ -15,7 +15,7 @@
 namespace cshapes {
 
 struct ShapeDistance {
-  double hausdorff = 0;     // the paper's distance (see above)
+  double hausdorff = 0;  // the paper's distance (see above)
   double chamfer = 0;
   double rmse = 0;
   double directed_ab = 0;  // max_a d_A(a): how far A's farthest point is from B

@@ -20,8 +20,10 @@ TEST(Sha256, KnownAnswers) {
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(sha256_hex(std::string(64, 'a')), "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
-  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  EXPECT_EQ(sha256_hex(std::string(64, 'a')),
+            "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 TEST(CacheKey, PartsAreDelimited) {
@@ -38,8 +40,18 @@ TEST(DiskCache, StoresCountsAndSurvivesRestart) {
     EXPECT_FALSE(cache.get(key).has_value());
     int computed = 0;
     std::string binary("a\0b\nc", 5);  // values are opaque bytes
-    EXPECT_EQ(cache.get_or_compute(key, [&] { ++computed; return binary; }), binary);
-    EXPECT_EQ(cache.get_or_compute(key, [&] { ++computed; return std::string("other"); }), binary);
+    EXPECT_EQ(cache.get_or_compute(key,
+                                   [&] {
+                                     ++computed;
+                                     return binary;
+                                   }),
+              binary);
+    EXPECT_EQ(cache.get_or_compute(key,
+                                   [&] {
+                                     ++computed;
+                                     return std::string("other");
+                                   }),
+              binary);
     EXPECT_EQ(computed, 1);
     EXPECT_EQ(cache.hits(), 1);
     EXPECT_EQ(cache.misses(), 2);
@@ -78,8 +90,14 @@ TEST(DiskCache, DisabledCacheComputesEveryTime) {
   DiskCache cache;
   EXPECT_FALSE(cache.enabled());
   int computed = 0;
-  cache.get_or_compute(cache_key({"k"}), [&] { ++computed; return std::string("v"); });
-  cache.get_or_compute(cache_key({"k"}), [&] { ++computed; return std::string("v"); });
+  cache.get_or_compute(cache_key({"k"}), [&] {
+    ++computed;
+    return std::string("v");
+  });
+  cache.get_or_compute(cache_key({"k"}), [&] {
+    ++computed;
+    return std::string("v");
+  });
   EXPECT_EQ(computed, 2);
   EXPECT_EQ(cache.misses(), 2);
 }

@@ -16,7 +16,9 @@ namespace cshapes {
 namespace {
 
 // An 11×11 grid over 10 × 12: columns 1 apart, rows 1.2 apart, area 120. Vertex (i, j) is j·11 + i.
-Mesh test_grid() { return grid(11, 11, 10.0, 12.0); }
+Mesh test_grid() {
+  return grid(11, 11, 10.0, 12.0);
+}
 
 std::vector<int> all_vertices(Index n) {
   std::vector<int> v(static_cast<size_t>(n));
@@ -27,10 +29,10 @@ std::vector<int> all_vertices(Index n) {
 TEST(CorrespondenceError, IdentityMapHasNoError) {
   Mesh b = test_grid();
   std::vector<int> truth = all_vertices(b.num_vertices());
-  Eigen::VectorXi identity = Eigen::VectorXi::LinSpaced(b.num_vertices(), 0, static_cast<int>(b.num_vertices()) - 1);
+  Eigen::VectorXi identity =
+      Eigen::VectorXi::LinSpaced(b.num_vertices(), 0, static_cast<int>(b.num_vertices()) - 1);
   CorrespondenceErrorOptions o;
   o.max_samples = 0;
-  o.geodesics.method = GeodesicMethod::Graph;  // on the grid, edge paths give the known answers below
   CorrespondenceErrorResult r = correspondence_error(b, identity, truth, truth, o);
   EXPECT_EQ(r.errors.size(), 121);
   EXPECT_EQ(r.errors.maxCoeff(), 0.0);
@@ -48,7 +50,6 @@ TEST(CorrespondenceError, ShiftedMapKnownCurve) {
   std::vector<int> truth = all_vertices(121);
   CorrespondenceErrorOptions o;
   o.max_samples = 0;
-  o.geodesics.method = GeodesicMethod::Graph;  // on the grid, edge paths give the known answers below
   CorrespondenceErrorResult r = correspondence_error(b, map, truth, truth, o);
   const double shifted = 2.0 / std::sqrt(120.0);
   EXPECT_NEAR(r.errors.maxCoeff(), shifted, 1e-12);
@@ -62,7 +63,9 @@ TEST(CorrespondenceError, ShiftedMapKnownCurve) {
   EXPECT_DOUBLE_EQ(r.fraction[100], 1.0);
 
   // Same errors from a precomputed all-pairs matrix (float: relative 1e-6), and unnormalised in B's units.
-  DistanceMatrix G = all_pairs_geodesics(b, o.geodesics);
+  GeodesicOptions graph;
+  graph.method = GeodesicMethod::Graph;
+  DistanceMatrix G = all_pairs_geodesics(b, graph);
   CorrespondenceErrorResult from_matrix = correspondence_error(b, map, truth, truth, o, &G);
   EXPECT_LT((from_matrix.errors - r.errors).cwiseAbs().maxCoeff(), 1e-6);
   o.normalise = false;

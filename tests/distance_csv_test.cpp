@@ -44,20 +44,21 @@ TEST(DistanceCsv, ReadsNameColumnPlainAndSpaces) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(DistanceCsv, ClassFromPath) {
-  EXPECT_EQ(class_from_path("cat0"), "cat");
-  EXPECT_EQ(class_from_path("victoria10"), "victoria");
-  EXPECT_EQ(class_from_path("/data/tosca5k/michael5.off"), "michael");
-  EXPECT_EQ(class_from_path("horse_7.ply"), "horse");
-  EXPECT_EQ(class_from_path("plane"), "plane");
-  EXPECT_EQ(class_from_path("7up"), "7up");
+TEST(DistanceCsv, ClassOfShapeName) {
+  // The datasets' rule (trailing digits dropped), after the directory and extension.
+  EXPECT_EQ(class_of_shape_name("cat0"), "cat");
+  EXPECT_EQ(class_of_shape_name("victoria10"), "victoria");
+  EXPECT_EQ(class_of_shape_name("/data/tosca5k/michael5.off"), "michael");
+  EXPECT_EQ(class_of_shape_name("plane.ply"), "plane");
+  EXPECT_EQ(class_of_shape_name("007"), "007");
 }
 
 TEST(DistanceCsv, LabelsFile) {
   std::string dir = test::scratch_dir("labels");
   std::vector<std::string> names = {"cat0", "dog1", "x"};
   test::write_text(dir + "/named.csv", "name,class\ndog1.off,quadruped\ncat0,quadruped\nx,other\n");
-  EXPECT_EQ(read_labels_csv(dir + "/named.csv", names), (std::vector<std::string>{"quadruped", "quadruped", "other"}));
+  EXPECT_EQ(read_labels_csv(dir + "/named.csv", names),
+            (std::vector<std::string>{"quadruped", "quadruped", "other"}));
   test::write_text(dir + "/ordered.csv", "a\nb\na\n");
   EXPECT_EQ(read_labels_csv(dir + "/ordered.csv", names), (std::vector<std::string>{"a", "b", "a"}));
   test::write_text(dir + "/missing.csv", "cat0,a\ndog1,b\n");

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include "core/error.h"
 #include "core/io.h"
 #include "matching/shape_distance.h"
-#include <filesystem>
-#include <nlohmann/json.hpp>
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -53,7 +53,8 @@ double rms_radius(const Points& X) {
 // Relative error of a recovered transform: rotation in the Frobenius norm (dimensionless), translation
 // relative to the shape's RMS radius; the larger of the two.
 double transform_error(const RigidTransform& found, const RigidTransform& truth, double radius) {
-  return std::max((found.rotation - truth.rotation).norm(), (found.translation - truth.translation).norm() / radius);
+  return std::max((found.rotation - truth.rotation).norm(),
+                  (found.translation - truth.translation).norm() / radius);
 }
 
 TEST(RigidTransform, ComposeInverseMatrix) {
@@ -128,7 +129,8 @@ TEST(IcpShape, PrincipalAxesAndLevels) {
   std::sort(fine.begin(), fine.end());
   EXPECT_TRUE(std::includes(fine.begin(), fine.end(), coarse.begin(), coarse.end()));
   for (Index k = 0; k < 100; ++k)
-    EXPECT_LT((shape.level_points(0).row(k) + shape.centroid().transpose() - X.row(shape.level_indices(0)[k])).norm(),
+    EXPECT_LT((shape.level_points(0).row(k) + shape.centroid().transpose() - X.row(shape.level_indices(0)[k]))
+                  .norm(),
               1e-12);
   // The blob's longest axis is x (scaled by 3): the first principal axis is ±x.
   EXPECT_GT(std::abs(shape.principal_axes()(0, 0)), 0.95);
@@ -219,8 +221,9 @@ TEST(Icp, WithoutRefinementStillExactAndConsistent) {
   }
   Points B = lumpy_blob(2500, 22);
   IcpResult r = icp(A, B, options);
-  double all_pairs = std::sqrt((r.source_to_target_distance.squaredNorm() + r.target_to_source_distance.squaredNorm()) /
-                               double(A.rows() + B.rows()));
+  double all_pairs =
+      std::sqrt((r.source_to_target_distance.squaredNorm() + r.target_to_source_distance.squaredNorm()) /
+                double(A.rows() + B.rows()));
   EXPECT_NEAR(r.rmse, all_pairs, 1e-12 * radius);
 }
 
@@ -266,15 +269,18 @@ TEST(Icp, DegradesGracefullyWithNoiseAndOutliers) {
     for (Index i = 0; i < noisy.rows(); ++i)
       for (int c = 0; c < 3; ++c) noisy(i, c) += normal(rng);
     Points B = permute_rows(truth.apply(noisy), permutation, 700 + trial);
-    worst_noise = std::max(worst_noise, transform_error(icp(source_plain, IcpShape(B, plain), plain).transform, truth, radius));
+    worst_noise = std::max(
+        worst_noise, transform_error(icp(source_plain, IcpShape(B, plain), plain).transform, truth, radius));
 
     Points outlying = noisy;
     for (Index i = 0; i < outlying.rows(); i += 10)
       for (int c = 0; c < 3; ++c) outlying(i, c) = lo[c] + unit(rng) * (hi[c] - lo[c]);
     Points C = permute_rows(truth.apply(outlying), permutation, 800 + trial);
-    worst_plain = std::max(worst_plain, transform_error(icp(source_plain, IcpShape(C, plain), plain).transform, truth, radius));
-    worst_trimmed = std::max(worst_trimmed,
-                             transform_error(icp(source_trimmed, IcpShape(C, trimmed), trimmed).transform, truth, radius));
+    worst_plain = std::max(
+        worst_plain, transform_error(icp(source_plain, IcpShape(C, plain), plain).transform, truth, radius));
+    worst_trimmed = std::max(
+        worst_trimmed,
+        transform_error(icp(source_trimmed, IcpShape(C, trimmed), trimmed).transform, truth, radius));
   }
   EXPECT_LT(worst_noise, 0.5e-2);
   EXPECT_LT(worst_plain, 5e-2);
@@ -282,8 +288,8 @@ TEST(Icp, DegradesGracefullyWithNoiseAndOutliers) {
   RecordProperty("worst_noise", std::to_string(worst_noise));
   RecordProperty("worst_outliers_plain", std::to_string(worst_plain));
   RecordProperty("worst_outliers_trimmed", std::to_string(worst_trimmed));
-  std::printf("worst relative error: noise %.2e, outliers plain %.2e, trimmed %.2e\n", worst_noise, worst_plain,
-              worst_trimmed);
+  std::printf("worst relative error: noise %.2e, outliers plain %.2e, trimmed %.2e\n", worst_noise,
+              worst_plain, worst_trimmed);
 }
 
 TEST(Icp, RejectsBadOptions) {
@@ -314,7 +320,8 @@ TEST(AlignCli, RecoversAMirroredCopy) {
   Mesh b{random_rigid_transform(20, 3.0, true).apply(a.V), Faces(0, 3)};
   write_mesh(dir + "/a.off", a);
   write_mesh(dir + "/b.off", b);
-  test::CliResult r = test::run_cli("align '" + dir + "/a.off' '" + dir + "/b.off' --json -o '" + dir + "/moved.off'");
+  test::CliResult r =
+      test::run_cli("align '" + dir + "/a.off' '" + dir + "/b.off' --json -o '" + dir + "/moved.off'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["reflection"].get<bool>());

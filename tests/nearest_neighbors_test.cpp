@@ -35,6 +35,23 @@ TEST(NearestNeighbors, MatchesBruteForce) {
   }
 }
 
+TEST(NearestNeighbors, HintedSearchIsExact) {
+  // Any hint, good or bad, gives the exact nearest point (the hint only bounds the search).
+  Points X = random_points(2000, 4), Q = random_points(200, 5) * 1.2;
+  NearestNeighbors tree(X);
+  std::mt19937_64 rng(6);
+  std::uniform_int_distribution<int> any(0, 1999);
+  for (Index q = 0; q < Q.rows(); ++q) {
+    Index best = 0;
+    double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff(&best);
+    for (Index hint : {best, static_cast<Index>(any(rng)), static_cast<Index>(any(rng))}) {
+      double d2 = -1;
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), hint, &d2), best);
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+    }
+  }
+}
+
 TEST(NearestNeighbors, PointsThemselvesAreTheirOwnNeighbours) {
   Points X = random_points(500, 3);
   NearestNeighbors tree(X);

@@ -100,8 +100,8 @@ TEST(PairwiseDistances, KilledRunResumesWithoutRecomputing) {
   EXPECT_EQ(count_entries(dir), k);
 
   PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 1));
-  EXPECT_EQ(resumed.cached, k);               // hits: what the killed run stored
-  EXPECT_EQ(resumed.computed, total - k);     // misses: only the rest
+  EXPECT_EQ(resumed.cached, k);            // hits: what the killed run stored
+  EXPECT_EQ(resumed.computed, total - k);  // misses: only the rest
   PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
   EXPECT_EQ(again.cached, total);
   EXPECT_EQ(again.computed, 0);

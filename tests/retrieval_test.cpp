@@ -9,8 +9,8 @@
 #include "tests/test_support.h"
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 namespace cshapes {
 namespace {
@@ -28,10 +28,10 @@ namespace {
 //   6    3    11    0.5   17    18    19     -
 Eigen::MatrixXd hand_matrix() {
   Eigen::MatrixXd D(7, 7);
-  D << 0, 1, 5, 2, 6, 7, 3,     //
-      1, 0, 4, 8, 9, 10, 11,     //
-      5, 4, 0, 12, 13, 14, 0.5,  //
-      2, 8, 12, 0, 1.5, 16, 17,  //
+  D << 0, 1, 5, 2, 6, 7, 3,       //
+      1, 0, 4, 8, 9, 10, 11,      //
+      5, 4, 0, 12, 13, 14, 0.5,   //
+      2, 8, 12, 0, 1.5, 16, 17,   //
       6, 9, 13, 1.5, 0, 2.5, 18,  //
       7, 10, 14, 16, 2.5, 0, 19,  //
       3, 11, 0.5, 17, 18, 19, 0;
@@ -42,16 +42,22 @@ const std::vector<int> kLabels = {0, 0, 0, 1, 1, 1, 2};
 // By hand. Every query has C = 3, so R = C − 1 = 2 relevant results; N − 1 = 6 results, so the E-measure
 // looks at K = min(32, 6) = 6 results, which always hold both relevant ones: e = 2·2/(6 + 2) = 0.5.
 // Ideal DCG = 1 + 1/log2(2) = 2.
-//   query  ranking (best first)   relevant at ranks   nn   ft    st    dcg                     ap
-//   0      1 3 6 2 4 5            1, 4                1    1/2   1     (1 + 1/log2 4)/2 = 0.75  (1/1 + 2/4)/2 = 0.75
-//   1      0 2 3 4 5 6            1, 2                1    1     1     (1 + 1)/2 = 1            (1 + 1)/2 = 1
-//   2      6 1 0 3 4 5            2, 3                0    1/2   1     (1/log2 2 + 1/log2 3)/2  (1/2 + 2/3)/2 = 7/12
-//   3      4 0 1 2 5 6            1, 5                1    1/2   1/2   (1 + 1/log2 5)/2         (1 + 2/5)/2 = 0.7
-//   4      3 5 0 1 2 6            1, 2                1    1     1     1                        1
-//   5      4 0 1 2 3 6            1, 5                1    1/2   1/2   (1 + 1/log2 5)/2         0.7
+// clang-format off
+//   query  ranking       relevant at  nn  ft   st   dcg                          ap
+//   0      1 3 6 2 4 5   1, 4         1   1/2  1    (1 + 1/log2 4)/2 = 0.75      (1/1 + 2/4)/2 = 0.75
+//   1      0 2 3 4 5 6   1, 2         1   1    1    (1 + 1)/2 = 1                (1 + 1)/2 = 1
+//   2      6 1 0 3 4 5   2, 3         0   1/2  1    (1/log2 2 + 1/log2 3)/2      (1/2 + 2/3)/2 = 7/12
+//   3      4 0 1 2 5 6   1, 5         1   1/2  1/2  (1 + 1/log2 5)/2             (1 + 2/5)/2 = 0.7
+//   4      3 5 0 1 2 6   1, 2         1   1    1    1                            1
+//   5      4 0 1 2 3 6   1, 5         1   1/2  1/2  (1 + 1/log2 5)/2             0.7
 //   6      skipped (class of 1)
-double dcg_q2() { return (1.0 + 1.0 / std::log2(3.0)) / 2.0; }
-double dcg_q3() { return (1.0 + 1.0 / std::log2(5.0)) / 2.0; }
+// clang-format on
+double dcg_q2() {
+  return (1.0 + 1.0 / std::log2(3.0)) / 2.0;
+}
+double dcg_q3() {
+  return (1.0 + 1.0 / std::log2(5.0)) / 2.0;
+}
 
 TEST(Retrieval, EveryMeasureMatchesTheHandComputation) {
   RetrievalResult r = evaluate_retrieval(hand_matrix(), kLabels);
@@ -159,7 +165,8 @@ TEST(Retrieval, PerfectAndInvalidInput) {
   std::vector<int> labels = {0, 0, 0, 1, 1, 1};
   Eigen::MatrixXd D(6, 6);
   for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) D(i, j) = labels[static_cast<size_t>(i)] == labels[static_cast<size_t>(j)] ? 0.0 : 1.0;
+    for (int j = 0; j < 6; ++j)
+      D(i, j) = labels[static_cast<size_t>(i)] == labels[static_cast<size_t>(j)] ? 0.0 : 1.0;
   RetrievalResult r = evaluate_retrieval(D, labels);
   EXPECT_DOUBLE_EQ(r.mean.nn, 1);
   EXPECT_DOUBLE_EQ(r.mean.ft, 1);
@@ -186,7 +193,8 @@ TEST(Retrieval, DistanceMatrixImageAndConfusion) {
   EXPECT_DOUBLE_EQ(image.values.maxCoeff(), 1.0);
   // With these labels (class in brackets): 0(1)→1(0), 1(0)→0(1), 2(0)→6(2), 3(1)→4(1), 4(1)→3(1),
   // 5(0)→4(1), 6(2)→2(0); rows the query's class, columns the neighbour's:
-  //   class 0 (1, 2, 5): →1, →2, →1 = (0, 2, 1);  class 1 (0, 3, 4): →0, →1, →1 = (1, 2, 0);  class 2: (1, 0, 0)
+  //   class 0 (1, 2, 5): →1, →2, →1 = (0, 2, 1);  class 1 (0, 3, 4): →0, →1, →1 = (1, 2, 0);  class 2: (1, 0,
+  //   0)
   Eigen::MatrixXi expected(3, 3);
   expected << 0, 2, 1,  //
       1, 2, 0,          //
@@ -221,7 +229,8 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
   // Labels from a file override the names: all seven in one class → every result relevant.
   test::write_text(dir + "/labels.csv", "a\na\na\na\na\na\na\n");
-  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' -o '" + dir + "/out2' --json -q");
+  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' -o '" + dir +
+                    "/out2' --json -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
   // A broken file: a one-line error, non-zero exit.

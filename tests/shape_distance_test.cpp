@@ -14,15 +14,18 @@ Points random_points(Index n, uint64_t seed, double sx = 3, double sy = 1.5, dou
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   Points X(n, 3);
-  for (Index i = 0; i < n; ++i) X.row(i) = Eigen::RowVector3d(sx * normal(rng), sy * normal(rng), sz * normal(rng));
+  for (Index i = 0; i < n; ++i)
+    X.row(i) = Eigen::RowVector3d(sx * normal(rng), sy * normal(rng), sz * normal(rng));
   return X;
 }
 
 // Brute force over all pairs: the definitions in shape_distance.h, written out.
 ShapeDistance brute_force(const Points& A, const Points& B) {
   Eigen::VectorXd ab(A.rows()), ba(B.rows());
-  for (Index i = 0; i < A.rows(); ++i) ab[i] = std::sqrt((B.rowwise() - A.row(i)).rowwise().squaredNorm().minCoeff());
-  for (Index j = 0; j < B.rows(); ++j) ba[j] = std::sqrt((A.rowwise() - B.row(j)).rowwise().squaredNorm().minCoeff());
+  for (Index i = 0; i < A.rows(); ++i)
+    ab[i] = std::sqrt((B.rowwise() - A.row(i)).rowwise().squaredNorm().minCoeff());
+  for (Index j = 0; j < B.rows(); ++j)
+    ba[j] = std::sqrt((A.rowwise() - B.row(j)).rowwise().squaredNorm().minCoeff());
   ShapeDistance d;
   d.directed_ab = ab.maxCoeff();
   d.directed_ba = ba.maxCoeff();
