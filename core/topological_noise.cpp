@@ -142,7 +142,30 @@ std::vector<Eigen::Vector3i> bridge(const Points& V, const Eigen::Vector3i& fa, 
 
 }  // namespace
 
-TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const TopologicalNoiseOptions& o) {
+namespace {
+TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions& o);
+}  // namespace
+
+TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const TopologicalNoiseOptions& options) {
+  CSHAPES_REQUIRE(options.relax_steps >= 0, "noise: relax steps must be >= 0, got ", options.relax_steps);
+  TopologicalNoiseOptions o = options;
+  for (int step = 0;; ++step) {
+    try {
+      TopologicalNoiseResult r = glue_once(mesh, o);
+      r.min_ratio = o.min_ratio;
+      r.relax_steps_used = step;
+      return r;
+    } catch (const Error&) {
+      if (step >= options.relax_steps) throw;
+      if (o.max_gap > 0) o.max_gap *= 1.5;
+      o.gap_edge_lengths *= 1.5;
+      o.min_ratio = std::max(2.0, 0.8 * o.min_ratio);
+    }
+  }
+}
+
+namespace {
+TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions& o) {
   CSHAPES_REQUIRE(o.glue_count >= 0, "noise: glue count must be >= 0, got ", o.glue_count);
   CSHAPES_REQUIRE(o.min_ratio >= 1, "noise: min ratio must be >= 1, got ", o.min_ratio);
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), "noise: the input has no faces");
@@ -388,5 +411,6 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
       ", components ", out.components, ", non-manifold edges ", out.nonmanifold_edges, ")");
   return result;
 }
+}  // namespace
 
 }  // namespace cshapes

@@ -41,6 +41,9 @@ struct TopologicalNoiseOptions {
   int landmarks = 24;        // farthest-point landmarks for the diameter and geodesic lower bounds
   int max_checks = 3000;     // geodesic evaluations before giving up on finding more pairs
   GeodesicOptions geodesic;  // how geodesic distances are computed
+  // Where the shape offers fewer than K admissible pairs: retry up to this many times, each time widening the
+  // gap ×1.5 and lowering min_ratio ×0.8 (not below 2). The result's max_gap and min_ratio say what was used.
+  int relax_steps = 0;
 };
 
 struct GluedPair {
@@ -54,6 +57,8 @@ struct TopologicalNoiseResult {
   Mesh mesh;                     // same vertices as the input; faces: input minus 2K, plus 6K tube faces
   std::vector<GluedPair> pairs;  // in the order glued
   double max_gap = 0;            // the Euclidean threshold used
+  double min_ratio = 0;          // the geodesic/Euclidean ratio used (after relax steps)
+  int relax_steps_used = 0;
   double geodesic_diameter = 0;  // estimated geodesic diameter of the input
   double mean_edge_length = 0;
   double separation = 0;    // the separation finally in force (geodesic, mesh units)

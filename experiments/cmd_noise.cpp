@@ -49,24 +49,14 @@ int run() {
   o.min_geodesic_fraction = args.min_fraction;
   o.min_separation_fraction = args.separation;
   o.geodesic.method = parse_geodesic_method(args.geodesic_method);
-  // --relax: where the shape offers too few almost-touching spots, widen the gap and lower the ratio step by
-  // step.
-  TopologicalNoiseResult r;
-  for (int step = 0;; ++step) {
-    try {
-      r = glue_topological_noise(mesh, o);
-      break;
-    } catch (const Error& e) {
-      if (step >= args.relax) throw;
-      if (o.max_gap > 0) o.max_gap *= 1.5;
-      o.gap_edge_lengths *= 1.5;
-      o.min_ratio = std::max(2.0, 0.8 * o.min_ratio);
-      note(std::string(e.what()) + "; relaxing (gap x1.5, min ratio " + std::to_string(o.min_ratio) + ")");
-    }
-  }
+  o.relax_steps = args.relax;
+  TopologicalNoiseResult r = glue_topological_noise(mesh, o);
+  if (r.relax_steps_used > 0)
+    note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + std::to_string(r.max_gap) +
+         ", min ratio " + std::to_string(r.min_ratio));
   write_mesh(args.output, r.mesh);
   nlohmann::json j = pairs_to_json(r);
-  j["min_ratio"] = o.min_ratio;
+  j["min_ratio"] = r.min_ratio;
   if (!args.pairs_json.empty())
     write_file_atomically(args.pairs_json, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
   MeshInfo before = mesh_info(mesh), after = mesh_info(r.mesh);

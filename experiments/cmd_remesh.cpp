@@ -83,7 +83,7 @@ const bool registered = register_command(
     {{"remesh"},
      "Remesh to N vertices (isotropic remeshing + edge collapse); reports Hausdorff distance and angles",
      [](CLI::App& app) {
-       app.add_option("MESH", args.input, "input mesh")->required()->check(CLI::ExistingFile);
+       app.add_option("MESH", args.input, "input mesh")->required();
        app.add_option("-o,--output", args.output, "output mesh (format by extension)")->required();
        app.add_option("--vertices", args.vertices, "vertex count wanted")
            ->required()

@@ -72,6 +72,7 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   TopologicalNoiseOptions no;
   no.glue_count = o.glue;
   no.seed = o.seed + static_cast<std::uint64_t>(index);
+  no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
   const std::string key = cache_key({"noisy-v1", source.key, std::to_string(no.glue_count), std::to_string(no.seed)});
   Shape s;
   s.name = source.name + "_noisy";
@@ -137,27 +138,43 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
       to_make = 1;
       measurement_only = true;
     }
-    for (int k = 0; k < to_make && !clean.empty(); ++k) {
-      const size_t spare = clean.size() - n_clean;
-      const DatasetEntry& src = spare > 0 ? *clean[n_clean + k % spare] : *clean[k % clean.size()];
-      const bool src_in_retrieval = spare == 0;
-      Shape source;
-      auto it = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
-      if (it != shapes.end()) {
-        source = *it;
-      } else {
-        source = load(src, src_in_retrieval);
-        source.in_retrieval = false;
-        shapes.push_back(source);
+    // Candidate sources in order: the spare poses, then the retrieval poses; a pose that offers too few
+    // almost-touching spots is skipped (said in a note) and the next one tried.
+    std::vector<size_t> candidates;
+    for (size_t k = n_clean; k < clean.size(); ++k) candidates.push_back(k);
+    for (size_t k = 0; k < n_clean; ++k) candidates.push_back(k);
+    size_t next_candidate = 0;
+    for (int k = 0; k < to_make; ++k) {
+      bool made = false;
+      while (!made && next_candidate < candidates.size()) {
+        const size_t c = candidates[next_candidate++];
+        const DatasetEntry& src = *clean[c];
+        Shape source;
+        auto it = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
+        const bool loaded = it != shapes.end();
+        if (loaded) {
+          source = *it;
+        } else {
+          source = load(src, false);
+        }
+        say(o, "glueing " + std::to_string(o.glue) + " spots of " + src.name);
+        Shape s;
+        try {
+          s = make_noisy(source, o, noise_cache, glued_count++);
+        } catch (const Error& e) {
+          say(o, std::string("  skipped: ") + e.what());
+          continue;
+        }
+        if (!loaded) shapes.push_back(source);  // kept as the reference of the noise measurement
+        s.in_retrieval = !measurement_only;
+        s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
+        write_mesh(s.source_path, s.mesh);
+        write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
+                              [&](std::ostream& out) { out << json{{"glued_vertices", s.glued}}.dump() << '\n'; });
+        shapes.push_back(std::move(s));
+        made = true;
       }
-      say(o, "glueing " + std::to_string(o.glue) + " spots of " + src.name);
-      Shape s = make_noisy(source, o, noise_cache, glued_count++);
-      s.in_retrieval = !measurement_only;
-      s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
-      write_mesh(s.source_path, s.mesh);
-      write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
-                            [&](std::ostream& out) { out << json{{"glued_vertices", s.glued}}.dump() << '\n'; });
-      shapes.push_back(std::move(s));
+      if (!made) say(o, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
     }
   }
   CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");

@@ -109,10 +109,14 @@ def fig_convergence(out, pdf):
 
 
 def read_matrix(path):
+    """A distance CSV as `cshapes distmat`/`experiment paper` write it: a header of shape names, then one row of
+    numbers per shape; a leading name column (header "shape" or empty) is accepted too."""
     with open(path) as f:
-        rows = list(csv.reader(f))
-    names = rows[0][1:]
-    D = np.array([[float(x) for x in r[1:]] for r in rows[1:]])
+        rows = [r for r in csv.reader(f) if r]
+    header, body = rows[0], rows[1:]
+    named = len(body) > 0 and len(body[0]) == len(header) + 1 or header[0] in ("", "shape", "name")
+    names = header[1:] if named and len(body[0]) == len(header) else header
+    D = np.array([[float(x) for x in (r[1:] if len(r) == len(names) + 1 else r)] for r in body])
     return names, D
 
 
@@ -141,7 +145,7 @@ def fig_distance_matrices(out, pdf):
                 ax.axvline(i - 0.5, color="white", lw=1)
         ax.set_title(METHOD_STYLE.get(m, (m,))[0])
         fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="distance / 95th percentile")
-    fig.suptitle("Fig. 7: distances between shapes (darker = closer)")
+    fig.suptitle("Fig. 7: distances between shapes (yellow = close, dark = far)")
     fig.tight_layout()
     save(fig, out, "fig7_distance_matrices", pdf)
 
