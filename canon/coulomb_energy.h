@@ -1,11 +1,26 @@
 // The Coulomb energy of eq. (1) and its gradient.
 //
 //   E(X) = Σ_{i≠j} 1 / ‖x_i − x_j‖          (ordered pairs, as the paper writes it: each pair counted twice)
-//   ∇_i E = −2 Σ_{j≠i} (x_i − x_j) / ‖x_i − x_j‖³
+//   φ_i  = Σ_{j≠i} 1 / ‖x_i − x_j‖          (the potential at x_i, so E = Σ_i φ_i)
+//   ∇_i E = 2 ∇φ(x_i) = −2 Σ_{j≠i} (x_i − x_j) / ‖x_i − x_j‖³
 //
-// Distances below `min_distance` are raised to it, so coincident points give finite values (their mutual
-// force is then zero, as x_i − x_j = 0).
+// Distance floor: distances below `min_distance` are raised to it, so coincident points give finite values:
+// two coincident points add 1/min_distance to each other's potential and exert no force on each other
+// (x_i − x_j = 0). Points closer than the floor but distinct get the force (x_i − x_j)/min_distance³.
+// The float paths (DirectFloat, Fast) further raise the floor to at least 1e-15 × the bounding-box size.
+//
+// Units: X in the input's length unit L; energy and potentials in 1/L, gradient in 1/L².
+// Summations (all deterministic: identical inputs and thread count give bit-identical outputs; in fact the
+// result does not depend on the thread count at all):
+//   Direct       exact, double precision, OpenMP over targets, O(n²)        — the reference
+//   DirectFloat  float pair terms (AVX2 rsqrt + Newton step), double accumulation every ≤ 512 terms;
+//                relative error ≈ 1e-6, about 4× faster than Direct
+//   Fast         octree fast multipole method (canon/coulomb_fmm.h), O(n), relative L2 gradient error
+//                ≤ `accuracy` (measured on meshes, uniform, sphere and clustered points)
+//   Auto         DirectFloat below the measured crossover, Fast above (see kAutoFastMinPoints)
 #pragma once
+
+#include <vector>
 
 #include "core/types.h"
 
@@ -13,25 +28,49 @@ namespace cshapes {
 
 struct CoulombOptions {
   enum class Summation {
-    Auto,    // direct below a measured size, fast above
-    Direct,  // exact O(n²) summation: the reference
-    Fast     // hierarchical O(n log n) summation with the accuracy below
+    Auto,         // DirectFloat below a measured size (kAutoFastMinPoints), Fast above
+    Direct,       // exact O(n²) summation in double precision: the reference
+    DirectFloat,  // O(n²) summation with float pair terms, double accumulation (relative error ~1e-6)
+    Fast          // fast multipole method with the accuracy below, O(n)
   };
   Summation summation = Summation::Auto;
   double accuracy = 1e-3;   // fast summation: target relative L2 error of the gradient vs direct summation
+                            // (the energy's relative error is then ≈ 10× smaller); tested range 1e-2 … 1e-6
   double min_distance = 0;  // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
+  bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
 };
 
 struct CoulombEvaluation {
   double energy = 0;
-  Points gradient;  // n×3, ∇E
+  Points gradient;           // n×3, ∇E
+  Eigen::VectorXd potential;  // n, φ_i (empty unless options.want_potentials; always filled by coulomb_direct)
+  CoulombOptions::Summation summation_used = CoulombOptions::Summation::Direct;  // Direct, DirectFloat or Fast
 };
+
+// Below this many points Auto uses DirectFloat, at and above it Fast. Measured with
+// `cshapes bench coulomb` on the 2-core development machine (see coulomb_energy.cpp for the figures).
+extern const Index kAutoFastMinPoints;
 
 // Energy and gradient by the summation the options pick.
 CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions& options = {});
 
 // Exact direct summation in double precision, OpenMP over targets. O(n²). The reference for everything else.
+// Fills energy, gradient and potential.
 CoulombEvaluation coulomb_direct(const Points& X, double min_distance = 0);
+
+// Direct summation with float pair terms and double accumulation (see DirectFloat above). O(n²).
+// Fills energy, gradient and, if want_potentials, potential.
+CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance = 0, bool want_potentials = false);
+
+// Exact double-precision direct sums for a subset of targets (indices into X, any order, repeats allowed),
+// against all n sources: potential(t) = φ_{targets[t]}, gradient.row(t) = ∇_{targets[t]} E.
+// O(|targets|·n). Used to measure the fast summation's error where a full direct sum is too slow.
+struct CoulombTargetSums {
+  Eigen::VectorXd potential;  // |targets|
+  Points gradient;            // |targets|×3
+};
+CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
+                                         double min_distance = 0);
 
 // The floor actually used for X when options.min_distance is 0.
 double default_min_distance(const Points& X);

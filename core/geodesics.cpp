@@ -1,20 +1,116 @@
 #include "core/geodesics.h"
 
+#include <algorithm>
 #include <atomic>
+#include <exception>
 #include <limits>
+#include <memory>
 #include <queue>
 
 #include "core/error.h"
+#include "core/fast_marching.h"
+#include "core/heat_method.h"
 
 namespace cshapes {
 
+namespace {
+
+// Reports progress from inside an OpenMP loop, every `every` sources and at the end.
+class ProgressCounter {
+ public:
+  ProgressCounter(const ProgressFn& fn, Index total) : fn_(fn), total_(total) {}
+  void add(Index count = 1) {
+    Index finished = done_ += count;
+    if (fn_ && (finished % 64 < count || finished == total_)) {
+#pragma omp critical(cshapes_progress)
+      fn_("geodesics", static_cast<double>(finished), static_cast<double>(total_));
+    }
+  }
+
+ private:
+  const ProgressFn& fn_;
+  Index total_;
+  std::atomic<Index> done_{0};
+};
+
+// Runs body(s) for every source s in parallel; the first exception is rethrown after the loop.
+template <typename Body>
+void parallel_over_sources(Index n, Body&& body) {
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+#pragma omp parallel for schedule(dynamic, 8)
+  for (Index s = 0; s < n; ++s) {
+    if (failed) continue;
+    try {
+      body(s);
+    } catch (...) {
+#pragma omp critical(cshapes_geodesics_error)
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+bool uses_cgal_heat(const GeodesicOptions& o) { return o.method == GeodesicMethod::HeatCgal; }
+
+HeatMethodOptions heat_options(const GeodesicOptions& o) {
+  HeatMethodOptions ho;
+  ho.time_factor = o.heat_time_factor;
+  ho.intrinsic_delaunay = o.heat_mode == CgalHeatMode::IntrinsicDelaunay;
+  return ho;
+}
+
+// CGAL's algorithms want one connected manifold: run them on each component that holds a source.
+template <typename Solve>
+Eigen::VectorXd per_component(const Mesh& mesh, const std::vector<int>& sources, Solve&& solve) {
+  Components comp = connected_components(mesh.num_vertices(), mesh_edges(mesh.F));
+  if (comp.count == 1) return solve(mesh, sources);
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(mesh.num_vertices(), std::numeric_limits<double>::infinity());
+  std::vector<char> done(comp.count, 0);
+  for (int s : sources) {
+    CSHAPES_REQUIRE(s >= 0 && s < mesh.num_vertices(), "geodesics: source vertex ", s, " out of range 0..",
+                    mesh.num_vertices() - 1);
+    int label = comp.label[s];
+    if (done[label]) continue;
+    done[label] = 1;
+    Submesh sub = extract_component(mesh, comp, label);
+    std::vector<int> local_of(mesh.num_vertices(), -1);
+    for (size_t k = 0; k < sub.vertex_map.size(); ++k) local_of[sub.vertex_map[k]] = static_cast<int>(k);
+    std::vector<int> local_sources;
+    for (int t : sources)
+      if (comp.label[t] == label) local_sources.push_back(local_of[t]);
+    if (sub.mesh.num_faces() == 0) {  // an isolated vertex
+      for (int t : local_sources) d[sub.vertex_map[t]] = 0;
+      continue;
+    }
+    Eigen::VectorXd local = solve(sub.mesh, local_sources);
+    for (size_t k = 0; k < sub.vertex_map.size(); ++k) d[sub.vertex_map[k]] = local[k];
+  }
+  return d;
+}
+
+}  // namespace
+
 GeodesicMethod parse_geodesic_method(const std::string& name) {
+  if (name == "heat") return GeodesicMethod::Heat;
+  if (name == "heat-cgal") return GeodesicMethod::HeatCgal;
+  if (name == "fmm") return GeodesicMethod::FastMarching;
+  if (name == "exact") return GeodesicMethod::Exact;
   if (name == "graph") return GeodesicMethod::Graph;
-  fail("unknown geodesic method '", name, "'; known: graph");
+  fail("unknown geodesic method '", name, "'; known: heat, heat-cgal, fmm, exact, graph");
 }
 
 std::string to_string(GeodesicMethod method) {
   switch (method) {
+    case GeodesicMethod::Heat:
+      return "heat";
+    case GeodesicMethod::HeatCgal:
+      return "heat-cgal";
+    case GeodesicMethod::FastMarching:
+      return "fmm";
+    case GeodesicMethod::Exact:
+      return "exact";
     case GeodesicMethod::Graph:
       return "graph";
   }
@@ -51,7 +147,25 @@ Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::
 
 Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
                                    const GeodesicOptions& options) {
+  CSHAPES_REQUIRE(!sources.empty(), "geodesics: no source vertex given");
+  for (int s : sources)
+    CSHAPES_REQUIRE(s >= 0 && s < mesh.num_vertices(), "geodesics: source vertex ", s, " out of range 0..",
+                    mesh.num_vertices() - 1);
+  if (uses_cgal_heat(options)) {
+    return per_component(mesh, sources, [&](const Mesh& m, const std::vector<int>& s) {
+      return cgal_heat_method(m, s, options.heat_mode);
+    });
+  }
   switch (options.method) {
+    case GeodesicMethod::Heat: {
+      return HeatMethod(mesh, heat_options(options)).distances(sources);
+    }
+    case GeodesicMethod::HeatCgal:
+      break;  // handled above
+    case GeodesicMethod::FastMarching:
+      return fast_marching(mesh, sources);
+    case GeodesicMethod::Exact:
+      return per_component(mesh, sources, [](const Mesh& m, const std::vector<int>& s) { return exact_geodesics(m, s); });
     case GeodesicMethod::Graph: {
       Edges E = mesh_edges(mesh.F);
       return dijkstra(mesh.num_vertices(), adjacency(mesh.num_vertices(), E), edge_lengths(mesh.V, E), sources);
@@ -60,30 +174,105 @@ Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sou
   fail("geodesics: unsupported method");
 }
 
+void symmetrize_distances(DistanceMatrix& D) {
+  CSHAPES_REQUIRE(D.rows() == D.cols(), "symmetrize_distances: matrix is ", D.rows(), "x", D.cols());
+  const Index n = D.rows(), tile = 64;
+  const Index tiles = (n + tile - 1) / tile;
+  // Tile (I, J) with I >= J is averaged with its mirror (J, I); each pair is touched by one thread only.
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index J = 0; J < tiles; ++J)
+    for (Index I = J; I < tiles; ++I) {
+      const Index j0 = J * tile, j1 = std::min(n, j0 + tile), i0 = I * tile, i1 = std::min(n, i0 + tile);
+      for (Index j = j0; j < j1; ++j)
+        for (Index i = std::max(i0, j + 1); i < i1; ++i) {
+          const float m = 0.5f * (D(i, j) + D(j, i));
+          D(i, j) = m;
+          D(j, i) = m;
+        }
+    }
+  D.diagonal().setZero();
+}
+
 DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& options) {
   const Index n = mesh.num_vertices();
+  CSHAPES_REQUIRE(n > 0, "all-pairs geodesics: the mesh has no vertices");
+  {
+    Components comp = connected_components(n, mesh_edges(mesh.F));
+    if (comp.count > 1)
+      fail("all-pairs geodesics: the mesh has ", comp.count, " connected components (largest ",
+           comp.sizes[comp.largest()], " of ", n,
+           " vertices), so some distances are infinite; keep the largest component (--largest-component)");
+  }
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");
   DistanceMatrix D(n, n);
-  Edges E = mesh_edges(mesh.F);
-  Adjacency adj = adjacency(n, E);
-  Eigen::VectorXd w = edge_lengths(mesh.V, E);
-  std::atomic<Index> done{0};
-#pragma omp parallel for schedule(dynamic, 16)
-  for (Index s = 0; s < n; ++s) {
-    D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
-    Index finished = ++done;
-    if (options.progress && finished % 64 == 0) {
-#pragma omp critical(cshapes_progress)
-      options.progress("geodesics", static_cast<double>(finished), static_cast<double>(n));
+  ProgressCounter progress(options.progress, n);
+
+  if (uses_cgal_heat(options)) {
+    // One CGAL solver (mesh copy + two factorisations) per thread; CGAL's objects are not thread-safe.
+    std::exception_ptr error;
+#pragma omp parallel
+    {
+      std::unique_ptr<CgalHeatMethod> solver;
+      try {
+        solver = std::make_unique<CgalHeatMethod>(mesh, options.heat_mode);
+      } catch (...) {
+#pragma omp critical(cshapes_geodesics_error)
+        if (!error) error = std::current_exception();
+      }
+#pragma omp for schedule(dynamic, 8)
+      for (Index s = 0; s < n; ++s) {
+        if (!solver) continue;
+        try {
+          D.col(s) = solver->distances({static_cast<int>(s)}).cast<float>();
+          progress.add();
+        } catch (...) {
+#pragma omp critical(cshapes_geodesics_error)
+          if (!error) error = std::current_exception();
+        }
+      }
+    }
+    if (error) std::rethrow_exception(error);
+  } else {
+    switch (options.method) {
+      case GeodesicMethod::Heat: {
+        HeatMethod heat(mesh, heat_options(options));
+        std::vector<int> sources(n);
+        for (Index s = 0; s < n; ++s) sources[s] = static_cast<int>(s);
+        heat.for_each_source(sources, [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) {
+          D.col(k) = column.cast<float>();
+          progress.add();
+        });
+        break;
+      }
+      case GeodesicMethod::HeatCgal:
+        break;  // handled above
+      case GeodesicMethod::FastMarching: {
+        FastMarching fmm(mesh);
+        parallel_over_sources(n, [&](Index s) {
+          D.col(s) = fmm.distances({static_cast<int>(s)}).cast<float>();
+          progress.add();
+        });
+        break;
+      }
+      case GeodesicMethod::Exact:
+        parallel_over_sources(n, [&](Index s) {
+          D.col(s) = exact_geodesics(mesh, {static_cast<int>(s)}).cast<float>();
+          progress.add();
+        });
+        break;
+      case GeodesicMethod::Graph: {
+        Edges E = mesh_edges(mesh.F);
+        Adjacency adj = adjacency(n, E);
+        Eigen::VectorXd w = edge_lengths(mesh.V, E);
+        parallel_over_sources(n, [&](Index s) {
+          D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
+          progress.add();
+        });
+        break;
+      }
     }
   }
-  // Symmetrise in place, block by block, without a second n×n matrix.
-  for (Index j = 0; j < n; ++j)
-    for (Index i = j + 1; i < n; ++i) {
-      float m = 0.5f * (D(i, j) + D(j, i));
-      D(i, j) = D(j, i) = m;
-    }
-  if (options.progress) options.progress("geodesics", static_cast<double>(n), static_cast<double>(n));
+  symmetrize_distances(D);
   return D;
 }
 

@@ -1,14 +1,18 @@
 // Reading and writing meshes and point clouds, with validation on load.
 //
 // Formats, chosen by the file extension (case-insensitive):
-//   .off  OFF, COFF, NOFF (colours/normals ignored), polygons fan-triangulated
-//   .ply  ASCII, binary little and big endian; faces optional (no faces: a point cloud)
-//   .obj  v and f records (f a/b/c, a/b, a//c; negative indices), polygons fan-triangulated
-//   .stl  ASCII and binary; coincident corners are merged into shared vertices
-//   .vert (with .tri beside it) TOSCA's pair: one "x y z" per line, and 1-based "i j k" per line
-//   .xyz  point cloud, "x y z" per line
-// Every error is a cshapes::Error whose message starts with "PATH:" (and the line number for text formats)
-// and says what was expected.
+//   .off  OFF, COFF, NOFF, CNOFF, STOFF (colours, normals, texture coordinates ignored), polygons
+//         fan-triangulated; one vertex and one face per line, as the format prescribes
+//   .ply  ASCII, binary little and big endian; any property layout and list types; faces optional (no faces:
+//         a point cloud). Vertex properties other than x, y, z come back as scalars, uchar red/green/blue as colours
+//   .obj  v and f records (f a/b/c, a/b, a//c; negative indices), polygons fan-triangulated; the rest ignored
+//   .stl  ASCII and binary; corners with identical coordinates are merged into shared vertices
+//   .vert / .tri  TOSCA's pair: one "x y z" per line, and 1-based "i j k" per line; either path names the pair
+//   .xyz  point cloud, "x y z" per line (further columns ignored)
+// Every error is a cshapes::Error with a one-line message that starts with "PATH:" (then the line number for
+// text formats, or the element index for binary ones) and says what was expected.
+// Readers never trust counts in a header: a count larger than the file could hold is refused before any
+// allocation, so any input (truncated, garbage, hostile) gives an error, never a crash or a huge allocation.
 #pragma once
 
 #include <string>
@@ -37,17 +41,46 @@ struct VertexScalar {
   Eigen::VectorXd values;  // one per vertex
 };
 
+// n×3 RGB colours in [0, 255].
+using Colors = Eigen::Matrix<unsigned char, Eigen::Dynamic, 3>;
+
 struct WriteOptions {
   std::vector<VertexScalar> scalars;  // PLY only; ignored (with no error) by other formats
   // n×3 RGB colours in [0, 255], PLY only; empty for none.
-  Eigen::Matrix<unsigned char, Eigen::Dynamic, 3> colors;
+  Colors colors;
   bool binary = false;  // PLY: binary little endian instead of ASCII
 };
 
 // Writes by extension (.off, .ply, .obj, .xyz). Written to a temporary file and renamed: never partial.
+// Coordinates are written with 17 significant digits (ASCII) or as doubles (binary PLY): reading the file
+// back gives exactly the same V. PLY scalars are written as double properties, colours as uchar.
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options = {});
 
 // The lower-cased extension without the dot ("off"), or "" when there is none.
 std::string file_extension(const std::string& path);
+
+// What a file holds beyond the mesh: PLY vertex properties other than x, y, z (in file order) and colours
+// (uchar red, green, blue; rows = vertices, or empty). Other formats give none.
+struct MeshFile {
+  Mesh mesh;
+  std::vector<VertexScalar> scalars;
+  Colors colors;
+};
+
+// read_mesh, keeping PLY's per-vertex scalars and colours.
+MeshFile read_mesh_file(const std::string& path, const ReadOptions& options = {});
+
+// Parses a file's contents already in memory (the readers' entry point, used by the fuzzers).
+// format: an extension as file_extension gives it ("off", "ply", "obj", "stl", "xyz"); name is used in
+// error messages in place of the path. For the TOSCA pair use read_vert_tri_from_memory.
+Mesh read_mesh_from_memory(const std::string& text_or_bytes, const std::string& format, const std::string& name,
+                           const ReadOptions& options = {});
+MeshFile read_mesh_file_from_memory(const std::string& text_or_bytes, const std::string& format,
+                                    const std::string& name, const ReadOptions& options = {});
+
+// TOSCA's pair from memory: the .vert text (one "x y z" per line) and the .tri text (1-based "i j k" per line).
+Mesh read_vert_tri_from_memory(const std::string& vert_text, const std::string& tri_text,
+                               const std::string& vert_name, const std::string& tri_name,
+                               const ReadOptions& options = {});
 
 }  // namespace cshapes

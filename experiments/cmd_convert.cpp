@@ -1,4 +1,4 @@
-// cshapes convert IN OUT: between mesh formats (by extension).
+// cshapes convert IN OUT: between mesh formats (by extension), keeping PLY per-vertex scalars and colours.
 #include "core/io.h"
 #include "experiments/command.h"
 
@@ -8,24 +8,34 @@ namespace {
 struct ConvertArgs {
   std::string input, output;
   bool binary = false;
+  bool no_validate = false;
 } args;
 
 int run() {
-  Mesh mesh = read_mesh(args.input);
-  WriteOptions wo;
-  wo.binary = args.binary;
-  write_mesh(args.output, mesh, wo);
-  note("wrote " + args.output);
+  ReadOptions read_options;
+  read_options.validate = !args.no_validate;
+  MeshFile file = read_mesh_file(args.input, read_options);
+  WriteOptions write_options;
+  write_options.binary = args.binary;
+  write_options.scalars = file.scalars;
+  write_options.colors = file.colors;
+  write_mesh(args.output, file.mesh, write_options);
+  note("wrote " + args.output + " (" + std::to_string(file.mesh.num_vertices()) + " vertices, " +
+       std::to_string(file.mesh.num_faces()) + " triangles)");
   return 0;
 }
 
 const bool registered = register_command(
     {{"convert"},
-     "Convert a mesh between formats (OFF, PLY, OBJ, STL, TOSCA .vert/.tri in; OFF, PLY, OBJ, XYZ out)",
+     "Convert a mesh between formats (OFF, PLY, OBJ, STL, TOSCA .vert/.tri, XYZ in; OFF, PLY, OBJ, XYZ out)",
      [](CLI::App& app) {
-       app.add_option("IN", args.input, "input mesh")->required();
-       app.add_option("OUT", args.output, "output mesh; its extension picks the format")->required();
-       app.add_flag("--binary", args.binary, "PLY output: binary little endian");
+       app.add_option("IN", args.input, "input mesh or point cloud (.off .ply .obj .stl .vert/.tri .xyz)")
+           ->required();
+       app.add_option("OUT", args.output, "output file; its extension picks the format (.off .ply .obj .xyz)")
+           ->required();
+       app.add_flag("--binary", args.binary, "PLY output: binary little endian instead of ASCII");
+       app.add_flag("--no-validate", args.no_validate,
+                    "convert meshes that fail validation (degenerate faces, non-manifold edges, ...)");
      },
      run});
 

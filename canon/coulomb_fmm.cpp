@@ -1,0 +1,586 @@
+#include "canon/coulomb_fmm.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "canon/coulomb_p2p.h"
+#include "core/error.h"
+
+namespace cshapes {
+namespace {
+
+using coulomb_detail::FloatPoints;
+using coulomb_detail::kBlock;
+using coulomb_detail::SourceRange;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Four doubles in one AVX register (GCC/Clang vector extension): M2L runs four source cells at once.
+typedef double V4 __attribute__((vector_size(32)));
+
+// Multi-indices k = (k_x, k_y, k_z) with |k| = k_x + k_y + k_z ≤ p, ordered by degree, and the index tables
+// every expansion operator walks. A coefficient array of order p has count = (p+1)(p+2)(p+3)/6 entries.
+struct MultiIndexTables {
+  int order = 0;
+  int count = 0;
+  std::vector<std::array<int, 3>> exponent;
+  std::vector<int> degree;
+  std::vector<double> factorial;                   // k! = k_x! k_y! k_z!
+  std::vector<double> sign;                        // (−1)^|k|
+  std::vector<int> parent, axis;                   // k = parent + e_axis (axis: last nonzero component)
+  std::vector<std::array<int, 3>> minus_one;       // index of k − e_i, or −1
+  std::vector<std::array<int, 3>> minus_two;       // index of k − 2e_i, or −1
+  std::vector<std::array<int, 3>> pair_sum;        // (m, k, m+k) with |m| + |k| ≤ p: M2L
+  std::vector<std::array<int, 3>> shift;           // (k, a, k−a) with a ≤ k: M2M and L2L
+  std::array<std::vector<std::array<int, 2>>, 3> gradient;  // (n, n + e_i) with |n| ≤ p − 1: L2P
+  std::vector<int> lookup_table;                   // (p+1)³ → index, −1 when |k| > p
+  // pair_sum grouped by m: entries [m2l_offset[m], m2l_offset[m+1]) of m2l_k / m2l_mk
+  std::vector<int> m2l_offset, m2l_k, m2l_mk;
+  // The recurrence's terms for each k: the existing k − e_i (with their axis i) and k − 2e_i
+  struct RecurrenceTerms {
+    int n1 = 0, n2 = 0;
+    int axis1[3] = {0, 0, 0}, index1[3] = {0, 0, 0}, index2[3] = {0, 0, 0};
+    double c1 = 0, c2 = 0;  // (2|k|−1)/|k| and (|k|−1)/|k|
+  };
+  std::vector<RecurrenceTerms> recurrence;
+
+  explicit MultiIndexTables(int p) : order(p) {
+    const int side = p + 1;
+    lookup_table.assign(side * side * side, -1);
+    for (int d = 0; d <= p; ++d)
+      for (int a = d; a >= 0; --a)
+        for (int b = d - a; b >= 0; --b) {
+          const int c = d - a - b;
+          lookup_table[(a * side + b) * side + c] = static_cast<int>(exponent.size());
+          exponent.push_back({a, b, c});
+          degree.push_back(d);
+        }
+    count = static_cast<int>(exponent.size());
+    auto index = [&](std::array<int, 3> k) {
+      if (k[0] < 0 || k[1] < 0 || k[2] < 0 || k[0] + k[1] + k[2] > p) return -1;
+      return lookup_table[(k[0] * side + k[1]) * side + k[2]];
+    };
+    auto fact = [](int m) {
+      double f = 1;
+      for (int i = 2; i <= m; ++i) f *= i;
+      return f;
+    };
+    factorial.resize(count), sign.resize(count), parent.assign(count, -1), axis.assign(count, -1);
+    minus_one.resize(count), minus_two.resize(count);
+    for (int k = 0; k < count; ++k) {
+      const auto e = exponent[k];
+      factorial[k] = fact(e[0]) * fact(e[1]) * fact(e[2]);
+      sign[k] = degree[k] % 2 ? -1.0 : 1.0;
+      for (int i = 0; i < 3; ++i) {
+        auto m1 = e, m2 = e;
+        m1[i] -= 1, m2[i] -= 2;
+        minus_one[k][i] = index(m1);
+        minus_two[k][i] = index(m2);
+        if (e[i] > 0) axis[k] = i, parent[k] = index(m1);
+      }
+    }
+    for (int m = 0; m < count; ++m)
+      for (int k = 0; k < count; ++k) {
+        const auto em = exponent[m], ek = exponent[k];
+        const int mk = index({em[0] + ek[0], em[1] + ek[1], em[2] + ek[2]});
+        if (mk >= 0) pair_sum.push_back({m, k, mk});
+        if (ek[0] <= em[0] && ek[1] <= em[1] && ek[2] <= em[2])
+          shift.push_back({m, k, index({em[0] - ek[0], em[1] - ek[1], em[2] - ek[2]})});
+      }
+    m2l_offset.push_back(0);
+    for (int m = 0; m < count; ++m) {
+      for (const auto& t : pair_sum)
+        if (t[0] == m) m2l_k.push_back(t[1]), m2l_mk.push_back(t[2]);
+      m2l_offset.push_back(static_cast<int>(m2l_k.size()));
+    }
+    recurrence.resize(count);
+    for (int k = 1; k < count; ++k) {
+      RecurrenceTerms& r = recurrence[k];
+      for (int i = 0; i < 3; ++i) {
+        if (minus_one[k][i] >= 0) r.axis1[r.n1] = i, r.index1[r.n1++] = minus_one[k][i];
+        if (minus_two[k][i] >= 0) r.index2[r.n2++] = minus_two[k][i];
+      }
+      r.c1 = (2.0 * degree[k] - 1) / degree[k];
+      r.c2 = (degree[k] - 1.0) / degree[k];
+    }
+    for (int n = 0; n < count; ++n) {
+      if (degree[n] >= p) continue;
+      for (int i = 0; i < 3; ++i) {
+        auto e = exponent[n];
+        e[i] += 1;
+        gradient[i].push_back({n, index(e)});
+      }
+    }
+  }
+
+  // out[k] = d^k / k!
+  void monomials(const double d[3], double* out) const {
+    out[0] = 1;
+    for (int k = 1; k < count; ++k) out[k] = out[parent[k]] * d[axis[k]] / exponent[k][axis[k]];
+  }
+
+  // out[k] = ∂^k (1/‖R‖), from the recurrence for the Taylor coefficients T_k = ∂^k(1/‖R‖)/k! of
+  // Duan & Krasny (2001):  |k| ‖R‖² T_k + (2|k|−1) Σ_i R_i T_{k−e_i} + (|k|−1) Σ_i T_{k−2e_i} = 0.
+  void derivatives(const double R[3], double* out) const {
+    const double r2 = R[0] * R[0] + R[1] * R[1] + R[2] * R[2];
+    const double inv_r2 = 1 / r2;
+    out[0] = std::sqrt(inv_r2);
+    for (int k = 1; k < count; ++k) {
+      const int d = degree[k];
+      double s1 = 0, s2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        if (minus_one[k][i] >= 0) s1 += R[i] * out[minus_one[k][i]];
+        if (minus_two[k][i] >= 0) s2 += out[minus_two[k][i]];
+      }
+      out[k] = -((2 * d - 1) * s1 + (d - 1) * s2) * inv_r2 / d;
+    }
+    for (int k = 1; k < count; ++k) out[k] *= factorial[k];
+  }
+
+  // The same for four separation vectors at once, one per SIMD lane.
+  void derivatives4(const V4 R[3], V4* out) const {
+    const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
+    for (int l = 0; l < 4; ++l) out[0][l] = std::sqrt(inv_r2[l]);
+    for (int k = 1; k < count; ++k) {
+      const RecurrenceTerms& r = recurrence[k];
+      V4 s1 = R[r.axis1[0]] * out[r.index1[0]];
+      for (int t = 1; t < r.n1; ++t) s1 += R[r.axis1[t]] * out[r.index1[t]];
+      V4 s2 = {0, 0, 0, 0};
+      for (int t = 0; t < r.n2; ++t) s2 += out[r.index2[t]];
+      out[k] = -(r.c1 * s1 + r.c2 * s2) * inv_r2;
+    }
+    for (int k = 1; k < count; ++k) out[k] *= factorial[k];
+  }
+};
+
+struct Cell {
+  int32_t begin = 0, end = 0;        // points [begin, end) in Morton order
+  int32_t child_begin = -1;          // children are cells [child_begin, child_begin + child_count)
+  int32_t child_count = 0;
+  int32_t parent = -1;
+  int32_t depth = 0;                 // in the collapsed tree
+  double center[3] = {0, 0, 0};      // centre of mass (unit charges): the expansion centre
+  double radius = 0;                 // max distance of the cell's points from center
+  bool leaf() const { return child_count == 0; }
+  int32_t size() const { return end - begin; }
+};
+
+// Spreads the low 21 bits of v so that bit b lands at bit 3b.
+uint64_t spread_bits(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+constexpr int kMortonLevels = 21;
+
+// The accuracy → (order, θ, leaf size) table. Measured with `cshapes bench coulomb` (relative L2 gradient
+// error against direct summation, worst of uniform cube, sphere surface, clustered points and tosca5k
+// meshes), each row the fastest setting whose worst error stayed below the row's accuracy.
+struct FmmParameters {
+  double accuracy;
+  int order;
+  double opening_angle;
+  int leaf_size;
+};
+constexpr FmmParameters kParameterTable[] = {
+    {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.5, 48}, {3e-4, 5, 0.5, 48},
+    {1e-4, 6, 0.5, 64},  {3e-5, 7, 0.45, 64}, {1e-5, 8, 0.45, 64}, {1e-6, 10, 0.4, 64},
+};
+
+FmmParameters choose_parameters(const CoulombFmmOptions& options) {
+  CSHAPES_REQUIRE(options.accuracy > 0, "Coulomb FMM: accuracy must be positive, got ", options.accuracy);
+  FmmParameters chosen = kParameterTable[std::size(kParameterTable) - 1];
+  for (const FmmParameters& row : kParameterTable)
+    if (row.accuracy <= options.accuracy) {
+      chosen = row;
+      break;
+    }
+  if (options.order > 0) chosen.order = options.order;
+  if (options.opening_angle > 0) chosen.opening_angle = options.opening_angle;
+  if (options.leaf_size > 0) chosen.leaf_size = options.leaf_size;
+  CSHAPES_REQUIRE(chosen.order >= 1 && chosen.order <= 16, "Coulomb FMM: order must be in [1, 16], got ",
+                  chosen.order);
+  CSHAPES_REQUIRE(chosen.opening_angle > 0 && chosen.opening_angle < 1,
+                  "Coulomb FMM: opening angle must be in (0, 1), got ", chosen.opening_angle);
+  return chosen;
+}
+
+class Fmm {
+ public:
+  Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats)
+      : X_(X), n_(X.rows()), tables_(parameters.order), theta_(parameters.opening_angle),
+        leaf_size_(parameters.leaf_size), stats_(stats) {
+    norm_ = coulomb_detail::normalize_points(X, min_distance);
+  }
+
+  CoulombEvaluation run(bool want_potentials) {
+    auto t = std::chrono::steady_clock::now();
+    build_tree();
+    stats_.seconds_tree = seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    upward_pass();
+    stats_.seconds_upward = seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    m2l_lists_.assign(cells_.size(), {});
+    p2p_lists_.assign(cells_.size(), {});
+    traverse(0, 0);
+    stats_.seconds_traversal = seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    interactions();
+    stats_.seconds_interactions = seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    downward_pass();
+    stats_.seconds_downward = seconds_since(t);
+    return gather(want_potentials);
+  }
+
+ private:
+  void build_tree() {
+    // Morton keys on a 2^21 grid over the normalized cube [-1, 1]³; sorting by (key, index) is deterministic.
+    std::vector<std::pair<uint64_t, int32_t>> keyed(n_);
+    const double cells_per_unit = 0.5 * double(1 << kMortonLevels);
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n_; ++i) {
+      uint64_t key = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double u = (X_(i, c) - norm_.center[c]) / norm_.scale;
+        const double g = std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
+        key |= spread_bits(static_cast<uint64_t>(g)) << (2 - c);
+      }
+      keyed[i] = {key, static_cast<int32_t>(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    order_.resize(n_);
+    keys_.resize(n_);
+    xd_.resize(n_), yd_.resize(n_), zd_.resize(n_), xf_.resize(n_), yf_.resize(n_), zf_.resize(n_);
+#pragma omp parallel for schedule(static)
+    for (Index s = 0; s < n_; ++s) {
+      const Index i = keyed[s].second;
+      order_[s] = static_cast<int32_t>(i);
+      keys_[s] = keyed[s].first;
+      xd_[s] = (X_(i, 0) - norm_.center[0]) / norm_.scale;
+      yd_[s] = (X_(i, 1) - norm_.center[1]) / norm_.scale;
+      zd_[s] = (X_(i, 2) - norm_.center[2]) / norm_.scale;
+      xf_[s] = static_cast<float>(xd_[s]), yf_[s] = static_cast<float>(yd_[s]), zf_[s] = static_cast<float>(zd_[s]);
+    }
+
+    // Breadth-first: parents precede children, siblings are contiguous, depth never decreases.
+    cells_.clear();
+    std::vector<int> morton_level;  // octree level at which each cell's points start to differ
+    Cell root;
+    root.begin = 0, root.end = static_cast<int32_t>(n_);
+    cells_.push_back(root);
+    morton_level.push_back(0);
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const int32_t begin = cells_[c].begin, end = cells_[c].end;
+      if (end - begin <= leaf_size_) continue;
+      for (int level = morton_level[c]; level < kMortonLevels; ++level) {
+        const int shift = 3 * (kMortonLevels - 1 - level);
+        std::array<int32_t, 9> bound;
+        bound[0] = begin;
+        for (int o = 0; o < 8; ++o)
+          bound[o + 1] = static_cast<int32_t>(
+              std::partition_point(keys_.begin() + bound[o], keys_.begin() + end,
+                                   [&](uint64_t k) { return static_cast<int>((k >> shift) & 7) <= o; }) -
+              keys_.begin());
+        int nonempty = 0;
+        for (int o = 0; o < 8; ++o) nonempty += bound[o + 1] > bound[o];
+        if (nonempty < 2) continue;  // a chain of single-child cells: skip the level
+        cells_[c].child_begin = static_cast<int32_t>(cells_.size());
+        for (int o = 0; o < 8; ++o) {
+          if (bound[o + 1] == bound[o]) continue;
+          Cell child;
+          child.begin = bound[o], child.end = bound[o + 1];
+          child.parent = static_cast<int32_t>(c);
+          child.depth = cells_[c].depth + 1;
+          cells_.push_back(child);
+          morton_level.push_back(level + 1);
+        }
+        cells_[c].child_count = static_cast<int32_t>(cells_.size()) - cells_[c].child_begin;
+        break;
+      }
+    }
+    depth_start_.assign(1, 0);
+    for (size_t c = 1; c < cells_.size(); ++c)
+      if (cells_[c].depth != cells_[c - 1].depth) depth_start_.push_back(static_cast<int32_t>(c));
+    depth_start_.push_back(static_cast<int32_t>(cells_.size()));
+
+    // Centres of mass bottom-up, then the exact radius of each cell's points (O(n · depth)).
+    for (size_t c = cells_.size(); c-- > 0;) {
+      Cell& cell = cells_[c];
+      double s[3] = {0, 0, 0};
+      if (cell.leaf()) {
+        for (int32_t i = cell.begin; i < cell.end; ++i) s[0] += xd_[i], s[1] += yd_[i], s[2] += zd_[i];
+      } else {
+        for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch)
+          for (int k = 0; k < 3; ++k) s[k] += cells_[ch].center[k] * cells_[ch].size();
+      }
+      for (int k = 0; k < 3; ++k) cell.center[k] = s[k] / cell.size();
+    }
+#pragma omp parallel for schedule(dynamic, 16)
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      Cell& cell = cells_[c];
+      double r2 = 0;
+      for (int32_t i = cell.begin; i < cell.end; ++i) {
+        const double dx = xd_[i] - cell.center[0], dy = yd_[i] - cell.center[1], dz = zd_[i] - cell.center[2];
+        r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
+      }
+      cell.radius = std::sqrt(r2);
+    }
+    stats_.cells = static_cast<Index>(cells_.size());
+    stats_.tree_depth = static_cast<Index>(depth_start_.size()) - 1;
+    stats_.leaves = std::count_if(cells_.begin(), cells_.end(), [](const Cell& c) { return c.leaf(); });
+  }
+
+  double* multipole(size_t c) { return multipoles_.data() + c * tables_.count; }
+  double* local(size_t c) { return locals_.data() + c * tables_.count; }
+
+  // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
+  // scheduler time slice, so the cheap per-cell translations (M2M, L2L) run serially and only the per-point
+  // work (P2M, L2P) and the interactions run in parallel.
+  void upward_pass() {
+    const int count = tables_.count;
+    multipoles_.assign(cells_.size() * count, 0.0);
+    locals_.assign(cells_.size() * count, 0.0);
+    leaves_.clear();
+    for (size_t c = 0; c < cells_.size(); ++c)
+      if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
+    // P2M: M_k = Σ_j (x_j − z)^k / k!
+#pragma omp parallel
+    {
+      std::vector<double> mono(count);
+#pragma omp for schedule(dynamic, 16)
+      for (size_t l = 0; l < leaves_.size(); ++l) {
+        const Cell& cell = cells_[leaves_[l]];
+        double* M = multipole(leaves_[l]);
+        for (int32_t i = cell.begin; i < cell.end; ++i) {
+          const double d3[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
+          tables_.monomials(d3, mono.data());
+          for (int k = 0; k < count; ++k) M[k] += mono[k];
+        }
+      }
+    }
+    // M2M, children before parents: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
+    std::vector<double> mono(count);
+    for (size_t c = cells_.size(); c-- > 0;) {
+      const Cell& cell = cells_[c];
+      double* M = multipole(c);
+      for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
+        const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
+                              cells_[ch].center[2] - cell.center[2]};
+        tables_.monomials(s3, mono.data());
+        const double* Mc = multipole(ch);
+        for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
+      }
+    }
+    // Store (−1)^|k| M_k: the sign of the source offset in the Taylor expansion, applied once. (After the
+    // M2M pass, which needs the unsigned moments of every child.)
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      double* M = multipole(c);
+      for (int k = 0; k < count; ++k) M[k] *= tables_.sign[k];
+    }
+  }
+
+  // Dual-tree traversal (target a, source b): every ordered pair of points is covered exactly once, either by
+  // an M2L of b's multipole into a's local expansion, or by a direct leaf-leaf sum.
+  void traverse(int32_t a, int32_t b) {
+    const Cell& A = cells_[a];
+    const Cell& B = cells_[b];
+    if (a == b) {
+      if (A.leaf()) {
+        p2p_lists_[a].push_back(a);
+        return;
+      }
+      for (int32_t ca = A.child_begin; ca < A.child_begin + A.child_count; ++ca)
+        for (int32_t cb = A.child_begin; cb < A.child_begin + A.child_count; ++cb) traverse(ca, cb);
+      return;
+    }
+    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1], dz = A.center[2] - B.center[2];
+    const double distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (A.radius + B.radius < theta_ * distance) {
+      m2l_lists_[a].push_back(b);
+      return;
+    }
+    if (A.leaf() && B.leaf()) {
+      p2p_lists_[a].push_back(b);
+      return;
+    }
+    if (!A.leaf() && (B.leaf() || A.radius >= B.radius)) {
+      for (int32_t ca = A.child_begin; ca < A.child_begin + A.child_count; ++ca) traverse(ca, b);
+    } else {
+      for (int32_t cb = B.child_begin; cb < B.child_begin + B.child_count; ++cb) traverse(a, cb);
+    }
+  }
+
+  void interactions() {
+    const int count = tables_.count;
+    potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
+    const FloatPoints points{xf_.data(), yf_.data(), zf_.data()};
+    Index m2l_total = 0, p2p_total = 0;
+#pragma omp parallel reduction(+ : m2l_total, p2p_total)
+    {
+      std::vector<V4> derivative(count), moments(count), accumulated(count);
+      std::vector<SourceRange> ranges;
+#pragma omp for schedule(dynamic, 1)
+      for (size_t a = 0; a < cells_.size(); ++a) {
+        const Cell& A = cells_[a];
+        // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
+        // the lanes are summed at the end in a fixed order.
+        const std::vector<int32_t>& list = m2l_lists_[a];
+        if (!list.empty()) {
+          std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
+          for (size_t g = 0; g < list.size(); g += 4) {
+            V4 R[3];
+            for (int l = 0; l < 4; ++l) {
+              if (g + l < list.size()) {
+                const Cell& B = cells_[list[g + l]];
+                for (int c = 0; c < 3; ++c) R[c][l] = A.center[c] - B.center[c];
+                const double* M = multipole(list[g + l]);
+                for (int k = 0; k < count; ++k) moments[k][l] = M[k];
+              } else {  // an empty lane: a harmless separation and no charge
+                R[0][l] = 1, R[1][l] = 0, R[2][l] = 0;
+                for (int k = 0; k < count; ++k) moments[k][l] = 0;
+              }
+            }
+            tables_.derivatives4(R, derivative.data());
+            for (int m = 0; m < count; ++m) {
+              V4 sum = accumulated[m];
+              for (int j = tables_.m2l_offset[m]; j < tables_.m2l_offset[m + 1]; ++j)
+                sum += moments[tables_.m2l_k[j]] * derivative[tables_.m2l_mk[j]];
+              accumulated[m] = sum;
+            }
+          }
+          double* L = local(a);
+          for (int m = 0; m < count; ++m)
+            L[m] += (accumulated[m][0] + accumulated[m][1]) + (accumulated[m][2] + accumulated[m][3]);
+        }
+        m2l_total += static_cast<Index>(m2l_lists_[a].size());
+        if (!A.leaf() || p2p_lists_[a].empty()) continue;
+        ranges.clear();
+        Index sources = 0;
+        for (int32_t b : p2p_lists_[a]) {
+          ranges.push_back({cells_[b].begin, cells_[b].end});
+          sources += cells_[b].size();
+        }
+        p2p_total += sources * A.size();
+        for (int32_t i0 = A.begin; i0 < A.end; i0 += kBlock) {
+          const int block = std::min<int32_t>(kBlock, A.end - i0);
+          coulomb_detail::p2p_block(points, i0, block, ranges.data(), static_cast<int>(ranges.size()),
+                                    norm_.floor2, potential_.data(), fx_.data(), fy_.data(), fz_.data());
+        }
+      }
+    }
+    stats_.m2l_interactions = m2l_total;
+    stats_.p2p_interactions = p2p_total;
+  }
+
+  void downward_pass() {
+    const int count = tables_.count;
+    // L2L, parents before children: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
+    std::vector<double> mono(count);
+    for (size_t c = 1; c < cells_.size(); ++c) {
+      const Cell& cell = cells_[c];
+      const Cell& parent = cells_[cell.parent];
+      const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
+                            cell.center[2] - parent.center[2]};
+      tables_.monomials(t3, mono.data());
+      const double* Lp = local(cell.parent);
+      double* L = local(c);
+      for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
+    }
+    // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
+#pragma omp parallel
+    {
+      std::vector<double> mono_point(count);
+#pragma omp for schedule(dynamic, 16)
+      for (size_t l = 0; l < leaves_.size(); ++l) {
+        const Cell& cell = cells_[leaves_[l]];
+        const double* L = local(leaves_[l]);
+        for (int32_t i = cell.begin; i < cell.end; ++i) {
+          const double e[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
+          tables_.monomials(e, mono_point.data());
+          double phi = 0;
+          for (int m = 0; m < count; ++m) phi += L[m] * mono_point[m];
+          double g[3] = {0, 0, 0};
+          for (int k = 0; k < 3; ++k)
+            for (const auto& t : tables_.gradient[k]) g[k] += L[t[1]] * mono_point[t[0]];
+          potential_[i] += phi;
+          fx_[i] -= g[0], fy_[i] -= g[1], fz_[i] -= g[2];
+        }
+      }
+    }
+  }
+
+  CoulombEvaluation gather(bool want_potentials) {
+    CoulombEvaluation result;
+    result.summation_used = CoulombOptions::Summation::Fast;
+    result.gradient.resize(n_, 3);
+    if (want_potentials) result.potential.resize(n_);
+    const double gradient_scale = -2 / (norm_.scale * norm_.scale);
+    double energy = 0;
+    for (Index s = 0; s < n_; ++s) {
+      const Index i = order_[s];
+      energy += potential_[s];
+      result.gradient(i, 0) = gradient_scale * fx_[s];
+      result.gradient(i, 1) = gradient_scale * fy_[s];
+      result.gradient(i, 2) = gradient_scale * fz_[s];
+      if (want_potentials) result.potential[i] = potential_[s] / norm_.scale;
+    }
+    result.energy = energy / norm_.scale;
+    return result;
+  }
+
+  const Points& X_;
+  const Index n_;
+  const MultiIndexTables tables_;
+  const double theta_;
+  const int leaf_size_;
+  CoulombFmmStats& stats_;
+  coulomb_detail::NormalizedPoints norm_;
+  std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
+  std::vector<uint64_t> keys_;
+  std::vector<double> xd_, yd_, zd_;
+  std::vector<float> xf_, yf_, zf_;
+  std::vector<Cell> cells_;
+  std::vector<int32_t> leaves_;
+  std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
+  std::vector<double> multipoles_, locals_;
+  std::vector<std::vector<int32_t>> m2l_lists_, p2p_lists_;
+  std::vector<double> potential_, fx_, fy_, fz_;
+};
+
+}  // namespace
+
+CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options, CoulombFmmStats* stats) {
+  const FmmParameters parameters = choose_parameters(options);
+  CoulombFmmStats local_stats;
+  CoulombFmmStats& s = stats ? *stats : local_stats;
+  s = CoulombFmmStats{};
+  s.order = parameters.order;
+  s.opening_angle = parameters.opening_angle;
+  s.leaf_size = parameters.leaf_size;
+  CSHAPES_REQUIRE(X.allFinite(), "Coulomb FMM: the ", X.rows(), " points contain a non-finite coordinate");
+  CSHAPES_REQUIRE(X.rows() < (Index(1) << 31) - kBlock, "Coulomb FMM: too many points (", X.rows(), ")");
+  if (X.rows() == 0) {
+    CoulombEvaluation empty;
+    empty.summation_used = CoulombOptions::Summation::Fast;
+    empty.gradient.resize(0, 3);
+    if (options.want_potentials) empty.potential.resize(0);
+    return empty;
+  }
+  Fmm fmm(X, parameters, options.min_distance, s);
+  return fmm.run(options.want_potentials);
+}
+
+}  // namespace cshapes

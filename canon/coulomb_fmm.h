@@ -1,0 +1,49 @@
+// Fast multipole summation of the Coulomb energy of eq. (1) and its gradient (see canon/coulomb_energy.h for
+// the conventions: E = Σ_{i≠j} 1/r_ij over ordered pairs, ∇_i E = 2∇φ(x_i), distance floor).
+//
+// Method: an adaptive octree over the Morton-sorted points (leaves of at most leaf_size points, chains of
+// single-child cells collapsed), Cartesian Taylor expansions of total order p about each cell's centre of mass
+// (so the dipole term vanishes for unit charges), and a dual-tree traversal (Dehnen 2002, "falcON"): two
+// cells A, B interact through one multipole-to-local translation when r_A + r_B < θ·‖z_A − z_B‖ (r = radius
+// of the cell's points about its centre z), otherwise the larger cell is split; leaf pairs that stay close
+// are summed directly with the float SIMD kernel (coulomb_p2p.h). Translations use the recurrence of
+// Duan & Krasny for the Taylor coefficients of 1/r. Cost O(n) for fixed (p, θ); memory O(n).
+//
+// Accuracy: `accuracy` is the target relative L2 error of the gradient, ‖g_fast − g_direct‖ / ‖g_direct‖;
+// (p, θ) are chosen from it by a table measured on tosca5k meshes and uniform, sphere and clustered points
+// (coulomb_fmm.cpp). The energy's relative error is then well below accuracy/10.
+//
+// Determinism: every target's sum is formed in a fixed order, so the output is bit-identical for identical
+// inputs, and independent of the number of OpenMP threads.
+#pragma once
+
+#include "canon/coulomb_energy.h"
+
+namespace cshapes {
+
+struct CoulombFmmOptions {
+  double accuracy = 1e-3;     // target relative L2 error of the gradient; picks order and opening_angle
+  int order = 0;              // expansion order p (1 … 12); 0: chosen from accuracy
+  double opening_angle = 0;   // θ in (0, 1): cells interact by expansion when r_A + r_B < θ·distance; 0: from accuracy
+  int leaf_size = 0;          // most points in a leaf; 0: chosen with the order (≈ 32–64)
+  double min_distance = 0;    // distance floor (see coulomb_energy.h); 0: 1e-9 × bounding-box diagonal
+  bool want_potentials = false;  // also return the potentials φ_i
+};
+
+// What the FMM did, for benchmarks and tuning.
+struct CoulombFmmStats {
+  int order = 0;
+  double opening_angle = 0;
+  int leaf_size = 0;
+  Index cells = 0, leaves = 0, tree_depth = 0;
+  Index m2l_interactions = 0;  // multipole-to-local translations
+  Index p2p_interactions = 0;  // point pairs summed directly
+  double seconds_tree = 0, seconds_upward = 0, seconds_traversal = 0, seconds_interactions = 0,
+         seconds_downward = 0;
+};
+
+// Energy, gradient (and potentials if asked) of the n×3 points X. O(n) for a fixed accuracy.
+CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options = {},
+                              CoulombFmmStats* stats = nullptr);
+
+}  // namespace cshapes

@@ -1,0 +1,218 @@
+#include "core/fast_marching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+
+#include "core/error.h"
+
+namespace cshapes {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Faces around each undirected edge, found by binary search in a sorted (edge key, face) list.
+class EdgeFaces {
+ public:
+  explicit EdgeFaces(const Faces& F) {
+    entries_.reserve(3 * F.rows());
+    for (Index f = 0; f < F.rows(); ++f)
+      for (int c = 0; c < 3; ++c) entries_.emplace_back(key(F(f, c), F(f, (c + 1) % 3)), static_cast<int>(f));
+    std::sort(entries_.begin(), entries_.end());
+  }
+  // A face containing edge (a, b) other than `face`, or -1 (boundary edge).
+  int other_face(int a, int b, int face) const {
+    uint64_t k = key(a, b);
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(k, -1));
+    for (; it != entries_.end() && it->first == k; ++it)
+      if (it->second != face) return it->second;
+    return -1;
+  }
+
+ private:
+  static uint64_t key(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<uint64_t>(a) << 32) | static_cast<uint32_t>(b);
+  }
+  std::vector<std::pair<uint64_t, int>> entries_;
+};
+
+struct PendingStencil {
+  int trigger;
+  FastMarching::Stencil stencil;
+};
+
+// Stencil for updating `target` (at the origin) from `accepted` at p, with `other` at q.
+FastMarching::Stencil make_stencil(int target, int other, const Vec2& p, const Vec2& q) {
+  FastMarching::Stencil s;
+  s.target = target;
+  s.other = other;
+  s.p_len = p.norm();
+  s.q_len = q.norm();
+  double det = p.x() * q.y() - p.y() * q.x();
+  if (std::abs(det) <= 1e-14 * s.p_len * s.q_len) {  // degenerate triangle: edge updates only
+    s.other = -1;
+    s.inv00 = s.inv01 = s.inv10 = s.inv11 = 0;
+    return s;
+  }
+  // Inverse of M = [p^T; q^T].
+  s.inv00 = q.y() / det;
+  s.inv01 = -p.y() / det;
+  s.inv10 = -q.x() / det;
+  s.inv11 = p.x() / det;
+  return s;
+}
+
+// Planar-wavefront update (see the header): T_C from T_P (accepted) and T_Q, or +inf when not causal.
+double triangle_update(const FastMarching::Stencil& s, double t_p, double t_q) {
+  // Work relative to T_P for accuracy far from the source: T' = T_C - T_P, right-hand side (0, T_Q - T_P).
+  const double dq = t_q - t_p;
+  const double a0 = s.inv00 + s.inv01, a1 = s.inv10 + s.inv11;  // a = M^{-1} 1
+  const double b0 = s.inv01 * dq, b1 = s.inv11 * dq;              // b = M^{-1} (0, dq)
+  const double aa = a0 * a0 + a1 * a1, ab = a0 * b0 + a1 * b1, bb = b0 * b0 + b1 * b1;
+  // |b - T' a|^2 = 1
+  const double disc = ab * ab - aa * (bb - 1.0);
+  if (disc < 0) return std::numeric_limits<double>::infinity();
+  const double t = (ab + std::sqrt(disc)) / aa;
+  if (t < std::max(0.0, dq)) return std::numeric_limits<double>::infinity();
+  const double n0 = b0 - t * a0, n1 = b1 - t * a1;
+  // -n = alpha p + beta q with alpha, beta >= 0: the characteristic enters C through the triangle.
+  const double alpha = -(s.inv00 * n0 + s.inv10 * n1);
+  const double beta = -(s.inv01 * n0 + s.inv11 * n1);
+  const double tolerance = -1e-12;
+  if (alpha < tolerance || beta < tolerance) return std::numeric_limits<double>::infinity();
+  return t_p + t;
+}
+
+}  // namespace
+
+FastMarching::FastMarching(const Mesh& mesh, const FastMarchingOptions& options)
+    : num_vertices_(mesh.num_vertices()) {
+  const Points& V = mesh.V;
+  const Faces& F = mesh.F;
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      CSHAPES_REQUIRE(F(f, c) >= 0 && F(f, c) < num_vertices_, "fast marching: face ", f, " has vertex index ",
+                      F(f, c), " outside 0..", num_vertices_ - 1);
+  EdgeFaces edge_faces(F);
+  auto length = [&](int i, int j) { return (V.row(i) - V.row(j)).norm(); };
+
+  std::vector<PendingStencil> pending;
+  pending.reserve(6 * F.rows() + 64);
+  for (Index f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int C = F(f, c), P = F(f, (c + 1) % 3), Q = F(f, (c + 2) % 3);
+      // The triangle in the plane: C at the origin, P on the x axis, Q above it.
+      const double cp = length(C, P), cq = length(C, Q), pq = length(P, Q);
+      const double qx = (cp * cp + cq * cq - pq * pq) / (2 * cp);
+      const Vec2 p(cp, 0.0), q(qx, std::sqrt(std::max(0.0, cq * cq - qx * qx)));
+      const bool obtuse = p.dot(q) < 0;
+      int D = -1;
+      Vec2 d;
+      if (obtuse) {
+        ++obtuse_corners_;
+        if (options.unfold_obtuse) {
+          // Walk across edges, unfolding each next triangle, until a vertex lands in the acute section.
+          int A = P, B = Q, face = static_cast<int>(f);
+          Vec2 a = p, b = q, prev_pos(0, 0);
+          for (int step = 0; step < options.max_unfold_steps; ++step) {
+            int g = edge_faces.other_face(A, B, face);
+            if (g < 0) break;
+            int R = -1;
+            for (int k = 0; k < 3; ++k)
+              if (F(g, k) != A && F(g, k) != B) R = F(g, k);
+            if (R < 0 || R == C) break;
+            const Vec2 e = b - a;
+            const double ab_len = e.norm(), ar = length(A, R), br = length(B, R);
+            const double x = (ar * ar - br * br + ab_len * ab_len) / (2 * ab_len);
+            const double y = std::sqrt(std::max(0.0, ar * ar - x * x));
+            Vec2 perp(-e.y() / ab_len, e.x() / ab_len);
+            if ((prev_pos - a).dot(perp) > 0) perp = -perp;  // the unfolded vertex lies across AB from prev
+            const Vec2 r = a + x * e / ab_len + y * perp;
+            const bool acute_p = r.dot(p) > 0, acute_q = r.dot(q) > 0;
+            if (acute_p && acute_q && cross2(p, r) > 0 && cross2(r, q) > 0) {
+              D = R;
+              d = r;
+              break;
+            }
+            if (!acute_p) {  // R lies past the section on Q's side: the section crosses edge A R
+              prev_pos = b;
+              B = R, b = r;
+            } else {  // past it on P's side: the section crosses edge R B
+              prev_pos = a;
+              A = R, a = r;
+            }
+            face = g;
+          }
+        }
+      }
+      if (D < 0) {
+        pending.push_back({P, make_stencil(C, Q, p, q)});
+        pending.push_back({Q, make_stencil(C, P, q, p)});
+      } else {
+        ++split_corners_;
+        // Two acute virtual triangles C P D and C D Q replace the obtuse one.
+        pending.push_back({P, make_stencil(C, D, p, d)});
+        pending.push_back({D, make_stencil(C, P, d, p)});
+        pending.push_back({D, make_stencil(C, Q, d, q)});
+        pending.push_back({Q, make_stencil(C, D, q, d)});
+      }
+    }
+  }
+  offsets_.assign(num_vertices_ + 1, 0);
+  for (const PendingStencil& s : pending) ++offsets_[s.trigger + 1];
+  for (Index i = 0; i < num_vertices_; ++i) offsets_[i + 1] += offsets_[i];
+  stencils_.resize(pending.size());
+  std::vector<int> fill(offsets_.begin(), offsets_.end() - 1);
+  for (const PendingStencil& s : pending) stencils_[fill[s.trigger]++] = s.stencil;
+}
+
+Eigen::VectorXd FastMarching::distances(const std::vector<int>& sources) const {
+  Eigen::VectorXd out;
+  distances(sources, out);
+  return out;
+}
+
+void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& dist) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  dist.setConstant(num_vertices_, inf);
+  std::vector<char> alive(num_vertices_, 0);
+  using Item = std::pair<double, int>;
+  std::vector<Item> storage;
+  storage.reserve(2 * static_cast<size_t>(num_vertices_));
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap(std::greater<Item>(), std::move(storage));
+  for (int s : sources) {
+    CSHAPES_REQUIRE(s >= 0 && s < num_vertices_, "fast marching: source vertex ", s, " out of range 0..",
+                    num_vertices_ - 1);
+    dist[s] = 0;
+    heap.emplace(0.0, s);
+  }
+  while (!heap.empty()) {
+    auto [t_i, i] = heap.top();
+    heap.pop();
+    if (alive[i] || t_i > dist[i]) continue;
+    alive[i] = 1;
+    for (int k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+      const Stencil& s = stencils_[k];
+      if (alive[s.target]) continue;
+      double candidate = t_i + s.p_len;
+      if (s.other >= 0 && alive[s.other]) candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
+      if (candidate < dist[s.target]) {
+        dist[s.target] = candidate;
+        heap.emplace(candidate, s.target);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd fast_marching(const Mesh& mesh, const std::vector<int>& sources,
+                              const FastMarchingOptions& options) {
+  return FastMarching(mesh, options).distances(sources);
+}
+
+}  // namespace cshapes

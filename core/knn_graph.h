@@ -1,0 +1,22 @@
+// The symmetric k-nearest-neighbour graph of a point cloud: the edges that stand in for a mesh's edges when the
+// input has no faces, so every stage that needs only edges and rest lengths (edge_lengths) works on point
+// clouds too (the paper's "future work").
+#pragma once
+
+#include "core/types.h"
+
+namespace cshapes {
+
+struct KnnGraphOptions {
+  int k = 8;  // neighbours per point (other points; a duplicate of a point counts as a neighbour at distance 0)
+};
+
+// Edges (i, j), i < j, sorted lexicographically and unique, with no self edges, joining every point to its k
+// nearest other points in Euclidean distance (the union of the relations, so the graph is symmetric: a point
+// may have more than k neighbours, never fewer than min(k, n-1)). With k >= n-1 the graph is complete.
+// Ties at equal distance are broken arbitrarily. P: n×3, finite coordinates (throws cshapes::Error otherwise,
+// and for k < 1). Empty or one-point input gives no edges.
+// Cost: O(n log n) to build a KD-tree (nanoflann) and O(n k log n) for the queries, in parallel (OpenMP).
+Edges knn_graph(const Points& P, const KnnGraphOptions& options = {});
+
+}  // namespace cshapes

@@ -1,0 +1,199 @@
+// CGAL side of core/remesh.h: isotropic remeshing, edge-collapse simplification, AABB-tree distances and the
+// exact self-intersection test. The only translation unit of the remeshing code that sees CGAL types.
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/tangential_relaxation.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/io.h"
+#include "core/remesh.h"
+
+namespace cshapes {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point3 = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+namespace SMS = CGAL::Surface_mesh_simplification;
+
+SurfaceMesh to_cgal(const Mesh& mesh) {
+  SurfaceMesh sm;
+  std::vector<SurfaceMesh::Vertex_index> vs(mesh.num_vertices());
+  for (Index i = 0; i < mesh.num_vertices(); ++i)
+    vs[i] = sm.add_vertex(Point3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)));
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    auto face = sm.add_face(vs[mesh.F(f, 0)], vs[mesh.F(f, 1)], vs[mesh.F(f, 2)]);
+    CSHAPES_REQUIRE(face != SurfaceMesh::null_face(), "remesh: face ", f,
+                    " cannot be added (the mesh is not an oriented 2-manifold there)");
+  }
+  return sm;
+}
+
+// Copies a (possibly garbage-holding) Surface_mesh into Eigen arrays, vertices in index order.
+Mesh from_cgal(const SurfaceMesh& sm) {
+  Mesh mesh;
+  mesh.V.resize(sm.number_of_vertices(), 3);
+  std::unordered_map<std::size_t, int> index;
+  index.reserve(sm.number_of_vertices());
+  int k = 0;
+  for (auto v : sm.vertices()) {
+    const Point3& p = sm.point(v);
+    mesh.V.row(k) << p.x(), p.y(), p.z();
+    index[static_cast<std::size_t>(v)] = k++;
+  }
+  mesh.F.resize(sm.number_of_faces(), 3);
+  int f = 0;
+  for (auto face : sm.faces()) {
+    int c = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(face), sm)) mesh.F(f, c++) = index.at(static_cast<std::size_t>(v));
+    ++f;
+  }
+  return mesh;
+}
+
+// Stops the collapse when the mesh has no more than `target` vertices (exact, unlike an edge-count ratio).
+struct VertexCountStop {
+  const SurfaceMesh* mesh;
+  std::size_t target;
+  template <typename Cost, typename Profile>
+  bool operator()(const Cost&, const Profile&, std::size_t, std::size_t) const {
+    return mesh->number_of_vertices() <= target;
+  }
+};
+
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
+
+// Largest distance from the sample points of `from` (vertices, edge midpoints, centroids) to the surface `to`.
+double one_sided_distance(const Mesh& from, const SurfaceMesh& to) {
+  Tree tree(faces(to).first, faces(to).second, to);
+  tree.accelerate_distance_queries();
+  std::vector<Eigen::Vector3d> samples;
+  samples.reserve(from.num_vertices() + 4 * from.num_faces());
+  for (Index i = 0; i < from.num_vertices(); ++i) samples.push_back(from.V.row(i));
+  for (Index f = 0; f < from.num_faces(); ++f) {
+    Eigen::Vector3d a = from.V.row(from.F(f, 0)), b = from.V.row(from.F(f, 1)), c = from.V.row(from.F(f, 2));
+    samples.push_back((a + b + c) / 3);
+    samples.push_back((a + b) / 2);  // each interior edge twice: harmless
+    samples.push_back((b + c) / 2);
+    samples.push_back((c + a) / 2);
+  }
+  double worst = 0;
+  for (const auto& s : samples) {
+    double d2 = tree.squared_distance(Point3(s.x(), s.y(), s.z()));
+    worst = std::max(worst, d2);
+  }
+  return std::sqrt(worst);
+}
+
+}  // namespace
+
+RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
+  CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ", o.target_vertices);
+  CSHAPES_REQUIRE(o.tolerance > 0 && o.tolerance < 0.5, "remesh: tolerance must be in (0, 0.5), got ", o.tolerance);
+  CSHAPES_REQUIRE(!mesh.is_point_cloud(), "remesh: the input has no faces (a point cloud cannot be remeshed)");
+  validate_mesh(mesh, "remesh input");
+  const SurfaceMesh input = to_cgal(mesh);
+  const double area = surface_area(mesh.V, mesh.F);
+  const auto target = static_cast<double>(o.target_vertices);
+  // Aim a little above the target so that the final collapse, not a refinement, fixes the count.
+  const double aim = target * (1 + 0.5 * o.tolerance) + 2;
+
+  RemeshResult result;
+  // Equilateral triangles with F ≈ 2V: A = V (√3/2) L².
+  double length = std::sqrt(2 * area / (std::sqrt(3.0) * aim));
+  SurfaceMesh best;
+  Index best_count = -1;
+  for (int attempt = 0; attempt < o.max_attempts; ++attempt) {
+    SurfaceMesh sm = input;
+    // Sharp edges (thin fins such as ears, crease lines) are kept as polylines that may be split but not
+    // smoothed away; without them the tip of a thin part is cut off by about one edge length.
+    auto sharp = sm.add_property_map<SurfaceMesh::Edge_index, bool>("e:sharp", false).first;
+    if (o.feature_angle_deg > 0) PMP::detect_sharp_edges(sm, o.feature_angle_deg, sharp);
+    PMP::isotropic_remeshing(faces(sm), length, sm,
+                             PMP::parameters::number_of_iterations(o.relaxation_iterations)
+                                 .protect_constraints(o.protect_border)
+                                 .edge_is_constrained_map(sharp)
+                                 .number_of_relaxation_steps(1));
+    sm.remove_property_map(sharp);
+    sm.collect_garbage();
+    auto count = static_cast<Index>(sm.number_of_vertices());
+    ++result.attempts;
+    result.target_edge_length = length;
+    if (o.progress) o.progress("remesh", attempt + 1, o.max_attempts);
+    bool above = count >= o.target_vertices;
+    // Keep the attempt closest above the target (collapsing few edges keeps the remesher's angles).
+    if (above && (best_count < 0 || count < best_count)) {
+      best = sm;
+      best_count = count;
+    }
+    if (above && count <= target * (1 + 3 * o.tolerance) + 4) break;
+    // N ∝ 1/L²; damp the step so that the noise of the count does not make it oscillate.
+    double ratio = std::sqrt(static_cast<double>(count) / aim);
+    length *= std::clamp(ratio, 0.5, 2.0);
+  }
+  CSHAPES_REQUIRE(best_count >= 0, "remesh: could not reach ", o.target_vertices, " vertices in ", o.max_attempts,
+                  " attempts (last edge length ", length, ")");
+  result.remeshed_vertices = best_count;
+
+  if (best_count > o.target_vertices) {
+    VertexCountStop stop{&best, static_cast<std::size_t>(o.target_vertices)};
+    SMS::LindstromTurk_cost<SurfaceMesh> cost;
+    SMS::LindstromTurk_placement<SurfaceMesh> placement;
+    result.collapsed_edges = SMS::edge_collapse(best, stop, CGAL::parameters::get_cost(cost).get_placement(placement));
+    best.collect_garbage();
+    PMP::tangential_relaxation(best, PMP::parameters::number_of_iterations(1));
+  }
+  result.mesh = from_cgal(best);
+  Index got = result.mesh.num_vertices();
+  CSHAPES_REQUIRE(std::abs(static_cast<double>(got) - target) <= o.tolerance * target + 1, "remesh: got ", got,
+                  " vertices, more than ", o.tolerance * 100, "% away from ", o.target_vertices);
+  return result;
+}
+
+double hausdorff_distance(const Mesh& a, const Mesh& b) {
+  CSHAPES_REQUIRE(!a.is_point_cloud() && !b.is_point_cloud(), "hausdorff_distance: both inputs need faces");
+  return std::max(one_sided_distance(a, to_cgal(b)), one_sided_distance(b, to_cgal(a)));
+}
+
+AngleStats angle_stats(const Mesh& mesh) {
+  AngleStats s;
+  if (mesh.num_faces() == 0) return s;
+  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+  s.min_angle = 180;
+  double sum = 0;
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    double face_min = 180;
+    for (int c = 0; c < 3; ++c) {
+      Eigen::Vector3d p = mesh.V.row(mesh.F(f, c));
+      Eigen::Vector3d u = Eigen::Vector3d(mesh.V.row(mesh.F(f, (c + 1) % 3))) - p;
+      Eigen::Vector3d w = Eigen::Vector3d(mesh.V.row(mesh.F(f, (c + 2) % 3))) - p;
+      double angle = std::atan2(u.cross(w).norm(), u.dot(w)) * kDegrees;
+      face_min = std::min(face_min, angle);
+      s.max_angle = std::max(s.max_angle, angle);
+    }
+    s.min_angle = std::min(s.min_angle, face_min);
+    sum += face_min;
+  }
+  s.mean_min_angle = sum / static_cast<double>(mesh.num_faces());
+  return s;
+}
+
+bool self_intersects(const Mesh& mesh) {
+  SurfaceMesh sm = to_cgal(mesh);
+  return PMP::does_self_intersect(sm);
+}
+
+}  // namespace cshapes

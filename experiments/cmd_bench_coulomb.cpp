@@ -1,0 +1,233 @@
+// cshapes bench coulomb: seconds per Coulomb gradient, fast (FMM) vs direct summation, and the fast method's
+// relative error against direct summation, measured in one run.
+//
+//   cshapes bench coulomb --n 100000 --distribution uniform --json
+//   cshapes bench coulomb --mesh ../shared/data/tosca5k/cat0.off --json            (the mesh's vertices)
+//   cshapes bench coulomb --mesh ../shared/data/tosca5k/cat0.off --n 100000 --json (n points on its surface)
+//
+// Up to --full-direct-max points the direct sum is complete (timed as the median of --repeats runs) and the
+// errors are over all points; above it the exact sum runs on a random sample of --sample targets, the
+// errors are over those targets (energy error from their potentials), and direct_seconds is the sample's
+// time scaled by n/sample (direct_extrapolated = true).
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <numeric>
+#include <random>
+
+#include "canon/coulomb_energy.h"
+#include "canon/coulomb_fmm.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "experiments/command.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct BenchArgs {
+  Index n = 0;
+  std::string distribution = "uniform";
+  std::string mesh;
+  int repeats = 5;
+  double accuracy = 1e-3;
+  int order = 0;
+  double opening_angle = 0;
+  int leaf_size = 0;
+  Index sample = 1000;
+  Index full_direct_max = 50000;
+  unsigned seed = 1;
+  bool json = false;
+} args;
+
+// Points in the unit cube, on the unit sphere, or in 20 Gaussian clusters whose widths span two decades
+// (1e-3 … 1e-1) and whose populations vary tenfold: the hard case for a tree's adaptivity.
+Points generate_points(Index n, const std::string& distribution, std::mt19937_64& rng) {
+  Points X(n, 3);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  std::normal_distribution<double> normal(0, 1);
+  if (distribution == "uniform") {
+    for (Index i = 0; i < n; ++i) X.row(i) << uniform(rng), uniform(rng), uniform(rng);
+  } else if (distribution == "sphere") {
+    for (Index i = 0; i < n; ++i) {
+      Eigen::RowVector3d v(normal(rng), normal(rng), normal(rng));
+      X.row(i) = v / std::max(v.norm(), 1e-300);
+    }
+  } else if (distribution == "clustered") {
+    const int clusters = 20;
+    std::vector<Eigen::RowVector3d> centers(clusters);
+    std::vector<double> widths(clusters), weights(clusters);
+    for (int c = 0; c < clusters; ++c) {
+      centers[c] << uniform(rng), uniform(rng), uniform(rng);
+      widths[c] = std::pow(10.0, -3 + 2 * uniform(rng));
+      weights[c] = 1 + 9 * uniform(rng);
+    }
+    std::discrete_distribution<int> pick(weights.begin(), weights.end());
+    for (Index i = 0; i < n; ++i) {
+      const int c = pick(rng);
+      X.row(i) = centers[c] + widths[c] * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
+    }
+  } else {
+    fail("bench coulomb: unknown distribution '", distribution, "' (expected uniform, sphere or clustered)");
+  }
+  return X;
+}
+
+// n points uniformly distributed by area on the mesh's surface.
+Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
+  std::vector<double> area(mesh.F.rows());
+  for (Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    area[f] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  std::discrete_distribution<Index> pick(area.begin(), area.end());
+  std::uniform_real_distribution<double> uniform(0, 1);
+  Points X(n, 3);
+  for (Index i = 0; i < n; ++i) {
+    const Index f = pick(rng);
+    double u = uniform(rng), v = uniform(rng);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    X.row(i) = (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
+  }
+  return X;
+}
+
+template <class F>
+double median_seconds(int repeats, F&& f) {
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+int run() {
+  std::mt19937_64 rng(args.seed);
+  Points X;
+  std::string distribution = args.distribution;
+  if (!args.mesh.empty()) {
+    const Mesh mesh = read_mesh(args.mesh);
+    if (args.n <= 0 || args.n == mesh.V.rows()) {
+      X = mesh.V;
+      distribution = "mesh-vertices:" + args.mesh;
+    } else {
+      CSHAPES_REQUIRE(mesh.F.rows() > 0, "bench coulomb: ", args.mesh, " has no faces to sample points on");
+      X = sample_surface(mesh, args.n, rng);
+      distribution = "mesh-surface:" + args.mesh;
+    }
+  } else {
+    CSHAPES_REQUIRE(args.n >= 2, "bench coulomb: --n must be at least 2 (or give --mesh)");
+    X = generate_points(args.n, args.distribution, rng);
+  }
+  const Index n = X.rows();
+
+  CoulombFmmOptions fmm_options;
+  fmm_options.accuracy = args.accuracy;
+  fmm_options.order = args.order;
+  fmm_options.opening_angle = args.opening_angle;
+  fmm_options.leaf_size = args.leaf_size;
+  fmm_options.want_potentials = true;
+  CoulombFmmStats stats;
+  CoulombEvaluation fast;
+  const double fast_seconds = median_seconds(args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); });
+
+  const bool full = n <= args.full_direct_max;
+  double direct_seconds = 0, direct_float_seconds = 0, gradient_error = 0, energy_error = 0;
+  Index error_targets = n;
+  if (full) {
+    CoulombEvaluation direct;
+    direct_seconds = median_seconds(args.repeats, [&] { direct = coulomb_direct(X); });
+    direct_float_seconds = median_seconds(args.repeats, [&] { coulomb_direct_float(X); });
+    gradient_error = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
+    energy_error = std::abs(fast.energy - direct.energy) / std::abs(direct.energy);
+  } else {
+    error_targets = std::min(args.sample, n);
+    std::vector<Index> all(n);
+    std::iota(all.begin(), all.end(), Index(0));
+    for (Index t = 0; t < error_targets; ++t)  // partial Fisher–Yates: distinct random targets
+      std::swap(all[t], all[t + std::uniform_int_distribution<Index>(0, n - 1 - t)(rng)]);
+    std::vector<Index> targets(all.begin(), all.begin() + error_targets);
+    CoulombTargetSums exact;
+    const double sample_seconds =
+        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); });
+    direct_seconds = sample_seconds * double(n) / double(error_targets);
+    double diff2 = 0, ref2 = 0, phi_fast = 0, phi_exact = 0;
+    for (Index t = 0; t < error_targets; ++t) {
+      diff2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
+      ref2 += exact.gradient.row(t).squaredNorm();
+      phi_fast += fast.potential[targets[t]];
+      phi_exact += exact.potential[t];
+    }
+    gradient_error = std::sqrt(diff2 / ref2);
+    energy_error = std::abs(phi_fast - phi_exact) / std::abs(phi_exact);
+  }
+
+  nlohmann::json j = {{"n", n},
+                      {"distribution", distribution},
+                      {"direct_seconds", direct_seconds},
+                      {"direct_extrapolated", !full},
+                      {"fast_seconds", fast_seconds},
+                      {"speedup", direct_seconds / fast_seconds},
+                      {"gradient_rel_error", gradient_error},
+                      {"energy_rel_error", energy_error},
+                      {"error_targets", error_targets},
+                      {"threads", omp_get_max_threads()},
+                      {"accuracy", args.accuracy},
+                      {"order", stats.order},
+                      {"opening_angle", stats.opening_angle},
+                      {"leaf_size", stats.leaf_size},
+                      {"repeats", args.repeats},
+                      {"cells", stats.cells},
+                      {"m2l_interactions", stats.m2l_interactions},
+                      {"p2p_interactions", stats.p2p_interactions},
+                      {"fast_phase_seconds",
+                       {{"tree", stats.seconds_tree},
+                        {"upward", stats.seconds_upward},
+                        {"traversal", stats.seconds_traversal},
+                        {"interactions", stats.seconds_interactions},
+                        {"downward", stats.seconds_downward}}}};
+  if (full) j["direct_float_seconds"] = direct_float_seconds;
+  if (args.json) {
+    std::cout << j.dump(2) << std::endl;
+  } else {
+    std::printf("n %ld (%s), %d threads\n", static_cast<long>(n), distribution.c_str(), omp_get_max_threads());
+    std::printf("  direct  %.4g s%s\n", direct_seconds, full ? "" : " (extrapolated from the sample)");
+    if (full) std::printf("  direct (float)  %.4g s\n", direct_float_seconds);
+    std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", fast_seconds, stats.order,
+                stats.opening_angle, stats.leaf_size, direct_seconds / fast_seconds);
+    std::printf("  relative L2 error: gradient %.3g, energy %.3g (over %ld targets)\n", gradient_error,
+                energy_error, static_cast<long>(error_targets));
+  }
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"bench", "coulomb"},
+     "Coulomb gradient: seconds per evaluation, fast multipole vs direct summation, and the fast error",
+     [](CLI::App& app) {
+       app.add_option("--n", args.n, "number of points (with --mesh: points sampled on its surface)");
+       app.add_option("--distribution", args.distribution, "uniform (cube), sphere (surface) or clustered")
+           ->check(CLI::IsMember({"uniform", "sphere", "clustered"}));
+       app.add_option("--mesh", args.mesh, "use a mesh's vertices (or points on its surface with --n)")
+           ->check(CLI::ExistingFile);
+       app.add_option("--repeats", args.repeats, "timed runs per method; the median is reported")
+           ->check(CLI::PositiveNumber);
+       app.add_option("--accuracy", args.accuracy, "fast summation's target relative L2 gradient error");
+       app.add_option("--order", args.order, "override the expansion order (0: from --accuracy)");
+       app.add_option("--theta", args.opening_angle, "override the opening angle (0: from --accuracy)");
+       app.add_option("--leaf-size", args.leaf_size, "override the leaf size (0: from --accuracy)");
+       app.add_option("--sample", args.sample, "error targets when the full direct sum is skipped");
+       app.add_option("--full-direct-max", args.full_direct_max, "largest n summed completely by direct summation");
+       app.add_option("--seed", args.seed, "random seed for points and the error sample");
+       app.add_flag("--json", args.json, "print JSON on stdout");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,209 @@
+#!/usr/bin/env python3
+"""Draw every figure of `cshapes experiment paper` from the CSV/JSON/mesh files it wrote into OUT.
+
+  scripts/python.sh experiments/plots/paper_figures.py OUT [--pdf]
+
+Reads (each optional; a missing input skips its figure):
+  figures.json                  which meshes go in Fig. 2/3/4/6 (written by the C++ driver)
+  convergence.csv               projection_steps,iteration,energy,mean_violation         -> fig5_convergence
+  distances/<method>.csv        distance matrix, header "shape,<names...>"                -> fig7_distance_matrices
+  labels.csv                    shape,class
+  metrics.json                  per method: map, nn, ft, st, e, dcg, pr {recall, precision} -> fig8_pr
+  correspondence_error.csv      method,error,fraction                                     -> fig9_correspondence
+Writes PNG (and PDF with --pdf) next to them.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from meshio import read_mesh  # noqa: E402
+from render_mesh import draw_mesh  # noqa: E402
+
+METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
+                "smacof": ("SMACOF MDS", "tab:green")}
+
+
+def save(fig, out, name, pdf):
+    for ext in ["png"] + (["pdf"] if pdf else []):
+        path = os.path.join(out, f"{name}.{ext}")
+        tmp = path + ".tmp." + ext
+        fig.savefig(tmp, dpi=150, bbox_inches="tight")
+        os.replace(tmp, path)
+    plt.close(fig)
+    print(f"wrote {name}.png", file=sys.stderr)
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def red_mask(V, props, spec, out):
+    red = np.zeros(len(V), bool)
+    if not spec:
+        return None
+    prop = spec.get("property")
+    if prop and prop in props:
+        red |= props[prop] > 0.5
+    for i in spec.get("vertices", []):
+        if 0 <= i < len(V):
+            red[i] = True
+    return red if red.any() else None
+
+
+def mesh_grid(out, name, grid, pdf, panel=2.6):
+    """grid: {"rows": [...row titles], "cols": [...col titles], "cells": [[{"mesh", "red"}...]...]}"""
+    rows, cols = len(grid["cells"]), max(len(r) for r in grid["cells"])
+    fig, axes = plt.subplots(rows, cols, figsize=(panel * cols, panel * rows), squeeze=False)
+    for r, row in enumerate(grid["cells"]):
+        for c in range(cols):
+            ax = axes[r][c]
+            ax.axis("off")
+            if c >= len(row) or not row[c] or not os.path.exists(os.path.join(out, row[c]["mesh"])):
+                continue
+            V, F, props = read_mesh(os.path.join(out, row[c]["mesh"]))
+            draw_mesh(ax, V, F, red_mask(V, props, row[c].get("red"), out), row[c].get("title"))
+        if grid.get("rows"):
+            axes[r][0].text(-0.05, 0.5, grid["rows"][r], transform=axes[r][0].transAxes, rotation=90,
+                            va="center", ha="right", fontsize=10)
+    if grid.get("title"):
+        fig.suptitle(grid["title"], fontsize=11)
+    fig.tight_layout()
+    save(fig, out, name, pdf)
+
+
+def fig_convergence(out, pdf):
+    path = os.path.join(out, "convergence.csv")
+    if not os.path.exists(path):
+        return
+    rows = read_csv(path)
+    fig, ax1 = plt.subplots(figsize=(6.4, 4))
+    ax2 = ax1.twinx()
+    styles = ["-", "--", ":", "-."]
+    for k_index, k in enumerate(sorted({int(r["projection_steps"]) for r in rows})):
+        sel = [r for r in rows if int(r["projection_steps"]) == k]
+        it = [int(r["iteration"]) for r in sel]
+        ls = styles[k_index % len(styles)]
+        ax1.plot(it, [float(r["energy"]) for r in sel], "tab:red", ls=ls, label=f"energy, {k} proj. steps")
+        ax2.plot(it, [float(r["mean_violation"]) for r in sel], "tab:blue", ls=ls,
+                 label=f"violation, {k} proj. steps")
+    ax1.set_xlabel("outer iteration")
+    ax1.set_ylabel("Coulomb energy", color="tab:red")
+    ax2.set_ylabel("mean relative metric violation", color="tab:blue")
+    ax1.set_yscale("log")
+    ax2.set_yscale("log")
+    h1, l1 = ax1.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax1.legend(h1 + h2, l1 + l2, fontsize=7, loc="center right")
+    ax1.set_title("Fig. 5: convergence for 1, 10 and 100 projection steps")
+    save(fig, out, "fig5_convergence", pdf)
+
+
+def read_matrix(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    names = rows[0][1:]
+    D = np.array([[float(x) for x in r[1:]] for r in rows[1:]])
+    return names, D
+
+
+def fig_distance_matrices(out, pdf):
+    folder = os.path.join(out, "distances")
+    if not os.path.isdir(folder):
+        return
+    methods = [m for m in ["cmds", "smacof", "coulomb"] if os.path.exists(os.path.join(folder, m + ".csv"))]
+    methods += sorted(f[:-4] for f in os.listdir(folder) if f.endswith(".csv") and f[:-4] not in methods)
+    if not methods:
+        return
+    fig, axes = plt.subplots(1, len(methods), figsize=(4.6 * len(methods), 4.4), squeeze=False)
+    for ax, m in zip(axes[0], methods):
+        names, D = read_matrix(os.path.join(folder, m + ".csv"))
+        scale = np.percentile(D[~np.eye(len(D), dtype=bool)], 95) if len(D) > 1 else 1
+        im = ax.imshow(D / scale, cmap="viridis_r", vmin=0, vmax=1, interpolation="nearest")
+        ax.set_xticks(range(len(names)))
+        ax.set_yticks(range(len(names)))
+        ax.set_xticklabels(names, rotation=90, fontsize=6)
+        ax.set_yticklabels(names, fontsize=6)
+        # class boundaries
+        classes = [n.rstrip("0123456789").replace("_noisy", "") for n in names]
+        for i in range(1, len(classes)):
+            if classes[i] != classes[i - 1]:
+                ax.axhline(i - 0.5, color="white", lw=1)
+                ax.axvline(i - 0.5, color="white", lw=1)
+        ax.set_title(METHOD_STYLE.get(m, (m,))[0])
+        fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="distance / 95th percentile")
+    fig.suptitle("Fig. 7: distances between shapes (darker = closer)")
+    fig.tight_layout()
+    save(fig, out, "fig7_distance_matrices", pdf)
+
+
+def fig_pr(out, pdf):
+    path = os.path.join(out, "metrics.json")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        metrics = json.load(f)
+    fig, ax = plt.subplots(figsize=(5, 4.2))
+    for m, v in metrics.get("methods", metrics).items():
+        if not isinstance(v, dict) or "pr" not in v:
+            continue
+        label, color = METHOD_STYLE.get(m, (m, None))
+        ax.plot(v["pr"]["recall"], v["pr"]["precision"], marker="o", ms=3, color=color,
+                label=f"{label} (mAP {v['map']:.2f})")
+    ax.set_xlabel("recall")
+    ax.set_ylabel("precision")
+    ax.set_xlim(0, 1.02)
+    ax.set_ylim(0, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title("Fig. 8: precision-recall")
+    save(fig, out, "fig8_pr", pdf)
+
+
+def fig_correspondence(out, pdf):
+    path = os.path.join(out, "correspondence_error.csv")
+    if not os.path.exists(path):
+        return
+    rows = read_csv(path)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for m in dict.fromkeys(r["method"] for r in rows):
+        sel = [r for r in rows if r["method"] == m]
+        label, color = METHOD_STYLE.get(m, (m, None))
+        ax.plot([float(r["error"]) for r in sel], [float(r["fraction"]) for r in sel], color=color, label=label)
+    ax.set_xlabel("geodesic error (fraction of the geodesic diameter)")
+    ax.set_ylabel("fraction of correspondences")
+    ax.set_ylim(0, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title("Point maps induced by aligning canonical forms")
+    save(fig, out, "fig9_correspondence", pdf)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out")
+    p.add_argument("--pdf", action="store_true")
+    args = p.parse_args()
+    spec_path = os.path.join(args.out, "figures.json")
+    if os.path.exists(spec_path):
+        with open(spec_path) as f:
+            spec = json.load(f)
+        for name, grid in spec.items():
+            mesh_grid(args.out, name, grid, args.pdf)
+    fig_convergence(args.out, args.pdf)
+    fig_distance_matrices(args.out, args.pdf)
+    fig_pr(args.out, args.pdf)
+    fig_correspondence(args.out, args.pdf)
+
+
+if __name__ == "__main__":
+    main()

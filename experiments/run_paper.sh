@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# The README's main job: installs what is missing, builds, and reruns the paper's experiment.
+#
+#   experiments/run_paper.sh [--data DIR|MANIFEST] [--out DIR] [any option of `cshapes experiment paper`]
+#
+# --data   shapes to use: a folder of meshes (class = file name without trailing digits, e.g. cat3.off -> cat)
+#          or a manifest.csv. Default: a synthetic articulated dataset that cshapes generates itself
+#          (deterministic), so the job runs on a fresh machine with no data. For the paper's TOSCA shapes:
+#          --data ../shared/data/tosca5k
+# --out    where everything is written (default: results/). Intermediate results are cached there: rerunning
+#          after an interruption resumes where it stopped.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+
+data=""
+out="$root/results"
+extra=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --data) data="$2"; shift 2 ;;
+    --data=*) data="${1#*=}"; shift ;;
+    --out) out="$2"; shift 2 ;;
+    --out=*) out="${1#*=}"; shift ;;
+    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) extra+=("$1"); shift ;;
+  esac
+done
+
+start=$(date +%s)
+"$root/scripts/install-deps.sh"
+echo "== building (log: $out/build.log)" >&2
+mkdir -p "$out"
+if ! "$root/scripts/build.sh" >"$out/build.log" 2>&1; then
+  tail -30 "$out/build.log" >&2
+  echo "run_paper: the build failed; see $out/build.log" >&2
+  exit 1
+fi
+cshapes="$root/build/cshapes"
+
+if [[ -z "$data" ]]; then
+  data="$out/data/synthetic"
+  if [[ ! -f "$data/manifest.csv" ]]; then
+    echo "== no --data given: generating the synthetic dataset into $data" >&2
+    "$cshapes" generate dataset -o "$data" --classes 4 --poses 5 --noisy 1 --seed 1
+  fi
+  data="$data/manifest.csv"
+  echo "   (for the paper's TOSCA shapes: experiments/run_paper.sh --data ../shared/data/tosca5k)" >&2
+fi
+
+"$cshapes" experiment paper --data "$data" --out "$out" "${extra[@]}"
+
+echo "== figures" >&2
+if "$root/scripts/python.sh" -c 'pass' 2>/dev/null; then
+  "$root/scripts/python.sh" "$root/experiments/plots/paper_figures.py" "$out"
+else
+  echo "run_paper: no Python with matplotlib: figures skipped (the CSV/JSON behind them are in $out)" >&2
+fi
+echo "== done in $(( $(date +%s) - start )) s: see $out/report.md" >&2

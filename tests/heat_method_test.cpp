@@ -1,0 +1,108 @@
+#include "core/heat_method.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/synthetic.h"
+
+namespace cshapes {
+namespace {
+
+double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
+  double sum = 0;
+  int count = 0;
+  for (Index i = 0; i < d.size(); ++i)
+    if (exact[i] > min_distance) {
+      sum += std::abs(d[i] - exact[i]) / exact[i];
+      ++count;
+    }
+  EXPECT_GT(count, 0);
+  return sum / count;
+}
+
+Eigen::VectorXd great_circle(const Mesh& m, int source, double radius) {
+  Eigen::VectorXd exact(m.num_vertices());
+  Eigen::Vector3d s = m.V.row(source).normalized();
+  for (Index i = 0; i < m.num_vertices(); ++i)
+    exact[i] = radius * std::acos(std::clamp(m.V.row(i).normalized().dot(s), -1.0, 1.0));
+  return exact;
+}
+
+TEST(HeatMethod, FlatGridIsEuclidean) {
+  const int n = 81;
+  Mesh m = grid(n, n, 2.0, 2.0);
+  const double h = 2.0 / (n - 1);
+  HeatMethod heat(m);
+  EXPECT_NEAR(heat.time_step(), h * h * (2 + std::sqrt(2.0)) / 3 * (2 + std::sqrt(2.0)) / 3, 0.05 * h * h);
+  for (int source : {n * n / 2, 0, 10 * n + 30}) {
+    Eigen::VectorXd exact = (m.V.rowwise() - m.V.row(source)).rowwise().norm();
+    Eigen::VectorXd d = heat.distances({source});
+    EXPECT_EQ(d[source], 0.0);
+    EXPECT_LT(mean_relative_error(d, exact, 4 * h), 0.03) << "source " << source;
+  }
+}
+
+TEST(HeatMethod, SphereGreatCircles) {
+  const double radius = 3.0;
+  Mesh m = icosphere(4, radius);
+  HeatMethod heat(m);
+  const double h = 0.08 * radius;
+  for (int source : {0, 321, 2000}) {
+    EXPECT_LT(mean_relative_error(heat.distances({source}), great_circle(m, source, radius), 3 * h), 0.03);
+  }
+}
+
+TEST(HeatMethod, BlocksMatchOneSourceAtATime) {
+  Mesh m = torus(40, 20, 2.0, 0.7);
+  HeatMethodOptions options;
+  options.block_size = 7;  // several blocks, the last one partial
+  HeatMethod heat(m, options);
+  std::vector<int> sources = {0, 5, 99, 400, 401, 799, 17, 250, 300, 333, 12, 600, 777, 42, 43, 44, 45};
+  Eigen::MatrixXd each = heat.distances_each(sources);
+  ASSERT_EQ(each.cols(), static_cast<Index>(sources.size()));
+  const double scale = each.maxCoeff();
+  for (size_t k = 0; k < sources.size(); ++k) {
+    Eigen::VectorXd single = heat.distances({sources[k]});
+    EXPECT_LT((each.col(k) - single).cwiseAbs().maxCoeff(), 1e-3 * scale) << "source " << sources[k];
+    EXPECT_EQ(each(sources[k], k), 0.0);
+    EXPECT_GE(each.col(k).minCoeff(), 0.0);
+  }
+}
+
+TEST(HeatMethod, ScaleInvariant) {
+  // Distances scale with the mesh (the time step is tied to the edge length).
+  Mesh m = icosphere(3);
+  Mesh big = m, small = m;
+  big.V *= 1e4;
+  small.V *= 1e-4;
+  Eigen::VectorXd d = heat_method(m, {7});
+  EXPECT_LT((heat_method(big, {7}) / 1e4 - d).cwiseAbs().maxCoeff(), 1e-8 * d.maxCoeff());
+  EXPECT_LT((heat_method(small, {7}) / 1e-4 - d).cwiseAbs().maxCoeff(), 1e-8 * d.maxCoeff());
+}
+
+TEST(HeatMethod, DisconnectedMeshGivesInfinityNotNaN) {
+  Mesh a = icosphere(2);
+  Mesh two;
+  two.V.resize(2 * a.num_vertices(), 3);
+  two.V << a.V, (a.V.rowwise() + Eigen::RowVector3d(5, 0, 0));
+  two.F.resize(2 * a.num_faces(), 3);
+  two.F << a.F, (a.F.array() + static_cast<int>(a.num_vertices())).matrix();
+  HeatMethod heat(two);
+  Eigen::VectorXd d = heat.distances({3});
+  Eigen::MatrixXd each = heat.distances_each({3, static_cast<int>(a.num_vertices()) + 3});
+  Eigen::VectorXd alone = heat_method(a, {3});
+  for (Index i = 0; i < a.num_vertices(); ++i) {
+    EXPECT_NEAR(d[i], alone[i], 1e-9);
+    EXPECT_TRUE(std::isinf(d[a.num_vertices() + i]));
+    EXPECT_TRUE(std::isinf(each(i, 1)));
+    EXPECT_NEAR(each(a.num_vertices() + i, 1), alone[i], 1e-9);
+  }
+  EXPECT_FALSE(d.hasNaN());
+  EXPECT_THROW(heat.distances({-1}), std::exception);
+  EXPECT_THROW(heat.distances_each({0, static_cast<int>(two.num_vertices())}), std::exception);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,100 @@
+#include "core/remesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+void expect_count_within(Index got, Index target, double tolerance) {
+  EXPECT_LE(std::abs(static_cast<double>(got - target)), tolerance * static_cast<double>(target))
+      << "got " << got << " vertices, target " << target;
+}
+
+TEST(Remesh, SphereCoarsenAndRefineHitTheCountAndStayOnTheSphere) {
+  Mesh sphere = icosphere(4, 2.0);  // 2,562 vertices
+  for (Index target : {1000, 6000}) {
+    RemeshOptions o;
+    o.target_vertices = target;
+    RemeshResult r = remesh(sphere, o);
+    MeshInfo info = mesh_info(r.mesh);
+    expect_count_within(info.vertices, target, 0.01);
+    EXPECT_EQ(info.euler_characteristic, 2);
+    EXPECT_EQ(info.components, 1);
+    EXPECT_EQ(info.boundary_edges, 0);
+    // Known answer: every vertex stays near the sphere of radius 2 (within the sag of the input's chords).
+    double sag = 2.0 * (1 - std::cos(info.mean_edge_length / 2.0 / 2.0)) + 2.0 * 1e-3;
+    for (Index i = 0; i < r.mesh.num_vertices(); ++i) EXPECT_NEAR(r.mesh.V.row(i).norm(), 2.0, 4 * sag);
+    double h = hausdorff_distance(sphere, r.mesh);
+    EXPECT_LE(h, 0.01 * info.bbox_diagonal);
+    EXPECT_GT(angle_stats(r.mesh).min_angle, 20.0);
+  }
+}
+
+TEST(Remesh, OpenSheetKeepsItsBoundaryLoop) {
+  Mesh sheet = grid(30, 20, 3.0, 2.0);
+  RemeshOptions o;
+  o.target_vertices = 900;
+  RemeshResult r = remesh(sheet, o);
+  MeshInfo info = mesh_info(r.mesh);
+  expect_count_within(info.vertices, 900, 0.01);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  EXPECT_EQ(info.boundary_loops, 1);
+  EXPECT_NEAR(info.area, 6.0, 6.0 * 0.01);
+}
+
+TEST(Remesh, HausdorffOfBruteForceCases) {
+  // Two parallel unit squares 0.25 apart: the Hausdorff distance is exactly 0.25.
+  Mesh a = grid(5, 5), b = grid(9, 9);
+  b.V.col(2).array() += 0.25;
+  EXPECT_NEAR(hausdorff_distance(a, b), 0.25, 1e-12);
+  EXPECT_NEAR(hausdorff_distance(a, a), 0.0, 1e-12);
+}
+
+TEST(Remesh, AngleStatsOfEquilateralAndRightTriangles) {
+  Mesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0.5, std::sqrt(3.0) / 2, 0, 0, -1, 0;
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 0, 3, 1;
+  AngleStats s = angle_stats(m);
+  EXPECT_NEAR(s.min_angle, 45.0, 1e-9);
+  EXPECT_NEAR(s.max_angle, 90.0, 1e-9);
+  EXPECT_NEAR(s.mean_min_angle, 52.5, 1e-9);
+}
+
+TEST(Remesh, TwoSpheresIntersectOneDoesNot) {
+  Mesh a = icosphere(2);
+  EXPECT_FALSE(self_intersects(a));
+  Mesh b = icosphere(2);
+  b.V.col(0).array() += 0.5;
+  Mesh both;
+  both.V.resize(a.V.rows() * 2, 3);
+  both.V << a.V, b.V;
+  both.F.resize(a.F.rows() * 2, 3);
+  both.F << a.F, b.F.array() + static_cast<int>(a.V.rows());
+  EXPECT_TRUE(self_intersects(both));
+}
+
+TEST(Remesh, Tosca5kCatTo3505WithinOnePercentOfTheDiagonal) {
+  CSHAPES_REQUIRE_DATA();
+  Mesh cat = read_mesh(test::tosca5k("cat0"));
+  RemeshOptions o;
+  o.target_vertices = 3505;
+  RemeshResult r = remesh(cat, o);
+  MeshInfo info = mesh_info(r.mesh);
+  expect_count_within(info.vertices, 3505, 0.01);
+  EXPECT_EQ(info.euler_characteristic, 2);
+  EXPECT_EQ(info.components, 1);
+  double h = hausdorff_distance(cat, r.mesh);
+  EXPECT_LE(h, 0.01 * info.bbox_diagonal) << "Hausdorff " << h << ", diagonal " << info.bbox_diagonal;
+  EXPECT_GE(angle_stats(r.mesh).min_angle, angle_stats(cat).min_angle);
+}
+
+}  // namespace
+}  // namespace cshapes
