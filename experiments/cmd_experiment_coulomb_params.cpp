@@ -5,7 +5,10 @@
 // glued version of it — the same vertices with K bridge edges between vertex pairs that are close in space but
 // far along the surface (the paper's topological noise) — and records the violation, the energy, iterations,
 // time, how many bridges were torn, and the RMS distance between the glued and the clean canonical forms after
-// rigid alignment (same vertex order), relative to the clean form's bounding-box diagonal.
+// rigid alignment (same vertex order), relative to the clean form's bounding-box diagonal. With --partners, it
+// also canonizes another pose of the same class and measures pose invariance: the RMS distance between
+// ground-truth corresponding samples (corres/*.vts) of the two canonical forms after rigid alignment, beside the
+// same for the two input poses.
 // Writes OUT/coulomb_params.csv and OUT/coulomb_params.md (also printed).
 #include <algorithm>
 #include <cmath>
@@ -29,6 +32,7 @@ namespace {
 struct StudyArgs {
   std::string data, out;
   std::string shapes = "cat0,michael0";
+  std::string partners = "cat1,michael1";  // another pose of each shape's class, for the pose-invariance column
   std::string configs = "all";
   int bridges = 8;
   int max_iterations = 600;
@@ -105,6 +109,29 @@ Edges glue_bridges(const Points& V, const Edges& E, int count) {
   return bridges;
 }
 
+// corres/NAME.vts: one 1-based vertex index per common sample of the class.
+std::vector<int> read_correspondence(const std::string& path) {
+  std::ifstream in(path);
+  CSHAPES_REQUIRE(in, path, ": cannot open (ground-truth correspondence of the shape)");
+  std::vector<int> samples;
+  int index = 0;
+  while (in >> index) samples.push_back(index - 1);
+  CSHAPES_REQUIRE(!samples.empty(), path, ": no vertex indices");
+  return samples;
+}
+
+// RMS distance between corresponding samples of two shapes after rigid alignment, over A's bbox diagonal:
+// 0 when the two poses have the same canonical form up to a rigid motion.
+double pose_distance(const Points& A, const std::vector<int>& a, const Points& B, const std::vector<int>& b) {
+  CSHAPES_REQUIRE(a.size() == b.size(), "correspondences of different lengths: ", a.size(), " vs ", b.size());
+  Points SA(static_cast<Index>(a.size()), 3), SB(static_cast<Index>(b.size()), 3);
+  for (size_t s = 0; s < a.size(); ++s) {
+    SA.row(static_cast<Index>(s)) = A.row(a[s]);
+    SB.row(static_cast<Index>(s)) = B.row(b[s]);
+  }
+  return rigid_rms_distance(SB, SA) / bbox_diagonal(A);
+}
+
 struct Config {
   std::string name;
   std::function<void(CoulombCanonOptions&)> apply;
@@ -120,13 +147,21 @@ std::vector<Config> all_configs() {
        }},
       {"scheme=paper", [](CoulombCanonOptions& o) { o.scheme = CoulombScheme::Paper; }},
       {"k=1", [](CoulombCanonOptions& o) { o.projection.steps = 1; }},
+      {"k=3", [](CoulombCanonOptions& o) { o.projection.steps = 3; }},
+      {"k=30", [](CoulombCanonOptions& o) { o.projection.steps = 30; }},
       {"k=100", [](CoulombCanonOptions& o) { o.projection.steps = 100; }},
       {"step=max-edge", [](CoulombCanonOptions& o) { o.step_rule = CoulombStepRule::MaxEdge; }},
+      {"step=mean-edge", [](CoulombCanonOptions& o) { o.step_rule = CoulombStepRule::MeanEdge; }},
       {"step=median-edge", [](CoulombCanonOptions& o) { o.step_rule = CoulombStepRule::MedianEdge; }},
       {"step=max-edge,k=100", [](CoulombCanonOptions& o) {
          o.step_rule = CoulombStepRule::MaxEdge;
          o.projection.steps = 100;
        }},
+      {"factor=0.3,k=30", [](CoulombCanonOptions& o) {
+         o.step_factor = 0.3;
+         o.projection.steps = 30;
+       }},
+      {"momentum=0.97", [](CoulombCanonOptions& o) { o.momentum = 0.97; }},
       {"l1", [](CoulombCanonOptions& o) { o.projection.norm = ProjectionNorm::L1; }},
       {"tear=50", [](CoulombCanonOptions& o) { o.tear_after = 50; }},
       {"tear=150", [](CoulombCanonOptions& o) { o.tear_after = 150; }},
@@ -160,11 +195,24 @@ int run() {
   const std::vector<std::string> columns = {
       "shape",      "config",        "iterations",     "seconds",         "converged",       "energy",
       "mean_violation", "max_violation", "glued_iterations", "glued_seconds", "bridges", "bridges_torn",
-      "glued_rms_to_clean"};
+      "glued_rms_to_clean", "pose_rms", "input_pose_rms"};
   std::vector<std::vector<std::string>> rows;
-  for (const std::string& shape : split(args.shapes)) {
+  const std::vector<std::string> shapes = split(args.shapes), partners = split(args.partners);
+  CSHAPES_REQUIRE(partners.empty() || partners.size() == shapes.size(), "--partners needs one pose per shape (",
+                  shapes.size(), "), or none");
+  for (size_t si = 0; si < shapes.size(); ++si) {
+    const std::string& shape = shapes[si];
     const std::string path = args.data + "/" + shape + ".off";
     const Mesh mesh = read_mesh(path);
+    Mesh partner;
+    std::vector<int> corr, partner_corr;
+    double input_pose = -1;
+    if (!partners.empty()) {
+      partner = read_mesh(args.data + "/" + partners[si] + ".off");
+      corr = read_correspondence(args.data + "/corres/" + shape + ".vts");
+      partner_corr = read_correspondence(args.data + "/corres/" + partners[si] + ".vts");
+      input_pose = pose_distance(mesh.V, corr, partner.V, partner_corr);
+    }
     const Edges clean = mesh_edges(mesh.F);
     const Edges bridges = glue_bridges(mesh.V, clean, args.bridges);
     Edges glued(clean.rows() + bridges.rows(), 2);
@@ -189,6 +237,11 @@ int run() {
         for (Index k = 0; k < bridges.rows(); ++k)
           if (b.torn_edges.row(t) == bridges.row(k)) ++torn_bridges;
       const double rms = rigid_rms_distance(b.X, a.X) / bbox_diagonal(a.X);
+      double pose = -1;
+      if (!partners.empty()) {
+        const CoulombCanonResult c = coulomb_canonical_form(partner.V, mesh_edges(partner.F), o);
+        pose = pose_distance(a.X, corr, c.X, partner_corr);
+      }
       auto fmt = [](double v, int precision) {
         std::ostringstream s;
         s.precision(precision);
@@ -198,9 +251,11 @@ int run() {
       rows.push_back({shape, config.name, std::to_string(a.iterations), fmt(a.seconds, 3),
                       a.converged ? "yes" : "no", fmt(a.energy, 6), fmt(a.violation.mean_relative, 3),
                       fmt(a.violation.max_relative, 3), std::to_string(b.iterations), fmt(b.seconds, 3),
-                      std::to_string(bridges.rows()), std::to_string(torn_bridges), fmt(rms, 3)});
+                      std::to_string(bridges.rows()), std::to_string(torn_bridges), fmt(rms, 3), fmt(pose, 3),
+                      fmt(input_pose, 3)});
       note(shape + " / " + config.name + ": " + rows.back()[2] + " it, violation " + rows.back()[6] +
-           ", bridges torn " + rows.back()[11] + "/" + rows.back()[10] + ", glued vs clean RMS " + rows.back()[12]);
+           ", bridges torn " + rows.back()[11] + "/" + rows.back()[10] + ", glued vs clean RMS " + rows.back()[12] +
+           ", pose RMS " + rows.back()[13] + " (input " + rows.back()[14] + ")");
       (void)diagonal;
     }
   }
@@ -214,11 +269,11 @@ int run() {
   });
   std::ostringstream md;
   md << "| shape | config | iterations | s | converged | energy | mean viol. | max viol. | glued it. | glued s "
-        "| bridges torn | glued vs clean RMS |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "| bridges torn | glued vs clean RMS | pose RMS (input) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     md << "| " << r[0] << " | " << r[1] << " | " << r[2] << " | " << r[3] << " | " << r[4] << " | " << r[5]
        << " | " << r[6] << " | " << r[7] << " | " << r[8] << " | " << r[9] << " | " << r[11] << "/" << r[10]
-       << " | " << r[12] << " |\n";
+       << " | " << r[12] << " | " << r[13] << " (" << r[14] << ") |\n";
   write_file_atomically(args.out + "/coulomb_params.md", [&](std::ostream& out) { out << md.str(); });
   std::cout << md.str();
   return 0;
@@ -232,6 +287,9 @@ const bool registered = register_command(
        app.add_option("--out", args.out, "output folder for coulomb_params.csv/.md")->required();
        app.add_option("--shapes", args.shapes, "comma-separated shape names")->capture_default_str();
        app.add_option("--configs", args.configs, "comma-separated configuration names, or all")
+           ->capture_default_str();
+       app.add_option("--partners", args.partners,
+                      "comma-separated other pose per shape (same class, corres/*.vts), '' for none")
            ->capture_default_str();
        app.add_option("--bridges", args.bridges, "bridge edges glued per shape")->capture_default_str();
        app.add_option("--max-iterations", args.max_iterations, "iteration cap per run")->capture_default_str();
