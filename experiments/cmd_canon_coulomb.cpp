@@ -45,7 +45,7 @@ void add_options(CLI::Option_group& g) {
       ->capture_default_str();
   g.add_option("--dilation", o.projection.dilation, "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact")
       ->capture_default_str();
-  g.add_option("--tear-fraction", o.tear_fraction, "p: fraction of edges torn (by |r-d|); 0: no tearing")
+  g.add_option("--tear-fraction", o.tear_fraction, "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing")
       ->capture_default_str();
   g.add_option("--tear-after", o.tear_after, "T: tear after this many iterations (or at convergence if earlier)")
       ->capture_default_str();

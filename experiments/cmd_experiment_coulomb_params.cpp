@@ -168,10 +168,8 @@ std::vector<Config> all_configs() {
       {"tear=convergence", [](CoulombCanonOptions& o) { o.tear_after = 1000000; }},
       {"p=0.5%", [](CoulombCanonOptions& o) { o.tear_fraction = 0.005; }},
       {"p=2%", [](CoulombCanonOptions& o) { o.tear_fraction = 0.02; }},
-      {"tear x3", [](CoulombCanonOptions& o) {
-         o.tear_times = 3;
-         o.tear_fraction = 0.0034;
-       }},
+      {"tear once", [](CoulombCanonOptions& o) { o.tear_times = 1; }},
+      {"tear x3/100", [](CoulombCanonOptions& o) { o.tear_interval = 100; }},
       {"no tearing", [](CoulombCanonOptions& o) { o.tear_fraction = 0; }},
   };
 }
