@@ -6,13 +6,17 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 
 #include "core/error.h"
+#include "core/io.h"
 #include "core/knn_graph.h"
 #include "core/mesh.h"
 #include "core/synthetic.h"
+#include "tests/test_support.h"
 
 namespace cshapes {
 namespace {
@@ -212,6 +216,29 @@ TEST(CoulombCanon, MomentumReachesThePaperSchemesFixedPoint) {
               0.05 * paper.violation.mean_relative + 1e-4);
   EXPECT_LT(rigid_rms_distance(fast.X, paper.X), 1e-2 * bbox_diagonal(paper.X));
   EXPECT_LT(fast.iterations, paper.iterations);
+}
+
+TEST(CoulombCli, WritesPlyWithTornFlagAndHistory) {
+  const std::string dir = test::scratch_dir("coulomb_cli");
+  write_mesh(dir + "/sphere.off", icosphere(2));
+  const test::CliResult r = test::run_cli("-q canon " + dir + "/sphere.off -o " + dir + "/out.ply --method coulomb " +
+                                          "--coulomb-max-iterations 40 --tear-after 10 --history " + dir + "/h.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Mesh out = read_mesh(dir + "/out.ply");
+  EXPECT_EQ(out.num_vertices(), icosphere(2).num_vertices());
+  EXPECT_EQ(out.num_faces(), icosphere(2).num_faces());
+  std::ifstream ply(dir + "/out.ply");
+  const std::string text((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("property double torn"), std::string::npos);
+  std::ifstream csv(dir + "/h.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("iteration,energy,mean_violation,max_violation,step", 0), 0u) << header;
+  // A bad option value is refused with a message, not a crash.
+  const test::CliResult bad = test::run_cli("-q canon " + dir + "/sphere.off -o " + dir + "/bad.ply --method coulomb " +
+                                            "--step-rule steepest");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("max-edge"), std::string::npos) << bad.err;
 }
 
 TEST(RigidAlign, RecoversARigidMotion) {
