@@ -223,7 +223,6 @@ int run() {
       note(shape + ": " + std::to_string(bridges.rows()) + " bridges glued between vertices (i,j: length)" +
            where.str() + "; mean edge " + std::to_string(edge_lengths(mesh.V, clean).mean()));
     }
-    const double diagonal = bbox_diagonal(mesh.V);
     for (const Config& config : configs) {
       CoulombCanonOptions o;
       o.max_iterations = args.max_iterations;
@@ -254,7 +253,6 @@ int run() {
       note(shape + " / " + config.name + ": " + rows.back()[2] + " it, violation " + rows.back()[6] +
            ", bridges torn " + rows.back()[11] + "/" + rows.back()[10] + ", glued vs clean RMS " + rows.back()[12] +
            ", pose RMS " + rows.back()[13] + " (input " + rows.back()[14] + ")");
-      (void)diagonal;
     }
   }
   write_file_atomically(args.out + "/coulomb_params.csv", [&](std::ostream& out) {
