@@ -11,15 +11,37 @@
 
 namespace cshapes {
 
-// Measured crossover (cshapes bench coulomb, uniform cube and tosca5k-surface points, 2 threads, default
-// accuracy 1e-3): see the value's comment in the report of the commit that set it.
-const Index kAutoFastMinPoints = 4000;
+// Measured crossover: `cshapes bench coulomb --n N --repeats 9` (2 threads, default accuracy 1e-3) on the
+// 2-core development machine, median process CPU seconds per gradient, DirectFloat vs Fast (wall-clock
+// figures agreed but were noisy: the machine was shared by other jobs):
+//   uniform cube        n = 3000: 0.0038 vs 0.0048   4000: 0.0068 vs 0.0082   4500: 0.0087 vs 0.0094
+//                       n = 5000: 0.0105 vs 0.0099   6000: 0.0155 vs 0.0111   8000: 0.0269 vs 0.0142
+//   cat0 surface points n = 1500: 0.0010 vs 0.0014   2000: 0.0017 vs 0.0020   2500: 0.0027 vs 0.0023
+//                       n = 3000: 0.0038 vs 0.0028   4000: 0.0068 vs 0.0039
+//   tosca5k/cat0 vertices (n = 5000): 0.0106 vs 0.0053
+// Fast wins from ≈ 2,200 points on surfaces and ≈ 4,800 in a volume. Auto serves surfaces (meshes, point
+// clouds of surfaces) first, so it switches at 3,000.
+const Index kAutoFastMinPoints = 3000;
 
-double default_min_distance(const Points& X) { return 1e-9 * std::max(bbox_diagonal(X), 1e-300); }
+double default_min_distance(const Points& X) {
+  return 1e-9 * floor_reference_length(X);
+}
+
+double floor_reference_length(const Points& X) {
+  if (X.rows() == 0) return 1;
+  const double diagonal = bbox_diagonal(X);
+  if (diagonal > 0) return diagonal;
+  return std::max(1.0, X.cwiseAbs().maxCoeff());  // all points coincide
+}
+
+double effective_min_distance(const Points& X, double min_distance) {
+  const double lowest = 1e-12 * floor_reference_length(X);
+  return min_distance > 0 ? std::max(min_distance, lowest) : 1e-9 * floor_reference_length(X);
+}
 
 CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   const Index n = X.rows();
-  if (min_distance <= 0) min_distance = default_min_distance(X);
+  min_distance = effective_min_distance(X, min_distance);
   // Structure of arrays so the inner loop vectorises.
   std::vector<double> x(X.col(0).data(), X.col(0).data() + n), y(X.col(1).data(), X.col(1).data() + n),
       z(X.col(2).data(), X.col(2).data() + n);
@@ -53,10 +75,12 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   return result;
 }
 
-CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets, double min_distance) {
+CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
+                                         double min_distance) {
   const Index n = X.rows();
-  if (min_distance <= 0) min_distance = default_min_distance(X);
-  for (Index t : targets) CSHAPES_REQUIRE(t >= 0 && t < n, "coulomb_direct_targets: target index ", t, " outside [0, ", n, ")");
+  min_distance = effective_min_distance(X, min_distance);
+  for (Index t : targets)
+    CSHAPES_REQUIRE(t >= 0 && t < n, "coulomb_direct_targets: target index ", t, " outside [0, ", n, ")");
   std::vector<double> x(X.col(0).data(), X.col(0).data() + n), y(X.col(1).data(), X.col(1).data() + n),
       z(X.col(2).data(), X.col(2).data() + n);
   const double floor2 = min_distance * min_distance;
@@ -93,18 +117,17 @@ namespace coulomb_detail {
 NormalizedPoints normalize_points(const Points& X, double min_distance) {
   const Index n = X.rows();
   NormalizedPoints out;
-  if (min_distance <= 0) min_distance = default_min_distance(X);
-  Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
-  if (n == 0) lo.setZero(), hi.setZero();
+  min_distance = effective_min_distance(X, min_distance);
+  Eigen::RowVector3d lo = Eigen::RowVector3d::Zero(), hi = lo;
+  if (n > 0) lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   out.center = 0.5 * (lo + hi);
   out.scale = 0.5 * (hi - lo).maxCoeff();
   if (!(out.scale > 0)) out.scale = 1;  // a single point, or all coincident
   CSHAPES_REQUIRE(std::isfinite(out.scale), "Coulomb summation: point coordinates must be finite");
-  const double floor = min_distance / out.scale;
-  // The float paths cannot represent floors below ~1e-19 squared; 1e-15 of the half box is far below any
-  // meaningful geometry.
-  out.floor2 = static_cast<float>(std::max(floor * floor, 1e-30));
-  out.floor2_double = std::max(floor * floor, 1e-30);
+  // In float, 1/r³ must stay finite (< 3e38) even summed over a block: the floor is at least 1e-10 of the
+  // half box (1e-12 of the diagonal is raised here), far below any meaningful geometry.
+  const double floor = std::max(min_distance / out.scale, 1e-10);
+  out.floor2 = static_cast<float>(floor * floor);
   return out;
 }
 
@@ -115,14 +138,14 @@ CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance, boo
   const Index n = X.rows();
   CSHAPES_REQUIRE(n < (Index(1) << 31) - kBlock, "coulomb_direct_float: too many points (", n, ")");
   const NormalizedPoints norm = normalize_points(X, min_distance);
-  std::vector<float> x(n), y(n), z(n);
+  std::vector<float> x(n), y(n), z(n), x_lo(n), y_lo(n), z_lo(n);
   for (Index i = 0; i < n; ++i) {
-    x[i] = static_cast<float>((X(i, 0) - norm.center[0]) / norm.scale);
-    y[i] = static_cast<float>((X(i, 1) - norm.center[1]) / norm.scale);
-    z[i] = static_cast<float>((X(i, 2) - norm.center[2]) / norm.scale);
+    split_float((X(i, 0) - norm.center[0]) / norm.scale, x[i], x_lo[i]);
+    split_float((X(i, 1) - norm.center[1]) / norm.scale, y[i], y_lo[i]);
+    split_float((X(i, 2) - norm.center[2]) / norm.scale, z[i], z_lo[i]);
   }
   std::vector<double> potential(n, 0.0), fx(n, 0.0), fy(n, 0.0), fz(n, 0.0);
-  const FloatPoints points{x.data(), y.data(), z.data()};
+  const FloatPoints points{x.data(), y.data(), z.data(), x_lo.data(), y_lo.data(), z_lo.data()};
   const Index blocks = (n + kBlock - 1) / kBlock;
 #pragma omp parallel for schedule(dynamic, 8)
   for (Index b = 0; b < blocks; ++b) {

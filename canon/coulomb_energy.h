@@ -7,17 +7,19 @@
 // Distance floor: distances below `min_distance` are raised to it, so coincident points give finite values:
 // two coincident points add 1/min_distance to each other's potential and exert no force on each other
 // (x_i − x_j = 0). Points closer than the floor but distinct get the force (x_i − x_j)/min_distance³.
-// The float paths (DirectFloat, Fast) further raise the floor to at least 1e-15 × the bounding-box size.
+// A given min_distance is raised to at least 1e-12 × the bounding-box diagonal, and the float paths
+// (DirectFloat, Fast) raise it to 1e-10 × half the largest extent, so 1/r³ stays finite. When all points
+// coincide the diagonal is replaced by max(1, max |coordinate|).
 //
 // Units: X in the input's length unit L; energy and potentials in 1/L, gradient in 1/L².
 // Summations (all deterministic: identical inputs and thread count give bit-identical outputs; in fact the
 // result does not depend on the thread count at all):
 //   Direct       exact, double precision, OpenMP over targets, O(n²)        — the reference
 //   DirectFloat  float pair terms (AVX2 rsqrt + Newton step), double accumulation every ≤ 512 terms;
-//                relative error ≈ 1e-6, about 4× faster than Direct
+//                relative error ≈ 1e-6, about 9× faster than Direct (CPU time at n = 3,505 and 22,738)
 //   Fast         octree fast multipole method (canon/coulomb_fmm.h), O(n), relative L2 gradient error
 //                ≤ `accuracy` (measured on meshes, uniform, sphere and clustered points)
-//   Auto         DirectFloat below the measured crossover, Fast above (see kAutoFastMinPoints)
+//   Auto         DirectFloat below the measured crossover (3,000 points), Fast from there on
 #pragma once
 
 #include <vector>
@@ -34,17 +36,19 @@ struct CoulombOptions {
     Fast          // fast multipole method with the accuracy below, O(n)
   };
   Summation summation = Summation::Auto;
-  double accuracy = 1e-3;   // fast summation: target relative L2 error of the gradient vs direct summation
-                            // (the energy's relative error is then ≈ 10× smaller); tested range 1e-2 … 1e-6
-  double min_distance = 0;  // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
+  double accuracy = 1e-3;  // fast summation: target relative L2 error of the gradient vs direct summation
+                           // (the energy's relative error is then ≈ 10× smaller); valid range 1e-2 … 3e-6
+  double min_distance = 0;       // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
   bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
 };
 
 struct CoulombEvaluation {
   double energy = 0;
-  Points gradient;           // n×3, ∇E
-  Eigen::VectorXd potential;  // n, φ_i (empty unless options.want_potentials; always filled by coulomb_direct)
-  CoulombOptions::Summation summation_used = CoulombOptions::Summation::Direct;  // Direct, DirectFloat or Fast
+  Points gradient;  // n×3, ∇E
+  Eigen::VectorXd
+      potential;  // n, φ_i (empty unless options.want_potentials; always filled by coulomb_direct)
+  CoulombOptions::Summation summation_used =
+      CoulombOptions::Summation::Direct;  // Direct, DirectFloat or Fast
 };
 
 // Below this many points Auto uses DirectFloat, at and above it Fast. Measured with
@@ -60,7 +64,8 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance = 0);
 
 // Direct summation with float pair terms and double accumulation (see DirectFloat above). O(n²).
 // Fills energy, gradient and, if want_potentials, potential.
-CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance = 0, bool want_potentials = false);
+CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance = 0,
+                                       bool want_potentials = false);
 
 // Exact double-precision direct sums for a subset of targets (indices into X, any order, repeats allowed),
 // against all n sources: potential(t) = φ_{targets[t]}, gradient.row(t) = ∇_{targets[t]} E.
@@ -72,7 +77,11 @@ struct CoulombTargetSums {
 CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
                                          double min_distance = 0);
 
-// The floor actually used for X when options.min_distance is 0.
+// The floor used for X when options.min_distance is 0: 1e-9 × floor_reference_length(X).
 double default_min_distance(const Points& X);
+// The bounding-box diagonal of X, or max(1, max |coordinate|) when it is 0 (all points coincide).
+double floor_reference_length(const Points& X);
+// The floor the double-precision paths use for a requested min_distance (0: the default).
+double effective_min_distance(const Points& X, double min_distance);
 
 }  // namespace cshapes

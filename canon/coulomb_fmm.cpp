@@ -31,15 +31,15 @@ struct MultiIndexTables {
   int count = 0;
   std::vector<std::array<int, 3>> exponent;
   std::vector<int> degree;
-  std::vector<double> factorial;                   // k! = k_x! k_y! k_z!
-  std::vector<double> sign;                        // (−1)^|k|
-  std::vector<int> parent, axis;                   // k = parent + e_axis (axis: last nonzero component)
-  std::vector<std::array<int, 3>> minus_one;       // index of k − e_i, or −1
-  std::vector<std::array<int, 3>> minus_two;       // index of k − 2e_i, or −1
-  std::vector<std::array<int, 3>> pair_sum;        // (m, k, m+k) with |m| + |k| ≤ p: M2L
-  std::vector<std::array<int, 3>> shift;           // (k, a, k−a) with a ≤ k: M2M and L2L
+  std::vector<double> factorial;              // k! = k_x! k_y! k_z!
+  std::vector<double> sign;                   // (−1)^|k|
+  std::vector<int> parent, axis;              // k = parent + e_axis (axis: last nonzero component)
+  std::vector<std::array<int, 3>> minus_one;  // index of k − e_i, or −1
+  std::vector<std::array<int, 3>> minus_two;  // index of k − 2e_i, or −1
+  std::vector<std::array<int, 3>> pair_sum;   // (m, k, m+k) with |m| + |k| ≤ p: M2L
+  std::vector<std::array<int, 3>> shift;      // (k, a, k−a) with a ≤ k: M2M and L2L
   std::array<std::vector<std::array<int, 2>>, 3> gradient;  // (n, n + e_i) with |n| ≤ p − 1: L2P
-  std::vector<int> lookup_table;                   // (p+1)³ → index, −1 when |k| > p
+  std::vector<int> lookup_table;                            // (p+1)³ → index, −1 when |k| > p
   // pair_sum grouped by m: entries [m2l_offset[m], m2l_offset[m+1]) of m2l_k / m2l_mk
   std::vector<int> m2l_offset, m2l_k, m2l_mk;
   // The recurrence's terms for each k: the existing k − e_i (with their axis i) and k − 2e_i
@@ -125,25 +125,9 @@ struct MultiIndexTables {
     for (int k = 1; k < count; ++k) out[k] = out[parent[k]] * d[axis[k]] / exponent[k][axis[k]];
   }
 
-  // out[k] = ∂^k (1/‖R‖), from the recurrence for the Taylor coefficients T_k = ∂^k(1/‖R‖)/k! of
-  // Duan & Krasny (2001):  |k| ‖R‖² T_k + (2|k|−1) Σ_i R_i T_{k−e_i} + (|k|−1) Σ_i T_{k−2e_i} = 0.
-  void derivatives(const double R[3], double* out) const {
-    const double r2 = R[0] * R[0] + R[1] * R[1] + R[2] * R[2];
-    const double inv_r2 = 1 / r2;
-    out[0] = std::sqrt(inv_r2);
-    for (int k = 1; k < count; ++k) {
-      const int d = degree[k];
-      double s1 = 0, s2 = 0;
-      for (int i = 0; i < 3; ++i) {
-        if (minus_one[k][i] >= 0) s1 += R[i] * out[minus_one[k][i]];
-        if (minus_two[k][i] >= 0) s2 += out[minus_two[k][i]];
-      }
-      out[k] = -((2 * d - 1) * s1 + (d - 1) * s2) * inv_r2 / d;
-    }
-    for (int k = 1; k < count; ++k) out[k] *= factorial[k];
-  }
-
-  // The same for four separation vectors at once, one per SIMD lane.
+  // out[k] = ∂^k (1/‖R‖) for four separation vectors R at once, one per SIMD lane, from the recurrence for
+  // the Taylor coefficients T_k = ∂^k(1/‖R‖)/k! of Duan & Krasny (2001):
+  //   |k| ‖R‖² T_k + (2|k|−1) Σ_i R_i T_{k−e_i} + (|k|−1) Σ_i T_{k−2e_i} = 0.
   void derivatives4(const V4 R[3], V4* out) const {
     const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
     for (int l = 0; l < 4; ++l) out[0][l] = std::sqrt(inv_r2[l]);
@@ -159,14 +143,117 @@ struct MultiIndexTables {
   }
 };
 
+// The M2L of one batch of four sources with every table a compile-time constant, so that the fully unrolled
+// loops address registers and fixed offsets instead of loading indices (about 2× faster than the table-driven
+// loop of MultiIndexTables). Same multi-index order as MultiIndexTables.
+template <int P>
+struct StaticM2L {
+  static constexpr int kCount = (P + 1) * (P + 2) * (P + 3) / 6;
+  static constexpr int kPairs = (P + 1) * (P + 2) * (P + 3) * (P + 4) * (P + 5) * (P + 6) / 720;
+  struct Tables {
+    int exponent[kCount][3] = {};
+    int n1[kCount] = {}, axis1[kCount][3] = {}, index1[kCount][3] = {}, n2[kCount] = {},
+        index2[kCount][3] = {};
+    double c1[kCount] = {}, c2[kCount] = {}, factorial[kCount] = {};
+    int pair_m[kPairs] = {}, pair_k[kPairs] = {}, pair_mk[kPairs] = {};
+  };
+  static constexpr int index_of(const Tables& t, int a, int b, int c) {
+    if (a < 0 || b < 0 || c < 0 || a + b + c > P) return -1;
+    for (int k = 0; k < kCount; ++k)
+      if (t.exponent[k][0] == a && t.exponent[k][1] == b && t.exponent[k][2] == c) return k;
+    return -1;
+  }
+  static constexpr Tables make() {
+    Tables t;
+    int next = 0;
+    for (int d = 0; d <= P; ++d)
+      for (int a = d; a >= 0; --a)
+        for (int b = d - a; b >= 0; --b) {
+          t.exponent[next][0] = a, t.exponent[next][1] = b, t.exponent[next][2] = d - a - b;
+          ++next;
+        }
+    for (int k = 0; k < kCount; ++k) {
+      const int d = t.exponent[k][0] + t.exponent[k][1] + t.exponent[k][2];
+      double f = 1;
+      for (int i = 0; i < 3; ++i)
+        for (int q = 2; q <= t.exponent[k][i]; ++q) f *= q;
+      t.factorial[k] = f;
+      if (d == 0) continue;
+      for (int i = 0; i < 3; ++i) {
+        int e1[3] = {t.exponent[k][0], t.exponent[k][1], t.exponent[k][2]};
+        int e2[3] = {e1[0], e1[1], e1[2]};
+        e1[i] -= 1, e2[i] -= 2;
+        const int i1 = index_of(t, e1[0], e1[1], e1[2]), i2 = index_of(t, e2[0], e2[1], e2[2]);
+        if (i1 >= 0) t.axis1[k][t.n1[k]] = i, t.index1[k][t.n1[k]++] = i1;
+        if (i2 >= 0) t.index2[k][t.n2[k]++] = i2;
+      }
+      t.c1[k] = (2.0 * d - 1) / d;
+      t.c2[k] = (d - 1.0) / d;
+    }
+    int pair = 0;
+    for (int m = 0; m < kCount; ++m)
+      for (int k = 0; k < kCount; ++k) {
+        const int mk = index_of(t, t.exponent[m][0] + t.exponent[k][0], t.exponent[m][1] + t.exponent[k][1],
+                                t.exponent[m][2] + t.exponent[k][2]);
+        if (mk < 0) continue;
+        t.pair_m[pair] = m, t.pair_k[pair] = k, t.pair_mk[pair] = mk;
+        ++pair;
+      }
+    return t;
+  }
+  static constexpr Tables kTables = make();
+
+  // accumulated[m] += Σ_k moments[k] · ∂^{m+k}(1/r)(R), lane by lane.
+  static void apply(const V4 R[3], const V4* moments, V4* accumulated) {
+    constexpr const Tables& t = kTables;
+    V4 D[kCount];
+    const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
+    for (int l = 0; l < 4; ++l) D[0][l] = std::sqrt(inv_r2[l]);
+#pragma GCC unroll 128
+    for (int k = 1; k < kCount; ++k) {
+      V4 s1 = R[t.axis1[k][0]] * D[t.index1[k][0]];
+#pragma GCC unroll 3
+      for (int q = 1; q < t.n1[k]; ++q) s1 += R[t.axis1[k][q]] * D[t.index1[k][q]];
+      V4 s2 = {0, 0, 0, 0};
+#pragma GCC unroll 3
+      for (int q = 0; q < t.n2[k]; ++q) s2 += D[t.index2[k][q]];
+      D[k] = -(t.c1[k] * s1 + t.c2[k] * s2) * inv_r2;
+    }
+#pragma GCC unroll 128
+    for (int k = 1; k < kCount; ++k) D[k] *= t.factorial[k];
+#pragma GCC unroll 1024
+    for (int j = 0; j < kPairs; ++j) accumulated[t.pair_m[j]] += moments[t.pair_k[j]] * D[t.pair_mk[j]];
+  }
+};
+
+using StaticM2LFunction = void (*)(const V4*, const V4*, V4*);
+StaticM2LFunction static_m2l(int order) {
+  switch (order) {
+    case 1:
+      return &StaticM2L<1>::apply;
+    case 2:
+      return &StaticM2L<2>::apply;
+    case 3:
+      return &StaticM2L<3>::apply;
+    case 4:
+      return &StaticM2L<4>::apply;
+    case 5:
+      return &StaticM2L<5>::apply;
+    case 6:
+      return &StaticM2L<6>::apply;
+    default:
+      return nullptr;  // higher orders use the table-driven loop
+  }
+}
+
 struct Cell {
-  int32_t begin = 0, end = 0;        // points [begin, end) in Morton order
-  int32_t child_begin = -1;          // children are cells [child_begin, child_begin + child_count)
+  int32_t begin = 0, end = 0;  // points [begin, end) in Morton order
+  int32_t child_begin = -1;    // children are cells [child_begin, child_begin + child_count)
   int32_t child_count = 0;
   int32_t parent = -1;
-  int32_t depth = 0;                 // in the collapsed tree
-  double center[3] = {0, 0, 0};      // centre of mass (unit charges): the expansion centre
-  double radius = 0;                 // max distance of the cell's points from center
+  int32_t depth = 0;             // in the collapsed tree
+  double center[3] = {0, 0, 0};  // centre of mass (unit charges): the expansion centre
+  double radius = 0;             // max distance of the cell's points from center
   bool leaf() const { return child_count == 0; }
   int32_t size() const { return end - begin; }
 };
@@ -184,9 +271,25 @@ uint64_t spread_bits(uint64_t v) {
 
 constexpr int kMortonLevels = 21;
 
-// The accuracy → (order, θ, leaf size) table. Measured with `cshapes bench coulomb` (relative L2 gradient
-// error against direct summation, worst of uniform cube, sphere surface, clustered points and tosca5k
-// meshes), each row the fastest setting whose worst error stayed below the row's accuracy.
+// The accuracy → (order, θ, leaf size) table, measured with `cshapes bench coulomb --threads 1` (relative L2
+// gradient error against exact direct summation).
+// 1. Synthetic sets, n = 50,000 (--full-direct-max 0 --sample 500), worst of uniform cube, sphere, clustered
+//    and points on tosca5k/cat0's surface, over p ∈ 3…10, θ ∈ {0.4 … 0.7}, leaf ∈ {48, 96}:
+//      (3, 0.7) 3.0e-3   (3, 0.6) 1.8e-3   (4, 0.6) 5.9e-4   (5, 0.6) 1.7e-4   (4, 0.5) 2.5e-4   (5,
+//      0.5) 6.4e-5 (6, 0.5) 2.3e-5   (6, 0.4) 4.8e-6   (7, 0.4) 1.4e-6   (8, 0.4) 4.8e-7   (10, 0.4) 4.3e-7
+//    Smaller sets can be worse: for p = 4 over n ∈ {1000, …, 30000} the worst was 9.4e-4 at θ = 0.6
+//    (uniform, n = 3505), 6.1e-4 at θ = 0.55, 3.9e-4 at θ = 0.5.
+// 2. The vertices of real meshes are harder (regular spacing, a gradient that largely cancels): worst over
+//    all 24 tosca5k meshes (--mesh FILE):
+//      (4, 0.6) 1.9e-3   (4, 0.5) 9.3e-4   (4, 0.45) 4.0e-4   (4, 0.4) 3.1e-4   (5, 0.6) 9.0e-4   (5,
+//      0.5) 4.5e-4 (5, 0.45) 1.2e-4  (6, 0.5) 2.3e-4   (6, 0.45) 6.1e-5   (6, 0.4) 4.1e-5
+//    and over the four worst of them (michael0, victoria10, cat2, cat3):
+//      (3, 0.6) 4.3e-3   (3, 0.4) 9.0e-4   (7, 0.4) 1.2e-5   (8, 0.35) 3.0e-6  (10, 0.35) 4.9e-7
+// Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
+// default 1e-3, whose users include unseen meshes). The float near field limits the attainable error to
+// ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35) gave 1.1e-6 on 3,000
+// uniform points): requests below 3e-6 get the last row; use Summation::Direct for more. Energy errors were ≤
+// accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
 struct FmmParameters {
   double accuracy;
   int order;
@@ -194,8 +297,8 @@ struct FmmParameters {
   int leaf_size;
 };
 constexpr FmmParameters kParameterTable[] = {
-    {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.5, 48}, {3e-4, 5, 0.5, 48},
-    {1e-4, 6, 0.5, 64},  {3e-5, 7, 0.45, 64}, {1e-5, 8, 0.45, 64}, {1e-6, 10, 0.4, 64},
+    {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.45, 48}, {3e-4, 5, 0.45, 96},
+    {1e-4, 6, 0.45, 96}, {3e-5, 7, 0.4, 96}, {1e-5, 8, 0.35, 96}, {3e-6, 10, 0.35, 96},
 };
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {
@@ -216,11 +319,35 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
   return chosen;
 }
 
+// Sorts by (key, index) — the same order as std::sort on the pairs, as the input is in index order and the
+// LSD radix sort is stable. 63-bit keys in 6 passes of 11 bits: O(n), several times faster than std::sort.
+void radix_sort(std::vector<std::pair<uint64_t, int32_t>>& items) {
+  constexpr int kBits = 11, kBuckets = 1 << kBits;
+  std::vector<std::pair<uint64_t, int32_t>> buffer(items.size());
+  std::vector<size_t> offset(kBuckets);
+  for (int shift = 0; shift < 3 * kMortonLevels; shift += kBits) {
+    std::fill(offset.begin(), offset.end(), 0);
+    for (const auto& item : items) ++offset[(item.first >> shift) & (kBuckets - 1)];
+    size_t total = 0;
+    for (size_t& o : offset) {
+      const size_t c = o;
+      o = total;
+      total += c;
+    }
+    for (const auto& item : items) buffer[offset[(item.first >> shift) & (kBuckets - 1)]++] = item;
+    items.swap(buffer);
+  }
+}
+
 class Fmm {
  public:
   Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats)
-      : X_(X), n_(X.rows()), tables_(parameters.order), theta_(parameters.opening_angle),
-        leaf_size_(parameters.leaf_size), stats_(stats) {
+      : X_(X),
+        n_(X.rows()),
+        tables_(parameters.order),
+        theta_(parameters.opening_angle),
+        leaf_size_(parameters.leaf_size),
+        stats_(stats) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
   }
 
@@ -234,7 +361,7 @@ class Fmm {
     t = std::chrono::steady_clock::now();
     m2l_lists_.assign(cells_.size(), {});
     p2p_lists_.assign(cells_.size(), {});
-    traverse(0, 0);
+    traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
     t = std::chrono::steady_clock::now();
     interactions();
@@ -255,15 +382,17 @@ class Fmm {
       uint64_t key = 0;
       for (int c = 0; c < 3; ++c) {
         const double u = (X_(i, c) - norm_.center[c]) / norm_.scale;
-        const double g = std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
+        const double g =
+            std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
         key |= spread_bits(static_cast<uint64_t>(g)) << (2 - c);
       }
       keyed[i] = {key, static_cast<int32_t>(i)};
     }
-    std::sort(keyed.begin(), keyed.end());
+    radix_sort(keyed);
     order_.resize(n_);
     keys_.resize(n_);
     xd_.resize(n_), yd_.resize(n_), zd_.resize(n_), xf_.resize(n_), yf_.resize(n_), zf_.resize(n_);
+    xl_.resize(n_), yl_.resize(n_), zl_.resize(n_);
 #pragma omp parallel for schedule(static)
     for (Index s = 0; s < n_; ++s) {
       const Index i = keyed[s].second;
@@ -272,7 +401,9 @@ class Fmm {
       xd_[s] = (X_(i, 0) - norm_.center[0]) / norm_.scale;
       yd_[s] = (X_(i, 1) - norm_.center[1]) / norm_.scale;
       zd_[s] = (X_(i, 2) - norm_.center[2]) / norm_.scale;
-      xf_[s] = static_cast<float>(xd_[s]), yf_[s] = static_cast<float>(yd_[s]), zf_[s] = static_cast<float>(zd_[s]);
+      coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
+      coulomb_detail::split_float(yd_[s], yf_[s], yl_[s]);
+      coulomb_detail::split_float(zd_[s], zf_[s], zl_[s]);
     }
 
     // Breadth-first: parents precede children, siblings are contiguous, depth never decreases.
@@ -343,8 +474,12 @@ class Fmm {
     stats_.leaves = std::count_if(cells_.begin(), cells_.end(), [](const Cell& c) { return c.leaf(); });
   }
 
-  double* multipole(size_t c) { return multipoles_.data() + c * tables_.count; }
-  double* local(size_t c) { return locals_.data() + c * tables_.count; }
+  double* multipole(size_t c) {
+    return multipoles_.data() + c * tables_.count;
+  }
+  double* local(size_t c) {
+    return locals_.data() + c * tables_.count;
+  }
 
   // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
   // scheduler time slice, so the cheap per-cell translations (M2M, L2L) run serially and only the per-point
@@ -356,7 +491,7 @@ class Fmm {
     leaves_.clear();
     for (size_t c = 0; c < cells_.size(); ++c)
       if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
-    // P2M: M_k = Σ_j (x_j − z)^k / k!
+        // P2M: M_k = Σ_j (x_j − z)^k / k!
 #pragma omp parallel
     {
       std::vector<double> mono(count);
@@ -392,11 +527,34 @@ class Fmm {
     }
   }
 
+  // The traversal in parallel: a serial pass stops at target cells of at most `cut` points and defers their
+  // pairs; then each deferred target's pairs are traversed by one thread, in the serial pass's order.
+  // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
+  // lists are the same as a serial traversal's, whatever the thread count.
+  void traverse_parallel() {
+    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 256), leaf_size_);
+    deferred_.assign(cells_.size(), {});
+    deferring_ = true;
+    traverse(0, 0);
+    deferring_ = false;
+    std::vector<int32_t> targets;
+    for (size_t a = 0; a < cells_.size(); ++a)
+      if (!deferred_[a].empty()) targets.push_back(static_cast<int32_t>(a));
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t t = 0; t < targets.size(); ++t)
+      for (int32_t b : deferred_[targets[t]]) traverse(targets[t], b);
+    deferred_.clear();
+  }
+
   // Dual-tree traversal (target a, source b): every ordered pair of points is covered exactly once, either by
   // an M2L of b's multipole into a's local expansion, or by a direct leaf-leaf sum.
   void traverse(int32_t a, int32_t b) {
     const Cell& A = cells_[a];
     const Cell& B = cells_[b];
+    if (deferring_ && A.size() <= deferred_cut_) {
+      deferred_[a].push_back(b);
+      return;
+    }
     if (a == b) {
       if (A.leaf()) {
         p2p_lists_[a].push_back(a);
@@ -406,7 +564,8 @@ class Fmm {
         for (int32_t cb = A.child_begin; cb < A.child_begin + A.child_count; ++cb) traverse(ca, cb);
       return;
     }
-    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1], dz = A.center[2] - B.center[2];
+    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
+                 dz = A.center[2] - B.center[2];
     const double distance = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (A.radius + B.radius < theta_ * distance) {
       m2l_lists_[a].push_back(b);
@@ -426,9 +585,11 @@ class Fmm {
   void interactions() {
     const int count = tables_.count;
     potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
-    const FloatPoints points{xf_.data(), yf_.data(), zf_.data()};
+    const FloatPoints points{xf_.data(), yf_.data(), zf_.data(), xl_.data(), yl_.data(), zl_.data()};
     Index m2l_total = 0, p2p_total = 0;
-#pragma omp parallel reduction(+ : m2l_total, p2p_total)
+    double m2l_seconds = 0, p2p_seconds = 0;
+    const StaticM2LFunction fixed_m2l = static_m2l(tables_.order);
+#pragma omp parallel reduction(+ : m2l_total, p2p_total, m2l_seconds, p2p_seconds)
     {
       std::vector<V4> derivative(count), moments(count), accumulated(count);
       std::vector<SourceRange> ranges;
@@ -438,6 +599,7 @@ class Fmm {
         // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
         // the lanes are summed at the end in a fixed order.
         const std::vector<int32_t>& list = m2l_lists_[a];
+        const auto m2l_start = std::chrono::steady_clock::now();
         if (!list.empty()) {
           std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
           for (size_t g = 0; g < list.size(); g += 4) {
@@ -453,6 +615,10 @@ class Fmm {
                 for (int k = 0; k < count; ++k) moments[k][l] = 0;
               }
             }
+            if (fixed_m2l) {
+              fixed_m2l(R, moments.data(), accumulated.data());
+              continue;
+            }
             tables_.derivatives4(R, derivative.data());
             for (int m = 0; m < count; ++m) {
               V4 sum = accumulated[m];
@@ -466,7 +632,9 @@ class Fmm {
             L[m] += (accumulated[m][0] + accumulated[m][1]) + (accumulated[m][2] + accumulated[m][3]);
         }
         m2l_total += static_cast<Index>(m2l_lists_[a].size());
+        m2l_seconds += seconds_since(m2l_start);
         if (!A.leaf() || p2p_lists_[a].empty()) continue;
+        const auto p2p_start = std::chrono::steady_clock::now();
         ranges.clear();
         Index sources = 0;
         for (int32_t b : p2p_lists_[a]) {
@@ -479,8 +647,11 @@ class Fmm {
           coulomb_detail::p2p_block(points, i0, block, ranges.data(), static_cast<int>(ranges.size()),
                                     norm_.floor2, potential_.data(), fx_.data(), fy_.data(), fz_.data());
         }
+        p2p_seconds += seconds_since(p2p_start);
       }
     }
+    stats_.seconds_m2l = m2l_seconds;
+    stats_.seconds_p2p = p2p_seconds;
     stats_.m2l_interactions = m2l_total;
     stats_.p2p_interactions = p2p_total;
   }
@@ -551,12 +722,15 @@ class Fmm {
   std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
   std::vector<uint64_t> keys_;
   std::vector<double> xd_, yd_, zd_;
-  std::vector<float> xf_, yf_, zf_;
+  std::vector<float> xf_, yf_, zf_, xl_, yl_, zl_;  // float high and low parts (coulomb_p2p.h)
   std::vector<Cell> cells_;
   std::vector<int32_t> leaves_;
   std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
   std::vector<double> multipoles_, locals_;
   std::vector<std::vector<int32_t>> m2l_lists_, p2p_lists_;
+  std::vector<std::vector<int32_t>> deferred_;  // traverse_parallel's deferred pairs, by target
+  int32_t deferred_cut_ = 0;
+  bool deferring_ = false;
   std::vector<double> potential_, fx_, fy_, fz_;
 };
 

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <queue>
 
 #include "core/error.h"
 
@@ -14,7 +13,9 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross2(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 // Faces around each undirected edge, found by binary search in a sorted (edge key, face) list.
 class EdgeFaces {
@@ -73,7 +74,7 @@ double triangle_update(const FastMarching::Stencil& s, double t_p, double t_q) {
   // Work relative to T_P for accuracy far from the source: T' = T_C - T_P, right-hand side (0, T_Q - T_P).
   const double dq = t_q - t_p;
   const double a0 = s.inv00 + s.inv01, a1 = s.inv10 + s.inv11;  // a = M^{-1} 1
-  const double b0 = s.inv01 * dq, b1 = s.inv11 * dq;              // b = M^{-1} (0, dq)
+  const double b0 = s.inv01 * dq, b1 = s.inv11 * dq;            // b = M^{-1} (0, dq)
   const double aa = a0 * a0 + a1 * a1, ab = a0 * b0 + a1 * b1, bb = b0 * b0 + b1 * b1;
   // |b - T' a|^2 = 1
   const double disc = ab * ab - aa * (bb - 1.0);
@@ -89,6 +90,64 @@ double triangle_update(const FastMarching::Stencil& s, double t_p, double t_q) {
   return t_p + t;
 }
 
+// Binary min-heap of trial vertices keyed by their current distance, with each vertex's position so that a
+// decreased distance is sifted up in place (no duplicate entries, the heap holds only the narrow band).
+class TrialHeap {
+ public:
+  TrialHeap(const double* key, Index n) : key_(key), position_(n, -1) { heap_.reserve(1024); }
+  bool empty() const { return heap_.empty(); }
+  // Inserts v, or restores the order after key[v] decreased.
+  void push_or_decrease(int v) {
+    int at = position_[v];
+    if (at == -2) return;  // accepted
+    if (at < 0) {
+      at = static_cast<int>(heap_.size());
+      heap_.push_back(v);
+    }
+    sift_up(at, v);
+  }
+  int pop() {
+    const int top = heap_[0];
+    position_[top] = -2;  // accepted: never inserted again (its key only decreases while it is trial)
+    const int last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) sift_down(0, last);
+    return top;
+  }
+
+ private:
+  void sift_up(int at, int v) {
+    const double k = key_[v];
+    while (at > 0) {
+      const int parent = (at - 1) / 2;
+      if (key_[heap_[parent]] <= k) break;
+      heap_[at] = heap_[parent];
+      position_[heap_[at]] = at;
+      at = parent;
+    }
+    heap_[at] = v;
+    position_[v] = at;
+  }
+  void sift_down(int at, int v) {
+    const double k = key_[v];
+    const int size = static_cast<int>(heap_.size());
+    while (true) {
+      int child = 2 * at + 1;
+      if (child >= size) break;
+      if (child + 1 < size && key_[heap_[child + 1]] < key_[heap_[child]]) ++child;
+      if (key_[heap_[child]] >= k) break;
+      heap_[at] = heap_[child];
+      position_[heap_[at]] = at;
+      at = child;
+    }
+    heap_[at] = v;
+    position_[v] = at;
+  }
+  const double* key_;
+  std::vector<int> heap_;
+  std::vector<int> position_;  // index in heap_, -1 never inserted, -2 accepted
+};
+
 }  // namespace
 
 FastMarching::FastMarching(const Mesh& mesh, const FastMarchingOptions& options)
@@ -97,8 +156,8 @@ FastMarching::FastMarching(const Mesh& mesh, const FastMarchingOptions& options)
   const Faces& F = mesh.F;
   for (Index f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      CSHAPES_REQUIRE(F(f, c) >= 0 && F(f, c) < num_vertices_, "fast marching: face ", f, " has vertex index ",
-                      F(f, c), " outside 0..", num_vertices_ - 1);
+      CSHAPES_REQUIRE(F(f, c) >= 0 && F(f, c) < num_vertices_, "fast marching: face ", f,
+                      " has vertex index ", F(f, c), " outside 0..", num_vertices_ - 1);
   EdgeFaces edge_faces(F);
   auto length = [&](int i, int j) { return (V.row(i) - V.row(j)).norm(); };
 
@@ -182,29 +241,28 @@ void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& d
   const double inf = std::numeric_limits<double>::infinity();
   dist.setConstant(num_vertices_, inf);
   std::vector<char> alive(num_vertices_, 0);
-  using Item = std::pair<double, int>;
-  std::vector<Item> storage;
-  storage.reserve(2 * static_cast<size_t>(num_vertices_));
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap(std::greater<Item>(), std::move(storage));
+  TrialHeap heap(dist.data(), num_vertices_);
   for (int s : sources) {
     CSHAPES_REQUIRE(s >= 0 && s < num_vertices_, "fast marching: source vertex ", s, " out of range 0..",
                     num_vertices_ - 1);
     dist[s] = 0;
-    heap.emplace(0.0, s);
+    heap.push_or_decrease(s);
   }
   while (!heap.empty()) {
-    auto [t_i, i] = heap.top();
-    heap.pop();
-    if (alive[i] || t_i > dist[i]) continue;
+    const int i = heap.pop();
+    const double t_i = dist[i];
     alive[i] = 1;
     for (int k = offsets_[i]; k < offsets_[i + 1]; ++k) {
       const Stencil& s = stencils_[k];
-      if (alive[s.target]) continue;
+      // Both candidates are at least t_i: nothing to gain where the target is that close already (which
+      // includes every accepted vertex).
+      if (t_i >= dist[s.target]) continue;
       double candidate = t_i + s.p_len;
-      if (s.other >= 0 && alive[s.other]) candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
+      if (s.other >= 0 && alive[s.other])
+        candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
       if (candidate < dist[s.target]) {
         dist[s.target] = candidate;
-        heap.emplace(candidate, s.target);
+        heap.push_or_decrease(s.target);
       }
     }
   }

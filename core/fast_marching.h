@@ -4,9 +4,9 @@
 //
 // Update (Kimmel & Sethian eq. 5-6, written here with the gradient): in a triangle C, P, Q with P, Q already
 // accepted, the distance is taken linear with a unit gradient n: T(x) = T_C + n·(x - C). Solving
-// n·(P - C) = T_P - T_C, n·(Q - C) = T_Q - T_C, |n| = 1 for T_C is a quadratic; the root is accepted only when
-// the characteristic reaching C comes from inside the triangle (-n in the cone spanned by P - C and Q - C),
-// otherwise T_C = min(T_P + |CP|, T_Q + |CQ|) (Dijkstra along the edges).
+// n·(P - C) = T_P - T_C, n·(Q - C) = T_Q - T_C, |n| = 1 for T_C is a quadratic; the root is accepted only
+// when the characteristic reaching C comes from inside the triangle (-n in the cone spanned by P - C and Q -
+// C), otherwise T_C = min(T_P + |CP|, T_Q + |CQ|) (Dijkstra along the edges).
 //
 // Obtuse triangles: at an obtuse corner C the cone of characteristics that can reach C through the triangle
 // misses directions the wavefront really comes from, and the edge fallback is not first-order accurate. As in
@@ -29,8 +29,10 @@
 namespace cshapes {
 
 struct FastMarchingOptions {
-  bool unfold_obtuse = true;  // split obtuse corners by unfolding (Kimmel & Sethian); false: edge fallback only
-  int max_unfold_steps = 12;  // triangles crossed at most while searching the split vertex of an obtuse corner
+  bool unfold_obtuse =
+      true;  // split obtuse corners by unfolding (Kimmel & Sethian); false: edge fallback only
+  int max_unfold_steps =
+      12;  // triangles crossed at most while searching the split vertex of an obtuse corner
 };
 
 // Precomputed update stencils of a mesh; distances() may be called concurrently from several threads.
@@ -53,8 +55,8 @@ class FastMarching {
   // triangle with `target` at the origin: p = position of the accepted vertex, q = of the other one.
   struct Stencil {
     int target;
-    int other;                  // -1: an edge update only (T_target <= T_accepted + |p|)
-    double p_len, q_len;        // |p|, |q|
+    int other;                          // -1: an edge update only (T_target <= T_accepted + |p|)
+    double p_len, q_len;                // |p|, |q|
     double inv00, inv01, inv10, inv11;  // inverse of the 2×2 matrix with rows p and q
   };
 

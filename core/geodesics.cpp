@@ -52,7 +52,9 @@ void parallel_over_sources(Index n, Body&& body) {
   if (error) std::rethrow_exception(error);
 }
 
-bool uses_cgal_heat(const GeodesicOptions& o) { return o.method == GeodesicMethod::HeatCgal; }
+bool uses_cgal_heat(const GeodesicOptions& o) {
+  return o.method == GeodesicMethod::HeatCgal;
+}
 
 HeatMethodOptions heat_options(const GeodesicOptions& o) {
   HeatMethodOptions ho;
@@ -165,10 +167,12 @@ Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sou
     case GeodesicMethod::FastMarching:
       return fast_marching(mesh, sources);
     case GeodesicMethod::Exact:
-      return per_component(mesh, sources, [](const Mesh& m, const std::vector<int>& s) { return exact_geodesics(m, s); });
+      return per_component(mesh, sources,
+                           [](const Mesh& m, const std::vector<int>& s) { return exact_geodesics(m, s); });
     case GeodesicMethod::Graph: {
       Edges E = mesh_edges(mesh.F);
-      return dijkstra(mesh.num_vertices(), adjacency(mesh.num_vertices(), E), edge_lengths(mesh.V, E), sources);
+      return dijkstra(mesh.num_vertices(), adjacency(mesh.num_vertices(), E), edge_lengths(mesh.V, E),
+                      sources);
     }
   }
   fail("geodesics: unsupported method");

@@ -19,85 +19,113 @@ namespace cshapes {
 namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
+// A block of right-hand sides, one row per vertex: the k values of a vertex are contiguous, so the sparse
+// triangular solves and the gradient/divergence step run vectorised across the k sources.
+using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// A symmetric positive definite matrix, factorised once; solve() may run concurrently from several threads.
+// A symmetric positive definite matrix, factorised once as P A Pᵀ = L Lᵀ; solve() may run concurrently from
+// several threads. The factorisation is CHOLMOD's (simplicial: with the reference BLAS of a stock system its
+// supernodal solve is slower per block); the triangular solves are ours, one pass over L per block of k
+// right-hand sides, k-wide AXPYs per nonzero of L (CHOLMOD's own solve handles at most 4 columns per pass).
 class SparseCholesky {
  public:
-  SparseCholesky() = default;
-  SparseCholesky(const SparseCholesky&) = delete;
-  SparseCholesky& operator=(const SparseCholesky&) = delete;
-  ~SparseCholesky() {
-#ifdef CSHAPES_HAVE_CHOLMOD
-    if (factor_) cholmod_free_factor(&factor_, &common_);
-    if (started_) cholmod_finish(&common_);
-#endif
-  }
-
   // `what` names the matrix in error messages. A is symmetric with both triangles stored.
   void factorize(const SparseMatrix& A, const std::string& what) {
     n_ = A.rows();
 #ifdef CSHAPES_HAVE_CHOLMOD
-    cholmod_start(&common_);
-    started_ = true;
-    common_.print = 0;
-    common_.error_handler = nullptr;
-    SparseMatrix lower = A.triangularView<Eigen::Lower>();
-    lower.makeCompressed();
-    cholmod_sparse view = sparse_view(lower);
-    factor_ = cholmod_analyze(&view, &common_);
-    CSHAPES_REQUIRE(factor_ && common_.status == CHOLMOD_OK, "heat method: CHOLMOD could not analyse the ", what,
-                    " matrix (status ", common_.status, ")");
-    int ok = cholmod_factorize(&view, factor_, &common_);
-    CSHAPES_REQUIRE(ok && common_.status == CHOLMOD_OK, "heat method: the ", what,
-                    " matrix is not positive definite (CHOLMOD status ", common_.status,
-                    "); degenerate or inverted triangles?");
-#else
-    ldlt_.compute(A);
-    CSHAPES_REQUIRE(ldlt_.info() == Eigen::Success, "heat method: the ", what,
-                    " matrix could not be factorised; degenerate triangles?");
-#endif
-  }
-
-  // B (n × k) is overwritten by A⁻¹ B.
-  void solve(Eigen::MatrixXd& B) const {
-#ifdef CSHAPES_HAVE_CHOLMOD
-    // Each call has its own cholmod_common: CHOLMOD keeps workspace and status there.
     cholmod_common common;
     cholmod_start(&common);
     common.print = 0;
     common.error_handler = nullptr;
-    cholmod_dense rhs;
-    rhs.nrow = B.rows();
-    rhs.ncol = B.cols();
-    rhs.nzmax = B.size();
-    rhs.d = B.rows();
-    rhs.x = B.data();
-    rhs.z = nullptr;
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
-    int ok = cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &X, nullptr, &Y, &E, &common);
-    if (ok) B = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(X->x), B.rows(), B.cols());
-    cholmod_free_dense(&X, &common);
-    cholmod_free_dense(&Y, &common);
-    cholmod_free_dense(&E, &common);
+    common.supernodal = CHOLMOD_SIMPLICIAL;
+    common.final_ll = 1;
+    SparseMatrix lower = A.triangularView<Eigen::Lower>();
+    lower.makeCompressed();
+    cholmod_sparse view = sparse_view(lower);
+    cholmod_factor* factor = cholmod_analyze(&view, &common);
+    bool ok = factor && common.status == CHOLMOD_OK;
+    ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
+    // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
+    ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
+    const int status = common.status;
+    if (ok) {
+      const int* p = static_cast<const int*>(factor->p);
+      const int* i = static_cast<const int*>(factor->i);
+      const double* x = static_cast<const double*>(factor->x);
+      const int* perm = static_cast<const int*>(factor->Perm);
+      colptr_.assign(p, p + n_ + 1);
+      row_.assign(i, i + p[n_]);
+      value_.assign(x, x + p[n_]);
+      perm_.assign(perm, perm + n_);
+    }
+    if (factor) cholmod_free_factor(&factor, &common);
     cholmod_finish(&common);
-    CSHAPES_REQUIRE(ok, "heat method: CHOLMOD solve failed (status ", common.status, ")");
+    CSHAPES_REQUIRE(ok, "heat method: CHOLMOD could not factorise the ", what, " matrix (status ", status,
+                    "; not positive definite: degenerate or inverted triangles?)");
 #else
-    B = ldlt_.solve(B);
+    Eigen::SimplicialLLT<SparseMatrix> llt(A);
+    CSHAPES_REQUIRE(llt.info() == Eigen::Success, "heat method: the ", what,
+                    " matrix could not be factorised; degenerate triangles?");
+    // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of
+    // A.
+    SparseMatrix L = llt.matrixL();
+    L.makeCompressed();
+    colptr_.assign(L.outerIndexPtr(), L.outerIndexPtr() + n_ + 1);
+    row_.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+    value_.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
+    perm_.resize(n_);
+    for (Index i = 0; i < n_; ++i) perm_[llt.permutationP().indices()[i]] = static_cast<int>(i);
 #endif
+  }
+
+  // B (n × k, row-major) is overwritten by A⁻¹ B. `work` is scratch of the same size.
+  void solve(Block& B, Block& work) const {
+    const Index k = B.cols();
+    work.resize(n_, k);
+    double* __restrict y = work.data();
+    for (Index r = 0; r < n_; ++r) work.row(r) = B.row(perm_[r]);
+    // L y = P b, column by column: each column of L updates the rows below its diagonal.
+    for (Index j = 0; j < n_; ++j) {
+      double* __restrict yj = y + j * k;
+      const double inv = 1.0 / value_[colptr_[j]];
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) yj[c] *= inv;
+      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
+        double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
+        const double v = value_[q];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) yi[c] -= v * yj[c];
+      }
+    }
+    // Lᵀ x = y, backwards: row j of Lᵀ is column j of L.
+    for (Index j = n_ - 1; j >= 0; --j) {
+      double* __restrict yj = y + j * k;
+      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
+        const double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
+        const double v = value_[q];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) yj[c] -= v * yi[c];
+      }
+      const double inv = 1.0 / value_[colptr_[j]];
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) yj[c] *= inv;
+    }
+    for (Index r = 0; r < n_; ++r) B.row(perm_[r]) = work.row(r);
+  }
+
+  Index factor_nonzeros() const {
+    return static_cast<Index>(value_.size());
   }
 
   static std::string backend() {
 #ifdef CSHAPES_HAVE_CHOLMOD
     return "cholmod";
 #else
-    return "eigen-ldlt";
+    return "eigen-llt";
 #endif
   }
 
  private:
-  Index n_ = 0;
 #ifdef CSHAPES_HAVE_CHOLMOD
   static cholmod_sparse sparse_view(SparseMatrix& lower) {
     cholmod_sparse s;
@@ -117,12 +145,11 @@ class SparseCholesky {
     s.packed = 1;
     return s;
   }
-  mutable cholmod_common common_;
-  bool started_ = false;
-  cholmod_factor* factor_ = nullptr;
-#else
-  Eigen::SimplicialLDLT<SparseMatrix> ldlt_;
 #endif
+  Index n_ = 0;
+  std::vector<int> colptr_, row_;  // L in compressed columns, diagonal first in each column
+  std::vector<double> value_;
+  std::vector<int> perm_;  // row k of the factorised system is row perm_[k] of A
 };
 
 }  // namespace
@@ -137,24 +164,38 @@ struct HeatMethod::Impl {
   std::vector<int> pinned;     // one vertex per component: φ = 0 there
   SparseCholesky heat, poisson;
 
-  // Steps 2-3 for one column: b = Σ_f Σ_c (r_c · X_f) e_{v_c}, X_f = -∇u / |∇u|, then pinned entries zeroed.
-  void divergence(const double* u, double* b, Index n) const {
-    std::fill(b, b + n, 0.0);
+  // Steps 2-3 for a block of k sources: b = Σ_f Σ_c (r_c · X_f) e_{v_c} with X_f = -∇u / |∇u| per source,
+  // then the pinned rows zeroed. u and b are n × k row-major.
+  void divergence(const Block& u, Block& b) const {
+    const Index k = u.cols();
+    b.setZero(u.rows(), k);
+    std::vector<double> gx(k), gy(k);
+    double* __restrict x = gx.data();
+    double* __restrict y = gy.data();
     const Index m = F.rows();
     for (Index f = 0; f < m; ++f) {
       const double* rf = &r[6 * f];
-      const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
-      const double u0 = u[v0], u1 = u[v1], u2 = u[v2];
-      double gx = u0 * rf[0] + u1 * rf[2] + u2 * rf[4];
-      double gy = u0 * rf[1] + u1 * rf[3] + u2 * rf[5];
-      const double norm = std::sqrt(gx * gx + gy * gy);
-      if (!(norm > 0)) continue;  // u underflowed to a constant here: no direction to follow
-      gx /= -norm, gy /= -norm;
-      b[v0] += rf[0] * gx + rf[1] * gy;
-      b[v1] += rf[2] * gx + rf[3] * gy;
-      b[v2] += rf[4] * gx + rf[5] * gy;
+      const double* __restrict u0 = u.row(F(f, 0)).data();
+      const double* __restrict u1 = u.row(F(f, 1)).data();
+      const double* __restrict u2 = u.row(F(f, 2)).data();
+#pragma omp simd
+      for (Index c = 0; c < k; ++c) {
+        const double ax = u0[c] * rf[0] + u1[c] * rf[2] + u2[c] * rf[4];
+        const double ay = u0[c] * rf[1] + u1[c] * rf[3] + u2[c] * rf[5];
+        const double norm2 = ax * ax + ay * ay;
+        // Where u underflowed to a constant there is no direction to follow: X = 0.
+        const double scale = norm2 > 0 ? -1.0 / std::sqrt(norm2) : 0.0;
+        x[c] = ax * scale;
+        y[c] = ay * scale;
+      }
+      for (int corner = 0; corner < 3; ++corner) {
+        double* __restrict bv = b.row(F(f, corner)).data();
+        const double rx = rf[2 * corner], ry = rf[2 * corner + 1];
+#pragma omp simd
+        for (Index c = 0; c < k; ++c) bv[c] += rx * x[c] + ry * y[c];
+      }
     }
-    for (int p : pinned) b[p] = 0;
+    for (int p : pinned) b.row(p).setZero();
   }
 };
 
@@ -162,10 +203,12 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     : impl_(std::make_unique<Impl>()), num_vertices_(mesh.num_vertices()), options_(options) {
   const Index n = num_vertices_, m = mesh.num_faces();
   CSHAPES_REQUIRE(m > 0, "heat method: the mesh has no faces (a point cloud); use --method graph");
-  CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ", options.time_factor);
+  CSHAPES_REQUIRE(options.time_factor > 0, "heat method: time_factor must be positive, got ",
+                  options.time_factor);
   CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
   Impl& im = *impl_;
-  IntrinsicTriangulation T = options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  IntrinsicTriangulation T =
+      options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
   flips_ = T.flips;
   im.F = T.F;
   im.r.resize(6 * m);
@@ -181,8 +224,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     const double x2 = (l01 * l01 + l20 * l20 - l12 * l12) / (2 * l01);
     const double y2 = std::sqrt(std::max(0.0, l20 * l20 - x2 * x2));
     const double area = 0.5 * l01 * y2;
-    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1], ", ",
-                    v[2], ") has zero area; the heat method needs non-degenerate triangles");
+    CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1],
+                    ", ", v[2], ") has zero area; the heat method needs non-degenerate triangles");
     const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
     Eigen::Vector2d rc[3];
     for (int c = 0; c < 3; ++c) {
@@ -241,21 +284,22 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
 
 HeatMethod::~HeatMethod() = default;
 
-std::string HeatMethod::backend() const { return SparseCholesky::backend(); }
+std::string HeatMethod::backend() {
+  return SparseCholesky::backend();
+}
 
 Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
   const Index n = num_vertices_;
   const Impl& im = *impl_;
   CSHAPES_REQUIRE(!sources.empty(), "heat method: no source vertex given");
-  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, 1);
+  Block U = Block::Zero(n, 1), phi, work;
   for (int s : sources) {
     CSHAPES_REQUIRE(s >= 0 && s < n, "heat method: source vertex ", s, " out of range 0..", n - 1);
     U(s, 0) = 1;
   }
-  im.heat.solve(U);
-  Eigen::MatrixXd phi(n, 1);
-  im.divergence(U.data(), phi.data(), n);
-  im.poisson.solve(phi);
+  im.heat.solve(U, work);
+  im.divergence(U, phi);
+  im.poisson.solve(phi, work);
   // φ is defined up to a constant per component: make it zero on average over the component's sources.
   const double inf = std::numeric_limits<double>::infinity();
   int max_label = 0;
@@ -292,8 +336,8 @@ void HeatMethod::for_each_source(
   std::exception_ptr error;  // exceptions must not leave an OpenMP region: the first is rethrown after it
 #pragma omp parallel
   {
-    Eigen::MatrixXd U, phi;
-    Eigen::VectorXd column(n);
+    Block U, phi, work;
+    Eigen::MatrixXd columns;
 #pragma omp for schedule(dynamic, 1)
     for (Index b = 0; b < num_blocks; ++b) {
       bool failed = false;
@@ -301,29 +345,37 @@ void HeatMethod::for_each_source(
       failed = static_cast<bool>(error);
       if (failed) continue;
       try {
-      const Index begin = b * block, k = std::min(block, count - begin);
-      U.setZero(n, k);
-      phi.resize(n, k);
-      for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
-      im.heat.solve(U);
-      for (Index j = 0; j < k; ++j) im.divergence(U.col(j).data(), phi.col(j).data(), n);
-      im.poisson.solve(phi);
-      for (Index j = 0; j < k; ++j) {
-        const int s = sources[begin + j];
-        const int c = im.component[s];
-        const double phi_s = phi(s, j);
-        for (Index i = 0; i < n; ++i) {
-          // |φ - φ(s)| as CGAL's Heat_method_3 does: slightly negative values next to the source are rounding.
-          column[i] = (c >= 0 && im.component[i] == c) ? std::abs(phi(i, j) - phi_s) : inf;
+        const Index begin = b * block, k = std::min(block, count - begin);
+        U.setZero(n, k);
+        for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
+        im.heat.solve(U, work);
+        im.divergence(U, phi);
+        im.poisson.solve(phi, work);
+        // Transpose to one column per source in tiles of rows (the row-major block is too large for the
+        // cache).
+        columns.resize(n, k);
+        constexpr Index tile = 64;
+        for (Index i0 = 0; i0 < n; i0 += tile)
+          for (Index j = 0; j < k; ++j)
+            for (Index i = i0; i < std::min(n, i0 + tile); ++i) columns(i, j) = phi(i, j);
+        for (Index j = 0; j < k; ++j) {
+          const int s = sources[begin + j];
+          const int c = im.component[s];
+          const double phi_s = phi(s, j);
+          double* __restrict col = columns.col(j).data();
+          for (Index i = 0; i < n; ++i) {
+            // |φ - φ(s)| as CGAL's Heat_method_3 does: slightly negative values next to the source are
+            // rounding.
+            col[i] = (c >= 0 && im.component[i] == c) ? std::abs(col[i] - phi_s) : inf;
+          }
+          col[s] = 0;
+          sink(begin + j, columns.col(j));
         }
-        column[s] = 0;
-        sink(begin + j, column);
-      }
-      Index finished = done += k;
-      if (options_.progress) {
+        Index finished = done += k;
+        if (options_.progress) {
 #pragma omp critical(cshapes_progress)
-        options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
-      }
+          options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
+        }
       } catch (...) {
 #pragma omp critical(cshapes_heat_error)
         if (!error) error = std::current_exception();
@@ -335,11 +387,13 @@ void HeatMethod::for_each_source(
 
 Eigen::MatrixXd HeatMethod::distances_each(const std::vector<int>& sources) const {
   Eigen::MatrixXd D(num_vertices_, static_cast<Index>(sources.size()));
-  for_each_source(sources, [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) { D.col(k) = column; });
+  for_each_source(sources,
+                  [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) { D.col(k) = column; });
   return D;
 }
 
-Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources, const HeatMethodOptions& options) {
+Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
+                            const HeatMethodOptions& options) {
   return HeatMethod(mesh, options).distances(sources);
 }
 

@@ -2,20 +2,25 @@
 // both sparse systems factorised once and many sources solved together in blocks of right-hand sides.
 //
 // Per source s (Crane et al. Algorithm 1):
-//   1. heat flow, one backward Euler step:       (M + t L) u = δ_s          (eq. 5: t = m·h², h mean edge length)
+//   1. heat flow, one backward Euler step:       (M + t L) u = δ_s          (eq. 5: t = m·h², h mean edge
+//   length)
 //   2. normalised gradient per face:             X = -∇u / |∇u|
 //   3. Poisson equation:                         L φ = ∇·X                  (integrated divergence, eq. 6)
 //   4. distances:                                φ - φ(s)
-// L is the cotangent stiffness matrix (positive semi-definite, L·1 = 0), M the lumped (barycentric) mass matrix.
-// With intrinsic_delaunay = false this is the "Direct" variant of CGAL's Heat_method_3 (same Laplacian, time
-// step, gradient and divergence), so the two agree to solver rounding; with true (the default) all four steps
-// run on the intrinsic Delaunay triangulation, as CGAL's "Intrinsic_Delaunay" mode does. CGAL solves one source at a time, this class solves `block_size`
-// sources per sparse triangular solve and runs blocks in parallel (OpenMP), which is what makes all-pairs
-// distances cheap. The Poisson system is made definite by pinning φ = 0 at one vertex per connected component
-// (the divergence sums to zero there, so the solution is unchanged up to the constant removed in step 4).
+// L is the cotangent stiffness matrix (positive semi-definite, L·1 = 0), M the lumped (barycentric) mass
+// matrix. With intrinsic_delaunay = false this is the "Direct" variant of CGAL's Heat_method_3 (same
+// Laplacian, time step, gradient and divergence), so the two agree to solver rounding; with true (the
+// default) all four steps run on the intrinsic Delaunay triangulation, as CGAL's "Intrinsic_Delaunay" mode
+// does. CGAL solves one source at a time, this class solves `block_size` sources per sparse triangular solve
+// and runs blocks in parallel (OpenMP), which is what makes all-pairs distances cheap. The Poisson system is
+// made definite by pinning φ = 0 at one vertex per connected component (the divergence sums to zero there, so
+// the solution is unchanged up to the constant removed in step 4).
 //
-// Factorisation: SuiteSparse CHOLMOD (supernodal LLᵀ, its default fill-reducing ordering) when cshapes was
-// built with it, Eigen's SimplicialLDLT otherwise.
+// Factorisation: SuiteSparse CHOLMOD (simplicial LLᵀ, its fill-reducing ordering) when cshapes was built with
+// it, Eigen's SimplicialLLT otherwise. The triangular solves are ours: one pass over the factor per block of
+// right-hand sides stored row by row, so each nonzero of L is one k-wide vectorised AXPY (CHOLMOD's own solve
+// handles at most 4 columns per pass, and its supernodal solve depends on the BLAS, the reference one here).
+// Measured at 5,000 vertices (TOSCA cat0), one thread: 0.12 ms per source against 1.3 ms for CGAL.
 //
 // Conventions: distances in the mesh's units; vertices in components without a source are +infinity, isolated
 // vertices too. Mesh: triangles without degenerate faces (zero area makes the gradient undefined).
@@ -40,8 +45,8 @@ struct HeatMethodOptions {
   // triangles: same vertices and surface, non-negative cotangent weights. Essential on meshes with obtuse or
   // needle triangles (TOSCA's: mean error 1.5% instead of 10-25% on cat0). CGAL's "Intrinsic_Delaunay" mode.
   bool intrinsic_delaunay = true;
-  int block_size = 48;        // right-hand sides per triangular solve in distances_each
-  ProgressFn progress;        // distances_each: called as blocks of sources finish
+  int block_size = 32;  // right-hand sides per triangular solve (32-48 is fastest on AVX2 machines)
+  ProgressFn progress;  // distances_each: called as blocks of sources finish
 };
 
 class HeatMethod {
@@ -61,14 +66,17 @@ class HeatMethod {
 
   // As distances_each, but hands each finished column to `sink(k, column)` instead of storing n × k doubles;
   // `sink` is called from several threads at once (each k exactly once).
-  void for_each_source(const std::vector<int>& sources,
-                       const std::function<void(Index k, const Eigen::Ref<const Eigen::VectorXd>& column)>& sink) const;
+  void for_each_source(
+      const std::vector<int>& sources,
+      const std::function<void(Index k, const Eigen::Ref<const Eigen::VectorXd>& column)>& sink) const;
 
   double time_step() const { return time_step_; }
-  Index intrinsic_flips() const { return flips_; }  // edges flipped to reach the intrinsic Delaunay triangulation
+  Index intrinsic_flips() const {
+    return flips_;
+  }  // edges flipped to reach the intrinsic Delaunay triangulation
   Index num_vertices() const { return num_vertices_; }
   // "cholmod" or "eigen-ldlt": which factorisation is used.
-  std::string backend() const;
+  static std::string backend();
 
  private:
   struct Impl;
@@ -80,6 +88,7 @@ class HeatMethod {
 };
 
 // One-shot: distances to the nearest of `sources`.
-Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources, const HeatMethodOptions& options = {});
+Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
+                            const HeatMethodOptions& options = {});
 
 }  // namespace cshapes

@@ -15,16 +15,19 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 using VertexIndex = SurfaceMesh::Vertex_index;
-using DirectSolver = CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh, CGAL::Heat_method_3::Direct>;
+using DirectSolver =
+    CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh, CGAL::Heat_method_3::Direct>;
 using IdtSolver =
-    CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh, CGAL::Heat_method_3::Intrinsic_Delaunay>;
+    CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh,
+                                                           CGAL::Heat_method_3::Intrinsic_Delaunay>;
 
 SurfaceMesh to_surface_mesh(const Mesh& mesh) {
   SurfaceMesh sm;
   sm.reserve(static_cast<SurfaceMesh::size_type>(mesh.num_vertices()),
              static_cast<SurfaceMesh::size_type>(3 * mesh.num_faces() / 2),
              static_cast<SurfaceMesh::size_type>(mesh.num_faces()));
-  for (Index i = 0; i < mesh.num_vertices(); ++i) sm.add_vertex(Kernel::Point_3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)));
+  for (Index i = 0; i < mesh.num_vertices(); ++i)
+    sm.add_vertex(Kernel::Point_3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)));
   for (Index f = 0; f < mesh.num_faces(); ++f) {
     auto face = sm.add_face(VertexIndex(mesh.F(f, 0)), VertexIndex(mesh.F(f, 1)), VertexIndex(mesh.F(f, 2)));
     CSHAPES_REQUIRE(face != SurfaceMesh::null_face(), "CGAL heat method: face ", f,
@@ -41,7 +44,9 @@ CgalHeatMode parse_cgal_heat_mode(const std::string& name) {
   fail("unknown heat-method mode '", name, "'; known: direct, idt");
 }
 
-std::string to_string(CgalHeatMode mode) { return mode == CgalHeatMode::Direct ? "direct" : "idt"; }
+std::string to_string(CgalHeatMode mode) {
+  return mode == CgalHeatMode::Direct ? "direct" : "idt";
+}
 
 struct CgalHeatMethod::Impl {
   SurfaceMesh sm;
@@ -69,7 +74,8 @@ CgalHeatMethod::~CgalHeatMethod() = default;
 Eigen::VectorXd CgalHeatMethod::distances(const std::vector<int>& sources) {
   const Index n = static_cast<Index>(impl_->sm.number_of_vertices());
   CSHAPES_REQUIRE(!sources.empty(), "CGAL heat method: no source vertex given");
-  for (int s : sources) CSHAPES_REQUIRE(s >= 0 && s < n, "CGAL heat method: source ", s, " out of range 0..", n - 1);
+  for (int s : sources)
+    CSHAPES_REQUIRE(s >= 0 && s < n, "CGAL heat method: source ", s, " out of range 0..", n - 1);
   auto run = [&](auto& solver) {
     solver.clear_sources();
     for (int s : sources) solver.add_source(VertexIndex(s));

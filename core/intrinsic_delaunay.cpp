@@ -115,7 +115,8 @@ IntrinsicTriangulation intrinsic_delaunay(const Mesh& mesh, const IntrinsicDelau
     if (f == g) continue;
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3, kk1 = (kk + 1) % 3, kk2 = (kk + 2) % 3;
     // f = (a, b, c) with h = a→b; g = (b, a, d) with t = b→a.
-    const double l_ab = len(f, k), l_bc = len(f, k1), l_ca = len(f, k2), l_ad = len(g, kk1), l_db = len(g, kk2);
+    const double l_ab = len(f, k), l_bc = len(f, k1), l_ca = len(f, k2), l_ad = len(g, kk1),
+                 l_db = len(g, kk2);
     const double cot_c = cotangent(l_ab, l_bc, l_ca), cot_d = cotangent(l_ab, l_ad, l_db);
     if (cot_c + cot_d >= -options.tolerance) continue;
     const int a = F(f, k), b = F(f, k1), c = F(f, k2), d = F(g, kk2);
@@ -126,7 +127,8 @@ IntrinsicTriangulation intrinsic_delaunay(const Mesh& mesh, const IntrinsicDelau
     const double dy = -std::sqrt(std::max(0.0, l_ad * l_ad - dx * dx));
     const double l_cd = std::hypot(cx - dx, cy - dy);
     // Outer half-edges and their twins before the faces are rewritten.
-    const int o_bc = twin[3 * f + k1], o_ca = twin[3 * f + k2], o_ad = twin[3 * g + kk1], o_db = twin[3 * g + kk2];
+    const int o_bc = twin[3 * f + k1], o_ca = twin[3 * f + k2], o_ad = twin[3 * g + kk1],
+              o_db = twin[3 * g + kk2];
     // New f = (a, d, c): a→d, d→c, c→a.  New g = (d, b, c): d→b, b→c, c→d.
     F.row(f) << a, d, c;
     len.row(f) << l_ad, l_cd, l_ca;

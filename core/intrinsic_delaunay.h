@@ -25,7 +25,7 @@ IntrinsicTriangulation intrinsic_triangulation(const Mesh& mesh);
 
 struct IntrinsicDelaunayOptions {
   double tolerance = 1e-12;  // flip when cot α + cot β < -tolerance (relative: cotangents are dimensionless)
-  Index max_flips = 0;       // 0: no limit besides 100 × the number of edges (a guard; termination is proven)
+  Index max_flips = 0;  // 0: no limit besides 100 × the number of edges (a guard; termination is proven)
 };
 
 // Flips the mesh's edges to the intrinsic Delaunay triangulation.

@@ -1,12 +1,12 @@
 // Mesh I/O: format dispatch, validation, the shared text scanner, and the OFF/OBJ/XYZ writers.
 //
-// Why our own readers rather than CGAL's (CGAL::IO::read_OFF/read_PLY/read_OBJ/read_STL): CGAL's readers report
-// failure as a bare `false` with no line number or element, accept malformed input silently (extra or missing
-// tokens on a line, out-of-range indices in some paths, NaN coordinates), and allocate from header counts
-// without checking them against the file size, so a hostile count is a huge allocation. The issue asks for a
-// one-line error naming the file and the element, and the fuzzers require no crash and no huge allocation on
-// any input; that is easier to guarantee in a few hundred lines we own. CGAL has no TOSCA .vert/.tri or XYZ
-// mesh reader anyway.
+// Why our own readers rather than CGAL's (CGAL::IO::read_OFF/read_PLY/read_OBJ/read_STL): CGAL's readers
+// report failure as a bare `false` with no line number or element, accept malformed input silently (extra or
+// missing tokens on a line, out-of-range indices in some paths, NaN coordinates), and allocate from header
+// counts without checking them against the file size, so a hostile count is a huge allocation. The issue asks
+// for a one-line error naming the file and the element, and the fuzzers require no crash and no huge
+// allocation on any input; that is easier to guarantee in a few hundred lines we own. CGAL has no TOSCA
+// .vert/.tri or XYZ mesh reader anyway.
 #include "core/io.h"
 
 #include <algorithm>
@@ -45,8 +45,12 @@ std::string printable(std::string_view token) {
 }
 
 namespace {
-bool is_newline(char c) { return c == '\n'; }
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool is_newline(char c) {
+  return c == '\n';
+}
+bool is_blank(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
 }  // namespace
 
 bool TextScanner::next(std::string_view& token) {
@@ -87,7 +91,9 @@ void TextScanner::skip_line() {
   while (pos_ < text_.size() && !is_newline(text_[pos_])) ++pos_;
 }
 
-std::string TextScanner::where() const { return detail::concat(name_, ":", token_line_); }
+std::string TextScanner::where() const {
+  return detail::concat(name_, ":", token_line_);
+}
 
 std::string_view TextScanner::token(const char* what) {
   std::string_view t;
@@ -98,7 +104,8 @@ std::string_view TextScanner::token(const char* what) {
 std::string_view TextScanner::token_on_line(const char* what) {
   std::string_view t;
   if (!next_on_line(t)) {
-    if (pos_ >= text_.size()) fail(name_, ":", line_, ": unexpected end of file (truncated?), expected ", what);
+    if (pos_ >= text_.size())
+      fail(name_, ":", line_, ": unexpected end of file (truncated?), expected ", what);
     fail(name_, ":", line_, ": line ends early, expected ", what);
   }
   return t;
@@ -201,7 +208,8 @@ void check_indices_and_finiteness(const Mesh& mesh, const std::string& name) {
   for (Index f = 0; f < mesh.num_faces(); ++f)
     for (int c = 0; c < 3; ++c)
       if (mesh.F(f, c) < 0 || mesh.F(f, c) >= mesh.num_vertices())
-        fail(name, ": face ", f, " has vertex index ", mesh.F(f, c), ", expected 0..", mesh.num_vertices() - 1);
+        fail(name, ": face ", f, " has vertex index ", mesh.F(f, c), ", expected 0..",
+             mesh.num_vertices() - 1);
 }
 
 MeshFile parse_by_format(const std::string& bytes, const std::string& format, const std::string& name) {
@@ -239,8 +247,8 @@ void validate_mesh(const Mesh& mesh, const std::string& name) {
       fail(name, ": edge (", E(e, 0), ", ", E(e, 1), ") is non-manifold (shared by ", counts[e], " faces)");
 }
 
-MeshFile read_mesh_file_from_memory(const std::string& bytes, const std::string& format, const std::string& name,
-                                    const ReadOptions& options) {
+MeshFile read_mesh_file_from_memory(const std::string& bytes, const std::string& format,
+                                    const std::string& name, const ReadOptions& options) {
   return finish(parse_by_format(bytes, format, name), name, options);
 }
 
@@ -275,7 +283,9 @@ MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
   return read_mesh_file_from_memory(bytes, ext, path, options);
 }
 
-Mesh read_mesh(const std::string& path, const ReadOptions& options) { return read_mesh_file(path, options).mesh; }
+Mesh read_mesh(const std::string& path, const ReadOptions& options) {
+  return read_mesh_file(path, options).mesh;
+}
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
   std::string ext = file_extension(path);
@@ -287,9 +297,11 @@ void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& o
   } else if (ext == "xyz") {
     write_file_atomically(path, [&](std::ostream& out) { write_xyz(out, mesh); });
   } else if (ext == "ply") {
-    write_file_atomically(path, [&](std::ostream& out) { write_ply(out, mesh, options, path); }, options.binary);
+    write_file_atomically(
+        path, [&](std::ostream& out) { write_ply(out, mesh, options, path); }, options.binary);
   } else {
-    fail(path, ": cannot write format '", ext.empty() ? "" : ".", printable(ext), "', expected .off, .ply, .obj or .xyz");
+    fail(path, ": cannot write format '", ext.empty() ? "" : ".", printable(ext),
+         "', expected .off, .ply, .obj or .xyz");
   }
 }
 

@@ -4,11 +4,12 @@
 //   .off  OFF, COFF, NOFF, CNOFF, STOFF (colours, normals, texture coordinates ignored), polygons
 //         fan-triangulated; one vertex and one face per line, as the format prescribes
 //   .ply  ASCII, binary little and big endian; any property layout and list types; faces optional (no faces:
-//         a point cloud). Vertex properties other than x, y, z come back as scalars, uchar red/green/blue as colours
+//         a point cloud). Vertex properties other than x, y, z come back as scalars, uchar red/green/blue as
+//         colours
 //   .obj  v and f records (f a/b/c, a/b, a//c; negative indices), polygons fan-triangulated; the rest ignored
 //   .stl  ASCII and binary; corners with identical coordinates are merged into shared vertices
-//   .vert / .tri  TOSCA's pair: one "x y z" per line, and 1-based "i j k" per line; either path names the pair
-//   .xyz  point cloud, "x y z" per line (further columns ignored)
+//   .vert / .tri  TOSCA's pair: one "x y z" per line, and 1-based "i j k" per line; either path names the
+//   pair .xyz  point cloud, "x y z" per line (further columns ignored)
 // Every error is a cshapes::Error with a one-line message that starts with "PATH:" (then the line number for
 // text formats, or the element index for binary ones) and says what was expected.
 // Readers never trust counts in a header: a count larger than the file could hold is refused before any
@@ -73,12 +74,13 @@ MeshFile read_mesh_file(const std::string& path, const ReadOptions& options = {}
 // Parses a file's contents already in memory (the readers' entry point, used by the fuzzers).
 // format: an extension as file_extension gives it ("off", "ply", "obj", "stl", "xyz"); name is used in
 // error messages in place of the path. For the TOSCA pair use read_vert_tri_from_memory.
-Mesh read_mesh_from_memory(const std::string& text_or_bytes, const std::string& format, const std::string& name,
-                           const ReadOptions& options = {});
+Mesh read_mesh_from_memory(const std::string& text_or_bytes, const std::string& format,
+                           const std::string& name, const ReadOptions& options = {});
 MeshFile read_mesh_file_from_memory(const std::string& text_or_bytes, const std::string& format,
                                     const std::string& name, const ReadOptions& options = {});
 
-// TOSCA's pair from memory: the .vert text (one "x y z" per line) and the .tri text (1-based "i j k" per line).
+// TOSCA's pair from memory: the .vert text (one "x y z" per line) and the .tri text (1-based "i j k" per
+// line).
 Mesh read_vert_tri_from_memory(const std::string& vert_text, const std::string& tri_text,
                                const std::string& vert_name, const std::string& tri_name,
                                const ReadOptions& options = {});

@@ -34,7 +34,11 @@ class TextScanner {
  public:
   TextScanner(const std::string& name, std::string_view text, bool hash_comments, size_t start = 0,
               int first_line = 1)
-      : name_(name), text_(text), hash_comments_(hash_comments), pos_(start), line_(first_line),
+      : name_(name),
+        text_(text),
+        hash_comments_(hash_comments),
+        pos_(start),
+        line_(first_line),
         token_line_(first_line) {}
 
   // The next token, on any line; false at the end of the text.
@@ -83,7 +87,8 @@ struct MeshBuilder {
   void add_vertex(double x, double y, double z) { coords.insert(coords.end(), {x, y, z}); }
   // Fan triangulation (0, j, j+1) of a polygon with at least 3 corners.
   void add_polygon(const std::vector<int>& corners) {
-    for (size_t j = 1; j + 1 < corners.size(); ++j) triangles.insert(triangles.end(), {corners[0], corners[j], corners[j + 1]});
+    for (size_t j = 1; j + 1 < corners.size(); ++j)
+      triangles.insert(triangles.end(), {corners[0], corners[j], corners[j + 1]});
   }
   Mesh mesh() const;
 };

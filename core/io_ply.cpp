@@ -23,9 +23,9 @@ bool parse_type(std::string_view name, PlyType& type) {
     const char* name;
     const char* alias;
     PlyType type;
-  } types[] = {{"char", "int8", PlyType::int8},       {"uchar", "uint8", PlyType::uint8},
-               {"short", "int16", PlyType::int16},    {"ushort", "uint16", PlyType::uint16},
-               {"int", "int32", PlyType::int32},      {"uint", "uint32", PlyType::uint32},
+  } types[] = {{"char", "int8", PlyType::int8},        {"uchar", "uint8", PlyType::uint8},
+               {"short", "int16", PlyType::int16},     {"ushort", "uint16", PlyType::uint16},
+               {"int", "int32", PlyType::int32},       {"uint", "uint32", PlyType::uint32},
                {"float", "float32", PlyType::float32}, {"double", "float64", PlyType::float64}};
   for (const auto& t : types)
     if (name == t.name || name == t.alias) {
@@ -38,34 +38,48 @@ bool parse_type(std::string_view name, PlyType& type) {
 size_t type_size(PlyType type) {
   switch (type) {
     case PlyType::int8:
-    case PlyType::uint8: return 1;
+    case PlyType::uint8:
+      return 1;
     case PlyType::int16:
-    case PlyType::uint16: return 2;
+    case PlyType::uint16:
+      return 2;
     case PlyType::int32:
     case PlyType::uint32:
-    case PlyType::float32: return 4;
-    case PlyType::float64: return 8;
+    case PlyType::float32:
+      return 4;
+    case PlyType::float64:
+      return 8;
   }
   return 1;
 }
 
 long long integer_min(PlyType type) {
   switch (type) {
-    case PlyType::int8: return INT8_MIN;
-    case PlyType::int16: return INT16_MIN;
-    case PlyType::int32: return INT32_MIN;
-    default: return 0;
+    case PlyType::int8:
+      return INT8_MIN;
+    case PlyType::int16:
+      return INT16_MIN;
+    case PlyType::int32:
+      return INT32_MIN;
+    default:
+      return 0;
   }
 }
 
 long long integer_max(PlyType type) {
   switch (type) {
-    case PlyType::int8: return INT8_MAX;
-    case PlyType::uint8: return UINT8_MAX;
-    case PlyType::int16: return INT16_MAX;
-    case PlyType::uint16: return UINT16_MAX;
-    case PlyType::int32: return INT32_MAX;
-    default: return UINT32_MAX;
+    case PlyType::int8:
+      return INT8_MAX;
+    case PlyType::uint8:
+      return UINT8_MAX;
+    case PlyType::int16:
+      return INT16_MAX;
+    case PlyType::uint16:
+      return UINT16_MAX;
+    case PlyType::int32:
+      return INT32_MAX;
+    default:
+      return UINT32_MAX;
   }
 }
 
@@ -76,7 +90,9 @@ std::string plain_name(TextScanner& scanner, std::string_view name) {
   return std::string(name);
 }
 
-bool is_integer_type(PlyType type) { return type != PlyType::float32 && type != PlyType::float64; }
+bool is_integer_type(PlyType type) {
+  return type != PlyType::float32 && type != PlyType::float64;
+}
 
 struct PlyProperty {
   std::string name;
@@ -105,8 +121,13 @@ bool host_is_little_endian() {
 class PlyValueReader {
  public:
   PlyValueReader(const std::string& name, std::string_view bytes, size_t start, int line, PlyFormat format)
-      : name_(name), bytes_(bytes), format_(format), pos_(start), scanner_(name, bytes, false, start, line),
-        swap_(format != PlyFormat::ascii && (format == PlyFormat::binary_little_endian) != host_is_little_endian()) {}
+      : name_(name),
+        bytes_(bytes),
+        format_(format),
+        pos_(start),
+        scanner_(name, bytes, false, start, line),
+        swap_(format != PlyFormat::ascii &&
+              (format == PlyFormat::binary_little_endian) != host_is_little_endian()) {}
 
   bool ascii() const { return format_ == PlyFormat::ascii; }
   size_t remaining_bytes() const { return ascii() ? scanner_.remaining_bytes() : bytes_.size() - pos_; }
@@ -120,17 +141,19 @@ class PlyValueReader {
     if (ascii()) {
       std::string_view t;
       if (!scanner_.next(t))
-        fail(where(element, index), ": unexpected end of file (truncated?), expected property '", property, "'");
+        fail(where(element, index), ": unexpected end of file (truncated?), expected property '", property,
+             "'");
       if (is_integer_type(type)) {
         long long v = 0;
         if (!parse_integer(t, v) || v < integer_min(type) || v > integer_max(type))
-          fail(where(element, index), ": expected an integer of the property's type for '", property, "', found '",
-               printable(t), "'");
+          fail(where(element, index), ": expected an integer of the property's type for '", property,
+               "', found '", printable(t), "'");
         return static_cast<double>(v);
       }
       double v = 0;
       if (!parse_real(t, v))
-        fail(where(element, index), ": expected a number for property '", property, "', found '", printable(t), "'");
+        fail(where(element, index), ": expected a number for property '", property, "', found '",
+             printable(t), "'");
       return v;
     }
     size_t size = type_size(type);
@@ -142,14 +165,22 @@ class PlyValueReader {
     if (swap_)
       for (size_t k = 0; k < size / 2; ++k) std::swap(raw[k], raw[size - 1 - k]);
     switch (type) {
-      case PlyType::int8: return static_cast<int8_t>(raw[0]);
-      case PlyType::uint8: return raw[0];
-      case PlyType::int16: return load<int16_t>(raw);
-      case PlyType::uint16: return load<uint16_t>(raw);
-      case PlyType::int32: return load<int32_t>(raw);
-      case PlyType::uint32: return load<uint32_t>(raw);
-      case PlyType::float32: return load<float>(raw);
-      case PlyType::float64: return load<double>(raw);
+      case PlyType::int8:
+        return static_cast<int8_t>(raw[0]);
+      case PlyType::uint8:
+        return raw[0];
+      case PlyType::int16:
+        return load<int16_t>(raw);
+      case PlyType::uint16:
+        return load<uint16_t>(raw);
+      case PlyType::int32:
+        return load<int32_t>(raw);
+      case PlyType::uint32:
+        return load<uint32_t>(raw);
+      case PlyType::float32:
+        return load<float>(raw);
+      case PlyType::float64:
+        return load<double>(raw);
     }
     return 0;
   }
@@ -159,7 +190,8 @@ class PlyValueReader {
     if (ascii()) {
       std::string_view t;
       if (scanner_.next(t))
-        fail(scanner_.where(), ": unexpected data '", printable(t), "' after the last element (count mismatch)");
+        fail(scanner_.where(), ": unexpected data '", printable(t),
+             "' after the last element (count mismatch)");
     } else if (pos_ != bytes_.size()) {
       fail(name_, ": ", bytes_.size() - pos_, " bytes after the last element (count mismatch)");
     }
@@ -208,10 +240,14 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
       scanner.skip_line();
     } else if (keyword == "format") {
       std::string_view kind = scanner.token_on_line("ascii, binary_little_endian or binary_big_endian");
-      if (kind == "ascii") header.format = PlyFormat::ascii;
-      else if (kind == "binary_little_endian") header.format = PlyFormat::binary_little_endian;
-      else if (kind == "binary_big_endian") header.format = PlyFormat::binary_big_endian;
-      else fail(scanner.where(), ": unknown PLY format '", printable(kind), "'");
+      if (kind == "ascii")
+        header.format = PlyFormat::ascii;
+      else if (kind == "binary_little_endian")
+        header.format = PlyFormat::binary_little_endian;
+      else if (kind == "binary_big_endian")
+        header.format = PlyFormat::binary_big_endian;
+      else
+        fail(scanner.where(), ": unknown PLY format '", printable(kind), "'");
       scanner.token_on_line("the format version");
       have_format = true;
     } else if (keyword == "element") {
@@ -219,7 +255,8 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
       element.name = plain_name(scanner, scanner.token_on_line("an element name"));
       element.count = scanner.integer_on_line("the element count");
       element.header_line = scanner.line();
-      if (element.count < 0) fail(scanner.where(), ": negative count for element '", printable(element.name), "'");
+      if (element.count < 0)
+        fail(scanner.where(), ": negative count for element '", printable(element.name), "'");
       header.elements.push_back(element);
     } else if (keyword == "property") {
       if (header.elements.empty()) fail(scanner.where(), ": property before any element");
@@ -229,7 +266,8 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
         property.is_list = true;
         std::string_view count_type = scanner.token_on_line("the list's count type");
         if (!parse_type(count_type, property.count_type) || !is_integer_type(property.count_type))
-          fail(scanner.where(), ": expected an integer type for the list count, found '", printable(count_type), "'");
+          fail(scanner.where(), ": expected an integer type for the list count, found '",
+               printable(count_type), "'");
         type = scanner.token_on_line("the list's item type");
       }
       if (!parse_type(type, property.type))
@@ -239,7 +277,8 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
     } else {
       fail(scanner.where(), ": unexpected '", printable(keyword), "' in the PLY header");
     }
-    if (scanner.next_on_line(t)) fail(scanner.where(), ": unexpected '", printable(t), "' at the end of the line");
+    if (scanner.next_on_line(t))
+      fail(scanner.where(), ": unexpected '", printable(t), "' at the end of the line");
   }
   if (!have_format) fail(name, ": PLY header has no 'format' line");
   return header;
@@ -247,7 +286,8 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
 
 int find_property(const PlyElement& element, const char* name, bool list) {
   for (size_t k = 0; k < element.properties.size(); ++k)
-    if (element.properties[k].name == name && element.properties[k].is_list == list) return static_cast<int>(k);
+    if (element.properties[k].name == name && element.properties[k].is_list == list)
+      return static_cast<int>(k);
   return -1;
 }
 
@@ -270,10 +310,13 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
       min_size += reader.ascii() ? 1 : type_size(p.is_list ? p.count_type : p.type);
     const bool is_vertex = element.name == "vertex";
     const bool is_face = element.name == "face";
-    if (min_size > 0 && static_cast<unsigned long long>(element.count) > (reader.remaining_bytes() + 1) / min_size)
-      fail(name, ":", element.header_line, ": element '", printable(element.name), "' declares ", element.count,
-           " items, more than the remaining ", reader.remaining_bytes(), " bytes can hold (truncated file or wrong count)");
-    if (element.count > INT_MAX) fail(name, ":", element.header_line, ": too many items in element '", printable(element.name), "'");
+    if (min_size > 0 &&
+        static_cast<unsigned long long>(element.count) > (reader.remaining_bytes() + 1) / min_size)
+      fail(name, ":", element.header_line, ": element '", printable(element.name), "' declares ",
+           element.count, " items, more than the remaining ", reader.remaining_bytes(),
+           " bytes can hold (truncated file or wrong count)");
+    if (element.count > INT_MAX)
+      fail(name, ":", element.header_line, ": too many items in element '", printable(element.name), "'");
 
     int x = -1, y = -1, z = -1, red = -1, green = -1, blue = -1, indices = -1;
     std::vector<int> scalar_slot(element.properties.size(), -1);  // property -> index in file.scalars
@@ -290,9 +333,12 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
       green = find_property(element, "green", false);
       blue = find_property(element, "blue", false);
       bool colors = red >= 0 && green >= 0 && blue >= 0 && element.properties[red].type == PlyType::uint8 &&
-                    element.properties[green].type == PlyType::uint8 && element.properties[blue].type == PlyType::uint8;
-      if (!colors) red = green = blue = -1;
-      else file.colors.resize(element.count, 3);
+                    element.properties[green].type == PlyType::uint8 &&
+                    element.properties[blue].type == PlyType::uint8;
+      if (!colors)
+        red = green = blue = -1;
+      else
+        file.colors.resize(element.count, 3);
       for (size_t k = 0; k < element.properties.size(); ++k) {
         const PlyProperty& p = element.properties[k];
         int kk = static_cast<int>(k);
@@ -366,10 +412,12 @@ void write_ply(std::ostream& out, const Mesh& mesh, const WriteOptions& options,
   for (size_t s = 0; s < options.scalars.size(); ++s) {
     const VertexScalar& scalar = options.scalars[s];
     if (scalar.values.size() != n)
-      fail(name, ": scalar '", printable(scalar.name), "' has ", scalar.values.size(), " values for ", n, " vertices");
+      fail(name, ": scalar '", printable(scalar.name), "' has ", scalar.values.size(), " values for ", n,
+           " vertices");
     bool plain = !scalar.name.empty();
     for (unsigned char c : scalar.name) plain = plain && c > 32 && c < 127;
-    if (!plain) fail(name, ": scalar name '", printable(scalar.name), "' is not a PLY property name (no spaces)");
+    if (!plain)
+      fail(name, ": scalar name '", printable(scalar.name), "' is not a PLY property name (no spaces)");
     bool taken = scalar.name == "x" || scalar.name == "y" || scalar.name == "z" ||
                  (with_colors && (scalar.name == "red" || scalar.name == "green" || scalar.name == "blue"));
     for (size_t r = 0; r < s; ++r) taken = taken || options.scalars[r].name == scalar.name;
@@ -380,7 +428,8 @@ void write_ply(std::ostream& out, const Mesh& mesh, const WriteOptions& options,
   out << "element vertex " << n << "\nproperty double x\nproperty double y\nproperty double z\n";
   for (const VertexScalar& scalar : options.scalars) out << "property double " << scalar.name << '\n';
   if (with_colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  if (mesh.num_faces() > 0) out << "element face " << mesh.num_faces() << "\nproperty list uchar int vertex_indices\n";
+  if (mesh.num_faces() > 0)
+    out << "element face " << mesh.num_faces() << "\nproperty list uchar int vertex_indices\n";
   out << "end_header\n";
 
   if (options.binary) {

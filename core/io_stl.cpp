@@ -91,8 +91,9 @@ MeshFile parse_ascii_stl(const std::string& name, std::string_view text) {
   while (scanner.next(t)) {
     // A file may hold several solids one after the other; all their facets make one mesh.
     if (t != "solid")
-      fail(scanner.where(), any_solid ? ": expected 'solid' or the end of the file, found '"
-                                      : ": not an STL file: expected 'solid' or an 84-byte binary header, found '",
+      fail(scanner.where(),
+           any_solid ? ": expected 'solid' or the end of the file, found '"
+                     : ": not an STL file: expected 'solid' or an 84-byte binary header, found '",
            printable(t), "'");
     any_solid = true;
     scanner.skip_line();  // the solid's name
@@ -110,11 +111,13 @@ MeshFile parse_ascii_stl(const std::string& name, std::string_view text) {
       for (;;) {
         t = scanner.token("'vertex' or 'endloop' (truncated?)");
         if (t == "endloop") break;
-        if (t != "vertex") fail(scanner.where(), ": expected 'vertex' or 'endloop', found '", printable(t), "'");
+        if (t != "vertex")
+          fail(scanner.where(), ": expected 'vertex' or 'endloop', found '", printable(t), "'");
         double xyz[3];
         for (int k = 0; k < 3; ++k) {
           xyz[k] = scanner.real_on_line("a vertex coordinate");
-          if (!std::isfinite(xyz[k])) fail(scanner.where(), ": facet ", facet, " has a non-finite coordinate");
+          if (!std::isfinite(xyz[k]))
+            fail(scanner.where(), ": facet ", facet, " has a non-finite coordinate");
         }
         corners.push_back(merger.index(xyz[0], xyz[1], xyz[2]));
       }
@@ -137,7 +140,8 @@ MeshFile parse_stl(const std::string& name, std::string_view bytes) {
   if (bytes.size() >= 84) {
     uint64_t count = little_endian_u32(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);
     if (84 + 50 * count == bytes.size()) return parse_binary_stl(name, bytes, static_cast<uint32_t>(count));
-    // Some binary writers start their header with "solid" too: then the size, or control bytes, tell them apart.
+    // Some binary writers start their header with "solid" too: then the size, or control bytes, tell them
+    // apart.
     bool ascii = false;
     size_t start = bytes.find_first_not_of(" \t\r\n");
     if (start != std::string_view::npos) ascii = bytes.substr(start, 5) == "solid";

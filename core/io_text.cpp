@@ -20,9 +20,11 @@ void read_point(TextScanner& scanner, const char* element, long long index, bool
     std::string_view t;
     bool found = (c == 0 && first_on_new_line) ? scanner.next(t) : scanner.next_on_line(t);
     if (!found) {
-      if (c == 0) fail(scanner.where(), ": unexpected end of file (truncated?), expected ", element, " ", index);
+      if (c == 0)
+        fail(scanner.where(), ": unexpected end of file (truncated?), expected ", element, " ", index);
       fail(scanner.where(), ": ", element, " ", index, " has ", c, " coordinate", c == 1 ? "" : "s",
-           ", expected 3 (x y z)", scanner.remaining_bytes() == 0 ? "; the file ends there (truncated?)" : "");
+           ", expected 3 (x y z)",
+           scanner.remaining_bytes() == 0 ? "; the file ends there (truncated?)" : "");
     }
     if (!parse_real(t, xyz[c]))
       fail(scanner.where(), ": ", element, " ", index, ": expected the ", axis[c], " coordinate, found '",
@@ -66,6 +68,7 @@ MeshFile parse_off(const std::string& name, std::string_view text) {
   long long nf = scanner.integer_on_line("the face count");
   if (scanner.next_on_line(t)) scanner.to_integer(t, "the edge count");  // optional, unused
   if (nv < 0 || nf < 0) fail(scanner.where(), ": negative count (", nv, " vertices, ", nf, " faces)");
+  if (nv > INT_MAX || nf > INT_MAX) fail(scanner.where(), ": too many vertices or faces for 32-bit indices");
   // Every vertex and face takes at least one token and a separator: larger counts cannot be right, and
   // refusing them here bounds what is reserved below by a small multiple of the file size.
   const long long room = static_cast<long long>(scanner.remaining_bytes()) + 1;
@@ -136,8 +139,9 @@ MeshFile parse_obj(const std::string& name, std::string_view text) {
         std::string_view position = t.substr(0, t.find('/'));
         long long index = 0;
         if (!parse_integer(position, index) || index == 0)
-          fail(scanner.where(), ": face ", num_faces + 1, ": expected a vertex reference (v, v/vt, v//vn or v/vt/vn, ",
-               "1-based or negative), found '", printable(t), "'");
+          fail(scanner.where(), ": face ", num_faces + 1,
+               ": expected a vertex reference (v, v/vt, v//vn or v/vt/vn, ", "1-based or negative), found '",
+               printable(t), "'");
         // OBJ indices are 1-based; negative ones count back from the last vertex defined so far.
         long long zero_based = index > 0 ? index - 1 : nv + index;
         if (zero_based < 0 || zero_based >= INT_MAX)
@@ -147,7 +151,8 @@ MeshFile parse_obj(const std::string& name, std::string_view text) {
         polygon.push_back(static_cast<int>(zero_based));
       }
       if (polygon.size() < 3)
-        fail(scanner.where(), ": face ", num_faces + 1, " has ", polygon.size(), " vertices, expected at least 3");
+        fail(scanner.where(), ": face ", num_faces + 1, " has ", polygon.size(),
+             " vertices, expected at least 3");
       builder.add_polygon(polygon);
       ++num_faces;
     }

@@ -16,15 +16,18 @@ namespace {
 struct PointsAdaptor {
   const Points& P;
   size_t kdtree_get_point_count() const { return static_cast<size_t>(P.rows()); }
-  double kdtree_get_pt(size_t i, size_t dim) const { return P(static_cast<Index>(i), static_cast<Index>(dim)); }
+  double kdtree_get_pt(size_t i, size_t dim) const {
+    return P(static_cast<Index>(i), static_cast<Index>(dim));
+  }
   template <class BoundingBox>
   bool kdtree_get_bbox(BoundingBox&) const {
     return false;  // let nanoflann compute it
   }
 };
 
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor, double, uint32_t>,
-                                                   PointsAdaptor, 3, uint32_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor, double, uint32_t>,
+                                        PointsAdaptor, 3, uint32_t>;
 
 }  // namespace
 
@@ -32,7 +35,8 @@ Edges knn_graph(const Points& P, const KnnGraphOptions& options) {
   CSHAPES_REQUIRE(options.k >= 1, "knn_graph: k = ", options.k, ", expected at least 1");
   const Index n = P.rows();
   for (Index i = 0; i < n; ++i)
-    CSHAPES_REQUIRE(P.row(i).allFinite(), "knn_graph: point ", i, " has a non-finite coordinate (NaN or Inf)");
+    CSHAPES_REQUIRE(P.row(i).allFinite(), "knn_graph: point ", i,
+                    " has a non-finite coordinate (NaN or Inf)");
   if (n < 2) return Edges(0, 2);
 
   const Index k = std::min<Index>(options.k, n - 1);

@@ -1,5 +1,5 @@
-// The symmetric k-nearest-neighbour graph of a point cloud: the edges that stand in for a mesh's edges when the
-// input has no faces, so every stage that needs only edges and rest lengths (edge_lengths) works on point
+// The symmetric k-nearest-neighbour graph of a point cloud: the edges that stand in for a mesh's edges when
+// the input has no faces, so every stage that needs only edges and rest lengths (edge_lengths) works on point
 // clouds too (the paper's "future work").
 #pragma once
 
@@ -8,7 +8,8 @@
 namespace cshapes {
 
 struct KnnGraphOptions {
-  int k = 8;  // neighbours per point (other points; a duplicate of a point counts as a neighbour at distance 0)
+  int k =
+      8;  // neighbours per point (other points; a duplicate of a point counts as a neighbour at distance 0)
 };
 
 // Edges (i, j), i < j, sorted lexicographically and unique, with no self edges, joining every point to its k

@@ -9,7 +9,9 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/tangential_relaxation.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <algorithm>
@@ -58,7 +60,8 @@ Mesh from_cgal(const SurfaceMesh& sm) {
   int f = 0;
   for (auto face : sm.faces()) {
     int c = 0;
-    for (auto v : CGAL::vertices_around_face(sm.halfedge(face), sm)) mesh.F(f, c++) = index.at(static_cast<std::size_t>(v));
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(face), sm))
+      mesh.F(f, c++) = index.at(static_cast<std::size_t>(v));
     ++f;
   }
   return mesh;
@@ -74,9 +77,81 @@ struct VertexCountStop {
   }
 };
 
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
+// Smallest angle (radians) of triangle (a, b, c).
+double min_triangle_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  auto angle = [](const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+    Eigen::Vector3d u = q - p, w = r - p;
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+  };
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
 
-// Largest distance from the sample points of `from` (vertices, edge midpoints, centroids) to the surface `to`.
+// Flips edges of badly shaped triangles where the surface is nearly flat (the two faces' normals within
+// max_dihedral_deg), when the flip raises the smaller of the two triangles' smallest angles. Sharp edges and
+// feature lines are never flipped (not flat), vertices do not move: the shape is unchanged up to the
+// flatness.
+void improve_by_flips(Mesh& mesh, double bad_angle_deg, double max_dihedral_deg, int passes) {
+  const double bad = bad_angle_deg * 3.14159265358979323846 / 180;
+  const double cos_flat = std::cos(max_dihedral_deg * 3.14159265358979323846 / 180);
+  auto key = [](int i, int j) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+  };
+  std::unordered_map<std::uint64_t, int> face_of;  // directed edge i->j -> face containing it
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) face_of[key(mesh.F(f, c), mesh.F(f, (c + 1) % 3))] = static_cast<int>(f);
+  auto P = [&](int i) { return Eigen::Vector3d(mesh.V.row(i)); };
+  auto normal = [&](int a, int b, int c) { return (P(b) - P(a)).cross(P(c) - P(a)).normalized(); };
+  for (int pass = 0; pass < passes; ++pass) {
+    int flips = 0;
+    for (Index f1 = 0; f1 < mesh.num_faces(); ++f1) {
+      if (min_triangle_angle(P(mesh.F(f1, 0)), P(mesh.F(f1, 1)), P(mesh.F(f1, 2))) >= bad) continue;
+      double best_gain = 1e-9;
+      int best_c = -1;
+      for (int c = 0; c < 3; ++c) {
+        const int i = mesh.F(f1, c), j = mesh.F(f1, (c + 1) % 3), k = mesh.F(f1, (c + 2) % 3);
+        auto it = face_of.find(key(j, i));
+        if (it == face_of.end()) continue;  // border edge
+        const int f2 = it->second;
+        int l = -1;
+        for (int d = 0; d < 3; ++d)
+          if (mesh.F(f2, d) != i && mesh.F(f2, d) != j) l = mesh.F(f2, d);
+        if (l < 0 || l == k || face_of.count(key(k, l)) || face_of.count(key(l, k))) continue;
+        const Eigen::Vector3d n1 = normal(i, j, k), n2 = normal(j, i, l);
+        // A cap (k almost on the edge ij: its angle at k near 180°) has no reliable normal and almost no
+        // area; flipping its long edge splits the neighbour in two and changes the surface by about nothing.
+        const Eigen::Vector3d ki = P(i) - P(k), kj = P(j) - P(k);
+        const bool cap = std::atan2(ki.cross(kj).norm(), ki.dot(kj)) > 160 * 3.14159265358979323846 / 180;
+        if (!cap && n1.dot(n2) < cos_flat) continue;
+        const Eigen::Vector3d n = cap ? n2 : Eigen::Vector3d((n1 + n2).normalized());
+        if (normal(k, i, l).dot(n) <= 0.5 || normal(l, j, k).dot(n) <= 0.5) continue;  // the flip would fold
+        double before = std::min(min_triangle_angle(P(i), P(j), P(k)), min_triangle_angle(P(j), P(i), P(l)));
+        double after = std::min(min_triangle_angle(P(k), P(i), P(l)), min_triangle_angle(P(l), P(j), P(k)));
+        if (after - before > best_gain) best_gain = after - before, best_c = c;
+      }
+      if (best_c < 0) continue;
+      const int i = mesh.F(f1, best_c), j = mesh.F(f1, (best_c + 1) % 3), k = mesh.F(f1, (best_c + 2) % 3);
+      const int f2 = face_of.at(key(j, i));
+      int l = -1;
+      for (int d = 0; d < 3; ++d)
+        if (mesh.F(f2, d) != i && mesh.F(f2, d) != j) l = mesh.F(f2, d);
+      for (int f : {static_cast<int>(f1), f2})
+        for (int c = 0; c < 3; ++c) face_of.erase(key(mesh.F(f, c), mesh.F(f, (c + 1) % 3)));
+      // (i, j, k) + (j, i, l) -> (k, i, l) + (l, j, k): same orientation, edge ij replaced by kl.
+      mesh.F.row(f1) << k, i, l;
+      mesh.F.row(f2) << l, j, k;
+      for (int f : {static_cast<int>(f1), f2})
+        for (int c = 0; c < 3; ++c) face_of[key(mesh.F(f, c), mesh.F(f, (c + 1) % 3))] = f;
+      ++flips;
+    }
+    if (flips == 0) break;
+  }
+}
+
+using Tree =
+    CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
+
+// Largest distance from the sample points of `from` (vertices, edge midpoints, centroids) to the surface
+// `to`.
 double one_sided_distance(const Mesh& from, const SurfaceMesh& to) {
   Tree tree(faces(to).first, faces(to).second, to);
   tree.accelerate_distance_queries();
@@ -100,13 +175,13 @@ double one_sided_distance(const Mesh& from, const SurfaceMesh& to) {
 
 }  // namespace
 
-RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
-  CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ", o.target_vertices);
-  CSHAPES_REQUIRE(o.tolerance > 0 && o.tolerance < 0.5, "remesh: tolerance must be in (0, 0.5), got ", o.tolerance);
-  CSHAPES_REQUIRE(!mesh.is_point_cloud(), "remesh: the input has no faces (a point cloud cannot be remeshed)");
-  validate_mesh(mesh, "remesh input");
-  const SurfaceMesh input = to_cgal(mesh);
-  const double area = surface_area(mesh.V, mesh.F);
+namespace {
+
+// One full run (edge-length search, collapse to the target) on the prepared input, with sharp edges above
+// feature_angle_deg kept as constraints (0: none).
+RemeshResult remesh_once(const SurfaceMesh& input, const Mesh& mesh, const RemeshOptions& o,
+                         double feature_angle_deg) {
+  const double area = surface_area(mesh.V, mesh.F);  // of the original: the simplified one is barely smaller
   const auto target = static_cast<double>(o.target_vertices);
   // Aim a little above the target so that the final collapse, not a refinement, fixes the count.
   const double aim = target * (1 + 0.5 * o.tolerance) + 2;
@@ -121,7 +196,7 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
     // Sharp edges (thin fins such as ears, crease lines) are kept as polylines that may be split but not
     // smoothed away; without them the tip of a thin part is cut off by about one edge length.
     auto sharp = sm.add_property_map<SurfaceMesh::Edge_index, bool>("e:sharp", false).first;
-    if (o.feature_angle_deg > 0) PMP::detect_sharp_edges(sm, o.feature_angle_deg, sharp);
+    if (feature_angle_deg > 0) PMP::detect_sharp_edges(sm, feature_angle_deg, sharp);
     PMP::isotropic_remeshing(faces(sm), length, sm,
                              PMP::parameters::number_of_iterations(o.relaxation_iterations)
                                  .protect_constraints(o.protect_border)
@@ -144,23 +219,72 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
     double ratio = std::sqrt(static_cast<double>(count) / aim);
     length *= std::clamp(ratio, 0.5, 2.0);
   }
-  CSHAPES_REQUIRE(best_count >= 0, "remesh: could not reach ", o.target_vertices, " vertices in ", o.max_attempts,
-                  " attempts (last edge length ", length, ")");
+  CSHAPES_REQUIRE(best_count >= 0, "remesh: could not reach ", o.target_vertices, " vertices in ",
+                  o.max_attempts, " attempts (last edge length ", length, ")");
   result.remeshed_vertices = best_count;
 
   if (best_count > o.target_vertices) {
     VertexCountStop stop{&best, static_cast<std::size_t>(o.target_vertices)};
     SMS::LindstromTurk_cost<SurfaceMesh> cost;
     SMS::LindstromTurk_placement<SurfaceMesh> placement;
-    result.collapsed_edges = SMS::edge_collapse(best, stop, CGAL::parameters::get_cost(cost).get_placement(placement));
+    result.collapsed_edges =
+        SMS::edge_collapse(best, stop, CGAL::parameters::get_cost(cost).get_placement(placement));
     best.collect_garbage();
     PMP::tangential_relaxation(best, PMP::parameters::number_of_iterations(1));
   }
   result.mesh = from_cgal(best);
+  improve_by_flips(result.mesh, 20, 15, 5);
   Index got = result.mesh.num_vertices();
-  CSHAPES_REQUIRE(std::abs(static_cast<double>(got) - target) <= o.tolerance * target + 1, "remesh: got ", got,
-                  " vertices, more than ", o.tolerance * 100, "% away from ", o.target_vertices);
+  CSHAPES_REQUIRE(std::abs(static_cast<double>(got) - target) <= o.tolerance * target + 1, "remesh: got ",
+                  got, " vertices, more than ", o.tolerance * 100, "% away from ", o.target_vertices);
   return result;
+}
+
+}  // namespace
+
+RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
+  CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ",
+                  o.target_vertices);
+  CSHAPES_REQUIRE(o.tolerance > 0 && o.tolerance < 0.5, "remesh: tolerance must be in (0, 0.5), got ",
+                  o.tolerance);
+  CSHAPES_REQUIRE(!mesh.is_point_cloud(),
+                  "remesh: the input has no faces (a point cloud cannot be remeshed)");
+  validate_mesh(mesh, "remesh input");
+  SurfaceMesh input = to_cgal(mesh);
+  // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times
+  // the target: isotropic remeshing would otherwise spend most of its time collapsing tiny edges, once per
+  // attempt.
+  if (o.presimplify_factor > 0 && static_cast<double>(input.number_of_vertices()) >
+                                      o.presimplify_factor * static_cast<double>(o.target_vertices)) {
+    // Shortest edge first, collapsed to its midpoint: several times cheaper than Lindstrom-Turk, and on a
+    // surface this dense (edges far below the target length) the midpoints stay within a tiny distance of it.
+    VertexCountStop stop{
+        &input, static_cast<std::size_t>(o.presimplify_factor / 2 * static_cast<double>(o.target_vertices))};
+    SMS::edge_collapse(input, stop,
+                       CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
+                           .get_placement(SMS::Midpoint_placement<SurfaceMesh>()));
+    input.collect_garbage();
+  }
+  // Without feature lines the triangles are best; keep the feature lines only when the shape needs them
+  // (thin fins such as ears are otherwise cut back by about an edge length, beyond the Hausdorff goal).
+  RemeshResult plain = remesh_once(input, mesh, o, 0);
+  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0) return plain;
+  const double diagonal = bbox_diagonal(mesh.V);
+  plain.hausdorff = hausdorff_distance(mesh, plain.mesh);
+  if (plain.hausdorff <= o.max_hausdorff_fraction * diagonal) return plain;
+  // Ever more edges count as features (the angle threshold lowered in steps) until the goal is met; the
+  // closest result is kept when it never is.
+  RemeshResult best = plain;
+  for (double factor : {1.0, 0.75, 0.5}) {
+    RemeshResult featured = remesh_once(input, mesh, o, factor * o.feature_angle_deg);
+    featured.hausdorff = hausdorff_distance(mesh, featured.mesh);
+    featured.feature_lines = true;
+    featured.feature_angle_deg = factor * o.feature_angle_deg;
+    featured.attempts += best.attempts;
+    if (featured.hausdorff < best.hausdorff) best = featured;
+    if (best.hausdorff <= o.max_hausdorff_fraction * diagonal) break;
+  }
+  return best;
 }
 
 double hausdorff_distance(const Mesh& a, const Mesh& b) {

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 #include <numeric>
 #include <random>
@@ -80,7 +81,8 @@ Points generate_points(Index n, const std::string& distribution, std::mt19937_64
 Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
   std::vector<double> area(mesh.F.rows());
   for (Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                             c = mesh.V.row(mesh.F(f, 2));
     area[f] = 0.5 * (b - a).cross(c - a).norm();
   }
   std::discrete_distribution<Index> pick(area.begin(), area.end());
@@ -90,20 +92,33 @@ Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
     const Index f = pick(rng);
     double u = uniform(rng), v = uniform(rng);
     if (u + v > 1) u = 1 - u, v = 1 - v;
-    X.row(i) = (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
+    X.row(i) =
+        (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
   }
   return X;
 }
 
+double process_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// Median wall-clock seconds over the runs; cpu_seconds (if given) gets the median process CPU seconds, which
+// on a machine shared with other jobs shows the work done independently of the share of the cores obtained.
 template <class F>
-double median_seconds(int repeats, F&& f) {
-  std::vector<double> t;
+double median_seconds(int repeats, F&& f, double* cpu_seconds = nullptr) {
+  std::vector<double> t, cpu;
   for (int r = 0; r < repeats; ++r) {
+    const double cpu_start = process_cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
     f();
     t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu.push_back(process_cpu_seconds() - cpu_start);
   }
   std::sort(t.begin(), t.end());
+  std::sort(cpu.begin(), cpu.end());
+  if (cpu_seconds) *cpu_seconds = cpu[cpu.size() / 2];
   return t[t.size() / 2];
 }
 
@@ -135,15 +150,20 @@ int run() {
   fmm_options.want_potentials = true;
   CoulombFmmStats stats;
   CoulombEvaluation fast;
-  const double fast_seconds = median_seconds(args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); });
+  double fast_cpu_seconds = 0;
+  const double fast_seconds = median_seconds(
+      args.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &stats); }, &fast_cpu_seconds);
 
   const bool full = n <= args.full_direct_max;
-  double direct_seconds = 0, direct_float_seconds = 0, gradient_error = 0, energy_error = 0;
+  double direct_cpu_seconds = 0, direct_float_cpu_seconds = 0, direct_seconds = 0, direct_float_seconds = 0,
+         gradient_error = 0, energy_error = 0;
   Index error_targets = n;
   if (full) {
     CoulombEvaluation direct;
-    direct_seconds = median_seconds(args.repeats, [&] { direct = coulomb_direct(X); });
-    direct_float_seconds = median_seconds(args.repeats, [&] { coulomb_direct_float(X); });
+    direct_seconds = median_seconds(
+        args.repeats, [&] { direct = coulomb_direct(X); }, &direct_cpu_seconds);
+    direct_float_seconds = median_seconds(
+        args.repeats, [&] { coulomb_direct_float(X); }, &direct_float_cpu_seconds);
     gradient_error = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
     energy_error = std::abs(fast.energy - direct.energy) / std::abs(direct.energy);
   } else {
@@ -154,9 +174,10 @@ int run() {
       std::swap(all[t], all[t + std::uniform_int_distribution<Index>(0, n - 1 - t)(rng)]);
     std::vector<Index> targets(all.begin(), all.begin() + error_targets);
     CoulombTargetSums exact;
-    const double sample_seconds =
-        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); });
+    const double sample_seconds = median_seconds(
+        1, [&] { exact = coulomb_direct_targets(X, targets); }, &direct_cpu_seconds);
     direct_seconds = sample_seconds * double(n) / double(error_targets);
+    direct_cpu_seconds *= double(n) / double(error_targets);
     double diff2 = 0, ref2 = 0, phi_fast = 0, phi_exact = 0;
     for (Index t = 0; t < error_targets; ++t) {
       diff2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
@@ -173,6 +194,8 @@ int run() {
                       {"direct_seconds", direct_seconds},
                       {"direct_extrapolated", !full},
                       {"fast_seconds", fast_seconds},
+                      {"direct_cpu_seconds", direct_cpu_seconds},
+                      {"fast_cpu_seconds", fast_cpu_seconds},
                       {"speedup", direct_seconds / fast_seconds},
                       {"gradient_rel_error", gradient_error},
                       {"energy_rel_error", energy_error},
@@ -191,16 +214,23 @@ int run() {
                         {"upward", stats.seconds_upward},
                         {"traversal", stats.seconds_traversal},
                         {"interactions", stats.seconds_interactions},
+                        {"m2l_thread_seconds", stats.seconds_m2l},
+                        {"p2p_thread_seconds", stats.seconds_p2p},
                         {"downward", stats.seconds_downward}}}};
-  if (full) j["direct_float_seconds"] = direct_float_seconds;
+  if (full) {
+    j["direct_float_seconds"] = direct_float_seconds;
+    j["direct_float_cpu_seconds"] = direct_float_cpu_seconds;
+    j["speedup_vs_direct_float"] = direct_float_seconds / fast_seconds;
+  }
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
-    std::printf("n %ld (%s), %d threads\n", static_cast<long>(n), distribution.c_str(), omp_get_max_threads());
+    std::printf("n %ld (%s), %d threads\n", static_cast<long>(n), distribution.c_str(),
+                omp_get_max_threads());
     std::printf("  direct  %.4g s%s\n", direct_seconds, full ? "" : " (extrapolated from the sample)");
     if (full) std::printf("  direct (float)  %.4g s\n", direct_float_seconds);
-    std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", fast_seconds, stats.order,
-                stats.opening_angle, stats.leaf_size, direct_seconds / fast_seconds);
+    std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", fast_seconds,
+                stats.order, stats.opening_angle, stats.leaf_size, direct_seconds / fast_seconds);
     std::printf("  relative L2 error: gradient %.3g, energy %.3g (over %ld targets)\n", gradient_error,
                 energy_error, static_cast<long>(error_targets));
   }
@@ -223,7 +253,8 @@ const bool registered = register_command(
        app.add_option("--theta", args.opening_angle, "override the opening angle (0: from --accuracy)");
        app.add_option("--leaf-size", args.leaf_size, "override the leaf size (0: from --accuracy)");
        app.add_option("--sample", args.sample, "error targets when the full direct sum is skipped");
-       app.add_option("--full-direct-max", args.full_direct_max, "largest n summed completely by direct summation");
+       app.add_option("--full-direct-max", args.full_direct_max,
+                      "largest n summed completely by direct summation");
        app.add_option("--seed", args.seed, "random seed for points and the error sample");
        app.add_flag("--json", args.json, "print JSON on stdout");
      },

@@ -65,7 +65,7 @@ const bool registered = register_command(
     {{"info"},
      "Print counts, topology (components, boundary, Euler characteristic, genus) and size of meshes",
      [](CLI::App& app) {
-       app.add_option("MESH", args.paths, "mesh or point-cloud files")->required()->check(CLI::ExistingFile);
+       app.add_option("MESH", args.paths, "mesh or point-cloud files")->required();
        app.add_flag("--json", args.json, "print JSON (an object, or an array for several files)");
        app.add_flag("--no-validate", args.no_validate,
                     "report on meshes that fail validation (degenerate faces, non-manifold edges, ...)");

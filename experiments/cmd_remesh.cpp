@@ -40,8 +40,8 @@ int run() {
                       {"input_vertices", before.vertices},
                       {"vertices", after.vertices},
                       {"faces", after.faces},
-                      {"relative_count_error",
-                       (static_cast<double>(after.vertices) - args.vertices) / static_cast<double>(args.vertices)},
+                      {"relative_count_error", (static_cast<double>(after.vertices) - args.vertices) /
+                                                   static_cast<double>(args.vertices)},
                       {"euler_characteristic_in", before.euler_characteristic},
                       {"euler_characteristic", after.euler_characteristic},
                       {"boundary_edges_in", before.boundary_edges},
@@ -55,22 +55,27 @@ int run() {
                       {"mean_min_angle_deg", angles_out.mean_min_angle},
                       {"target_edge_length", r.target_edge_length},
                       {"attempts", r.attempts},
-                      {"collapsed_edges", r.collapsed_edges}};
+                      {"collapsed_edges", r.collapsed_edges},
+                      {"feature_angle_deg", r.feature_lines ? r.feature_angle_deg : 0.0}};
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
     return 0;
   }
   std::printf("%s -> %s\n", args.input.c_str(), args.output.c_str());
   std::printf("  vertices        %ld -> %ld (target %ld, %+.2f%%)\n", static_cast<long>(before.vertices),
-              static_cast<long>(after.vertices), args.vertices, 100 * j["relative_count_error"].get<double>());
-  std::printf("  euler char.     %ld -> %ld, %d component(s), %ld boundary edges\n", before.euler_characteristic,
-              after.euler_characteristic, after.components, static_cast<long>(after.boundary_edges));
+              static_cast<long>(after.vertices), args.vertices,
+              100 * j["relative_count_error"].get<double>());
+  std::printf("  euler char.     %ld -> %ld, %d component(s), %ld boundary edges\n",
+              before.euler_characteristic, after.euler_characteristic, after.components,
+              static_cast<long>(after.boundary_edges));
   std::printf("  hausdorff       %.4g (%.3f%% of the bbox diagonal %.4g)\n", hausdorff,
               100 * hausdorff / before.bbox_diagonal, before.bbox_diagonal);
   std::printf("  min angle       %.2f deg (input %.2f), mean smallest angle %.2f deg\n", angles_out.min_angle,
               angles_in.min_angle, angles_out.mean_min_angle);
-  std::printf("  edge length     %.4g after %d attempt(s), %ld edges collapsed\n", r.target_edge_length, r.attempts,
-              static_cast<long>(r.collapsed_edges));
+  std::printf("  edge length     %.4g after %d attempt(s), %ld edges collapsed\n", r.target_edge_length,
+              r.attempts, static_cast<long>(r.collapsed_edges));
+  if (r.feature_lines)
+    std::printf("  feature lines   edges sharper than %.0f deg kept\n", r.feature_angle_deg);
   return 0;
 }
 
@@ -80,7 +85,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("MESH", args.input, "input mesh")->required()->check(CLI::ExistingFile);
        app.add_option("-o,--output", args.output, "output mesh (format by extension)")->required();
-       app.add_option("--vertices", args.vertices, "vertex count wanted")->required()->check(CLI::Range(4L, 100000000L));
+       app.add_option("--vertices", args.vertices, "vertex count wanted")
+           ->required()
+           ->check(CLI::Range(4L, 100000000L));
        app.add_option("--tolerance", args.tolerance, "accepted relative deviation from --vertices")
            ->capture_default_str();
        app.add_option("--iterations", args.iterations, "isotropic remeshing iterations per attempt")

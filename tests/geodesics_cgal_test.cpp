@@ -26,7 +26,9 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
   return sum / count;
 }
 
-double mean_edge_length(const Mesh& m) { return edge_lengths(m.V, mesh_edges(m.F)).mean(); }
+double mean_edge_length(const Mesh& m) {
+  return edge_lengths(m.V, mesh_edges(m.F)).mean();
+}
 
 TEST(ExactGeodesics, FlatGridIsEuclidean) {
   Mesh m = grid(15, 11, 1.4, 1.0);
@@ -47,8 +49,8 @@ TEST(ExactGeodesics, UnitCubeCornerToCorner) {
   cube.V.resize(8, 3);
   for (int i = 0; i < 8; ++i) cube.V.row(i) << (i & 1), (i >> 1) & 1, (i >> 2) & 1;
   cube.F.resize(12, 3);
-  cube.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7,
-      5;
+  cube.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5,
+      3, 7, 5;
   Eigen::VectorXd d = exact_geodesics(cube, {0});
   EXPECT_NEAR(d[7], std::sqrt(5.0), 1e-12);
   EXPECT_NEAR(d[3], std::sqrt(2.0), 1e-12);
@@ -56,8 +58,9 @@ TEST(ExactGeodesics, UnitCubeCornerToCorner) {
 }
 
 TEST(CgalHeatMethod, DirectModeMatchesOurHeatMethod) {
-  // Same discretisation (cotangent Laplacian, lumped mass, t = h²): equal up to solver rounding on a mesh whose
-  // heat solution stays positive (CGAL takes |u|, which differs from u only where obtuse angles make it oscillate).
+  // Same discretisation (cotangent Laplacian, lumped mass, t = h²): equal up to solver rounding on a mesh
+  // whose heat solution stays positive (CGAL takes |u|, which differs from u only where obtuse angles make it
+  // oscillate).
   Mesh m = torus(48, 24, 2.0, 0.6);
   HeatMethodOptions direct;
   direct.intrinsic_delaunay = false;
@@ -95,8 +98,8 @@ TEST(CgalHeatMethod, BothModesOnASphere) {
   EXPECT_THROW(parse_cgal_heat_mode("cotan"), std::exception);
 }
 
-// The curved case: fast marching and both heat methods against exact geodesics on a TOSCA cat (5,000 vertices)
-// and on a torus (negative and positive curvature).
+// The curved case: fast marching and both heat methods against exact geodesics on a TOSCA cat (5,000
+// vertices) and on a torus (negative and positive curvature).
 void check_against_exact(const Mesh& m, const std::vector<int>& sources, double fmm_tolerance,
                          double heat_tolerance, const std::string& name) {
   const double h = mean_edge_length(m);

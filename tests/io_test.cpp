@@ -63,7 +63,8 @@ void expect_same_corners(const Mesh& expected, const Mesh& read) {
   EXPECT_EQ(read.V.rows(), expected.V.rows());
   for (Index f = 0; f < expected.F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      ASSERT_TRUE(read.V.row(read.F(f, c)) == expected.V.row(expected.F(f, c))) << "face " << f << " corner " << c;
+      ASSERT_TRUE(read.V.row(read.F(f, c)) == expected.V.row(expected.F(f, c)))
+          << "face " << f << " corner " << c;
 }
 
 template <typename T>
@@ -121,7 +122,8 @@ TEST(IoRoundTrip, PlyScalarsAndColours) {
   for (Index i = 0; i < n; ++i) {
     torn[i] = i % 3 == 0;
     violation[i] = std::sqrt(static_cast<double>(i)) / 7.0;
-    options.colors.row(i) << static_cast<unsigned char>(i % 256), static_cast<unsigned char>(255 - i % 256), 17;
+    options.colors.row(i) << static_cast<unsigned char>(i % 256), static_cast<unsigned char>(255 - i % 256),
+        17;
   }
   options.scalars = {{"torn", torn}, {"violation", violation}};
   for (bool binary : {false, true}) {
@@ -205,6 +207,28 @@ TEST(IoRead, BinaryBigEndianPlyWithOtherPropertiesAndElements) {
   fs::remove_all(dir);
 }
 
+TEST(IoRead, BinaryFormatsNameTheElement) {
+  std::string dir = test::scratch_dir("io");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, nan}) put<double>(ply, v, false);
+  std::string faces;
+  put<uint8_t>(faces, 3, false);
+  for (int32_t i : {0, 1, 2}) put<int32_t>(faces, i, false);
+  std::string path = write_bytes(dir + "/nan.ply", ply + faces);
+  expect_refused(path, {path + ": vertex 2", "non-finite z"});
+  std::string stl(80, ' ');
+  put<uint32_t>(stl, 1, false);
+  for (float v : {0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, std::numeric_limits<float>::infinity()})
+    put<float>(stl, v, false);
+  put<uint16_t>(stl, 0, false);
+  path = write_bytes(dir + "/inf.stl", stl);
+  expect_refused(path, {path + ": triangle 0 corner 2", "non-finite"});
+  fs::remove_all(dir);
+}
+
 TEST(IoRead, AsciiPlyPolygonsAndLineNumbers) {
   std::string dir = test::scratch_dir("io");
   std::string header =
@@ -223,8 +247,9 @@ TEST(IoRead, AsciiPlyPolygonsAndLineNumbers) {
   expect_refused(path, {path + ":15:", "count mismatch"});
   write_bytes(path, header + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1\n");
   expect_refused(path, {"truncated"});
-  write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 99999999\nproperty float x\nproperty float y\n"
-                    "property float z\nend_header\n1 2 3\n");
+  write_bytes(path,
+              "ply\nformat ascii 1.0\nelement vertex 99999999\nproperty float x\nproperty float y\n"
+              "property float z\nend_header\n1 2 3\n");
   expect_refused(path, {path + ":3:", "99999999", "truncated"});
   fs::remove_all(dir);
 }
@@ -232,8 +257,9 @@ TEST(IoRead, AsciiPlyPolygonsAndLineNumbers) {
 TEST(IoRead, OffVariantsAndPolygons) {
   std::string dir = test::scratch_dir("io");
   // COFF: colours after x y z; NOFF: normals; a quad and a face colour; comments.
-  std::string coff = "COFF\n# a comment\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n"
-                     "0 1 0 9 9 9 255\n4 0 1 2 3 0.5 0.5 0.5\n";
+  std::string coff =
+      "COFF\n# a comment\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n"
+      "0 1 0 9 9 9 255\n4 0 1 2 3 0.5 0.5 0.5\n";
   Mesh quad = read_mesh(write_bytes(dir + "/c.off", coff));
   ASSERT_EQ(quad.num_vertices(), 4);
   ASSERT_EQ(quad.num_faces(), 2);
@@ -250,7 +276,8 @@ TEST(IoRead, ObjIndexFormsAndNegativeIndices) {
   std::string dir = test::scratch_dir("io");
   std::string obj =
       "# quad and triangle\nmtllib x.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0 0.5 0.5 0.5\nv 0 1 0\nvt 0 0\nvn 0 0 1\n"
-      "g part\nusemtl m\nf 1/1/1 2/1/1 3/1/1 4/1/1\nv 0 0 1\ns off\nf -1//1 -5//1 -4//1\nf 5/1 2/1 4/1\nl 1 2\n";
+      "g part\nusemtl m\nf 1/1/1 2/1/1 3/1/1 4/1/1\nv 0 0 1\ns off\nf -1//1 -5//1 -4//1\nf 5/1 2/1 4/1\nl 1 "
+      "2\n";
   Mesh mesh = read_mesh(write_bytes(dir + "/m.obj", obj));
   ASSERT_EQ(mesh.num_vertices(), 5);
   ASSERT_EQ(mesh.num_faces(), 4);
@@ -317,7 +344,8 @@ TEST(IoRead, ToscaVertTriPairFromEitherPath) {
   Mesh mesh = test_mesh();
   std::ostringstream vert, tri;
   vert.precision(17);
-  for (Index i = 0; i < mesh.num_vertices(); ++i) vert << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
+  for (Index i = 0; i < mesh.num_vertices(); ++i)
+    vert << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
   for (Index f = 0; f < mesh.num_faces(); ++f)
     tri << mesh.F(f, 0) + 1 << ' ' << mesh.F(f, 1) + 1 << ' ' << mesh.F(f, 2) + 1 << '\n';
   write_bytes(dir + "/cat.vert", vert.str());
@@ -325,7 +353,8 @@ TEST(IoRead, ToscaVertTriPairFromEitherPath) {
   expect_same_mesh(mesh, read_mesh(dir + "/cat.vert"));
   expect_same_mesh(mesh, read_mesh(dir + "/cat.tri"));
   write_bytes(dir + "/cat.tri", tri.str() + "1 2 " + std::to_string(mesh.num_vertices() + 1) + "\n");
-  expect_refused(dir + "/cat.vert", {dir + "/cat.tri:" + std::to_string(mesh.num_faces() + 1) + ":", "vertex index"},
+  expect_refused(dir + "/cat.vert",
+                 {dir + "/cat.tri:" + std::to_string(mesh.num_faces() + 1) + ":", "vertex index"},
                  dir + "/cat.tri");
   fs::remove(dir + "/cat.tri");
   expect_refused(dir + "/cat.vert", {"no such file"}, dir + "/cat.tri");

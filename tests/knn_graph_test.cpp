@@ -24,7 +24,8 @@ Points random_points(int n, unsigned seed) {
   return P;
 }
 
-// The definition, by brute force: every point joined to its k nearest other points (by sorting all distances).
+// The definition, by brute force: every point joined to its k nearest other points (by sorting all
+// distances).
 Edges brute_force_knn_graph(const Points& P, int k) {
   const int n = static_cast<int>(P.rows());
   std::set<std::pair<int, int>> edges;

@@ -1,0 +1,214 @@
+#include "canon/classical_mds.h"
+
+#include <Spectra/SymEigsSolver.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "core/error.h"
+
+namespace cshapes {
+namespace {
+
+// Tile edge of the product's pass over D (column sums of a tile stay in L1).
+constexpr Index kTile = 256;
+
+// First pass over D: validity, and the sums behind tr B and ‖B‖²_F.
+struct SquaredDistanceSums {
+  Eigen::VectorXd row_sums;  // Rᵢ = Σⱼ Dᵢⱼ²
+  double sum_fourth = 0;     // Σᵢⱼ Dᵢⱼ⁴
+  double diagonal = 0;       // Σᵢ Dᵢᵢ² (zero for a proper distance matrix)
+};
+
+template <typename Scalar>
+SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& D) {
+  const Index n = D.rows();
+  SquaredDistanceSums s;
+  s.row_sums.resize(n);
+  Index bad_row = -1;
+  double sum_fourth = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum_fourth)
+  for (Index i = 0; i < n; ++i) {
+    const Scalar* column = D.data() + i * n;
+    double row = 0, fourth = 0;
+    bool finite = true;
+#pragma omp simd reduction(+ : row, fourth) reduction(&& : finite)
+    for (Index j = 0; j < n; ++j) {
+      double a = static_cast<double>(column[j]) * static_cast<double>(column[j]);
+      row += a;
+      fourth += a * a;
+      finite = finite && column[j] >= 0 && column[j] <= std::numeric_limits<Scalar>::max();
+    }
+    s.row_sums[i] = row;
+    sum_fourth += fourth;
+    if (!finite) {
+#pragma omp critical(cshapes_cmds_bad_row)
+      if (bad_row < 0 || i < bad_row) bad_row = i;
+    }
+  }
+  if (bad_row >= 0) {
+    Index j = 0;
+    while (j < n && D(j, bad_row) >= 0 && D(j, bad_row) <= std::numeric_limits<Scalar>::max()) ++j;
+    fail("classical MDS: distance (", bad_row, ", ", j, ") is ", D(j, bad_row),
+         "; distances must be finite and non-negative (an infinite distance means a disconnected mesh: "
+         "keep its largest component)");
+  }
+  s.sum_fourth = sum_fourth;
+  for (Index i = 0; i < n; ++i) s.diagonal += static_cast<double>(D(i, i)) * static_cast<double>(D(i, i));
+  return s;
+}
+
+// (B + sI)·v = −½ J (D∘D) J v + s v without forming B: centre v, one pass y = (D∘D) v over columns (= rows),
+// centre y. The shift s ≈ ‖B‖_F leaves the Krylov spaces (and so Lanczos' iterates) unchanged but makes
+// Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
+// third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
+// need.
+template <typename Entry>
+class DoubleCentredOp {
+ public:
+  using Scalar = double;  // Spectra requires this name
+
+  DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, double shift,
+                  const ProgressFn& progress)
+      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {
+    const Index n = D.rows(), blocks = (n + kTile - 1) / kTile;
+    for (Index bj = 0; bj < blocks; ++bj)
+      for (Index bi = 0; bi <= bj; ++bi) tiles_.emplace_back(bi, bj);
+  }
+  Index rows() const { return D_.rows(); }
+  Index cols() const { return D_.rows(); }
+
+  void perform_op(const double* x_in, double* y_out) const {
+    const Index n = D_.rows();
+    Eigen::Map<const Eigen::VectorXd> x(x_in, n);
+    centred_ = x.array() - x.mean();
+    const double* v = centred_.data();
+    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
+    // Symmetry: only the tiles above the diagonal are read, each entry credited to its row and its column,
+    // so a product streams half of D.
+#pragma omp parallel
+    {
+      Eigen::VectorXd local = Eigen::VectorXd::Zero(n);
+      alignas(64) double column_sums[kTile];
+#pragma omp for schedule(dynamic, 1) nowait
+      for (size_t t = 0; t < tiles_.size(); ++t) {
+        const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
+        const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
+        std::fill(column_sums, column_sums + kTile, 0.0);
+        for (Index i = i0; i < i1; ++i) {
+          const Index ja = std::max(j0, i + 1);
+          if (ja >= j1) continue;
+          if (i + 2 < i1) {  // the row two ahead: each tile row is a separate short run of D
+            const char* next = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + std::max(j0, i + 3));
+            const char* end = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + j1);
+            for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
+          }
+          const Entry* column = D_.data() + i * n;  // column i = row i
+          const double vi = v[i];
+          double row = 0;
+          double* sums = column_sums - j0;
+#pragma omp simd reduction(+ : row)
+          for (Index j = ja; j < j1; ++j) {
+            const double d = static_cast<double>(column[j]);
+            const double a = d * d;
+            row += a * v[j];
+            sums[j] += a * vi;
+          }
+          local[i] += row;
+        }
+        for (Index j = j0; j < j1; ++j) local[j] += column_sums[j - j0];
+      }
+#pragma omp critical(cshapes_cmds_reduce)
+      product += local;
+    }
+    for (Index i = 0; i < n; ++i) {  // the diagonal (zero for a proper distance matrix)
+      const double d = static_cast<double>(D_(i, i));
+      product[i] += d * d * v[i];
+    }
+    std::copy(product.data(), product.data() + n, y_out);
+    Eigen::Map<Eigen::VectorXd> y(y_out, n);
+    y = -0.5 * (y.array() - y.mean()) + shift_ * x.array();
+    ++products_;
+    if (progress_) progress_("classical mds", products_, 0);
+  }
+  int products() const {
+    return products_;
+  }
+
+ private:
+  const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D_;
+  double shift_;
+  const ProgressFn& progress_;
+  mutable Eigen::VectorXd centred_;
+  std::vector<std::pair<Index, Index>> tiles_;  // upper-triangle tiles (row block ≤ column block)
+  mutable int products_ = 0;
+};
+
+template <typename Scalar>
+ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& D,
+                                      const ClassicalMdsOptions& options) {
+  auto start = std::chrono::steady_clock::now();
+  const Index n = D.rows();
+  CSHAPES_REQUIRE(D.rows() == D.cols(), "classical MDS: distance matrix must be square, got ", D.rows(), "x",
+                  D.cols());
+  CSHAPES_REQUIRE(n >= 4, "classical MDS: needs at least 4 points for a 3-D embedding, got ", n);
+  CSHAPES_REQUIRE(options.lanczos_vectors >= 7, "classical MDS: lanczos_vectors must be at least 7, got ",
+                  options.lanczos_vectors);
+
+  SquaredDistanceSums sums = squared_distance_sums(D);
+  ClassicalMdsResult result;
+  const double nd = static_cast<double>(n);
+  const double total = sums.row_sums.sum();
+  // tr B = −½ tr(J A J) = −½ (tr A − 1ᵀA1 / n), with A = D∘D.
+  result.trace = -0.5 * (sums.diagonal - total / nd);
+  // ‖J A J‖²_F = ‖A‖²_F − (2/n) ‖A1‖² + (1ᵀA1)² / n² for symmetric A.
+  result.frobenius_squared =
+      0.25 * (sums.sum_fourth - 2.0 / nd * sums.row_sums.squaredNorm() + total * total / (nd * nd));
+
+  const double shift = std::sqrt(std::max(0.0, result.frobenius_squared));
+  DoubleCentredOp<Scalar> op(D, shift, options.progress);
+  const Index ncv = std::min<Index>(options.lanczos_vectors, n);
+  // One Lanczos run for both ends when λ_min is wanted: 3 from the top and 2 from the bottom share the
+  // Krylov space, far cheaper than a second run.
+  const bool both_ends = options.most_negative_eigenvalue && n >= 8;
+  const Index nev = both_ends ? 5 : 3;
+  Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
+  eigs.init();
+  eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge, options.max_restarts,
+               options.tolerance, Spectra::SortRule::LargestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
+         " restarts (raise lanczos_vectors or the tolerance)");
+  const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
+  const Eigen::MatrixXd vectors = eigs.eigenvectors();
+  result.eigenvalues = values.head(3);
+  result.most_negative_eigenvalue = both_ends ? values[nev - 1] : std::numeric_limits<double>::quiet_NaN();
+  result.X.resize(n, 3);
+  for (int k = 0; k < 3; ++k)
+    result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
+  result.X.rowwise() -= result.X.colwise().mean();
+  const double top_sum = result.eigenvalues.sum();
+  const double top_energy = result.eigenvalues.squaredNorm();
+  result.explained_energy =
+      result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
+  result.negative_energy_upper_bound = 1 - result.explained_energy;
+  result.negative_mass_lower_bound = top_sum > 0 ? std::max(0.0, top_sum - result.trace) / top_sum : 0;
+  result.matrix_products = op.products();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
+ClassicalMdsResult classical_mds(const DistanceMatrix& D, const ClassicalMdsOptions& options) {
+  return classical_mds_impl<float>(D, options);
+}
+
+ClassicalMdsResult classical_mds(const Eigen::MatrixXd& D, const ClassicalMdsOptions& options) {
+  return classical_mds_impl<double>(D, options);
+}
+
+}  // namespace cshapes

@@ -1,0 +1,507 @@
+#include "canon/smacof.h"
+
+#include <omp.h>
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cfloat>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <limits>
+
+#include "canon/classical_mds.h"
+#include "core/error.h"
+
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
+namespace cshapes {
+namespace {
+
+// Tiles of kTileRows × kTileCols entries: float partial sums run over at most kTileCols / 8 (rows) or
+// kTileRows (columns) terms before going into double accumulators, and a tile's column accumulators
+// (3 × kTileCols floats) stay in L1. Measured at n = 3,505 (one thread): 256 × 256 with software prefetch
+// of the row two ahead 0.70 ns per pair, without prefetch 1.0; 128 × 1024 and 512 × 512 are slower.
+constexpr Index kTileRows = 256;
+constexpr Index kTileCols = 256;
+// Rows ahead whose tile segment is prefetched: each row of a tile is a separate 1 KB run of D, and the
+// hardware prefetcher alone stalls at the start of every run.
+constexpr Index kPrefetchRows = 2;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// The tiles (row block, column block) of an n×n matrix holding some entry (i, j) with i < j.
+std::vector<std::pair<Index, Index>> upper_tiles(Index n) {
+  const Index row_blocks = (n + kTileRows - 1) / kTileRows, col_blocks = (n + kTileCols - 1) / kTileCols;
+  std::vector<std::pair<Index, Index>> tiles;
+  for (Index bj = 0; bj < col_blocks; ++bj)
+    for (Index bi = 0; bi < row_blocks && bi * kTileRows < std::min(n, (bj + 1) * kTileCols) - 1; ++bi)
+      tiles.emplace_back(bi, bj);
+  return tiles;
+}
+
+// The configuration in single precision, structure of arrays, padded for vector loads.
+struct FloatConfiguration {
+  std::vector<float> x, y, z, w;
+};
+
+// Row accumulators of one row i over one tile: Σⱼ wⱼ cᵢⱼ (xᵢ − xⱼ) and Σⱼ wⱼ (δᵢⱼ − dᵢⱼ)².
+struct RowSums {
+  double x = 0, y = 0, z = 0, stress = 0;
+};
+
+// One row i against columns [ja, jb) of the tile starting at column j0: accumulates the row's sums and,
+// into col_{x,y,z}[j − j0], the columns' sums wᵢ cᵢⱼ (xⱼ − xᵢ). cᵢⱼ = δᵢⱼ / dᵢⱼ (0 when dᵢⱼ = 0).
+template <bool Weighted>
+inline RowSums row_pass(const float* delta, const FloatConfiguration& c, Index i, Index ja, Index jb,
+                        Index j0, float* col_x, float* col_y, float* col_z) {
+  const float xi = c.x[i], yi = c.y[i], zi = c.z[i], wi = Weighted ? c.w[i] : 1.0f;
+  const float* xs = c.x.data();
+  const float* ys = c.y.data();
+  const float* zs = c.z.data();
+  const float* ws = c.w.data();
+  RowSums sums;
+  Index j = ja;
+#ifdef __AVX2__
+  {
+    const __m256 vxi = _mm256_set1_ps(xi), vyi = _mm256_set1_ps(yi), vzi = _mm256_set1_ps(zi);
+    const __m256 vwi = _mm256_set1_ps(wi);
+    const __m256 half = _mm256_set1_ps(0.5f), three_halves = _mm256_set1_ps(1.5f);
+    const __m256 tiny = _mm256_set1_ps(FLT_MIN);
+    __m256 ax = _mm256_setzero_ps(), ay = _mm256_setzero_ps(), az = _mm256_setzero_ps();
+    __m256 as = _mm256_setzero_ps();
+    for (; j + 8 <= jb; j += 8) {
+      const __m256 dlt = _mm256_loadu_ps(delta + j);
+      const __m256 dx = _mm256_sub_ps(vxi, _mm256_loadu_ps(xs + j));
+      const __m256 dy = _mm256_sub_ps(vyi, _mm256_loadu_ps(ys + j));
+      const __m256 dz = _mm256_sub_ps(vzi, _mm256_loadu_ps(zs + j));
+      const __m256 d2 = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
+      // 1/d: hardware estimate (12 bits) and one Newton step (to about 23 bits), 0 for coincident points.
+      const __m256 r0 = _mm256_rsqrt_ps(d2);
+      const __m256 h = _mm256_mul_ps(_mm256_mul_ps(half, d2), _mm256_mul_ps(r0, r0));
+      __m256 inv = _mm256_mul_ps(r0, _mm256_sub_ps(three_halves, h));
+      inv = _mm256_and_ps(inv, _mm256_cmp_ps(d2, tiny, _CMP_GT_OQ));
+      const __m256 residual = _mm256_sub_ps(dlt, _mm256_mul_ps(d2, inv));
+      const __m256 ratio = _mm256_mul_ps(dlt, inv);
+      __m256 row_coef = ratio, col_coef = ratio;
+      if constexpr (Weighted) {
+        const __m256 wj = _mm256_loadu_ps(ws + j);
+        row_coef = _mm256_mul_ps(ratio, wj);
+        col_coef = _mm256_mul_ps(ratio, vwi);
+        as = _mm256_fmadd_ps(_mm256_mul_ps(wj, residual), residual, as);
+      } else {
+        as = _mm256_fmadd_ps(residual, residual, as);
+      }
+      ax = _mm256_fmadd_ps(row_coef, dx, ax);
+      ay = _mm256_fmadd_ps(row_coef, dy, ay);
+      az = _mm256_fmadd_ps(row_coef, dz, az);
+      float* px = col_x + (j - j0);
+      float* py = col_y + (j - j0);
+      float* pz = col_z + (j - j0);
+      _mm256_storeu_ps(px, _mm256_fnmadd_ps(col_coef, dx, _mm256_loadu_ps(px)));
+      _mm256_storeu_ps(py, _mm256_fnmadd_ps(col_coef, dy, _mm256_loadu_ps(py)));
+      _mm256_storeu_ps(pz, _mm256_fnmadd_ps(col_coef, dz, _mm256_loadu_ps(pz)));
+    }
+    alignas(32) float lanes[4][8];
+    _mm256_store_ps(lanes[0], ax);
+    _mm256_store_ps(lanes[1], ay);
+    _mm256_store_ps(lanes[2], az);
+    _mm256_store_ps(lanes[3], as);
+    for (int k = 0; k < 8; ++k) {
+      sums.x += lanes[0][k];
+      sums.y += lanes[1][k];
+      sums.z += lanes[2][k];
+      sums.stress += lanes[3][k];
+    }
+  }
+#else
+  (void)wi;
+#endif
+  // Remainder (and the whole row without AVX2): the same arithmetic with an exact 1/√.
+  for (; j < jb; ++j) {
+    const float dlt = delta[j];
+    const float dx = xi - xs[j], dy = yi - ys[j], dz = zi - zs[j];
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    const float inv = d2 > FLT_MIN ? 1.0f / std::sqrt(d2) : 0.0f;
+    const float residual = dlt - d2 * inv;
+    const float ratio = dlt * inv;
+    const float wj = Weighted ? ws[j] : 1.0f;
+    const float row_coef = ratio * wj, col_coef = ratio * wi;
+    sums.stress += wj * residual * residual;
+    sums.x += row_coef * dx;
+    sums.y += row_coef * dy;
+    sums.z += row_coef * dz;
+    col_x[j - j0] -= col_coef * dx;
+    col_y[j - j0] -= col_coef * dy;
+    col_z[j - j0] -= col_coef * dz;
+  }
+  return sums;
+}
+
+// The pass: σ(X) and S = [Σⱼ wⱼ cᵢⱼ (xᵢ − xⱼ)]ᵢ over the upper triangle, tiles in parallel.
+template <bool Weighted>
+double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config, Points& sums) {
+  const Index n = D.rows();
+  const auto tiles = upper_tiles(n);
+  sums.setZero(n, 3);
+  double stress = 0;
+#pragma omp parallel
+  {
+    std::vector<double> local(3 * n, 0.0);  // x, y, z of row j at 3j
+    double local_stress = 0;
+    alignas(32) float col[3][kTileCols];
+#pragma omp for schedule(dynamic, 1) nowait
+    for (size_t t = 0; t < tiles.size(); ++t) {
+      const Index i0 = tiles[t].first * kTileRows, i1 = std::min(n, i0 + kTileRows);
+      const Index j0 = tiles[t].second * kTileCols, j1 = std::min(n, j0 + kTileCols);
+      std::fill(&col[0][0], &col[0][0] + 3 * kTileCols, 0.0f);
+      for (Index i = i0; i < i1; ++i) {
+        const Index ja = std::max(j0, i + 1);
+        if (ja >= j1) continue;
+        if (i + kPrefetchRows < i1) {
+          const Index ahead = i + kPrefetchRows;
+          const char* next = reinterpret_cast<const char*>(D.data() + ahead * n + std::max(j0, ahead + 1));
+          const char* end = reinterpret_cast<const char*>(D.data() + ahead * n + j1);
+          for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
+        }
+        RowSums r = row_pass<Weighted>(D.data() + i * n, config, i, ja, j1, j0, col[0], col[1], col[2]);
+        local[3 * i] += r.x;
+        local[3 * i + 1] += r.y;
+        local[3 * i + 2] += r.z;
+        local_stress += Weighted ? static_cast<double>(config.w[i]) * r.stress : r.stress;
+      }
+      for (Index j = j0; j < j1; ++j) {
+        local[3 * j] += col[0][j - j0];
+        local[3 * j + 1] += col[1][j - j0];
+        local[3 * j + 2] += col[2][j - j0];
+      }
+    }
+#pragma omp critical(cshapes_smacof_reduce)
+    {
+      for (Index i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) sums(i, k) += local[3 * i + k];
+      stress += local_stress;
+    }
+  }
+  return stress;
+}
+
+// Validity of the weights: n finite positive values, or none.
+void check_weights(const Eigen::VectorXd& weights, Index n) {
+  if (weights.size() == 0) return;
+  CSHAPES_REQUIRE(weights.size() == n, "SMACOF: ", weights.size(), " vertex weights given for ", n,
+                  " vertices");
+  for (Index i = 0; i < n; ++i)
+    CSHAPES_REQUIRE(std::isfinite(weights[i]) && weights[i] > 0, "SMACOF: vertex weight ", i, " is ",
+                    weights[i], "; weights must be finite and positive");
+}
+
+// Evaluates passes over D for one problem (fixed D and weights) and counts them.
+class Evaluator {
+ public:
+  Evaluator(const DistanceMatrix& D, const Eigen::VectorXd& weights) : D_(D), weights_(weights) {
+    const Index n = D.rows();
+    const Index padded = n + 8;
+    config_.x.assign(padded, 0.0f);
+    config_.y.assign(padded, 0.0f);
+    config_.z.assign(padded, 0.0f);
+    config_.w.assign(padded, 1.0f);
+    weight_sum_ = static_cast<double>(n);
+    if (weights.size()) {
+      for (Index i = 0; i < n; ++i) config_.w[i] = static_cast<float>(weights[i]);
+      weight_sum_ = weights.sum();
+    }
+  }
+
+  // Weighted centroid of X, the origin of the float coordinates (translation changes neither σ nor X⁺).
+  Eigen::RowVector3d centroid(const Points& X) const {
+    if (weights_.size()) return (weights_.transpose() * X) / weight_sum_;
+    return X.colwise().mean();
+  }
+
+  GuttmanTransform operator()(const Points& X) {
+    ++passes_;
+    const Index n = D_.rows();
+    Eigen::RowVector3d origin = centroid(X);
+    for (Index i = 0; i < n; ++i) {
+      config_.x[i] = static_cast<float>(X(i, 0) - origin[0]);
+      config_.y[i] = static_cast<float>(X(i, 1) - origin[1]);
+      config_.z[i] = static_cast<float>(X(i, 2) - origin[2]);
+    }
+    GuttmanTransform out;
+    Points sums;
+    out.stress = weights_.size() ? stress_and_sums<true>(D_, config_, sums)
+                                 : stress_and_sums<false>(D_, config_, sums);
+    out.X_next = sums / weight_sum_;
+    // Exactly weighted-centred in exact arithmetic; float partial sums leave a drift of ~1e-8 to remove.
+    out.X_next.rowwise() -= centroid(out.X_next);
+    return out;
+  }
+  int passes() const { return passes_; }
+
+ private:
+  const DistanceMatrix& D_;
+  const Eigen::VectorXd& weights_;
+  FloatConfiguration config_;
+  double weight_sum_ = 0;
+  int passes_ = 0;
+};
+
+// Σ_{i<j} wᵢwⱼ δᵢⱼ², after checking D (same checks as validate_distance_matrix).
+double weighted_distance_energy(const DistanceMatrix& D, const Eigen::VectorXd& weights,
+                                const std::string& what) {
+  const Index n = D.rows();
+  CSHAPES_REQUIRE(D.rows() == D.cols(), what, ": distance matrix must be square, got ", D.rows(), "x",
+                  D.cols());
+  CSHAPES_REQUIRE(n >= 4, what, ": needs at least 4 points for a 3-D embedding, got ", n);
+  const auto tiles = upper_tiles(n);
+  double energy = 0;
+  // First offending pair (i, j), i < j, in tile order; kind 1: not finite or negative, 2: asymmetric.
+  Index bad_i = -1, bad_j = -1;
+  int bad_kind = 0;
+  size_t bad_tile = tiles.size();
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy)
+  for (size_t t = 0; t < tiles.size(); ++t) {
+    const Index i0 = tiles[t].first * kTileRows, i1 = std::min(n, i0 + kTileRows);
+    const Index j0 = tiles[t].second * kTileCols, j1 = std::min(n, j0 + kTileCols);
+    double tile_energy = 0;
+    for (Index i = i0; i < i1; ++i) {
+      const double wi = weights.size() ? weights[i] : 1.0;
+      for (Index j = std::max(j0, i + 1); j < j1; ++j) {
+        const float a = D(j, i), b = D(i, j);
+        int kind = 0;
+        if (!(a >= 0 && a <= FLT_MAX))
+          kind = 1;
+        else if (std::abs(a - b) > 1e-5f * std::max(a, b) || !(b >= 0))
+          kind = 2;
+        if (kind) {
+#pragma omp critical(cshapes_smacof_bad)
+          if (t < bad_tile) {
+            bad_tile = t;
+            bad_i = i;
+            bad_j = j;
+            bad_kind = kind;
+          }
+          i = i1;  // stop this tile
+          break;
+        }
+        const double wj = weights.size() ? weights[j] : 1.0;
+        tile_energy += wi * wj * static_cast<double>(a) * static_cast<double>(a);
+      }
+    }
+    energy += tile_energy;
+  }
+  if (bad_kind == 1)
+    fail(what, ": distance (", bad_i, ", ", bad_j, ") is ", D(bad_j, bad_i),
+         "; distances must be finite and non-negative (an infinite distance means a disconnected mesh: keep "
+         "its largest component)");
+  if (bad_kind == 2)
+    fail(what, ": distance matrix is not symmetric: (", bad_i, ", ", bad_j, ") is ", D(bad_j, bad_i),
+         " but (", bad_j, ", ", bad_i, ") is ", D(bad_i, bad_j));
+  CSHAPES_REQUIRE(energy > 0, what, ": all distances are zero");
+  return energy;
+}
+
+// Extrapolated configuration from iterates x₀ … x_K (K ≥ 2) of a fixed-point iteration, u_j = x_{j+1} − x_j:
+//   RRE: γ = argmin ‖Σ γⱼ uⱼ‖ subject to Σ γⱼ = 1;  MPE: c = argmin ‖Σ_{j<K−1} cⱼ uⱼ + u_{K−1}‖, γ = c / Σc.
+// Returns Σ γⱼ x_{j+1} (the combination advanced by one step), or an empty matrix when degenerate.
+Points extrapolate(const std::vector<Points>& iterates, SmacofAcceleration method) {
+  const int K = static_cast<int>(iterates.size()) - 1;
+  const Index m = iterates[0].size();
+  Eigen::MatrixXd U(m, K);
+  for (int j = 0; j < K; ++j)
+    U.col(j) = Eigen::Map<const Eigen::VectorXd>((iterates[j + 1] - iterates[j]).eval().data(), m);
+  Eigen::VectorXd gamma(K);
+  const Eigen::VectorXd last = U.col(K - 1);
+  if (method == SmacofAcceleration::Rre) {
+    // Eliminate the constraint: γ_{K−1} = 1 − Σ_{j<K−1} γⱼ, so Uγ = u_{K−1} + Σ_{j<K−1} γⱼ (uⱼ − u_{K−1}).
+    Eigen::MatrixXd A = U.leftCols(K - 1).colwise() - last;
+    Eigen::VectorXd g = A.colPivHouseholderQr().solve(-last);
+    gamma.head(K - 1) = g;
+    gamma[K - 1] = 1 - g.sum();
+  } else {
+    Eigen::VectorXd c = U.leftCols(K - 1).colPivHouseholderQr().solve(-last);
+    const double total = c.sum() + 1;
+    if (!(std::abs(total) > 1e-12)) return {};
+    gamma.head(K - 1) = c / total;
+    gamma[K - 1] = 1 / total;
+  }
+  if (!gamma.allFinite()) return {};
+  Points s = Points::Zero(iterates[0].rows(), 3);
+  for (int j = 0; j < K; ++j) s += gamma[j] * iterates[j + 1];
+  return s;
+}
+
+}  // namespace
+
+SmacofAcceleration parse_smacof_acceleration(const std::string& name) {
+  if (name == "none") return SmacofAcceleration::None;
+  if (name == "rre") return SmacofAcceleration::Rre;
+  if (name == "mpe") return SmacofAcceleration::Mpe;
+  fail("unknown SMACOF acceleration '", name, "'; known: none, rre, mpe");
+}
+
+std::string to_string(SmacofAcceleration acceleration) {
+  switch (acceleration) {
+    case SmacofAcceleration::None:
+      return "none";
+    case SmacofAcceleration::Rre:
+      return "rre";
+    case SmacofAcceleration::Mpe:
+      return "mpe";
+  }
+  return "?";
+}
+
+void validate_distance_matrix(const DistanceMatrix& D, const std::string& what) {
+  weighted_distance_energy(D, {}, what);
+}
+
+GuttmanTransform guttman_transform(const DistanceMatrix& D, const Points& X, const Eigen::VectorXd& weights) {
+  CSHAPES_REQUIRE(D.rows() == D.cols() && X.rows() == D.rows(), "SMACOF: configuration has ", X.rows(),
+                  " points for a ", D.rows(), "x", D.cols(), " distance matrix");
+  check_weights(weights, D.rows());
+  Evaluator evaluate(D, weights);
+  return evaluate(X);
+}
+
+SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptions& options) {
+  const auto start = Clock::now();
+  CSHAPES_REQUIRE(X0.rows() == D.rows(), "SMACOF: initial configuration has ", X0.rows(), " points for a ",
+                  D.rows(), "x", D.cols(), " distance matrix");
+  CSHAPES_REQUIRE(X0.allFinite(), "SMACOF: initial configuration has non-finite coordinates");
+  CSHAPES_REQUIRE(options.max_iterations >= 0, "SMACOF: max_iterations must be ≥ 0");
+  CSHAPES_REQUIRE(options.extrapolation_window >= 2, "SMACOF: extrapolation_window must be at least 2, got ",
+                  options.extrapolation_window);
+  check_weights(options.vertex_weights, D.rows());
+  const double energy = weighted_distance_energy(D, options.vertex_weights, "SMACOF");
+
+  Evaluator evaluate(D, options.vertex_weights);
+  const auto iterations_start = Clock::now();
+  const double cpu_start = process_cpu_seconds();
+  SmacofResult result;
+  Points X = X0.rowwise() - evaluate.centroid(X0);
+  GuttmanTransform current = evaluate(X);
+
+  auto accept = [&](Points configuration, GuttmanTransform evaluation, bool extrapolated) {
+    X = std::move(configuration);
+    current = std::move(evaluation);
+    result.stress_history.push_back(current.stress / energy);
+    result.passes_history.push_back(evaluate.passes());
+    result.extrapolated_history.push_back(extrapolated);
+    if (options.progress)
+      options.progress("smacof", std::min(evaluate.passes() - 1, options.max_iterations),
+                       options.max_iterations);
+  };
+  accept(X, current, false);
+  // Stops for the target and the pass budget; convergence is checked by each mode.
+  auto out_of_budget = [&] {
+    if (options.target_stress > 0 && current.stress / energy <= options.target_stress) {
+      result.stop_reason = "target stress";
+      return true;
+    }
+    if (evaluate.passes() - 1 >= options.max_iterations) {
+      result.stop_reason = "max iterations";
+      return true;
+    }
+    return false;
+  };
+  auto converged = [&](double before, double after, int passes) {
+    if (options.tolerance > 0 && before > 0 && (before - after) / before < options.tolerance * passes) {
+      result.stop_reason = "converged";
+      return true;
+    }
+    return false;
+  };
+
+  if (options.acceleration == SmacofAcceleration::None) {
+    while (!out_of_budget()) {
+      const double before = current.stress;
+      Points next = current.X_next;
+      GuttmanTransform evaluation = evaluate(next);
+      accept(std::move(next), std::move(evaluation), false);
+      if (converged(before, current.stress, 1)) break;
+    }
+  } else {
+    const int K = options.extrapolation_window;
+    while (!out_of_budget()) {
+      const double cycle_start = current.stress;
+      const int cycle_passes = evaluate.passes();
+      std::vector<Points> iterates{X};
+      bool stopped = false;
+      for (int m = 1; m < K; ++m) {
+        Points next = current.X_next;
+        iterates.push_back(next);
+        GuttmanTransform evaluation = evaluate(next);
+        accept(std::move(next), std::move(evaluation), false);
+        if (out_of_budget()) {
+          stopped = true;
+          break;
+        }
+      }
+      if (stopped) break;
+      iterates.push_back(current.X_next);  // x_K, not evaluated yet
+      Points extrapolated = extrapolate(iterates, options.acceleration);
+      bool accepted = false;
+      if (extrapolated.size() && extrapolated.allFinite()) {
+        GuttmanTransform evaluation = evaluate(extrapolated);
+        if (evaluation.stress < current.stress) {
+          accept(std::move(extrapolated), std::move(evaluation), true);
+          ++result.extrapolations_accepted;
+          accepted = true;
+        } else {
+          ++result.extrapolations_rejected;
+          if (out_of_budget()) break;
+        }
+      }
+      if (!accepted) {
+        Points next = iterates.back();
+        GuttmanTransform evaluation = evaluate(next);
+        accept(std::move(next), std::move(evaluation), false);
+      }
+      if (converged(cycle_start, current.stress, evaluate.passes() - cycle_passes)) break;
+    }
+  }
+
+  if (options.progress) options.progress("smacof", options.max_iterations, options.max_iterations);  // done
+  result.X = X;
+  result.stress = current.stress;
+  result.normalized_stress = current.stress / energy;
+  result.iterations = evaluate.passes() - 1;
+  result.seconds = seconds_since(start);
+  result.seconds_per_iteration = seconds_since(iterations_start) / evaluate.passes();
+  result.cpu_seconds_per_iteration = (process_cpu_seconds() - cpu_start) / evaluate.passes();
+  return result;
+}
+
+SmacofResult smacof(const DistanceMatrix& D, const SmacofOptions& options) {
+  ClassicalMdsOptions cmds;
+  cmds.most_negative_eigenvalue = false;
+  return smacof(D, classical_mds(D, cmds).X, options);
+}
+
+Eigen::VectorXd vertex_area_weights(const Mesh& mesh) {
+  const Index n = mesh.num_vertices();
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    const double third = (b - a).cross(c - a).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) area[mesh.F(f, k)] += third;
+  }
+  for (Index i = 0; i < n; ++i)
+    CSHAPES_REQUIRE(area[i] > 0, "SMACOF area weights: vertex ", i, " is in no triangle of positive area");
+  return area / area.mean();
+}
+
+}  // namespace cshapes

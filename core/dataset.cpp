@@ -1,0 +1,221 @@
+#include "core/dataset.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/io.h"
+
+namespace cshapes {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool is_mesh_extension(const std::string& ext) {
+  return ext == "off" || ext == "ply" || ext == "obj" || ext == "stl" || ext == "vert";
+}
+
+std::string trim(const std::string& s) {
+  size_t b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
+  return b == std::string::npos ? "" : s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  std::string cell;
+  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') cells.push_back("");
+  return cells;
+}
+
+Dataset read_folder(const fs::path& folder) {
+  Dataset d;
+  d.source = folder.string();
+  for (const auto& item : fs::directory_iterator(folder)) {
+    if (!item.is_regular_file() || !is_mesh_extension(file_extension(item.path().string()))) continue;
+    DatasetEntry e;
+    e.path = item.path().string();
+    e.name = item.path().stem().string();
+    e.class_name = class_from_name(e.name);
+    e.pose = pose_from_name(e.name);
+    d.entries.push_back(e);
+  }
+  CSHAPES_REQUIRE(!d.entries.empty(), folder.string(),
+                  ": no mesh files (.off .ply .obj .stl .vert) in this folder");
+  std::sort(d.entries.begin(), d.entries.end(), [](const DatasetEntry& a, const DatasetEntry& b) {
+    if (a.class_name != b.class_name) return a.class_name < b.class_name;
+    if (a.pose != b.pose) return a.pose < b.pose;
+    return a.name < b.name;
+  });
+  return d;
+}
+
+Dataset read_manifest(const fs::path& manifest) {
+  Dataset d;
+  d.source = manifest.string();
+  const std::string where = manifest.string();
+  std::stringstream text(read_file(where));
+  std::string line;
+  int line_number = 0;
+  std::vector<std::string> columns;
+  int col_file = -1, col_class = -1, col_pose = -1, col_noisy = -1;
+  while (std::getline(text, line)) {
+    ++line_number;
+    if (trim(line).empty()) continue;
+    std::vector<std::string> cells = split_csv_line(line);
+    if (columns.empty()) {
+      columns = cells;
+      for (size_t c = 0; c < columns.size(); ++c) {
+        const std::string& name = columns[c];
+        int* slot = name == "file"    ? &col_file
+                    : name == "class" ? &col_class
+                    : name == "pose"  ? &col_pose
+                    : name == "noisy" ? &col_noisy
+                                      : nullptr;
+        CSHAPES_REQUIRE(slot, where, ":", line_number, ": unknown column '", name,
+                        "' (known: file, class, pose, noisy)");
+        CSHAPES_REQUIRE(*slot < 0, where, ":", line_number, ": column '", name, "' appears twice");
+        *slot = static_cast<int>(c);
+      }
+      CSHAPES_REQUIRE(col_file >= 0, where, ":", line_number, ": the header has no 'file' column");
+      CSHAPES_REQUIRE(col_class >= 0, where, ":", line_number, ": the header has no 'class' column");
+      continue;
+    }
+    CSHAPES_REQUIRE(cells.size() == columns.size(), where, ":", line_number, ": ", cells.size(),
+                    " fields, the header has ", columns.size());
+    DatasetEntry e;
+    fs::path file = cells[col_file];
+    CSHAPES_REQUIRE(!file.empty(), where, ":", line_number, ": empty 'file'");
+    if (file.is_relative()) file = manifest.parent_path() / file;
+    e.path = file.string();
+    CSHAPES_REQUIRE(fs::is_regular_file(file), where, ":", line_number, ": file '", cells[col_file],
+                    "' not found (looked for ", e.path, ")");
+    e.name = file.stem().string();
+    e.class_name = cells[col_class];
+    CSHAPES_REQUIRE(!e.class_name.empty(), where, ":", line_number, ": empty 'class' for ", cells[col_file]);
+    e.pose = pose_from_name(e.name);
+    if (col_pose >= 0) {
+      const std::string& v = cells[col_pose];
+      size_t used = 0;
+      try {
+        e.pose = std::stoi(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      CSHAPES_REQUIRE(!v.empty() && used == v.size(), where, ":", line_number,
+                      ": 'pose' must be an integer, got '", v, "'");
+    }
+    if (col_noisy >= 0) {
+      const std::string& v = cells[col_noisy];
+      CSHAPES_REQUIRE(v == "0" || v == "1" || v == "true" || v == "false", where, ":", line_number,
+                      ": 'noisy' must be 0, 1, true or false, got '", v, "'");
+      e.noisy = v == "1" || v == "true";
+    }
+    d.entries.push_back(e);
+  }
+  CSHAPES_REQUIRE(!columns.empty(), where,
+                  ": empty manifest (expected a header line: file,class[,pose,noisy])");
+  CSHAPES_REQUIRE(!d.entries.empty(), where, ": the manifest lists no shapes");
+  // Poses not given and not in the name: rank within the class.
+  std::map<std::string, int> rank;
+  for (auto& e : d.entries) {
+    int r = rank[e.class_name]++;
+    if (e.pose < 0) e.pose = r;
+  }
+  return d;
+}
+
+}  // namespace
+
+std::string class_from_name(const std::string& stem) {
+  size_t end = stem.size();
+  while (end > 0 && std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
+  if (end == 0) return stem;
+  // A separator before the pose number is not part of the class ("horse_7" -> "horse").
+  while (end > 1 && (stem[end - 1] == '_' || stem[end - 1] == '-' || stem[end - 1] == '.' || stem[end - 1] == ' '))
+    --end;
+  return stem.substr(0, end);
+}
+
+int pose_from_name(const std::string& stem) {
+  size_t end = stem.size();
+  while (end > 0 && std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
+  if (end == 0 || end == stem.size() || stem.size() - end > 9) return -1;
+  return std::stoi(stem.substr(end));
+}
+
+std::vector<int> Dataset::labels() const {
+  std::vector<int> out;
+  out.reserve(entries.size());
+  for (const auto& e : entries)
+    out.push_back(
+        static_cast<int>(std::find(classes.begin(), classes.end(), e.class_name) - classes.begin()));
+  return out;
+}
+
+Dataset read_dataset(const std::string& path) {
+  fs::path p(path);
+  CSHAPES_REQUIRE(fs::exists(p), path,
+                  ": no such file or folder (expected a folder of meshes or a manifest.csv)");
+  Dataset d;
+  if (fs::is_directory(p)) {
+    d = fs::is_regular_file(p / "manifest.csv") ? read_manifest(p / "manifest.csv") : read_folder(p);
+  } else {
+    CSHAPES_REQUIRE(file_extension(path) == "csv", path,
+                    ": expected a folder of meshes or a manifest .csv file");
+    d = read_manifest(p);
+  }
+  for (const auto& e : d.entries)
+    if (std::find(d.classes.begin(), d.classes.end(), e.class_name) == d.classes.end())
+      d.classes.push_back(e.class_name);
+  return d;
+}
+
+void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries) {
+  const fs::path folder = fs::path(manifest_path).parent_path();
+  write_file_atomically(manifest_path, [&](std::ostream& out) {
+    out << "file,class,pose,noisy\n";
+    for (const auto& e : entries) {
+      fs::path file(e.path);
+      std::string shown = e.path;
+      if (!folder.empty()) {
+        fs::path rel = file.lexically_relative(folder);
+        if (!rel.empty() && *rel.begin() != "..") shown = rel.string();
+      } else if (file.is_relative()) {
+        shown = file.string();
+      }
+      CSHAPES_REQUIRE(shown.find(',') == std::string::npos && e.class_name.find(',') == std::string::npos,
+                      "write_manifest: commas are not allowed in file or class names: ", shown);
+      out << shown << ',' << e.class_name << ',' << e.pose << ',' << (e.noisy ? 1 : 0) << '\n';
+    }
+  });
+}
+
+void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals) {
+  CSHAPES_REQUIRE(decimals >= 0 && decimals <= 17, "write_off_fixed: decimals must be in 0..17, got ",
+                  decimals);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
+    char buffer[128];
+    for (Index i = 0; i < mesh.num_vertices(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        double v = mesh.V(i, k);
+        // No "-0.000000": a coordinate rounding to zero is written as zero whatever its sign.
+        if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0;
+        std::snprintf(buffer, sizeof buffer, k < 2 ? "%.*f " : "%.*f\n", decimals, v);
+        out << buffer;
+      }
+    }
+    for (Index f = 0; f < mesh.num_faces(); ++f)
+      out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
+  });
+}
+
+}  // namespace cshapes

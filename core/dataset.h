@@ -1,0 +1,57 @@
+// Datasets for every multi-shape command: a folder of meshes, or a manifest.csv listing them.
+//
+// Folder: every mesh file in it (extensions .off .ply .obj .stl .vert, not recursive); the class is the file
+// name without extension and trailing digits (TOSCA's convention: cat3.off -> class "cat", pose 3; victoria10
+// -> "victoria", 10). Entries are sorted by class name, then pose number, then file name. A folder holding a
+// manifest.csv is read through its manifest.
+//
+// manifest.csv: a header line naming the columns, then one line per shape; comma-separated, no quoting.
+//   file   (required) path of the mesh, relative to the manifest's folder (or absolute)
+//   class  (required) class label
+//   pose   (optional) integer pose number; default: the file name's trailing digits, else the line's rank in
+//   its class noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
+// Any other column, a missing required column, a missing file, or an unreadable value is refused with a
+// message naming the manifest, the line and the column or file. Manifest order is kept.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/mesh.h"
+
+namespace cshapes {
+
+struct DatasetEntry {
+  std::string path;        // path to the mesh file (as found, or resolved against the manifest's folder)
+  std::string name;        // file name without folder and extension ("cat3")
+  std::string class_name;  // "cat"
+  int pose = -1;           // pose number within the class
+  bool noisy = false;      // topological noise (manifest column "noisy")
+};
+
+struct Dataset {
+  std::string source;                 // the folder or manifest read
+  std::vector<DatasetEntry> entries;  // see the ordering above
+  std::vector<std::string> classes;   // distinct class names, in order of first appearance
+  // Class index (into `classes`) of each entry.
+  std::vector<int> labels() const;
+};
+
+// Reads a folder or a manifest.csv (by path). Throws cshapes::Error naming the problem.
+Dataset read_dataset(const std::string& path);
+
+// The class of a file name: the stem without trailing digits and a separator before them ("michael12" ->
+// "michael", "horse_7" -> "horse"); the whole stem when it has no non-digit character.
+std::string class_from_name(const std::string& stem);
+// The trailing digits of a stem as a number, -1 when there are none.
+int pose_from_name(const std::string& stem);
+
+// Writes manifest.csv (columns file,class,pose,noisy) with paths relative to the manifest's folder when the
+// files lie inside it. Atomic.
+void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries);
+
+// Writes an OFF file with a fixed number of decimals (e.g. "12.345678"), so that generated data is
+// byte-identical across runs and platforms whose last-bit rounding differs. Atomic.
+void write_off_fixed(const std::string& path, const Mesh& mesh, int decimals = 6);
+
+}  // namespace cshapes

@@ -1,0 +1,72 @@
+// Topological noise the paper's way (§3, Results): "adding faces to connect between almost-touching vertices with
+// large geodesic and small Euclidean distances". Each glue joins two surface spots by a short tube, adding
+// one handle.
+//
+// Which pairs qualify (a, b vertices of the input):
+//   |v_a - v_b| ≤ max_gap                                   (almost touching)
+//   g(a, b) ≥ min_ratio · |v_a - v_b|  and  g(a, b) ≥ min_geodesic_fraction · diameter   (far apart on the
+//   surface) n_a · (v_b - v_a) ≥ min_facing |v_b - v_a|, and the same at b   (the gap between them is outside
+//   the shape) the tube's edges cross no face of the mesh
+// g is geodesic_distances(...) (GeodesicOptions), measured on the mesh as glued so far, so later glues cannot
+// use an earlier tube as a shortcut; diameter is the geodesic diameter estimated by farthest-point sweeps.
+// Among the admissible pairs, shorter gaps are preferred, with a random factor drawn from the seed so that
+// different seeds glue different places; spots are kept min_separation_fraction · diameter apart
+// (geodesically), halving that separation when the shape offers too few places.
+//
+// The tube: at each end one triangle incident to the vertex (the one facing the other end) is removed, and
+// the two triangular holes are bridged by a strip of 6 triangles (a prism without caps), oriented like the
+// mesh. So every glue adds 0 vertices, 6 edges and 4 faces: χ drops by exactly 2, the mesh stays an oriented
+// manifold, and vertex indices are unchanged (ground-truth correspondences of the input stay valid).
+// Cost: O(n log n) per landmark and per candidate checked (Dijkstra), O(n + pairs) for the candidate sweep.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/geodesics.h"
+#include "core/mesh.h"
+
+namespace cshapes {
+
+struct TopologicalNoiseOptions {
+  int glue_count = 1;                  // K: tubes to add (each adds one handle)
+  std::uint64_t seed = 0;              // picks among admissible pairs; same seed, same result
+  double max_gap = 0;                  // Euclidean gap allowed, mesh units; 0: gap_edge_lengths × mean edge
+  double gap_edge_lengths = 6;         // default gap in mean edge lengths
+  double min_ratio = 5;                // geodesic ≥ min_ratio × Euclidean
+  double min_geodesic_fraction = 0.1;  // geodesic ≥ this × geodesic diameter
+  double min_separation_fraction = 0.15;  // glued spots this × diameter apart (halved while too few places)
+  double min_facing = 0.2;                // cosine: each vertex normal points this much towards the other end
+  int landmarks = 24;        // farthest-point landmarks for the diameter and geodesic lower bounds
+  int max_checks = 3000;     // geodesic evaluations before giving up on finding more pairs
+  GeodesicOptions geodesic;  // how geodesic distances are computed
+};
+
+struct GluedPair {
+  int a = -1, b = -1;                   // the almost-touching vertices (indices of input and output alike)
+  std::array<int, 3> rim_a{}, rim_b{};  // the removed triangle at each end: the tube's rims (vertex indices)
+  double euclidean = 0;                 // |v_a - v_b|
+  double geodesic = 0;                  // g(a, b) on the mesh as glued before this pair
+};
+
+struct TopologicalNoiseResult {
+  Mesh mesh;                     // same vertices as the input; faces: input minus 2K, plus 6K tube faces
+  std::vector<GluedPair> pairs;  // in the order glued
+  double max_gap = 0;            // the Euclidean threshold used
+  double geodesic_diameter = 0;  // estimated geodesic diameter of the input
+  double mean_edge_length = 0;
+  double separation = 0;    // the separation finally in force (geodesic, mesh units)
+  Index candidates = 0;     // pairs within the gap whose normals face each other
+  int geodesic_checks = 0;  // geodesic evaluations made
+};
+
+// Glues options.glue_count pairs. The input must be a valid manifold mesh with one connected component
+// (boundaries allowed). Throws cshapes::Error saying how many admissible pairs were found when fewer than K
+// exist.
+TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const TopologicalNoiseOptions& options);
+
+// Area-weighted vertex normals (unit length; zero for isolated vertices).
+Points vertex_normals(const Mesh& mesh);
+
+}  // namespace cshapes

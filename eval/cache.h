@@ -1,0 +1,58 @@
+// A content-addressed on-disk cache for results that are expensive to recompute (canonical forms,
+// alignments, distances), so that a killed run restarts where it stopped and never computes a cached item
+// twice.
+//
+// Keys are SHA-256 hex digests of everything the result depends on: the input files' CONTENT (not their
+// names or dates: content_hash / file_content_hash) and a canonical option string (e.g. to_key_string of
+// the options). Values are opaque bytes.
+//
+// Layout: DIR/ab/abcdef….bin, one file per entry (the first two hex digits fan out the directory), each
+// "CSHCACHE1 <size>\n" followed by the value. Entries are written to a temporary file and renamed, so an
+// entry exists completely or not at all: a process killed mid-write leaves at most a stray "*.tmp.*" file,
+// which is ignored. An entry whose header does not match its size is treated as missing and rewritten.
+// Safe for concurrent readers and writers (threads or processes): the last rename wins, with equal content.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cshapes {
+
+// SHA-256 (FIPS 180-4) of `bytes`, as 64 lowercase hex digits.
+std::string sha256_hex(const std::string& bytes);
+// SHA-256 of a file's content; throws naming the file when it cannot be read.
+std::string file_content_hash(const std::string& path);
+// A key from several parts, each length-prefixed so that ("ab", "c") and ("a", "bc") differ.
+std::string cache_key(const std::vector<std::string>& parts);
+
+class DiskCache {
+ public:
+  // directory: where entries live (created on first write). Empty: a disabled cache, every get() a miss
+  // and put() a no-op, so callers need no second code path.
+  explicit DiskCache(std::string directory = "");
+
+  bool enabled() const { return !directory_.empty(); }
+  const std::string& directory() const { return directory_; }
+  // The file an entry lives in.
+  std::string entry_path(const std::string& key) const;
+
+  // The value stored under key, counting a hit; or nothing, counting a miss.
+  std::optional<std::string> get(const std::string& key) const;
+  // Stores atomically (temp file + rename). Throws on I/O failure.
+  void put(const std::string& key, const std::string& value) const;
+  // get(), or compute() then put(): compute runs only on a miss.
+  std::string get_or_compute(const std::string& key, const std::function<std::string()>& compute) const;
+
+  long hits() const { return hits_; }
+  long misses() const { return misses_; }
+
+ private:
+  std::string directory_;
+  mutable std::atomic<long> hits_{0};
+  mutable std::atomic<long> misses_{0};
+};
+
+}  // namespace cshapes

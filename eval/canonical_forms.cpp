@@ -1,0 +1,224 @@
+#include "eval/canonical_forms.h"
+
+#include <chrono>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace cshapes {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The edges standing in for the mesh's: its triangle edges, or a kNN graph for a point cloud.
+Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn) {
+  return mesh.is_point_cloud() ? knn_graph(mesh.V, knn) : mesh_edges(mesh.F);
+}
+
+DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& options) {
+  GeodesicOptions go = options.geodesics;
+  if (!go.progress) go.progress = options.progress;
+  if (!mesh.is_point_cloud()) return all_pairs_geodesics(mesh, go);
+  // A point cloud has no surface: graph distances on its kNN graph (as Isomap does).
+  Mesh graph_mesh = mesh;
+  Edges E = knn_graph(mesh.V, options.knn);
+  Components comp = connected_components(mesh.num_vertices(), E);
+  CSHAPES_REQUIRE(comp.count == 1, "point cloud: its ", options.knn.k, "-nearest-neighbour graph has ", comp.count,
+                  " components; MDS needs one (raise k)");
+  const Index n = mesh.num_vertices();
+  require_memory(distance_matrix_bytes(n), "all-pairs graph distances on " + std::to_string(n) + " points");
+  DistanceMatrix D(n, n);
+  Adjacency adj = adjacency(n, E);
+  Eigen::VectorXd w = edge_lengths(mesh.V, E);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (Index s = 0; s < n; ++s) D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
+  symmetrize_distances(D);
+  return D;
+}
+
+CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options) {
+  auto start = std::chrono::steady_clock::now();
+  Edges E = constraint_edges(mesh, options.knn);
+  CanonicalForm form;
+  form.precompute_seconds = seconds_since(start);
+  CoulombCanonOptions co = options.coulomb;
+  if (!co.progress) co.progress = options.progress;
+  CoulombCanonResult r = coulomb_canonical_form(mesh.V, E, co);
+  form.X = r.X;
+  form.torn = r.torn_vertices;
+  form.iterations = r.iterations;
+  form.solve_seconds = r.seconds;
+  form.seconds_per_iteration = r.iterations ? r.seconds / r.iterations : 0;
+  form.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
+                          "torn_edges", "shape_change", "momentum",      "seconds"};
+  for (const CoulombIterationRecord& h : r.history)
+    form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
+                                 double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
+  form.summary_json = nlohmann::json{{"iterations", r.iterations},
+                                     {"converged", r.converged},
+                                     {"stop_reason", r.stop_reason},
+                                     {"energy", r.energy},
+                                     {"mean_violation", r.violation.mean_relative},
+                                     {"max_violation", r.violation.max_relative},
+                                     {"torn_edges", r.torn_edges.rows()},
+                                     {"seconds", r.seconds}}
+                          .dump();
+  return form;
+}
+
+CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given,
+                       double given_seconds) {
+  CanonicalForm form;
+  form.precompute_seconds = given_seconds;
+  DistanceMatrix computed;
+  if (!given) {
+    auto start = std::chrono::steady_clock::now();
+    computed = geodesic_matrix(mesh, options);
+    form.precompute_seconds = seconds_since(start);
+    given = &computed;
+  }
+  CSHAPES_REQUIRE(given->rows() == mesh.num_vertices(), "MDS: distance matrix has ", given->rows(),
+                  " rows for a mesh of ", mesh.num_vertices(), " vertices");
+  auto start = std::chrono::steady_clock::now();
+  ClassicalMdsOptions mo = options.cmds;
+  ClassicalMdsResult cm = classical_mds(*given, mo);
+  nlohmann::json summary{{"eigenvalues", {cm.eigenvalues[0], cm.eigenvalues[1], cm.eigenvalues[2]}},
+                         {"explained_energy", cm.explained_energy},
+                         {"negative_mass_lower_bound", cm.negative_mass_lower_bound},
+                         {"cmds_seconds", cm.seconds}};
+  if (options.method == "cmds") {
+    form.X = cm.X;
+    form.solve_seconds = seconds_since(start);
+    form.summary_json = summary.dump();
+    return form;
+  }
+  SmacofOptions so = options.smacof;
+  if (!so.progress) so.progress = options.progress;
+  SmacofResult sr = smacof(*given, cm.X, so);
+  form.X = sr.X;
+  form.iterations = sr.iterations;
+  form.solve_seconds = seconds_since(start);
+  form.seconds_per_iteration = sr.seconds_per_iteration;
+  form.history_columns = {"iteration", "normalized_stress"};
+  for (size_t k = 0; k < sr.stress_history.size(); ++k)
+    form.history_rows.push_back({double(k), sr.stress_history[k]});
+  summary["iterations"] = sr.iterations;
+  summary["normalized_stress"] = sr.normalized_stress;
+  summary["seconds_per_iteration"] = sr.seconds_per_iteration;
+  form.summary_json = summary.dump();
+  return form;
+}
+
+// Binary serialisation of a CanonicalForm for the cache (CBOR: compact and exact for doubles).
+std::string serialize(const CanonicalForm& f) {
+  nlohmann::json j;
+  j["n"] = f.X.rows();
+  j["X"] = std::vector<double>(f.X.data(), f.X.data() + f.X.size());
+  j["torn"] = std::vector<double>(f.torn.data(), f.torn.data() + f.torn.size());
+  j["precompute_seconds"] = f.precompute_seconds;
+  j["solve_seconds"] = f.solve_seconds;
+  j["iterations"] = f.iterations;
+  j["seconds_per_iteration"] = f.seconds_per_iteration;
+  j["history_columns"] = f.history_columns;
+  j["history_rows"] = f.history_rows;
+  j["summary"] = f.summary_json;
+  std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+CanonicalForm deserialize(const std::string& bytes) {
+  nlohmann::json j = nlohmann::json::from_cbor(bytes);
+  CanonicalForm f;
+  const Index n = j["n"].get<Index>();
+  std::vector<double> X = j["X"].get<std::vector<double>>(), torn = j["torn"].get<std::vector<double>>();
+  CSHAPES_REQUIRE(static_cast<Index>(X.size()) == 3 * n, "cache entry: inconsistent canonical form");
+  f.X = Eigen::Map<const Points>(X.data(), n, 3);
+  f.torn = Eigen::Map<const Eigen::VectorXd>(torn.data(), static_cast<Index>(torn.size()));
+  f.precompute_seconds = j["precompute_seconds"];
+  f.solve_seconds = j["solve_seconds"];
+  f.iterations = j["iterations"];
+  f.seconds_per_iteration = j["seconds_per_iteration"];
+  f.history_columns = j["history_columns"].get<std::vector<std::string>>();
+  f.history_rows = j["history_rows"].get<std::vector<std::vector<double>>>();
+  f.summary_json = j["summary"].get<std::string>();
+  return f;
+}
+
+}  // namespace
+
+const std::vector<std::string>& canonical_form_methods() {
+  static const std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  return methods;
+}
+
+CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
+                             double D_seconds) {
+  if (options.method == "coulomb") return coulomb_form(mesh, options);
+  if (options.method == "cmds" || options.method == "smacof") return mds_form(mesh, options, D, D_seconds);
+  fail("unknown canonization method '", options.method, "'; known: coulomb, cmds, smacof");
+}
+
+std::string canonical_form_key(const CanonicalFormOptions& o) {
+  // Every option that changes the result, by name. A field added to an options struct must be added here.
+  std::ostringstream k;
+  k.precision(17);
+  k << "method=" << o.method << ";knn=" << o.knn.k;
+  if (o.method == "coulomb") {
+    const CoulombCanonOptions& c = o.coulomb;
+    k << ";scheme=" << to_string(c.scheme) << ";step_rule=" << to_string(c.step_rule)
+      << ";step_factor=" << c.step_factor << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps
+      << ";k=" << c.projection.steps << ";norm=" << static_cast<int>(c.projection.norm)
+      << ";l1_floor=" << c.projection.l1_floor << ";dilation=" << c.projection.dilation
+      << ";tear=" << c.tear_fraction << "," << c.tear_after << "," << c.tear_times << "," << c.tear_interval
+      << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
+      << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
+      << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy
+      << ";floor=" << c.energy.min_distance;
+  } else {
+    k << ";geodesics=" << to_string(o.geodesics.method) << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
+      << ";heat_t=" << o.geodesics.heat_time_factor << ";lanczos=" << o.cmds.lanczos_vectors
+      << ";eig_tol=" << o.cmds.tolerance;
+    if (o.method == "smacof")
+      k << ";iters=" << o.smacof.max_iterations << ";tol=" << o.smacof.tolerance
+        << ";target=" << o.smacof.target_stress << ";accel=" << to_string(o.smacof.acceleration)
+        << ";window=" << o.smacof.extrapolation_window << ";weights=" << o.smacof.vertex_weights.size();
+  }
+  return k.str();
+}
+
+std::string mesh_content_key(const Mesh& mesh) {
+  std::string bytes;
+  auto append = [&bytes](const void* data, size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
+  Index n = mesh.num_vertices(), m = mesh.num_faces();
+  append(&n, sizeof n);
+  append(&m, sizeof m);
+  append(mesh.V.data(), sizeof(double) * mesh.V.size());
+  append(mesh.F.data(), sizeof(int) * mesh.F.size());
+  return sha256_hex(bytes);
+}
+
+std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
+  return cache_key({"canonical-form-v1", mesh_content_key(mesh), canonical_form_key(options)});
+}
+
+CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, const CanonicalFormOptions& options,
+                                    bool* was_cached, const DistanceMatrix* D, double D_seconds) {
+  const std::string key = canonical_form_cache_key(mesh, options);
+  if (auto hit = cache.get(key)) {
+    if (was_cached) *was_cached = true;
+    return deserialize(*hit);
+  }
+  if (was_cached) *was_cached = false;
+  CanonicalForm form = canonical_form(mesh, options, D, D_seconds);
+  cache.put(key, serialize(form));
+  return form;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,185 @@
+#include "eval/distance_csv.h"
+
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/dataset.h"
+#include "core/error.h"
+
+namespace cshapes {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  size_t a = s.find_first_not_of(" \t\r\n"), b = s.find_last_not_of(" \t\r\n");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+// Splits on commas, semicolons or tabs when present, else on runs of spaces.
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  bool delimited = line.find_first_of(",;\t") != std::string::npos;
+  if (delimited) {
+    std::string field;
+    for (char c : line) {
+      if (c == ',' || c == ';' || c == '\t') {
+        fields.push_back(trim(field));
+        field.clear();
+      } else {
+        field += c;
+      }
+    }
+    fields.push_back(trim(field));
+  } else {
+    std::istringstream in(line);
+    std::string field;
+    while (in >> field) fields.push_back(field);
+  }
+  return fields;
+}
+
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return end && *end == '\0';
+}
+
+std::vector<std::vector<std::string>> read_rows(const std::string& path, std::vector<int>& line_numbers) {
+  std::istringstream in(read_file(path));
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    rows.push_back(split_fields(t));
+    line_numbers.push_back(number);
+  }
+  return rows;
+}
+
+std::string stem(const std::string& name) {
+  return std::filesystem::path(name).stem().string();
+}
+
+}  // namespace
+
+NamedDistances read_distance_csv(const std::string& path) {
+  std::vector<int> line_of;
+  std::vector<std::vector<std::string>> rows = read_rows(path, line_of);
+  CSHAPES_REQUIRE(!rows.empty(), path, ": no distance matrix (the file is empty)");
+  auto all_numbers = [](const std::vector<std::string>& fields, size_t from) {
+    double v;
+    for (size_t k = from; k < fields.size(); ++k)
+      if (!parse_number(fields[k], v)) return false;
+    return true;
+  };
+  NamedDistances result;
+  size_t first_row = 0;
+  // No header but a name column: every row "name,d_1,…,d_N" with N the number of rows.
+  bool names_only_in_rows =
+      rows[0].size() == rows.size() + 1 && !all_numbers(rows[0], 0) && all_numbers(rows[0], 1);
+  bool header = !names_only_in_rows && !all_numbers(rows[0], 0);
+  size_t n = header ? rows.size() - 1 : rows.size();
+  // A name column: data rows with N+1 fields whose first is not a number (or a header with N+1 cells).
+  bool name_column = false;
+  if (header) {
+    first_row = 1;
+    std::vector<std::string> names = rows[0];
+    double v;
+    bool rows_named = rows.size() > 1 && !parse_number(rows[1][0], v);
+    if (names.size() == n + 1 && rows_named) {
+      name_column = true;
+      names.erase(names.begin());
+    }
+    result.names = names;
+  }
+  if (!name_column && rows.size() > first_row && rows[first_row].size() == n + 1 &&
+      !all_numbers(rows[first_row], 0))
+    name_column = true;
+  if (!header)
+    for (size_t i = 0; i < n; ++i) result.names.push_back(name_column ? rows[i][0] : std::to_string(i));
+  CSHAPES_REQUIRE(result.names.size() == n, path, ": the header names ", result.names.size(),
+                  " shapes but there are ", n, " rows (expected a square matrix)");
+  result.D.resize(static_cast<Index>(n), static_cast<Index>(n));
+  for (size_t i = 0; i < n; ++i) {
+    const std::vector<std::string>& fields = rows[first_row + i];
+    const size_t offset = name_column ? 1 : 0;
+    CSHAPES_REQUIRE(fields.size() == n + offset, path, ":", line_of[first_row + i], ": expected ", n + offset,
+                    " fields, found ", fields.size());
+    for (size_t j = 0; j < n; ++j) {
+      double v;
+      if (!parse_number(fields[j + offset], v))
+        fail(path, ":", line_of[first_row + i], ": field ", j + offset + 1, " '", fields[j + offset],
+             "' is not a number");
+      result.D(static_cast<Index>(i), static_cast<Index>(j)) = v;
+    }
+  }
+  return result;
+}
+
+void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
+                        const Eigen::MatrixXd& D) {
+  CSHAPES_REQUIRE(D.rows() == D.cols() && static_cast<Index>(names.size()) == D.rows(), path, ": ",
+                  names.size(), " names for a ", D.rows(), "x", D.cols(), " matrix");
+  for (const std::string& name : names)
+    CSHAPES_REQUIRE(name.find_first_of(",;\t\n") == std::string::npos && !name.empty(), path,
+                    ": shape name '", name, "' is empty or contains a separator");
+  write_file_atomically(path, [&](std::ostream& out) {
+    for (size_t k = 0; k < names.size(); ++k) out << (k ? "," : "") << names[k];
+    out << '\n';
+    char buffer[32];
+    for (Index i = 0; i < D.rows(); ++i) {
+      for (Index j = 0; j < D.cols(); ++j) {
+        std::snprintf(buffer, sizeof buffer, "%.9g", D(i, j));
+        out << (j ? "," : "") << buffer;
+      }
+      out << '\n';
+    }
+  });
+}
+
+std::string class_of_shape_name(const std::string& name) {
+  return class_from_name(stem(name));
+}
+
+std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names) {
+  std::vector<int> line_of;
+  std::vector<std::vector<std::string>> rows = read_rows(path, line_of);
+  if (!rows.empty() && rows[0].size() == 2 && rows[0][0] == "name" && rows[0][1] == "class") {
+    rows.erase(rows.begin());
+    line_of.erase(line_of.begin());
+  }
+  std::vector<std::string> classes;
+  if (!rows.empty() && rows[0].size() == 1) {
+    CSHAPES_REQUIRE(rows.size() == names.size(), path, ": ", rows.size(), " class lines for ", names.size(),
+                    " shapes (one class per line, in the matrix's order)");
+    for (size_t i = 0; i < rows.size(); ++i) {
+      CSHAPES_REQUIRE(rows[i].size() == 1, path, ":", line_of[i], ": expected one class name");
+      classes.push_back(rows[i][0]);
+    }
+    return classes;
+  }
+  std::map<std::string, std::string> by_name;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    CSHAPES_REQUIRE(rows[i].size() == 2, path, ":", line_of[i], ": expected 'name,class', found ",
+                    rows[i].size(), " fields");
+    by_name[rows[i][0]] = rows[i][1];
+    by_name.emplace(stem(rows[i][0]), rows[i][1]);
+  }
+  for (const std::string& name : names) {
+    auto it = by_name.find(name);
+    if (it == by_name.end()) it = by_name.find(stem(name));
+    CSHAPES_REQUIRE(it != by_name.end(), path, ": no class given for shape '", name, "'");
+    classes.push_back(it->second);
+  }
+  return classes;
+}
+
+}  // namespace cshapes

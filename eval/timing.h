@@ -1,0 +1,43 @@
+// The measurements behind the paper's Table 1: seconds of the pre-computation and of one iteration of the
+// optimisation, for SMACOF MDS-based canonical forms and for Coulomb shapes, as medians of repeated runs.
+//
+//   MDS pre-computation      all-pairs geodesic distances (the method of GeodesicOptions)
+//   MDS iteration            one SMACOF pass over the distance matrix (Guttman transform + stress)
+//   Coulomb pre-computation  edge extraction and rest lengths (what the optimisation needs before it starts)
+//   Coulomb iteration        one Coulomb step (eq. 4, summation auto) + one L2 projection sweep (eq. 6)
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/geodesics.h"
+#include "core/mesh.h"
+
+namespace cshapes {
+
+// Median of the values (the upper median for an even count); 0 for none.
+double median_of(std::vector<double> values);
+
+struct TimingOptions {
+  int repeats = 5;            // timed runs per measurement (the median is reported)
+  GeodesicOptions geodesics;  // MDS pre-computation
+  bool mds = true;            // false: skip the MDS columns (e.g. when n² floats do not fit)
+};
+
+struct TimingRow {
+  std::string shape;
+  Index vertices = 0;
+  double mds_precompute = 0;    // seconds (a single run: all-pairs geodesics are the expensive part)
+  double mds_iteration = 0;     // seconds, median
+  double coulomb_precompute = 0;  // seconds, median
+  double coulomb_iteration = 0;   // seconds, median
+  bool mds_measured = false;
+};
+
+// Measures one row. The mesh must be one connected component. Progress through options.geodesics.progress.
+TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const TimingOptions& options = {});
+
+// Seconds of one outer Coulomb iteration (1 gradient step + 1 projection sweep), median of `repeats`.
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats);
+
+}  // namespace cshapes

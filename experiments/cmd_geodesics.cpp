@@ -1,0 +1,102 @@
+// cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
+// (binary format in core/distance_matrix.h), or with --source i --csv one row as CSV.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "core/error.h"
+#include "core/geodesics.h"
+#include "experiments/command.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct GeodesicsArgs {
+  std::string input, output, method = "heat", heat_mode = "idt";
+  int source = -1;
+  bool csv = false;
+  bool largest_component = false;
+  bool json = false;
+} args;
+
+int run() {
+  GeodesicOptions options;
+  options.method = parse_geodesic_method(args.method);
+  options.heat_mode = parse_cgal_heat_mode(args.heat_mode);
+  options.progress = progress_printer();
+  Mesh input = read_mesh(args.input);
+  std::string dropped;
+  Submesh sub = require_connected(input, args.input, args.largest_component, &dropped);
+  if (!dropped.empty()) note(dropped + " (the distance matrix follows the kept vertices' order)");
+  const Mesh& mesh = sub.mesh;
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json summary = {{"input", args.input},
+                            {"vertices", mesh.num_vertices()},
+                            {"method", to_string(options.method)},
+                            {"output", args.output.empty() ? "-" : args.output}};
+  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
+    summary["heat_mode"] = to_string(options.heat_mode);
+
+  if (args.source >= 0 || args.csv) {
+    CSHAPES_REQUIRE(args.source >= 0 && args.csv,
+                    "--source i and --csv go together: one row of distances as CSV");
+    CSHAPES_REQUIRE(args.source < input.num_vertices(), "--source ", args.source, " is out of range 0..",
+                    input.num_vertices() - 1);
+    int local = -1;
+    for (size_t k = 0; k < sub.vertex_map.size(); ++k)
+      if (sub.vertex_map[k] == args.source) local = static_cast<int>(k);
+    CSHAPES_REQUIRE(local >= 0, "--source ", args.source, " is not in the largest component that was kept");
+    Eigen::VectorXd d = geodesic_distances(mesh, {local}, options);
+    std::vector<std::vector<double>> rows;
+    rows.reserve(d.size());
+    for (Index k = 0; k < d.size(); ++k) rows.push_back({static_cast<double>(sub.vertex_map[k]), d[k]});
+    if (args.output.empty() || args.output == "-") {
+      std::printf("vertex,distance\n");
+      for (const auto& row : rows) std::printf("%d,%.10g\n", static_cast<int>(row[0]), row[1]);
+    } else {
+      write_csv(args.output, {"vertex", "distance"}, rows);
+    }
+    summary["source"] = args.source;
+  } else {
+    CSHAPES_REQUIRE(!args.output.empty() && args.output != "-",
+                    "-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
+    DistanceMatrix D = all_pairs_geodesics(mesh, options);
+    write_distance_matrix(args.output, D);
+    summary["max_distance"] = D.maxCoeff();
+  }
+  summary["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (args.json) std::cout << summary.dump(2) << std::endl;
+  if (!args.output.empty() && args.output != "-") note("wrote " + args.output);
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"geodesics"},
+     "Geodesic distances on a mesh: all pairs as a binary n×n float32 matrix, or one row as CSV",
+     [](CLI::App& app) {
+       app.add_option("MESH", args.input, "input triangle mesh")->required()->check(CLI::ExistingFile);
+       app.add_option("-o,--output", args.output,
+                      "output: D.bin (CSHDIST1 header, n, then n×n float32 row-major), or CSV with --source; "
+                      "'-' or omitted with --source: stdout");
+       app.add_option(
+              "--method", args.method,
+              "heat (ours: block solves, CHOLMOD), heat-cgal (CGAL Heat_method_3, one source at a time), "
+              "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
+              "edges)")
+           ->capture_default_str()
+           ->check(CLI::IsMember({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       app.add_option("--heat-mode", args.heat_mode,
+                      "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
+           ->capture_default_str()
+           ->check(CLI::IsMember({"idt", "direct"}));
+       app.add_option("--source", args.source,
+                      "one source vertex (0-based, input numbering): one row, with --csv");
+       app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
+       app.add_flag("--largest-component", args.largest_component,
+                    "keep the largest connected component instead of refusing a disconnected mesh");
+       app.add_flag("--json", args.json, "print a JSON summary on stdout");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,499 @@
+#include "experiments/paper_experiment.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/atomic_file.h"
+#include "core/articulated.h"
+#include "core/dataset.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/remesh.h"
+#include "core/synthetic.h"
+#include "core/topological_noise.h"
+#include "eval/correspondence_error.h"
+#include "eval/distance_csv.h"
+#include "eval/pairwise_distances.h"
+#include "eval/retrieval.h"
+#include "eval/timing.h"
+#include "experiments/paper_report.h"
+#include "matching/icp.h"
+#include "matching/shape_distance.h"
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+namespace {
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+struct Shape {
+  std::string name;        // file stem, or SOURCE_noisy for shapes glued here
+  std::string class_name;
+  std::string source_path;  // the file read, or the file written for shapes made here
+  std::string source_name;  // noisy shapes made here: the clean pose they were glued from
+  bool noisy = false;
+  bool in_retrieval = true;  // false: only a reference for the noise measurement
+  Mesh mesh;
+  std::vector<int> glued;   // vertices of glued pairs (noisy shapes made here)
+  std::string vts;          // ground-truth correspondence file, when it exists
+  std::string key;          // mesh content key
+};
+
+void say(const PaperExperimentOptions& o, const std::string& line) {
+  if (o.note) o.note(line);
+}
+
+Mesh load_connected(const std::string& path, bool largest, const PaperExperimentOptions& o) {
+  Mesh mesh = read_mesh(path);
+  std::string dropped;
+  Submesh sub = require_connected(mesh, path, largest, &dropped);
+  if (!dropped.empty()) say(o, dropped);
+  return sub.mesh;
+}
+
+// The folder where corres/NAME.vts would be: the dataset folder, or the manifest's folder.
+std::string correspondence_folder(const std::string& data) {
+  fs::path p(data);
+  if (fs::is_regular_file(p)) p = p.parent_path();
+  return (p / "corres").string();
+}
+
+// Glued here: the noisy shape and its pairs, cached by the source's content and the options.
+Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const DiskCache& cache, int index) {
+  TopologicalNoiseOptions no;
+  no.glue_count = o.glue;
+  no.seed = o.seed + static_cast<std::uint64_t>(index);
+  const std::string key = cache_key({"noisy-v1", source.key, std::to_string(no.glue_count), std::to_string(no.seed)});
+  Shape s;
+  s.name = source.name + "_noisy";
+  s.class_name = source.class_name;
+  s.source_name = source.name;
+  s.noisy = true;
+  s.mesh.V = source.mesh.V;
+  if (auto hit = cache.get(key)) {
+    json j = json::from_cbor(*hit);
+    std::vector<int> f = j["F"].get<std::vector<int>>();
+    s.mesh.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.size() / 3, 3);
+    s.glued = j["glued"].get<std::vector<int>>();
+  } else {
+    TopologicalNoiseResult r = glue_topological_noise(source.mesh, no);
+    s.mesh = r.mesh;
+    for (const GluedPair& p : r.pairs) {
+      s.glued.push_back(p.a);
+      s.glued.push_back(p.b);
+    }
+    Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F = s.mesh.F;
+    json j{{"F", std::vector<int>(F.data(), F.data() + F.size())}, {"glued", s.glued}};
+    std::vector<std::uint8_t> bytes = json::to_cbor(j);
+    cache.put(key, std::string(bytes.begin(), bytes.end()));
+  }
+  s.key = mesh_content_key(s.mesh);
+  return s;
+}
+
+// Clean poses (and the dataset's noisy shapes) per class, plus noisy shapes glued here.
+std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache) {
+  Dataset data = read_dataset(o.data);
+  const std::string corres = correspondence_folder(o.data);
+  std::vector<Shape> shapes;
+  int glued_count = 0;
+  for (const std::string& cls : data.classes) {
+    std::vector<const DatasetEntry*> clean, noisy;
+    for (const DatasetEntry& e : data.entries)
+      if (e.class_name == cls) (e.noisy ? noisy : clean).push_back(&e);
+    const size_t n_clean = o.poses_per_class <= 0 ? clean.size() : std::min<size_t>(clean.size(), o.poses_per_class);
+    auto load = [&](const DatasetEntry& e, bool in_retrieval) {
+      Shape s;
+      s.name = e.name;
+      s.class_name = cls;
+      s.source_path = e.path;
+      s.noisy = e.noisy;
+      s.in_retrieval = in_retrieval;
+      s.mesh = load_connected(e.path, o.largest_component, o);
+      s.key = mesh_content_key(s.mesh);
+      std::string vts = corres + "/" + e.name + ".vts";
+      if (fs::exists(vts)) s.vts = vts;
+      return s;
+    };
+    for (size_t k = 0; k < n_clean; ++k) shapes.push_back(load(*clean[k], true));
+    const size_t from_data = std::min<size_t>(noisy.size(), std::max(o.noisy_per_class, 0));
+    for (size_t k = 0; k < from_data; ++k) shapes.push_back(load(*noisy[k], true));
+    // Noisy shapes made here: from the poses not in the retrieval set if there are any (so the noisy shape is
+    // a pose of its own, as in the paper), else from the retrieval poses. Their clean source is kept as a
+    // reference for the noise measurement. With noisy shapes from the data, one more is glued from the first
+    // pose, for the measurement only.
+    int to_make = std::max(o.noisy_per_class, 0) - static_cast<int>(from_data);
+    bool measurement_only = false;
+    if (to_make <= 0 && !clean.empty() && o.noisy_per_class > 0) {
+      to_make = 1;
+      measurement_only = true;
+    }
+    for (int k = 0; k < to_make && !clean.empty(); ++k) {
+      const size_t spare = clean.size() - n_clean;
+      const DatasetEntry& src = spare > 0 ? *clean[n_clean + k % spare] : *clean[k % clean.size()];
+      const bool src_in_retrieval = spare == 0;
+      Shape source;
+      auto it = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
+      if (it != shapes.end()) {
+        source = *it;
+      } else {
+        source = load(src, src_in_retrieval);
+        source.in_retrieval = false;
+        shapes.push_back(source);
+      }
+      say(o, "glueing " + std::to_string(o.glue) + " spots of " + src.name);
+      Shape s = make_noisy(source, o, noise_cache, glued_count++);
+      s.in_retrieval = !measurement_only;
+      s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
+      write_mesh(s.source_path, s.mesh);
+      write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
+                            [&](std::ostream& out) { out << json{{"glued_vertices", s.glued}}.dump() << '\n'; });
+      shapes.push_back(std::move(s));
+    }
+  }
+  CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");
+  return shapes;
+}
+
+
+// Canonical forms of every shape by one method; MDS methods share one geodesic matrix per shape.
+struct MethodForms {
+  std::vector<CanonicalForm> forms;  // per shape
+  std::vector<std::string> keys;     // per shape: cache key of the form (content key for the pair cache)
+};
+
+std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes, const PaperExperimentOptions& o,
+                                                const DiskCache& cache, PaperExperimentSummary& summary) {
+  std::map<std::string, MethodForms> result;
+  for (const std::string& m : o.methods) {
+    result[m].forms.resize(shapes.size());
+    result[m].keys.resize(shapes.size());
+  }
+  const auto start = Clock::now();
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const Shape& s = shapes[i];
+    DistanceMatrix D;
+    bool have_D = false;
+    double D_seconds = 0;
+    for (const std::string& m : o.methods) {
+      CanonicalFormOptions co = o.canon;
+      co.method = m;
+      co.progress = {};
+      const bool mds = m != "coulomb";
+      const std::string key = canonical_form_cache_key(s.mesh, co);
+      if (mds && !have_D && !std::filesystem::exists(cache.entry_path(key))) {
+        // One geodesic matrix serves both MDS methods; each form reports its cost as its pre-computation.
+        auto t = Clock::now();
+        D = all_pairs_geodesics(s.mesh, co.geodesics);
+        D_seconds = seconds_since(t);
+        have_D = true;
+      }
+      bool was_cached = false;
+      CanonicalForm f = cached_canonical_form(cache, s.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
+      (was_cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
+      result[m].keys[i] = key;
+      // Write the form for users and for the figures.
+      WriteOptions wo;
+      if (f.torn.size() == s.mesh.num_vertices()) wo.scalars.push_back({"torn", f.torn});
+      if (!s.glued.empty()) {
+        Eigen::VectorXd glued = Eigen::VectorXd::Zero(s.mesh.num_vertices());
+        for (int v : s.glued) glued[v] = 1;
+        wo.scalars.push_back({"glued", glued});
+      }
+      write_mesh((fs::path(o.out) / "canon" / m / (s.name + ".ply")).string(), Mesh{f.X, s.mesh.F}, wo);
+      result[m].forms[i] = std::move(f);
+    }
+    if (o.progress) o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
+    double elapsed = seconds_since(start);
+    say(o, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/", shapes.size(),
+                          ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)), " s left"));
+  }
+  return result;
+}
+
+// Best rigid fit (rotation or reflection) of A onto B with the same vertex order; RMS after it.
+double vertexwise_rms(const Points& A, const Points& B) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int det : {+1, -1}) {
+    RigidTransform t = best_rigid_transform(A, B, det);
+    best = std::min(best, std::sqrt((t.apply(A) - B).rowwise().squaredNorm().mean()));
+  }
+  return best;
+}
+
+}  // namespace
+
+PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
+  const auto start = Clock::now();
+  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '", m,
+                    "'; known: coulomb, cmds, smacof");
+  }
+  fs::create_directories(o.out);
+  const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
+  const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
+  PaperExperimentSummary summary;
+  PaperReport report;
+  report.options = &o;
+
+  // 1. Shapes.
+  say(o, "== shapes from " + o.data);
+  std::vector<Shape> shapes = select_shapes(o, misc_cache);
+  std::vector<int> retrieval;  // indices of shapes in the retrieval set
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (shapes[i].in_retrieval) retrieval.push_back(static_cast<int>(i));
+  summary.shapes = static_cast<int>(retrieval.size());
+  std::vector<std::string> names, classes;
+  for (int i : retrieval) {
+    names.push_back(shapes[i].name);
+    classes.push_back(shapes[i].class_name);
+  }
+  std::vector<int> labels = labels_from_classes(classes);
+  {
+    write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
+      out << "shape,class,noisy,vertices,file\n";
+      for (int i : retrieval)
+        out << shapes[i].name << ',' << shapes[i].class_name << ',' << shapes[i].noisy << ','
+            << shapes[i].mesh.num_vertices() << ',' << shapes[i].source_path << '\n';
+    });
+  }
+  for (const Shape& s : shapes)
+    report.shapes.push_back({s.name, s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(), s.source_name});
+
+  // 2. Canonical forms.
+  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
+  auto t = Clock::now();
+  std::map<std::string, MethodForms> forms = canonize_all(shapes, o, form_cache, summary);
+  report.stage_seconds["canonical forms"] = seconds_since(t);
+  for (const auto& [m, mf] : forms) {
+    PaperReport::MethodCost cost;
+    for (int i : retrieval) {
+      cost.precompute.push_back(mf.forms[i].precompute_seconds);
+      cost.solve.push_back(mf.forms[i].solve_seconds);
+      cost.iterations.push_back(mf.forms[i].iterations);
+    }
+    report.cost[m] = cost;
+  }
+
+  // 3. Distances between canonical forms, retrieval measures.
+  say(o, "== ICP distances between all pairs");
+  t = Clock::now();
+  json metrics;
+  metrics["shapes"] = names;
+  metrics["classes"] = classes;
+  for (const std::string& m : o.methods) {
+    std::vector<Points> X;
+    std::vector<std::string> keys;
+    for (int i : retrieval) {
+      X.push_back(forms[m].forms[i].X);
+      keys.push_back(forms[m].keys[i]);
+    }
+    PairwiseDistanceOptions po;
+    po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
+    po.progress = o.progress;
+    PairwiseDistanceResult pd = pairwise_distances(X, keys, po);
+    summary.pairs_computed += pd.computed;
+    summary.pairs_cached += pd.cached;
+    write_distance_csv((fs::path(o.out) / "distances" / (m + ".csv")).string(), names, pd.hausdorff);
+    RetrievalResult rr = evaluate_retrieval(pd.hausdorff, labels);
+    DistanceMatrixImage image = distance_matrix_image(pd.hausdorff, labels);
+    json jm{{"map", rr.mean.ap}, {"nn", rr.mean.nn},   {"ft", rr.mean.ft},
+            {"st", rr.mean.st},  {"e", rr.mean.e},     {"dcg", rr.mean.dcg},
+            {"pr", {{"recall", rr.pr.recall}, {"precision", rr.pr.precision}}}};
+    std::vector<std::vector<int>> confusion(image.confusion.rows());
+    for (Index r = 0; r < image.confusion.rows(); ++r)
+      for (Index c = 0; c < image.confusion.cols(); ++c) confusion[r].push_back(image.confusion(r, c));
+    jm["nn_confusion"] = confusion;
+    // Noisy shapes as queries: are they still retrieved with their class?
+    double noisy_nn = 0;
+    int noisy_queries = 0;
+    for (const QueryResult& q : rr.queries)
+      if (shapes[retrieval[q.query]].noisy) {
+        noisy_nn += q.scores.nn;
+        ++noisy_queries;
+      }
+    if (noisy_queries) jm["noisy_query_nn"] = noisy_nn / noisy_queries;
+    metrics["methods"][m] = jm;
+    report.retrieval[m] = {rr.mean.ap, rr.mean.nn, rr.mean.ft, rr.mean.st, rr.mean.e, rr.mean.dcg,
+                           noisy_queries ? noisy_nn / noisy_queries : -1.0};
+  }
+  {
+    std::vector<std::string> class_names;
+    for (const std::string& c : classes)
+      if (std::find(class_names.begin(), class_names.end(), c) == class_names.end()) class_names.push_back(c);
+    metrics["class_names"] = class_names;
+  }
+  write_file_atomically((fs::path(o.out) / "metrics.json").string(),
+                        [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
+  report.stage_seconds["distances and retrieval"] = seconds_since(t);
+
+  // 4. Topological noise: each noisy shape against its clean source, per method.
+  say(o, "== effect of topological noise");
+  t = Clock::now();
+  {
+    std::vector<std::vector<double>> rows;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      const Shape& noisy = shapes[i];
+      if (noisy.source_name.empty()) continue;
+      size_t j = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == noisy.source_name; }) -
+                 shapes.begin();
+      for (const std::string& m : o.methods) {
+        const Points& A = forms[m].forms[i].X;
+        const Points& B = forms[m].forms[j].X;
+        const double scale = bbox_diagonal(B);
+        ShapeDistance sd = aligned_shape_distance(A, B);
+        PaperReport::NoiseRow row{noisy.name, m, vertexwise_rms(A, B) / scale, sd.hausdorff / scale, sd.rmse / scale};
+        report.noise.push_back(row);
+      }
+    }
+    // Pose variation, for scale: ICP RMS between clean poses of one class, relative to the bbox diagonal.
+    for (const std::string& m : o.methods) {
+      std::vector<double> within;
+      for (size_t a = 0; a < retrieval.size(); ++a)
+        for (size_t b = a + 1; b < retrieval.size(); ++b) {
+          const Shape& sa = shapes[retrieval[a]];
+          const Shape& sb = shapes[retrieval[b]];
+          if (sa.noisy || sb.noisy || sa.class_name != sb.class_name) continue;
+          const Points& B = forms[m].forms[retrieval[b]].X;
+          within.push_back(aligned_shape_distance(forms[m].forms[retrieval[a]].X, B).rmse / bbox_diagonal(B));
+        }
+      report.pose_variation[m] = median_of(within);
+    }
+    write_file_atomically((fs::path(o.out) / "noise_effect.csv").string(), [&](std::ostream& out) {
+      out << "shape,method,vertexwise_rms,hausdorff,icp_rmse\n";
+      for (const auto& r : report.noise)
+        out << r.shape << ',' << r.method << ',' << r.vertexwise_rms << ',' << r.hausdorff << ',' << r.icp_rmse << '\n';
+    });
+  }
+  report.stage_seconds["noise effect"] = seconds_since(t);
+
+  // 5. Point maps induced by aligning canonical forms, against ground-truth correspondences.
+  t = Clock::now();
+  if (o.correspondence_samples > 0) {
+    std::map<std::string, std::vector<Eigen::VectorXd>> curves;
+    Eigen::VectorXd thresholds;
+    int pairs = 0;
+    for (size_t b = 0; b < retrieval.size(); ++b) {
+      const Shape& sb = shapes[retrieval[b]];
+      if (sb.vts.empty() || sb.noisy) continue;
+      std::vector<size_t> sources;
+      for (size_t a = 0; a < retrieval.size(); ++a) {
+        const Shape& sa = shapes[retrieval[a]];
+        if (a != b && !sa.vts.empty() && !sa.noisy && sa.class_name == sb.class_name) sources.push_back(a);
+      }
+      if (sources.empty()) continue;
+      if (pairs == 0) say(o, "== point-map errors against ground-truth correspondences");
+      GeodesicOptions go = o.canon.geodesics;
+      DistanceMatrix G = all_pairs_geodesics(sb.mesh, go);
+      std::vector<int> truth_b = read_vts(sb.vts, sb.mesh.num_vertices());
+      for (size_t a : sources) {
+        const Shape& sa = shapes[retrieval[a]];
+        std::vector<int> truth_a = read_vts(sa.vts, sa.mesh.num_vertices());
+        for (const std::string& m : o.methods) {
+          IcpResult align = icp(forms[m].forms[retrieval[a]].X, forms[m].forms[retrieval[b]].X);
+          CorrespondenceErrorOptions ce;
+          ce.max_samples = o.correspondence_samples;
+          CorrespondenceErrorResult r = correspondence_error(sb.mesh, align.source_to_target, truth_a, truth_b, ce, &G);
+          curves[m].push_back(r.fraction);
+          thresholds = r.thresholds;
+          report.correspondence_mean_error[m].push_back(r.mean_error);
+        }
+        ++pairs;
+      }
+    }
+    if (pairs > 0) {
+      write_file_atomically((fs::path(o.out) / "correspondence_error.csv").string(), [&](std::ostream& out) {
+        out << "method,error,fraction\n";
+        for (const auto& [m, list] : curves) {
+          Eigen::VectorXd mean = Eigen::VectorXd::Zero(thresholds.size());
+          for (const auto& c : list) mean += c;
+          mean /= static_cast<double>(list.size());
+          for (Index k = 0; k < thresholds.size(); ++k) out << m << ',' << thresholds[k] << ',' << mean[k] << '\n';
+        }
+      });
+      report.correspondence_pairs = pairs;
+    }
+  }
+  report.stage_seconds["correspondence"] = seconds_since(t);
+
+  // 6. Figures' data.
+  if (o.figures) {
+    say(o, "== data for the figures");
+    t = Clock::now();
+    write_figure_data(o, report, misc_cache, form_cache);
+    json grids = report.figure_grids;
+    // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
+    json fig6{{"title", "Fig. 6: shapes (top) and canonical forms; glued (shape, MDS) and torn (Coulomb) vertices red"}};
+    json fig4{{"title", "Fig. 4: shapes with point-wise connectivity artifacts (top) and their coulombization"}};
+    std::vector<std::string> row_titles = {"shape"};
+    for (const std::string& m : o.methods) row_titles.push_back(m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : "SMACOF");
+    json cells = json::array();
+    for (size_t r = 0; r < row_titles.size(); ++r) cells.push_back(json::array());
+    json fig4_cells = json::array({json::array(), json::array()});
+    std::set<std::string> classes_shown;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      const Shape& noisy = shapes[i];
+      if (noisy.source_name.empty() || classes_shown.count(noisy.class_name)) continue;
+      classes_shown.insert(noisy.class_name);
+      json red{{"property", "glued"}};
+      cells[0].push_back({{"mesh", "canon/input/" + noisy.source_name + ".ply"}, {"title", noisy.source_name}});
+      cells[0].push_back({{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      for (size_t k = 0; k < o.methods.size(); ++k) {
+        const std::string& m = o.methods[k];
+        json noisy_red = m == "coulomb" ? json{{"property", "torn"}} : red;
+        cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.source_name + ".ply"}});
+        cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.name + ".ply"}, {"red", noisy_red}});
+      }
+      fig4_cells[0].push_back({{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      if (std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end())
+        fig4_cells[1].push_back({{"mesh", "canon/coulomb/" + noisy.name + ".ply"}, {"red", {{"property", "torn"}}}});
+    }
+    // The inputs, as PLY with the glued flag, for the figure scripts.
+    for (const Shape& s : shapes) {
+      WriteOptions wo;
+      if (!s.glued.empty()) {
+        Eigen::VectorXd glued = Eigen::VectorXd::Zero(s.mesh.num_vertices());
+        for (int v : s.glued) glued[v] = 1;
+        wo.scalars.push_back({"glued", glued});
+      }
+      write_mesh((fs::path(o.out) / "canon" / "input" / (s.name + ".ply")).string(), s.mesh, wo);
+    }
+    fig6["rows"] = row_titles;
+    fig6["cells"] = cells;
+    fig4["rows"] = json::array({"shape", "Coulomb"});
+    fig4["cells"] = fig4_cells;
+    if (!classes_shown.empty()) {
+      grids["fig6_noisy_shapes"] = fig6;
+      grids["fig4_tearing"] = fig4;
+    }
+    write_file_atomically((fs::path(o.out) / "figures.json").string(),
+                          [&](std::ostream& out) { out << grids.dump(2) << '\n'; });
+    report.stage_seconds["figures"] = seconds_since(t);
+  }
+
+  // 7. Table 1.
+  if (o.table1) {
+    say(o, "== Table 1 (timings)");
+    t = Clock::now();
+    measure_table1(o, report, misc_cache);
+    report.stage_seconds["table 1"] = seconds_since(t);
+  }
+
+  summary.seconds = seconds_since(start);
+  report.summary = summary;
+  write_report(o, report);
+  return summary;
+}
+
+}  // namespace cshapes

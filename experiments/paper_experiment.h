@@ -1,0 +1,50 @@
+// `cshapes experiment paper`: the paper's experiment end to end (§3), and more.
+//
+// Per class: N near-isometric poses + K topologically noisy shapes (the dataset's own, or made here by gluing
+// another pose with core/topological_noise.h); canonical forms by every method (eval/canonical_forms.h, cached);
+// ICP distances between all pairs (eval/pairwise_distances.h, cached); retrieval measures and PR curves
+// (eval/retrieval.h); the effect of topological noise on each method's canonical form; point-map errors where
+// ground-truth correspondences exist; the data behind Figures 2-8; Table 1 (eval/timing.h); report.md.
+// Everything is written under options.out; every expensive intermediate is cached in out/cache, so a run
+// that is killed resumes where it stopped.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "eval/canonical_forms.h"
+
+namespace cshapes {
+
+struct PaperExperimentOptions {
+  std::string data;  // folder of meshes or manifest.csv
+  std::string out;   // output folder
+  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  int poses_per_class = 4;   // clean poses per class in the retrieval set (the paper's 4); ≤ 0: all
+  int noisy_per_class = 1;   // topologically noisy shapes per class (the paper's 1)
+  int glue = 2;              // glues per noisy shape made here
+  std::uint64_t seed = 1;    // noise placement
+  bool largest_component = false;  // keep each input's largest component instead of refusing it
+  CanonicalFormOptions canon;      // method options (geodesics for MDS: canon.geodesics)
+  bool table1 = true;              // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
+  int timing_repeats = 5;          // Table 1: runs per median
+  bool figures = true;             // compute the data of Figures 2, 3, 4, 5
+  int figure_vertices = 2000;      // Figures 3 and 5: the shape is remeshed to this many vertices (speed)
+  std::vector<int> fig3_iterations = {300, 600, 900, 3000, 10000};
+  int fig5_iterations = 1000;      // outer iterations per curve of Figure 5
+  int correspondence_samples = 300;  // ground-truth samples per pair for the point-map error (0: skip)
+  ProgressFn progress;
+  std::function<void(const std::string&)> note;  // one line of progress text
+};
+
+struct PaperExperimentSummary {
+  double seconds = 0;
+  int shapes = 0;
+  long canonical_forms_computed = 0, canonical_forms_cached = 0;
+  long pairs_computed = 0, pairs_cached = 0;
+};
+
+PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& options);
+
+}  // namespace cshapes

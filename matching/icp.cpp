@@ -1,0 +1,525 @@
+#include "matching/icp.h"
+
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace cshapes {
+
+// ---------------------------------------------------------------------------------------------------------
+// Rigid transforms
+
+Points RigidTransform::apply(const Points& X) const {
+  Points Y = X * rotation.transpose();
+  Y.rowwise() += translation.transpose();
+  return Y;
+}
+
+RigidTransform RigidTransform::inverse() const {
+  RigidTransform inv;
+  inv.rotation = rotation.transpose();
+  inv.translation = -(inv.rotation * translation);
+  return inv;
+}
+
+Eigen::Matrix4d RigidTransform::matrix() const {
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  M.topLeftCorner<3, 3>() = rotation;
+  M.topRightCorner<3, 1>() = translation;
+  return M;
+}
+
+RigidTransform operator*(const RigidTransform& a, const RigidTransform& b) {
+  RigidTransform c;
+  c.rotation = a.rotation * b.rotation;
+  c.translation = a.rotation * b.translation + a.translation;
+  return c;
+}
+
+RigidTransform random_rigid_transform(uint64_t seed, double translation_scale, bool reflection) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Quaterniond q;
+  do {
+    q = Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng));
+  } while (q.norm() < 1e-6);
+  q.normalize();
+  RigidTransform T;
+  T.rotation = q.toRotationMatrix();
+  if (reflection) T.rotation.col(2) *= -1;  // R·diag(1, 1, −1): mirror z first, then rotate
+  for (int k = 0; k < 3; ++k) T.translation[k] = translation_scale * normal(rng);
+  return T;
+}
+
+namespace {
+
+// The orthogonal matrix closest to a cross-covariance H = Σ w (p − p̄)(q − q̄)ᵀ, with the requested
+// determinant: R = V·diag(1, 1, s)·Uᵀ for H = U·Σ·Vᵀ, s chosen so that det R = determinant. Flipping the
+// axis of the smallest singular value costs least (Umeyama 1991, Lemma).
+Eigen::Matrix3d closest_orthogonal(const Eigen::Matrix3d& H, int determinant) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix3d& U = svd.matrixU();
+  const Eigen::Matrix3d& V = svd.matrixV();
+  double s = (V * U.transpose()).determinant() * determinant < 0 ? -1.0 : 1.0;
+  Eigen::Vector3d d(1.0, 1.0, s);
+  return V * d.asDiagonal() * U.transpose();
+}
+
+}  // namespace
+
+RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determinant,
+                                    const Eigen::VectorXd& weights) {
+  CSHAPES_REQUIRE(P.rows() == Q.rows() && P.rows() > 0,
+                  "best_rigid_transform: need equally many (> 0) rows, got ", P.rows(), " and ", Q.rows());
+  CSHAPES_REQUIRE(determinant == 1 || determinant == -1,
+                  "best_rigid_transform: determinant must be +1 or -1");
+  CSHAPES_REQUIRE(weights.size() == 0 || weights.size() == P.rows(), "best_rigid_transform: ", weights.size(),
+                  " weights for ", P.rows(), " pairs");
+  Eigen::VectorXd w = weights.size() ? weights : Eigen::VectorXd::Ones(P.rows());
+  double total = w.sum();
+  CSHAPES_REQUIRE(total > 0, "best_rigid_transform: the weights sum to zero");
+  Eigen::Vector3d p_mean = (P.transpose() * w) / total;
+  Eigen::Vector3d q_mean = (Q.transpose() * w) / total;
+  // Two passes (means first) keep the cross-covariance accurate far from the origin.
+  Eigen::Matrix3d H =
+      (P.rowwise() - p_mean.transpose()).transpose() * w.asDiagonal() * (Q.rowwise() - q_mean.transpose());
+  RigidTransform T;
+  T.rotation = closest_orthogonal(H, determinant);
+  T.translation = q_mean - T.rotation * p_mean;
+  return T;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Shapes prepared for ICP
+
+namespace {
+
+// Interleaves the low 10 bits of x, y, z into a 30-bit Morton code.
+uint32_t morton_code(uint32_t x, uint32_t y, uint32_t z) {
+  auto spread = [](uint32_t v) {
+    v &= 0x3ff;
+    v = (v | (v << 16)) & 0x030000ff;
+    v = (v | (v << 8)) & 0x0300f00f;
+    v = (v | (v << 4)) & 0x030c30c3;
+    v = (v | (v << 2)) & 0x09249249;
+    return v;
+  };
+  return spread(x) | (spread(y) << 1) | (spread(z) << 2);
+}
+
+// Row order of X along a Morton (Z-order) curve over its bounding box.
+std::vector<int> spatial_order(const Points& X) {
+  Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  double extent = std::max((hi - lo).maxCoeff(), 1e-300);
+  std::vector<std::pair<uint32_t, int>> keyed(static_cast<size_t>(X.rows()));
+  for (Index i = 0; i < X.rows(); ++i) {
+    Eigen::RowVector3d u = (X.row(i) - lo) / extent * 1023.0;
+    keyed[static_cast<size_t>(i)] = {
+        morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]), static_cast<uint32_t>(u[2])),
+        static_cast<int>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<int> order(keyed.size());
+  for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
+  return order;
+}
+
+}  // namespace
+
+IcpShape::IcpShape(const Points& points, const IcpOptions& options)
+    : points_(points), pyramid_(options.pyramid), seed_(options.seed) {
+  const Index n = points.rows();
+  CSHAPES_REQUIRE(n >= 4, "ICP needs at least 4 points, got ", n);
+  CSHAPES_REQUIRE(points.allFinite(), "ICP: the point set has non-finite coordinates");
+  centroid_ = points.colwise().mean().transpose();
+  Points centred = points.rowwise() - centroid_.transpose();
+  Eigen::Matrix3d covariance = centred.transpose() * centred / static_cast<double>(n);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
+  // Eigen sorts increasing; principal axes go by decreasing variance.
+  variances_ = eig.eigenvalues().reverse();
+  axes_ = eig.eigenvectors().rowwise().reverse();
+  if (axes_.determinant() < 0) axes_.col(2) *= -1;
+  rms_radius_ = std::sqrt(std::max(covariance.trace(), 0.0));
+  CSHAPES_REQUIRE(variances_[1] > 1e-20 * std::max(variances_[0], 1e-300),
+                  "ICP needs points that span a plane at least; these lie on a line or a point");
+
+  auto make_level = [&](std::vector<int> indices) {
+    auto level = std::make_shared<Level>();
+    level->indices = std::move(indices);
+    level->centred.resize(static_cast<Index>(level->indices.size()), 3);
+    for (size_t k = 0; k < level->indices.size(); ++k)
+      level->centred.row(static_cast<Index>(k)) = centred.row(level->indices[k]);
+    return std::shared_ptr<const Level>(std::move(level));
+  };
+  const std::vector<int> spatial = spatial_order(centred);
+  std::vector<int> spatial_rank(static_cast<size_t>(n));
+  for (size_t k = 0; k < spatial.size(); ++k)
+    spatial_rank[static_cast<size_t>(spatial[k])] = static_cast<int>(k);
+  std::shared_ptr<const Level> full = make_level(spatial);
+  tree_ = std::make_unique<NearestNeighbors>(full->centred);
+
+  // Nested random subsamples: the first m entries of one random permutation, stored in spatial order.
+  std::vector<int> shuffled(static_cast<size_t>(n));
+  std::iota(shuffled.begin(), shuffled.end(), 0);
+  std::mt19937_64 rng(options.seed);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  Index previous = 0;
+  for (Index m : options.pyramid) {
+    CSHAPES_REQUIRE(m > previous, "IcpOptions::pyramid must increase, got ", m, " after ", previous);
+    previous = m;
+    if (m >= n) {
+      levels_.push_back(full);
+      continue;
+    }
+    std::vector<int> sample(shuffled.begin(), shuffled.begin() + m);
+    std::sort(sample.begin(), sample.end(), [&](int a, int b) {
+      return spatial_rank[static_cast<size_t>(a)] < spatial_rank[static_cast<size_t>(b)];
+    });
+    levels_.push_back(make_level(std::move(sample)));
+  }
+  levels_.push_back(full);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// ICP
+
+namespace {
+
+void check_options(const IcpOptions& o) {
+  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9,
+                  "ICP trim_fraction must be in [0, 0.9], got ", o.trim_fraction);
+  CSHAPES_REQUIRE(o.max_iterations >= 1, "ICP max_iterations must be >= 1");
+  CSHAPES_REQUIRE(o.screening_iterations >= 0, "ICP screening_iterations must be >= 0");
+  CSHAPES_REQUIRE(o.finalists >= 1, "ICP finalists must be >= 1");
+  CSHAPES_REQUIRE(o.relative_tolerance >= 0 && o.absolute_tolerance >= 0, "ICP tolerances must be >= 0");
+  CSHAPES_REQUIRE(o.max_correspondence_distance > 0, "ICP max_correspondence_distance must be > 0");
+}
+
+// The state of one start: a transform between the CENTRED sets, and the determinant it keeps.
+struct Track {
+  RigidTransform T;
+  int determinant = 1;
+  double rmse = std::numeric_limits<double>::infinity();
+  int iterations = 0;        // on the current level
+  int total_iterations = 0;  // on every level
+  std::string stop_reason;
+  bool converged = false;
+  double inlier_fraction = 1;
+  std::vector<double> history;  // on the current level
+  // The nearest neighbours (level rows) and squared distances of the last correspondence pass;
+  // `current` when they belong to T (the loop stopped before updating T).
+  Eigen::VectorXi nn_st, nn_ts;
+  Eigen::VectorXd d2_st, d2_ts;
+  bool current = false;
+};
+
+// Scratch space for one thread's ICP steps.
+struct Pairs {
+  Points P, Q;  // paired rows: source (centred, untransformed) and target (centred)
+  Eigen::VectorXd d2;
+  std::vector<double> sorted;
+};
+
+// Keeps the pairs of one direction whose squared distance passes the trimming and distance limits;
+// appends them to the pair list. Returns the number kept.
+Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2, std::vector<double>& scratch,
+                 std::vector<char>& keep) {
+  const Index m = d2.size();
+  double threshold = max_d2;
+  if (trim_fraction > 0 && m > 1) {
+    scratch.assign(d2.data(), d2.data() + m);
+    Index kept =
+        std::max<Index>(1, static_cast<Index>(std::floor((1.0 - trim_fraction) * static_cast<double>(m))));
+    std::nth_element(scratch.begin(), scratch.begin() + (kept - 1), scratch.end());
+    threshold = std::min(threshold, scratch[static_cast<size_t>(kept - 1)]);
+  }
+  keep.assign(static_cast<size_t>(m), 0);
+  Index count = 0;
+  for (Index i = 0; i < m; ++i)
+    if (d2[i] <= threshold) {
+      keep[static_cast<size_t>(i)] = 1;
+      ++count;
+    }
+  return count;
+}
+
+// Runs ICP steps on one level until a stopping rule (or `max_steps`), updating the track.
+void iterate(Track& track, const IcpShape& source, const IcpShape& target, int level, int max_steps,
+             const IcpOptions& o) {
+  // Queries: the level's samples; partners: searched among ALL points of the other set, so the RMSE of a
+  // level estimates the full RMSE without the bias of matching two independent samples (which would hide
+  // small differences, e.g. between a pose and its mirror image on a nearly symmetric shape).
+  const Points& S = source.level_points(level);
+  const Points& Tg = target.level_points(level);
+  const Points& S_all = source.level_points(source.num_levels() - 1);
+  const Points& T_all = target.level_points(target.num_levels() - 1);
+  const NearestNeighbors& source_tree = source.tree();
+  const NearestNeighbors& target_tree = target.tree();
+  const double exact = o.absolute_tolerance * target.rms_radius();
+  const double max_d2 = o.max_correspondence_distance * o.max_correspondence_distance;
+
+  track.iterations = 0;
+  track.history.clear();
+  track.converged = false;
+  track.stop_reason = "max iterations";
+  track.current = false;
+  std::vector<double> scratch;
+  std::vector<char> keep_st, keep_ts;
+  Eigen::VectorXi& nn_st = track.nn_st;
+  Eigen::VectorXi& nn_ts = track.nn_ts;
+  Eigen::VectorXd& d2_st = track.d2_st;
+  Eigen::VectorXd& d2_ts = track.d2_ts;
+  nn_st.resize(S.rows());
+  d2_st.resize(S.rows());
+  nn_ts.resize(o.symmetric ? Tg.rows() : 0);
+  d2_ts.resize(o.symmetric ? Tg.rows() : 0);
+  Points P, Q;
+  double previous = std::numeric_limits<double>::infinity();
+  for (int step = 0; step < max_steps; ++step) {
+    // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
+    // neighbour (the pose moved a little); on the first, the previous query's neighbour (queries are in
+    // Morton order, so consecutive ones are close).
+    const bool hinted = step > 0;
+    const Eigen::Matrix3d& R = track.T.rotation;
+    const Eigen::Vector3d& t = track.T.translation;
+    // source → target: nearest target point to R·x + t.
+    for (Index i = 0; i < S.rows(); ++i) {
+      Eigen::Vector3d q = R * S.row(i).transpose() + t;
+      nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
+                                  : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
+                                          : target_tree.nearest(q, &d2_st[i]));
+    }
+    Index kept = keep_pairs(d2_st, o.trim_fraction, max_d2, scratch, keep_st);
+    Index total = S.rows();
+    // target → source: the nearest transformed source point to y is the nearest source point to Rᵀ(y − t),
+    // so the source tree is built once and never moved.
+    if (o.symmetric) {
+      for (Index j = 0; j < Tg.rows(); ++j) {
+        Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
+        nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
+                                    : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
+                                            : source_tree.nearest(q, &d2_ts[j]));
+      }
+      kept += keep_pairs(d2_ts, o.trim_fraction, max_d2, scratch, keep_ts);
+      total += Tg.rows();
+    }
+    if (kept == 0)
+      fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
+    P.resize(kept, 3);
+    Q.resize(kept, 3);
+    Index k = 0;
+    double sum_d2 = 0;
+    for (Index i = 0; i < S.rows(); ++i)
+      if (keep_st[static_cast<size_t>(i)]) {
+        P.row(k) = S.row(i);
+        Q.row(k++) = T_all.row(nn_st[i]);
+        sum_d2 += d2_st[i];
+      }
+    if (o.symmetric)
+      for (Index j = 0; j < Tg.rows(); ++j)
+        if (keep_ts[static_cast<size_t>(j)]) {
+          P.row(k) = S_all.row(nn_ts[j]);
+          Q.row(k++) = Tg.row(j);
+          sum_d2 += d2_ts[j];
+        }
+    // The RMSE of the current pose's pairs; the step below can only lower it for these pairs.
+    double rmse = std::sqrt(sum_d2 / static_cast<double>(kept));
+    track.rmse = rmse;
+    track.inlier_fraction = static_cast<double>(kept) / static_cast<double>(total);
+    track.history.push_back(rmse);
+    if (rmse <= exact) {
+      track.converged = track.current = true;
+      track.stop_reason = "exact fit";
+      break;
+    }
+    if (std::isfinite(previous) && std::abs(previous - rmse) <= o.relative_tolerance * previous) {
+      track.converged = track.current = true;
+      track.stop_reason = "relative change";
+      break;
+    }
+    previous = rmse;
+    track.T = best_rigid_transform(P, Q, track.determinant);
+    ++track.iterations;
+    ++track.total_iterations;
+  }
+}
+
+// Runs f(k) for k in [0, n), on OpenMP threads when allowed; rethrows the first exception.
+template <class F>
+void for_each_start(int n, bool parallel, F&& f) {
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel && !omp_in_parallel() && n > 1)
+  for (int k = 0; k < n; ++k) {
+    try {
+      f(k);
+    } catch (...) {
+#pragma omp critical(cshapes_icp_error)
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& target, const IcpOptions& o) {
+  std::vector<RigidTransform> starts;
+  // Axis orders: the identity, then (with swaps) each pair of principal axes exchanged.
+  std::vector<Eigen::Matrix3d> orders = {Eigen::Matrix3d::Identity()};
+  if (o.try_axis_swaps) {
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+      int b = (a + 1) % 3, c = (a + 2) % 3;
+      P.row(b).swap(P.row(c));
+      orders.push_back(P);
+    }
+  }
+  // Source axis k maps to target axis k (up to sign): R = A_t · diag(s) · Perm · A_sᵀ.
+  if (!o.try_principal_axes) orders.clear();
+  for (const Eigen::Matrix3d& order : orders) {
+    for (int signs = 0; signs < 8; ++signs) {
+      Eigen::Vector3d s((signs & 1) ? -1.0 : 1.0, (signs & 2) ? -1.0 : 1.0, (signs & 4) ? -1.0 : 1.0);
+      RigidTransform T;
+      T.rotation = target.principal_axes() * s.asDiagonal() * order * source.principal_axes().transpose();
+      if (T.is_reflection() && !o.allow_reflections) continue;
+      starts.push_back(T);
+    }
+  }
+  if (o.try_identity) starts.push_back(RigidTransform{});
+  CSHAPES_REQUIRE(!starts.empty(),
+                  "ICP: no starting pose (try_principal_axes and try_identity are both off)");
+  return starts;
+}
+
+IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& o) {
+  auto clock_start = std::chrono::steady_clock::now();
+  check_options(o);
+  CSHAPES_REQUIRE(source.num_levels() >= 1 && target.num_levels() >= 1, "ICP: shapes not prepared");
+
+  IcpResult result;
+  result.start_transforms = icp_starts(source, target, o);
+  const int num_starts = static_cast<int>(result.start_transforms.size());
+  std::vector<Track> tracks(static_cast<size_t>(num_starts));
+  for (int k = 0; k < num_starts; ++k) {
+    tracks[k].T = result.start_transforms[k];
+    tracks[k].determinant = tracks[k].T.is_reflection() ? -1 : 1;
+  }
+
+  CSHAPES_REQUIRE(source.pyramid() == o.pyramid && target.pyramid() == o.pyramid && source.seed() == o.seed &&
+                      target.seed() == o.seed,
+                  "ICP: both shapes must be built with the options' pyramid and seed");
+  const int levels = source.num_levels();
+
+  // Screening: every start, a few steps on the coarsest level.
+  for_each_start(num_starts, o.parallel, [&](int k) {
+    iterate(tracks[static_cast<size_t>(k)], source, target, 0, o.screening_iterations, o);
+  });
+  result.start_rmse.resize(static_cast<size_t>(num_starts));
+  for (int k = 0; k < num_starts; ++k)
+    result.start_rmse[static_cast<size_t>(k)] = tracks[static_cast<size_t>(k)].rmse;
+
+  std::vector<int> order(static_cast<size_t>(num_starts));
+  std::iota(order.begin(), order.end(), 0);
+  auto by_rmse = [&](int a, int b) {
+    double ra = tracks[static_cast<size_t>(a)].rmse, rb = tracks[static_cast<size_t>(b)].rmse;
+    return ra < rb || (ra == rb && a < b);
+  };
+  std::stable_sort(order.begin(), order.end(), by_rmse);
+  order.resize(static_cast<size_t>(std::min(num_starts, o.finalists)));
+
+  // The finalists to convergence on each subsampled level, re-ranked after each.
+  for (int level = 0; level + 1 < levels; ++level) {
+    for_each_start(static_cast<int>(order.size()), o.parallel, [&](int f) {
+      iterate(tracks[static_cast<size_t>(order[static_cast<size_t>(f)])], source, target, level,
+              o.max_iterations, o);
+    });
+    std::stable_sort(order.begin(), order.end(), by_rmse);
+  }
+  // The best one to convergence on all points.
+  const int best = order.front();
+  Track& winner = tracks[static_cast<size_t>(best)];
+  const bool refined = o.refine_on_all_points || levels == 1;
+  if (refined) iterate(winner, source, target, levels - 1, o.max_iterations, o);
+
+  // Back from centred coordinates: y − c_t = R (x − c_s) + t'  ⇒  t = t' + c_t − R c_s.
+  result.transform.rotation = winner.T.rotation;
+  result.transform.translation =
+      winner.T.translation + target.centroid() - winner.T.rotation * source.centroid();
+  result.rmse = winner.rmse;
+  result.inlier_fraction = winner.inlier_fraction;
+  result.iterations = winner.iterations;
+  result.converged = winner.converged;
+  result.stop_reason = winner.stop_reason;
+  result.best_start = best;
+  result.rmse_history = winner.history;
+  for (const Track& t : tracks) result.total_iterations += t.total_iterations;
+
+  // Nearest neighbours under the final transform, on all points, both directions: those of the last pass
+  // when it saw the final transform, else one more pass.
+  const int full = levels - 1;
+  const Points& S = source.level_points(full);
+  const Points& Tg = target.level_points(full);
+  if (!winner.current || winner.nn_st.size() != S.rows()) {
+    target.tree().nearest_all(winner.T.apply(S), winner.nn_st, winner.d2_st);
+  }
+  if (!winner.current || winner.nn_ts.size() != Tg.rows()) {
+    source.tree().nearest_all(winner.T.inverse().apply(Tg), winner.nn_ts, winner.d2_ts);
+  }
+  // Level rows back to the input's rows.
+  const std::vector<int>& source_rows = source.level_indices(full);
+  const std::vector<int>& target_rows = target.level_indices(full);
+  result.source_to_target.resize(S.rows());
+  result.source_to_target_distance.resize(S.rows());
+  for (Index k = 0; k < S.rows(); ++k) {
+    result.source_to_target[source_rows[static_cast<size_t>(k)]] =
+        target_rows[static_cast<size_t>(winner.nn_st[k])];
+    result.source_to_target_distance[source_rows[static_cast<size_t>(k)]] = std::sqrt(winner.d2_st[k]);
+  }
+  result.target_to_source.resize(Tg.rows());
+  result.target_to_source_distance.resize(Tg.rows());
+  for (Index k = 0; k < Tg.rows(); ++k) {
+    result.target_to_source[target_rows[static_cast<size_t>(k)]] =
+        source_rows[static_cast<size_t>(winner.nn_ts[k])];
+    result.target_to_source_distance[target_rows[static_cast<size_t>(k)]] = std::sqrt(winner.d2_ts[k]);
+  }
+  if (!refined) {  // the RMSE of all pairs under the subsample's transform
+    result.rmse =
+        std::sqrt((winner.d2_st.sum() + winner.d2_ts.sum()) / static_cast<double>(S.rows() + Tg.rows()));
+    result.inlier_fraction = 1;
+    result.iterations = 0;
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
+IcpResult icp(const Points& source, const Points& target, const IcpOptions& options) {
+  IcpShape s(source, options), t(target, options);
+  return icp(s, t, options);
+}
+
+std::string to_key_string(const IcpOptions& o) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "icp;try_principal_axes=" << o.try_principal_axes << ";allow_reflections=" << o.allow_reflections
+      << ";try_axis_swaps=" << o.try_axis_swaps << ";try_identity=" << o.try_identity << ";pyramid=";
+  for (Index m : o.pyramid) out << m << ',';
+  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists
+      << ";seed=" << o.seed << ";refine_on_all_points=" << o.refine_on_all_points
+      << ";max_iterations=" << o.max_iterations << ";relative_tolerance=" << o.relative_tolerance
+      << ";absolute_tolerance=" << o.absolute_tolerance << ";symmetric=" << o.symmetric
+      << ";trim_fraction=" << o.trim_fraction
+      << ";max_correspondence_distance=" << o.max_correspondence_distance;
+  return out.str();
+}
+
+}  // namespace cshapes

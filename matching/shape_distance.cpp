@@ -1,0 +1,50 @@
+#include "matching/shape_distance.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "matching/nearest_neighbors.h"
+
+namespace cshapes {
+
+ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const Eigen::VectorXd& b_to_a) {
+  CSHAPES_REQUIRE(a_to_b.size() > 0 && b_to_a.size() > 0, "shape distance: empty point set");
+  ShapeDistance d;
+  d.directed_ab = a_to_b.maxCoeff();
+  d.directed_ba = b_to_a.maxCoeff();
+  d.hausdorff = std::max(d.directed_ab, d.directed_ba);
+  d.chamfer = 0.5 * (a_to_b.mean() + b_to_a.mean());
+  d.rmse = std::sqrt((a_to_b.squaredNorm() + b_to_a.squaredNorm()) /
+                     static_cast<double>(a_to_b.size() + b_to_a.size()));
+  return d;
+}
+
+ShapeDistance shape_distance(const Points& A, const Points& B) {
+  NearestNeighbors tree_a(A), tree_b(B);
+  Eigen::VectorXi index;
+  Eigen::VectorXd a_to_b, b_to_a;
+  tree_b.nearest_all(A, index, a_to_b);
+  tree_a.nearest_all(B, index, b_to_a);
+  return shape_distance_from_nearest(a_to_b.cwiseSqrt(), b_to_a.cwiseSqrt());
+}
+
+ShapeDistance shape_distance(const IcpResult& alignment) {
+  return shape_distance_from_nearest(alignment.source_to_target_distance,
+                                     alignment.target_to_source_distance);
+}
+
+ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const IcpOptions& options,
+                                     IcpResult* alignment) {
+  IcpResult r = icp(A, B, options);
+  ShapeDistance d = shape_distance(r);
+  if (alignment) *alignment = std::move(r);
+  return d;
+}
+
+ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options,
+                                     IcpResult* alignment) {
+  IcpShape a(A, options), b(B, options);
+  return aligned_shape_distance(a, b, options, alignment);
+}
+
+}  // namespace cshapes

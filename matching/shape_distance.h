@@ -1,0 +1,41 @@
+// Distances between two point sets, and the paper's shape distance: "the maximum distance between
+// corresponding points after rigid alignment" (§3), correspondence meaning nearest neighbour, both ways.
+//
+// With d_A(a) = min_b ‖a − b‖ for a ∈ A and d_B(b) = min_a ‖a − b‖ for b ∈ B (Euclidean, NOT squared):
+//   hausdorff = max( max_a d_A(a), max_b d_B(b) )                  (symmetric Hausdorff; the paper's
+//   distance) chamfer   = ( mean_a d_A(a) + mean_b d_B(b) ) / 2              (mean of the two directed means)
+//   rmse      = sqrt( (Σ_a d_A(a)² + Σ_b d_B(b)²) / (|A| + |B|) )  (over all pairs of both directions)
+// All three are symmetric in A and B, zero when the sets are equal, in the points' units, and invariant
+// under a rigid motion (or reflection) applied to both sets.
+#pragma once
+
+#include "core/types.h"
+#include "matching/icp.h"
+
+namespace cshapes {
+
+struct ShapeDistance {
+  double hausdorff = 0;  // the paper's distance (see above)
+  double chamfer = 0;
+  double rmse = 0;
+  double directed_ab = 0;  // max_a d_A(a): how far A's farthest point is from B
+  double directed_ba = 0;  // max_b d_B(b)
+};
+
+// The distances from the nearest-neighbour distances of both directions (Euclidean, not squared).
+ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const Eigen::VectorXd& b_to_a);
+
+// The distances between A and B as they are placed (no alignment). KD-trees: O((|A| + |B|) log).
+ShapeDistance shape_distance(const Points& A, const Points& B);
+
+// The distances after the alignment `icp` found (its final nearest neighbours; A = source, B = target).
+ShapeDistance shape_distance(const IcpResult& alignment);
+
+// Aligns A onto B with ICP, then measures: the paper's pipeline for two canonical forms.
+// The alignment is returned through `alignment` when non-null.
+ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options = {},
+                                     IcpResult* alignment = nullptr);
+ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const IcpOptions& options = {},
+                                     IcpResult* alignment = nullptr);
+
+}  // namespace cshapes

@@ -1,0 +1,118 @@
+#include "eval/cache.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Sha256, KnownAnswers) {
+  // FIPS 180-4 examples (one block, two blocks) and the empty message; 56 bytes straddle the padding
+  // boundary (the length no longer fits in the same block), 64 bytes fill one block exactly.
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex(std::string(64, 'a')),
+            "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(CacheKey, PartsAreDelimited) {
+  EXPECT_NE(cache_key({"ab", "c"}), cache_key({"a", "bc"}));
+  EXPECT_EQ(cache_key({"x", "y"}), cache_key({"x", "y"}));
+  EXPECT_EQ(cache_key({"x"}).size(), 64u);
+}
+
+TEST(DiskCache, StoresCountsAndSurvivesRestart) {
+  std::string dir = test::scratch_dir("cache");
+  std::string key = cache_key({"item", "1"});
+  {
+    DiskCache cache(dir);
+    EXPECT_FALSE(cache.get(key).has_value());
+    int computed = 0;
+    std::string binary("a\0b\nc", 5);  // values are opaque bytes
+    EXPECT_EQ(cache.get_or_compute(key,
+                                   [&] {
+                                     ++computed;
+                                     return binary;
+                                   }),
+              binary);
+    EXPECT_EQ(cache.get_or_compute(key,
+                                   [&] {
+                                     ++computed;
+                                     return std::string("other");
+                                   }),
+              binary);
+    EXPECT_EQ(computed, 1);
+    EXPECT_EQ(cache.hits(), 1);
+    EXPECT_EQ(cache.misses(), 2);
+  }
+  DiskCache again(dir);  // a new process, say
+  ASSERT_TRUE(again.get(key).has_value());
+  EXPECT_EQ(again.get(key)->size(), 5u);
+  EXPECT_EQ(again.hits(), 2);
+  EXPECT_EQ(again.misses(), 0);
+  EXPECT_TRUE(fs::exists(again.entry_path(key)));
+  EXPECT_EQ(fs::path(again.entry_path(key)).parent_path().filename().string(), key.substr(0, 2));
+  fs::remove_all(dir);
+}
+
+TEST(DiskCache, DamagedOrPartialEntriesAreMisses) {
+  std::string dir = test::scratch_dir("cache-damaged");
+  DiskCache cache(dir);
+  std::string key = cache_key({"damaged"});
+  cache.put(key, "0123456789");
+  // Truncate the entry as a crash of a non-atomic writer would: the size in the header no longer matches.
+  std::string path = cache.entry_path(key);
+  fs::resize_file(path, fs::file_size(path) - 3);
+  EXPECT_FALSE(cache.get(key).has_value());
+  test::write_text(path, "garbage");
+  EXPECT_FALSE(cache.get(key).has_value());
+  // A stray temporary file from a killed writer is not an entry.
+  std::string other = cache_key({"other"});
+  test::write_text(cache.entry_path(other) + ".tmp.123.0", "CSHCACHE1 1\nx");
+  EXPECT_FALSE(cache.get(other).has_value());
+  cache.put(key, "fixed");
+  EXPECT_EQ(cache.get(key).value(), "fixed");
+  fs::remove_all(dir);
+}
+
+TEST(DiskCache, DisabledCacheComputesEveryTime) {
+  DiskCache cache;
+  EXPECT_FALSE(cache.enabled());
+  int computed = 0;
+  cache.get_or_compute(cache_key({"k"}), [&] {
+    ++computed;
+    return std::string("v");
+  });
+  cache.get_or_compute(cache_key({"k"}), [&] {
+    ++computed;
+    return std::string("v");
+  });
+  EXPECT_EQ(computed, 2);
+  EXPECT_EQ(cache.misses(), 2);
+}
+
+TEST(DiskCache, FileContentHashFollowsContentNotName) {
+  std::string dir = test::scratch_dir("cache-hash");
+  test::write_text(dir + "/a.off", "same");
+  test::write_text(dir + "/b.off", "same");
+  test::write_text(dir + "/c.off", "different");
+  EXPECT_EQ(file_content_hash(dir + "/a.off"), file_content_hash(dir + "/b.off"));
+  EXPECT_NE(file_content_hash(dir + "/a.off"), file_content_hash(dir + "/c.off"));
+  EXPECT_THROW(file_content_hash(dir + "/missing.off"), Error);
+  EXPECT_THROW(DiskCache(dir).entry_path("../escape"), Error);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cshapes

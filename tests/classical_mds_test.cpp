@@ -1,0 +1,201 @@
+#include "canon/classical_mds.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "core/error.h"
+#include "core/geodesics.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+Points random_points(Index n, unsigned seed, Eigen::Vector3d scale = {3.0, 2.0, 1.0}) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  Points P(n, 3);
+  for (Index i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) P(i, k) = scale[k] * normal(rng) + 10.0;  // off-centre on purpose
+  return P;
+}
+
+Eigen::MatrixXd euclidean_distances(const Points& P) {
+  const Index n = P.rows();
+  Eigen::MatrixXd D(n, n);
+  for (Index j = 0; j < n; ++j)
+    for (Index i = 0; i < n; ++i) D(i, j) = (P.row(i) - P.row(j)).norm();
+  return D;
+}
+
+// min over orthogonal Q (reflections allowed: MDS cannot tell mirror images) and translations of
+// ‖X Q + t − P‖_F, relative to ‖P − mean(P)‖_F.
+double procrustes_residual(const Points& X, const Points& P) {
+  Points Xc = X.rowwise() - X.colwise().mean();
+  Points Pc = P.rowwise() - P.colwise().mean();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(Xc.transpose() * Pc, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d Q = svd.matrixU() * svd.matrixV().transpose();
+  return (Xc * Q - Pc).norm() / Pc.norm();
+}
+
+// Dense B = −½ J (D∘D) J, the reference.
+Eigen::MatrixXd dense_b(const Eigen::MatrixXd& D) {
+  const Index n = D.rows();
+  Eigen::MatrixXd J = Eigen::MatrixXd::Identity(n, n) - Eigen::MatrixXd::Constant(n, n, 1.0 / n);
+  return -0.5 * J * D.array().square().matrix() * J;
+}
+
+// Great-circle distances between points of an icosphere: a metric that no 3-D point set realises.
+Eigen::MatrixXd sphere_geodesics(int subdivisions) {
+  Mesh s = icosphere(subdivisions);
+  const Index n = s.num_vertices();
+  Eigen::MatrixXd D(n, n);
+  for (Index j = 0; j < n; ++j)
+    for (Index i = 0; i < n; ++i)
+      D(i, j) = i == j ? 0.0 : std::acos(std::clamp(s.V.row(i).dot(s.V.row(j)), -1.0, 1.0));
+  return D;
+}
+
+TEST(ClassicalMds, RecoversEuclideanPointsUpToRigidMotion) {
+  Points P = random_points(300, 1);
+  ClassicalMdsOptions options;
+  options.tolerance = 1e-13;
+  ClassicalMdsResult r = classical_mds(euclidean_distances(P), options);
+  EXPECT_LE(procrustes_residual(r.X, P), 1e-8);
+  // Known answer: the eigenvalues of B = Pc Pcᵀ are those of the 3×3 scatter matrix Pcᵀ Pc.
+  Points Pc = P.rowwise() - P.colwise().mean();
+  Eigen::Vector3d scatter = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Pc.transpose() * Pc).eigenvalues();
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.eigenvalues[k], scatter[2 - k], 1e-9 * scatter[2]);
+  EXPECT_NEAR(r.trace, Pc.squaredNorm(), 1e-9 * Pc.squaredNorm());
+  EXPECT_NEAR(r.explained_energy, 1.0, 1e-9);
+  EXPECT_NEAR(r.most_negative_eigenvalue, 0.0, 1e-8 * r.eigenvalues[0]);
+  EXPECT_NEAR(r.negative_mass_lower_bound, 0.0, 1e-9);
+  // Centred at the origin.
+  EXPECT_LE(r.X.colwise().mean().norm(), 1e-9 * std::sqrt(r.eigenvalues[0]));
+}
+
+TEST(ClassicalMds, SinglePrecisionMatrixToFloatAccuracy) {
+  Points P = random_points(400, 2);
+  DistanceMatrix D = euclidean_distances(P).cast<float>();
+  ClassicalMdsResult r = classical_mds(D);
+  // Squared float distances carry relative errors ~1e-7; the embedding inherits them.
+  EXPECT_LE(procrustes_residual(r.X, P), 1e-5);
+}
+
+TEST(ClassicalMds, ScaleAndPermutationCovariance) {
+  Points P = random_points(120, 3);
+  Eigen::MatrixXd D = euclidean_distances(P);
+  ClassicalMdsResult a = classical_mds(D);
+  ClassicalMdsResult b = classical_mds(Eigen::MatrixXd(D * 1e6));
+  EXPECT_LE(procrustes_residual(b.X / 1e6, a.X), 1e-8);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(b.eigenvalues[k], 1e12 * a.eigenvalues[k], 1e-8 * b.eigenvalues[0]);
+}
+
+TEST(ClassicalMds, SpectrumSummariesMatchDenseEigendecomposition) {
+  Eigen::MatrixXd D = sphere_geodesics(2);  // 162 points
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(dense_b(D));
+  const Eigen::VectorXd lambda = dense.eigenvalues();  // ascending
+  const Index n = lambda.size();
+  ClassicalMdsOptions options;
+  options.tolerance = 1e-12;
+  ClassicalMdsResult r = classical_mds(D, options);
+  const double scale = lambda[n - 1];
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.eigenvalues[k], lambda[n - 1 - k], 1e-9 * scale);
+  EXPECT_NEAR(r.most_negative_eigenvalue, lambda[0], 1e-9 * scale);
+  EXPECT_LT(lambda[0], -1e-3 * scale) << "great-circle distances should not be Euclidean";
+  EXPECT_NEAR(r.trace, lambda.sum(), 1e-9 * lambda.cwiseAbs().sum());
+  EXPECT_NEAR(r.frobenius_squared, lambda.squaredNorm(), 1e-9 * lambda.squaredNorm());
+  // The reported bounds hold for the true negative part of the spectrum.
+  const double top_sum = lambda.tail(3).sum();
+  const double negative_mass = -(lambda.array() < 0).select(lambda.array(), 0.0).sum();
+  const double negative_energy = (lambda.array() < 0).select(lambda.array().square(), 0.0).sum();
+  EXPECT_LE(r.negative_mass_lower_bound, negative_mass / top_sum + 1e-12);
+  EXPECT_GT(r.negative_mass_lower_bound, 0);
+  EXPECT_GE(r.negative_energy_upper_bound, negative_energy / lambda.squaredNorm() - 1e-12);
+  // The embedding is the dense one up to a rotation within the top eigenspace (the sphere's symmetry makes
+  // λ₁ = λ₂ = λ₃): compare the Gram matrices X Xᵀ = Σ λₖ vₖ vₖᵀ.
+  Eigen::MatrixXd top = dense.eigenvectors().rightCols(3);
+  Eigen::MatrixXd gram = top * lambda.tail(3).asDiagonal() * top.transpose();
+  EXPECT_LE((r.X * r.X.transpose() - gram).norm(), 1e-8 * gram.norm());
+}
+
+TEST(ClassicalMds, PlanarPointsGiveAZeroThirdAxis) {
+  Points P = random_points(100, 4);
+  P.col(2).setConstant(5.0);
+  ClassicalMdsResult r = classical_mds(euclidean_distances(P));
+  EXPECT_TRUE(r.X.allFinite());
+  EXPECT_LE(std::abs(r.eigenvalues[2]), 1e-9 * r.eigenvalues[0]);
+  EXPECT_LE(procrustes_residual(r.X, P), 1e-7);
+}
+
+TEST(ClassicalMds, RefusesInfiniteAndNegativeDistances) {
+  Points P = random_points(50, 5);
+  DistanceMatrix D = euclidean_distances(P).cast<float>();
+  D(7, 3) = D(3, 7) = std::numeric_limits<float>::infinity();
+  try {
+    classical_mds(D);
+    FAIL() << "an infinite distance was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("disconnected"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(3, 7)"), std::string::npos) << e.what();
+  }
+  D(7, 3) = D(3, 7) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(classical_mds(D), Error);
+  D(7, 3) = D(3, 7) = -1.0f;
+  EXPECT_THROW(classical_mds(D), Error);
+  EXPECT_THROW(classical_mds(DistanceMatrix(DistanceMatrix::Zero(3, 3))), Error);
+}
+
+TEST(ClassicalMdsCli, CanonWritesFiniteFormWithTheInputsFaces) {
+  std::string dir = test::scratch_dir("cmds");
+  Mesh mesh = torus(24, 12, 2.0, 0.6);
+  write_mesh(dir + "/torus.off", mesh);
+  auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Mesh out = read_mesh(dir + "/out.off");
+  EXPECT_EQ(out.num_vertices(), mesh.num_vertices());
+  EXPECT_EQ(out.F, mesh.F);
+  EXPECT_TRUE(out.V.allFinite());
+  EXPECT_NE(r.out.find("most_negative_eigenvalue"), std::string::npos);
+}
+
+TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
+  std::string dir = test::scratch_dir("cmds-disc");
+  Mesh a = icosphere(1), b = icosphere(1);
+  Mesh both;
+  both.V.resize(a.V.rows() * 2, 3);
+  both.V << a.V, (b.V.rowwise() + Eigen::RowVector3d(5, 0, 0));
+  both.F.resize(a.F.rows() * 2, 3);
+  both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+  write_mesh(dir + "/two.off", both);
+  auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                         "/out.off' --method cmds --geodesics graph");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("component"), std::string::npos) << r.err;
+  // With --largest-component it succeeds on one sphere.
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                    "/out.off' --method cmds --geodesics graph "
+                    "--largest-component");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  // A distance matrix of the whole input (infinite between the spheres): refused as such, and restricted to
+  // the kept component with --largest-component.
+  const Index m = a.num_vertices();
+  DistanceMatrix D = DistanceMatrix::Constant(2 * m, 2 * m, std::numeric_limits<float>::infinity());
+  D.topLeftCorner(m, m) = all_pairs_geodesics(a);
+  D.bottomRightCorner(m, m) = all_pairs_geodesics(a);  // the second sphere is a translated copy
+  write_distance_matrix(dir + "/D.bin", D);
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --distances '" +
+                    dir + "/D.bin' --largest-component");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_mesh(dir + "/out.off").num_vertices(), a.num_vertices());
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,155 @@
+#include "canon/coulomb_fmm.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/io.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+// The bench's distributions: uniform cube, unit sphere surface, 20 Gaussian clusters of widths 1e-3 … 1e-1.
+Points make_points(Index n, const std::string& distribution, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  std::normal_distribution<double> normal(0, 1);
+  Points X(n, 3);
+  if (distribution == "uniform") {
+    for (Index i = 0; i < n; ++i) X.row(i) << uniform(rng), uniform(rng), uniform(rng);
+  } else if (distribution == "sphere") {
+    for (Index i = 0; i < n; ++i) {
+      Eigen::RowVector3d v(normal(rng), normal(rng), normal(rng));
+      X.row(i) = v.normalized();
+    }
+  } else {
+    std::vector<Eigen::RowVector3d> centers(20);
+    std::vector<double> widths(20);
+    for (int c = 0; c < 20; ++c) {
+      centers[c] << uniform(rng), uniform(rng), uniform(rng);
+      widths[c] = std::pow(10.0, -3 + 2 * uniform(rng));
+    }
+    for (Index i = 0; i < n; ++i) {
+      const int c = static_cast<int>(uniform(rng) * 20);
+      X.row(i) = centers[c] + widths[c] * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
+    }
+  }
+  return X;
+}
+
+struct Errors {
+  double gradient = 0, energy = 0;
+};
+
+// Relative L2 gradient error and relative energy error against exact direct summation: complete when
+// `sample` is 0, else on `sample` random targets (energy error then from their potentials).
+Errors fmm_errors(const Points& X, const CoulombFmmOptions& options, Index sample = 0) {
+  CoulombFmmOptions o = options;
+  o.want_potentials = true;
+  const CoulombEvaluation fast = coulomb_fmm(X, o);
+  Errors e;
+  if (sample == 0) {
+    const CoulombEvaluation direct = coulomb_direct(X);
+    e.gradient = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
+    e.energy = std::abs(fast.energy - direct.energy) / direct.energy;
+    return e;
+  }
+  std::mt19937_64 rng(99);
+  std::vector<Index> targets(sample);
+  for (Index& t : targets) t = std::uniform_int_distribution<Index>(0, X.rows() - 1)(rng);
+  const CoulombTargetSums exact = coulomb_direct_targets(X, targets);
+  double d2 = 0, r2 = 0, pf = 0, pe = 0;
+  for (Index t = 0; t < sample; ++t) {
+    d2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
+    r2 += exact.gradient.row(t).squaredNorm();
+    pf += fast.potential[targets[t]];
+    pe += exact.potential[t];
+  }
+  e.gradient = std::sqrt(d2 / r2);
+  e.energy = std::abs(pf - pe) / pe;
+  return e;
+}
+
+TEST(CoulombFmm, DefaultAccuracyContractOnSmallSets) {
+  for (const char* distribution : {"uniform", "sphere", "clustered"}) {
+    const Errors e = fmm_errors(make_points(2000, distribution, 1), {});
+    EXPECT_LE(e.gradient, 1e-3) << distribution;
+    EXPECT_LE(e.energy, 1e-4) << distribution;
+  }
+}
+
+TEST(CoulombFmm, DefaultAccuracyContractOnLargerSets) {
+  for (const char* distribution : {"uniform", "sphere", "clustered"}) {
+    const Errors e = fmm_errors(make_points(20000, distribution, 2), {}, 400);
+    EXPECT_LE(e.gradient, 1e-3) << distribution;
+    EXPECT_LE(e.energy, 1e-4) << distribution;
+  }
+}
+
+TEST(CoulombFmm, DefaultAccuracyContractOnTosca) {
+  CSHAPES_REQUIRE_DATA();
+  for (const char* name : {"cat0", "michael0"}) {
+    const Mesh mesh = read_mesh(test::tosca5k(name));
+    const Errors e = fmm_errors(mesh.V, {});
+    EXPECT_LE(e.gradient, 1e-3) << name;
+    EXPECT_LE(e.energy, 1e-4) << name;
+  }
+}
+
+TEST(CoulombFmm, AccuracyParameterIsHonoured) {
+  for (double accuracy : {1e-2, 1e-4, 3e-6}) {
+    for (const char* distribution : {"uniform", "sphere"}) {
+      CoulombFmmOptions o;
+      o.accuracy = accuracy;
+      const Errors e = fmm_errors(make_points(3000, distribution, 3), o);
+      EXPECT_LE(e.gradient, accuracy) << distribution << " accuracy " << accuracy;
+      EXPECT_LE(e.energy, accuracy) << distribution << " accuracy " << accuracy;
+    }
+  }
+}
+
+TEST(CoulombFmm, ErrorFallsWithOrder) {
+  const Points X = make_points(3000, "sphere", 4);
+  double previous = 1;
+  for (int order : {1, 2, 4, 6, 8}) {
+    CoulombFmmOptions o;
+    o.order = order;
+    o.opening_angle = 0.5;
+    o.leaf_size = 16;
+    const double error = fmm_errors(X, o).gradient;
+    EXPECT_LT(error, 0.7 * previous) << "order " << order;
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-5);
+}
+
+TEST(CoulombFmm, ReportsWhatItDid) {
+  const Points X = make_points(5000, "uniform", 5);
+  CoulombFmmStats stats;
+  CoulombFmmOptions o;
+  o.leaf_size = 32;
+  coulomb_fmm(X, o, &stats);
+  EXPECT_EQ(stats.leaf_size, 32);
+  EXPECT_GT(stats.order, 0);
+  EXPECT_GT(stats.leaves, 5000 / 32);
+  EXPECT_GT(stats.cells, stats.leaves);
+  EXPECT_GT(stats.m2l_interactions, 0);
+  // Direct pairs are a small part of all n² pairs, yet at least every point's own leaf.
+  EXPECT_LT(stats.p2p_interactions, 5000 * 5000 / 4);
+  EXPECT_GE(stats.p2p_interactions, 5000);
+}
+
+TEST(CoulombFmm, RejectsBadOptions) {
+  const Points X = make_points(100, "uniform", 6);
+  CoulombFmmOptions o;
+  o.opening_angle = 1.5;
+  EXPECT_THROW(coulomb_fmm(X, o), std::exception);
+  o = {};
+  o.accuracy = 0;
+  EXPECT_THROW(coulomb_fmm(X, o), std::exception);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,106 @@
+#include "core/dataset.h"
+
+#include <gtest/gtest.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+void expect_error_mentioning(const std::string& path, const std::string& needle) {
+  try {
+    read_dataset(path);
+    FAIL() << "expected an error mentioning '" << needle << "'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(Dataset, ClassAndPoseFromTheFileName) {
+  EXPECT_EQ(class_from_name("cat3"), "cat");
+  EXPECT_EQ(pose_from_name("cat3"), 3);
+  EXPECT_EQ(class_from_name("victoria10"), "victoria");
+  EXPECT_EQ(pose_from_name("victoria10"), 10);
+  EXPECT_EQ(class_from_name("centaur"), "centaur");
+  EXPECT_EQ(pose_from_name("centaur"), -1);
+  EXPECT_EQ(class_from_name("x2y10"), "x2y");
+  EXPECT_EQ(class_from_name("007"), "007");
+  EXPECT_EQ(class_from_name("horse_7"), "horse");
+}
+
+TEST(Dataset, FolderIsSortedByClassThenNumericPose) {
+  std::string dir = test::scratch_dir("dataset_folder");
+  Mesh m = icosphere(0);
+  for (const char* name : {"dog10", "dog2", "cat1", "cat0", "dog1"}) write_mesh(dir + "/" + name + ".off", m);
+  test::write_text(dir + "/notes.txt", "not a mesh");
+  Dataset d = read_dataset(dir);
+  ASSERT_EQ(d.entries.size(), 5u);
+  std::vector<std::string> names;
+  for (const auto& e : d.entries) names.push_back(e.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"cat0", "cat1", "dog1", "dog2", "dog10"}));
+  EXPECT_EQ(d.classes, (std::vector<std::string>{"cat", "dog"}));
+  EXPECT_EQ(d.labels(), (std::vector<int>{0, 0, 1, 1, 1}));
+  EXPECT_EQ(d.entries[4].pose, 10);
+}
+
+TEST(Dataset, ManifestRoundTripAndRelativePaths) {
+  std::string dir = test::scratch_dir("dataset_manifest");
+  Mesh m = icosphere(0);
+  std::vector<DatasetEntry> entries;
+  for (int k = 0; k < 3; ++k) {
+    DatasetEntry e;
+    e.path = dir + "/shapes/hand" + std::to_string(k) + ".off";
+    write_mesh(e.path, m);
+    e.class_name = "hand";
+    e.pose = k;
+    e.noisy = k == 2;
+    entries.push_back(e);
+  }
+  write_manifest(dir + "/manifest.csv", entries);
+  EXPECT_NE(read_file(dir + "/manifest.csv").find("shapes/hand0.off,hand,0,0"), std::string::npos);
+  for (const std::string& source : {dir, dir + "/manifest.csv"}) {
+    Dataset d = read_dataset(source);
+    ASSERT_EQ(d.entries.size(), 3u);
+    EXPECT_EQ(d.entries[2].path, dir + "/shapes/hand2.off");
+    EXPECT_TRUE(d.entries[2].noisy);
+    EXPECT_FALSE(d.entries[1].noisy);
+    EXPECT_EQ(d.entries[1].pose, 1);
+  }
+}
+
+TEST(Dataset, ManifestErrorsAreRefusedByName) {
+  std::string dir = test::scratch_dir("dataset_errors");
+  write_mesh(dir + "/a0.off", icosphere(0));
+  test::write_text(dir + "/missing.csv", "file,class\na0.off,a\nb7.off,b\n");
+  expect_error_mentioning(dir + "/missing.csv", "b7.off");
+  expect_error_mentioning(dir + "/missing.csv", ":3:");
+  test::write_text(dir + "/unknown.csv", "file,class,colour\na0.off,a,red\n");
+  expect_error_mentioning(dir + "/unknown.csv", "unknown column 'colour'");
+  test::write_text(dir + "/noclass.csv", "file,pose\na0.off,0\n");
+  expect_error_mentioning(dir + "/noclass.csv", "no 'class' column");
+  test::write_text(dir + "/badpose.csv", "file,class,pose\na0.off,a,zero\n");
+  expect_error_mentioning(dir + "/badpose.csv", "'pose' must be an integer");
+  test::write_text(dir + "/short.csv", "file,class,noisy\na0.off,a\n");
+  expect_error_mentioning(dir + "/short.csv", "2 fields, the header has 3");
+  // Without pose column: poses from the names.
+  test::write_text(dir + "/ok.csv", "class,file\na,a0.off\n");
+  Dataset d = read_dataset(dir + "/ok.csv");
+  EXPECT_EQ(d.entries[0].class_name, "a");
+  EXPECT_EQ(d.entries[0].pose, 0);
+  expect_error_mentioning(dir + "/nothing_here", "no such file or folder");
+}
+
+TEST(Dataset, Tosca5kFolderHasFourClassesOfSix) {
+  CSHAPES_REQUIRE_DATA();
+  Dataset d = read_dataset(test::data_dir() + "/tosca5k");
+  EXPECT_EQ(d.classes, (std::vector<std::string>{"cat", "dog", "michael", "victoria"}));
+  ASSERT_EQ(d.entries.size(), 24u);
+  EXPECT_EQ(d.entries.back().name, "victoria10");  // numeric, not lexicographic, pose order
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,72 @@
+#include "eval/distance_csv.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/error.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+TEST(DistanceCsv, RoundTrip) {
+  std::string dir = test::scratch_dir("csv");
+  Eigen::MatrixXd D(3, 3);
+  D << 0, 1.25, 1e-7, 1.25, 0, 3, 1e-7, 3, 0;
+  write_distance_csv(dir + "/d.csv", {"cat0", "cat1", "dog0"}, D);
+  NamedDistances r = read_distance_csv(dir + "/d.csv");
+  EXPECT_EQ(r.names, (std::vector<std::string>{"cat0", "cat1", "dog0"}));
+  EXPECT_LT((r.D - D).cwiseAbs().maxCoeff(), 1e-9 * 3);
+  EXPECT_THROW(write_distance_csv(dir + "/bad.csv", {"a,b", "c", "d"}, D), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DistanceCsv, ReadsNameColumnPlainAndSpaces) {
+  std::string dir = test::scratch_dir("csv-formats");
+  test::write_text(dir + "/names.csv", "name,a,b\na,0,2\nb,2,0\n");
+  NamedDistances n = read_distance_csv(dir + "/names.csv");
+  EXPECT_EQ(n.names, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(n.D(0, 1), 2.0);
+  test::write_text(dir + "/rows.csv", "a,0,2\nb,2,0\n");  // names in the first column only
+  EXPECT_EQ(read_distance_csv(dir + "/rows.csv").names, (std::vector<std::string>{"a", "b"}));
+  test::write_text(dir + "/plain.txt", "# comment\n0 1 inf\n1 0 2\n\ninf 2 0\n");
+  NamedDistances p = read_distance_csv(dir + "/plain.txt");
+  EXPECT_EQ(p.names, (std::vector<std::string>{"0", "1", "2"}));
+  EXPECT_TRUE(std::isinf(p.D(0, 2)));
+  test::write_text(dir + "/ragged.csv", "a,b\n0,1\n1\n");
+  EXPECT_THROW(read_distance_csv(dir + "/ragged.csv"), Error);
+  test::write_text(dir + "/word.csv", "a,b\n0,x\n1,0\n");
+  EXPECT_THROW(read_distance_csv(dir + "/word.csv"), Error);
+  test::write_text(dir + "/notsquare.csv", "a,b,c\n0,1,2\n1,0,2\n");
+  EXPECT_THROW(read_distance_csv(dir + "/notsquare.csv"), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DistanceCsv, ClassOfShapeName) {
+  // The datasets' rule (trailing digits dropped), after the directory and extension.
+  EXPECT_EQ(class_of_shape_name("cat0"), "cat");
+  EXPECT_EQ(class_of_shape_name("victoria10"), "victoria");
+  EXPECT_EQ(class_of_shape_name("/data/tosca5k/michael5.off"), "michael");
+  EXPECT_EQ(class_of_shape_name("plane.ply"), "plane");
+  EXPECT_EQ(class_of_shape_name("007"), "007");
+}
+
+TEST(DistanceCsv, LabelsFile) {
+  std::string dir = test::scratch_dir("labels");
+  std::vector<std::string> names = {"cat0", "dog1", "x"};
+  test::write_text(dir + "/named.csv", "name,class\ndog1.off,quadruped\ncat0,quadruped\nx,other\n");
+  EXPECT_EQ(read_labels_csv(dir + "/named.csv", names),
+            (std::vector<std::string>{"quadruped", "quadruped", "other"}));
+  test::write_text(dir + "/ordered.csv", "a\nb\na\n");
+  EXPECT_EQ(read_labels_csv(dir + "/ordered.csv", names), (std::vector<std::string>{"a", "b", "a"}));
+  test::write_text(dir + "/missing.csv", "cat0,a\ndog1,b\n");
+  EXPECT_THROW(read_labels_csv(dir + "/missing.csv", names), Error);
+  test::write_text(dir + "/short.csv", "a\nb\n");
+  EXPECT_THROW(read_labels_csv(dir + "/short.csv", names), Error);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cshapes

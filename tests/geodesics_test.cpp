@@ -1,0 +1,173 @@
+#include "core/geodesics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+Mesh two_spheres() {
+  Mesh a = icosphere(2);
+  Mesh two;
+  two.V.resize(2 * a.num_vertices(), 3);
+  two.V << a.V, (a.V.rowwise() + Eigen::RowVector3d(5, 0, 0));
+  two.F.resize(2 * a.num_faces(), 3);
+  two.F << a.F, (a.F.array() + static_cast<int>(a.num_vertices())).matrix();
+  return two;
+}
+
+TEST(Geodesics, MethodNames) {
+  for (const char* name : {"heat", "heat-cgal", "fmm", "exact", "graph"})
+    EXPECT_EQ(to_string(parse_geodesic_method(name)), name);
+  EXPECT_THROW(parse_geodesic_method("dijkstra"), Error);
+}
+
+// All-pairs by every fast method: symmetric, zero diagonal, finite, close to the single-source rows, and the
+// triangle inequality on sampled triples (up to the method's discretisation error, a fraction of an edge).
+TEST(Geodesics, AllPairsInvariants) {
+  Mesh m = torus(60, 20, 2.0, 0.7);
+  const double h = edge_lengths(m.V, mesh_edges(m.F)).mean();
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(m.num_vertices()) - 1);
+  for (GeodesicMethod method : {GeodesicMethod::Heat, GeodesicMethod::HeatCgal, GeodesicMethod::FastMarching,
+                                GeodesicMethod::Graph}) {
+    GeodesicOptions options;
+    options.method = method;
+    int progress_calls = 0;
+    options.progress = [&](const std::string&, double done, double total) {
+      ++progress_calls;
+      EXPECT_LE(done, total);
+    };
+    DistanceMatrix D = all_pairs_geodesics(m, options);
+    ASSERT_EQ(D.rows(), m.num_vertices());
+    EXPECT_TRUE(D.allFinite()) << to_string(method);
+    EXPECT_EQ((D - D.transpose()).cwiseAbs().maxCoeff(), 0.0f) << to_string(method);
+    EXPECT_EQ(D.diagonal().cwiseAbs().maxCoeff(), 0.0f);
+    EXPECT_GE(D.minCoeff(), 0.0f);
+    EXPECT_GT(progress_calls, 0);
+    // Row s is the symmetrised single-source result: within the method's asymmetry of it.
+    Eigen::VectorXd row = geodesic_distances(m, {17}, options);
+    EXPECT_LT((D.col(17).cast<double>() - row).cwiseAbs().maxCoeff(), 0.5 * h) << to_string(method);
+    // Exact geodesics satisfy it; an approximation may break it by about its own error, bounded here by
+    // half an edge plus 3% of the path length (the accuracy the heat method is held to).
+    int violations = 0;
+    double worst = 0;
+    for (int t = 0; t < 5000; ++t) {
+      int i = pick(rng), j = pick(rng), k = pick(rng);
+      double excess = D(i, k) - (D(i, j) + D(j, k));
+      worst = std::max(worst, excess / (D(i, j) + D(j, k) + h));
+      if (excess > 0.5 * h + 0.03 * (D(i, j) + D(j, k))) ++violations;
+    }
+    EXPECT_EQ(violations, 0) << to_string(method) << " worst relative excess " << worst;
+    if (method == GeodesicMethod::Graph) {
+      EXPECT_LE(worst, 1e-6);  // exact on its graph
+    }
+  }
+}
+
+TEST(Geodesics, SymmetrizeIsTiledCorrectly) {
+  // Sizes around the tile edge (64).
+  for (int n : {1, 63, 64, 65, 130}) {
+    DistanceMatrix D = DistanceMatrix::Random(n, n);
+    DistanceMatrix expected = 0.5f * (D + D.transpose());
+    expected.diagonal().setZero();
+    symmetrize_distances(D);
+    EXPECT_LT((D - expected).cwiseAbs().maxCoeff(), 1e-7f) << n;
+  }
+}
+
+TEST(Geodesics, DisconnectedMesh) {
+  Mesh two = two_spheres();
+  const Index half = two.num_vertices() / 2;
+  // Single source: infinity on the other sphere, never NaN, for every method.
+  for (const char* name : {"heat", "heat-cgal", "fmm", "exact", "graph"}) {
+    GeodesicOptions options;
+    options.method = parse_geodesic_method(name);
+    Eigen::VectorXd d = geodesic_distances(two, {1}, options);
+    EXPECT_FALSE(d.hasNaN()) << name;
+    EXPECT_TRUE(d.head(half).allFinite()) << name;
+    EXPECT_TRUE(d.tail(half).array().isInf().all()) << name;
+  }
+  // All pairs: refused with the component sizes.
+  try {
+    all_pairs_geodesics(two);
+    FAIL() << "a disconnected mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 connected components"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--largest-component"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Geodesics, RefusesWhatDoesNotFitInMemory) {
+  // require_memory is asked for n² floats before anything is allocated: a 2^22-vertex mesh needs 70 TB.
+  Mesh huge;
+  huge.V = Points::Zero(1 << 22, 3);
+  huge.F = Faces::Zero(0, 3);
+  try {
+    require_memory(distance_matrix_bytes(huge.num_vertices()), "all-pairs geodesics");
+    FAIL() << "70 TB accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("GB"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GeodesicsCli, AllPairsAndOneRow) {
+  std::string dir = test::scratch_dir("geodesics_cli");
+  write_mesh(dir + "/t.off", torus(24, 10, 2.0, 0.7));
+  test::CliResult r =
+      test::run_cli("-q geodesics " + dir + "/t.off -o " + dir + "/D.bin --method fmm --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"vertices\": 240"), std::string::npos) << r.out;
+  DistanceMatrix D = read_distance_matrix(dir + "/D.bin");
+  ASSERT_EQ(D.rows(), 240);
+  EXPECT_EQ((D - D.transpose()).cwiseAbs().maxCoeff(), 0.0f);
+
+  r = test::run_cli("-q geodesics " + dir + "/t.off --source 5 --csv --method fmm -o " + dir + "/row.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream csv(dir + "/row.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "vertex,distance");
+  Mesh m = read_mesh(dir + "/t.off");
+  GeodesicOptions fmm;
+  fmm.method = GeodesicMethod::FastMarching;
+  Eigen::VectorXd row = geodesic_distances(m, {5}, fmm);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::istringstream in(line);
+    int vertex;
+    char comma;
+    double distance;
+    in >> vertex >> comma >> distance;
+    EXPECT_NEAR(distance, row[vertex], 1e-8 * (1 + row[vertex]));
+    ++rows;
+  }
+  EXPECT_EQ(rows, 240);
+}
+
+TEST(GeodesicsCli, DisconnectedMeshNeedsLargestComponent) {
+  std::string dir = test::scratch_dir("geodesics_cli_split");
+  Mesh two = two_spheres();
+  // Make the second sphere smaller so the largest component is well defined.
+  two.F.conservativeResize(two.num_faces() - 40, 3);
+  write_mesh(dir + "/two.off", two);
+  test::CliResult r = test::run_cli("-q geodesics " + dir + "/two.off -o " + dir + "/D.bin");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--largest-component"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::ifstream(dir + "/D.bin").good());
+  r = test::run_cli("-q geodesics " + dir + "/two.off -o " + dir + "/D.bin --largest-component");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_distance_matrix(dir + "/D.bin").rows(), 162);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,81 @@
+#include "matching/nearest_neighbors.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/error.h"
+
+namespace cshapes {
+namespace {
+
+Points random_points(Index n, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Points X(n, 3);
+  for (Index i = 0; i < n; ++i) X.row(i) = Eigen::RowVector3d(u(rng), 3 * u(rng), 0.5 * u(rng));
+  return X;
+}
+
+TEST(NearestNeighbors, MatchesBruteForce) {
+  Points X = random_points(1000, 1), Q = random_points(300, 2) * 1.3;
+  NearestNeighbors tree(X);
+  EXPECT_EQ(tree.size(), 1000);
+  Eigen::VectorXi index;
+  Eigen::VectorXd d2;
+  tree.nearest_all(Q, index, d2);
+  for (Index q = 0; q < Q.rows(); ++q) {
+    Index best = 0;
+    double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff(&best);
+    EXPECT_DOUBLE_EQ(d2[q], best_d2);  // squared, as documented
+    EXPECT_EQ(index[q], best);
+    double single = 0;
+    EXPECT_EQ(tree.nearest(Q.row(q).transpose(), &single), best);
+    EXPECT_DOUBLE_EQ(single, best_d2);
+  }
+}
+
+TEST(NearestNeighbors, HintedSearchIsExact) {
+  // Any hint, good or bad, gives the exact nearest point (the hint only bounds the search).
+  Points X = random_points(2000, 4), Q = random_points(200, 5) * 1.2;
+  NearestNeighbors tree(X);
+  std::mt19937_64 rng(6);
+  std::uniform_int_distribution<int> any(0, 1999);
+  for (Index q = 0; q < Q.rows(); ++q) {
+    Index best = 0;
+    double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff(&best);
+    for (Index hint : {best, static_cast<Index>(any(rng)), static_cast<Index>(any(rng))}) {
+      double d2 = -1;
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), hint, &d2), best);
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+    }
+  }
+}
+
+TEST(NearestNeighbors, PointsThemselvesAreTheirOwnNeighbours) {
+  Points X = random_points(500, 3);
+  NearestNeighbors tree(X);
+  Eigen::VectorXi index;
+  Eigen::VectorXd d2;
+  tree.nearest_all(X, index, d2, true);
+  for (Index i = 0; i < X.rows(); ++i) {
+    EXPECT_EQ(index[i], i);
+    EXPECT_EQ(d2[i], 0.0);
+  }
+}
+
+TEST(NearestNeighbors, SinglePointAndEmptyInput) {
+  Points one(1, 3);
+  one << 1, 2, 3;
+  NearestNeighbors tree(one);
+  double d2 = -1;
+  EXPECT_EQ(tree.nearest(Eigen::Vector3d(1, 2, 5), &d2), 0);
+  EXPECT_DOUBLE_EQ(d2, 4.0);
+  EXPECT_THROW(NearestNeighbors(Points(0, 3)), Error);
+  Points bad = one;
+  bad(0, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(NearestNeighbors{bad}, Error);
+}
+
+}  // namespace
+}  // namespace cshapes

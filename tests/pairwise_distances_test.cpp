@@ -1,0 +1,162 @@
+#include "eval/pairwise_distances.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "core/error.h"
+#include "matching/shape_distance.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Six small shapes in two families (ellipsoids and lumpier ones), each placed at random.
+std::vector<Points> small_shapes() {
+  std::vector<Points> shapes;
+  for (int s = 0; s < 6; ++s) {
+    std::mt19937_64 rng(100 + s);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    Points X(300, 3);
+    for (Index i = 0; i < X.rows(); ++i) {
+      Eigen::Vector3d u(normal(rng), normal(rng), normal(rng));
+      u.normalize();
+      double lump = s < 3 ? 0.05 * s : 0.3 + 0.05 * s;
+      double r = 1.0 + lump * std::sin(3 * u.x()) * std::cos(2 * u.y());
+      X.row(i) = (Eigen::Vector3d(3.0, 1.5, 1.0).asDiagonal() * (r * u)).transpose();
+    }
+    shapes.push_back(random_rigid_transform(200 + s, 2.0, s % 2).apply(X));
+  }
+  return shapes;
+}
+
+PairwiseDistanceOptions fast_options(const std::string& cache_dir, int threads) {
+  PairwiseDistanceOptions o;
+  o.icp.pyramid = {50, 150};
+  o.cache_dir = cache_dir;
+  o.threads = threads;
+  return o;
+}
+
+long count_entries(const std::string& dir) {
+  long n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".bin") ++n;
+  return n;
+}
+
+TEST(PairwiseDistances, SymmetricZeroDiagonalAndEqualToSingleAlignments) {
+  std::vector<Points> shapes = small_shapes();
+  PairwiseDistanceOptions o = fast_options("", 2);
+  PairwiseDistanceResult r = pairwise_distances(shapes, {}, o);
+  EXPECT_EQ(r.pairs, 15);
+  EXPECT_EQ(r.computed, 15);
+  EXPECT_EQ(r.cached, 0);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(r.hausdorff(i, i), 0.0);
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_EQ(r.hausdorff(i, j), r.hausdorff(j, i));
+      EXPECT_EQ(r.chamfer(i, j), r.chamfer(j, i));
+      if (i != j) {
+        EXPECT_GT(r.hausdorff(i, j), 0.0);
+      }
+      EXPECT_LE(r.chamfer(i, j), r.rmse(i, j) + 1e-12);  // mean ≤ root mean square
+      EXPECT_LE(r.rmse(i, j), r.hausdorff(i, j) + 1e-12);
+    }
+  }
+  // Each entry is the distance of the pair aligned on its own (source: the shape with the smaller key).
+  std::string k0 = points_content_key(shapes[0]), k4 = points_content_key(shapes[4]);
+  const Points& source = k0 <= k4 ? shapes[0] : shapes[4];
+  const Points& target = k0 <= k4 ? shapes[4] : shapes[0];
+  IcpOptions icp = o.icp;
+  ShapeDistance single = aligned_shape_distance(source, target, icp);
+  EXPECT_DOUBLE_EQ(r.hausdorff(0, 4), single.hausdorff);
+  EXPECT_DOUBLE_EQ(r.chamfer(0, 4), single.chamfer);
+  // Within a family (0-2 or 3-5) shapes are closer than across.
+  EXPECT_LT(r.chamfer(0, 1), r.chamfer(0, 5));
+}
+
+TEST(PairwiseDistances, IndependentOfTheOrderOfShapes) {
+  std::vector<Points> shapes = small_shapes();
+  std::vector<Points> reversed(shapes.rbegin(), shapes.rend());
+  PairwiseDistanceResult a = pairwise_distances(shapes, {}, fast_options("", 1));
+  PairwiseDistanceResult b = pairwise_distances(reversed, {}, fast_options("", 1));
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) EXPECT_EQ(a.hausdorff(i, j), b.hausdorff(5 - i, 5 - j));
+}
+
+// The acceptance test: a run killed midway and restarted recomputes nothing that was cached.
+TEST(PairwiseDistances, KilledRunResumesWithoutRecomputing) {
+  std::vector<Points> shapes = small_shapes();
+  std::string dir = test::scratch_dir("pairwise");
+  const long total = 15, k = 5;
+  PairwiseDistanceOptions killed = fast_options(dir, 1);
+  killed.fail_after_computed = k;
+  EXPECT_THROW(pairwise_distances(shapes, {}, killed), Error);
+  EXPECT_EQ(count_entries(dir), k);
+
+  PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(resumed.cached, k);            // hits: what the killed run stored
+  EXPECT_EQ(resumed.computed, total - k);  // misses: only the rest
+  PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(again.cached, total);
+  EXPECT_EQ(again.computed, 0);
+  // Cached values are exact (%.17g round trip) and equal a run without a cache.
+  PairwiseDistanceResult fresh = pairwise_distances(shapes, {}, fast_options("", 1));
+  EXPECT_EQ(again.hausdorff, fresh.hausdorff);
+  EXPECT_EQ(again.chamfer, fresh.chamfer);
+  EXPECT_EQ(again.rmse, fresh.rmse);
+  EXPECT_EQ(resumed.hausdorff, fresh.hausdorff);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, KilledParallelRunResumesWithoutRecomputing) {
+  // With two threads, pairs in flight when the hook fires may still finish and be stored: count what is
+  // on disk, and check that the rerun computes exactly the rest.
+  std::vector<Points> shapes = small_shapes();
+  std::string dir = test::scratch_dir("pairwise-parallel");
+  PairwiseDistanceOptions killed = fast_options(dir, 2);
+  killed.fail_after_computed = 4;
+  EXPECT_THROW(pairwise_distances(shapes, {}, killed), Error);
+  long stored = count_entries(dir);
+  EXPECT_GE(stored, 4);
+  EXPECT_LT(stored, 15);
+  PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 2));
+  EXPECT_EQ(resumed.cached, stored);
+  EXPECT_EQ(resumed.computed, 15 - stored);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, KeysFollowContentAndOptions) {
+  std::vector<Points> shapes = small_shapes();
+  std::string dir = test::scratch_dir("pairwise-keys");
+  std::vector<std::string> keys = {"a", "b", "c", "d", "e", "f"};
+  pairwise_distances(shapes, keys, fast_options(dir, 2));
+  // Same keys, same options: all cached. Other ICP options: nothing is.
+  EXPECT_EQ(pairwise_distances(shapes, keys, fast_options(dir, 2)).cached, 15);
+  PairwiseDistanceOptions other = fast_options(dir, 2);
+  other.icp.trim_fraction = 0.05;
+  EXPECT_EQ(pairwise_distances(shapes, keys, other).cached, 0);
+  // One shape's key changed (its input file changed): only its 5 pairs are recomputed.
+  keys[2] = "c2";
+  PairwiseDistanceResult r = pairwise_distances(shapes, keys, fast_options(dir, 2));
+  EXPECT_EQ(r.computed, 5);
+  EXPECT_EQ(r.cached, 10);
+  EXPECT_THROW(pairwise_distances(shapes, {"x"}, fast_options(dir, 1)), Error);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, PointsContentKey) {
+  Points X = small_shapes()[0];
+  Points Y = X;
+  EXPECT_EQ(points_content_key(X), points_content_key(Y));
+  Y(3, 1) += 1e-12;
+  EXPECT_NE(points_content_key(X), points_content_key(Y));
+}
+
+}  // namespace
+}  // namespace cshapes

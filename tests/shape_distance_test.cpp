@@ -1,0 +1,111 @@
+#include "matching/shape_distance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+
+namespace cshapes {
+namespace {
+
+Points random_points(Index n, uint64_t seed, double sx = 3, double sy = 1.5, double sz = 1) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Points X(n, 3);
+  for (Index i = 0; i < n; ++i)
+    X.row(i) = Eigen::RowVector3d(sx * normal(rng), sy * normal(rng), sz * normal(rng));
+  return X;
+}
+
+// Brute force over all pairs: the definitions in shape_distance.h, written out.
+ShapeDistance brute_force(const Points& A, const Points& B) {
+  Eigen::VectorXd ab(A.rows()), ba(B.rows());
+  for (Index i = 0; i < A.rows(); ++i)
+    ab[i] = std::sqrt((B.rowwise() - A.row(i)).rowwise().squaredNorm().minCoeff());
+  for (Index j = 0; j < B.rows(); ++j)
+    ba[j] = std::sqrt((A.rowwise() - B.row(j)).rowwise().squaredNorm().minCoeff());
+  ShapeDistance d;
+  d.directed_ab = ab.maxCoeff();
+  d.directed_ba = ba.maxCoeff();
+  d.hausdorff = std::max(d.directed_ab, d.directed_ba);
+  d.chamfer = 0.5 * (ab.mean() + ba.mean());
+  d.rmse = std::sqrt((ab.squaredNorm() + ba.squaredNorm()) / double(A.rows() + B.rows()));
+  return d;
+}
+
+TEST(ShapeDistance, KnownAnswer) {
+  // A = {0, e_x}, B = {0, 3 e_x, 3 e_x + e_y}... on a line and a corner, by hand:
+  //   d_A: 0 → 0 (to 0), e_x → 1 (to 0)                     max 1, mean 0.5
+  //   d_B: 0 → 0, 3e_x → 2 (to e_x), 3e_x+e_y → √5 (to e_x)  max √5, mean (2 + √5)/3
+  Points A(2, 3), B(3, 3);
+  A << 0, 0, 0, 1, 0, 0;
+  B << 0, 0, 0, 3, 0, 0, 3, 1, 0;
+  ShapeDistance d = shape_distance(A, B);
+  EXPECT_DOUBLE_EQ(d.directed_ab, 1.0);
+  EXPECT_DOUBLE_EQ(d.directed_ba, std::sqrt(5.0));
+  EXPECT_DOUBLE_EQ(d.hausdorff, std::sqrt(5.0));
+  EXPECT_DOUBLE_EQ(d.chamfer, 0.5 * (0.5 + (2 + std::sqrt(5.0)) / 3));
+  EXPECT_DOUBLE_EQ(d.rmse, std::sqrt((0 + 1 + 0 + 4 + 5) / 5.0));
+}
+
+TEST(ShapeDistance, MatchesBruteForceAndIsSymmetric) {
+  Points A = random_points(400, 1), B = random_points(300, 2);
+  ShapeDistance d = shape_distance(A, B), e = brute_force(A, B), r = shape_distance(B, A);
+  EXPECT_NEAR(d.hausdorff, e.hausdorff, 1e-12);
+  EXPECT_NEAR(d.chamfer, e.chamfer, 1e-12);
+  EXPECT_NEAR(d.rmse, e.rmse, 1e-12);
+  EXPECT_DOUBLE_EQ(r.hausdorff, d.hausdorff);
+  EXPECT_NEAR(r.chamfer, d.chamfer, 1e-12);
+  EXPECT_NEAR(r.rmse, d.rmse, 1e-12);
+  EXPECT_DOUBLE_EQ(r.directed_ab, d.directed_ba);
+}
+
+TEST(ShapeDistance, ZeroOnIdenticalSets) {
+  Points A = random_points(500, 3);
+  ShapeDistance d = shape_distance(A, A);
+  EXPECT_EQ(d.hausdorff, 0.0);
+  EXPECT_EQ(d.chamfer, 0.0);
+  EXPECT_EQ(d.rmse, 0.0);
+  // After alignment, also for a moved, reflected, reshuffled copy: zero up to rounding.
+  Points B = random_rigid_transform(4, 10.0, true).apply(A).colwise().reverse();
+  ShapeDistance aligned = aligned_shape_distance(A, B);
+  const double scale = std::sqrt(A.rowwise().squaredNorm().mean());
+  EXPECT_LT(aligned.hausdorff, 1e-9 * scale);
+  EXPECT_LT(aligned.chamfer, 1e-9 * scale);
+}
+
+TEST(ShapeDistance, AlignedDistanceIsInvariantToRigidMotionAndSymmetric) {
+  // Two different shapes: the aligned distance must not depend on where either is placed, and ICP
+  // from A to B and from B to A reach the same optimum (symmetric matching, same starts up to inversion).
+  Points A = random_points(1500, 5), B = random_points(1200, 6, 2.5, 1.8, 1.1);
+  IcpOptions o;
+  o.relative_tolerance = 1e-9;
+  IcpResult alignment;
+  ShapeDistance d = aligned_shape_distance(A, B, o, &alignment);
+  const double scale = d.chamfer;
+  for (int trial = 0; trial < 3; ++trial) {
+    Points A2 = random_rigid_transform(10 + trial, 5.0, trial == 1).apply(A);
+    Points B2 = random_rigid_transform(20 + trial, 5.0, trial == 2).apply(B);
+    ShapeDistance moved = aligned_shape_distance(A2, B2, o);
+    EXPECT_NEAR(moved.chamfer, d.chamfer, 1e-3 * scale) << trial;
+    EXPECT_NEAR(moved.rmse, d.rmse, 1e-3 * scale) << trial;
+    EXPECT_NEAR(moved.hausdorff, d.hausdorff, 2e-2 * d.hausdorff) << trial;
+  }
+  ShapeDistance back = aligned_shape_distance(B, A, o);
+  EXPECT_NEAR(back.chamfer, d.chamfer, 1e-3 * scale);
+  EXPECT_NEAR(back.rmse, d.rmse, 1e-3 * scale);
+  // The distance from the ICP result equals measuring the moved source against the target directly.
+  ShapeDistance direct = shape_distance(alignment.transform.apply(A), B);
+  EXPECT_NEAR(direct.hausdorff, d.hausdorff, 1e-9 * scale);
+  EXPECT_NEAR(direct.chamfer, d.chamfer, 1e-9 * scale);
+  EXPECT_NEAR(direct.rmse, d.rmse, 1e-9 * scale);
+}
+
+TEST(ShapeDistance, RejectsEmpty) {
+  EXPECT_THROW(shape_distance_from_nearest(Eigen::VectorXd(0), Eigen::VectorXd::Ones(3)), Error);
+}
+
+}  // namespace
+}  // namespace cshapes
