@@ -156,7 +156,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   double shape_change = -1;
 
   auto tear_now = [&](int iteration) {
-    const Index count = static_cast<Index>(std::ceil(options.tear_fraction * static_cast<double>(edges.rows())));
+    const double share = options.tear_fraction / options.tear_times;
+    const Index count = static_cast<Index>(std::ceil(share * static_cast<double>(E.rows())));
     std::vector<Index> chosen = select_edges_to_tear(X, edges, rest, n, count);
     std::vector<char> remove(edges.rows(), 0);
     for (Index e : chosen) {

@@ -36,47 +36,73 @@ MetricProjection::MetricProjection(Index num_vertices, const Edges& E, const Eig
   const double tiny = 1e-12 * (rest_.size() ? std::max(rest_.maxCoeff(), 1e-300) : 1.0);
   rest_ = rest_.cwiseMax(tiny);
   adj_ = adjacency(n_, E);
+  neighbor_rest_.resize(adj_.edge_ids.size());
+  for (size_t k = 0; k < adj_.edge_ids.size(); ++k) neighbor_rest_[k] = rest_(adj_.edge_ids[k]);
 }
 
-void MetricProjection::sweep(Points& X) const {
+void MetricProjection::sweep(Points& X) const { sweeps(X, 1); }
+
+void MetricProjection::project(Points& X) const { sweeps(X, options_.steps); }
+
+void MetricProjection::sweeps(Points& X, int count) const {
   CSHAPES_REQUIRE(X.rows() == n_, "metric projection: X has ", X.rows(), " rows, expected ", n_);
-  scratch_.resize(n_, 3);
+  if (count <= 0) return;
+  buffer_a_.resize(3 * n_);
+  buffer_b_.resize(3 * n_);
+  for (Index i = 0; i < n_; ++i)
+    for (int c = 0; c < 3; ++c) buffer_a_[3 * i + c] = X(i, c);
   const bool l1 = options_.norm == ProjectionNorm::L1;
-  const double c = options_.dilation, inv_c = 1.0 / c, floor = options_.l1_floor;
+  const double dilation = options_.dilation, inv_dilation = 1.0 / dilation, floor = options_.l1_floor;
+  const int* offsets = adj_.offsets.data();
+  const int* neighbors = adj_.neighbors.data();
+  const double* rest = neighbor_rest_.data();
+  for (int step = 0; step < count; ++step) {
+    const double* x = buffer_a_.data();
+    double* out = buffer_b_.data();
 #pragma omp parallel for schedule(static) if (n_ > 20000)
-  for (Index i = 0; i < n_; ++i) {
-    const Eigen::RowVector3d xi = X.row(i);
-    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-    double weight_sum = 0;
-    for (int k = adj_.offsets[i]; k < adj_.offsets[i + 1]; ++k) {
-      const int j = adj_.neighbors[k];
-      const double d = rest_(adj_.edge_ids[k]);
-      Eigen::RowVector3d diff = xi - X.row(j);
-      const double r = diff.norm();
-      // eq. (3): the target is the length itself when it lies in the band, so such an edge does not pull.
-      const double target = c > 1 ? std::clamp(r, d * inv_c, d * c) : d;
-      Eigen::RowVector3d direction;
-      if (r > 1e-12 * d) {
-        direction = diff / r;
-      } else {
-        direction = Eigen::RowVector3d(i < j ? 1.0 : -1.0, 0, 0);
+    for (Index i = 0; i < n_; ++i) {
+      const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
+      double sx = 0, sy = 0, sz = 0, weight_sum = 0;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const int j = neighbors[k];
+        const double d = rest[k];
+        const double xj = x[3 * j], yj = x[3 * j + 1], zj = x[3 * j + 2];
+        const double dx = xi - xj, dy = yi - yj, dz = zi - zj;
+        const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+        // eq. (3): the target is the length itself when it lies in the band, so such an edge does not pull.
+        const double target = dilation > 1 ? std::clamp(r, d * inv_dilation, d * dilation) : d;
+        // eq. (9): weights ~ 1/|r_ij − d_ij|, floored relative to d_ij (see the header).
+        const double w = l1 ? 1.0 / std::max(std::abs(r - d), floor * d) : 1.0;
+        double px, py, pz;
+        if (r > 1e-12 * d) {
+          const double scale = target / r;
+          px = xj + scale * dx;
+          py = yj + scale * dy;
+          pz = zj + scale * dz;
+        } else {  // coincident endpoints: a fixed direction, opposite for i and j
+          px = xj + (i < j ? target : -target);
+          py = yj;
+          pz = zj;
+        }
+        sx += w * px;
+        sy += w * py;
+        sz += w * pz;
+        weight_sum += w;
       }
-      // eq. (9): weights ~ 1/|r_ij − d_ij|, floored relative to d_ij (see the header).
-      const double w = l1 ? 1.0 / std::max(std::abs(r - d), floor * d) : 1.0;
-      sum += w * (X.row(j) + target * direction);
-      weight_sum += w;
+      if (weight_sum > 0) {  // eq. (6) / eq. (8)
+        out[3 * i] = sx / weight_sum;
+        out[3 * i + 1] = sy / weight_sum;
+        out[3 * i + 2] = sz / weight_sum;
+      } else {  // an isolated vertex stays where it is
+        out[3 * i] = xi;
+        out[3 * i + 1] = yi;
+        out[3 * i + 2] = zi;
+      }
     }
-    if (weight_sum > 0) {
-      scratch_.row(i) = sum / weight_sum;  // eq. (6) / eq. (8)
-    } else {
-      scratch_.row(i) = xi;
-    }
+    buffer_a_.swap(buffer_b_);
   }
-  X.swap(scratch_);
-}
-
-void MetricProjection::project(Points& X) const {
-  for (int s = 0; s < options_.steps; ++s) sweep(X);
+  for (Index i = 0; i < n_; ++i)
+    for (int c = 0; c < 3; ++c) X(i, c) = buffer_a_[3 * i + c];
 }
 
 MetricViolation metric_violation(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths) {

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/mesh.h"
 
@@ -64,11 +65,16 @@ class MetricProjection {
   const MetricProjectionOptions& options() const { return options_; }
 
  private:
+  // Sweeps on interleaved xyz buffers (3n doubles): a gather from a column-major n×3 matrix touches three cache
+  // lines per neighbour, and the sweep is memory-bound.
+  void sweeps(Points& X, int count) const;
+
   Index n_;
   Eigen::VectorXd rest_;
   Adjacency adj_;
+  std::vector<double> neighbor_rest_;  // rest length of each CSR entry (2|E|), so the sweep reads it in order
   MetricProjectionOptions options_;
-  mutable Points scratch_;
+  mutable std::vector<double> buffer_a_, buffer_b_;
 };
 
 // How far X is from the rest lengths, over the edges E.

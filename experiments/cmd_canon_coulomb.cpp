@@ -4,6 +4,7 @@
 
 #include "canon/coulomb.h"
 #include "core/error.h"
+#include "core/knn_graph.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -15,13 +16,15 @@ struct CoulombArgs {
   std::string step_rule = to_string(CoulombCanonOptions{}.step_rule);
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
   std::string summation = "auto";
+  KnnGraphOptions knn;
 } args;
 
 CoulombOptions::Summation parse_summation(const std::string& name) {
   if (name == "auto") return CoulombOptions::Summation::Auto;
   if (name == "direct") return CoulombOptions::Summation::Direct;
+  if (name == "direct-float") return CoulombOptions::Summation::DirectFloat;
   if (name == "fast") return CoulombOptions::Summation::Fast;
-  fail("unknown --coulomb-summation '", name, "'; known: auto, direct, fast");
+  fail("unknown --coulomb-summation '", name, "'; known: auto, direct, direct-float, fast");
 }
 
 void add_options(CLI::Option_group& g) {
@@ -42,7 +45,7 @@ void add_options(CLI::Option_group& g) {
       ->capture_default_str();
   g.add_option("--dilation", o.projection.dilation, "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact")
       ->capture_default_str();
-  g.add_option("--tear-fraction", o.tear_fraction, "p: fraction of edges torn (by |r-d|); 0: no tearing")
+  g.add_option("--tear-fraction", o.tear_fraction, "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing")
       ->capture_default_str();
   g.add_option("--tear-after", o.tear_after, "T: tear after this many iterations (or at convergence if earlier)")
       ->capture_default_str();
@@ -54,8 +57,10 @@ void add_options(CLI::Option_group& g) {
                "converged when the aligned RMS shape change over a window is below this × bbox diagonal")
       ->capture_default_str();
   g.add_option("--momentum", o.momentum, "cap of Nesterov's momentum (scheme momentum)")->capture_default_str();
-  g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, fast")->capture_default_str();
+  g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, direct-float, fast")->capture_default_str();
   g.add_option("--coulomb-accuracy", o.energy.accuracy, "fast summation: target relative gradient error")
+      ->capture_default_str();
+  g.add_option("--knn", args.knn.k, "point clouds (no faces): neighbours per point of the symmetric kNN graph")
       ->capture_default_str();
 }
 
@@ -66,9 +71,15 @@ CanonOutput run(const CanonJob& job) {
   options.projection.norm = parse_projection_norm(args.norm);
   options.energy.summation = parse_summation(args.summation);
   options.progress = progress_printer();
-  CSHAPES_REQUIRE(!job.mesh.is_point_cloud(), job.input_path,
-                  ": a point cloud needs a kNN graph, which this build does not have yet");
-  const Edges edges = mesh_edges(job.mesh.F);
+  // A point cloud gets its symmetric kNN graph as the edges of the metric constraints (§5 of the issue).
+  const Edges edges = job.mesh.is_point_cloud() ? knn_graph(job.mesh.V, args.knn) : mesh_edges(job.mesh.F);
+  if (job.mesh.is_point_cloud()) {
+    const Components components = connected_components(job.mesh.num_vertices(), edges);
+    CSHAPES_REQUIRE(components.count == 1, job.input_path, ": the ", args.knn.k, "-nearest-neighbour graph has ",
+                    components.count, " components; its parts would drift apart: raise --knn");
+    note(job.input_path + ": point cloud, " + std::to_string(edges.rows()) + " kNN edges (k = " +
+         std::to_string(args.knn.k) + ")");
+  }
   CoulombCanonResult r = coulomb_canonical_form(job.mesh.V, edges, options);
 
   CanonOutput out;
