@@ -28,11 +28,18 @@ int run() {
   job.input_path = args.input;
   job.history_path = args.history;
   Mesh mesh = read_mesh(args.input);
-  std::string dropped;
-  Submesh sub = require_connected(mesh, args.input, args.largest_component, &dropped);
-  if (!dropped.empty()) note(dropped);
-  job.mesh = std::move(sub.mesh);
-  job.vertex_map = std::move(sub.vertex_map);
+  if (mesh.is_point_cloud()) {
+    // No faces: the method builds its own neighbourhood graph (and refuses a disconnected one).
+    job.vertex_map.resize(mesh.num_vertices());
+    for (Index i = 0; i < mesh.num_vertices(); ++i) job.vertex_map[i] = static_cast<int>(i);
+    job.mesh = std::move(mesh);
+  } else {
+    std::string dropped;
+    Submesh sub = require_connected(mesh, args.input, args.largest_component, &dropped);
+    if (!dropped.empty()) note(dropped);
+    job.mesh = std::move(sub.mesh);
+    job.vertex_map = std::move(sub.vertex_map);
+  }
 
   CanonOutput out = method->run(job);
   CSHAPES_REQUIRE(out.X.rows() == job.mesh.num_vertices() && out.X.allFinite(), "method ", method->name,

@@ -71,8 +71,9 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
      << "` (the paper used fast marching; `--geodesics fmm` does too). SMACOF starts from classical MDS.\n";
   md << "- Coulomb: scheme `" << to_string(o.canon.coulomb.scheme) << "`, step rule `"
      << to_string(o.canon.coulomb.step_rule) << "`, " << o.canon.coulomb.projection.steps
-     << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100 << "% of the edges after "
-     << o.canon.coulomb.tear_after << " iterations (README: how these defaults were chosen).\n";
+     << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100 << "% of the edges in "
+     << o.canon.coulomb.tear_times << " rounds from iteration " << o.canon.coulomb.tear_after << " (or convergence), "
+     << o.canon.coulomb.tear_interval << " iterations apart (README: how these defaults were chosen).\n";
   md << "- Distance between shapes: ICP alignment of the canonical forms (principal-axis starts, reflections "
         "allowed), then the maximum distance between corresponding points (symmetric Hausdorff), as in §3.\n\n";
 
