@@ -9,19 +9,22 @@
 #          --data ../shared/data/tosca5k
 # --out    where everything is written (default: results/). Intermediate results are cached there: rerunning
 #          after an interruption resumes where it stopped.
+# --pdf    also write every figure as PDF
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
 data=""
 out="$root/results"
 extra=()
+pdf=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --data) data="$2"; shift 2 ;;
     --data=*) data="${1#*=}"; shift ;;
     --out) out="$2"; shift 2 ;;
     --out=*) out="${1#*=}"; shift ;;
-    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --pdf) pdf=(--pdf); shift ;;
+    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) extra+=("$1"); shift ;;
   esac
 done
@@ -51,7 +54,7 @@ fi
 
 echo "== figures" >&2
 if "$root/scripts/python.sh" -c 'pass' 2>/dev/null; then
-  "$root/scripts/python.sh" "$root/experiments/plots/paper_figures.py" "$out"
+  "$root/scripts/python.sh" "$root/experiments/plots/paper_figures.py" "$out" "${pdf[@]}"
 else
   echo "run_paper: no Python with matplotlib: figures skipped (the CSV/JSON behind them are in $out)" >&2
 fi

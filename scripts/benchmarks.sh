@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Reruns every benchmark behind the README's table and writes one JSON file per row into OUT
+# (default: results/benchmarks). Each benchmark measures its reference in the same run.
+#   scripts/benchmarks.sh [OUT] [--data DIR]     (DIR: tosca5k, default ../shared/data/tosca5k)
+# Takes about 10 minutes on 2 cores; run it on an otherwise idle machine.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+out="${1:-$root/results/benchmarks}"
+data="$root/../shared/data/tosca5k"
+[[ "${2:-}" == "--data" ]] && data="$3"
+cshapes="$root/build/cshapes"
+[[ -x "$cshapes" ]] || "$root/scripts/build.sh"
+mkdir -p "$out"
+
+bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into OUT/NAME.json
+  local name=$1
+  shift
+  echo "== $name: cshapes bench $*" >&2
+  "$cshapes" -q bench "$@" --json >"$out/$name.json.tmp"
+  mv "$out/$name.json.tmp" "$out/$name.json"
+}
+
+# Shapes at the paper's sizes (Table 1), remeshed from TOSCA.
+[[ -f "$out/cat3505.off" ]] || "$cshapes" -q remesh "$data/cat0.off" -o "$out/cat3505.off" --vertices 3505
+[[ -f "$out/michael22738.off" ]] || "$cshapes" -q remesh "$data/michael0.off" -o "$out/michael22738.off" --vertices 22738
+
+bench coulomb-3505 coulomb --n 3505 --mesh "$data/cat0.off"
+bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
+bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
+bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repeats 3
+bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3
+bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
+bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
+bench geodesics-3505 geodesics --mesh "$out/cat3505.off" --anchor-samples 3505 --exact-samples 4
+bench geodesics-22738 geodesics --mesh "$out/michael22738.off" --anchor-samples 64 --exact-samples 2 --fmm-samples 32
+bench smacof-3505 smacof --n 3505
+bench smacof-22738 smacof --n 22738 --iters 5
+bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
+bench icp icp --a "$data/cat0.off" --b "$data/cat1.off"
+echo "benchmarks: JSON in $out" >&2
