@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 #include <vector>
 
 #include "core/error.h"
@@ -94,6 +95,19 @@ Mesh grid(int nx, int ny, double width, double height) {
       }
     }
   return from_vectors(verts, tris);
+}
+
+Points lumpy_blob(Index n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Points X(n, 3);
+  for (Index i = 0; i < n; ++i) {
+    Eigen::Vector3d u(normal(rng), normal(rng), normal(rng));
+    u.normalize();
+    double r = 1.0 + 0.3 * std::sin(3 * u.x() + 1) * std::cos(2 * u.y()) + 0.2 * u.z() * u.z() * u.x();
+    X.row(i) = (Eigen::Vector3d(3.0, 1.5, 1.0).asDiagonal() * (r * u)).transpose();
+  }
+  return X;
 }
 
 double swiss_roll_length(double t0, double t1) {

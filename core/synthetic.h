@@ -1,6 +1,8 @@
 // Meshes made here, with known answers, for tests and for data on a machine without any.
 #pragma once
 
+#include <cstdint>
+
 #include "core/mesh.h"
 
 namespace cshapes {
@@ -28,6 +30,11 @@ struct SwissRollOptions {
   double height = 21.0;             // width across the roll, in the units of x and z
 };
 Mesh swiss_roll(const SwissRollOptions& options = {});
+
+// n points on a lumpy, elongated closed surface (a sphere radially perturbed by smooth bumps, scaled 3 : 1.5 : 1),
+// drawn at random for `seed`: distinct principal axes and no symmetry, so a rigid motion of it is recoverable
+// (ICP tests and benchmarks).
+Points lumpy_blob(Index n, std::uint64_t seed);
 
 // Arc length of the spiral (t cos t, t sin t) from t0 to t1.
 double swiss_roll_length(double t0, double t1);

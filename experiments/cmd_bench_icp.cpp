@@ -31,6 +31,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "experiments/command.h"
+#include "core/synthetic.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
 
@@ -67,20 +68,6 @@ double load_average() {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-}
-
-// A lumpy, non-symmetric closed blob of n points (no reflection or rotation maps it onto itself).
-Points generated_blob(Index n, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Points X(n, 3);
-  for (Index i = 0; i < n; ++i) {
-    Eigen::Vector3d u(normal(rng), normal(rng), normal(rng));
-    u.normalize();
-    double r = 1.0 + 0.3 * std::sin(3 * u.x() + 1) * std::cos(2 * u.y()) + 0.2 * u.z() * u.z() * u.x();
-    X.row(i) = (Eigen::Vector3d(3.0, 1.5, 1.0).asDiagonal() * (r * u)).transpose();
-  }
-  return X;
 }
 
 Points subsample(const Points& X, Index n, uint64_t seed) {
@@ -132,8 +119,8 @@ int run() {
     B = subsample(read_mesh(path_b).V, args.n, 12);
     source = path_a + " vs " + path_b;
   } else {
-    A = generated_blob(args.n, 11);
-    B = generated_blob(args.n, 12);
+    A = lumpy_blob(args.n, 11);
+    B = lumpy_blob(args.n, 12);
     source = "generated blobs";
   }
   // Move B far from A, reflected: the starts have to find the pose.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include <cmath>
 #include <random>
 
@@ -10,18 +12,7 @@
 namespace cshapes {
 namespace {
 
-// Mean of |d - exact| / exact over vertices whose exact distance exceeds `min_distance`.
-double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
-  double sum = 0;
-  int count = 0;
-  for (Index i = 0; i < d.size(); ++i)
-    if (exact[i] > min_distance) {
-      sum += std::abs(d[i] - exact[i]) / exact[i];
-      ++count;
-    }
-  EXPECT_GT(count, 0);
-  return sum / count;
-}
+using test::mean_relative_error;
 
 // A flat grid with every interior vertex moved in the plane by up to `jitter` spacings: irregular triangles
 // (some obtuse), while distances stay Euclidean.

@@ -14,17 +14,7 @@
 namespace cshapes {
 namespace {
 
-double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
-  double sum = 0;
-  int count = 0;
-  for (Index i = 0; i < d.size(); ++i)
-    if (exact[i] > min_distance) {
-      sum += std::abs(d[i] - exact[i]) / exact[i];
-      ++count;
-    }
-  EXPECT_GT(count, 0);
-  return sum / count;
-}
+using test::mean_relative_error;
 
 double mean_edge_length(const Mesh& m) {
   return edge_lengths(m.V, mesh_edges(m.F)).mean();

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include <cmath>
 #include <random>
 
@@ -10,17 +12,7 @@
 namespace cshapes {
 namespace {
 
-double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
-  double sum = 0;
-  int count = 0;
-  for (Index i = 0; i < d.size(); ++i)
-    if (exact[i] > min_distance) {
-      sum += std::abs(d[i] - exact[i]) / exact[i];
-      ++count;
-    }
-  EXPECT_GT(count, 0);
-  return sum / count;
-}
+using test::mean_relative_error;
 
 Eigen::VectorXd great_circle(const Mesh& m, int source, double radius) {
   Eigen::VectorXd exact(m.num_vertices());

@@ -10,25 +10,12 @@
 #include <nlohmann/json.hpp>
 #include "core/error.h"
 #include "core/io.h"
+#include "core/synthetic.h"
 #include "matching/shape_distance.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
 namespace {
-
-// A lumpy ellipsoid with no rigid symmetry (no rotation or reflection maps it onto itself).
-Points lumpy_blob(Index n, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Points X(n, 3);
-  for (Index i = 0; i < n; ++i) {
-    Eigen::Vector3d u(normal(rng), normal(rng), normal(rng));
-    u.normalize();
-    double r = 1.0 + 0.3 * std::sin(3 * u.x() + 1) * std::cos(2 * u.y()) + 0.2 * u.z() * u.z() * u.x();
-    X.row(i) = (Eigen::Vector3d(3.0, 1.5, 1.0).asDiagonal() * (r * u)).transpose();
-  }
-  return X;
-}
 
 // TOSCA cat0's 5,000 vertices when the shared data is present, else a generated 5,000-point blob.
 Points test_shape() {

@@ -3,7 +3,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -52,6 +55,18 @@ CliResult run_cli(const std::string& arguments) {
   r.err = slurp(err);
   fs::remove_all(dir);
   return r;
+}
+
+double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
+  double sum = 0;
+  int count = 0;
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    if (exact[i] > min_distance) {
+      sum += std::abs(d[i] - exact[i]) / exact[i];
+      ++count;
+    }
+  EXPECT_GT(count, 0);
+  return count ? sum / count : 0.0;
 }
 
 void write_text(const std::string& path, const std::string& text) {

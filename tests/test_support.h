@@ -1,6 +1,7 @@
 // Helpers shared by the GoogleTest files: where the shared data is, scratch directories, running the CLI.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 
 namespace cshapes::test {
@@ -21,6 +22,10 @@ struct CliResult {
 };
 // Runs build/cshapes with the given argument string (shell-quoted by the caller).
 CliResult run_cli(const std::string& arguments);
+
+// Mean of |d - exact| / exact over the entries whose exact value exceeds min_distance (the error measure of the
+// geodesics tests: near the source relative errors are meaningless). Fails the test when no entry qualifies.
+double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance);
 
 // Writes text to a file (creating parent directories).
 void write_text(const std::string& path, const std::string& text);
