@@ -425,7 +425,8 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
       s.name = names[c] + std::to_string(s.pose);
       s.noisy = true;
       bool done = false;
-      for (int attempt = 0; attempt < 40 && !done; ++attempt) {
+      const int max_draws = 60;
+      for (int attempt = 0; attempt < max_draws && !done; ++attempt) {
         PoseAngles angles = random_pose(
             cls.skeleton, derive_seed(ao.seed, 7777777ULL + 1000003ULL * k + attempt), ao.amplitude);
         Mesh posed{pose_mesh(cls.skeleton, cls.rest.V, W, angles), cls.rest.F};
@@ -435,6 +436,8 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
         no.glue_count = o.glue_count;
         no.seed = derive_seed(ao.seed, 555ULL + k);
         no.gap_edge_lengths *= attempt < 10 ? 1.0 : attempt < 20 ? 1.5 : 2.0;
+        // Shapes whose parts rarely come close (the spider's legs): after 30 draws, let gluing relax too.
+        no.relax_steps = attempt < 30 ? 0 : 3;
         try {
           TopologicalNoiseResult r = glue_topological_noise(posed, no);
           s.mesh = r.mesh;
@@ -446,7 +449,7 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
         }
       }
       CSHAPES_REQUIRE(done, "dataset: no pose of class ", names[c], " could be glued ", o.glue_count,
-                      " times in 40 draws");
+                      " times in ", max_draws, " draws");
       shapes.push_back(std::move(s));
     }
   }

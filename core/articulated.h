@@ -110,8 +110,8 @@ GluedHand generate_glued_hand(std::uint64_t seed = 0, int glues = 3);
 
 // A whole dataset: `classes` classes (in the order of articulated_classes()), each with `poses` clean poses
 // named CLASS0..CLASS{poses-1} and `noisy` more poses CLASS{poses}.. carrying topological noise (glue_count
-// glues; the pose is redrawn when it offers too few almost-touching spots; after 10 and 20 draws the gap is
-// widened 1.5×, 2×).
+// glues; the pose is redrawn, up to 60 times, when it offers too few almost-touching spots; after 10 and 20
+// draws the gap is widened 1.5×, 2×, after 30 gluing may also relax its thresholds, topological_noise.h).
 struct ArticulatedDatasetOptions {
   int classes = 4;         // first this many of articulated_classes()
   int poses = 5;           // clean poses per class

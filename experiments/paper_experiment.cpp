@@ -73,7 +73,8 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   no.glue_count = o.glue;
   no.seed = o.seed + static_cast<std::uint64_t>(index);
   no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
-  const std::string key = cache_key({"noisy-v1", source.key, std::to_string(no.glue_count), std::to_string(no.seed)});
+  const std::string key = cache_key({"noisy-v2", source.key, std::to_string(no.glue_count), std::to_string(no.seed),
+                                     std::to_string(no.relax_steps), to_string(no.geodesic.method)});
   Shape s;
   s.name = source.name + "_noisy";
   s.class_name = source.class_name;
