@@ -158,7 +158,7 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         } else {
           source = load(src, false);
         }
-        say(o, "glueing " + std::to_string(o.glue) + " spots of " + src.name);
+        say(o, "gluing " + std::to_string(o.glue) + " spots of " + src.name);
         Shape s;
         try {
           s = make_noisy(source, o, noise_cache, glued_count++);
