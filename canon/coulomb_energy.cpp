@@ -39,6 +39,31 @@ double effective_min_distance(const Points& X, double min_distance) {
   return min_distance > 0 ? std::max(min_distance, lowest) : 1e-9 * floor_reference_length(X);
 }
 
+namespace {
+// The exact sums at point i over all j ≠ i (double precision, vectorised over j): the potential e = Σ 1/r_ij and
+// g = Σ (x_i − x_j)/r_ij³, with distances floored at sqrt(floor2). Shared by the full and the subset direct sums.
+inline void direct_sum_at(Index i, const double* x, const double* y, const double* z, Index n, double floor2,
+                          double& e, double& gx, double& gy, double& gz) {
+  const double xi = x[i], yi = y[i], zi = z[i];
+  double se = 0, sx = 0, sy = 0, sz = 0;
+#pragma omp simd reduction(+ : se, sx, sy, sz)
+  for (Index j = 0; j < n; ++j) {
+    const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+    const double r2 = std::max(dx * dx + dy * dy + dz * dz, floor2);
+    const double inv_r = (j == i) ? 0.0 : 1.0 / std::sqrt(r2);
+    const double inv_r3 = inv_r * inv_r * inv_r;
+    se += inv_r;
+    sx += dx * inv_r3;
+    sy += dy * inv_r3;
+    sz += dz * inv_r3;
+  }
+  e = se;
+  gx = sx;
+  gy = sy;
+  gz = sz;
+}
+}  // namespace
+
 CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   const Index n = X.rows();
   min_distance = effective_min_distance(X, min_distance);
@@ -52,19 +77,8 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   result.summation_used = CoulombOptions::Summation::Direct;
 #pragma omp parallel for schedule(dynamic, 64)
   for (Index i = 0; i < n; ++i) {
-    const double xi = x[i], yi = y[i], zi = z[i];
-    double gx = 0, gy = 0, gz = 0, e = 0;
-#pragma omp simd reduction(+ : gx, gy, gz, e)
-    for (Index j = 0; j < n; ++j) {
-      const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-      const double r2 = std::max(dx * dx + dy * dy + dz * dz, floor2);
-      const double inv_r = (j == i) ? 0.0 : 1.0 / std::sqrt(r2);
-      const double inv_r3 = inv_r * inv_r * inv_r;
-      e += inv_r;
-      gx += dx * inv_r3;
-      gy += dy * inv_r3;
-      gz += dz * inv_r3;
-    }
+    double e, gx, gy, gz;
+    direct_sum_at(i, x.data(), y.data(), z.data(), n, floor2, e, gx, gy, gz);
     result.potential[i] = e;
     result.gradient(i, 0) = -2 * gx;
     result.gradient(i, 1) = -2 * gy;
@@ -91,19 +105,8 @@ CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Inde
 #pragma omp parallel for schedule(dynamic, 4)
   for (Index t = 0; t < m; ++t) {
     const Index i = targets[t];
-    const double xi = x[i], yi = y[i], zi = z[i];
-    double gx = 0, gy = 0, gz = 0, e = 0;
-#pragma omp simd reduction(+ : gx, gy, gz, e)
-    for (Index j = 0; j < n; ++j) {
-      const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-      const double r2 = std::max(dx * dx + dy * dy + dz * dz, floor2);
-      const double inv_r = (j == i) ? 0.0 : 1.0 / std::sqrt(r2);
-      const double inv_r3 = inv_r * inv_r * inv_r;
-      e += inv_r;
-      gx += dx * inv_r3;
-      gy += dy * inv_r3;
-      gz += dz * inv_r3;
-    }
+    double e, gx, gy, gz;
+    direct_sum_at(i, x.data(), y.data(), z.data(), n, floor2, e, gx, gy, gz);
     result.potential[t] = e;
     result.gradient(t, 0) = -2 * gx;
     result.gradient(t, 1) = -2 * gy;

@@ -96,31 +96,8 @@ TEST(HeatMethod, DisconnectedMeshGivesInfinityNotNaN) {
   EXPECT_THROW(heat.distances_each({0, static_cast<int>(two.num_vertices())}), std::exception);
 }
 
-// Rows shifted by half a spacing and squashed vertically: every triangle has an obtuse angle of about 127°,
-// so the plain cotangent Laplacian has negative weights. On the intrinsic Delaunay triangulation the heat
-// method stays accurate; on the mesh itself it is markedly worse.
-Mesh obtuse_grid(int nx, int ny) {
-  Mesh m;
-  const double hx = 1.0 / (nx - 1), hy = 0.3 * hx;
-  m.V.resize(nx * ny, 3);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) m.V.row(j * nx + i) << (i + 0.5 * (j % 2)) * hx, j * hy, 0.0;
-  std::vector<Eigen::Vector3i> tris;
-  for (int j = 0; j + 1 < ny; ++j)
-    for (int i = 0; i + 1 < nx; ++i) {
-      int a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
-      if (j % 2 == 0) {
-        tris.emplace_back(a, b, c);
-        tris.emplace_back(b, d, c);
-      } else {
-        tris.emplace_back(a, d, c);
-        tris.emplace_back(a, b, d);
-      }
-    }
-  m.F.resize(tris.size(), 3);
-  for (size_t f = 0; f < tris.size(); ++f) m.F.row(f) = tris[f].transpose();
-  return m;
-}
+
+using test::obtuse_grid;
 
 TEST(HeatMethod, IntrinsicDelaunayRescuesObtuseTriangles) {
   Mesh m = obtuse_grid(41, 81);

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace cshapes::test {
 
@@ -67,6 +68,29 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
     }
   EXPECT_GT(count, 0);
   return count ? sum / count : 0.0;
+}
+
+Mesh obtuse_grid(int nx, int ny) {
+  Mesh m;
+  const double hx = 1.0 / (nx - 1), hy = 0.3 * hx;
+  m.V.resize(nx * ny, 3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) m.V.row(j * nx + i) << (i + 0.5 * (j % 2)) * hx, j * hy, 0.0;
+  std::vector<Eigen::Vector3i> tris;
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      int a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
+      if (j % 2 == 0) {
+        tris.emplace_back(a, b, c);
+        tris.emplace_back(b, d, c);
+      } else {
+        tris.emplace_back(a, d, c);
+        tris.emplace_back(a, b, d);
+      }
+    }
+  m.F.resize(tris.size(), 3);
+  for (size_t f = 0; f < tris.size(); ++f) m.F.row(f) = tris[f].transpose();
+  return m;
 }
 
 void write_text(const std::string& path, const std::string& text) {

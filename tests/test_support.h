@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "core/mesh.h"
+
 namespace cshapes::test {
 
 // The TOSCA data folder: $CSHAPES_DATA, else ../shared/data beside the repository. "" when absent.
@@ -26,6 +28,11 @@ CliResult run_cli(const std::string& arguments);
 // Mean of |d - exact| / exact over the entries whose exact value exceeds min_distance (the error measure of the
 // geodesics tests: near the source relative errors are meaningless). Fails the test when no entry qualifies.
 double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance);
+
+// A flat grid of nx × ny vertices in the unit-wide strip, rows shifted by half a spacing and squashed
+// vertically: every triangle has an obtuse angle of about 127°, so the cotangent Laplacian has negative weights
+// and fast marching needs its unfolding step.
+Mesh obtuse_grid(int nx, int ny);
 
 // Writes text to a file (creating parent directories).
 void write_text(const std::string& path, const std::string& text);
