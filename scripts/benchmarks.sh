@@ -2,7 +2,7 @@
 # Reruns every benchmark behind the README's table and writes one JSON file per row into OUT
 # (default: results/benchmarks). Each benchmark measures its reference in the same run.
 #   scripts/benchmarks.sh [OUT] [--data DIR]     (DIR: tosca5k, default ../shared/data/tosca5k)
-# Takes about 10 minutes on 2 cores; run it on an otherwise idle machine.
+# Takes about a minute on 2 cores (remeshing included); run it on an otherwise idle machine.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out="${1:-$root/results/benchmarks}"
