@@ -7,34 +7,21 @@
 
 #include "core/error.h"
 #include "core/geodesics_cgal.h"
+#include "core/surface_mesh_cgal.h"
 
 namespace cshapes {
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using VertexIndex = SurfaceMesh::Vertex_index;
+using cgal::Kernel;
+using cgal::SurfaceMesh;
+using cgal::VertexIndex;
 using DirectSolver =
     CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh, CGAL::Heat_method_3::Direct>;
 using IdtSolver =
     CGAL::Heat_method_3::Surface_mesh_geodesic_distances_3<SurfaceMesh,
                                                            CGAL::Heat_method_3::Intrinsic_Delaunay>;
 
-SurfaceMesh to_surface_mesh(const Mesh& mesh) {
-  SurfaceMesh sm;
-  sm.reserve(static_cast<SurfaceMesh::size_type>(mesh.num_vertices()),
-             static_cast<SurfaceMesh::size_type>(3 * mesh.num_faces() / 2),
-             static_cast<SurfaceMesh::size_type>(mesh.num_faces()));
-  for (Index i = 0; i < mesh.num_vertices(); ++i)
-    sm.add_vertex(Kernel::Point_3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)));
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    auto face = sm.add_face(VertexIndex(mesh.F(f, 0)), VertexIndex(mesh.F(f, 1)), VertexIndex(mesh.F(f, 2)));
-    CSHAPES_REQUIRE(face != SurfaceMesh::null_face(), "CGAL heat method: face ", f,
-                    " cannot be added to a halfedge mesh (non-manifold edge or inconsistent orientation)");
-  }
-  return sm;
-}
 
 }  // namespace
 
@@ -57,7 +44,7 @@ struct CgalHeatMethod::Impl {
 
 CgalHeatMethod::CgalHeatMethod(const Mesh& mesh, CgalHeatMode mode) : impl_(std::make_unique<Impl>()) {
   CSHAPES_REQUIRE(mesh.num_faces() > 0, "CGAL heat method: the mesh has no faces");
-  impl_->sm = to_surface_mesh(mesh);
+  impl_->sm = cgal::to_surface_mesh(mesh, "CGAL heat method");
   impl_->distance = impl_->sm.add_property_map<VertexIndex, double>("v:cshapes_distance", 0.0).first;
   try {
     if (mode == CgalHeatMode::Direct)

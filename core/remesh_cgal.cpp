@@ -21,28 +21,17 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/remesh.h"
+#include "core/surface_mesh_cgal.h"
 
 namespace cshapes {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point3 = Kernel::Point_3;
-using SurfaceMesh = CGAL::Surface_mesh<Point3>;
+using cgal::Kernel;
+using cgal::Point3;
+using cgal::SurfaceMesh;
 namespace PMP = CGAL::Polygon_mesh_processing;
 namespace SMS = CGAL::Surface_mesh_simplification;
 
-SurfaceMesh to_cgal(const Mesh& mesh) {
-  SurfaceMesh sm;
-  std::vector<SurfaceMesh::Vertex_index> vs(mesh.num_vertices());
-  for (Index i = 0; i < mesh.num_vertices(); ++i)
-    vs[i] = sm.add_vertex(Point3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)));
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    auto face = sm.add_face(vs[mesh.F(f, 0)], vs[mesh.F(f, 1)], vs[mesh.F(f, 2)]);
-    CSHAPES_REQUIRE(face != SurfaceMesh::null_face(), "remesh: face ", f,
-                    " cannot be added (the mesh is not an oriented 2-manifold there)");
-  }
-  return sm;
-}
 
 // Copies a (possibly garbage-holding) Surface_mesh into Eigen arrays, vertices in index order.
 Mesh from_cgal(const SurfaceMesh& sm) {
@@ -250,7 +239,7 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   CSHAPES_REQUIRE(!mesh.is_point_cloud(),
                   "remesh: the input has no faces (a point cloud cannot be remeshed)");
   validate_mesh(mesh, "remesh input");
-  SurfaceMesh input = to_cgal(mesh);
+  SurfaceMesh input = cgal::to_surface_mesh(mesh, "remesh");
   // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times
   // the target: isotropic remeshing would otherwise spend most of its time collapsing tiny edges, once per
   // attempt.
@@ -289,7 +278,8 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
 
 double hausdorff_distance(const Mesh& a, const Mesh& b) {
   CSHAPES_REQUIRE(!a.is_point_cloud() && !b.is_point_cloud(), "hausdorff_distance: both inputs need faces");
-  return std::max(one_sided_distance(a, to_cgal(b)), one_sided_distance(b, to_cgal(a)));
+  return std::max(one_sided_distance(a, cgal::to_surface_mesh(b, "hausdorff")),
+                  one_sided_distance(b, cgal::to_surface_mesh(a, "hausdorff")));
 }
 
 AngleStats angle_stats(const Mesh& mesh) {
@@ -316,7 +306,7 @@ AngleStats angle_stats(const Mesh& mesh) {
 }
 
 bool self_intersects(const Mesh& mesh) {
-  SurfaceMesh sm = to_cgal(mesh);
+  SurfaceMesh sm = cgal::to_surface_mesh(mesh, "remesh");
   return PMP::does_self_intersect(sm);
 }
 
