@@ -73,9 +73,11 @@ void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& 
     return d2[b];
   };
   auto min = [](Vec4 u, Vec4 v) { return u < v ? u : v; };
-  // Four running minima: independent dependency chains.
-  Vec4 least0 = distances(0), least1 = distances(1), least2 = distances(2), least3 = distances(3);
-  for (int b = 4; b < kLeaf / 4; b += 4) {
+  // Four running minima: independent dependency chains. A padding slot's NaN distance never replaces one
+  // (NaN < v is false), so they start from best_d2 rather than from a first distance that may be NaN.
+  const Vec4 start = {best_d2, best_d2, best_d2, best_d2};
+  Vec4 least0 = start, least1 = start, least2 = start, least3 = start;
+  for (int b = 0; b < kLeaf / 4; b += 4) {
     least0 = min(distances(b), least0);
     least1 = min(distances(b + 1), least1);
     least2 = min(distances(b + 2), least2);

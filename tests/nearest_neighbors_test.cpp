@@ -35,6 +35,25 @@ TEST(NearestNeighbors, MatchesBruteForce) {
   }
 }
 
+TEST(NearestNeighbors, MatchesBruteForceWhateverTheSize) {
+  // Leaves hold a fixed number of points and the last one is padded: every remainder, and queries both
+  // among the points and far from them, with and without a hint.
+  for (Index n : {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 63, 64, 65, 72, 100, 127, 128, 129, 200, 4999, 5000}) {
+    Points X = random_points(n, 100 + static_cast<uint64_t>(n)), Q = random_points(40, 7) * 1.5;
+    Q.topRows(std::min<Index>(10, n)) = X.topRows(std::min<Index>(10, n));  // exact hits, distance 0
+    NearestNeighbors tree(X);
+    for (Index q = 0; q < Q.rows(); ++q) {
+      Index best = 0;
+      double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff(&best);
+      double d2 = -1;
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), &d2), best) << "n = " << n << ", query " << q;
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), n - 1 - best / 2, &d2), best) << "n = " << n;
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+    }
+  }
+}
+
 TEST(NearestNeighbors, HintedSearchIsExact) {
   // Any hint, good or bad, gives the exact nearest point (the hint only bounds the search).
   Points X = random_points(2000, 4), Q = random_points(200, 5) * 1.2;
