@@ -223,15 +223,8 @@ struct Track {
   bool current = false;
 };
 
-// Scratch space for one thread's ICP steps.
-struct Pairs {
-  Points P, Q;  // paired rows: source (centred, untransformed) and target (centred)
-  Eigen::VectorXd d2;
-  std::vector<double> sorted;
-};
-
-// Keeps the pairs of one direction whose squared distance passes the trimming and distance limits;
-// appends them to the pair list. Returns the number kept.
+// Marks (keep[i] = 1) the pairs of one direction whose squared distance passes the trimming and distance
+// limits. Returns the number kept.
 Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2, std::vector<double>& scratch,
                  std::vector<char>& keep) {
   const Index m = d2.size();
@@ -283,7 +276,6 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   d2_st.resize(S.rows());
   nn_ts.resize(o.symmetric ? Tg.rows() : 0);
   d2_ts.resize(o.symmetric ? Tg.rows() : 0);
-  Points P, Q;
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
     // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
@@ -315,23 +307,21 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     }
     if (kept == 0)
       fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
-    P.resize(kept, 3);
-    Q.resize(kept, 3);
-    Index k = 0;
+    // The kept pairs (x, y): x from the source (centred, untransformed), y from the target (centred),
+    // visited through their indices rather than gathered into matrices.
+    auto for_each_pair = [&](auto&& f) {
+      for (Index i = 0; i < S.rows(); ++i)
+        if (keep_st[static_cast<size_t>(i)]) f(S, i, T_all, nn_st[i]);
+      if (o.symmetric)
+        for (Index j = 0; j < Tg.rows(); ++j)
+          if (keep_ts[static_cast<size_t>(j)]) f(S_all, nn_ts[j], Tg, j);
+    };
     double sum_d2 = 0;
     for (Index i = 0; i < S.rows(); ++i)
-      if (keep_st[static_cast<size_t>(i)]) {
-        P.row(k) = S.row(i);
-        Q.row(k++) = T_all.row(nn_st[i]);
-        sum_d2 += d2_st[i];
-      }
+      if (keep_st[static_cast<size_t>(i)]) sum_d2 += d2_st[i];
     if (o.symmetric)
       for (Index j = 0; j < Tg.rows(); ++j)
-        if (keep_ts[static_cast<size_t>(j)]) {
-          P.row(k) = S_all.row(nn_ts[j]);
-          Q.row(k++) = Tg.row(j);
-          sum_d2 += d2_ts[j];
-        }
+        if (keep_ts[static_cast<size_t>(j)]) sum_d2 += d2_ts[j];
     // The RMSE of the current pose's pairs; the step below can only lower it for these pairs.
     double rmse = std::sqrt(sum_d2 / static_cast<double>(kept));
     track.rmse = rmse;
@@ -348,7 +338,21 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
       break;
     }
     previous = rmse;
-    track.T = best_rigid_transform(P, Q, track.determinant);
+    // The closed-form rigid motion of the pairs (as best_rigid_transform with unit weights): means first,
+    // then the cross-covariance of the centred pairs (two passes keep it accurate).
+    Eigen::Vector3d x_sum = Eigen::Vector3d::Zero(), y_sum = Eigen::Vector3d::Zero();
+    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
+      x_sum += X.row(a).transpose();
+      y_sum += Y.row(b).transpose();
+    });
+    const Eigen::Vector3d x_mean = x_sum / static_cast<double>(kept),
+                          y_mean = y_sum / static_cast<double>(kept);
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
+      H.noalias() += (X.row(a).transpose() - x_mean) * (Y.row(b) - y_mean.transpose());
+    });
+    track.T.rotation = closest_orthogonal(H, track.determinant);
+    track.T.translation = y_mean - track.T.rotation * x_mean;
     ++track.iterations;
     ++track.total_iterations;
   }

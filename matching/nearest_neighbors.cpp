@@ -30,8 +30,8 @@ struct Node {
   // Inner node: the points of the first child have coordinate `axis` ≤ low, those of the second child ≥ high
   // (low ≤ high: the largest and smallest coordinate on each side, so the gap between them prunes too).
   double low = 0, high = 0;
-  int axis = -1;     // 0, 1, 2; −1 for a leaf
-  int second = 0;    // inner node: index of the second child; leaf: its first slot (a multiple of kLeaf)
+  int axis = -1;   // 0, 1, 2; −1 for a leaf
+  int second = 0;  // inner node: index of the second child; leaf: its first slot (a multiple of kLeaf)
 };
 
 }  // namespace
@@ -59,7 +59,8 @@ struct NearestNeighbors::Impl {
 
 // The leaf's squared distances 4 at a time (GCC/Clang vector extensions: AVX2 when the target has it, pairs
 // of SSE2 operations otherwise), then one horizontal minimum: no branch per point.
-void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& best_d2, int& best_slot) const {
+void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& best_d2,
+                                       int& best_slot) const {
   typedef double Vec4 __attribute__((vector_size(32), aligned(8), may_alias));
   const size_t s = static_cast<size_t>(first_slot);
   const Vec4 qx = {q[0], q[0], q[0], q[0]}, qy = {q[1], q[1], q[1], q[1]}, qz = {q[2], q[2], q[2], q[2]};
@@ -142,8 +143,8 @@ int NearestNeighbors::Impl::build(std::vector<int>& rows, int begin, int end, in
   return id;
 }
 
-void NearestNeighbors::Impl::search(int node, const double* q, double box_d2, double* axis_d2, double& best_d2,
-                                    int& best_slot) const {
+void NearestNeighbors::Impl::search(int node, const double* q, double box_d2, double* axis_d2,
+                                    double& best_d2, int& best_slot) const {
   const Node& n = nodes[static_cast<size_t>(node)];
   if (n.axis < 0) {
     scan_leaf(n.second, q, best_d2, best_slot);

@@ -38,7 +38,8 @@ TEST(NearestNeighbors, MatchesBruteForce) {
 TEST(NearestNeighbors, MatchesBruteForceWhateverTheSize) {
   // Leaves hold a fixed number of points and the last one is padded: every remainder, and queries both
   // among the points and far from them, with and without a hint.
-  for (Index n : {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 63, 64, 65, 72, 100, 127, 128, 129, 200, 4999, 5000}) {
+  for (Index n :
+       {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 63, 64, 65, 72, 100, 127, 128, 129, 200, 4999, 5000}) {
     Points X = random_points(n, 100 + static_cast<uint64_t>(n)), Q = random_points(40, 7) * 1.5;
     Q.topRows(std::min<Index>(10, n)) = X.topRows(std::min<Index>(10, n));  // exact hits, distance 0
     NearestNeighbors tree(X);
