@@ -217,10 +217,11 @@ struct Track {
   double inlier_fraction = 1;
   std::vector<double> history;  // on the current level
   // The nearest neighbours (level rows) and squared distances of the last correspondence pass;
-  // `current` when they belong to T (the loop stopped before updating T).
+  // `current` when they belong to T (the loop stopped before updating T); `level`: whose queries they are.
   Eigen::VectorXi nn_st, nn_ts;
   Eigen::VectorXd d2_st, d2_ts;
   bool current = false;
+  int level = -1;
 };
 
 // Marks (keep[i] = 1) the pairs of one direction whose squared distance passes the trimming and distance
@@ -246,6 +247,18 @@ Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2,
   return count;
 }
 
+// For each row of level `fine`: the row of level `coarse` holding the same point, or −1.
+std::vector<int> carried_rows(const IcpShape& shape, int coarse, int fine) {
+  std::vector<int> coarse_row(static_cast<size_t>(shape.size()), -1);
+  const std::vector<int>& coarse_indices = shape.level_indices(coarse);
+  for (size_t k = 0; k < coarse_indices.size(); ++k)
+    coarse_row[static_cast<size_t>(coarse_indices[k])] = static_cast<int>(k);
+  const std::vector<int>& fine_indices = shape.level_indices(fine);
+  std::vector<int> rows(fine_indices.size());
+  for (size_t k = 0; k < fine_indices.size(); ++k) rows[k] = coarse_row[static_cast<size_t>(fine_indices[k])];
+  return rows;
+}
+
 // Runs ICP steps on one level until a stopping rule (or `max_steps`), updating the track.
 void iterate(Track& track, const IcpShape& source, const IcpShape& target, int level, int max_steps,
              const IcpOptions& o) {
@@ -265,13 +278,28 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   track.history.clear();
   track.converged = false;
   track.stop_reason = "max iterations";
-  track.current = false;
   std::vector<double> scratch;
   std::vector<char> keep_st, keep_ts;
   Eigen::VectorXi& nn_st = track.nn_st;
   Eigen::VectorXi& nn_ts = track.nn_ts;
   Eigen::VectorXd& d2_st = track.d2_st;
   Eigen::VectorXd& d2_ts = track.d2_ts;
+  // The previous level's last pass, when it saw the current pose: its queries are a subset of this level's
+  // (the subsamples are nested), so their neighbours are carried over rather than searched again.
+  const bool carry = track.current && track.level >= 0 && track.level < level;
+  std::vector<int> carried_st, carried_ts;  // per query row of this level: its row in the old arrays, or −1
+  Eigen::VectorXi old_nn_st, old_nn_ts;
+  Eigen::VectorXd old_d2_st, old_d2_ts;
+  if (carry) {
+    carried_st = carried_rows(source, track.level, level);
+    carried_ts = carried_rows(target, track.level, level);
+    old_nn_st.swap(nn_st);
+    old_nn_ts.swap(nn_ts);
+    old_d2_st.swap(d2_st);
+    old_d2_ts.swap(d2_ts);
+  }
+  track.current = false;
+  track.level = level;
   nn_st.resize(S.rows());
   d2_st.resize(S.rows());
   nn_ts.resize(o.symmetric ? Tg.rows() : 0);
@@ -286,6 +314,11 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     const Eigen::Vector3d& t = track.T.translation;
     // source → target: nearest target point to R·x + t.
     for (Index i = 0; i < S.rows(); ++i) {
+      if (carry && step == 0 && carried_st[static_cast<size_t>(i)] >= 0) {
+        nn_st[i] = old_nn_st[carried_st[static_cast<size_t>(i)]];
+        d2_st[i] = old_d2_st[carried_st[static_cast<size_t>(i)]];
+        continue;
+      }
       Eigen::Vector3d q = R * S.row(i).transpose() + t;
       nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
                                   : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
@@ -297,6 +330,11 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     // so the source tree is built once and never moved.
     if (o.symmetric) {
       for (Index j = 0; j < Tg.rows(); ++j) {
+        if (carry && step == 0 && old_nn_ts.size() > 0 && carried_ts[static_cast<size_t>(j)] >= 0) {
+          nn_ts[j] = old_nn_ts[carried_ts[static_cast<size_t>(j)]];
+          d2_ts[j] = old_d2_ts[carried_ts[static_cast<size_t>(j)]];
+          continue;
+        }
         Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
         nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
                                     : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
