@@ -49,7 +49,12 @@ struct NearestNeighbors::Impl {
   std::vector<int> slot_index;
   Eigen::Vector3d box_low, box_high;  // bounding box of all points
 
-  int build(std::vector<int>& rows, int begin, int end, int& next_slot);
+  // A point while the tree is built (coordinates beside the row: the partitioning reads them in place).
+  struct BuildItem {
+    double xyz[3];
+    int row;
+  };
+  int build(std::vector<BuildItem>& items, int begin, int end, int& next_slot);
   void scan_leaf(int first_slot, const double* q, double& best_d2, int& best_slot) const;
   void search(int node, const double* q, double box_d2, double* axis_d2, double& best_d2,
               int& best_slot) const;
@@ -95,7 +100,7 @@ void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& 
     }
 }
 
-int NearestNeighbors::Impl::build(std::vector<int>& rows, int begin, int end, int& next_slot) {
+int NearestNeighbors::Impl::build(std::vector<BuildItem>& items, int begin, int end, int& next_slot) {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
   const int count = end - begin;
@@ -103,38 +108,37 @@ int NearestNeighbors::Impl::build(std::vector<int>& rows, int begin, int end, in
     Node& leaf = nodes[static_cast<size_t>(id)];
     leaf.second = next_slot;
     for (int k = 0; k < count; ++k) {
-      const int row = rows[static_cast<size_t>(begin + k)];
+      const BuildItem& item = items[static_cast<size_t>(begin + k)];
       const size_t s = static_cast<size_t>(next_slot + k);
-      x[s] = points(row, 0);
-      y[s] = points(row, 1);
-      z[s] = points(row, 2);
-      slot_index[s] = row;
+      x[s] = item.xyz[0];
+      y[s] = item.xyz[1];
+      z[s] = item.xyz[2];
+      slot_index[s] = item.row;
     }
     next_slot += kLeaf;
     return id;
   }
   // Widest side of the points' bounding box.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (int k = begin; k < end; ++k) {
-    const Eigen::Vector3d p = points.row(rows[static_cast<size_t>(k)]).transpose();
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = items[static_cast<size_t>(begin)].xyz[a];
+  for (int k = begin + 1; k < end; ++k)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], items[static_cast<size_t>(k)].xyz[a]);
+      hi[a] = std::max(hi[a], items[static_cast<size_t>(k)].xyz[a]);
+    }
   int axis = 0;
-  (hi - lo).maxCoeff(&axis);
-  // Near the median, rounded up to whole leaves. Ties broken by row: the tree depends on the points only.
+  for (int a = 1; a < 3; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  // Near the median, rounded up to whole leaves (std::nth_element is deterministic: same points, same tree).
   const int half = (count / 2 + kLeaf - 1) / kLeaf * kLeaf;
   const int middle = begin + std::min(half, count - 1);
-  auto less = [&](int a, int b) {
-    const double ca = points(a, axis), cb = points(b, axis);
-    return ca < cb || (ca == cb && a < b);
-  };
-  std::nth_element(rows.begin() + begin, rows.begin() + middle, rows.begin() + end, less);
+  auto less = [axis](const BuildItem& a, const BuildItem& b) { return a.xyz[axis] < b.xyz[axis]; };
+  std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end, less);
   double low = -std::numeric_limits<double>::infinity();
-  for (int k = begin; k < middle; ++k) low = std::max(low, points(rows[static_cast<size_t>(k)], axis));
-  const double high = points(rows[static_cast<size_t>(middle)], axis);
-  build(rows, begin, middle, next_slot);
-  const int second = build(rows, middle, end, next_slot);
+  for (int k = begin; k < middle; ++k) low = std::max(low, items[static_cast<size_t>(k)].xyz[axis]);
+  const double high = items[static_cast<size_t>(middle)].xyz[axis];
+  build(items, begin, middle, next_slot);
+  const int second = build(items, middle, end, next_slot);
   Node& inner = nodes[static_cast<size_t>(id)];
   inner.axis = axis;
   inner.low = low;
@@ -200,10 +204,10 @@ NearestNeighbors::NearestNeighbors(const Points& points) : impl_(std::make_uniqu
   t.z = t.x;
   t.slot_index.assign(slots, -1);
   t.nodes.reserve(static_cast<size_t>(2 * n / kLeaf + 2));
-  std::vector<int> rows(static_cast<size_t>(n));
-  std::iota(rows.begin(), rows.end(), 0);
+  std::vector<Impl::BuildItem> items(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) items[static_cast<size_t>(i)] = {{points(i, 0), points(i, 1), points(i, 2)}, i};
   int next_slot = 0;
-  t.build(rows, 0, n, next_slot);
+  t.build(items, 0, n, next_slot);
   t.box_low = points.colwise().minCoeff().transpose();
   t.box_high = points.colwise().maxCoeff().transpose();
 }
