@@ -50,6 +50,7 @@ struct NearestNeighbors::Impl {
   // (never nearer than anything) and index −1.
   std::vector<double> x, y, z;
   std::vector<int> slot_index;
+  std::vector<double> row_major;      // the points row after row: a hint's coordinates in one cache line
   Eigen::Vector3d box_low, box_high;  // bounding box of all points
 
   // A point while the tree is built (coordinates beside the row: the partitioning reads them in place).
@@ -200,6 +201,9 @@ NearestNeighbors::NearestNeighbors(const Points& points) : impl_(std::make_uniqu
                   ")");
   Impl& t = *impl_;
   t.points = points;
+  t.row_major.resize(static_cast<size_t>(3 * points.rows()));
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(t.row_major.data(), points.rows(),
+                                                                        3) = points;
   const int n = static_cast<int>(points.rows());
   const size_t slots = static_cast<size_t>((n + kLeaf - 1) / kLeaf * kLeaf);
   t.x.assign(slots, std::numeric_limits<double>::quiet_NaN());
@@ -235,8 +239,9 @@ Index NearestNeighbors::nearest(const Eigen::Vector3d& q, double* squared_distan
 }
 
 Index NearestNeighbors::nearest(const Eigen::Vector3d& q, Index hint, double* squared_distance) const {
-  const Points& P = impl_->points;
-  const double hint_d2 = (P.row(hint).transpose() - q).squaredNorm();
+  const double* h = &impl_->row_major[static_cast<size_t>(3 * hint)];
+  const double dx = h[0] - q[0], dy = h[1] - q[1], dz = h[2] - q[2];
+  const double hint_d2 = dx * dx + dy * dy + dz * dz;
   // Strict '<' in the search: inflate the bound a little so that the hint itself (or a tie) qualifies.
   double best_d2 = hint_d2 * (1 + 1e-12) + 1e-300;
   int best_slot = -1;
