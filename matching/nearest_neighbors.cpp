@@ -104,6 +104,48 @@ void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& 
     }
 }
 
+namespace {
+
+// Moves the items with coordinate `axis` below `pivot` (or ≤ it, when `or_equal`) to the front of
+// [lo, hi), and returns where they end. Lomuto's scheme without a branch per item: swap, then advance
+// the boundary by the comparison's outcome (a sorting network's mispredictions cost more than the swaps).
+template <class Item>
+int partition(std::vector<Item>& items, int lo, int hi, int axis, double pivot, bool or_equal) {
+  int boundary = lo;
+  for (int j = lo; j < hi; ++j) {
+    const double v = items[static_cast<size_t>(j)].xyz[axis];  // read before the swap: no store to wait for
+    std::swap(items[static_cast<size_t>(boundary)], items[static_cast<size_t>(j)]);
+    boundary += or_equal ? (v <= pivot) : (v < pivot);
+  }
+  return boundary;
+}
+
+// As std::nth_element by coordinate `axis` (deterministic: same items, same result): the item of rank
+// k − begin in [begin, end) at k, none after it smaller, none before it larger. Quickselect with the
+// median of three as pivot.
+template <class Item>
+void select(std::vector<Item>& items, int begin, int end, int k, int axis) {
+  int lo = begin, hi = end;
+  while (hi - lo > 1) {
+    double a = items[static_cast<size_t>(lo)].xyz[axis],
+           b = items[static_cast<size_t>((lo + hi) / 2)].xyz[axis],
+           c = items[static_cast<size_t>(hi - 1)].xyz[axis];
+    const double pivot = std::max(std::min(a, b), std::min(std::max(a, b), c));
+    const int smaller = partition(items, lo, hi, axis, pivot, false);
+    if (k < smaller) {
+      hi = smaller;
+    } else if (smaller > lo) {
+      lo = smaller;
+    } else {  // the pivot is the least: split off the items equal to it (at least the pivot itself)
+      const int equal = partition(items, lo, hi, axis, pivot, true);
+      if (k < equal) return;
+      lo = equal;
+    }
+  }
+}
+
+}  // namespace
+
 int NearestNeighbors::Impl::build(std::vector<BuildItem>& items, int begin, int end, int& next_slot) {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
@@ -136,8 +178,7 @@ int NearestNeighbors::Impl::build(std::vector<BuildItem>& items, int begin, int 
   // Near the median, rounded up to whole leaves (std::nth_element is deterministic: same points, same tree).
   const int half = (count / 2 + kLeaf - 1) / kLeaf * kLeaf;
   const int middle = begin + std::min(half, count - 1);
-  auto less = [axis](const BuildItem& a, const BuildItem& b) { return a.xyz[axis] < b.xyz[axis]; };
-  std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end, less);
+  select(items, begin, end, middle, axis);
   double low = -std::numeric_limits<double>::infinity();
   for (int k = begin; k < middle; ++k) low = std::max(low, items[static_cast<size_t>(k)].xyz[axis]);
   const double high = items[static_cast<size_t>(middle)].xyz[axis];
