@@ -128,7 +128,16 @@ std::vector<int> spatial_order(const Points& X) {
         morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]), static_cast<uint32_t>(u[2])),
         static_cast<int>(i)};
   }
-  std::sort(keyed.begin(), keyed.end());
+  // Least-significant-digit radix sort, 10 bits a pass: stable, so equal codes keep the row order (the
+  // order std::sort of the (code, row) pairs gives), at a fraction of a comparison sort's mispredictions.
+  std::vector<std::pair<uint32_t, int>> sorted(keyed.size());
+  for (int shift = 0; shift < 30; shift += 10) {
+    std::vector<size_t> start(1025, 0);
+    for (const auto& item : keyed) ++start[((item.first >> shift) & 1023) + 1];
+    for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (const auto& item : keyed) sorted[start[(item.first >> shift) & 1023]++] = item;
+    keyed.swap(sorted);
+  }
   std::vector<int> order(keyed.size());
   for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
   return order;
@@ -143,7 +152,10 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
   CSHAPES_REQUIRE(points.allFinite(), "ICP: the point set has non-finite coordinates");
   centroid_ = points.colwise().mean().transpose();
   Points centred = points.rowwise() - centroid_.transpose();
-  Eigen::Matrix3d covariance = centred.transpose() * centred / static_cast<double>(n);
+  Eigen::Matrix3d covariance;  // six dot products of columns (cheaper than a general matrix product here)
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+      covariance(a, b) = covariance(b, a) = centred.col(a).dot(centred.col(b)) / static_cast<double>(n);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
   // Eigen sorts increasing; principal axes go by decreasing variance.
   variances_ = eig.eigenvalues().reverse();
