@@ -74,26 +74,25 @@ void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& 
   const size_t s = static_cast<size_t>(first_slot);
   const Vec4 qx = {q[0], q[0], q[0], q[0]}, qy = {q[1], q[1], q[1], q[1]}, qz = {q[2], q[2], q[2], q[2]};
   Vec4 d2[kLeaf / 4];
-  auto distances = [&](int b) {
-    const Vec4 px = *reinterpret_cast<const Vec4*>(&x[s + 4 * b]);
-    const Vec4 py = *reinterpret_cast<const Vec4*>(&y[s + 4 * b]);
-    const Vec4 pz = *reinterpret_cast<const Vec4*>(&z[s + 4 * b]);
-    const Vec4 dx = px - qx, dy = py - qy, dz = pz - qz;
-    d2[b] = dx * dx + dy * dy + dz * dz;
-    return d2[b];
-  };
-  auto min = [](Vec4 u, Vec4 v) { return u < v ? u : v; };
   // Four running minima: independent dependency chains. A padding slot's NaN distance never replaces one
   // (NaN < v is false), so they start from best_d2 rather than from a first distance that may be NaN.
+  // (No vector passes through a function: without AVX that would change the calling convention, -Wpsabi.)
   const Vec4 start = {best_d2, best_d2, best_d2, best_d2};
-  Vec4 least0 = start, least1 = start, least2 = start, least3 = start;
+  Vec4 running[4] = {start, start, start, start};
   for (int b = 0; b < kLeaf / 4; b += 4) {
-    least0 = min(distances(b), least0);
-    least1 = min(distances(b + 1), least1);
-    least2 = min(distances(b + 2), least2);
-    least3 = min(distances(b + 3), least3);
+    for (int u = 0; u < 4; ++u) {
+      const Vec4 px = *reinterpret_cast<const Vec4*>(&x[s + 4 * (b + u)]);
+      const Vec4 py = *reinterpret_cast<const Vec4*>(&y[s + 4 * (b + u)]);
+      const Vec4 pz = *reinterpret_cast<const Vec4*>(&z[s + 4 * (b + u)]);
+      const Vec4 dx = px - qx, dy = py - qy, dz = pz - qz;
+      d2[b + u] = dx * dx + dy * dy + dz * dz;
+      running[u] = d2[b + u] < running[u] ? d2[b + u] : running[u];
+    }
   }
-  const Vec4 least = min(min(least0, least1), min(least2, least3));
+  Vec4 least0 = running[0], least1 = running[1], least2 = running[2], least3 = running[3];
+  least0 = least1 < least0 ? least1 : least0;
+  least2 = least3 < least2 ? least3 : least2;
+  const Vec4 least = least2 < least0 ? least2 : least0;
   const double m = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
   if (!(m < best_d2)) return;
   for (int k = 0; k < kLeaf; ++k)
