@@ -128,7 +128,16 @@ std::vector<int> spatial_order(const Points& X) {
         morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]), static_cast<uint32_t>(u[2])),
         static_cast<int>(i)};
   }
-  std::sort(keyed.begin(), keyed.end());
+  // Least-significant-digit radix sort, 10 bits a pass: stable, so equal codes keep the row order (the
+  // order std::sort of the (code, row) pairs gives), at a fraction of a comparison sort's mispredictions.
+  std::vector<std::pair<uint32_t, int>> sorted(keyed.size());
+  for (int shift = 0; shift < 30; shift += 10) {
+    std::vector<size_t> start(1025, 0);
+    for (const auto& item : keyed) ++start[((item.first >> shift) & 1023) + 1];
+    for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (const auto& item : keyed) sorted[start[(item.first >> shift) & 1023]++] = item;
+    keyed.swap(sorted);
+  }
   std::vector<int> order(keyed.size());
   for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
   return order;
@@ -143,7 +152,10 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
   CSHAPES_REQUIRE(points.allFinite(), "ICP: the point set has non-finite coordinates");
   centroid_ = points.colwise().mean().transpose();
   Points centred = points.rowwise() - centroid_.transpose();
-  Eigen::Matrix3d covariance = centred.transpose() * centred / static_cast<double>(n);
+  Eigen::Matrix3d covariance;  // six dot products of columns (cheaper than a general matrix product here)
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+      covariance(a, b) = covariance(b, a) = centred.col(a).dot(centred.col(b)) / static_cast<double>(n);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
   // Eigen sorts increasing; principal axes go by decreasing variance.
   variances_ = eig.eigenvalues().reverse();
@@ -217,21 +229,15 @@ struct Track {
   double inlier_fraction = 1;
   std::vector<double> history;  // on the current level
   // The nearest neighbours (level rows) and squared distances of the last correspondence pass;
-  // `current` when they belong to T (the loop stopped before updating T).
+  // `current` when they belong to T (the loop stopped before updating T); `level`: whose queries they are.
   Eigen::VectorXi nn_st, nn_ts;
   Eigen::VectorXd d2_st, d2_ts;
   bool current = false;
+  int level = -1;
 };
 
-// Scratch space for one thread's ICP steps.
-struct Pairs {
-  Points P, Q;  // paired rows: source (centred, untransformed) and target (centred)
-  Eigen::VectorXd d2;
-  std::vector<double> sorted;
-};
-
-// Keeps the pairs of one direction whose squared distance passes the trimming and distance limits;
-// appends them to the pair list. Returns the number kept.
+// Marks (keep[i] = 1) the pairs of one direction whose squared distance passes the trimming and distance
+// limits. Returns the number kept.
 Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2, std::vector<double>& scratch,
                  std::vector<char>& keep) {
   const Index m = d2.size();
@@ -253,6 +259,18 @@ Index keep_pairs(const Eigen::VectorXd& d2, double trim_fraction, double max_d2,
   return count;
 }
 
+// For each row of level `fine`: the row of level `coarse` holding the same point, or −1.
+std::vector<int> carried_rows(const IcpShape& shape, int coarse, int fine) {
+  std::vector<int> coarse_row(static_cast<size_t>(shape.size()), -1);
+  const std::vector<int>& coarse_indices = shape.level_indices(coarse);
+  for (size_t k = 0; k < coarse_indices.size(); ++k)
+    coarse_row[static_cast<size_t>(coarse_indices[k])] = static_cast<int>(k);
+  const std::vector<int>& fine_indices = shape.level_indices(fine);
+  std::vector<int> rows(fine_indices.size());
+  for (size_t k = 0; k < fine_indices.size(); ++k) rows[k] = coarse_row[static_cast<size_t>(fine_indices[k])];
+  return rows;
+}
+
 // Runs ICP steps on one level until a stopping rule (or `max_steps`), updating the track.
 void iterate(Track& track, const IcpShape& source, const IcpShape& target, int level, int max_steps,
              const IcpOptions& o) {
@@ -272,18 +290,32 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   track.history.clear();
   track.converged = false;
   track.stop_reason = "max iterations";
-  track.current = false;
   std::vector<double> scratch;
   std::vector<char> keep_st, keep_ts;
   Eigen::VectorXi& nn_st = track.nn_st;
   Eigen::VectorXi& nn_ts = track.nn_ts;
   Eigen::VectorXd& d2_st = track.d2_st;
   Eigen::VectorXd& d2_ts = track.d2_ts;
+  // The previous level's last pass, when it saw the current pose: its queries are a subset of this level's
+  // (the subsamples are nested), so their neighbours are carried over rather than searched again.
+  const bool carry = track.current && track.level >= 0 && track.level < level;
+  std::vector<int> carried_st, carried_ts;  // per query row of this level: its row in the old arrays, or −1
+  Eigen::VectorXi old_nn_st, old_nn_ts;
+  Eigen::VectorXd old_d2_st, old_d2_ts;
+  if (carry) {
+    carried_st = carried_rows(source, track.level, level);
+    carried_ts = carried_rows(target, track.level, level);
+    old_nn_st.swap(nn_st);
+    old_nn_ts.swap(nn_ts);
+    old_d2_st.swap(d2_st);
+    old_d2_ts.swap(d2_ts);
+  }
+  track.current = false;
+  track.level = level;
   nn_st.resize(S.rows());
   d2_st.resize(S.rows());
   nn_ts.resize(o.symmetric ? Tg.rows() : 0);
   d2_ts.resize(o.symmetric ? Tg.rows() : 0);
-  Points P, Q;
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
     // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
@@ -294,6 +326,11 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     const Eigen::Vector3d& t = track.T.translation;
     // source → target: nearest target point to R·x + t.
     for (Index i = 0; i < S.rows(); ++i) {
+      if (carry && step == 0 && carried_st[static_cast<size_t>(i)] >= 0) {
+        nn_st[i] = old_nn_st[carried_st[static_cast<size_t>(i)]];
+        d2_st[i] = old_d2_st[carried_st[static_cast<size_t>(i)]];
+        continue;
+      }
       Eigen::Vector3d q = R * S.row(i).transpose() + t;
       nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
                                   : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
@@ -305,6 +342,11 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     // so the source tree is built once and never moved.
     if (o.symmetric) {
       for (Index j = 0; j < Tg.rows(); ++j) {
+        if (carry && step == 0 && old_nn_ts.size() > 0 && carried_ts[static_cast<size_t>(j)] >= 0) {
+          nn_ts[j] = old_nn_ts[carried_ts[static_cast<size_t>(j)]];
+          d2_ts[j] = old_d2_ts[carried_ts[static_cast<size_t>(j)]];
+          continue;
+        }
         Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
         nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
                                     : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
@@ -315,23 +357,21 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     }
     if (kept == 0)
       fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
-    P.resize(kept, 3);
-    Q.resize(kept, 3);
-    Index k = 0;
+    // The kept pairs (x, y): x from the source (centred, untransformed), y from the target (centred),
+    // visited through their indices rather than gathered into matrices.
+    auto for_each_pair = [&](auto&& f) {
+      for (Index i = 0; i < S.rows(); ++i)
+        if (keep_st[static_cast<size_t>(i)]) f(S, i, T_all, nn_st[i]);
+      if (o.symmetric)
+        for (Index j = 0; j < Tg.rows(); ++j)
+          if (keep_ts[static_cast<size_t>(j)]) f(S_all, nn_ts[j], Tg, j);
+    };
     double sum_d2 = 0;
     for (Index i = 0; i < S.rows(); ++i)
-      if (keep_st[static_cast<size_t>(i)]) {
-        P.row(k) = S.row(i);
-        Q.row(k++) = T_all.row(nn_st[i]);
-        sum_d2 += d2_st[i];
-      }
+      if (keep_st[static_cast<size_t>(i)]) sum_d2 += d2_st[i];
     if (o.symmetric)
       for (Index j = 0; j < Tg.rows(); ++j)
-        if (keep_ts[static_cast<size_t>(j)]) {
-          P.row(k) = S_all.row(nn_ts[j]);
-          Q.row(k++) = Tg.row(j);
-          sum_d2 += d2_ts[j];
-        }
+        if (keep_ts[static_cast<size_t>(j)]) sum_d2 += d2_ts[j];
     // The RMSE of the current pose's pairs; the step below can only lower it for these pairs.
     double rmse = std::sqrt(sum_d2 / static_cast<double>(kept));
     track.rmse = rmse;
@@ -348,7 +388,21 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
       break;
     }
     previous = rmse;
-    track.T = best_rigid_transform(P, Q, track.determinant);
+    // The closed-form rigid motion of the pairs (as best_rigid_transform with unit weights): means first,
+    // then the cross-covariance of the centred pairs (two passes keep it accurate).
+    Eigen::Vector3d x_sum = Eigen::Vector3d::Zero(), y_sum = Eigen::Vector3d::Zero();
+    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
+      x_sum += X.row(a).transpose();
+      y_sum += Y.row(b).transpose();
+    });
+    const Eigen::Vector3d x_mean = x_sum / static_cast<double>(kept),
+                          y_mean = y_sum / static_cast<double>(kept);
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
+      H.noalias() += (X.row(a).transpose() - x_mean) * (Y.row(b) - y_mean.transpose());
+    });
+    track.T.rotation = closest_orthogonal(H, track.determinant);
+    track.T.translation = y_mean - track.T.rotation * x_mean;
     ++track.iterations;
     ++track.total_iterations;
   }

@@ -1,9 +1,13 @@
-// Nearest-neighbour queries in 3-D: a KD-tree (nanoflann) over a fixed point set, built once and queried
-// many times (ICP, shape distances, correspondence maps).
+// Nearest-neighbour queries in 3-D: a KD-tree over a fixed point set, built once and queried many times
+// (ICP, shape distances, correspondence maps). nanoflann's splitting and search rules, with leaves of 64
+// points stored contiguously and scanned with SIMD (see the .cpp): about 2× faster than nanoflann 1.4.3
+// (leaves of 10) for ICP between 5,000-point shapes, whose queries lie several point spacings off the other
+// surface; exact, in double precision.
 //
-// Distances: nearest() and nearest_all() return SQUARED Euclidean distances (as nanoflann does), in the
-// units of the points. Ties are resolved by the tree (whichever of the equidistant points it meets first).
-// Cost: building O(n log n) (about 0.4 ms for 5,000 points); one query O(log n) on average (~0.3 µs).
+// Distances: nearest() and nearest_all() return SQUARED Euclidean distances, in the units of the points.
+// Ties are resolved by the tree (whichever of the equidistant points it meets first).
+// Cost: building O(n log n) (about 0.33 ms for 5,000 points); one query O(log n) on average (~0.16 µs for
+// a hinted ICP query between two TOSCA poses, meeting 3.3 leaves).
 // A built tree is immutable: queries are const and safe from several threads at once.
 #pragma once
 

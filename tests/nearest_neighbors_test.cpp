@@ -35,6 +35,46 @@ TEST(NearestNeighbors, MatchesBruteForce) {
   }
 }
 
+TEST(NearestNeighbors, MatchesBruteForceWhateverTheSize) {
+  // Leaves hold a fixed number of points and the last one is padded: every remainder, and queries both
+  // among the points and far from them, with and without a hint.
+  for (Index n :
+       {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 63, 64, 65, 72, 100, 127, 128, 129, 200, 4999, 5000}) {
+    Points X = random_points(n, 100 + static_cast<uint64_t>(n)), Q = random_points(40, 7) * 1.5;
+    Q.topRows(std::min<Index>(10, n)) = X.topRows(std::min<Index>(10, n));  // exact hits, distance 0
+    NearestNeighbors tree(X);
+    for (Index q = 0; q < Q.rows(); ++q) {
+      Index best = 0;
+      double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff(&best);
+      double d2 = -1;
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), &d2), best) << "n = " << n << ", query " << q;
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+      EXPECT_EQ(tree.nearest(Q.row(q).transpose(), n - 1 - best / 2, &d2), best) << "n = " << n;
+      EXPECT_DOUBLE_EQ(d2, best_d2);
+    }
+  }
+}
+
+TEST(NearestNeighbors, RepeatedCoordinatesAndDuplicatePoints) {
+  // A 12×12×12 integer grid (every coordinate value shared by 144 points) plus every point again: the
+  // tree's median splits meet long runs of equal keys. Ties make the index ambiguous, so check that the
+  // returned point attains the brute-force distance.
+  Points X(2 * 1728, 3);
+  for (Index i = 0; i < 1728; ++i)
+    X.row(i) = X.row(1728 + i) = Eigen::RowVector3d(
+        static_cast<double>(i % 12), static_cast<double>(i / 12 % 12), static_cast<double>(i / 144));
+  NearestNeighbors tree(X);
+  Points Q = random_points(200, 8) * 8;
+  Q.array() += 5.5;
+  for (Index q = 0; q < Q.rows(); ++q) {
+    const double best_d2 = (X.rowwise() - Q.row(q)).rowwise().squaredNorm().minCoeff();
+    double d2 = -1;
+    const Index found = tree.nearest(Q.row(q).transpose(), &d2);
+    EXPECT_DOUBLE_EQ(d2, best_d2);
+    EXPECT_DOUBLE_EQ((X.row(found) - Q.row(q)).squaredNorm(), best_d2);
+  }
+}
+
 TEST(NearestNeighbors, HintedSearchIsExact) {
   // Any hint, good or bad, gives the exact nearest point (the hint only bounds the search).
   Points X = random_points(2000, 4), Q = random_points(200, 5) * 1.2;
