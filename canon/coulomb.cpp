@@ -142,6 +142,7 @@ void check_options(const CoulombCanonOptions& o) {
   CSHAPES_REQUIRE(o.stop_window >= 1, "coulomb: stop_window must be >= 1, got ", o.stop_window);
   CSHAPES_REQUIRE(o.stop_tolerance >= 0, "coulomb: stop_tolerance must be >= 0, got ", o.stop_tolerance);
   CSHAPES_REQUIRE(o.momentum >= 0 && o.momentum < 1, "coulomb: momentum must be in [0, 1), got ", o.momentum);
+  CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
 }  // namespace
@@ -228,11 +229,11 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
       beta = std::min(options.momentum, (since_restart - 1.0) / (since_restart + 2.0));
       Y.noalias() = X + beta * (X - X_prev);
       Y_extrapolated = Y;
-    } else {
-      Y = X;
     }
     for (int s = 0; s < options.coulomb_steps; ++s) {
-      const CoulombEvaluation eval = coulomb_energy_gradient(Y, options.energy);
+      // The plain scheme's first step starts at X itself: Y = X − c∇E(X) in one pass, no copy of X first.
+      const bool from_x = s == 0 && !momentum;
+      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X : Y, options.energy);
       if (s == 0) record.energy = eval.energy;
       const double gmax = max_row_norm(eval.gradient);
       CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
@@ -248,11 +249,14 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
         }
       }
       // eq. (4)
-      Y -= c * eval.gradient;
+      if (from_x) Y.noalias() = X - c * eval.gradient;
+      else Y -= c * eval.gradient;
       record.step = c;
       record.max_move = c * gmax;
     }
-    projection->project(Y);
+    // The violation is measured inside the projection's pass (rigid motion below does not change it).
+    RelativeViolation violation;
+    projection->project(Y, &violation);
     if (!Y.allFinite())
       fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme), ", step ",
            record.step, "); try --scheme paper or a smaller --step-factor");
@@ -267,9 +271,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
     since_restart = restart ? 1 : since_restart + 1;
     record.momentum = beta;
 
-    const RelativeViolation v = projection->relative_violation(X);
-    record.mean_violation = v.mean;
-    record.max_violation = v.max;
+    record.mean_violation = violation.mean;
+    record.max_violation = violation.max;
 
     // Stopping on the change of the shape over a window, after rigid alignment.
     bool converged = false;
@@ -299,7 +302,9 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   result.stop_reason = result.converged ? "converged" : "max_iterations";
   if (options.progress) options.progress("coulomb", options.max_iterations, options.max_iterations);
 
-  result.energy = coulomb_energy_gradient(X, options.energy).energy;
+  CoulombOptions final_energy = options.energy;
+  final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);
+  result.energy = coulomb_energy_gradient(X, final_energy).energy;
   result.violation = metric_violation(X, edges, rest);
   result.X = std::move(X);
   result.edges = std::move(edges);

@@ -60,12 +60,12 @@ struct RelativeViolation {
 
 // A reusable projector for a fixed graph (set-up: O(|E| log |E|) to orient and sort the edges).
 //
-// A sweep runs in two passes, both OpenMP-parallel and vectorised: (1) per edge, the correction
-// v_ab = w_ab · t_ab (x_a − x_b) / ‖x_a − x_b‖ (a < b), so each square root and division is done once per edge
-// instead of once per endpoint; (2) per vertex, the sum of w_ij x_j ± v_ij over its edges (+ for i = a,
-// − for i = b: the projection of x_i onto the sphere of radius t_ij about x_j is x_j + v_ij resp. x_j − v_ij),
-// divided by Σ w_ij. Every vertex's sum is formed in a fixed order (neighbours by increasing index), so the
-// result is bit-identical for identical inputs and does not depend on the number of threads.
+// A sweep runs in two passes, both OpenMP-parallel and vectorised: (1) per edge (a, b), with
+// v = t_ab (x_a − x_b) / ‖x_a − x_b‖, the projections of both endpoints, x_b + v for a and x_a − v for b, times
+// their weight, written to a slot of each endpoint: each square root and division is done once per edge, not
+// once per endpoint; (2) per vertex, the sum over its slots, which lie contiguously, divided by Σ w_ij. Every
+// vertex's sum is formed in a fixed order (neighbours by increasing index), so the result is bit-identical for
+// identical inputs and does not depend on the number of threads.
 class MetricProjection {
  public:
   // n vertices; E |E|×2 edges (0-based, either orientation); rest_lengths |E| values d_ij ≥ 0 (zeros are
@@ -75,8 +75,9 @@ class MetricProjection {
 
   // One Jacobi sweep, in place. Isolated vertices do not move. X: n×3.
   void sweep(Points& X) const;
-  // options.steps sweeps.
-  void project(Points& X) const;
+  // options.steps sweeps. If `violation` is given, it receives the relative violation of the result (as
+  // relative_violation(X) afterwards would give it, up to rounding), measured inside the same parallel pass.
+  void project(Points& X, RelativeViolation* violation = nullptr) const;
 
   // The relative violation of X over this graph's edges (rest lengths as raised above). O(|E|), OpenMP with
   // a reduction in a fixed order (deterministic), no allocation: cheap enough for every iteration, unlike
@@ -88,7 +89,8 @@ class MetricProjection {
   const MetricProjectionOptions& options() const { return options_; }
 
  private:
-  void sweeps(Points& X, int count) const;
+  void sweeps(Points& X, int count, RelativeViolation* violation) const;
+  RelativeViolation combine_violation_blocks() const;
   template <bool L1, bool Dilation>
   void edge_pass(const double* positions, Index first, Index last) const;
   template <bool L1>
@@ -96,19 +98,20 @@ class MetricProjection {
 
   Index n_;
   MetricProjectionOptions options_;
-  // The edges oriented a < b and sorted by (a, b); their rest lengths.
+  // order_[i]: the input index of internal vertex i (breadth-first order, for memory locality).
+  std::vector<int> order_;
+  // The edges in internal indices, oriented a < b and sorted by (a, b); their rest lengths.
   std::vector<int> edge_a_, edge_b_;
   std::vector<double> edge_rest_;
-  // The edges (i, b), b > i, of vertex i are edges [upper_offsets_[i], upper_offsets_[i+1]); the edges (a, i),
-  // a < i, are lower_edges_[lower_offsets_[i] .. lower_offsets_[i+1]), by increasing a.
-  std::vector<int> upper_offsets_, lower_offsets_, lower_edges_;
+  // Vertex i's slots are [offsets_[i], offsets_[i+1]), one per edge, by increasing neighbour index; edge e
+  // writes its endpoints' projections into slots slot_a_[e] and slot_b_[e].
+  std::vector<int> offsets_, slot_a_, slot_b_;
   std::vector<double> inverse_degree_;  // 1 / v_i (0 for an isolated vertex)
-  // Work space: positions as 4-double records (x, y, z, 1) for two Jacobi buffers; per edge the record
-  // (v_x, v_y, v_z, 0) and, for L1, the weight w.
+  // Work space: positions as 4-double records (x, y, z, 1) for two Jacobi buffers, and a record
+  // (w·p_x, w·p_y, w·p_z, w) per slot (2|E|).
   using AlignedDoubles = std::vector<double, Eigen::aligned_allocator<double>>;
-  mutable AlignedDoubles positions_a_, positions_b_, corrections_;
-  mutable std::vector<double> weights_;
-  mutable std::vector<double> block_sums_, block_maxima_;  // relative_violation's partial results
+  mutable AlignedDoubles positions_a_, positions_b_, slots_;
+  mutable std::vector<double> block_sums_, block_maxima_;  // the violation's partial results per edge block
 };
 
 // How far X is from the rest lengths, over the edges E.

@@ -171,6 +171,11 @@ std::vector<Config> all_configs() {
       {"tear once", [](CoulombCanonOptions& o) { o.tear_times = 1; }},
       {"tear x3/100", [](CoulombCanonOptions& o) { o.tear_interval = 100; }},
       {"no tearing", [](CoulombCanonOptions& o) { o.tear_fraction = 0; }},
+      // The fast summation's accuracy during the iterations (relative L2 error of the gradient).
+      {"accuracy=3e-4", [](CoulombCanonOptions& o) { o.energy.accuracy = 3e-4; }},
+      {"accuracy=1e-3", [](CoulombCanonOptions& o) { o.energy.accuracy = 1e-3; }},
+      {"accuracy=3e-3", [](CoulombCanonOptions& o) { o.energy.accuracy = 3e-3; }},
+      {"accuracy=1e-2", [](CoulombCanonOptions& o) { o.energy.accuracy = 1e-2; }},
   };
 }
 
