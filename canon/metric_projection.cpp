@@ -26,9 +26,10 @@ namespace {
 constexpr Index kEdgeBlock = 256;
 // Vertices per block of the vertex pass and the copies in and out.
 constexpr Index kVertexBlock = 256;
-// Below this many vertices a sweep runs on one thread: forking and the two barriers per sweep cost more than
-// they save (measured on 2 cores: at 5,000 vertices two threads take 0.55× the time of one).
-constexpr Index kParallelMinVertices = 2000;
+// Below this many vertices the sweeps run on one thread. Each sweep needs two barriers, and a barrier waits
+// for a thread the OS may have descheduled: at 5,000 vertices (k = 10: 0.52 ms on one thread) two threads
+// saved ≈ 0.2 ms on a quiet 2-core machine, but took 6–90 ms while another process kept one core busy.
+constexpr Index kParallelMinVertices = 10000;
 // Edges per block of the violation's partial sums (violation_block's buffer holds this many).
 constexpr Index kViolationBlock = 1024;
 
