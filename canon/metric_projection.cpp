@@ -393,7 +393,7 @@ RelativeViolation MetricProjection::relative_violation(const Points& X) const {
   const Index blocks = (m + kViolationBlock - 1) / kViolationBlock;
   block_sums_.resize(blocks);
   block_maxima_.resize(blocks);
-#pragma omp parallel for schedule(static) if (m >= 4 * kViolationBlock)
+#pragma omp parallel for schedule(static) if (n_ >= kParallelMinVertices)
   for (Index block = 0; block < blocks; ++block) {
     const Index first = block * kViolationBlock, last = std::min(m, first + kViolationBlock);
     violation_block(edge_a_.data(), edge_b_.data(), edge_rest_.data(), first, last,
