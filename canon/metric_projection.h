@@ -21,7 +21,7 @@
 // Coincident endpoints (‖x_i − x_j‖ below 1e-12 · d_ij) get a fixed direction (±e_x, opposite for i and j)
 // so they separate instead of producing NaN.
 //
-// Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 10,000 vertices).
+// Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 2,000 vertices).
 #pragma once
 
 #include <string>
@@ -60,7 +60,7 @@ struct RelativeViolation {
 
 // A reusable projector for a fixed graph (set-up: O(|E| log |E|) to orient and sort the edges).
 //
-// A sweep runs in two vectorised passes (OpenMP-parallel from 10,000 vertices): (1) per edge (a, b), with
+// A sweep runs in two vectorised passes (OpenMP-parallel from 2,000 vertices): (1) per edge (a, b), with
 // v = t_ab (x_a − x_b) / ‖x_a − x_b‖, the projections of both endpoints, x_b + v for a and x_a − v for b, times
 // their weight, written to a slot of each endpoint: each square root and division is done once per edge, not
 // once per endpoint; (2) per vertex, the sum over its slots, which lie contiguously, divided by Σ w_ij. The
