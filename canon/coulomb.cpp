@@ -87,7 +87,31 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
 
 namespace {
 
-double max_row_norm(const Points& G) { return G.rowwise().norm().maxCoeff(); }
+// max_i ‖g_i‖ with one square root (sqrt is monotone, so this is exactly the max of the row norms).
+double max_row_norm(const Points& G) { return std::sqrt(G.rowwise().squaredNorm().maxCoeff()); }
+
+// rigid_align(A, B) written back into A, without the n×3 temporaries of the Eigen expression: it runs in
+// every iteration.
+void rigid_align_in_place(Points& A, const Points& B) {
+  const Index n = A.rows();
+  const Eigen::RowVector3d ca = A.colwise().mean(), cb = B.colwise().mean();
+  Eigen::Matrix3d H;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) H(r, c) = ((A.col(r).array() - ca(r)) * (B.col(c).array() - cb(c))).sum();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
+  double* x = A.data();
+  double* y = x + n;
+  double* z = y + n;
+  for (Index i = 0; i < n; ++i) {
+    const double ax = x[i] - ca(0), ay = y[i] - ca(1), az = z[i] - ca(2);
+    x[i] = R(0, 0) * ax + R(0, 1) * ay + R(0, 2) * az + cb(0);
+    y[i] = R(1, 0) * ax + R(1, 1) * ay + R(1, 2) * az + cb(1);
+    z[i] = R(2, 0) * ax + R(2, 1) * ay + R(2, 2) * az + cb(2);
+  }
+}
 
 double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
   if (rest.size() == 0) return 0;
@@ -118,6 +142,7 @@ void check_options(const CoulombCanonOptions& o) {
   CSHAPES_REQUIRE(o.stop_window >= 1, "coulomb: stop_window must be >= 1, got ", o.stop_window);
   CSHAPES_REQUIRE(o.stop_tolerance >= 0, "coulomb: stop_tolerance must be >= 0, got ", o.stop_tolerance);
   CSHAPES_REQUIRE(o.momentum >= 0 && o.momentum < 1, "coulomb: momentum must be in [0, 1), got ", o.momentum);
+  CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
 }  // namespace
@@ -149,11 +174,14 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   std::iota(original_row.begin(), original_row.end(), Index(0));
   result.torn_vertices = Eigen::VectorXd::Zero(n);
 
-  Points X = X0, X_prev = X0, Y;
+  // All work arrays are allocated once: an iteration at 5,000 vertices takes a few milliseconds, and fresh
+  // n×3 matrices (120 kB, above malloc's mmap threshold) would be mapped and faulted in every time.
+  Points X = X0, X_prev = X0, Y(n, 3), Y_extrapolated(momentum ? n : 0, 3);
   Points snapshot = X0;
   int snapshot_iteration = 0;
   int since_restart = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
   double shape_change = -1;
+  result.history.reserve(static_cast<size_t>(std::min(options.max_iterations, 100000)));
 
   auto tear_now = [&](int iteration) {
     const double share = options.tear_fraction / options.tear_times;
@@ -199,13 +227,13 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
     double beta = 0;
     if (momentum) {
       beta = std::min(options.momentum, (since_restart - 1.0) / (since_restart + 2.0));
-      Y = X + beta * (X - X_prev);
-    } else {
-      Y = X;
+      Y.noalias() = X + beta * (X - X_prev);
+      Y_extrapolated = Y;
     }
-    const Points Y_extrapolated = momentum ? Y : Points();
     for (int s = 0; s < options.coulomb_steps; ++s) {
-      CoulombEvaluation eval = coulomb_energy_gradient(Y, options.energy);
+      // The plain scheme's first step starts at X itself: Y = X − c∇E(X) in one pass, no copy of X first.
+      const bool from_x = s == 0 && !momentum;
+      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X : Y, options.energy);
       if (s == 0) record.energy = eval.energy;
       const double gmax = max_row_norm(eval.gradient);
       CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
@@ -221,15 +249,18 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
         }
       }
       // eq. (4)
-      Y -= c * eval.gradient;
+      if (from_x) Y.noalias() = X - c * eval.gradient;
+      else Y -= c * eval.gradient;
       record.step = c;
       record.max_move = c * gmax;
     }
-    projection->project(Y);
+    // The violation is measured inside the projection's pass (rigid motion below does not change it).
+    RelativeViolation violation;
+    projection->project(Y, &violation);
     if (!Y.allFinite())
       fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme), ", step ",
            record.step, "); try --scheme paper or a smaller --step-factor");
-    if (options.remove_rigid_motion) Y = rigid_align(Y, X);
+    if (options.remove_rigid_motion) rigid_align_in_place(Y, X);
     bool restart = false;
     if (momentum) {
       // Gradient-mapping restart: the step from the extrapolated point goes back against the momentum.
@@ -240,9 +271,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
     since_restart = restart ? 1 : since_restart + 1;
     record.momentum = beta;
 
-    const MetricViolation v = metric_violation(X, edges, rest);
-    record.mean_violation = v.mean_relative;
-    record.max_violation = v.max_relative;
+    record.mean_violation = violation.mean;
+    record.max_violation = violation.max;
 
     // Stopping on the change of the shape over a window, after rigid alignment.
     bool converged = false;
@@ -272,7 +302,9 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   result.stop_reason = result.converged ? "converged" : "max_iterations";
   if (options.progress) options.progress("coulomb", options.max_iterations, options.max_iterations);
 
-  result.energy = coulomb_energy_gradient(X, options.energy).energy;
+  CoulombOptions final_energy = options.energy;
+  final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);
+  result.energy = coulomb_energy_gradient(X, final_energy).energy;
   result.violation = metric_violation(X, edges, rest);
   result.X = std::move(X);
   result.edges = std::move(edges);

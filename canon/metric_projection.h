@@ -21,11 +21,13 @@
 // Coincident endpoints (‖x_i − x_j‖ below 1e-12 · d_ij) get a fixed direction (±e_x, opposite for i and j)
 // so they separate instead of producing NaN.
 //
-// Complexity: O(|E|) per sweep, OpenMP over vertices.
+// Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 2,000 vertices).
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/mesh.h"
 
@@ -50,31 +52,68 @@ struct MetricProjectionOptions {
   double dilation = 1.0;
 };
 
-// A reusable projector for a fixed graph (set-up: the CSR adjacency, O(|E|)).
+// The mean and max of |r_ij − d_ij| / d_ij: what the Coulomb iteration records after every projection.
+struct RelativeViolation {
+  double mean = 0;
+  double max = 0;
+};
+
+// A reusable projector for a fixed graph (set-up: O(|E| log |E|) to orient and sort the edges).
+//
+// A sweep runs in two vectorised passes (OpenMP-parallel from 2,000 vertices): (1) per edge (a, b), with
+// v = t_ab (x_a − x_b) / ‖x_a − x_b‖, the projections of both endpoints, x_b + v for a and x_a − v for b, times
+// their weight, written to a slot of each endpoint: each square root and division is done once per edge, not
+// once per endpoint; (2) per vertex, the sum over its slots, which lie contiguously, divided by Σ w_ij. The
+// vertices are renumbered internally in breadth-first order (memory locality); every vertex's sum is formed in
+// a fixed order (its neighbours by that numbering), so the result is bit-identical for identical inputs and
+// does not depend on the number of threads. Per sweep at 5,000 vertices (one thread): ≈ 0.05 ms, 2.7× faster
+// than the previous one-pass sweep over the adjacency.
 class MetricProjection {
  public:
-  // n vertices; E |E|×2 edges (0-based); rest_lengths |E| values d_ij > 0.
+  // n vertices; E |E|×2 edges (0-based, either orientation); rest_lengths |E| values d_ij ≥ 0 (zeros are
+  // raised to 1e-12 × the largest, so relative quantities stay finite).
   MetricProjection(Index num_vertices, const Edges& E, const Eigen::VectorXd& rest_lengths,
                    const MetricProjectionOptions& options = {});
 
   // One Jacobi sweep, in place. Isolated vertices do not move. X: n×3.
   void sweep(Points& X) const;
-  // options.steps sweeps.
-  void project(Points& X) const;
+  // options.steps sweeps. If `violation` is given, it receives the relative violation of the result (as
+  // relative_violation(X) afterwards would give it, up to rounding), measured inside the same parallel pass.
+  void project(Points& X, RelativeViolation* violation = nullptr) const;
 
+  // The relative violation of X over this graph's edges (rest lengths as raised above). O(|E|), OpenMP with
+  // a reduction in a fixed order (deterministic), no allocation: cheap enough for every iteration, unlike
+  // metric_violation's median.
+  RelativeViolation relative_violation(const Points& X) const;
+
+  Index num_vertices() const { return n_; }
+  Index num_edges() const { return static_cast<Index>(edge_a_.size()); }
   const MetricProjectionOptions& options() const { return options_; }
 
  private:
-  // Sweeps on interleaved xyz buffers (3n doubles): a gather from a column-major n×3 matrix touches three cache
-  // lines per neighbour, and the sweep is memory-bound.
-  void sweeps(Points& X, int count) const;
+  void sweeps(Points& X, int count, RelativeViolation* violation) const;
+  RelativeViolation combine_violation_blocks() const;
+  template <bool L1, bool Dilation>
+  void edge_pass(const double* positions, Index first, Index last) const;
+  template <bool L1>
+  void vertex_pass(const double* positions, double* out, Index first, Index last) const;
 
   Index n_;
-  Eigen::VectorXd rest_;
-  Adjacency adj_;
-  std::vector<double> neighbor_rest_;  // rest length of each CSR entry (2|E|), so the sweep reads it in order
   MetricProjectionOptions options_;
-  mutable std::vector<double> buffer_a_, buffer_b_;
+  // order_[i]: the input index of internal vertex i (breadth-first order, for memory locality).
+  std::vector<int> order_;
+  // The edges in internal indices, oriented a < b and sorted by (a, b); their rest lengths.
+  std::vector<int> edge_a_, edge_b_;
+  std::vector<double> edge_rest_;
+  // Vertex i's slots are [offsets_[i], offsets_[i+1]), one per edge, by increasing neighbour index; edge e
+  // writes its endpoints' projections into slots slot_a_[e] and slot_b_[e].
+  std::vector<int> offsets_, slot_a_, slot_b_;
+  std::vector<double> inverse_degree_;  // 1 / v_i (0 for an isolated vertex)
+  // Work space: positions as 4-double records (x, y, z, 1) for two Jacobi buffers, and a record
+  // (w·p_x, w·p_y, w·p_z, w) per slot (2|E|).
+  using AlignedDoubles = std::vector<double, Eigen::aligned_allocator<double>>;
+  mutable AlignedDoubles positions_a_, positions_b_, slots_;
+  mutable std::vector<double> block_sums_, block_maxima_;  // the violation's partial results per edge block
 };
 
 // How far X is from the rest lengths, over the edges E.

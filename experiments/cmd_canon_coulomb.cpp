@@ -58,7 +58,8 @@ void add_options(CLI::Option_group& g) {
       ->capture_default_str();
   g.add_option("--momentum", o.momentum, "cap of Nesterov's momentum (scheme momentum)")->capture_default_str();
   g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, direct-float, fast")->capture_default_str();
-  g.add_option("--coulomb-accuracy", o.energy.accuracy, "fast summation: target relative gradient error")
+  g.add_option("--coulomb-accuracy", o.energy.accuracy, "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
+               "whichever is smaller)")
       ->capture_default_str();
   g.add_option("--knn", args.knn.k, "point clouds (no faces): neighbours per point of the symmetric kNN graph")
       ->capture_default_str();

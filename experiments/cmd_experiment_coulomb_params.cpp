@@ -165,12 +165,22 @@ std::vector<Config> all_configs() {
       {"l1", [](CoulombCanonOptions& o) { o.projection.norm = ProjectionNorm::L1; }},
       {"tear=50", [](CoulombCanonOptions& o) { o.tear_after = 50; }},
       {"tear=150", [](CoulombCanonOptions& o) { o.tear_after = 150; }},
+      {"tear=200", [](CoulombCanonOptions& o) { o.tear_after = 200; }},
+      {"tear=200 x3/30", [](CoulombCanonOptions& o) {
+         o.tear_after = 200;
+         o.tear_interval = 30;
+       }},
       {"tear=convergence", [](CoulombCanonOptions& o) { o.tear_after = 1000000; }},
       {"p=0.5%", [](CoulombCanonOptions& o) { o.tear_fraction = 0.005; }},
       {"p=2%", [](CoulombCanonOptions& o) { o.tear_fraction = 0.02; }},
       {"tear once", [](CoulombCanonOptions& o) { o.tear_times = 1; }},
       {"tear x3/100", [](CoulombCanonOptions& o) { o.tear_interval = 100; }},
       {"no tearing", [](CoulombCanonOptions& o) { o.tear_fraction = 0; }},
+      // The fast summation's accuracy during the iterations (relative L2 error of the gradient).
+      {"accuracy=3e-4", [](CoulombCanonOptions& o) { o.energy.accuracy = 3e-4; }},
+      {"accuracy=1e-3", [](CoulombCanonOptions& o) { o.energy.accuracy = 1e-3; }},
+      {"accuracy=3e-3", [](CoulombCanonOptions& o) { o.energy.accuracy = 3e-3; }},
+      {"accuracy=1e-2", [](CoulombCanonOptions& o) { o.energy.accuracy = 1e-2; }},
   };
 }
 

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <omp.h>
 #include <random>
 
 #include "core/error.h"
+#include "core/mesh.h"
 #include "core/synthetic.h"
 
 namespace cshapes {
@@ -145,6 +147,105 @@ TEST(MetricProjection, CoincidentEndpointsGiveFiniteResults) {
     EXPECT_TRUE(Y.allFinite());
     EXPECT_GT((Y.row(E(0, 1)) - Y.row(E(0, 0))).norm(), 0);
   }
+}
+
+// One sweep of eq. (6) / eq. (8)-(9) / eq. (3) evaluated literally, vertex by vertex over the adjacency: the
+// reference for the two-pass, vectorised sweep.
+Points reference_sweep(const Points& X, const Edges& E, const Eigen::VectorXd& rest, const MetricProjectionOptions& o) {
+  const Adjacency adj = adjacency(X.rows(), E);
+  Points out = X;
+  for (Index i = 0; i < X.rows(); ++i) {
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    double weight_sum = 0;
+    for (int k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k) {
+      const int j = adj.neighbors[k];
+      const double d = rest(adj.edge_ids[k]);
+      const Eigen::RowVector3d u = X.row(i) - X.row(j);
+      const double r = u.norm();
+      const double t = std::clamp(r, d / o.dilation, d * o.dilation);
+      const double w = o.norm == ProjectionNorm::L1 ? 1.0 / std::max(std::abs(r - d), o.l1_floor * d) : 1.0;
+      Eigen::RowVector3d p = X.row(j) + (t / r) * u;
+      if (r <= 1e-12 * d) p = X.row(j) + Eigen::RowVector3d(i < j ? t : -t, 0, 0);
+      sum += w * p;
+      weight_sum += w;
+    }
+    if (weight_sum > 0) out.row(i) = sum / weight_sum;
+  }
+  return out;
+}
+
+TEST(MetricProjection, SweepMatchesTheLiteralFormula) {
+  const Mesh m = torus(40, 15);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  const double h = rest.mean();
+  Points X = perturbed(m.V * 1.2, 0.3 * h, 11);
+  X.row(E(3, 1)) = X.row(E(3, 0));  // one pair of coincident endpoints
+  for (ProjectionNorm norm : {ProjectionNorm::L2, ProjectionNorm::L1})
+    for (double dilation : {1.0, 1.1}) {
+      MetricProjectionOptions o;
+      o.norm = norm;
+      o.dilation = dilation;
+      Points Y = X;
+      MetricProjection(m.num_vertices(), E, rest, o).sweep(Y);
+      EXPECT_LT((Y - reference_sweep(X, E, rest, o)).cwiseAbs().maxCoeff(), 1e-12 * h)
+          << to_string(norm) << ", dilation " << dilation;
+    }
+}
+
+TEST(MetricProjection, EdgeOrderAndOrientationDoNotMatter) {
+  const Mesh m = icosphere(3);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  // The same graph, edges reversed and listed backwards.
+  Edges F(E.rows(), 2);
+  Eigen::VectorXd rest_f(E.rows());
+  for (Index e = 0; e < E.rows(); ++e) {
+    F.row(E.rows() - 1 - e) << E(e, 1), E(e, 0);
+    rest_f(E.rows() - 1 - e) = rest(e);
+  }
+  const Points X0 = perturbed(m.V, 0.05, 5);
+  Points A = X0, B = X0;
+  MetricProjection(m.num_vertices(), E, rest).project(A);
+  MetricProjection(m.num_vertices(), F, rest_f).project(B);
+  EXPECT_TRUE(A == B);
+}
+
+TEST(MetricProjection, IdenticalResultsOnAnyNumberOfThreads) {
+  // Large enough for the parallel path (icosphere(5): 10,242 vertices).
+  const Mesh m = icosphere(5);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  const Points X0 = perturbed(m.V * 1.1, 0.01, 9);
+  const int threads = omp_get_max_threads();
+  for (ProjectionNorm norm : {ProjectionNorm::L2, ProjectionNorm::L1}) {
+    MetricProjectionOptions o;
+    o.norm = norm;
+    const MetricProjection P(m.num_vertices(), E, rest, o);
+    Points A = X0, B = X0;
+    omp_set_num_threads(1);
+    P.project(A);
+    const RelativeViolation va = P.relative_violation(A);
+    omp_set_num_threads(std::max(2, threads));
+    P.project(B);
+    const RelativeViolation vb = P.relative_violation(B);
+    omp_set_num_threads(threads);
+    EXPECT_TRUE(A == B) << to_string(norm);
+    EXPECT_EQ(va.mean, vb.mean);
+    EXPECT_EQ(va.max, vb.max);
+  }
+}
+
+TEST(MetricProjection, RelativeViolationMatchesMetricViolation) {
+  const Mesh m = torus(30, 12);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  const Points X = perturbed(m.V, 0.05, 4);
+  const MetricViolation full = metric_violation(X, E, rest);
+  const RelativeViolation v = MetricProjection(m.num_vertices(), E, rest).relative_violation(X);
+  EXPECT_NEAR(v.mean, full.mean_relative, 1e-12 * full.mean_relative);
+  EXPECT_EQ(v.max, full.max_relative);
+  EXPECT_LT(MetricProjection(m.num_vertices(), E, rest).relative_violation(m.V).max, 1e-14);
 }
 
 TEST(MetricViolation, KnownAnswers) {
