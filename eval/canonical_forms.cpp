@@ -178,7 +178,7 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
       << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
       << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
       << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy
-      << ";floor=" << c.energy.min_distance;
+      << ";floor=" << c.energy.min_distance << ";result_accuracy=" << c.result_accuracy;
   } else {
     k << ";geodesics=" << to_string(o.geodesics.method) << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
       << ";heat_t=" << o.geodesics.heat_time_factor << ";lanczos=" << o.cmds.lanczos_vectors

@@ -73,10 +73,7 @@ const bool registered = register_command(
        app.add_flag("--largest-component", args.largest_component,
                     "keep the largest connected component instead of refusing a disconnected mesh");
        app.add_flag("--json", args.json, "print a JSON summary on stdout");
-       for (const CanonMethod& m : canon_methods()) {
-         CLI::Option_group* group = app.add_option_group(m.name + " options");
-         if (m.add_options) m.add_options(*group);
-       }
+       add_canon_method_options(app);
      },
      run});
 

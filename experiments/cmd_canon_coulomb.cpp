@@ -65,12 +65,23 @@ void add_options(CLI::Option_group& g) {
       ->capture_default_str();
 }
 
-CanonOutput run(const CanonJob& job) {
+// The options as parsed (names checked here, so a typo fails before any work).
+CoulombCanonOptions parsed_options() {
   CoulombCanonOptions options = args.options;
   options.scheme = parse_coulomb_scheme(args.scheme);
   options.step_rule = parse_coulomb_step_rule(args.step_rule);
   options.projection.norm = parse_projection_norm(args.norm);
   options.energy.summation = parse_summation(args.summation);
+  return options;
+}
+
+void configure(CanonicalFormOptions& o) {
+  o.coulomb = parsed_options();
+  o.knn = args.knn;
+}
+
+CanonOutput run(const CanonJob& job) {
+  CoulombCanonOptions options = parsed_options();
   options.progress = progress_printer();
   // A point cloud gets its symmetric kNN graph as the edges of the metric constraints (§5 of the issue).
   const Edges edges = job.mesh.is_point_cloud() ? knn_graph(job.mesh.V, args.knn) : mesh_edges(job.mesh.F);
@@ -113,7 +124,8 @@ CanonOutput run(const CanonJob& job) {
 }
 
 const bool registered = register_canon_method(
-    {"coulomb", "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)", add_options, run});
+    {"coulomb", "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)", add_options, run,
+     configure});
 
 }  // namespace
 }  // namespace cshapes::cli

@@ -12,7 +12,7 @@ namespace cshapes::cli {
 namespace {
 
 struct MdsArgs {
-  std::string geodesics = "fmm";
+  std::string geodesics;  // empty: the command's default (canon: fmm, the paper's; distmat, experiment: heat)
   std::string distances;
   int iterations = 300;
   double tolerance = 1e-5;
@@ -28,7 +28,7 @@ DistanceMatrix job_distances(const CanonJob& job) {
   const Index n = job.mesh.num_vertices();
   if (args.distances.empty()) {
     GeodesicOptions go;
-    go.method = parse_geodesic_method(args.geodesics);
+    go.method = parse_geodesic_method(args.geodesics.empty() ? "fmm" : args.geodesics);
     go.progress = progress_printer();
     return all_pairs_geodesics(job.mesh, go);
   }
@@ -124,17 +124,36 @@ CanonOutput canon_smacof(const CanonJob& job) {
   return out;
 }
 
+// distmat and experiment paper: the same options through canonical_form(), which computes the geodesics
+// itself and starts SMACOF from classical MDS with uniform weights.
+void configure_mds(CanonicalFormOptions& o) {
+  if (!args.geodesics.empty()) o.geodesics.method = parse_geodesic_method(args.geodesics);
+  CSHAPES_REQUIRE(args.distances.empty(), "--distances: only `cshapes canon` reads a precomputed distance matrix "
+                  "(here every shape needs its own)");
+}
+
+void configure_smacof(CanonicalFormOptions& o) {
+  o.smacof.max_iterations = args.iterations;
+  o.smacof.tolerance = args.tolerance;
+  o.smacof.acceleration = parse_smacof_acceleration(args.accelerate);
+  o.smacof.extrapolation_window = args.window;
+  CSHAPES_REQUIRE(args.init == "cmds", "--init ", args.init,
+                  ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
+  CSHAPES_REQUIRE(args.weights == "uniform", "--weights ", args.weights,
+                  ": only `cshapes canon` weights SMACOF by vertex areas; here weights are uniform");
+}
+
 // Options shared by both methods live in the cmds group (CLI11 needs each name once).
 const bool cmds_registered = register_canon_method(
     {"cmds", "classical MDS (Young-Householder) of all-pairs geodesic distances",
      [](CLI::Option_group& g) {
        g.add_option("--geodesics", args.geodesics,
-                    "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph)")
-           ->capture_default_str();
+                    "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: fmm "
+                    "(the paper's) in canon, heat in distmat and experiment paper");
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
      },
-     canon_cmds});
+     canon_cmds, configure_mds});
 
 const bool smacof_registered = register_canon_method(
     {"smacof", "SMACOF metric MDS (Guttman transforms) of all-pairs geodesic distances",
@@ -155,7 +174,7 @@ const bool smacof_registered = register_canon_method(
                     "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
            ->capture_default_str();
      },
-     canon_smacof});
+     canon_smacof, configure_smacof});
 
 }  // namespace
 }  // namespace cshapes::cli

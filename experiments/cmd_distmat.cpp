@@ -1,6 +1,6 @@
 // cshapes distmat DIR|manifest.csv -o D.csv --method M: canonical forms of a whole dataset (cached), ICP
 // between every pair, the paper's distance (maximum distance between matched points) as a named CSV matrix
-// that `cshapes evaluate` reads.
+// that `cshapes evaluate` reads. Every option of the methods (`cshapes canon`'s groups) applies here too.
 #include <filesystem>
 #include <iostream>
 
@@ -15,7 +15,7 @@ namespace cshapes::cli {
 namespace {
 
 struct DistmatArgs {
-  std::string data, output, method = "coulomb", geodesics = "heat", cache, metric = "hausdorff";
+  std::string data, output, method = "coulomb", cache, metric = "hausdorff";
   bool largest_component = false, json = false;
 } args;
 
@@ -23,7 +23,8 @@ int run() {
   Dataset data = read_dataset(args.data);
   CanonicalFormOptions co;
   co.method = args.method;
-  co.geodesics.method = parse_geodesic_method(args.geodesics);
+  co.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
+  configure_canonical_form(co);                // every method option given on the command line
   CSHAPES_REQUIRE(args.metric == "hausdorff" || args.metric == "chamfer" || args.metric == "rmse",
                   "--metric: expected hausdorff, chamfer or rmse, got '", args.metric, "'");
   const std::string cache_dir =
@@ -67,13 +68,13 @@ const bool registered = register_command(
        app.add_option("DATA", args.data, "folder of meshes (class = name without trailing digits) or manifest.csv")
            ->required();
        app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
-       app.add_option("--method", args.method, "coulomb, cmds or smacof (their default options)")->capture_default_str();
-       app.add_option("--geodesics", args.geodesics, "MDS geodesics: heat, fmm, heat-cgal, exact, graph")
+       app.add_option("--method", args.method, "coulomb, cmds or smacof (options: the groups below, as in canon)")
            ->capture_default_str();
        app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")->capture_default_str();
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
        app.add_flag("--largest-component", args.largest_component, "keep each input's largest component");
        app.add_flag("--json", args.json, "print a JSON summary");
+       add_canon_method_options(app);
      },
      run});
 

@@ -14,8 +14,6 @@ struct PaperArgs {
   PaperExperimentOptions options;
   std::string methods = "coulomb,cmds,smacof";
   std::string poses = "4";
-  std::string geodesics = "heat";
-  std::string coulomb_scheme, coulomb_step_rule;
   bool no_table1 = false, no_figures = false, json = false;
 } args;
 
@@ -41,9 +39,8 @@ int run() {
     }
     CSHAPES_REQUIRE(o.poses_per_class >= 1, "--poses-per-class must be at least 1 (or 'all')");
   }
-  o.canon.geodesics.method = parse_geodesic_method(args.geodesics);
-  if (!args.coulomb_scheme.empty()) o.canon.coulomb.scheme = parse_coulomb_scheme(args.coulomb_scheme);
-  if (!args.coulomb_step_rule.empty()) o.canon.coulomb.step_rule = parse_coulomb_step_rule(args.coulomb_step_rule);
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
+  configure_canonical_form(o.canon);                 // every method option given, as in `cshapes canon`
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   o.progress = progress_printer();
@@ -84,20 +81,7 @@ const bool registered = register_command(
            ->capture_default_str();
        app.add_option("--glue", o.glue, "glues per noisy shape made here")->capture_default_str();
        app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
-       app.add_option("--geodesics", args.geodesics,
-                      "geodesics for MDS: heat (ours, fastest), fmm (the paper's), heat-cgal, exact, graph")
-           ->capture_default_str();
        app.add_flag("--largest-component", o.largest_component, "keep each input's largest connected component");
-       CoulombCanonOptions& c = o.canon.coulomb;
-       app.add_option("--coulomb-scheme", args.coulomb_scheme, "Coulomb: paper or momentum (default: canon's)");
-       app.add_option("--coulomb-step-rule", args.coulomb_step_rule,
-                      "Coulomb: max-edge (paper), mean-edge, median-edge, fixed (default: canon's)");
-       app.add_option("--coulomb-projection-steps", c.projection.steps, "Coulomb: k, projection sweeps per step")
-           ->capture_default_str();
-       app.add_option("--coulomb-tear-fraction", c.tear_fraction, "Coulomb: fraction of edges torn (0: none)")
-           ->capture_default_str();
-       app.add_option("--coulomb-max-iterations", c.max_iterations, "Coulomb: maximum outer iterations")
-           ->capture_default_str();
        app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")->capture_default_str();
        app.add_flag("--no-table1", args.no_table1, "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
        app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
@@ -109,6 +93,7 @@ const bool registered = register_command(
                       "ground-truth samples per pair for the point-map error (0: skip)")
            ->capture_default_str();
        app.add_flag("--json", args.json, "print the summary as JSON");
+       add_canon_method_options(app);
      },
      run});
 

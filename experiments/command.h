@@ -17,6 +17,7 @@
 #include "core/io.h"
 #include "core/mesh.h"
 #include "core/progress.h"
+#include "eval/canonical_forms.h"
 
 namespace cshapes::cli {
 
@@ -49,9 +50,17 @@ struct CanonMethod {
   std::string summary;  // one line for --help
   std::function<void(CLI::Option_group&)> add_options;
   std::function<CanonOutput(const CanonJob&)> run;
+  // Writes the options parsed by add_options' group into `options`, for commands that go through
+  // canonical_form() (distmat, experiment paper); refuses, with a message, an option that only `canon` has.
+  std::function<void(CanonicalFormOptions& options)> configure;
 };
 bool register_canon_method(CanonMethod method);
 const std::vector<CanonMethod>& canon_methods();
+// Adds every method's option group ("coulomb options", ...) to app: `canon`, `distmat` and `experiment paper`
+// take the same method options, with the same names and defaults.
+void add_canon_method_options(CLI::App& app);
+// Applies every method's parsed options to `options` (after a successful parse of such a command).
+void configure_canonical_form(CanonicalFormOptions& options);
 
 // Global options (given before or after the command).
 bool quiet();

@@ -37,6 +37,18 @@ bool register_canon_method(CanonMethod method) {
 }
 const std::vector<CanonMethod>& canon_methods() { return registry().canon; }
 
+void add_canon_method_options(CLI::App& app) {
+  for (const CanonMethod& m : canon_methods()) {
+    CLI::Option_group* group = app.add_option_group(m.name + " options");
+    if (m.add_options) m.add_options(*group);
+  }
+}
+
+void configure_canonical_form(CanonicalFormOptions& options) {
+  for (const CanonMethod& m : canon_methods())
+    if (m.configure) m.configure(options);
+}
+
 bool quiet() { return g_quiet; }
 int threads() { return g_threads; }
 

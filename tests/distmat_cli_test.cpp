@@ -1,0 +1,80 @@
+// `cshapes distmat` and `cshapes experiment paper` take every option of the canonization methods, with
+// `cshapes canon`'s names: the options reach the computation (they change the cache key and the result), and
+// options only `canon` can honour are refused by name.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "eval/distance_csv.h"
+#include "test_support.h"
+
+namespace cshapes {
+namespace {
+
+// Two spheres and two tori of different sizes: a dataset small enough for a CLI test.
+std::string tiny_dataset() {
+  const std::string dir = test::scratch_dir("distmat_cli");
+  write_mesh(dir + "/data/sphere0.off", icosphere(2, 1.0));
+  write_mesh(dir + "/data/sphere1.off", icosphere(2, 1.2));
+  write_mesh(dir + "/data/torus0.off", torus(16, 8, 1.0, 0.3));
+  write_mesh(dir + "/data/torus1.off", torus(16, 8, 1.1, 0.35));
+  return dir;
+}
+
+nlohmann::json run_json(const std::string& arguments) {
+  test::CliResult r = test::run_cli(arguments + " --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out.empty() ? "{}" : r.out);
+}
+
+TEST(DistmatCli, MethodOptionsReachTheComputation) {
+  const std::string dir = tiny_dataset();
+  const std::string base = "-q distmat '" + dir + "/data' --cache '" + dir + "/cache' --method coulomb "
+                           "--coulomb-max-iterations 40 --tear-fraction 0";
+  nlohmann::json a = run_json(base + " -o '" + dir + "/a.csv'");
+  EXPECT_EQ(a["pairs_computed"], 6);
+  // The same options again: everything cached.
+  nlohmann::json same = run_json(base + " -o '" + dir + "/same.csv'");
+  EXPECT_EQ(same["pairs_computed"], 0);
+  EXPECT_EQ(same["pairs_cached"], 6);
+  // A different k: new canonical forms, so new pairs, and a different matrix.
+  nlohmann::json b = run_json(base + " --projection-steps 1 -o '" + dir + "/b.csv'");
+  EXPECT_EQ(b["pairs_computed"], 6);
+
+  const NamedDistances da = read_distance_csv(dir + "/a.csv");
+  const NamedDistances ds = read_distance_csv(dir + "/same.csv");
+  const NamedDistances db = read_distance_csv(dir + "/b.csv");
+  ASSERT_EQ(da.names.size(), 4u);
+  EXPECT_EQ((da.D - ds.D).norm(), 0.0);
+  EXPECT_GT((da.D - db.D).norm(), 1e-6 * da.D.norm());
+}
+
+TEST(DistmatCli, MdsOptionsAndCanonOnlyOptions) {
+  const std::string dir = tiny_dataset();
+  const std::string base = "-q distmat '" + dir + "/data' --cache '" + dir + "/cache' ";
+  nlohmann::json plain = run_json(base + "--method smacof --geodesics graph -o '" + dir + "/p.csv'");
+  EXPECT_EQ(plain["pairs_computed"], 6);
+  nlohmann::json accelerated =
+      run_json(base + "--method smacof --geodesics graph --accelerate rre -o '" + dir + "/r.csv'");
+  EXPECT_EQ(accelerated["pairs_computed"], 6);  // another option, other forms
+
+  // What only `canon` can do is refused in one line naming the option, with no output file.
+  for (const std::string& extra : {std::string("--distances x.bin"), std::string("--weights area"),
+                                   std::string("--init mesh"), std::string("--scheme nonsense")}) {
+    const std::string out = dir + "/refused.csv";
+    test::CliResult r = test::run_cli(base + "--method smacof " + extra + " -o '" + out + "'");
+    EXPECT_NE(r.exit_code, 0) << extra;
+    const std::string option = extra.substr(0, extra.find(' ')), value = extra.substr(extra.find(' ') + 1);
+    EXPECT_TRUE(r.err.find(option) != std::string::npos || r.err.find("'" + value + "'") != std::string::npos)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << extra;
+  }
+}
+
+}  // namespace
+}  // namespace cshapes
