@@ -24,6 +24,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Four doubles in one AVX register (GCC/Clang vector extension): M2L runs four source cells at once.
 typedef double V4 __attribute__((vector_size(32)));
+typedef double UnalignedV4 __attribute__((vector_size(32), aligned(8)));  // for loads from std::vector rows
 
 // Multi-indices k = (k_x, k_y, k_z) with |k| = k_x + k_y + k_z ≤ p, ordered by degree, and the index tables
 // every expansion operator walks. A coefficient array of order p has count = (p+1)(p+2)(p+3)/6 entries.
@@ -354,6 +355,8 @@ class Fmm {
       : X_(X),
         n_(X.rows()),
         tables_(parameters.order),
+        stride_((tables_.count + 3) / 4 * 4),
+        zero_moments_(stride_, 0.0),
         theta_(parameters.opening_angle),
         leaf_size_(parameters.leaf_size),
         framed_near_field_(parameters.framed_near_field),
@@ -497,10 +500,10 @@ class Fmm {
   }
 
   double* multipole(size_t c) {
-    return multipoles_.data() + c * tables_.count;
+    return multipoles_.data() + c * stride_;
   }
   double* local(size_t c) {
-    return locals_.data() + c * tables_.count;
+    return locals_.data() + c * stride_;
   }
 
   // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
@@ -508,8 +511,8 @@ class Fmm {
   // work (P2M, L2P) and the interactions run in parallel.
   void upward_pass() {
     const int count = tables_.count;
-    multipoles_.assign(cells_.size() * count, 0.0);
-    locals_.assign(cells_.size() * count, 0.0);
+    multipoles_.assign(cells_.size() * stride_, 0.0);
+    locals_.assign(cells_.size() * stride_, 0.0);
     leaves_.clear();
     for (size_t c = 0; c < cells_.size(); ++c)
       if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
@@ -612,7 +615,7 @@ class Fmm {
     const StaticM2LFunction fixed_m2l = static_m2l(tables_.order);
 #pragma omp parallel reduction(+ : m2l_total, p2p_total, m2l_seconds, p2p_seconds)
     {
-      std::vector<V4> derivative(count), moments(count), accumulated(count);
+      std::vector<V4> derivative(count), moments(stride_), accumulated(count);
       std::vector<FramedRange> ranges;
       std::vector<SourceRange> exact_ranges;
 #pragma omp for schedule(dynamic, 1)
@@ -626,16 +629,27 @@ class Fmm {
           std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
           for (size_t g = 0; g < list.size(); g += 4) {
             V4 R[3];
+            const double* M[4];
             for (int l = 0; l < 4; ++l) {
               if (g + l < list.size()) {
                 const Cell& B = cells_[list[g + l]];
                 for (int c = 0; c < 3; ++c) R[c][l] = A.center[c] - B.center[c];
-                const double* M = multipole(list[g + l]);
-                for (int k = 0; k < count; ++k) moments[k][l] = M[k];
+                M[l] = multipole(list[g + l]);
               } else {  // an empty lane: a harmless separation and no charge
                 R[0][l] = 1, R[1][l] = 0, R[2][l] = 0;
-                for (int k = 0; k < count; ++k) moments[k][l] = 0;
+                M[l] = zero_moments_.data();
               }
+            }
+            // moments[k][l] = M[l][k]: 4×4 transposes of aligned rows (stride_ is a multiple of 4).
+            for (int k = 0; k < stride_; k += 4) {
+              const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k), r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
+                       r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k), r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
+              const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
+                       a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+              moments[k] = __builtin_shufflevector(a01, a23, 0, 1, 4, 5);
+              moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
+              moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
+              moments[k + 3] = __builtin_shufflevector(b01, b23, 2, 3, 6, 7);
             }
             if (fixed_m2l) {
               fixed_m2l(R, moments.data(), accumulated.data());
@@ -750,6 +764,8 @@ class Fmm {
   const Points& X_;
   const Index n_;
   const MultiIndexTables tables_;
+  const int stride_;                        // doubles per cell's expansion: count rounded up to a multiple of 4
+  const std::vector<double> zero_moments_;  // the moments of an empty M2L lane
   const double theta_;
   const int leaf_size_;
   const bool framed_near_field_;
