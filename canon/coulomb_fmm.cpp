@@ -675,7 +675,7 @@ class Fmm {
   // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
   // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
-    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 256), leaf_size_);
+    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 32), leaf_size_);
     deferred_.assign(cells_.size(), {});
     deferring_ = true;
     traverse(0, 0);
