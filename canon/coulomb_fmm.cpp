@@ -417,10 +417,11 @@ constexpr FmmParameters kParameterTable[] = {
     {1e-4, 6, 0.45, 96}, {3e-5, 7, 0.4, 96}, {1e-5, 8, 0.35, 96}, {3e-6, 10, 0.35, 96},
 };
 
-// The near field in leaf frames (coulomb_p2p.h, p2p_framed_block) is ≈ 1.4× faster than the exact-difference
-// kernel (p2p_block) but rounds each difference to ~1e-7 of the leaves' size rather than of the difference:
-// that adds up to ≈ 4e-5 relative gradient error where the near forces cancel (3,000 points on a sphere,
-// leaves of 96), harmless at 1e-3 but not at 1e-5. Requests below this use the exact-difference kernel.
+// The near field in local frames (coulomb_p2p.h, p2p_framed_block) is ≈ 1.3× faster than the exact-difference
+// kernel (p2p_block) but rounds each difference to ~1e-7 of the frame's size (a leaf's parent) rather than of
+// the difference: that adds up to 2e-5 … 4e-5 relative gradient error where the near forces cancel (3,000
+// points on a sphere), harmless at 1e-3 but not at 1e-5. Requests below this, and orders above 5 (which
+// only pay off below it), use the exact-difference kernel.
 constexpr double kFramedNearFieldMinAccuracy = 3e-4;
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {
@@ -431,8 +432,8 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
       chosen = row;
       break;
     }
-  chosen.framed_near_field = options.accuracy >= kFramedNearFieldMinAccuracy;
   if (options.order > 0) chosen.order = options.order;
+  chosen.framed_near_field = options.accuracy >= kFramedNearFieldMinAccuracy && chosen.order <= 5;
   if (options.opening_angle > 0) chosen.opening_angle = options.opening_angle;
   if (options.leaf_size > 0) chosen.leaf_size = options.leaf_size;
   CSHAPES_REQUIRE(chosen.order >= 1 && chosen.order <= 16, "Coulomb FMM: order must be in [1, 16], got ",
@@ -600,16 +601,25 @@ class Fmm {
         r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
       }
       cell.radius = std::sqrt(r2);
-      if (framed_near_field_ && cell.leaf())  // the near field's float coordinates, in the leaf's frame (coulomb_p2p.h)
+      if (framed_near_field_ && cell.leaf()) {  // the near field's float coordinates (coulomb_p2p.h)
+        const Cell& frame = cells_[frame_cell(static_cast<int32_t>(c))];
         for (int32_t i = cell.begin; i < cell.end; ++i) {
-          xs_[i] = coulomb_detail::frame_coordinate(xd_[i], cell.center[0]);
-          ys_[i] = coulomb_detail::frame_coordinate(yd_[i], cell.center[1]);
-          zs_[i] = coulomb_detail::frame_coordinate(zd_[i], cell.center[2]);
+          xs_[i] = coulomb_detail::frame_coordinate(xd_[i], frame.center[0]);
+          ys_[i] = coulomb_detail::frame_coordinate(yd_[i], frame.center[1]);
+          zs_[i] = coulomb_detail::frame_coordinate(zd_[i], frame.center[2]);
         }
+      }
     }
     stats_.cells = static_cast<Index>(cells_.size());
     stats_.tree_depth = static_cast<Index>(depth_start_.size()) - 1;
     stats_.leaves = std::count_if(cells_.begin(), cells_.end(), [](const Cell& c) { return c.leaf(); });
+  }
+
+  // The frame of a leaf's near-field coordinates: its parent (the root for a single-leaf tree), so that
+  // consecutive sibling leaves in a near-field list form one source range of one frame. Differences keep
+  // ~1e-7 of the parent's size.
+  int32_t frame_cell(int32_t leaf) const {
+    return cells_[leaf].parent >= 0 ? cells_[leaf].parent : leaf;
   }
 
   double* multipole(size_t c) {
@@ -792,10 +802,18 @@ class Fmm {
         ranges.clear(), exact_ranges.clear();
         Index sources = 0;
         int self_range = -1;
+        int32_t last_frame = -1;
         for (int32_t b : p2p_lists_[a]) {
           const Cell& B = cells_[b];
-          if (b == static_cast<int32_t>(a)) self_range = static_cast<int>(ranges.size());
-          ranges.push_back({{B.center[0], B.center[1], B.center[2]}, B.begin, B.end});
+          const int32_t frame = frame_cell(b);
+          if (frame == last_frame && ranges.back().end == B.begin) {  // a following sibling: one longer range
+            ranges.back().end = B.end;
+          } else {
+            const Cell& F = cells_[frame];
+            ranges.push_back({{F.center[0], F.center[1], F.center[2]}, B.begin, B.end});
+            last_frame = frame;
+          }
+          if (b == static_cast<int32_t>(a)) self_range = static_cast<int>(ranges.size()) - 1;
           exact_ranges.push_back({B.begin, B.end});
           sources += B.size();
         }
