@@ -283,6 +283,55 @@ struct StaticPointExpansion {
   }
   static constexpr Tables kTables = make();
 
+  // The pairs (k, a, k − a) with a ≤ k componentwise, as MultiIndexTables::shift: M2M and L2L.
+  static constexpr int count_shifts() {
+    constexpr const auto& m = StaticM2L<P>::kTables;
+    int c = 0;
+    for (int k = 0; k < kCount; ++k)
+      for (int a = 0; a < kCount; ++a)
+        c += m.exponent[a][0] <= m.exponent[k][0] && m.exponent[a][1] <= m.exponent[k][1] &&
+             m.exponent[a][2] <= m.exponent[k][2];
+    return c;
+  }
+  static constexpr int kShifts = count_shifts();
+  struct ShiftTables {
+    int k[kShifts] = {}, a[kShifts] = {}, k_minus_a[kShifts] = {};
+  };
+  static constexpr ShiftTables make_shifts() {
+    constexpr const auto& m = StaticM2L<P>::kTables;
+    ShiftTables t;
+    int c = 0;
+    for (int k = 0; k < kCount; ++k)
+      for (int a = 0; a < kCount; ++a)
+        if (m.exponent[a][0] <= m.exponent[k][0] && m.exponent[a][1] <= m.exponent[k][1] &&
+            m.exponent[a][2] <= m.exponent[k][2]) {
+          t.k[c] = k, t.a[c] = a;
+          t.k_minus_a[c] = StaticM2L<P>::index_of(m, m.exponent[k][0] - m.exponent[a][0],
+                                                  m.exponent[k][1] - m.exponent[a][1],
+                                                  m.exponent[k][2] - m.exponent[a][2]);
+          ++c;
+        }
+    return t;
+  }
+  static constexpr ShiftTables kShiftTables = make_shifts();
+
+  // M2M: M_k += Σ_{a≤k} M^child_a s^{k−a}/(k−a)!
+  static void m2m(const double s[3], const double* child, double* M) {
+    constexpr const ShiftTables& t = kShiftTables;
+    double mono[kCount];
+    monomials(s, mono);
+#pragma GCC unroll 1024
+    for (int j = 0; j < kShifts; ++j) M[t.k[j]] += child[t.a[j]] * mono[t.k_minus_a[j]];
+  }
+  // L2L: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!
+  static void l2l(const double shift[3], const double* parent, double* L) {
+    constexpr const ShiftTables& t = kShiftTables;
+    double mono[kCount];
+    monomials(shift, mono);
+#pragma GCC unroll 1024
+    for (int j = 0; j < kShifts; ++j) L[t.a[j]] += parent[t.k[j]] * mono[t.k_minus_a[j]];
+  }
+
   // out[k] = d^k / k!
   static void monomials(const double d[3], double* out) {
     constexpr const Tables& t = kTables;
@@ -344,6 +393,31 @@ StaticP2MFunction static_p2m(int order) {
       return &StaticPointExpansion<6>::p2m;
     default:
       return nullptr;  // other orders use the table-driven loop
+  }
+}
+using StaticShiftFunction = void (*)(const double*, const double*, double*);
+StaticShiftFunction static_m2m(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::m2m;
+    case 4:
+      return &StaticPointExpansion<4>::m2m;
+    case 5:
+      return &StaticPointExpansion<5>::m2m;
+    default:
+      return nullptr;  // other orders use the table-driven loop
+  }
+}
+StaticShiftFunction static_l2l(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::l2l;
+    case 4:
+      return &StaticPointExpansion<4>::l2l;
+    case 5:
+      return &StaticPointExpansion<5>::l2l;
+    default:
+      return nullptr;
   }
 }
 StaticL2PFunction static_l2p(int order) {
@@ -661,14 +735,19 @@ class Fmm {
     }
     // M2M, children before parents: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
     std::vector<double> mono(count);
+    const StaticShiftFunction fixed_m2m = static_m2m(tables_.order);
     for (size_t c = cells_.size(); c-- > 0;) {
       const Cell& cell = cells_[c];
       double* M = multipole(c);
       for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
         const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
                               cells_[ch].center[2] - cell.center[2]};
-        tables_.monomials(s3, mono.data());
         const double* Mc = multipole(ch);
+        if (fixed_m2m) {
+          fixed_m2m(s3, Mc, M);
+          continue;
+        }
+        tables_.monomials(s3, mono.data());
         for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
       }
     }
@@ -845,14 +924,19 @@ class Fmm {
     const int count = tables_.count;
     // L2L, parents before children: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
     std::vector<double> mono(count);
+    const StaticShiftFunction fixed_l2l = static_l2l(tables_.order);
     for (size_t c = 1; c < cells_.size(); ++c) {
       const Cell& cell = cells_[c];
       const Cell& parent = cells_[cell.parent];
       const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
                             cell.center[2] - parent.center[2]};
-      tables_.monomials(t3, mono.data());
       const double* Lp = local(cell.parent);
       double* L = local(c);
+      if (fixed_l2l) {
+        fixed_l2l(t3, Lp, L);
+        continue;
+      }
+      tables_.monomials(t3, mono.data());
       for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
     }
     // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
