@@ -889,7 +889,8 @@ class Fmm {
             ranges.back().end = B.end;
           } else {
             const Cell& F = cells_[frame];
-            ranges.push_back({{F.center[0], F.center[1], F.center[2]}, B.begin, B.end});
+            ranges.push_back({{F.center[0], F.center[1], F.center[2]}, B.begin, B.end,
+                              coulomb_detail::frame_close_h(F.radius)});
             last_frame = frame;
           }
           if (b == static_cast<int32_t>(a)) self_range = static_cast<int>(ranges.size()) - 1;
