@@ -280,7 +280,28 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
     const __m128 high = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_sub_pd(_mm256_load_pd(t + 4), o), scale));
     return _mm256_set_m128(high, low);
   };
-  // Returns whether some pair (other than i = j) was close and left out.
+  // The common case, optimistic: sums every pair and only tracks the smallest h (1 operation per pair instead
+  // of 3); returns whether some pair was close, in which case the caller discards this pass.
+  auto sum_sources_optimistic = [&](__m256 tx, __m256 ty, __m256 tz, int32_t begin, int32_t end, float close_h) {
+    __m256 smallest = _mm256_set1_ps(std::numeric_limits<float>::max());
+    for (int32_t j = begin; j < end; ++j) {
+      const __m256 dx = _mm256_sub_ps(tx, _mm256_broadcast_ss(sx + j));
+      const __m256 dy = _mm256_sub_ps(ty, _mm256_broadcast_ss(sy + j));
+      const __m256 dz = _mm256_sub_ps(tz, _mm256_broadcast_ss(sz + j));
+      const __m256 h0 = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
+      smallest = _mm256_min_ps(smallest, h0);
+      const __m256 h = _mm256_max_ps(h0, floor);
+      const __m256 r = _mm256_rsqrt_ps(h);
+      const __m256 w = _mm256_mul_ps(r, _mm256_fnmadd_ps(h, _mm256_mul_ps(r, r), three));
+      const __m256 w3 = _mm256_mul_ps(w, _mm256_mul_ps(w, w));
+      ap = _mm256_add_ps(ap, w);
+      ax = _mm256_fmadd_ps(dx, w3, ax);
+      ay = _mm256_fmadd_ps(dy, w3, ay);
+      az = _mm256_fmadd_ps(dz, w3, az);
+    }
+    return _mm256_movemask_ps(_mm256_cmp_ps(smallest, _mm256_set1_ps(close_h), _CMP_LT_OQ)) != 0;
+  };
+  // Leaves close pairs (and i = j) out; returns whether some pair other than i = j was close.
   auto sum_sources = [&](__m256 tx, __m256 ty, __m256 tz, int32_t begin, int32_t end, float close_h,
                          auto self_tag) {
     constexpr bool kSelf = decltype(self_tag)::value;
@@ -320,6 +341,19 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
     const __m256 tx = to_frame(target[0], range.origin[0]), ty = to_frame(target[1], range.origin[1]),
                  tz = to_frame(target[2], range.origin[2]);
     bool any_close = false;
+    const int32_t size = range.end - range.begin;
+    if (r != self_range && size <= kFlushEvery) {  // one pass, optimistic first
+      if (pending + size > kFlushEvery) flush(), pending = 0;
+      const __m256 saved[4] = {ap, ax, ay, az};
+      if (sum_sources_optimistic(tx, ty, tz, range.begin, range.end, range.close_h)) {
+        ap = saved[0], ax = saved[1], ay = saved[2], az = saved[3];
+        sum_sources(tx, ty, tz, range.begin, range.end, range.close_h, std::false_type{});
+        _mm256_store_ps(t[0], tx), _mm256_store_ps(t[1], ty), _mm256_store_ps(t[2], tz);
+        sum_close_pairs(t, range.begin, range.end, range.close_h);
+      }
+      pending += size;
+      continue;
+    }
 #else
     for (int c = 0; c < 3; ++c)
       for (int l = 0; l < kBlock; ++l) t[c][l] = frame_coordinate(target[c][l], range.origin[c]);
