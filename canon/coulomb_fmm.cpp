@@ -566,6 +566,12 @@ class Fmm {
     t = std::chrono::steady_clock::now();
     m2l_lists_.assign(cells_.size(), {});
     p2p_lists_.assign(cells_.size(), {});
+    // One allocation per list instead of a growth sequence (typical lists: ~60 M2L sources per cell, ~30
+    // near-field leaves per leaf at the default accuracy).
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      m2l_lists_[c].reserve(64);
+      if (cells_[c].leaf()) p2p_lists_[c].reserve(32);
+    }
     traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
     t = std::chrono::steady_clock::now();
