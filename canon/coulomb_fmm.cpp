@@ -206,7 +206,7 @@ struct StaticM2L {
   static constexpr Tables kTables = make();
 
   // accumulated[m] += Σ_k moments[k] · ∂^{m+k}(1/r)(R), lane by lane.
-  static void apply(const V4 R[3], const V4* moments, V4* accumulated) {
+  static void apply(const V4 R[3], const V4* __restrict moments, V4* __restrict accumulated) {
     constexpr const Tables& t = kTables;
     V4 D[kCount];
     const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
