@@ -15,8 +15,8 @@ namespace {
 
 using coulomb_detail::FloatPoints;
 using coulomb_detail::FramedRange;
-using coulomb_detail::SourceRange;
 using coulomb_detail::kBlock;
+using coulomb_detail::SourceRange;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -256,7 +256,7 @@ struct StaticPointExpansion {
   static constexpr int kGradient = P * (P + 1) * (P + 2) / 6;  // multi-indices of degree ≤ P − 1
   struct Tables {
     int parent[kCount] = {}, axis[kCount] = {};
-    double inverse_exponent[kCount] = {};  // 1 / k_axis
+    double inverse_exponent[kCount] = {};                               // 1 / k_axis
     int gradient_from[kGradient] = {}, gradient_to[3][kGradient] = {};  // (n, n + e_i)
   };
   static constexpr Tables make() {
@@ -275,8 +275,8 @@ struct StaticPointExpansion {
       if (m.exponent[n][0] + m.exponent[n][1] + m.exponent[n][2] >= P) continue;
       t.gradient_from[g] = n;
       for (int i = 0; i < 3; ++i)
-        t.gradient_to[i][g] = StaticM2L<P>::index_of(m, m.exponent[n][0] + (i == 0), m.exponent[n][1] + (i == 1),
-                                                     m.exponent[n][2] + (i == 2));
+        t.gradient_to[i][g] = StaticM2L<P>::index_of(
+            m, m.exponent[n][0] + (i == 0), m.exponent[n][1] + (i == 1), m.exponent[n][2] + (i == 2));
       ++g;
     }
     return t;
@@ -377,10 +377,10 @@ struct StaticPointExpansion {
   }
 };
 
-using StaticP2MFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t, const double*,
-                                   double*);
-using StaticL2PFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t, const double*,
-                                   const double*, double*, double*, double*, double*);
+using StaticP2MFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t,
+                                   const double*, double*);
+using StaticL2PFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t,
+                                   const double*, const double*, double*, double*, double*, double*);
 StaticP2MFunction static_p2m(int order) {
   switch (order) {
     case 3:
@@ -479,10 +479,10 @@ constexpr int kMortonLevels = 21;
 //    points, where θ = 0.5 gives 1.1e-3 and 1.2e-3 (so a larger θ for large n is not safe); random points at
 //    1,000,000 (uniform, sphere, clustered, cat0 surface) 3.7e-5 … 1.4e-4.
 // Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
-// default 1e-3 on the sets above, 1.45× on the torus grids found later). The float near field limits the attainable error to
-// ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35) gave 1.1e-6 on 3,000
-// uniform points): requests below 3e-6 get the last row; use Summation::Direct for more. Energy errors were ≤
-// accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
+// default 1e-3 on the sets above, 1.45× on the torus grids found later). The float near field limits the
+// attainable error to ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35)
+// gave 1.1e-6 on 3,000 uniform points): requests below 3e-6 get the last row; use Summation::Direct for more.
+// Energy errors were ≤ accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
 struct FmmParameters {
   double accuracy;
   int order;
@@ -723,7 +723,7 @@ class Fmm {
     leaves_.clear();
     for (size_t c = 0; c < cells_.size(); ++c)
       if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
-        // P2M: M_k = Σ_j (x_j − z)^k / k!
+    // P2M: M_k = Σ_j (x_j − z)^k / k!
     const StaticP2MFunction fixed_p2m = static_p2m(tables_.order);
 #pragma omp parallel
     {
@@ -859,10 +859,14 @@ class Fmm {
             }
             // moments[k][l] = M[l][k]: 4×4 transposes of aligned rows (stride_ is a multiple of 4).
             for (int k = 0; k < stride_; k += 4) {
-              const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k), r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
-                       r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k), r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
-              const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
-                       a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+              const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k),
+                       r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
+                       r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k),
+                       r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
+              const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6),
+                       b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
+                       a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6),
+                       b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
               moments[k] = __builtin_shufflevector(a01, a23, 0, 1, 4, 5);
               moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
               moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
@@ -899,7 +903,9 @@ class Fmm {
             ranges.back().end = B.end;
           } else {
             const Cell& F = cells_[frame];
-            ranges.push_back({{F.center[0], F.center[1], F.center[2]}, B.begin, B.end,
+            ranges.push_back({{F.center[0], F.center[1], F.center[2]},
+                              B.begin,
+                              B.end,
                               coulomb_detail::frame_close_h(F.radius)});
             last_frame = frame;
           }
@@ -916,11 +922,10 @@ class Fmm {
                                       fx_.data(), fy_.data(), fz_.data());
         } else {
           for (int32_t i0 = A.begin; i0 < A.end; i0 += kBlock)
-          coulomb_detail::p2p_framed_block(xd_.data(), yd_.data(), zd_.data(), i0,
-                                           std::min<int32_t>(kBlock, A.end - i0), ranges.data(),
-                                           static_cast<int>(ranges.size()), self_range, xs_.data(), ys_.data(),
-                                           zs_.data(), norm_.floor2, potential_.data(), fx_.data(), fy_.data(),
-                                           fz_.data());
+            coulomb_detail::p2p_framed_block(
+                xd_.data(), yd_.data(), zd_.data(), i0, std::min<int32_t>(kBlock, A.end - i0), ranges.data(),
+                static_cast<int>(ranges.size()), self_range, xs_.data(), ys_.data(), zs_.data(), norm_.floor2,
+                potential_.data(), fx_.data(), fy_.data(), fz_.data());
         }
         p2p_seconds += seconds_since(p2p_start);
       }
@@ -960,8 +965,8 @@ class Fmm {
         const Cell& cell = cells_[leaves_[l]];
         const double* L = local(leaves_[l]);
         if (fixed_l2p) {
-          fixed_l2p(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L, potential_.data(),
-                    fx_.data(), fy_.data(), fz_.data());
+          fixed_l2p(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L,
+                    potential_.data(), fx_.data(), fy_.data(), fz_.data());
           continue;
         }
         for (int32_t i = cell.begin; i < cell.end; ++i) {
@@ -1001,7 +1006,7 @@ class Fmm {
   const Points& X_;
   const Index n_;
   const MultiIndexTables tables_;
-  const int stride_;                        // doubles per cell's expansion: count rounded up to a multiple of 4
+  const int stride_;  // doubles per cell's expansion: count rounded up to a multiple of 4
   const std::vector<double> zero_moments_;  // the moments of an empty M2L lane
   const double theta_;
   const int leaf_size_;

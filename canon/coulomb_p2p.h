@@ -205,7 +205,8 @@ inline void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRan
 // Same semantics as p2p_block otherwise: skips j = i, distance floor, float terms flushed into double at
 // least every kFlushEvery sources, every addition in an order fixed by the inputs.
 constexpr double kFrameScale = 0.70710678118654752440;
-constexpr double kCloseFraction = 1.0 / 256;  // pairs closer than this × the frame's size are summed in double
+constexpr double kCloseFraction =
+    1.0 / 256;  // pairs closer than this × the frame's size are summed in double
 
 // Frame coordinate of a point: float((x − origin)·kFrameScale). The one rounding rule for targets and
 // sources.
@@ -248,7 +249,7 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
   double exact[4][kBlock] = {};  // the close pairs' exact potential and force sums, per lane
   // The close pairs of targets t (frame coordinates) and sources [begin, end): the same float h as the
   // vector loop (the same IEEE operations), then the exact term in double.
-  auto sum_close_pairs = [&](const float (&t)[3][kBlock], int32_t begin, int32_t end, float close_h) {
+  auto sum_close_pairs = [&](const float(&t)[3][kBlock], int32_t begin, int32_t end, float close_h) {
     for (int l = 0; l < count; ++l)
       for (int32_t j = begin; j < end; ++j) {
         const float dx = t[0][l] - sx[j], dy = t[1][l] - sy[j], dz = t[2][l] - sz[j];
@@ -257,7 +258,8 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
         const double ex = target[0][l] - x[j], ey = target[1][l] - y[j], ez = target[2][l] - z[j];
         const double r2 = std::max(ex * ex + ey * ey + ez * ez, static_cast<double>(floor2));
         const double inv_r = 1 / std::sqrt(r2), inv_r3 = inv_r / r2;
-        exact[0][l] += inv_r, exact[1][l] += ex * inv_r3, exact[2][l] += ey * inv_r3, exact[3][l] += ez * inv_r3;
+        exact[0][l] += inv_r, exact[1][l] += ex * inv_r3, exact[2][l] += ey * inv_r3,
+            exact[3][l] += ez * inv_r3;
       }
   };
   int pending = 0;
@@ -268,7 +270,8 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
   __m256 ap = _mm256_setzero_ps(), ax = ap, ay = ap, az = ap;
   auto flush = [&]() {
     alignas(32) float a[4][kBlock];
-    _mm256_store_ps(a[0], ap), _mm256_store_ps(a[1], ax), _mm256_store_ps(a[2], ay), _mm256_store_ps(a[3], az);
+    _mm256_store_ps(a[0], ap), _mm256_store_ps(a[1], ax), _mm256_store_ps(a[2], ay),
+        _mm256_store_ps(a[3], az);
     ap = ax = ay = az = _mm256_setzero_ps();
     for (int k = 0; k < 4; ++k)
       for (int l = 0; l < kBlock; ++l) sum[k][l] += a[k][l];
@@ -282,7 +285,8 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
   };
   // The common case, optimistic: sums every pair and only tracks the smallest h (1 operation per pair instead
   // of 3); returns whether some pair was close, in which case the caller discards this pass.
-  auto sum_sources_optimistic = [&](__m256 tx, __m256 ty, __m256 tz, int32_t begin, int32_t end, float close_h) {
+  auto sum_sources_optimistic = [&](__m256 tx, __m256 ty, __m256 tz, int32_t begin, int32_t end,
+                                    float close_h) {
     __m256 smallest = _mm256_set1_ps(std::numeric_limits<float>::max());
     for (int32_t j = begin; j < end; ++j) {
       const __m256 dx = _mm256_sub_ps(tx, _mm256_broadcast_ss(sx + j));

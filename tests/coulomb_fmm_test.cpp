@@ -123,7 +123,8 @@ TEST(CoulombFmm, FramedNearFieldAgreesWithExactDifferences) {
   Points X = make_points(20000, "clustered", 7);
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> offset(-1e-6, 1e-6);
-  for (Index i = 0; i < 200; ++i) X.row(2 * i + 1) = X.row(2 * i) + Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
+  for (Index i = 0; i < 200; ++i)
+    X.row(2 * i + 1) = X.row(2 * i) + Eigen::RowVector3d(offset(rng), offset(rng), offset(rng));
   X.row(401) = X.row(400);  // coincident: the distance floor, finite
   CoulombFmmOptions framed;
   framed.order = 4, framed.opening_angle = 0.45, framed.leaf_size = 48;
