@@ -21,6 +21,12 @@ namespace cshapes {
 //   tosca5k/cat0 vertices (n = 5000): 0.0106 vs 0.0053
 // Fast wins from ≈ 2,200 points on surfaces and ≈ 4,800 in a volume. Auto serves surfaces (meshes, point
 // clouds of surfaces) first, so it switches at 3,000.
+// Re-measured after the FMM's near field moved to local frames (same command, repeats 15, machine shared):
+//   uniform cube        n = 2500: 0.0027 vs 0.0034   3000: 0.0038 vs 0.0037   4000: 0.0066 vs 0.0066
+//                       n = 5000: 0.0101 vs 0.0079
+//   cat0 surface points n = 1500: 0.0009 vs 0.0011   2000: 0.0016 vs 0.0015   2500: 0.0025 vs 0.0018
+//                       n = 3000: 0.0036 vs 0.0021
+// The crossovers moved to ≈ 2,000 (surfaces) and ≈ 3,500 (volume): 3,000 still lies between them.
 const Index kAutoFastMinPoints = 3000;
 
 double default_min_distance(const Points& X) {

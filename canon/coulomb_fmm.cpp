@@ -14,6 +14,7 @@ namespace cshapes {
 namespace {
 
 using coulomb_detail::FloatPoints;
+using coulomb_detail::FramedRange;
 using coulomb_detail::kBlock;
 using coulomb_detail::SourceRange;
 
@@ -23,6 +24,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Four doubles in one AVX register (GCC/Clang vector extension): M2L runs four source cells at once.
 typedef double V4 __attribute__((vector_size(32)));
+typedef double UnalignedV4 __attribute__((vector_size(32), aligned(8)));  // for loads from std::vector rows
 
 // Multi-indices k = (k_x, k_y, k_z) with |k| = k_x + k_y + k_z ≤ p, ordered by degree, and the index tables
 // every expansion operator walks. A coefficient array of order p has count = (p+1)(p+2)(p+3)/6 entries.
@@ -204,7 +206,7 @@ struct StaticM2L {
   static constexpr Tables kTables = make();
 
   // accumulated[m] += Σ_k moments[k] · ∂^{m+k}(1/r)(R), lane by lane.
-  static void apply(const V4 R[3], const V4* moments, V4* accumulated) {
+  static void apply(const V4 R[3], const V4* __restrict moments, V4* __restrict accumulated) {
     constexpr const Tables& t = kTables;
     V4 D[kCount];
     const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
@@ -243,6 +245,193 @@ StaticM2LFunction static_m2l(int order) {
       return &StaticM2L<6>::apply;
     default:
       return nullptr;  // higher orders use the table-driven loop
+  }
+}
+
+// P2M and L2P of one leaf with compile-time tables (unrolled, like StaticM2L; ≈ 3× faster than the table
+// loops of MultiIndexTables). Same multi-index order and the same formulas as the table-driven passes.
+template <int P>
+struct StaticPointExpansion {
+  static constexpr int kCount = StaticM2L<P>::kCount;
+  static constexpr int kGradient = P * (P + 1) * (P + 2) / 6;  // multi-indices of degree ≤ P − 1
+  struct Tables {
+    int parent[kCount] = {}, axis[kCount] = {};
+    double inverse_exponent[kCount] = {};                               // 1 / k_axis
+    int gradient_from[kGradient] = {}, gradient_to[3][kGradient] = {};  // (n, n + e_i)
+  };
+  static constexpr Tables make() {
+    constexpr const auto& m = StaticM2L<P>::kTables;
+    Tables t;
+    for (int k = 1; k < kCount; ++k)
+      for (int i = 0; i < 3; ++i)
+        if (m.exponent[k][i] > 0) {
+          t.axis[k] = i;
+          t.parent[k] = StaticM2L<P>::index_of(m, m.exponent[k][0] - (i == 0), m.exponent[k][1] - (i == 1),
+                                               m.exponent[k][2] - (i == 2));
+          t.inverse_exponent[k] = 1.0 / m.exponent[k][i];
+        }
+    int g = 0;
+    for (int n = 0; n < kCount; ++n) {
+      if (m.exponent[n][0] + m.exponent[n][1] + m.exponent[n][2] >= P) continue;
+      t.gradient_from[g] = n;
+      for (int i = 0; i < 3; ++i)
+        t.gradient_to[i][g] = StaticM2L<P>::index_of(
+            m, m.exponent[n][0] + (i == 0), m.exponent[n][1] + (i == 1), m.exponent[n][2] + (i == 2));
+      ++g;
+    }
+    return t;
+  }
+  static constexpr Tables kTables = make();
+
+  // The pairs (k, a, k − a) with a ≤ k componentwise, as MultiIndexTables::shift: M2M and L2L.
+  static constexpr int count_shifts() {
+    constexpr const auto& m = StaticM2L<P>::kTables;
+    int c = 0;
+    for (int k = 0; k < kCount; ++k)
+      for (int a = 0; a < kCount; ++a)
+        c += m.exponent[a][0] <= m.exponent[k][0] && m.exponent[a][1] <= m.exponent[k][1] &&
+             m.exponent[a][2] <= m.exponent[k][2];
+    return c;
+  }
+  static constexpr int kShifts = count_shifts();
+  struct ShiftTables {
+    int k[kShifts] = {}, a[kShifts] = {}, k_minus_a[kShifts] = {};
+  };
+  static constexpr ShiftTables make_shifts() {
+    constexpr const auto& m = StaticM2L<P>::kTables;
+    ShiftTables t;
+    int c = 0;
+    for (int k = 0; k < kCount; ++k)
+      for (int a = 0; a < kCount; ++a)
+        if (m.exponent[a][0] <= m.exponent[k][0] && m.exponent[a][1] <= m.exponent[k][1] &&
+            m.exponent[a][2] <= m.exponent[k][2]) {
+          t.k[c] = k, t.a[c] = a;
+          t.k_minus_a[c] = StaticM2L<P>::index_of(m, m.exponent[k][0] - m.exponent[a][0],
+                                                  m.exponent[k][1] - m.exponent[a][1],
+                                                  m.exponent[k][2] - m.exponent[a][2]);
+          ++c;
+        }
+    return t;
+  }
+  static constexpr ShiftTables kShiftTables = make_shifts();
+
+  // M2M: M_k += Σ_{a≤k} M^child_a s^{k−a}/(k−a)!
+  static void m2m(const double s[3], const double* child, double* M) {
+    constexpr const ShiftTables& t = kShiftTables;
+    double mono[kCount];
+    monomials(s, mono);
+#pragma GCC unroll 1024
+    for (int j = 0; j < kShifts; ++j) M[t.k[j]] += child[t.a[j]] * mono[t.k_minus_a[j]];
+  }
+  // L2L: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!
+  static void l2l(const double shift[3], const double* parent, double* L) {
+    constexpr const ShiftTables& t = kShiftTables;
+    double mono[kCount];
+    monomials(shift, mono);
+#pragma GCC unroll 1024
+    for (int j = 0; j < kShifts; ++j) L[t.a[j]] += parent[t.k[j]] * mono[t.k_minus_a[j]];
+  }
+
+  // out[k] = d^k / k!
+  static void monomials(const double d[3], double* out) {
+    constexpr const Tables& t = kTables;
+    out[0] = 1;
+#pragma GCC unroll 128
+    for (int k = 1; k < kCount; ++k) out[k] = out[t.parent[k]] * d[t.axis[k]] * t.inverse_exponent[k];
+  }
+
+  // M_k += Σ_i (x_i − z)^k / k! over points [begin, end)
+  static void p2m(const double* x, const double* y, const double* z, int32_t begin, int32_t end,
+                  const double center[3], double* M) {
+    double sum[kCount] = {}, mono[kCount];
+    for (int32_t i = begin; i < end; ++i) {
+      const double d[3] = {x[i] - center[0], y[i] - center[1], z[i] - center[2]};
+      monomials(d, mono);
+#pragma GCC unroll 128
+      for (int k = 0; k < kCount; ++k) sum[k] += mono[k];
+    }
+    for (int k = 0; k < kCount; ++k) M[k] += sum[k];
+  }
+
+  // φ_i += Σ_m L_m e^m/m!, force_i −= Σ_n L_{n+e_c} e^n/n!, e = x_i − z, over points [begin, end)
+  static void l2p(const double* x, const double* y, const double* z, int32_t begin, int32_t end,
+                  const double center[3], const double* L, double* potential, double* fx, double* fy,
+                  double* fz) {
+    constexpr const Tables& t = kTables;
+    double mono[kCount];
+    for (int32_t i = begin; i < end; ++i) {
+      const double e[3] = {x[i] - center[0], y[i] - center[1], z[i] - center[2]};
+      monomials(e, mono);
+      double phi = 0, g[3] = {0, 0, 0};
+#pragma GCC unroll 128
+      for (int m = 0; m < kCount; ++m) phi += L[m] * mono[m];
+#pragma GCC unroll 128
+      for (int j = 0; j < kGradient; ++j) {
+        g[0] += L[t.gradient_to[0][j]] * mono[t.gradient_from[j]];
+        g[1] += L[t.gradient_to[1][j]] * mono[t.gradient_from[j]];
+        g[2] += L[t.gradient_to[2][j]] * mono[t.gradient_from[j]];
+      }
+      potential[i] += phi;
+      fx[i] -= g[0], fy[i] -= g[1], fz[i] -= g[2];
+    }
+  }
+};
+
+using StaticP2MFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t,
+                                   const double*, double*);
+using StaticL2PFunction = void (*)(const double*, const double*, const double*, int32_t, int32_t,
+                                   const double*, const double*, double*, double*, double*, double*);
+StaticP2MFunction static_p2m(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::p2m;
+    case 4:
+      return &StaticPointExpansion<4>::p2m;
+    case 5:
+      return &StaticPointExpansion<5>::p2m;
+    case 6:
+      return &StaticPointExpansion<6>::p2m;
+    default:
+      return nullptr;  // other orders use the table-driven loop
+  }
+}
+using StaticShiftFunction = void (*)(const double*, const double*, double*);
+StaticShiftFunction static_m2m(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::m2m;
+    case 4:
+      return &StaticPointExpansion<4>::m2m;
+    case 5:
+      return &StaticPointExpansion<5>::m2m;
+    default:
+      return nullptr;  // other orders use the table-driven loop
+  }
+}
+StaticShiftFunction static_l2l(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::l2l;
+    case 4:
+      return &StaticPointExpansion<4>::l2l;
+    case 5:
+      return &StaticPointExpansion<5>::l2l;
+    default:
+      return nullptr;
+  }
+}
+StaticL2PFunction static_l2p(int order) {
+  switch (order) {
+    case 3:
+      return &StaticPointExpansion<3>::l2p;
+    case 4:
+      return &StaticPointExpansion<4>::l2p;
+    case 5:
+      return &StaticPointExpansion<5>::l2p;
+    case 6:
+      return &StaticPointExpansion<6>::l2p;
+    default:
+      return nullptr;
   }
 }
 
@@ -285,21 +474,33 @@ constexpr int kMortonLevels = 21;
 //      0.5) 4.5e-4 (5, 0.45) 1.2e-4  (6, 0.5) 2.3e-4   (6, 0.45) 6.1e-5   (6, 0.4) 4.1e-5
 //    and over the four worst of them (michael0, victoria10, cat2, cat3):
 //      (3, 0.6) 4.3e-3   (3, 0.4) 9.0e-4   (7, 0.4) 1.2e-5   (8, 0.35) 3.0e-6  (10, 0.35) 4.9e-7
+// 3. Re-measured with the framed near field (2 threads, --sample 500): at the default (4, 0.45, 48) tosca5k
+//    worst 3.9e-4 (michael0); regular torus grids (vertices) 6.8e-4 at 225,000 and 6.9e-4 at 1,000,000
+//    points, where θ = 0.5 gives 1.1e-3 and 1.2e-3 (so a larger θ for large n is not safe); random points at
+//    1,000,000 (uniform, sphere, clustered, cat0 surface) 3.7e-5 … 1.4e-4.
 // Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
-// default 1e-3, whose users include unseen meshes). The float near field limits the attainable error to
-// ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35) gave 1.1e-6 on 3,000
-// uniform points): requests below 3e-6 get the last row; use Summation::Direct for more. Energy errors were ≤
-// accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
+// default 1e-3 on the sets above, 1.45× on the torus grids found later). The float near field limits the
+// attainable error to ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35)
+// gave 1.1e-6 on 3,000 uniform points): requests below 3e-6 get the last row; use Summation::Direct for more.
+// Energy errors were ≤ accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
 struct FmmParameters {
   double accuracy;
   int order;
   double opening_angle;
   int leaf_size;
+  bool framed_near_field = false;  // near field in leaf frames (see kFramedNearFieldMinAccuracy)
 };
 constexpr FmmParameters kParameterTable[] = {
     {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.45, 48}, {3e-4, 5, 0.45, 96},
     {1e-4, 6, 0.45, 96}, {3e-5, 7, 0.4, 96}, {1e-5, 8, 0.35, 96}, {3e-6, 10, 0.35, 96},
 };
+
+// The near field in local frames (coulomb_p2p.h, p2p_framed_block) is ≈ 1.3× faster than the exact-difference
+// kernel (p2p_block) but rounds each difference to ~1e-7 of the frame's size (a leaf's parent) rather than of
+// the difference: that adds up to 2e-5 … 4e-5 relative gradient error where the near forces cancel (3,000
+// points on a sphere), harmless at 1e-3 but not at 1e-5. Requests below this, and orders above 5 (which
+// only pay off below it), use the exact-difference kernel.
+constexpr double kFramedNearFieldMinAccuracy = 3e-4;
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {
   CSHAPES_REQUIRE(options.accuracy > 0, "Coulomb FMM: accuracy must be positive, got ", options.accuracy);
@@ -310,6 +511,7 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
       break;
     }
   if (options.order > 0) chosen.order = options.order;
+  chosen.framed_near_field = options.accuracy >= kFramedNearFieldMinAccuracy && chosen.order <= 5;
   if (options.opening_angle > 0) chosen.opening_angle = options.opening_angle;
   if (options.leaf_size > 0) chosen.leaf_size = options.leaf_size;
   CSHAPES_REQUIRE(chosen.order >= 1 && chosen.order <= 16, "Coulomb FMM: order must be in [1, 16], got ",
@@ -345,8 +547,11 @@ class Fmm {
       : X_(X),
         n_(X.rows()),
         tables_(parameters.order),
+        stride_((tables_.count + 3) / 4 * 4),
+        zero_moments_(stride_, 0.0),
         theta_(parameters.opening_angle),
         leaf_size_(parameters.leaf_size),
+        framed_near_field_(parameters.framed_near_field),
         stats_(stats) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
   }
@@ -361,6 +566,12 @@ class Fmm {
     t = std::chrono::steady_clock::now();
     m2l_lists_.assign(cells_.size(), {});
     p2p_lists_.assign(cells_.size(), {});
+    // One allocation per list instead of a growth sequence (typical lists: ~60 M2L sources per cell, ~30
+    // near-field leaves per leaf at the default accuracy).
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      m2l_lists_[c].reserve(64);
+      if (cells_[c].leaf()) p2p_lists_[c].reserve(32);
+    }
     traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
     t = std::chrono::steady_clock::now();
@@ -391,8 +602,12 @@ class Fmm {
     radix_sort(keyed);
     order_.resize(n_);
     keys_.resize(n_);
-    xd_.resize(n_), yd_.resize(n_), zd_.resize(n_), xf_.resize(n_), yf_.resize(n_), zf_.resize(n_);
-    xl_.resize(n_), yl_.resize(n_), zl_.resize(n_);
+    xd_.resize(n_), yd_.resize(n_), zd_.resize(n_);
+    if (framed_near_field_) {
+      xs_.resize(n_), ys_.resize(n_), zs_.resize(n_);
+    } else {
+      xf_.resize(n_), yf_.resize(n_), zf_.resize(n_), xl_.resize(n_), yl_.resize(n_), zl_.resize(n_);
+    }
 #pragma omp parallel for schedule(static)
     for (Index s = 0; s < n_; ++s) {
       const Index i = keyed[s].second;
@@ -401,9 +616,11 @@ class Fmm {
       xd_[s] = (X_(i, 0) - norm_.center[0]) / norm_.scale;
       yd_[s] = (X_(i, 1) - norm_.center[1]) / norm_.scale;
       zd_[s] = (X_(i, 2) - norm_.center[2]) / norm_.scale;
-      coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
-      coulomb_detail::split_float(yd_[s], yf_[s], yl_[s]);
-      coulomb_detail::split_float(zd_[s], zf_[s], zl_[s]);
+      if (!framed_near_field_) {
+        coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
+        coulomb_detail::split_float(yd_[s], yf_[s], yl_[s]);
+        coulomb_detail::split_float(zd_[s], zf_[s], zl_[s]);
+      }
     }
 
     // Breadth-first: parents precede children, siblings are contiguous, depth never decreases.
@@ -468,17 +685,32 @@ class Fmm {
         r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
       }
       cell.radius = std::sqrt(r2);
+      if (framed_near_field_ && cell.leaf()) {  // the near field's float coordinates (coulomb_p2p.h)
+        const Cell& frame = cells_[frame_cell(static_cast<int32_t>(c))];
+        for (int32_t i = cell.begin; i < cell.end; ++i) {
+          xs_[i] = coulomb_detail::frame_coordinate(xd_[i], frame.center[0]);
+          ys_[i] = coulomb_detail::frame_coordinate(yd_[i], frame.center[1]);
+          zs_[i] = coulomb_detail::frame_coordinate(zd_[i], frame.center[2]);
+        }
+      }
     }
     stats_.cells = static_cast<Index>(cells_.size());
     stats_.tree_depth = static_cast<Index>(depth_start_.size()) - 1;
     stats_.leaves = std::count_if(cells_.begin(), cells_.end(), [](const Cell& c) { return c.leaf(); });
   }
 
+  // The frame of a leaf's near-field coordinates: its parent (the root for a single-leaf tree), so that
+  // consecutive sibling leaves in a near-field list form one source range of one frame. Differences keep
+  // ~1e-7 of the parent's size.
+  int32_t frame_cell(int32_t leaf) const {
+    return cells_[leaf].parent >= 0 ? cells_[leaf].parent : leaf;
+  }
+
   double* multipole(size_t c) {
-    return multipoles_.data() + c * tables_.count;
+    return multipoles_.data() + c * stride_;
   }
   double* local(size_t c) {
-    return locals_.data() + c * tables_.count;
+    return locals_.data() + c * stride_;
   }
 
   // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
@@ -486,12 +718,13 @@ class Fmm {
   // work (P2M, L2P) and the interactions run in parallel.
   void upward_pass() {
     const int count = tables_.count;
-    multipoles_.assign(cells_.size() * count, 0.0);
-    locals_.assign(cells_.size() * count, 0.0);
+    multipoles_.assign(cells_.size() * stride_, 0.0);
+    locals_.assign(cells_.size() * stride_, 0.0);
     leaves_.clear();
     for (size_t c = 0; c < cells_.size(); ++c)
       if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
-        // P2M: M_k = Σ_j (x_j − z)^k / k!
+    // P2M: M_k = Σ_j (x_j − z)^k / k!
+    const StaticP2MFunction fixed_p2m = static_p2m(tables_.order);
 #pragma omp parallel
     {
       std::vector<double> mono(count);
@@ -499,6 +732,10 @@ class Fmm {
       for (size_t l = 0; l < leaves_.size(); ++l) {
         const Cell& cell = cells_[leaves_[l]];
         double* M = multipole(leaves_[l]);
+        if (fixed_p2m) {
+          fixed_p2m(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, M);
+          continue;
+        }
         for (int32_t i = cell.begin; i < cell.end; ++i) {
           const double d3[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
           tables_.monomials(d3, mono.data());
@@ -508,14 +745,19 @@ class Fmm {
     }
     // M2M, children before parents: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
     std::vector<double> mono(count);
+    const StaticShiftFunction fixed_m2m = static_m2m(tables_.order);
     for (size_t c = cells_.size(); c-- > 0;) {
       const Cell& cell = cells_[c];
       double* M = multipole(c);
       for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
         const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
                               cells_[ch].center[2] - cell.center[2]};
-        tables_.monomials(s3, mono.data());
         const double* Mc = multipole(ch);
+        if (fixed_m2m) {
+          fixed_m2m(s3, Mc, M);
+          continue;
+        }
+        tables_.monomials(s3, mono.data());
         for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
       }
     }
@@ -532,7 +774,7 @@ class Fmm {
   // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
   // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
-    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 256), leaf_size_);
+    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 32), leaf_size_);
     deferred_.assign(cells_.size(), {});
     deferring_ = true;
     traverse(0, 0);
@@ -585,14 +827,14 @@ class Fmm {
   void interactions() {
     const int count = tables_.count;
     potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
-    const FloatPoints points{xf_.data(), yf_.data(), zf_.data(), xl_.data(), yl_.data(), zl_.data()};
     Index m2l_total = 0, p2p_total = 0;
     double m2l_seconds = 0, p2p_seconds = 0;
     const StaticM2LFunction fixed_m2l = static_m2l(tables_.order);
 #pragma omp parallel reduction(+ : m2l_total, p2p_total, m2l_seconds, p2p_seconds)
     {
-      std::vector<V4> derivative(count), moments(count), accumulated(count);
-      std::vector<SourceRange> ranges;
+      std::vector<V4> derivative(count), moments(stride_), accumulated(count);
+      std::vector<FramedRange> ranges;
+      std::vector<SourceRange> exact_ranges;
 #pragma omp for schedule(dynamic, 1)
       for (size_t a = 0; a < cells_.size(); ++a) {
         const Cell& A = cells_[a];
@@ -604,16 +846,31 @@ class Fmm {
           std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
           for (size_t g = 0; g < list.size(); g += 4) {
             V4 R[3];
+            const double* M[4];
             for (int l = 0; l < 4; ++l) {
               if (g + l < list.size()) {
                 const Cell& B = cells_[list[g + l]];
                 for (int c = 0; c < 3; ++c) R[c][l] = A.center[c] - B.center[c];
-                const double* M = multipole(list[g + l]);
-                for (int k = 0; k < count; ++k) moments[k][l] = M[k];
+                M[l] = multipole(list[g + l]);
               } else {  // an empty lane: a harmless separation and no charge
                 R[0][l] = 1, R[1][l] = 0, R[2][l] = 0;
-                for (int k = 0; k < count; ++k) moments[k][l] = 0;
+                M[l] = zero_moments_.data();
               }
+            }
+            // moments[k][l] = M[l][k]: 4×4 transposes of aligned rows (stride_ is a multiple of 4).
+            for (int k = 0; k < stride_; k += 4) {
+              const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k),
+                       r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
+                       r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k),
+                       r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
+              const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6),
+                       b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
+                       a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6),
+                       b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+              moments[k] = __builtin_shufflevector(a01, a23, 0, 1, 4, 5);
+              moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
+              moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
+              moments[k + 3] = __builtin_shufflevector(b01, b23, 2, 3, 6, 7);
             }
             if (fixed_m2l) {
               fixed_m2l(R, moments.data(), accumulated.data());
@@ -635,17 +892,40 @@ class Fmm {
         m2l_seconds += seconds_since(m2l_start);
         if (!A.leaf() || p2p_lists_[a].empty()) continue;
         const auto p2p_start = std::chrono::steady_clock::now();
-        ranges.clear();
+        ranges.clear(), exact_ranges.clear();
         Index sources = 0;
+        int self_range = -1;
+        int32_t last_frame = -1;
         for (int32_t b : p2p_lists_[a]) {
-          ranges.push_back({cells_[b].begin, cells_[b].end});
-          sources += cells_[b].size();
+          const Cell& B = cells_[b];
+          const int32_t frame = frame_cell(b);
+          if (frame == last_frame && ranges.back().end == B.begin) {  // a following sibling: one longer range
+            ranges.back().end = B.end;
+          } else {
+            const Cell& F = cells_[frame];
+            ranges.push_back({{F.center[0], F.center[1], F.center[2]},
+                              B.begin,
+                              B.end,
+                              coulomb_detail::frame_close_h(F.radius)});
+            last_frame = frame;
+          }
+          if (b == static_cast<int32_t>(a)) self_range = static_cast<int>(ranges.size()) - 1;
+          exact_ranges.push_back({B.begin, B.end});
+          sources += B.size();
         }
         p2p_total += sources * A.size();
-        for (int32_t i0 = A.begin; i0 < A.end; i0 += kBlock) {
-          const int block = std::min<int32_t>(kBlock, A.end - i0);
-          coulomb_detail::p2p_block(points, i0, block, ranges.data(), static_cast<int>(ranges.size()),
-                                    norm_.floor2, potential_.data(), fx_.data(), fy_.data(), fz_.data());
+        if (!framed_near_field_) {
+          const FloatPoints points{xf_.data(), yf_.data(), zf_.data(), xl_.data(), yl_.data(), zl_.data()};
+          for (int32_t i0 = A.begin; i0 < A.end; i0 += kBlock)
+            coulomb_detail::p2p_block(points, i0, std::min<int32_t>(kBlock, A.end - i0), exact_ranges.data(),
+                                      static_cast<int>(exact_ranges.size()), norm_.floor2, potential_.data(),
+                                      fx_.data(), fy_.data(), fz_.data());
+        } else {
+          for (int32_t i0 = A.begin; i0 < A.end; i0 += kBlock)
+            coulomb_detail::p2p_framed_block(
+                xd_.data(), yd_.data(), zd_.data(), i0, std::min<int32_t>(kBlock, A.end - i0), ranges.data(),
+                static_cast<int>(ranges.size()), self_range, xs_.data(), ys_.data(), zs_.data(), norm_.floor2,
+                potential_.data(), fx_.data(), fy_.data(), fz_.data());
         }
         p2p_seconds += seconds_since(p2p_start);
       }
@@ -660,17 +940,23 @@ class Fmm {
     const int count = tables_.count;
     // L2L, parents before children: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
     std::vector<double> mono(count);
+    const StaticShiftFunction fixed_l2l = static_l2l(tables_.order);
     for (size_t c = 1; c < cells_.size(); ++c) {
       const Cell& cell = cells_[c];
       const Cell& parent = cells_[cell.parent];
       const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
                             cell.center[2] - parent.center[2]};
-      tables_.monomials(t3, mono.data());
       const double* Lp = local(cell.parent);
       double* L = local(c);
+      if (fixed_l2l) {
+        fixed_l2l(t3, Lp, L);
+        continue;
+      }
+      tables_.monomials(t3, mono.data());
       for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
     }
     // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
+    const StaticL2PFunction fixed_l2p = static_l2p(tables_.order);
 #pragma omp parallel
     {
       std::vector<double> mono_point(count);
@@ -678,6 +964,11 @@ class Fmm {
       for (size_t l = 0; l < leaves_.size(); ++l) {
         const Cell& cell = cells_[leaves_[l]];
         const double* L = local(leaves_[l]);
+        if (fixed_l2p) {
+          fixed_l2p(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L,
+                    potential_.data(), fx_.data(), fy_.data(), fz_.data());
+          continue;
+        }
         for (int32_t i = cell.begin; i < cell.end; ++i) {
           const double e[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
           tables_.monomials(e, mono_point.data());
@@ -715,14 +1006,18 @@ class Fmm {
   const Points& X_;
   const Index n_;
   const MultiIndexTables tables_;
+  const int stride_;  // doubles per cell's expansion: count rounded up to a multiple of 4
+  const std::vector<double> zero_moments_;  // the moments of an empty M2L lane
   const double theta_;
   const int leaf_size_;
+  const bool framed_near_field_;
   CoulombFmmStats& stats_;
   coulomb_detail::NormalizedPoints norm_;
   std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
   std::vector<uint64_t> keys_;
   std::vector<double> xd_, yd_, zd_;
-  std::vector<float> xf_, yf_, zf_, xl_, yl_, zl_;  // float high and low parts (coulomb_p2p.h)
+  std::vector<float> xs_, ys_, zs_;  // framed near field: float coordinates in each point's leaf frame
+  std::vector<float> xf_, yf_, zf_, xl_, yl_, zl_;  // otherwise: float high and low parts (coulomb_p2p.h)
   std::vector<Cell> cells_;
   std::vector<int32_t> leaves_;
   std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
