@@ -20,7 +20,7 @@ double median_of(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-double coulomb_iteration_seconds(const Mesh& mesh, int repeats) {
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy) {
   CSHAPES_REQUIRE(repeats >= 1, "timing: repeats must be >= 1");
   CoulombCanonOptions o;
   o.scheme = CoulombScheme::Paper;  // Table 1: a single Coulomb step and a single projection step
@@ -30,6 +30,7 @@ double coulomb_iteration_seconds(const Mesh& mesh, int repeats) {
   o.tear_fraction = 0;
   o.stop_tolerance = 0;
   o.max_iterations = repeats + 1;  // the first iteration warms caches and threads up
+  if (accuracy > 0) o.energy.accuracy = accuracy;
   const CoulombCanonResult r = coulomb_canonical_form(mesh.V, mesh_edges(mesh.F), o);
   std::vector<double> per_iteration;
   for (size_t k = 1; k < r.history.size(); ++k) per_iteration.push_back(r.history[k].seconds - r.history[k - 1].seconds);

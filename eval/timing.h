@@ -37,7 +37,9 @@ struct TimingRow {
 // Measures one row. The mesh must be one connected component. Progress through options.geodesics.progress.
 TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const TimingOptions& options = {});
 
-// Seconds of one outer Coulomb iteration (1 gradient step + 1 projection sweep), median of `repeats`.
-double coulomb_iteration_seconds(const Mesh& mesh, int repeats);
+// Seconds of one outer Coulomb iteration (1 gradient step + 1 projection sweep), median of `repeats`, with
+// the canonization's default options otherwise; accuracy: the fast summation's target gradient error (0: the
+// canonization's default, 1e-2; 1e-3 is the library-wide default of coulomb_energy_gradient).
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy = 0);
 
 }  // namespace cshapes

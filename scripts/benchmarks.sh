@@ -24,17 +24,22 @@ bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into OUT/NA
 [[ -f "$out/cat3505.off" ]] || "$cshapes" -q remesh "$data/cat0.off" -o "$out/cat3505.off" --vertices 3505
 [[ -f "$out/michael22738.off" ]] || "$cshapes" -q remesh "$data/michael0.off" -o "$out/michael22738.off" --vertices 22738
 
+# The iteration rows first: right after the million-point runs the machine needs a while to settle.
+bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
+bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
 bench coulomb-3505 coulomb --n 3505 --mesh "$data/cat0.off"
 bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
 bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
 bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repeats 3
 bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3
-bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
-bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
 bench geodesics-3505 geodesics --mesh "$out/cat3505.off" --anchor-samples 3505 --exact-samples 4
 bench geodesics-22738 geodesics --mesh "$out/michael22738.off" --anchor-samples 64 --exact-samples 2 --fmm-samples 32
 bench smacof-3505 smacof --n 3505
 bench smacof-22738 smacof --n 22738 --iters 5
 bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
 bench icp icp --a "$data/cat0.off" --b "$data/cat1.off"
+# A whole canonical form with the default options (not a bench: its JSON summary has seconds and iterations).
+echo "== coulomb-cat0-converged: cshapes canon cat0.off --method coulomb" >&2
+"$cshapes" -q canon "$data/cat0.off" -o "$out/cat0-coulomb.ply" --method coulomb --json >"$out/coulomb-cat0-converged.json.tmp"
+mv "$out/coulomb-cat0-converged.json.tmp" "$out/coulomb-cat0-converged.json"
 echo "benchmarks: JSON in $out" >&2
