@@ -4,7 +4,8 @@
   scripts/python.sh experiments/plots/render_mesh.py a.off b.ply -o out.png \
       [--titles "clean,noisy"] [--red-property torn] [--red-json 1=pairs.json] [--view pca|x|y|z]
 
---red-property NAME  faces touching a vertex whose PLY property NAME is > 0.5 are red (e.g. `torn`).
+--red-property NAME  faces touching a vertex whose PLY property NAME is > 0.5 are red (e.g. `torn`); red faces
+                     stretched beyond 4x the median edge (opened by a tear) are not drawn.
 --red-json K=FILE    red vertices of mesh K (0-based) from a JSON file: every integer found in it is a
                      vertex index (e.g. the glued pairs written by `cshapes noise`).
 --view               pca (default): look along the direction of least spread, the longest extent horizontal;
@@ -65,6 +66,14 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
             colors[np.asarray(red, bool)] = (0.85, 0.1, 0.1)
         ax.scatter(P[order, 0], P[order, 1], s=2, c=colors[order], linewidths=0)
         return
+    F = np.asarray(F)
+    if red is not None:
+        # A torn edge no longer holds its face together: the face stretches with the tear and would render as a
+        # long sliver across the picture. Red faces with an edge over 4x the median edge are not drawn.
+        red = np.asarray(red, bool)
+        E = V[F]
+        longest = np.max(np.linalg.norm(E - np.roll(E, 1, axis=1), axis=2), axis=1)
+        F = F[~(red[F].any(axis=1) & (longest > 4 * np.median(longest)))]
     tri = P[F]
     normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True) + 1e-300
@@ -74,7 +83,6 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
     shade = 0.25 + 0.75 * np.abs(normals @ light)
     color = np.tile(np.array(base_color), (len(F), 1))
     if red is not None:
-        red = np.asarray(red, bool)
         color[red[F].any(axis=1)] = (0.9, 0.1, 0.1)
     color = np.clip(color * shade[:, None], 0, 1)
     order = np.argsort(tri[:, :, 2].mean(axis=1))  # painter's algorithm: far to near
