@@ -85,7 +85,7 @@ const bool registered = register_command(
        app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")->capture_default_str();
        app.add_flag("--no-table1", args.no_table1, "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
        app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
-       app.add_option("--figure-vertices", o.figure_vertices, "Figures 3 and 5: remesh their shape to this size")
+       app.add_option("--figure-vertices", o.figure_vertices, "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
            ->capture_default_str();
        app.add_option("--fig5-iterations", o.fig5_iterations, "Figure 5: outer iterations per curve")
            ->capture_default_str();

@@ -68,7 +68,7 @@ Eigen::VectorXd indicator(Index n, const std::vector<int>& vertices) {
 }
 
 // The shape of Figures 3 and 5: a female pose when the data has one (the paper shows one), else the first
-// clean shape; remeshed to options.figure_vertices.
+// clean shape; remeshed to options.figure_vertices when that is > 0.
 struct FigureShape {
   std::string name;
   Mesh mesh;
@@ -153,7 +153,8 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
   const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
   if (!has_coulomb) return;
   FigureShape fs_shape = figure_shape(o, misc_cache);
-  report.figure_shape = fs_shape.name + " remeshed to " + std::to_string(fs_shape.mesh.num_vertices()) + " vertices";
+  report.figure_shape = fs_shape.name + (o.figure_vertices > 0 ? " remeshed to " : " at its ") +
+                        std::to_string(fs_shape.mesh.num_vertices()) + " vertices";
 
   // Figure 3: the paper's plain scheme after 300, 600, 900, 3000, 10000 iterations. One run, cut at the
   // checkpoints: each piece continues from the previous one's shape, edges and rest lengths.
