@@ -38,18 +38,35 @@ std::string to_string(CoulombStepRule rule) {
   return "?";
 }
 
-Points rigid_align(const Points& A, const Points& B) {
+void rigid_align_in_place(Points& A, const Points& B) {
   CSHAPES_REQUIRE(A.rows() == B.rows(), "rigid_align: ", A.rows(), " vs ", B.rows(), " points");
-  if (A.rows() == 0) return A;
+  const Index n = A.rows();
+  if (n == 0) return;
   const Eigen::RowVector3d ca = A.colwise().mean(), cb = B.colwise().mean();
-  const Eigen::Matrix3d H = (A.rowwise() - ca).transpose() * (B.rowwise() - cb);
+  Eigen::Matrix3d H;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) H(r, c) = ((A.col(r).array() - ca(r)) * (B.col(c).array() - cb(c))).sum();
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
   // Exclude reflections: a canonical form and its mirror image are different shapes.
   D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
   const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
-  // Row vectors: (R a)ᵀ = aᵀ Rᵀ.
-  return ((A.rowwise() - ca) * R.transpose()).rowwise() + cb;
+  // Written back without the n×3 temporaries of an Eigen expression: the Coulomb loop runs this every iteration.
+  double* x = A.data();
+  double* y = x + n;
+  double* z = y + n;
+  for (Index i = 0; i < n; ++i) {
+    const double ax = x[i] - ca(0), ay = y[i] - ca(1), az = z[i] - ca(2);
+    x[i] = R(0, 0) * ax + R(0, 1) * ay + R(0, 2) * az + cb(0);
+    y[i] = R(1, 0) * ax + R(1, 1) * ay + R(1, 2) * az + cb(1);
+    z[i] = R(2, 0) * ax + R(2, 1) * ay + R(2, 2) * az + cb(2);
+  }
+}
+
+Points rigid_align(const Points& A, const Points& B) {
+  Points moved = A;
+  rigid_align_in_place(moved, B);
+  return moved;
 }
 
 double rigid_rms_distance(const Points& A, const Points& B) {
@@ -89,29 +106,6 @@ namespace {
 
 // max_i ‖g_i‖ with one square root (sqrt is monotone, so this is exactly the max of the row norms).
 double max_row_norm(const Points& G) { return std::sqrt(G.rowwise().squaredNorm().maxCoeff()); }
-
-// rigid_align(A, B) written back into A, without the n×3 temporaries of the Eigen expression: it runs in
-// every iteration.
-void rigid_align_in_place(Points& A, const Points& B) {
-  const Index n = A.rows();
-  const Eigen::RowVector3d ca = A.colwise().mean(), cb = B.colwise().mean();
-  Eigen::Matrix3d H;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) H(r, c) = ((A.col(r).array() - ca(r)) * (B.col(c).array() - cb(c))).sum();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
-  double* x = A.data();
-  double* y = x + n;
-  double* z = y + n;
-  for (Index i = 0; i < n; ++i) {
-    const double ax = x[i] - ca(0), ay = y[i] - ca(1), az = z[i] - ca(2);
-    x[i] = R(0, 0) * ax + R(0, 1) * ay + R(0, 2) * az + cb(0);
-    y[i] = R(1, 0) * ax + R(1, 1) * ay + R(1, 2) * az + cb(1);
-    z[i] = R(2, 0) * ax + R(2, 1) * ay + R(2, 2) * az + cb(2);
-  }
-}
 
 double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
   if (rest.size() == 0) return 0;

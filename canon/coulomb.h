@@ -147,6 +147,8 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
 // Rigid alignment (Kabsch, no scaling) of A onto B with the same vertex order: the rotation R and translation
 // t minimising Σ ‖R a_i + t − b_i‖². Returns A moved. Reflections are excluded.
 Points rigid_align(const Points& A, const Points& B);
+// The same, written back into A.
+void rigid_align_in_place(Points& A, const Points& B);
 // RMS of ‖rigid_align(A, B)_i − b_i‖.
 double rigid_rms_distance(const Points& A, const Points& B);
 

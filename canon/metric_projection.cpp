@@ -33,7 +33,7 @@ constexpr Index kVertexBlock = 256;
 // runs were then no slower than with one thread (the fast multipole sum stalls alike).
 constexpr Index kParallelMinVertices = 2000;
 // Edges per block of the violation's partial sums (violation_block's buffer holds this many).
-constexpr Index kViolationBlock = 1024;
+constexpr int kViolationBlock = 1024;
 
 }  // namespace
 
@@ -271,7 +271,7 @@ namespace {
 template <class Length2>
 void violation_block(const int* a, const int* b, const double* rest, Index first, Index last, Length2 length2,
                      double* sum, double* max) {
-  alignas(32) double relative[1024];
+  alignas(32) double relative[kViolationBlock];
   const int count = static_cast<int>(last - first);
   for (int k = 0; k < count; ++k) relative[k] = length2(a[first + k], b[first + k]);
   const double* d = rest + first;

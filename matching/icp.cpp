@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/morton.h"
 #include "core/error.h"
 
 namespace cshapes {
@@ -104,40 +105,18 @@ RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determ
 
 namespace {
 
-// Interleaves the low 10 bits of x, y, z into a 30-bit Morton code.
-uint32_t morton_code(uint32_t x, uint32_t y, uint32_t z) {
-  auto spread = [](uint32_t v) {
-    v &= 0x3ff;
-    v = (v | (v << 16)) & 0x030000ff;
-    v = (v | (v << 8)) & 0x0300f00f;
-    v = (v | (v << 4)) & 0x030c30c3;
-    v = (v | (v << 2)) & 0x09249249;
-    return v;
-  };
-  return spread(x) | (spread(y) << 1) | (spread(z) << 2);
-}
-
 // Row order of X along a Morton (Z-order) curve over its bounding box.
 std::vector<int> spatial_order(const Points& X) {
   Eigen::RowVector3d lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   double extent = std::max((hi - lo).maxCoeff(), 1e-300);
-  std::vector<std::pair<uint32_t, int>> keyed(static_cast<size_t>(X.rows()));
+  std::vector<std::pair<uint64_t, int32_t>> keyed(static_cast<size_t>(X.rows()));
   for (Index i = 0; i < X.rows(); ++i) {
-    Eigen::RowVector3d u = (X.row(i) - lo) / extent * 1023.0;
-    keyed[static_cast<size_t>(i)] = {
-        morton_code(static_cast<uint32_t>(u[0]), static_cast<uint32_t>(u[1]), static_cast<uint32_t>(u[2])),
-        static_cast<int>(i)};
+    Eigen::RowVector3d u = (X.row(i) - lo) / extent * 1023.0;  // 10 bits per axis
+    uint64_t key = 0;
+    for (int c = 0; c < 3; ++c) key |= morton_spread_bits(static_cast<uint64_t>(u[c])) << c;
+    keyed[static_cast<size_t>(i)] = {key, static_cast<int32_t>(i)};
   }
-  // Least-significant-digit radix sort, 10 bits a pass: stable, so equal codes keep the row order (the
-  // order std::sort of the (code, row) pairs gives), at a fraction of a comparison sort's mispredictions.
-  std::vector<std::pair<uint32_t, int>> sorted(keyed.size());
-  for (int shift = 0; shift < 30; shift += 10) {
-    std::vector<size_t> start(1025, 0);
-    for (const auto& item : keyed) ++start[((item.first >> shift) & 1023) + 1];
-    for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-    for (const auto& item : keyed) sorted[start[(item.first >> shift) & 1023]++] = item;
-    keyed.swap(sorted);
-  }
+  radix_sort_by_key(keyed, 30);  // stable: equal codes keep the row order
   std::vector<int> order(keyed.size());
   for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
   return order;
