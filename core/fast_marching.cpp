@@ -148,6 +148,30 @@ class TrialHeap {
   std::vector<int> position_;  // index in heap_, -1 never inserted, -2 accepted
 };
 
+// Dijkstra-ordered marching: pops the trial vertex of least distance, accepts it, updates its stencils'
+// targets. Vertices alive on entry are never changed.
+void march(const std::vector<int>& offsets, const std::vector<FastMarching::Stencil>& stencils,
+           Eigen::VectorXd& dist, std::vector<char>& alive, TrialHeap& heap) {
+  while (!heap.empty()) {
+    const int i = heap.pop();
+    const double t_i = dist[i];
+    alive[i] = 1;
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const FastMarching::Stencil& s = stencils[k];
+      // Both candidates are at least t_i: nothing to gain where the target is that close already (which
+      // includes every vertex accepted by this march); vertices alive from the start are never changed.
+      if (t_i >= dist[s.target] || alive[s.target]) continue;
+      double candidate = t_i + s.p_len;
+      if (s.other >= 0 && alive[s.other])
+        candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
+      if (candidate < dist[s.target]) {
+        dist[s.target] = candidate;
+        heap.push_or_decrease(s.target);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 FastMarching::FastMarching(const Mesh& mesh, const FastMarchingOptions& options)
@@ -248,24 +272,36 @@ void FastMarching::distances(const std::vector<int>& sources, Eigen::VectorXd& d
     dist[s] = 0;
     heap.push_or_decrease(s);
   }
-  while (!heap.empty()) {
-    const int i = heap.pop();
-    const double t_i = dist[i];
-    alive[i] = 1;
-    for (int k = offsets_[i]; k < offsets_[i + 1]; ++k) {
-      const Stencil& s = stencils_[k];
-      // Both candidates are at least t_i: nothing to gain where the target is that close already (which
-      // includes every accepted vertex).
-      if (t_i >= dist[s.target]) continue;
-      double candidate = t_i + s.p_len;
-      if (s.other >= 0 && alive[s.other])
-        candidate = std::min(candidate, triangle_update(s, t_i, dist[s.other]));
-      if (candidate < dist[s.target]) {
-        dist[s.target] = candidate;
-        heap.push_or_decrease(s.target);
-      }
+  march(offsets_, stencils_, dist, alive, heap);
+}
+
+void FastMarching::continue_distances(Eigen::VectorXd& dist, const std::vector<char>& known) const {
+  CSHAPES_REQUIRE(dist.size() == num_vertices_ && static_cast<Index>(known.size()) == num_vertices_,
+                  "fast marching: continue_distances needs ", num_vertices_, " values and flags, got ",
+                  dist.size(), " and ", known.size());
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<char> alive(num_vertices_, 0);
+  for (Index i = 0; i < num_vertices_; ++i) {
+    if (!known[i]) {
+      dist[i] = inf;
+      continue;
     }
+    CSHAPES_REQUIRE(std::isfinite(dist[i]), "fast marching: known vertex ", i, " has distance ", dist[i]);
+    alive[i] = 1;
   }
+  // The front: known vertices with a stencil into the unknown region. Pushed as trial vertices (so they
+  // are popped in order of their values), but marked alive: the march never changes them, and stencils use
+  // them as accepted neighbours from the start.
+  TrialHeap heap(dist.data(), num_vertices_);
+  for (Index i = 0; i < num_vertices_; ++i) {
+    if (!alive[i]) continue;
+    for (int k = offsets_[i]; k < offsets_[i + 1]; ++k)
+      if (!alive[stencils_[k].target]) {
+        heap.push_or_decrease(static_cast<int>(i));
+        break;
+      }
+  }
+  march(offsets_, stencils_, dist, alive, heap);
 }
 
 Eigen::VectorXd fast_marching(const Mesh& mesh, const std::vector<int>& sources,

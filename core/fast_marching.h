@@ -46,6 +46,12 @@ class FastMarching {
   // As above, writing into `out` (resized to n) to reuse its storage across calls.
   void distances(const std::vector<int>& sources, Eigen::VectorXd& out) const;
 
+  // Continues a partial distance field (n values): vertices with known[i] != 0 keep dist[i] and act as an
+  // initial front (marched in increasing order of their values); every other vertex is computed by marching
+  // from them, +infinity where no known vertex reaches. Known values must be finite. Thread-safe.
+  // The heat method uses it where its heat underflowed (core/heat_method.h).
+  void continue_distances(Eigen::VectorXd& dist, const std::vector<char>& known) const;
+
   Index num_vertices() const { return num_vertices_; }
   // Obtuse corners found, and how many of them were split by unfolding (the others fall back to edges).
   Index obtuse_corners() const { return obtuse_corners_; }

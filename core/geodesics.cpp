@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <queue>
+#include <string>
 
 #include "core/error.h"
 #include "core/fast_marching.h"
@@ -92,6 +93,41 @@ Eigen::VectorXd per_component(const Mesh& mesh, const std::vector<int>& sources,
   return d;
 }
 
+// What to try when `method` returned a non-finite distance on a connected mesh.
+std::string non_finite_advice(GeodesicMethod method) {
+  switch (method) {
+    case GeodesicMethod::HeatCgal:
+      return "CGAL's heat method returns NaN everywhere once the heat underflows in one face (long or "
+             "finely meshed shapes); use --method heat (ours continues by fast marching there) or fmm";
+    case GeodesicMethod::Heat:
+      return "the heat method failed numerically on this mesh; use --method fmm or exact, and please report "
+             "the mesh";
+    default:
+      return "please report the mesh; --method heat or graph may serve meanwhile";
+  }
+}
+
+// Throws unless every distance in `d` from `sources` is finite where it must be: on the vertices of the
+// components that hold a source (`label` from connected_components; all vertices when label is empty).
+template <typename Vector>
+void require_finite(const Vector& d, const std::vector<int>& label, const std::vector<int>& sources,
+                    GeodesicMethod method) {
+  if (d.allFinite()) return;
+  std::vector<char> reached;
+  if (!label.empty()) {
+    reached.assign(*std::max_element(label.begin(), label.end()) + 1, 0);
+    for (int s : sources) reached[label[s]] = 1;
+  }
+  for (Index i = 0; i < d.size(); ++i) {
+    if (std::isfinite(static_cast<double>(d[i])) || (!label.empty() && !reached[label[i]])) continue;
+    std::string from = std::to_string(sources[0]);
+    if (sources.size() > 1)
+      from = "the nearest of " + std::to_string(sources.size()) + " sources (first " + from + ")";
+    fail("geodesics (", to_string(method), "): the distance from vertex ", from, " to vertex ", i, " is ",
+         static_cast<double>(d[i]), " although they are connected; ", non_finite_advice(method));
+  }
+}
+
 }  // namespace
 
 GeodesicMethod parse_geodesic_method(const std::string& name) {
@@ -147,8 +183,10 @@ Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::
   return dist;
 }
 
-Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
-                                   const GeodesicOptions& options) {
+namespace {
+
+Eigen::VectorXd unchecked_geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
+                                             const GeodesicOptions& options) {
   CSHAPES_REQUIRE(!sources.empty(), "geodesics: no source vertex given");
   for (int s : sources)
     CSHAPES_REQUIRE(s >= 0 && s < mesh.num_vertices(), "geodesics: source vertex ", s, " out of range 0..",
@@ -176,6 +214,16 @@ Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sou
     }
   }
   fail("geodesics: unsupported method");
+}
+
+}  // namespace
+
+Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
+                                   const GeodesicOptions& options) {
+  Eigen::VectorXd d = unchecked_geodesic_distances(mesh, sources, options);
+  require_finite(d, connected_components(mesh.num_vertices(), mesh_edges(mesh.F)).label, sources,
+                 options.method);
+  return d;
 }
 
 void symmetrize_distances(DistanceMatrix& D) {
@@ -228,6 +276,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         if (!solver) continue;
         try {
           D.col(s) = solver->distances({static_cast<int>(s)}).cast<float>();
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
           progress.add();
         } catch (...) {
 #pragma omp critical(cshapes_geodesics_error)
@@ -244,6 +293,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         for (Index s = 0; s < n; ++s) sources[s] = static_cast<int>(s);
         heat.for_each_source(sources, [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) {
           D.col(k) = column.cast<float>();
+          require_finite(D.col(k), {}, {static_cast<int>(k)}, options.method);
           progress.add();
         });
         break;
@@ -254,6 +304,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         FastMarching fmm(mesh);
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = fmm.distances({static_cast<int>(s)}).cast<float>();
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
           progress.add();
         });
         break;
@@ -261,6 +312,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
       case GeodesicMethod::Exact:
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = exact_geodesics(mesh, {static_cast<int>(s)}).cast<float>();
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
           progress.add();
         });
         break;
@@ -270,6 +322,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         Eigen::VectorXd w = edge_lengths(mesh.V, E);
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
           progress.add();
         });
         break;

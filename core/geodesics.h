@@ -19,7 +19,10 @@
 //
 // Distances are in the mesh's units. Unreachable vertices (other components) get +infinity in the
 // single-source functions; all-pairs refuses disconnected meshes (an n×n matrix of infinities is useless to
-// MDS).
+// MDS). Every other distance is checked finite before it is returned, whatever the method: a NaN or infinity
+// between two connected vertices throws a cshapes::Error naming the method, the source and the vertex (our
+// heat method continues by fast marching where its heat underflows, see core/heat_method.h; CGAL's does not
+// and returns NaN on long shapes). Coarse meshes: see heat_method_warning (core/heat_method.h).
 #pragma once
 
 #include <string>

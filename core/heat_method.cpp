@@ -6,8 +6,11 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <mutex>
+#include <sstream>
 
 #include "core/error.h"
+#include "core/fast_marching.h"
 #include "core/intrinsic_delaunay.h"
 
 #ifdef CSHAPES_HAVE_CHOLMOD
@@ -154,18 +157,39 @@ class SparseCholesky {
 
 }  // namespace
 
+// The heat values are kept inside [kHeatFloor, kHeatPeak] where they are trusted: the right-hand side is
+// scaled so that u ≤ kHeatPeak at the source (and the forward solve's intermediate values too), and below
+// kHeatFloor, still far above the double range's bottom (2.2e-308, where precision is lost to subnormals), a
+// vertex is taken as underflowed. On a Stieltjes matrix (the intrinsic Delaunay Laplacian's M + tL) the
+// triangular solves add terms of one sign only, so u is accurate to rounding relative to itself down to the
+// floor. The range spans exp(-990): ~1,000 mean edge lengths on a regular tube, where the unscaled δ_s with
+// |∇u|² computed plainly lost the direction (|∇u|² underflowing to zero) at exp(-350), ~380 edge lengths.
+constexpr double kHeatPeak = 1e150;
+constexpr double kTinySquare = 1e-290;  // |∇u|² below this is recomputed with scaling
+constexpr double kHeatFloor = 1e-280;
+
 struct HeatMethod::Impl {
-  Faces F;  // faces of the triangulation used (the mesh's, or its intrinsic Delaunay flips)
+  Mesh mesh;  // the input, for the fast-marching continuation
+  Faces F;    // faces of the triangulation used (the mesh's, or its intrinsic Delaunay flips)
   // Per face and corner c, r_c = ½ J e_c in the face's own plane (e_c the edge opposite c, counter-clockwise,
-  // J the rotation by +90°): the face's area times the gradient of the hat function of corner c.
+  // J the rotation by +90°): the face's area times the gradient of the hat function of corner c; stored as
+  // g_c = r_c / ρ_f with ρ_f = max |r_c| component, so that the gradient of u ≤ kHeatPeak cannot overflow.
   // 6 values per face (2-D: an intrinsic triangle has no embedding, only a layout from its edge lengths).
-  std::vector<double> r;
+  std::vector<double> g;
+  std::vector<double> rho;
   std::vector<int> component;  // connected component of each vertex; -1 for a vertex in no face
   std::vector<int> pinned;     // one vertex per component: φ = 0 there
+  double source_heat = 1;      // right-hand side at a source vertex (see kHeatPeak)
   SparseCholesky heat, poisson;
+  // Fast marching on the input mesh, built on first use (only meshes long enough to underflow need it).
+  mutable std::once_flag fast_marching_once;
+  mutable std::unique_ptr<FastMarching> fast_marching;
+  mutable std::atomic<Index> continuations{0};  // source sets continued by fast marching
 
   // Steps 2-3 for a block of k sources: b = Σ_f Σ_c (r_c · X_f) e_{v_c} with X_f = -∇u / |∇u| per source,
-  // then the pinned rows zeroed. u and b are n × k row-major.
+  // then the pinned rows zeroed. u and b are n × k row-major. Faces with a corner below kHeatFloor get X = 0:
+  // the Poisson problem then ends there with the natural boundary condition ∇φ·n = X·n, and distances beyond
+  // are continued by fast marching (continue_underflowed).
   void divergence(const Block& u, Block& b) const {
     const Index k = u.cols();
     b.setZero(u.rows(), k);
@@ -174,28 +198,70 @@ struct HeatMethod::Impl {
     double* __restrict y = gy.data();
     const Index m = F.rows();
     for (Index f = 0; f < m; ++f) {
-      const double* rf = &r[6 * f];
+      const double* gf = &g[6 * f];
+      const double rho_f = rho[f];
       const double* __restrict u0 = u.row(F(f, 0)).data();
       const double* __restrict u1 = u.row(F(f, 1)).data();
       const double* __restrict u2 = u.row(F(f, 2)).data();
-#pragma omp simd
+      int tiny = 0;
+#pragma omp simd reduction(| : tiny)
       for (Index c = 0; c < k; ++c) {
-        const double ax = u0[c] * rf[0] + u1[c] * rf[2] + u2[c] * rf[4];
-        const double ay = u0[c] * rf[1] + u1[c] * rf[3] + u2[c] * rf[5];
-        const double norm2 = ax * ax + ay * ay;
-        // Where u underflowed to a constant there is no direction to follow: X = 0.
-        const double scale = norm2 > 0 ? -1.0 / std::sqrt(norm2) : 0.0;
+        const double ax = u0[c] * gf[0] + u1[c] * gf[2] + u2[c] * gf[4];
+        const double ay = u0[c] * gf[1] + u1[c] * gf[3] + u2[c] * gf[5];
+        const double norm2 = ax * ax + ay * ay;  // ≤ 9e300 since u ≤ kHeatPeak and |g| ≤ 1
+        // Where u underflowed, or is constant, there is no direction to follow: X = 0.
+        const bool trusted = std::min(std::min(u0[c], u1[c]), u2[c]) >= kHeatFloor;
+        const double scale = trusted && norm2 > 0 ? -rho_f / std::sqrt(norm2) : 0.0;
         x[c] = ax * scale;
         y[c] = ay * scale;
+        tiny |= trusted & (norm2 < kTinySquare);
+      }
+      if (tiny) {  // far from the source: |∇u|² lost precision to subnormals; normalise a / max|a_i| instead
+        for (Index c = 0; c < k; ++c) {
+          const double ax = u0[c] * gf[0] + u1[c] * gf[2] + u2[c] * gf[4];
+          const double ay = u0[c] * gf[1] + u1[c] * gf[3] + u2[c] * gf[5];
+          const double big = std::max(std::abs(ax), std::abs(ay));
+          const bool trusted = std::min(std::min(u0[c], u1[c]), u2[c]) >= kHeatFloor;
+          if (!trusted || !(ax * ax + ay * ay < kTinySquare) || big == 0) continue;
+          const double sx = ax / big, sy = ay / big, scale = -rho_f / std::sqrt(sx * sx + sy * sy);
+          x[c] = sx * scale;
+          y[c] = sy * scale;
+        }
       }
       for (int corner = 0; corner < 3; ++corner) {
         double* __restrict bv = b.row(F(f, corner)).data();
-        const double rx = rf[2 * corner], ry = rf[2 * corner + 1];
+        const double gx_c = gf[2 * corner], gy_c = gf[2 * corner + 1];
 #pragma omp simd
-        for (Index c = 0; c < k; ++c) bv[c] += rx * x[c] + ry * y[c];
+        for (Index c = 0; c < k; ++c) bv[c] += gx_c * x[c] + gy_c * y[c];
       }
     }
     for (int p : pinned) b.row(p).setZero();
+  }
+
+  // Whether column c of u has a vertex of the component `component_of[c]` below kHeatFloor, per column.
+  void find_underflow(const Block& u, const std::vector<int>& component_of,
+                      std::vector<char>& underflow) const {
+    const Index n = u.rows(), k = u.cols();
+    underflow.assign(k, 0);
+    for (Index i = 0; i < n; ++i) {
+      const double* ui = u.row(i).data();
+      const int ci = component[i];
+      for (Index c = 0; c < k; ++c)
+        underflow[c] |= (ui[c] < kHeatFloor) & (ci >= 0) & (ci == component_of[c]);
+    }
+  }
+
+  // Replaces the distances of the vertices whose heat underflowed (column `column` of u) by fast marching
+  // from the others, seeded with their heat-method distances.
+  void continue_underflowed(const Block& u, Index column, Eigen::Ref<Eigen::VectorXd> distances) const {
+    std::call_once(fast_marching_once, [&] { fast_marching = std::make_unique<FastMarching>(mesh); });
+    const Index n = u.rows();
+    std::vector<char> known(n);
+    for (Index i = 0; i < n; ++i) known[i] = u(i, column) >= kHeatFloor && std::isfinite(distances[i]);
+    Eigen::VectorXd d = distances;
+    ++continuations;
+    fast_marching->continue_distances(d, known);
+    distances = d;
   }
 };
 
@@ -211,7 +277,9 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
       options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
   flips_ = T.flips;
   im.F = T.F;
-  im.r.resize(6 * m);
+  im.mesh = mesh;
+  im.g.resize(6 * m);
+  im.rho.resize(m);
   std::vector<Eigen::Triplet<double>> stiffness;
   stiffness.reserve(9 * m);
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
@@ -228,12 +296,17 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
                     ", ", v[2], ") has zero area; the heat method needs non-degenerate triangles");
     const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
     Eigen::Vector2d rc[3];
+    double rho = 0;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector2d e = x[(c + 2) % 3] - x[(c + 1) % 3];
       rc[c] = 0.5 * Eigen::Vector2d(-e.y(), e.x());
-      im.r[6 * f + 2 * c] = rc[c].x();
-      im.r[6 * f + 2 * c + 1] = rc[c].y();
+      rho = std::max(rho, rc[c].cwiseAbs().maxCoeff());
       mass[v[c]] += area / 3;  // lumped (barycentric) mass: a third of each incident triangle
+    }
+    im.rho[f] = rho;
+    for (int c = 0; c < 3; ++c) {
+      im.g[6 * f + 2 * c] = rc[c].x() / rho;
+      im.g[6 * f + 2 * c + 1] = rc[c].y() / rho;
     }
     // L_ab = Σ_f A_f ∇ψ_a·∇ψ_b = Σ_f r_a·r_b / A_f: the cotangent Laplacian.
     for (int a = 0; a < 3; ++a)
@@ -277,12 +350,25 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   }
   SparseMatrix heat(n, n), poisson(n, n);
   heat.setFromTriplets(heat_entries.begin(), heat_entries.end());
+  // Right-hand side β δ_s with u ≤ β / M_ss (maximum principle on the diagonally dominant M-matrix M + tL)
+  // and the forward solve's y_j ≤ L_jj u_j ≤ √A_jj u_j: β = kHeatPeak · min M / max(1, √max A) keeps both
+  // below kHeatPeak. The normalised gradient does not depend on β.
+  double min_mass = std::numeric_limits<double>::infinity(), max_diagonal = 1;
+  for (Index j = 0; j < n; ++j) {
+    if (mass[j] > 0) min_mass = std::min(min_mass, mass[j]);
+    max_diagonal = std::max(max_diagonal, heat.coeff(j, j));
+  }
+  im.source_heat = kHeatPeak * min_mass / std::sqrt(max_diagonal);
   poisson.setFromTriplets(poisson_entries.begin(), poisson_entries.end());
   im.heat.factorize(heat, "heat-flow (M + tL)");
   im.poisson.factorize(poisson, "Poisson (cotangent Laplacian)");
 }
 
 HeatMethod::~HeatMethod() = default;
+
+Index HeatMethod::fast_marching_continuations() const {
+  return impl_->continuations;
+}
 
 std::string HeatMethod::backend() {
   return SparseCholesky::backend();
@@ -295,7 +381,7 @@ Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
   Block U = Block::Zero(n, 1), phi, work;
   for (int s : sources) {
     CSHAPES_REQUIRE(s >= 0 && s < n, "heat method: source vertex ", s, " out of range 0..", n - 1);
-    U(s, 0) = 1;
+    U(s, 0) = im.source_heat;
   }
   im.heat.solve(U, work);
   im.divergence(U, phi);
@@ -318,6 +404,12 @@ Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
     d[i] = std::max(0.0, phi(i, 0) - offset_sum[c] / offset_count[c]);
   }
   for (int s : sources) d[s] = 0;
+  bool underflow = false;
+  for (Index i = 0; i < n && !underflow; ++i) {
+    const int c = im.component[i];
+    underflow = c >= 0 && offset_count[c] > 0 && U(i, 0) < kHeatFloor;
+  }
+  if (underflow) im.continue_underflowed(U, 0, d);
   return d;
 }
 
@@ -338,6 +430,8 @@ void HeatMethod::for_each_source(
   {
     Block U, phi, work;
     Eigen::MatrixXd columns;
+    std::vector<int> source_component;
+    std::vector<char> underflow;
 #pragma omp for schedule(dynamic, 1)
     for (Index b = 0; b < num_blocks; ++b) {
       bool failed = false;
@@ -347,8 +441,13 @@ void HeatMethod::for_each_source(
       try {
         const Index begin = b * block, k = std::min(block, count - begin);
         U.setZero(n, k);
-        for (Index j = 0; j < k; ++j) U(sources[begin + j], j) = 1;
+        source_component.resize(k);
+        for (Index j = 0; j < k; ++j) {
+          U(sources[begin + j], j) = im.source_heat;
+          source_component[j] = im.component[sources[begin + j]];
+        }
         im.heat.solve(U, work);
+        im.find_underflow(U, source_component, underflow);
         im.divergence(U, phi);
         im.poisson.solve(phi, work);
         // Transpose to one column per source in tiles of rows (the row-major block is too large for the
@@ -369,6 +468,7 @@ void HeatMethod::for_each_source(
             col[i] = (c >= 0 && im.component[i] == c) ? std::abs(col[i] - phi_s) : inf;
           }
           col[s] = 0;
+          if (underflow[j]) im.continue_underflowed(U, j, columns.col(j));
           sink(begin + j, columns.col(j));
         }
         Index finished = done += k;
@@ -395,6 +495,27 @@ Eigen::MatrixXd HeatMethod::distances_each(const std::vector<int>& sources) cons
 Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
                             const HeatMethodOptions& options) {
   return HeatMethod(mesh, options).distances(sources);
+}
+
+std::string heat_method_warning(const Mesh& mesh) {
+  const Index n = mesh.num_vertices(), m = mesh.num_faces();
+  if (n == 0 || m == 0) return "";
+  double length_sum = 0;
+  for (Index f = 0; f < m; ++f)
+    for (int c = 0; c < 3; ++c)
+      length_sum += (mesh.V.row(mesh.F(f, c)) - mesh.V.row(mesh.F(f, (c + 1) % 3))).norm();
+  const double mean_edge = length_sum / (3.0 * m);
+  const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+  const double fraction = diagonal > 0 ? mean_edge / diagonal : 1.0;
+  if (n >= kHeatMethodMinVertices && fraction <= kHeatMethodMaxEdgeFraction) return "";
+  std::ostringstream out;
+  out.precision(2);
+  out << "the heat method is inaccurate on a mesh this coarse (" << n << " vertices, mean edge "
+      << 100 * fraction << "% of the bounding-box diagonal; it needs about " << kHeatMethodMinVertices
+      << "+ vertices and edges under " << 100 * kHeatMethodMaxEdgeFraction
+      << "%): expect errors of 5-30% (a regular tetrahedron is off by up to "
+      << "32%); use --method exact or fmm";
+  return out.str();
 }
 
 }  // namespace cshapes

@@ -1,5 +1,6 @@
 #include "core/synthetic.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -26,8 +27,9 @@ Mesh icosphere(int subdivisions, double radius) {
   CSHAPES_REQUIRE(subdivisions >= 0 && subdivisions <= 8, "icosphere: subdivisions must be in 0..8, got ",
                   subdivisions);
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> verts = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                                        {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Eigen::Vector3d> verts = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                        {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                        {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   for (auto& v : verts) v.normalize();
   std::vector<Eigen::Vector3i> tris = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -65,7 +67,8 @@ Mesh torus(int nu, int nv, double R, double r) {
     double u = 2 * kPi * i / nu;
     for (int j = 0; j < nv; ++j) {
       double v = 2 * kPi * j / nv;
-      verts.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+      verts.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+                         r * std::sin(v));
     }
   }
   auto id = [&](int i, int j) { return ((i + nu) % nu) * nv + (j + nv) % nv; };
@@ -108,6 +111,85 @@ Points lumpy_blob(Index n, std::uint64_t seed) {
     X.row(i) = (Eigen::Vector3d(3.0, 1.5, 1.0).asDiagonal() * (r * u)).transpose();
   }
   return X;
+}
+
+Mesh capsule(const CapsuleOptions& o) {
+  CSHAPES_REQUIRE(o.segments >= 3, "capsule: needs segments >= 3, got ", o.segments);
+  CSHAPES_REQUIRE(o.length >= 0 && o.radius > 0 && std::isfinite(o.length) && std::isfinite(o.radius),
+                  "capsule: needs length >= 0 and radius > 0, got ", o.length, ", ", o.radius);
+  const int s = o.segments;
+  const double h = 2 * kPi * o.radius / s;  // spacing around a ring
+  const int cylinder_steps = std::max(1, static_cast<int>(std::lround(o.length / h)));
+  const int cap_steps = std::max(1, static_cast<int>(std::lround(0.5 * kPi * o.radius / h)));
+  // Rings as (axial position a along the straight axis, radius ρ), pole to pole.
+  std::vector<std::pair<double, double>> rings;
+  for (int k = 1; k < cap_steps; ++k) {  // first cap, from near the pole to the equator (exclusive)
+    const double theta = 0.5 * kPi * k / cap_steps;
+    rings.emplace_back(-o.radius * std::cos(theta), o.radius * std::sin(theta));
+  }
+  for (int k = 0; k <= cylinder_steps; ++k) rings.emplace_back(o.length * k / cylinder_steps, o.radius);
+  for (int k = cap_steps - 1; k >= 1; --k) {
+    const double theta = 0.5 * kPi * k / cap_steps;
+    rings.emplace_back(o.length + o.radius * std::cos(theta), o.radius * std::sin(theta));
+  }
+  // The axis point at axial position a, and the unit frame (tangent, normal in the plane, z) there.
+  auto place = [&](double a, double rho, double phi) {
+    const double y = rho * std::cos(phi), z = rho * std::sin(phi);
+    if (o.bend == 0) return Eigen::Vector3d(a, y, z);
+    const double R = std::max(o.length, 1e-300) / o.bend;  // bend radius of the axis
+    const double clamped = std::clamp(a, 0.0, o.length), angle = clamped / R;
+    const Eigen::Vector3d centre(R * std::sin(angle), R * (1 - std::cos(angle)), 0.0);
+    const Eigen::Vector3d tangent(std::cos(angle), std::sin(angle), 0.0),
+        normal(-std::sin(angle), std::cos(angle), 0.0);
+    return Eigen::Vector3d(centre + (a - clamped) * tangent + y * normal + Eigen::Vector3d(0, 0, z));
+  };
+  std::vector<Eigen::Vector3d> verts;
+  std::vector<Eigen::Vector3i> tris;
+  verts.push_back(place(-o.radius, 0, 0));
+  for (const auto& [a, rho] : rings)
+    for (int j = 0; j < s; ++j) verts.push_back(place(a, rho, 2 * kPi * j / s));
+  verts.push_back(place(o.length + o.radius, 0, 0));
+  const int num_rings = static_cast<int>(rings.size());
+  const int last_pole = static_cast<int>(verts.size()) - 1;
+  auto id = [&](int ring, int j) { return 1 + ring * s + (j + s) % s; };
+  // Ring vertices go counter-clockwise about +x (the axis direction), so outward faces below.
+  for (int j = 0; j < s; ++j) tris.emplace_back(0, id(0, j + 1), id(0, j));
+  for (int ring = 0; ring + 1 < num_rings; ++ring)
+    for (int j = 0; j < s; ++j) {
+      if ((ring + j) % 2 == 0) {
+        tris.emplace_back(id(ring, j), id(ring, j + 1), id(ring + 1, j + 1));
+        tris.emplace_back(id(ring, j), id(ring + 1, j + 1), id(ring + 1, j));
+      } else {
+        tris.emplace_back(id(ring, j), id(ring, j + 1), id(ring + 1, j));
+        tris.emplace_back(id(ring, j + 1), id(ring + 1, j + 1), id(ring + 1, j));
+      }
+    }
+  for (int j = 0; j < s; ++j) tris.emplace_back(last_pole, id(num_rings - 1, j), id(num_rings - 1, j + 1));
+  return from_vectors(verts, tris);
+}
+
+Mesh split_faces(const Mesh& mesh, int every, double w0, double w1) {
+  CSHAPES_REQUIRE(every >= 1, "split_faces: every must be at least 1, got ", every);
+  CSHAPES_REQUIRE(w0 > 0 && w1 > 0 && w0 + w1 < 1, "split_faces: barycentric weights must be positive, got ",
+                  w0, ", ", w1, ", ", 1 - w0 - w1);
+  const Index n = mesh.num_vertices(), m = mesh.num_faces();
+  const Index splits = (m + every - 1) / every;
+  Mesh out;
+  out.V.resize(n + splits, 3);
+  out.V.topRows(n) = mesh.V;
+  out.F.resize(m + 2 * splits, 3);
+  Index next_vertex = n, next_face = m;
+  for (Index f = 0; f < m; ++f) {
+    out.F.row(f) = mesh.F.row(f);
+    if (f % every != 0) continue;
+    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+    out.V.row(next_vertex) = w0 * mesh.V.row(a) + w1 * mesh.V.row(b) + (1 - w0 - w1) * mesh.V.row(c);
+    const int p = static_cast<int>(next_vertex++);
+    out.F.row(f) << a, b, p;
+    out.F.row(next_face++) << b, c, p;
+    out.F.row(next_face++) << c, a, p;
+  }
+  return out;
 }
 
 double swiss_roll_length(double t0, double t1) {

@@ -23,18 +23,38 @@ Mesh grid(int nx, int ny, double width = 1.0, double height = 1.0);
 // nu samples along the roll (equally spaced in arc length), nv across. nu = 51, nv = 11 gives the paper's
 // 561 vertices. Its geodesic length along the roll is swiss_roll_length(t0, t1).
 struct SwissRollOptions {
-  int nu = 51;                      // vertices along the roll
-  int nv = 11;                      // vertices across the roll
+  int nu = 51;                               // vertices along the roll
+  int nv = 11;                               // vertices across the roll
   double t0 = 1.5 * 3.14159265358979323846;  // spiral angle where the roll starts (radians)
   double t1 = 4.5 * 3.14159265358979323846;  // spiral angle where it ends: 1.5 turns
-  double height = 21.0;             // width across the roll, in the units of x and z
+  double height = 21.0;                      // width across the roll, in the units of x and z
 };
 Mesh swiss_roll(const SwissRollOptions& options = {});
 
-// n points on a lumpy, elongated closed surface (a sphere radially perturbed by smooth bumps, scaled 3 : 1.5 : 1),
-// drawn at random for `seed`: distinct principal axes and no symmetry, so a rigid motion of it is recoverable
-// (ICP tests and benchmarks).
+// n points on a lumpy, elongated closed surface (a sphere radially perturbed by smooth bumps, scaled 3 : 1.5
+// : 1), drawn at random for `seed`: distinct principal axes and no symmetry, so a rigid motion of it is
+// recoverable (ICP tests and benchmarks).
 Points lumpy_blob(Index n, std::uint64_t seed);
+
+// A closed capsule (genus 0): a cylinder of `radius` whose axis runs `length` along x (from 0 to length),
+// capped by two hemispheres, so the surface is length + 2·radius long end to end and its geodesic distance
+// along the axis is length + π·radius pole to pole. `segments` vertices around every ring; rings are spaced
+// about one edge length 2π·radius/segments apart along the cylinder and the caps (the last cap ring's
+// triangles near the poles are needles, the poles have valence `segments`). With bend ≠ 0 the axis is bent
+// into a circular arc of total angle `bend` (radians) in the x-y plane (keeping its length): a long
+// articulated-looking body. Faces counter-clockwise seen from outside.
+struct CapsuleOptions {
+  double length = 10.0;  // length of the cylindrical part, along the axis
+  double radius = 1.0;   // radius of the cylinder and of the hemispherical caps
+  int segments = 12;     // vertices around each ring (>= 3)
+  double bend = 0.0;     // total bend angle of the axis (radians); 0: straight, along x
+};
+Mesh capsule(const CapsuleOptions& options = {});
+
+// Splits every `every`-th face (f = 0, every, 2·every, ...) into three at the point of barycentric
+// coordinates (w0, w1, 1 - w0 - w1): each split adds one vertex of valence 3 and, for weights far from 1/3,
+// needle and obtuse triangles. The surface itself is unchanged (the new vertex lies in the face's plane).
+Mesh split_faces(const Mesh& mesh, int every, double w0 = 0.6, double w1 = 0.3);
 
 // Arc length of the spiral (t cos t, t sin t) from t0 to t1.
 double swiss_roll_length(double t0, double t1);

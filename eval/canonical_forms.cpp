@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/heat_method.h"
 
 namespace cshapes {
 
@@ -91,6 +92,11 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
                          {"explained_energy", cm.explained_energy},
                          {"negative_mass_lower_bound", cm.negative_mass_lower_bound},
                          {"cmds_seconds", cm.seconds}};
+  if (options.geodesics.method == GeodesicMethod::Heat ||
+      options.geodesics.method == GeodesicMethod::HeatCgal) {
+    const std::string warning = heat_method_warning(mesh);
+    if (!warning.empty()) summary["warning"] = warning;
+  }
   if (options.method == "cmds") {
     form.X = cm.X;
     form.solve_seconds = seconds_since(start);

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/geodesics.h"
+#include "core/heat_method.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -34,8 +35,14 @@ int run() {
                             {"vertices", mesh.num_vertices()},
                             {"method", to_string(options.method)},
                             {"output", args.output.empty() ? "-" : args.output}};
-  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
+  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal) {
     summary["heat_mode"] = to_string(options.heat_mode);
+    const std::string warning = heat_method_warning(mesh);
+    if (!warning.empty()) {
+      note("warning: " + warning);
+      summary["warning"] = warning;
+    }
+  }
 
   if (args.source >= 0 || args.csv) {
     CSHAPES_REQUIRE(args.source >= 0 && args.csv,

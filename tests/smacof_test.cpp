@@ -193,8 +193,19 @@ TEST(Smacof, RefusesInfiniteNanAndAsymmetricDistances) {
     smacof(bad, P, SmacofOptions{});
     FAIL() << "an infinite distance was accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("disconnected"), std::string::npos) << e.what();
+    // One infinite pair among finite ones is a failed computation, not a disconnected mesh.
+    EXPECT_EQ(std::string(e.what()).find("disconnected"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("failed"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("(5, 30)"), std::string::npos) << e.what();
+  }
+  bad = D;  // two components: points < 10 and the rest
+  bad.topRightCorner(10, 30).setConstant(std::numeric_limits<float>::infinity());
+  bad.bottomLeftCorner(30, 10).setConstant(std::numeric_limits<float>::infinity());
+  try {
+    smacof(bad, P, SmacofOptions{});
+    FAIL() << "an infinite distance was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("disconnected"), std::string::npos) << e.what();
   }
   bad = D;
   bad(2, 3) = bad(3, 2) = std::numeric_limits<float>::quiet_NaN();
