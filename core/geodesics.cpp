@@ -97,7 +97,7 @@ Eigen::VectorXd per_component(const Mesh& mesh, const std::vector<int>& sources,
 std::string non_finite_advice(GeodesicMethod method) {
   switch (method) {
     case GeodesicMethod::HeatCgal:
-      return "CGAL's heat method returns NaN everywhere once the heat underflows in one face (long or "
+      return "CGAL's heat method returns NaN or DBL_MAX once the heat underflows in one face (long or "
              "finely meshed shapes); use --method heat (ours continues by fast marching there) or fmm";
     case GeodesicMethod::Heat:
       return "the heat method failed numerically on this mesh; use --method fmm or exact, and please report "
@@ -107,24 +107,35 @@ std::string non_finite_advice(GeodesicMethod method) {
   }
 }
 
-// Throws unless every distance in `d` from `sources` is finite where it must be: on the vertices of the
-// components that hold a source (`label` from connected_components; all vertices when label is empty).
+// An upper bound of every geodesic distance on a connected mesh: the sum of its edge lengths (a path along
+// edges visits each edge at most once). CGAL's heat method, where its heat underflows, returns NaN gradients
+// and then DBL_MAX distances, finite but no distance.
+double distance_bound(const Mesh& mesh) {
+  return edge_lengths(mesh.V, mesh_edges(mesh.F)).sum() * (1 + 1e-6);
+}
+
+// Throws unless every distance in `d` from `sources` is finite and at most `bound` where it must be: on the
+// vertices of the components that hold a source (`label` from connected_components; all vertices when label
+// is empty).
 template <typename Vector>
 void require_finite(const Vector& d, const std::vector<int>& label, const std::vector<int>& sources,
-                    GeodesicMethod method) {
-  if (d.allFinite()) return;
+                    GeodesicMethod method, double bound) {
+  const auto valid = [bound](double x) { return x <= bound; };  // false for NaN too
+  if (d.allFinite() && static_cast<double>(d.maxCoeff()) <= bound) return;
   std::vector<char> reached;
   if (!label.empty()) {
     reached.assign(*std::max_element(label.begin(), label.end()) + 1, 0);
     for (int s : sources) reached[label[s]] = 1;
   }
   for (Index i = 0; i < d.size(); ++i) {
-    if (std::isfinite(static_cast<double>(d[i])) || (!label.empty() && !reached[label[i]])) continue;
+    if (valid(static_cast<double>(d[i])) || (!label.empty() && !reached[label[i]])) continue;
     std::string from = std::to_string(sources[0]);
     if (sources.size() > 1)
       from = "the nearest of " + std::to_string(sources.size()) + " sources (first " + from + ")";
     fail("geodesics (", to_string(method), "): the distance from vertex ", from, " to vertex ", i, " is ",
-         static_cast<double>(d[i]), " although they are connected; ", non_finite_advice(method));
+         static_cast<double>(d[i]),
+         std::isfinite(static_cast<double>(d[i])) ? " (longer than all edges together)" : "",
+         " although they are connected; ", non_finite_advice(method));
   }
 }
 
@@ -222,7 +233,7 @@ Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sou
                                    const GeodesicOptions& options) {
   Eigen::VectorXd d = unchecked_geodesic_distances(mesh, sources, options);
   require_finite(d, connected_components(mesh.num_vertices(), mesh_edges(mesh.F)).label, sources,
-                 options.method);
+                 options.method, distance_bound(mesh));
   return d;
 }
 
@@ -256,6 +267,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
            " vertices), so some distances are infinite; keep the largest component (--largest-component)");
   }
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");
+  const double bound = distance_bound(mesh);
   DistanceMatrix D(n, n);
   ProgressCounter progress(options.progress, n);
 
@@ -276,7 +288,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         if (!solver) continue;
         try {
           D.col(s) = solver->distances({static_cast<int>(s)}).cast<float>();
-          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method, bound);
           progress.add();
         } catch (...) {
 #pragma omp critical(cshapes_geodesics_error)
@@ -293,7 +305,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         for (Index s = 0; s < n; ++s) sources[s] = static_cast<int>(s);
         heat.for_each_source(sources, [&](Index k, const Eigen::Ref<const Eigen::VectorXd>& column) {
           D.col(k) = column.cast<float>();
-          require_finite(D.col(k), {}, {static_cast<int>(k)}, options.method);
+          require_finite(D.col(k), {}, {static_cast<int>(k)}, options.method, bound);
           progress.add();
         });
         break;
@@ -304,7 +316,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         FastMarching fmm(mesh);
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = fmm.distances({static_cast<int>(s)}).cast<float>();
-          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method, bound);
           progress.add();
         });
         break;
@@ -312,7 +324,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
       case GeodesicMethod::Exact:
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = exact_geodesics(mesh, {static_cast<int>(s)}).cast<float>();
-          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method, bound);
           progress.add();
         });
         break;
@@ -322,7 +334,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         Eigen::VectorXd w = edge_lengths(mesh.V, E);
         parallel_over_sources(n, [&](Index s) {
           D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
-          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method);
+          require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method, bound);
           progress.add();
         });
         break;

@@ -27,7 +27,6 @@ Mesh jittered_grid(int n, double jitter, unsigned seed) {
   return m;
 }
 
-
 using test::obtuse_grid;
 
 Eigen::VectorXd euclidean_from(const Mesh& m, int source) {
@@ -98,6 +97,47 @@ TEST(FastMarching, SeveralSourcesAndUnreachableVertices) {
   Eigen::VectorXd d0 = fast_marching(a, {0}), d20 = fast_marching(a, {20});
   for (Index i = 0; i < a.num_vertices(); ++i) EXPECT_LE(d[i], std::min(d0[i], d20[i]) + 1e-12);
   EXPECT_THROW(fast_marching(a, {-1}), std::exception);
+}
+
+// Continuing a field known on part of the mesh: known values untouched, the rest as close to a full march
+// as the first-order scheme allows, unreachable components at infinity.
+TEST(FastMarching, ContinuesAPartialField) {
+  Mesh a = jittered_grid(41, 0.3, 11);
+  Mesh two;  // the grid and a copy beside it, not connected
+  two.V.resize(2 * a.num_vertices(), 3);
+  two.V << a.V, (a.V.rowwise() + Eigen::RowVector3d(2, 0, 0));
+  two.F.resize(2 * a.num_faces(), 3);
+  two.F << a.F, (a.F.array() + static_cast<int>(a.num_vertices())).matrix();
+  FastMarching fmm(two);
+  const int source = 20 * 41 + 3;  // near the left edge, half way up
+  Eigen::VectorXd full = fmm.distances({source});
+  const Eigen::VectorXd exact = euclidean_from(two, source);
+  // Known: the exact distances left of x = 0.3 (a front crossing the grid), unknown elsewhere.
+  std::vector<char> known(two.num_vertices(), 0);
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(two.num_vertices(), 123.0);  // garbage where unknown
+  for (Index i = 0; i < a.num_vertices(); ++i)
+    if (two.V(i, 0) < 0.3) known[i] = 1, d[i] = exact[i];
+  fmm.continue_distances(d, known);
+  for (Index i = 0; i < a.num_vertices(); ++i)
+    if (known[i]) EXPECT_EQ(d[i], exact[i]);
+  for (Index i = a.num_vertices(); i < two.num_vertices(); ++i) EXPECT_TRUE(std::isinf(d[i]));
+  const Eigen::VectorXd part = d.head(a.num_vertices()), full_part = full.head(a.num_vertices()),
+                        exact_part = exact.head(a.num_vertices());
+  ASSERT_TRUE(part.allFinite());
+  // Seeded with exact values, the continuation is at least as accurate as marching from the source.
+  EXPECT_LT(mean_relative_error(part, exact_part, 0.1), 0.01);
+  EXPECT_LE(mean_relative_error(part, exact_part, 0.1),
+            mean_relative_error(full_part, exact_part, 0.1) + 1e-3);
+  // Everything known: nothing changes. Bad sizes and non-finite known values are refused.
+  std::vector<char> all(two.num_vertices(), 1);
+  Eigen::VectorXd same = full.head(a.num_vertices());
+  FastMarching fa(a);
+  fa.continue_distances(same, std::vector<char>(a.num_vertices(), 1));
+  EXPECT_EQ(same, full.head(a.num_vertices()));
+  Eigen::VectorXd short_field(3);
+  EXPECT_THROW(fmm.continue_distances(short_field, all), std::exception);
+  Eigen::VectorXd with_inf = full;  // the copy's vertices are infinite
+  EXPECT_THROW(fmm.continue_distances(with_inf, all), std::exception);
 }
 
 }  // namespace

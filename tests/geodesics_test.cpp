@@ -107,6 +107,68 @@ TEST(Geodesics, DisconnectedMesh) {
   }
 }
 
+// A long thin capsule (300 edge lengths, 6 vertices around, faces split: valence-3 vertices, needle and
+// obtuse triangles): every method gives finite distances, close to fast marching's (exact is measured in
+// heat_method_test). Where CGAL's heat method underflows: a clear error instead of NaN or DBL_MAX.
+TEST(Geodesics, LongThinCapsuleFiniteForEveryMethodOrAClearError) {
+  CapsuleOptions o;
+  o.segments = 6;
+  o.radius = 6 / (2 * 3.14159265358979323846);
+  o.length = 300;
+  const Mesh m = split_faces(capsule(o), 1);
+  GeodesicOptions fmm_options;
+  fmm_options.method = GeodesicMethod::FastMarching;
+  const Eigen::VectorXd reference = geodesic_distances(m, {0}, fmm_options);
+  for (const char* name : {"heat", "fmm", "graph"}) {
+    GeodesicOptions options;
+    options.method = parse_geodesic_method(name);
+    Eigen::VectorXd d = geodesic_distances(m, {0}, options);
+    ASSERT_TRUE(d.allFinite()) << name;
+    // graph is an upper bound, 5-10% long on such triangles; the others within a few percent.
+    EXPECT_LT(test::mean_relative_error(d, reference, 3.0), std::string(name) == "graph" ? 0.15 : 0.03)
+        << name;
+  }
+  // CGAL's heat method holds on there, but 1,000 units (4 around) are too long for it: NaN gradients, then
+  // DBL_MAX distances (finite, so the check compares with the sum of the edge lengths).
+  CapsuleOptions longer;
+  longer.segments = 4;
+  longer.radius = 4 / (2 * 3.14159265358979323846);
+  longer.length = 1000;
+  GeodesicOptions cgal;
+  cgal.method = GeodesicMethod::HeatCgal;
+  try {
+    geodesic_distances(capsule(longer), {0}, cgal);
+    FAIL() << "CGAL's heat method unexpectedly succeeded: drop this check";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("heat-cgal"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("from vertex 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--method heat"), std::string::npos) << e.what();
+  }
+  GeodesicOptions ours;
+  EXPECT_TRUE(geodesic_distances(capsule(longer), {0}, ours).allFinite());
+}
+
+// All pairs where the heat underflows from most sources: a capsule 400 units long with a time step 20 times
+// smaller than usual (the heat reaches ~1/√20 as far: ~250 units). Every entry finite, the far pairs close to
+// fast marching's.
+TEST(Geodesics, AllPairsBeyondTheHeatsReachAreFinite) {
+  CapsuleOptions o;
+  o.segments = 4;
+  o.radius = 4 / (2 * 3.14159265358979323846);
+  o.length = 400;
+  const Mesh m = capsule(o);
+  GeodesicOptions heat;
+  heat.heat_time_factor = 0.05;
+  DistanceMatrix D = all_pairs_geodesics(m, heat);
+  ASSERT_TRUE(D.allFinite());
+  GeodesicOptions fmm;
+  fmm.method = GeodesicMethod::FastMarching;
+  const int far_end = static_cast<int>(m.num_vertices()) - 1;
+  const Eigen::VectorXd reference = geodesic_distances(m, {far_end}, fmm);
+  EXPECT_LT(test::mean_relative_error(D.col(far_end).cast<double>(), reference, 5.0), 0.03);
+  EXPECT_NEAR(D(0, far_end), reference[0], 0.02 * reference[0]);
+}
+
 TEST(Geodesics, RefusesWhatDoesNotFitInMemory) {
   // require_memory is asked for n² floats before anything is allocated: a 2^22-vertex mesh needs 70 TB.
   Mesh huge;

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/fast_marching.h"
+#include "core/geodesics_cgal.h"
 #include "core/synthetic.h"
 
 namespace cshapes {
@@ -96,7 +98,6 @@ TEST(HeatMethod, DisconnectedMeshGivesInfinityNotNaN) {
   EXPECT_THROW(heat.distances_each({0, static_cast<int>(two.num_vertices())}), std::exception);
 }
 
-
 using test::obtuse_grid;
 
 TEST(HeatMethod, IntrinsicDelaunayRescuesObtuseTriangles) {
@@ -114,6 +115,106 @@ TEST(HeatMethod, IntrinsicDelaunayRescuesObtuseTriangles) {
   const double err_direct = mean_relative_error(direct.distances({source}), exact, 4 * h);
   EXPECT_LT(err_idt, 0.03);
   EXPECT_LT(err_idt, 0.5 * err_direct);
+}
+
+// A long thin tube: a capsule 6 vertices around (radius 6/2π, so rings one unit apart), `length` units long,
+// every face split in three (valence-3 vertices, needle and obtuse triangles), bent by `bend` radians.
+Mesh long_thin_tube(double length, double bend) {
+  CapsuleOptions o;
+  o.segments = 6;
+  o.radius = 6 / (2 * 3.14159265358979323846);
+  o.length = length;
+  o.bend = bend;
+  return split_faces(capsule(o), 1);
+}
+
+// Relative errors against `exact` over the vertices farther than `min_distance` from the source.
+double max_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
+  double worst = 0;
+  for (Index i = 0; i < d.size(); ++i)
+    if (exact[i] > min_distance) worst = std::max(worst, std::abs(d[i] - exact[i]) / exact[i]);
+  return worst;
+}
+
+// 300 edge lengths of irregular triangles: the heat decays about twice as fast per unit length as on a
+// regular tube. Before the right-hand side was scaled and the gradient normalised without squaring, |∇u|²
+// underflowed at ~245 units and the far end got a plateau of finite, wrong distances (18% off at the end).
+TEST(HeatMethod, LongThinTubeAgainstExactAtEveryScale) {
+  Mesh m = long_thin_tube(300, 3.0);
+  const Eigen::VectorXd exact = exact_geodesics(m, {0});
+  ASSERT_GT(exact.maxCoeff(), 290);
+  for (double scale : {1.0, 1e-8, 1e8}) {
+    Mesh scaled = m;
+    scaled.V *= scale;
+    Eigen::VectorXd d = heat_method(scaled, {0}) / scale;
+    ASSERT_TRUE(d.allFinite()) << "scale " << scale;
+    EXPECT_LT(mean_relative_error(d, exact, 3.0), 0.02) << "scale " << scale;
+    EXPECT_LT(max_relative_error(d, exact, 3.0), 0.04) << "scale " << scale;
+  }
+}
+
+// Far beyond the heat's reach (2,000 units, ~1,750 mean edge lengths; the heat is trusted to ~1,150 units):
+// fast marching continues from the heat-method distances. Reference: fast marching from the source, within
+// 0.2% of exact geodesics on this tube (regular triangles, measured at 300 units).
+TEST(HeatMethod, ContinuesByFastMarchingWhereTheHeatUnderflows) {
+  CapsuleOptions o;
+  o.segments = 12;
+  o.radius = 12 / (2 * 3.14159265358979323846);
+  o.length = 2000;
+  Mesh m = capsule(o);
+  const int far_end = static_cast<int>(m.num_vertices()) - 1;
+  const Eigen::VectorXd reference = fast_marching(m, {0});
+  for (double scale : {1.0, 1e-8, 1e8}) {
+    Mesh scaled = m;
+    scaled.V *= scale;
+    HeatMethod heat(scaled);
+    Eigen::VectorXd d = heat.distances({0}) / scale;
+    ASSERT_TRUE(d.allFinite()) << "scale " << scale;
+    EXPECT_EQ(heat.fast_marching_continuations(), 1) << "scale " << scale;
+    EXPECT_LT(mean_relative_error(d, reference, 5.0), 0.01) << "scale " << scale;
+    EXPECT_LT(max_relative_error(d, reference, 5.0), 0.02) << "scale " << scale;
+    EXPECT_NEAR(d[far_end], reference[far_end], 0.01 * reference[far_end]) << "scale " << scale;
+  }
+  // The block path (for_each_source) continues each column on its own: both poles as sources.
+  HeatMethod heat(m);
+  Eigen::MatrixXd each = heat.distances_each({0, far_end});
+  ASSERT_TRUE(each.allFinite());
+  EXPECT_EQ(heat.fast_marching_continuations(), 2);
+  EXPECT_LT(max_relative_error(each.col(0), reference, 5.0), 0.02);
+  EXPECT_NEAR(each(0, 1), reference[far_end], 0.01 * reference[far_end]);
+  // Two sources together: nobody is farther than half the tube.
+  Eigen::VectorXd both = heat.distances({0, far_end});
+  ASSERT_TRUE(both.allFinite());
+  EXPECT_LT(both.maxCoeff(), 0.51 * reference[far_end]);
+}
+
+// Short meshes never need the continuation, and give the same distances as before it existed.
+TEST(HeatMethod, NoContinuationOnAnOrdinaryMesh) {
+  Mesh m = torus(40, 20, 2.0, 0.7);
+  HeatMethod heat(m);
+  Eigen::MatrixXd each = heat.distances_each({0, 100, 555});
+  EXPECT_TRUE(each.allFinite());
+  EXPECT_EQ(heat.fast_marching_continuations(), 0);
+}
+
+TEST(HeatMethod, WarnsOnCoarseMeshesOnly) {
+  Mesh tetrahedron;
+  tetrahedron.V.resize(4, 3);
+  tetrahedron.V << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  tetrahedron.F.resize(4, 3);
+  tetrahedron.F << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
+  // The heat method is 17% off on average there (CGAL too), where every distance is the edge length.
+  const Eigen::VectorXd d = heat_method(tetrahedron, {0});
+  EXPECT_GT(std::abs(d[1] - std::sqrt(8.0)) / std::sqrt(8.0), 0.05);
+  const std::string warning = heat_method_warning(tetrahedron);
+  EXPECT_NE(warning.find("--method exact"), std::string::npos) << warning;
+  EXPECT_NE(heat_method_warning(icosphere(1)), "");
+  EXPECT_NE(heat_method_warning(torus(20, 10, 1.0, 0.4)), "");  // 200 vertices: 5.9% mean error
+  EXPECT_EQ(heat_method_warning(icosphere(4)), "");             // 1.0% mean error
+  EXPECT_EQ(heat_method_warning(torus(40, 20, 1.0, 0.4)), "");  // 3.0%
+  Mesh big = icosphere(4);
+  big.V *= 1e8;
+  EXPECT_EQ(heat_method_warning(big), "");
 }
 
 }  // namespace
