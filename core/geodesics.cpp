@@ -97,8 +97,9 @@ Eigen::VectorXd per_component(const Mesh& mesh, const std::vector<int>& sources,
 std::string non_finite_advice(GeodesicMethod method) {
   switch (method) {
     case GeodesicMethod::HeatCgal:
-      return "CGAL's heat method returns NaN or DBL_MAX once the heat underflows in one face (long or "
-             "finely meshed shapes); use --method heat (ours continues by fast marching there) or fmm";
+      return "CGAL's heat method returns NaN or DBL_MAX where a normalised gradient is undefined (its heat "
+             "underflows on long or finely meshed shapes; tiny meshes such as a tetrahedron fail too); use "
+             "--method heat (ours continues by fast marching there) or fmm";
     case GeodesicMethod::Heat:
       return "the heat method failed numerically on this mesh; use --method fmm or exact, and please report "
              "the mesh";
