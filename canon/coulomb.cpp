@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 
@@ -36,6 +37,16 @@ std::string to_string(CoulombStepRule rule) {
     case CoulombStepRule::Fixed: return "fixed";
   }
   return "?";
+}
+
+TearGuard parse_tear_guard(const std::string& name) {
+  if (name == "vertex") return TearGuard::Vertex;
+  if (name == "connected") return TearGuard::Connected;
+  fail("unknown tear guard '", name, "'; known: vertex, connected");
+}
+
+std::string to_string(TearGuard guard) {
+  return guard == TearGuard::Vertex ? "vertex" : "connected";
 }
 
 void rigid_align_in_place(Points& A, const Points& B) {
@@ -74,8 +85,75 @@ double rigid_rms_distance(const Points& A, const Points& B) {
   return std::sqrt((rigid_align(A, B) - B).rowwise().squaredNorm().mean());
 }
 
+namespace {
+
+// The edge graph during one tear: adjacency with edge ids, edges removed so far, and a bidirectional
+// breadth-first search that tells whether two vertices are still joined.
+class TearGraph {
+ public:
+  TearGraph(Index num_vertices, const Edges& E)
+      : offsets_(num_vertices + 1, 0), removed_(E.rows(), 0), mark_(num_vertices, 0) {
+    for (Index e = 0; e < E.rows(); ++e) {
+      ++offsets_[E(e, 0) + 1];
+      ++offsets_[E(e, 1) + 1];
+    }
+    for (Index i = 0; i < num_vertices; ++i) offsets_[i + 1] += offsets_[i];
+    neighbor_.resize(offsets_.back());
+    edge_.resize(offsets_.back());
+    std::vector<int> fill(offsets_.begin(), offsets_.end() - 1);
+    for (Index e = 0; e < E.rows(); ++e) {
+      for (int side = 0; side < 2; ++side) {
+        const int k = fill[E(e, side)]++;
+        neighbor_[k] = E(e, 1 - side);
+        edge_[k] = static_cast<int>(e);
+      }
+    }
+  }
+
+  void remove(Index e) { removed_[e] = 1; }
+  void restore(Index e) { removed_[e] = 0; }
+
+  // Whether a and b are joined by a path of edges not removed. Grows a search from each end, one vertex at a
+  // time from the smaller frontier; stops when they meet or one side runs out, so it costs O(smaller side).
+  bool joined(int a, int b) {
+    if (a == b) return true;
+    stamp_ += 2;  // marks stamp_ (side a) and stamp_ + 1 (side b): no clearing between searches
+    if (stamp_ > std::numeric_limits<int>::max() - 2) {
+      std::fill(mark_.begin(), mark_.end(), 0);
+      stamp_ = 2;
+    }
+    std::vector<int>* queue[2] = {&queue_a_, &queue_b_};
+    size_t head[2] = {0, 0};
+    queue_a_.assign(1, a);
+    queue_b_.assign(1, b);
+    mark_[a] = stamp_;
+    mark_[b] = stamp_ + 1;
+    while (head[0] < queue_a_.size() && head[1] < queue_b_.size()) {
+      const int side = queue_a_.size() - head[0] <= queue_b_.size() - head[1] ? 0 : 1;
+      const int v = (*queue[side])[head[side]++];
+      for (int k = offsets_[v]; k < offsets_[v + 1]; ++k) {
+        if (removed_[edge_[k]]) continue;
+        const int w = neighbor_[k];
+        if (mark_[w] == stamp_ + 1 - side) return true;  // reached from the other side
+        if (mark_[w] == stamp_ + side) continue;
+        mark_[w] = stamp_ + side;
+        queue[side]->push_back(w);
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::vector<int> offsets_, neighbor_, edge_;
+  std::vector<char> removed_;
+  std::vector<int> mark_, queue_a_, queue_b_;
+  int stamp_ = 0;
+};
+
+}  // namespace
+
 std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
-                                        Index num_vertices, Index count) {
+                                        Index num_vertices, Index count, TearGuard guard) {
   CSHAPES_REQUIRE(rest_lengths.size() == E.rows(), "tearing: ", rest_lengths.size(), " rest lengths for ",
                   E.rows(), " edges");
   std::vector<double> deviation(E.rows());
@@ -89,12 +167,24 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
     ++degree[E(e, 0)];
     ++degree[E(e, 1)];
   }
+  const bool connected = guard == TearGuard::Connected;
+  // Vertex: never leave a vertex without edges, a free charge drifting away (prototype). Connected: not with
+  // one edge either (a flapping spike), nor cut off a pair or a patch, which drifts away just the same.
+  const int min_degree = connected ? 2 : 1;
+  std::unique_ptr<TearGraph> graph;
+  if (connected && count > 0) graph = std::make_unique<TearGraph>(num_vertices, E);
   std::vector<Index> chosen;
   for (Index e : order) {
     if (static_cast<Index>(chosen.size()) >= count) break;
     const int i = E(e, 0), j = E(e, 1);
-    // Never leave a vertex without edges: it would be a free charge drifting away (prototype).
-    if (degree[i] <= 1 || degree[j] <= 1) continue;
+    if (degree[i] <= min_degree || degree[j] <= min_degree) continue;
+    if (graph) {
+      graph->remove(e);
+      if (!graph->joined(i, j)) {
+        graph->restore(e);  // a bridge of the remaining graph: tearing it would cut a part off
+        continue;
+      }
+    }
     --degree[i];
     --degree[j];
     chosen.push_back(e);
@@ -180,7 +270,7 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   auto tear_now = [&](int iteration) {
     const double share = options.tear_fraction / options.tear_times;
     const Index count = static_cast<Index>(std::ceil(share * static_cast<double>(E.rows())));
-    std::vector<Index> chosen = select_edges_to_tear(X, edges, rest, n, count);
+    std::vector<Index> chosen = select_edges_to_tear(X, edges, rest, n, count, options.tear_guard);
     std::vector<char> remove(edges.rows(), 0);
     for (Index e : chosen) {
       remove[e] = 1;
@@ -300,6 +390,9 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);
   result.energy = coulomb_energy_gradient(X, final_energy).energy;
   result.violation = metric_violation(X, edges, rest);
+  std::vector<bool> torn_flags(E.rows(), false);
+  for (Index e : torn_rows) torn_flags[e] = true;
+  result.quality = form_quality(X0, E, X, &torn_flags);
   result.X = std::move(X);
   result.edges = std::move(edges);
   result.rest_lengths = std::move(rest);

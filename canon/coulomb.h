@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "canon/coulomb_energy.h"
+#include "canon/form_quality.h"
 #include "canon/metric_projection.h"
 #include "core/progress.h"
 
@@ -37,6 +38,21 @@ enum class CoulombStepRule {
 };
 CoulombStepRule parse_coulomb_step_rule(const std::string& name);  // "max-edge" | "mean-edge" | ... | "fixed"
 std::string to_string(CoulombStepRule rule);
+
+// Which tears select_edges_to_tear refuses. A part of the edge graph that tearing cuts off feels nothing but
+// the repulsion of the rest: it drifts away for as long as the iteration runs, dragging the faces that joined
+// it to the body across the form (a runaway; form_quality.h flags it). Measured with the default options on
+// topkids (real topological noise): the vertex guard cut off 264 vertices of kid07 and 260 of kid13 (a hand
+// flew 1.45 bbox diagonals off); with tear_fraction 5%, 19 of 24 tosca5k shapes lost a pair or patch
+// (victoria10: 640 vertices, 2.4 diagonals off). The connected guard cut nothing off in all of these, and on
+// cat0, michael0 and dog0 its forms lie within 0.07% (RMS / bbox diagonal) of the vertex guard's, with the
+// same glued bridges torn (coulomb-params, configs default and guard=vertex).
+enum class TearGuard {
+  Vertex,  // keep one edge at every vertex (the rule before the guard): a pair or patch may still be cut off
+  Connected  // keep two edges at every vertex and never split a component of the edge graph
+};
+TearGuard parse_tear_guard(const std::string& name);  // "vertex" | "connected"
+std::string to_string(TearGuard guard);
 
 // The summation options CoulombCanonOptions::energy starts from: auto, accuracy 1e-2 (see there).
 inline CoulombOptions coulomb_canon_summation() {
@@ -62,16 +78,17 @@ struct CoulombCanonOptions {
 
   // Tearing (§2.2): after tear_after outer iterations (or at convergence, if that comes first), remove the
   // edges with the largest |‖x_i − x_j‖ − d_ij| (absolute: ranking by relative deviation never caught glued
-  // bridges in the prototype). An edge whose removal would leave a vertex without edges is skipped (the vertex
-  // keeps its least violated edge) and the next one is taken. tear_fraction is the total share of the edges,
-  // split evenly over tear_times tears, tear_interval iterations (or convergence) apart; each tear removes
-  // ceil(tear_fraction / tear_times · |E|) edges. Three tears of 1/3 % caught 8/8 glued bridges on cat0 and
-  // michael0 where one tear of 1% caught 4/8 and 6/8 (README, coulomb-params): a bridge is stretched most
-  // once the edges torn before it have let the shape relax.
+  // bridges in the prototype). An edge that tear_guard refuses is skipped and the next one is taken.
+  // tear_fraction is the total share of the edges, split evenly over tear_times tears, tear_interval
+  // iterations (or convergence) apart; each tear removes ceil(tear_fraction / tear_times · |E|) edges. Three
+  // tears of 1/3 % caught 8/8 glued bridges on cat0 and michael0 where one tear of 1% caught 4/8 and 6/8
+  // (README, coulomb-params): a bridge is stretched most once the edges torn before it have let the shape
+  // relax.
   double tear_fraction = 0.01;  // p; 0 disables tearing
   int tear_after = 300;         // T (outer iterations); converged runs tear earlier
   int tear_times = 3;           // 1: tear once, as the paper describes it
   int tear_interval = 50;       // iterations between repeated tears (or convergence, if that comes first)
+  TearGuard tear_guard = TearGuard::Connected;  // see TearGuard
 
   // Stopping: every stop_window iterations, the RMS distance between the shape and the shape stop_window
   // iterations earlier, after rigid alignment (Kabsch, same vertex order), relative to the bounding-box
@@ -130,6 +147,9 @@ struct CoulombCanonResult {
   std::string stop_reason;  // "converged" or "max_iterations"
   double energy = 0;        // eq. (1) at X (fast summation at options.result_accuracy)
   MetricViolation violation;  // over the remaining edges, at X
+  // Stretch of the edges not torn relative to X0 (not to given rest lengths) and runaway vertices
+  // (form_quality.h); quality.ok is false when a vertex ran away.
+  FormQuality quality;
   double seconds = 0;
 };
 
@@ -138,11 +158,17 @@ struct CoulombCanonResult {
 CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options = {},
                                           const Eigen::VectorXd& rest_lengths = {});
 
-// Selects the edges to tear: the `count` largest deviations |‖x_i − x_j‖ − d_ij|, skipping any edge whose
-// removal would leave a vertex without edges (given the edges already chosen). Returns row indices into E,
-// by decreasing deviation. Ties are broken by edge index, so the choice is deterministic.
+// Selects the edges to tear: the `count` largest deviations |‖x_i − x_j‖ − d_ij|, skipping any edge the guard
+// refuses given the edges already chosen — Vertex: one that would leave a vertex without edges; Connected:
+// one that would leave a vertex with fewer than two edges (a vertex that already has fewer keeps them), or
+// whose endpoints would no longer be joined by a path of remaining edges. Returns row indices into E, by
+// decreasing deviation (fewer than `count` when the guard refuses the rest). Ties are broken by edge index,
+// so the choice is deterministic. Cost: one sort of |E|, plus for Connected a bidirectional breadth-first
+// search per candidate, which stops at the smaller side (a few steps on a mesh, where the endpoints share a
+// triangle).
 std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
-                                        Index num_vertices, Index count);
+                                        Index num_vertices, Index count,
+                                        TearGuard guard = TearGuard::Connected);
 
 // Rigid alignment (Kabsch, no scaling) of A onto B with the same vertex order: the rotation R and translation
 // t minimising Σ ‖R a_i + t − b_i‖². Returns A moved. Reflections are excluded.

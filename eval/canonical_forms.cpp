@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/heat_method.h"
+#include "eval/form_quality_json.h"
 
 namespace cshapes {
 
@@ -67,7 +68,8 @@ CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options
                                      {"mean_violation", r.violation.mean_relative},
                                      {"max_violation", r.violation.max_relative},
                                      {"torn_edges", r.torn_edges.rows()},
-                                     {"seconds", r.seconds}}
+                                     {"seconds", r.seconds},
+                                     {"form_quality", form_quality_json(r.quality)}}
                           .dump();
   return form;
 }
@@ -97,9 +99,11 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
     const std::string warning = heat_method_warning(mesh);
     if (!warning.empty()) summary["warning"] = warning;
   }
+  const Edges E = constraint_edges(mesh, options.knn);
   if (options.method == "cmds") {
     form.X = cm.X;
     form.solve_seconds = seconds_since(start);
+    summary["form_quality"] = form_quality_json(form_quality(mesh.V, E, form.X));
     form.summary_json = summary.dump();
     return form;
   }
@@ -116,6 +120,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
   summary["iterations"] = sr.iterations;
   summary["normalized_stress"] = sr.normalized_stress;
   summary["seconds_per_iteration"] = sr.seconds_per_iteration;
+  summary["form_quality"] = form_quality_json(form_quality(mesh.V, E, form.X));
   form.summary_json = summary.dump();
   return form;
 }
@@ -181,6 +186,7 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
       << ";k=" << c.projection.steps << ";norm=" << static_cast<int>(c.projection.norm)
       << ";l1_floor=" << c.projection.l1_floor << ";dilation=" << c.projection.dilation
       << ";tear=" << c.tear_fraction << "," << c.tear_after << "," << c.tear_times << "," << c.tear_interval
+      << ";tear_guard=" << to_string(c.tear_guard)
       << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
       << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
       << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy

@@ -5,6 +5,7 @@
 #include "canon/coulomb.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
+#include "eval/form_quality_json.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -15,6 +16,7 @@ struct CoulombArgs {
   std::string scheme = to_string(CoulombCanonOptions{}.scheme);
   std::string step_rule = to_string(CoulombCanonOptions{}.step_rule);
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
+  std::string tear_guard = to_string(CoulombCanonOptions{}.tear_guard);
   std::string summation = "auto";
   KnnGraphOptions knn;
 } args;
@@ -51,6 +53,10 @@ void add_options(CLI::Option_group& g) {
       ->capture_default_str();
   g.add_option("--tear-times", o.tear_times, "how many times to tear")->capture_default_str();
   g.add_option("--tear-interval", o.tear_interval, "iterations between repeated tears")->capture_default_str();
+  g.add_option("--tear-guard", args.tear_guard,
+               "edges tearing must keep: connected (two per vertex, no part cut "
+               "off), vertex (one per vertex: pairs and patches may be cut off and drift away)")
+      ->capture_default_str();
   g.add_option("--coulomb-max-iterations", o.max_iterations, "maximum outer iterations")->capture_default_str();
   g.add_option("--coulomb-window", o.stop_window, "iterations between shape-change checks")->capture_default_str();
   g.add_option("--coulomb-tolerance", o.stop_tolerance,
@@ -71,6 +77,7 @@ CoulombCanonOptions parsed_options() {
   options.scheme = parse_coulomb_scheme(args.scheme);
   options.step_rule = parse_coulomb_step_rule(args.step_rule);
   options.projection.norm = parse_projection_norm(args.norm);
+  options.tear_guard = parse_tear_guard(args.tear_guard);
   options.energy.summation = parse_summation(args.summation);
   return options;
 }
@@ -116,10 +123,12 @@ CanonOutput run(const CanonJob& job) {
                  {"scheme", to_string(options.scheme)},
                  {"step_rule", to_string(options.step_rule)},
                  {"projection", to_string(options.projection.norm)},
-                 {"projection_steps", options.projection.steps}};
+                 {"projection_steps", options.projection.steps},
+                 {"form_quality", form_quality_json(r.quality)}};
   note("coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
        std::to_string(r.seconds) + " s; mean violation " + std::to_string(r.violation.mean_relative) + ", " +
        std::to_string(r.torn_edges.rows()) + " edges torn");
+  note("coulomb: form quality " + r.quality.description);
   return out;
 }
 

@@ -6,6 +6,8 @@
 #include "canon/smacof.h"
 #include "core/error.h"
 #include "core/geodesics.h"
+#include "core/knn_graph.h"
+#include "eval/form_quality_json.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -60,6 +62,16 @@ nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
           {"seconds", r.seconds}};
 }
 
+// The form's edge stretch and runaway vertices (canon/form_quality.h), over the mesh's edges (a point cloud's
+// kNN graph).
+nlohmann::json quality_summary(const CanonJob& job, const Points& X) {
+  const Edges E =
+      job.mesh.is_point_cloud() ? knn_graph(job.mesh.V, KnnGraphOptions{}) : mesh_edges(job.mesh.F);
+  const FormQuality q = form_quality(job.mesh.V, E, X);
+  note("form quality " + q.description);
+  return form_quality_json(q);
+}
+
 ClassicalMdsResult run_cmds(const DistanceMatrix& D) {
   ClassicalMdsResult r = classical_mds(D);
   note("classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
@@ -74,7 +86,7 @@ CanonOutput canon_cmds(const CanonJob& job) {
   ClassicalMdsResult r = run_cmds(D);
   CanonOutput out;
   out.X = r.X;
-  out.summary = {{"classical_mds", cmds_summary(r)}};
+  out.summary = {{"classical_mds", cmds_summary(r)}, {"form_quality", quality_summary(job, r.X)}};
   return out;
 }
 
@@ -121,6 +133,7 @@ CanonOutput canon_smacof(const CanonJob& job) {
                            {"weights", args.weights},
                            {"seconds", r.seconds},
                            {"seconds_per_iteration", r.seconds_per_iteration}};
+  out.summary["form_quality"] = quality_summary(job, r.X);
   return out;
 }
 

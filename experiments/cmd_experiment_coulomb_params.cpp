@@ -176,6 +176,7 @@ std::vector<Config> all_configs() {
       {"tear once", [](CoulombCanonOptions& o) { o.tear_times = 1; }},
       {"tear x3/100", [](CoulombCanonOptions& o) { o.tear_interval = 100; }},
       {"no tearing", [](CoulombCanonOptions& o) { o.tear_fraction = 0; }},
+      {"guard=vertex", [](CoulombCanonOptions& o) { o.tear_guard = TearGuard::Vertex; }},
       // The fast summation's accuracy during the iterations (relative L2 error of the gradient).
       {"accuracy=3e-4", [](CoulombCanonOptions& o) { o.energy.accuracy = 3e-4; }},
       {"accuracy=1e-3", [](CoulombCanonOptions& o) { o.energy.accuracy = 1e-3; }},

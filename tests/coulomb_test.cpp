@@ -170,8 +170,60 @@ TEST(Tearing, RemovesCeilFractionAndIsolatesNoVertex) {
       ++degree[E(e, 0)];
       ++degree[E(e, 1)];
     }
-    for (int d : degree) EXPECT_GT(d, 0);
+    for (int d : degree) EXPECT_GE(d, 2);  // the default guard (Connected) keeps two edges per vertex
+    Edges kept(E.rows() - count, 2);
+    for (Index e = 0, k = 0; e < E.rows(); ++e)
+      if (!unique.count(e)) kept.row(k++) = E.row(e);
+    EXPECT_EQ(connected_components(m.num_vertices(), kept).count, 1);
   }
+}
+
+// A prism: triangle 0-1-2 (the body) joined to triangle 3-4-5 (a patch) by 0-3, 1-4, 2-5, the three most
+// violated edges. Tearing all three cuts the patch off.
+struct Prism {
+  Points X = Points(6, 3);
+  Edges E = Edges(9, 2);
+  Eigen::VectorXd rest = Eigen::VectorXd::Ones(9);
+  Prism() {
+    X << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 3, 1, 0, 3.1, 0, 1, 3.2;
+    E << 0, 1, 0, 2, 1, 2, 3, 4, 3, 5, 4, 5, 0, 3, 1, 4, 2, 5;
+    rest = edge_lengths(X, E);
+    rest.tail(3).setConstant(1.0);  // the joining edges are stretched 3×
+  }
+};
+
+TEST(Tearing, VertexGuardCutsOffAPatchTheConnectedGuardKeeps) {
+  const Prism p;
+  std::vector<Index> torn = select_edges_to_tear(p.X, p.E, p.rest, 6, 3, TearGuard::Vertex);
+  EXPECT_EQ(torn, (std::vector<Index>{8, 7, 6}));  // every vertex keeps two edges, yet the patch is cut off
+  torn = select_edges_to_tear(p.X, p.E, p.rest, 6, 3, TearGuard::Connected);
+  // 2-5 and 1-4 go; 0-3 would cut the patch off, and every other edge would leave 1, 2, 4 or 5 with one edge.
+  EXPECT_EQ(torn, (std::vector<Index>{8, 7}));
+}
+
+TEST(Tearing, ConnectedGuardKeepsEveryComponentWhole) {
+  // Two spheres side by side (two components): tearing a large share keeps each in one piece.
+  const Mesh a = icosphere(2);
+  Points X(2 * a.num_vertices(), 3);
+  X << a.V, a.V.rowwise() + Eigen::RowVector3d(3, 0, 0);
+  const Edges Ea = mesh_edges(a.F);
+  Edges E(2 * Ea.rows(), 2);
+  E << Ea, Ea.array() + static_cast<int>(a.num_vertices());
+  const Eigen::VectorXd rest = edge_lengths(X, E);
+  // Random stretch, so the most violated edges are scattered everywhere.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  Points Y = X;
+  for (Index i = 0; i < Y.rows(); ++i)
+    for (int c = 0; c < 3; ++c) Y(i, c) += jitter(rng);
+  const std::vector<Index> torn = select_edges_to_tear(Y, E, rest, X.rows(), E.rows() / 2);
+  EXPECT_GT(static_cast<Index>(torn.size()), E.rows() / 4);
+  std::vector<char> removed(E.rows(), 0);
+  for (Index e : torn) removed[e] = 1;
+  Edges kept(E.rows() - static_cast<Index>(torn.size()), 2);
+  for (Index e = 0, k = 0; e < E.rows(); ++e)
+    if (!removed[e]) kept.row(k++) = E.row(e);
+  EXPECT_EQ(connected_components(X.rows(), kept).count, 2);
 }
 
 TEST(Tearing, ChoosesTheLargestDeviationsAndKeepsOneEdgePerVertex) {
@@ -182,7 +234,7 @@ TEST(Tearing, ChoosesTheLargestDeviationsAndKeepsOneEdgePerVertex) {
   E << 0, 1, 0, 2, 0, 3, 0, 4, 1, 2;
   Eigen::VectorXd rest = Eigen::VectorXd::Ones(5);
   rest(4) = std::sqrt(2.0);
-  const std::vector<Index> torn = select_edges_to_tear(X, E, rest, 5, 4);
+  const std::vector<Index> torn = select_edges_to_tear(X, E, rest, 5, 4, TearGuard::Vertex);
   // Edges (0,4) and (0,3) are the most violated but are the only edges of 4 and 3.
   for (Index e : torn) EXPECT_TRUE(e != 3 && e != 2) << e;
   EXPECT_LE(torn.size(), 3u);  // only 0-1, 0-2, 1-2 are candidates, and 1-2 leaves 1 or 2 alone after 0-1, 0-2
@@ -203,6 +255,33 @@ TEST(CoulombCanon, TearingRemovesEdgesAndMarksVertices) {
   EXPECT_GT(r.torn_vertices.sum(), 0);
   EXPECT_LE(r.torn_vertices.sum(), 2.0 * expected);
   EXPECT_EQ(r.history.back().torn_edges, expected);
+}
+
+TEST(CoulombCanon, HeavyTearingCutsNothingOffAndNothingRunsAway) {
+  // Tearing 30% of a sphere's edges in three tears: with the old guard (one edge per vertex) the third tear
+  // cut the sphere in two and the halves flew apart (measured: 341 of 642 vertices detached, 279 farther than
+  // two bbox diagonals from the median after 600 iterations). The default guard keeps it whole and bounded.
+  const Mesh m = icosphere(3);
+  const Edges E = mesh_edges(m.F);
+  CoulombCanonOptions o;
+  o.tear_fraction = 0.3;
+  o.tear_after = 30;
+  o.tear_interval = 30;
+  o.max_iterations = 600;
+  o.tear_guard = TearGuard::Vertex;
+  const CoulombCanonResult old_guard = coulomb_canonical_form(m.V, E, o);
+  EXPECT_FALSE(old_guard.quality.ok) << old_guard.quality.description;
+  EXPECT_GT(old_guard.quality.detached_vertices, 0);
+
+  o.tear_guard = TearGuard::Connected;
+  const CoulombCanonResult r = coulomb_canonical_form(m.V, E, o);
+  EXPECT_EQ(r.torn_edges.rows(), 3 * static_cast<Index>(std::ceil(0.1 * E.rows())));
+  EXPECT_TRUE(r.X.allFinite());
+  EXPECT_TRUE(r.quality.ok) << r.quality.description;
+  EXPECT_EQ(r.quality.detached_vertices, 0);
+  EXPECT_EQ(connected_components(m.num_vertices(), r.edges).count, 1);
+  EXPECT_LT(r.quality.max_distance, 1.0);  // in input bbox diagonals from the form's median
+  EXPECT_LT(r.quality.p99_stretch, 2.0);
 }
 
 TEST(CoulombCanon, CoincidentVerticesGiveFiniteResults) {
