@@ -2,6 +2,8 @@
 
 #include <Spectra/SymEigsSolver.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -180,27 +182,54 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
   result.frobenius_squared =
       0.25 * (sums.sum_fourth - 2.0 / nd * sums.row_sums.squaredNorm() + total * total / (nd * nd));
 
-  const double shift = std::sqrt(std::max(0.0, result.frobenius_squared));
-  DoubleCentredOp<Scalar> op(D, shift, options.progress);
-  const Index ncv = std::min<Index>(options.lanczos_vectors, n);
-  // One Lanczos run for both ends when λ_min is wanted: 3 from the top and 2 from the bottom share the
-  // Krylov space, far cheaper than a second run.
-  const bool both_ends = options.most_negative_eigenvalue && n >= 8;
-  const Index nev = both_ends ? 5 : 3;
-  Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
-  eigs.init();
-  eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge, options.max_restarts,
-               options.tolerance, Spectra::SortRule::LargestAlge);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
-         " restarts (raise lanczos_vectors or the tolerance)");
-  const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
-  const Eigen::MatrixXd vectors = eigs.eigenvectors();
-  result.eigenvalues = values.head(3);
-  result.most_negative_eigenvalue = both_ends ? values[nev - 1] : std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d top_values;
+  Eigen::MatrixXd top_vectors;  // n×3
+  if (n < options.dense_below) {
+    // B = −½ J A J formed from the upper triangle (as the products read it), all eigenpairs at once.
+    Eigen::MatrixXd B(n, n);
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i <= j; ++i) {
+        const double d = static_cast<double>(D(i, j));
+        B(i, j) = B(j, i) = d * d;
+      }
+    // Bᵢⱼ = −½ (Aᵢⱼ − mᵢ − mⱼ + m̄) with m the column means of A (= row means) and m̄ their mean.
+    const Eigen::RowVectorXd means = B.colwise().mean();
+    const double grand_mean = means.mean();
+    B = (-0.5 * ((B.rowwise() - means).colwise() - means.transpose()).array() - 0.5 * grand_mean).matrix();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(B);
+    if (solver.info() != Eigen::Success)
+      fail("classical MDS: the dense eigendecomposition of B failed (n = ", n, ")");
+    const Eigen::VectorXd& values = solver.eigenvalues();  // ascending
+    top_values = values.tail(3).reverse();
+    top_vectors = solver.eigenvectors().rightCols(3).rowwise().reverse();
+    result.most_negative_eigenvalue =
+        options.most_negative_eigenvalue ? values[0] : std::numeric_limits<double>::quiet_NaN();
+  } else {
+    const double shift = std::sqrt(std::max(0.0, result.frobenius_squared));
+    DoubleCentredOp<Scalar> op(D, shift, options.progress);
+    const Index ncv = std::min<Index>(options.lanczos_vectors, n);
+    // One Lanczos run for both ends when λ_min is wanted: 3 from the top and 2 from the bottom share the
+    // Krylov space, far cheaper than a second run.
+    const bool both_ends = options.most_negative_eigenvalue && n >= 8;
+    const Index nev = both_ends ? 5 : 3;
+    Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
+    eigs.init();
+    eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge,
+                 options.max_restarts, options.tolerance, Spectra::SortRule::LargestAlge);
+    if (eigs.info() != Spectra::CompInfo::Successful)
+      fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
+           " restarts (raise lanczos_vectors or the tolerance)");
+    const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
+    const Eigen::MatrixXd vectors = eigs.eigenvectors();
+    top_values = values.head(3);
+    top_vectors = vectors.leftCols(3);
+    result.most_negative_eigenvalue = both_ends ? values[nev - 1] : std::numeric_limits<double>::quiet_NaN();
+    result.matrix_products = op.products();
+  }
+  result.eigenvalues = top_values;
   result.X.resize(n, 3);
   for (int k = 0; k < 3; ++k)
-    result.X.col(k) = vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
+    result.X.col(k) = top_vectors.col(k) * std::sqrt(std::max(0.0, result.eigenvalues[k]));
   result.X.rowwise() -= result.X.colwise().mean();
   const double top_sum = result.eigenvalues.sum();
   const double top_energy = result.eigenvalues.squaredNorm();
@@ -208,7 +237,6 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
       result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
   result.negative_energy_upper_bound = 1 - result.explained_energy;
   result.negative_mass_lower_bound = top_sum > 0 ? std::max(0.0, top_sum - result.trace) / top_sum : 0;
-  result.matrix_products = op.products();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

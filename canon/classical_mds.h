@@ -14,8 +14,11 @@
 // to v before and to the result after), O(n²) time and O(n · threads) extra memory, OpenMP over 256×256
 // tiles. The eigenpairs come from Spectra's implicitly restarted Lanczos method: about 30 products for the
 // top three and the two most negative eigenvalues together (n = 3,505 to 22,738), plus one validating pass.
-// D must be symmetric (entries below the diagonal are not read by the products). Entries must be finite and
-// ≥ 0: an infinite entry (a disconnected mesh) is refused with the pair's indices.
+// Below dense_below points (200) B is formed and decomposed densely instead (Eigen's SelfAdjointEigenSolver,
+// O(n³), under 10 ms at n = 200): Lanczos needs n > its subspace size (a tetrahedron, n = 4, cannot have
+// one), and at that size the dense solver is cheaper anyway. Both paths give the same eigenpairs. D must be
+// symmetric (entries below the diagonal are not read by the products). Entries must be finite and ≥ 0: an
+// infinite entry (a disconnected mesh) is refused with the pair's indices.
 #pragma once
 
 #include "core/distance_matrix.h"
@@ -31,7 +34,8 @@ struct ClassicalMdsOptions {
   int max_restarts = 1000;   // implicit restarts before giving up (throws)
   // Also compute the most negative eigenvalue of B (in the same Lanczos run: 2 more wanted eigenvalues).
   bool most_negative_eigenvalue = true;
-  ProgressFn progress;  // stage "classical mds": called after each product B·v (total unknown: 0)
+  Index dense_below = 200;  // fewer points: dense eigendecomposition of B (no products, no Lanczos)
+  ProgressFn progress;      // stage "classical mds": called after each product B·v (total unknown: 0)
 };
 
 struct ClassicalMdsResult {
@@ -39,7 +43,7 @@ struct ClassicalMdsResult {
   Eigen::Vector3d eigenvalues;  // λ₁ ≥ λ₂ ≥ λ₃, the eigenvalues of B used; a negative one gives a zero axis
   // Most negative eigenvalue λ_min of B (NaN when not computed). Zero or positive: B is semi-definite (the
   // distances are Euclidean in some dimension).
-  double most_negative_eigenvalue = 0;  // (not computed for n < 8)
+  double most_negative_eigenvalue = 0;  // (not computed by Lanczos for n < 8)
   // Spectrum summaries, exact, from one pass over D (traces of B and B²):
   double trace = 0;              // tr B = Σ λ = (1/2n) Σᵢⱼ Dᵢⱼ²
   double frobenius_squared = 0;  // ‖B‖²_F = Σ λ²
@@ -50,7 +54,7 @@ struct ClassicalMdsResult {
   //   negative_energy ≤ 1 − explained_energy    since Σ_{λ<0} λ² ≤ ‖B‖²_F − (λ₁² + λ₂² + λ₃²)
   double negative_mass_lower_bound = 0;    // max(0, λ₁+λ₂+λ₃ − tr B) / (λ₁+λ₂+λ₃)
   double negative_energy_upper_bound = 0;  // 1 − explained_energy
-  int matrix_products = 0;                 // products B·v (each one pass over D)
+  int matrix_products = 0;                 // products B·v (each one pass over D); 0 on the dense path
   double seconds = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace cshapes {
 
@@ -13,6 +14,15 @@ namespace cshapes {
 // `path` is then untouched. Creates missing parent directories. binary: open in binary mode.
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                            bool binary = false);
+
+// Checks, before any work, that an output file can later be written at `path`: its lower-cased extension is
+// one of `extensions` (without the dot, e.g. {"off", "ply"}; empty: any), the path is not a folder, and its
+// folder exists and takes a new file, or can be created (a probe file is created and removed there, so the
+// answer holds for root and read-only mounts too; nothing else is left behind). Throws cshapes::Error naming
+// the path and what is wrong.
+void check_output_path(const std::string& path, const std::vector<std::string>& extensions);
+// The same for an output folder: it is a writable folder, or can be created.
+void check_output_directory(const std::string& path);
 
 // Reads a whole file into a string; throws naming the file when it cannot be read.
 std::string read_file(const std::string& path);

@@ -52,9 +52,14 @@ struct RemeshResult {
 };
 
 // Remeshes `mesh` (a valid triangle mesh, manifold; boundaries allowed) to target_vertices within the
-// tolerance. Throws cshapes::Error when the input is not a manifold triangle mesh or the count cannot be
-// reached.
+// tolerance. Throws cshapes::Error when an option is out of range, when remesh_memory_bytes(target) exceeds
+// the memory available (before any work), when the input is not a manifold triangle mesh or the count cannot
+// be reached.
 RemeshResult remesh(const Mesh& mesh, const RemeshOptions& options);
+
+// The memory remesh() needs for a target vertex count (bytes, an upper estimate measured on CGAL's
+// structures).
+double remesh_memory_bytes(Index target_vertices);
 
 // Symmetric Hausdorff distance between two surfaces, approximated by sampling: every vertex, edge midpoint
 // and face centroid of each mesh is projected onto the other (exact point-to-triangle distances via an AABB

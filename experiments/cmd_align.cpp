@@ -32,6 +32,7 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
 }
 
 int run() {
+  if (!args.output.empty()) require_mesh_output_path(args.output);
   // Canonical forms keep their input's faces, which need not pass mesh validation: only points matter here.
   ReadOptions lenient;
   lenient.validate = false;
@@ -89,10 +90,8 @@ const bool registered = register_command(
      "Rigidly align shape A onto shape B (ICP) and print the transform and the Hausdorff, Chamfer and RMS "
      "distances",
      [](CLI::App& app) {
-       app.add_option("A", args.source, "source mesh or point cloud (moved)")
-           ->required()
-           ->check(CLI::ExistingFile);
-       app.add_option("B", args.target, "target mesh or point cloud")->required()->check(CLI::ExistingFile);
+       app.add_option("A", args.source, "source mesh or point cloud (moved)")->required();
+       app.add_option("B", args.target, "target mesh or point cloud")->required();
        app.add_option("-o,--output", args.output, "write A after alignment (with A's faces)");
        app.add_flag("--json", args.json, "print JSON");
        app.add_flag(
@@ -102,9 +101,9 @@ const bool registered = register_command(
        app.add_flag("--one-way", args.one_way, "match A to B only (default: both directions)");
        app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
        app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")
-           ->check(CLI::Range(0.0, 0.9));
+           ->check(number_in(0, 0.9));
        app.add_option("--tolerance", args.tolerance, "stop when the RMSE changes by less than this fraction")
-           ->check(CLI::NonNegativeNumber);
+           ->check(number_at_least(0));
      },
      run});
 

@@ -243,11 +243,10 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("--n", args.n, "number of points (with --mesh: points sampled on its surface)");
        app.add_option("--distribution", args.distribution, "uniform (cube), sphere (surface) or clustered")
-           ->check(CLI::IsMember({"uniform", "sphere", "clustered"}));
-       app.add_option("--mesh", args.mesh, "use a mesh's vertices (or points on its surface with --n)")
-           ->check(CLI::ExistingFile);
+           ->check(one_of({"uniform", "sphere", "clustered"}));
+       app.add_option("--mesh", args.mesh, "use a mesh's vertices (or points on its surface with --n)");
        app.add_option("--repeats", args.repeats, "timed runs per method; the median is reported")
-           ->check(CLI::PositiveNumber);
+           ->check(integer_at_least(1));
        app.add_option("--accuracy", args.accuracy, "fast summation's target relative L2 gradient error");
        app.add_option("--order", args.order, "override the expansion order (0: from --accuracy)");
        app.add_option("--theta", args.opening_angle, "override the opening angle (0: from --accuracy)");

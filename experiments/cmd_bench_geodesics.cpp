@@ -304,13 +304,13 @@ const bool registered = register_command(
      "exact",
      [](CLI::App& app) {
        app.add_option("--n", args.n, "generate a torus refined to exactly N vertices");
-       app.add_option("--mesh", args.mesh_path, "benchmark this mesh")->check(CLI::ExistingFile);
+       app.add_option("--mesh", args.mesh_path, "benchmark this mesh");
        app.add_option(
            "--vertices", args.vertices,
            "refine --mesh to exactly this many vertices (1-to-4 subdivision, then longest-edge splits)");
        app.add_option("--heat-mode", args.heat_mode, "idt or direct, for both heat methods")
            ->capture_default_str()
-           ->check(CLI::IsMember({"idt", "direct"}));
+           ->check(one_of({"idt", "direct"}));
        app.add_option("--anchor-samples", args.anchor_samples,
                       "sources timed for CGAL's heat method (n: the full all-pairs run)")
            ->capture_default_str();

@@ -30,8 +30,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
-#include "experiments/command.h"
 #include "core/synthetic.h"
+#include "experiments/command.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
 
@@ -284,11 +284,11 @@ const bool registered = register_command(
      "ICP of two 5,000-point shapes with every starting pose (goal <= 20 ms); per-iteration time vs Open3D",
      [](CLI::App& app) {
        app.add_option("--n", args.n, "points per shape (subsampled; 0 keeps all)")
-           ->check(CLI::NonNegativeNumber);
+           ->check(integer_at_least(0));
        app.add_option("--a", args.a, "source shape (default: TOSCA cat0 from the shared data)");
        app.add_option("--b", args.b, "target shape (default: TOSCA cat1)");
        app.add_option("--repeats", args.repeats, "timed repetitions (median reported)")
-           ->check(CLI::PositiveNumber);
+           ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print JSON");
        app.add_flag("--no-open3d", args.no_open3d, "skip the Open3D comparison");
      },

@@ -22,7 +22,12 @@ int run() {
     if (m.name == args.method) method = &m;
     known += (known.empty() ? "" : ", ") + m.name;
   }
-  if (!method) fail("unknown --method '", args.method, "'; known: ", known);
+  if (!method) usage_fail("--method: expected one of ", known, ", got '", args.method, "'");
+  // Everything the command line decides is checked before any work.
+  check_canon_method_options({method->name}, true);
+  if (method->validate) method->validate();
+  require_mesh_output_path(args.output);
+  if (!args.history.empty()) require_output_path(args.history, {"csv"});
 
   CanonJob job;
   job.input_path = args.input;

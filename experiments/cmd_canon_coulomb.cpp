@@ -1,5 +1,6 @@
 // cshapes canon MESH -o OUT --method coulomb [options]: the Coulomb canonical form (§2 of the paper).
-// Output: the input's vertex order and faces; PLY carries a per-vertex `torn` flag (1: endpoint of a torn edge).
+// Output: the input's vertex order and faces; PLY carries a per-vertex `torn` flag (1: endpoint of a torn
+// edge).
 #include <map>
 
 #include "canon/coulomb.h"
@@ -26,49 +27,89 @@ CoulombOptions::Summation parse_summation(const std::string& name) {
   if (name == "direct") return CoulombOptions::Summation::Direct;
   if (name == "direct-float") return CoulombOptions::Summation::DirectFloat;
   if (name == "fast") return CoulombOptions::Summation::Fast;
-  fail("unknown --coulomb-summation '", name, "'; known: auto, direct, direct-float, fast");
+  usage_fail("--coulomb-summation: expected one of auto, direct, direct-float, fast, got '", name, "'");
 }
 
 void add_options(CLI::Option_group& g) {
   CoulombCanonOptions& o = args.options;
-  g.add_option("--scheme", args.scheme, "paper: plain alternation of §2.1; momentum: Nesterov with restart (same "
-               "fixed point, fewer iterations)")->capture_default_str();
-  g.add_option("--step-rule", args.step_rule, "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), "
-               "mean-edge, median-edge; or fixed")->capture_default_str();
-  g.add_option("--step-factor", o.step_factor, "the factor of the step rule (paper: 0.1)")->capture_default_str();
-  g.add_option("--fixed-step", o.fixed_step, "c for --step-rule fixed; 0: the mean-edge c of the first iteration")
-      ->capture_default_str();
-  g.add_option("--coulomb-steps", o.coulomb_steps, "m: Coulomb steps per outer iteration")->capture_default_str();
+  g.add_option("--scheme", args.scheme,
+               "paper: plain alternation of §2.1; momentum: Nesterov with restart (same "
+               "fixed point, fewer iterations)")
+      ->capture_default_str()
+      ->check(one_of({"paper", "momentum"}));
+  g.add_option("--step-rule", args.step_rule,
+               "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), "
+               "mean-edge, median-edge; or fixed")
+      ->capture_default_str()
+      ->check(one_of({"max-edge", "mean-edge", "median-edge", "fixed"}));
+  g.add_option("--step-factor", o.step_factor, "the factor of the step rule (paper: 0.1)")
+      ->capture_default_str()
+      ->check(number_above(0));
+  g.add_option("--fixed-step", o.fixed_step,
+               "c for --step-rule fixed; 0: the mean-edge c of the first iteration")
+      ->capture_default_str()
+      ->check(number_at_least(0));
+  g.add_option("--coulomb-steps", o.coulomb_steps, "m: Coulomb steps per outer iteration")
+      ->capture_default_str()
+      ->check(integer_in(1, 1000000));
   g.add_option("--projection-steps", o.projection.steps, "k: projection sweeps per outer iteration")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 1000000));
   g.add_option("--projection", args.norm, "l2: averaged projection (eq. 6); l1: weighted (eq. 8-9)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(one_of({"l2", "l1"}));
   g.add_option("--l1-floor", o.projection.l1_floor, "L1 weights: |r-d| floored at this fraction of d")
-      ->capture_default_str();
-  g.add_option("--dilation", o.projection.dilation, "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact")
-      ->capture_default_str();
-  g.add_option("--tear-fraction", o.tear_fraction, "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing")
-      ->capture_default_str();
-  g.add_option("--tear-after", o.tear_after, "T: tear after this many iterations (or at convergence if earlier)")
-      ->capture_default_str();
-  g.add_option("--tear-times", o.tear_times, "how many times to tear")->capture_default_str();
-  g.add_option("--tear-interval", o.tear_interval, "iterations between repeated tears")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_above(0));
+  g.add_option("--dilation", o.projection.dilation,
+               "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact")
+      ->capture_default_str()
+      ->check(number_at_least(1));
+  g.add_option("--tear-fraction", o.tear_fraction,
+               "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing")
+      ->capture_default_str()
+      ->check(number_in(0, 0.99));
+  g.add_option("--tear-after", o.tear_after,
+               "T: tear after this many iterations (or at convergence if earlier)")
+      ->capture_default_str()
+      ->check(integer_in(0, 100000000));
+  g.add_option("--tear-times", o.tear_times, "how many times to tear")
+      ->capture_default_str()
+      ->check(integer_in(0, 1000000));
+  g.add_option("--tear-interval", o.tear_interval, "iterations between repeated tears")
+      ->capture_default_str()
+      ->check(integer_in(1, 100000000));
   g.add_option("--tear-guard", args.tear_guard,
                "edges tearing must keep: connected (two per vertex, no part cut "
                "off), vertex (one per vertex: pairs and patches may be cut off and drift away)")
-      ->capture_default_str();
-  g.add_option("--coulomb-max-iterations", o.max_iterations, "maximum outer iterations")->capture_default_str();
-  g.add_option("--coulomb-window", o.stop_window, "iterations between shape-change checks")->capture_default_str();
+      ->capture_default_str()
+      ->check(one_of({"connected", "vertex"}));
+  g.add_option("--coulomb-max-iterations", o.max_iterations, "maximum outer iterations")
+      ->capture_default_str()
+      ->check(integer_in(0, 100000000));
+  g.add_option("--coulomb-window", o.stop_window, "iterations between shape-change checks")
+      ->capture_default_str()
+      ->check(integer_in(1, 100000000));
   g.add_option("--coulomb-tolerance", o.stop_tolerance,
                "converged when the aligned RMS shape change over a window is below this × bbox diagonal")
-      ->capture_default_str();
-  g.add_option("--momentum", o.momentum, "cap of Nesterov's momentum (scheme momentum)")->capture_default_str();
-  g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, direct-float, fast")->capture_default_str();
-  g.add_option("--coulomb-accuracy", o.energy.accuracy, "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
-               "whichever is smaller)")
-      ->capture_default_str();
-  g.add_option("--knn", args.knn.k, "point clouds (no faces): neighbours per point of the symmetric kNN graph")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_at_least(0));
+  g.add_option("--momentum", o.momentum, "cap of Nesterov's momentum (scheme momentum)")
+      ->capture_default_str()
+      ->check(number_in(0, 0.999));
+  g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, direct-float, fast")
+      ->capture_default_str()
+      ->check(one_of({"auto", "direct", "direct-float", "fast"}));
+  g.add_option(
+       "--coulomb-accuracy", o.energy.accuracy,
+       "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
+       "whichever is smaller)")
+      ->capture_default_str()
+      ->check(number_in(1e-12, 1));
+  g.add_option("--knn", args.knn.k,
+               "point clouds (no faces): neighbours per point of the symmetric kNN graph")
+      ->capture_default_str()
+      ->check(integer_in(1, 1000));
 }
 
 // The options as parsed (names checked here, so a typo fails before any work).
@@ -82,7 +123,19 @@ CoulombCanonOptions parsed_options() {
   return options;
 }
 
+// Options that only one setting of another option reads: refused by name rather than ignored.
+void validate() {
+  const CoulombCanonOptions options = parsed_options();
+  if (canon_option_given("--fixed-step") && options.step_rule != CoulombStepRule::Fixed)
+    usage_fail("--fixed-step applies to --step-rule fixed only");
+  if (canon_option_given("--l1-floor") && options.projection.norm != ProjectionNorm::L1)
+    usage_fail("--l1-floor applies to --projection l1 only");
+  if (canon_option_given("--momentum") && options.scheme != CoulombScheme::Momentum)
+    usage_fail("--momentum applies to --scheme momentum only");
+}
+
 void configure(CanonicalFormOptions& o) {
+  validate();
   o.coulomb = parsed_options();
   o.knn = args.knn;
 }
@@ -94,18 +147,19 @@ CanonOutput run(const CanonJob& job) {
   const Edges edges = job.mesh.is_point_cloud() ? knn_graph(job.mesh.V, args.knn) : mesh_edges(job.mesh.F);
   if (job.mesh.is_point_cloud()) {
     const Components components = connected_components(job.mesh.num_vertices(), edges);
-    CSHAPES_REQUIRE(components.count == 1, job.input_path, ": the ", args.knn.k, "-nearest-neighbour graph has ",
-                    components.count, " components; its parts would drift apart: raise --knn");
-    note(job.input_path + ": point cloud, " + std::to_string(edges.rows()) + " kNN edges (k = " +
-         std::to_string(args.knn.k) + ")");
+    CSHAPES_REQUIRE(components.count == 1, job.input_path, ": the ", args.knn.k,
+                    "-nearest-neighbour graph has ", components.count,
+                    " components; its parts would drift apart: raise --knn");
+    note(job.input_path + ": point cloud, " + std::to_string(edges.rows()) +
+         " kNN edges (k = " + std::to_string(args.knn.k) + ")");
   }
   CoulombCanonResult r = coulomb_canonical_form(job.mesh.V, edges, options);
 
   CanonOutput out;
   out.X = r.X;
   out.scalars.push_back({"torn", r.torn_vertices});
-  out.history_columns = {"iteration",  "energy",      "mean_violation", "max_violation", "step",
-                         "max_move",   "torn_edges",  "shape_change",   "momentum",      "seconds"};
+  out.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
+                         "max_move",  "torn_edges", "shape_change",   "momentum",      "seconds"};
   for (const CoulombIterationRecord& h : r.history)
     out.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
                                 h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
@@ -132,9 +186,14 @@ CanonOutput run(const CanonJob& job) {
   return out;
 }
 
-const bool registered = register_canon_method(
-    {"coulomb", "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)", add_options, run,
-     configure});
+const bool registered =
+    register_canon_method({"coulomb",
+                           "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)",
+                           add_options,
+                           run,
+                           configure,
+                           {},
+                           validate});
 
 }  // namespace
 }  // namespace cshapes::cli

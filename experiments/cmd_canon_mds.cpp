@@ -97,11 +97,7 @@ CanonOutput canon_smacof(const CanonJob& job) {
   options.acceleration = parse_smacof_acceleration(args.accelerate);
   options.extrapolation_window = args.window;
   options.progress = progress_printer();
-  if (args.weights == "area")
-    options.vertex_weights = vertex_area_weights(job.mesh);
-  else if (args.weights != "uniform")
-    fail("unknown --weights '", args.weights, "'; known: uniform, area");
-  if (args.init != "cmds" && args.init != "mesh") fail("unknown --init '", args.init, "'; known: cmds, mesh");
+  if (args.weights == "area") options.vertex_weights = vertex_area_weights(job.mesh);
 
   DistanceMatrix D = job_distances(job);
   CanonOutput out;
@@ -139,55 +135,87 @@ CanonOutput canon_smacof(const CanonJob& job) {
 
 // distmat and experiment paper: the same options through canonical_form(), which computes the geodesics
 // itself and starts SMACOF from classical MDS with uniform weights.
+void validate_mds() {
+  if (canon_option_given("--geodesics") && canon_option_given("--distances"))
+    usage_fail("--geodesics and --distances exclude each other (--distances reads the distances instead)");
+}
+
 void configure_mds(CanonicalFormOptions& o) {
+  validate_mds();
   if (!args.geodesics.empty()) o.geodesics.method = parse_geodesic_method(args.geodesics);
-  CSHAPES_REQUIRE(args.distances.empty(), "--distances: only `cshapes canon` reads a precomputed distance matrix "
-                  "(here every shape needs its own)");
+  if (!args.distances.empty())
+    usage_fail(
+        "--distances: only `cshapes canon` reads a precomputed distance matrix (here every shape needs "
+        "its own)");
+}
+
+void validate_smacof() {
+  validate_mds();  // cmds' group (--geodesics, --distances) serves smacof too
+  if (canon_option_given("--window") && args.accelerate == "none")
+    usage_fail("--window applies to --accelerate rre or mpe only");
 }
 
 void configure_smacof(CanonicalFormOptions& o) {
+  validate_smacof();
   o.smacof.max_iterations = args.iterations;
   o.smacof.tolerance = args.tolerance;
   o.smacof.acceleration = parse_smacof_acceleration(args.accelerate);
   o.smacof.extrapolation_window = args.window;
-  CSHAPES_REQUIRE(args.init == "cmds", "--init ", args.init,
-                  ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
-  CSHAPES_REQUIRE(args.weights == "uniform", "--weights ", args.weights,
-                  ": only `cshapes canon` weights SMACOF by vertex areas; here weights are uniform");
+  if (args.init != "cmds")
+    usage_fail("--init ", args.init,
+               ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
+  if (args.weights != "uniform")
+    usage_fail("--weights ", args.weights,
+               ": only `cshapes canon` weights SMACOF by vertex areas; here weights are uniform");
 }
 
 // Options shared by both methods live in the cmds group (CLI11 needs each name once).
 const bool cmds_registered = register_canon_method(
-    {"cmds", "classical MDS (Young-Householder) of all-pairs geodesic distances",
+    {"cmds",
+     "classical MDS (Young-Householder) of all-pairs geodesic distances",
      [](CLI::Option_group& g) {
-       g.add_option("--geodesics", args.geodesics,
-                    "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: fmm "
-                    "(the paper's) in canon, heat in distmat and experiment paper");
+       g.add_option(
+            "--geodesics", args.geodesics,
+            "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: fmm "
+            "(the paper's) in canon, heat in distmat and experiment paper")
+           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
      },
-     canon_cmds, configure_mds});
+     canon_cmds,
+     configure_mds,
+     {"smacof"},
+     validate_mds});
 
 const bool smacof_registered = register_canon_method(
-    {"smacof", "SMACOF metric MDS (Guttman transforms) of all-pairs geodesic distances",
+    {"smacof",
+     "SMACOF metric MDS (Guttman transforms) of all-pairs geodesic distances",
      [](CLI::Option_group& g) {
        g.add_option("--iters", args.iterations, "smacof: maximum iterations (passes over D)")
            ->capture_default_str()
-           ->check(CLI::NonNegativeNumber);
+           ->check(integer_in(0, 100000000));
        g.add_option("--tolerance", args.tolerance,
                     "smacof: stop when the relative stress decrease is below this")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_at_least(0));
        g.add_option("--init", args.init, "smacof: initial configuration: cmds (classical MDS) or mesh")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(one_of({"cmds", "mesh"}));
        g.add_option("--accelerate", args.accelerate, "smacof: vector extrapolation: none, rre or mpe")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(one_of({"none", "rre", "mpe"}));
        g.add_option("--window", args.window, "smacof: Guttman steps per extrapolation")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(2, 1000));
        g.add_option("--weights", args.weights,
                     "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(one_of({"uniform", "area"}));
      },
-     canon_smacof, configure_smacof});
+     canon_smacof,
+     configure_smacof,
+     {},
+     validate_smacof});
 
 }  // namespace
 }  // namespace cshapes::cli

@@ -12,6 +12,7 @@ struct ConvertArgs {
 } args;
 
 int run() {
+  require_mesh_output_path(args.output);
   ReadOptions read_options;
   read_options.validate = !args.no_validate;
   MeshFile file = read_mesh_file(args.input, read_options);

@@ -20,15 +20,17 @@ struct DistmatArgs {
 } args;
 
 int run() {
-  Dataset data = read_dataset(args.data);
+  // The command line first: nothing is read or computed before it passes.
+  check_canon_method_options({args.method}, false);  // the same options serve a loop over methods: warn
+  require_output_path(args.output, {"csv"});
   CanonicalFormOptions co;
   co.method = args.method;
   co.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(co);                // every method option given on the command line
-  CSHAPES_REQUIRE(args.metric == "hausdorff" || args.metric == "chamfer" || args.metric == "rmse",
-                  "--metric: expected hausdorff, chamfer or rmse, got '", args.metric, "'");
+  Dataset data = read_dataset(args.data);
   const std::string cache_dir =
-      args.cache.empty() ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string() : args.cache;
+      args.cache.empty() ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string()
+                         : args.cache;
   DiskCache cache((std::filesystem::path(cache_dir) / "forms").string());
 
   std::vector<Points> forms;
@@ -49,11 +51,17 @@ int run() {
   po.cache_dir = (std::filesystem::path(cache_dir) / "pairs").string();
   po.progress = progress_printer();
   PairwiseDistanceResult pd = pairwise_distances(forms, keys, po);
-  const Eigen::MatrixXd& D = args.metric == "hausdorff" ? pd.hausdorff : args.metric == "chamfer" ? pd.chamfer : pd.rmse;
+  const Eigen::MatrixXd& D = args.metric == "hausdorff" ? pd.hausdorff
+                             : args.metric == "chamfer" ? pd.chamfer
+                                                        : pd.rmse;
   write_distance_csv(args.output, names, D);
   if (args.json)
-    std::cout << nlohmann::json{{"output", args.output},   {"shapes", names.size()},       {"method", args.method},
-                                {"metric", args.metric},   {"pairs_computed", pd.computed}, {"pairs_cached", pd.cached},
+    std::cout << nlohmann::json{{"output", args.output},
+                                {"shapes", names.size()},
+                                {"method", args.method},
+                                {"metric", args.metric},
+                                {"pairs_computed", pd.computed},
+                                {"pairs_cached", pd.cached},
                                 {"cache", cache_dir}}
                      .dump(2)
               << std::endl;
@@ -65,12 +73,17 @@ const bool registered = register_command(
     {{"distmat"},
      "Distance matrix of a dataset: canonical forms (cached), ICP between all pairs, the paper's distance",
      [](CLI::App& app) {
-       app.add_option("DATA", args.data, "folder of meshes (class = name without trailing digits) or manifest.csv")
+       app.add_option("DATA", args.data,
+                      "folder of meshes (class = name without trailing digits) or manifest.csv")
            ->required();
        app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
-       app.add_option("--method", args.method, "coulomb, cmds or smacof (options: the groups below, as in canon)")
-           ->capture_default_str();
-       app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")->capture_default_str();
+       app.add_option("--method", args.method,
+                      "coulomb, cmds or smacof (options: the groups below, as in canon)")
+           ->capture_default_str()
+           ->check(one_of({"coulomb", "cmds", "smacof"}));
+       app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")
+           ->capture_default_str()
+           ->check(one_of({"hausdorff", "chamfer", "rmse"}));
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
        app.add_flag("--largest-component", args.largest_component, "keep each input's largest component");
        app.add_flag("--json", args.json, "print a JSON summary");

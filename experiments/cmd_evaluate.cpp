@@ -25,6 +25,7 @@ nlohmann::json scores_json(const RetrievalScores& s) {
 }
 
 int run() {
+  require_output_directory(args.output);
   NamedDistances input = read_distance_csv(args.matrix);
   std::vector<std::string> classes;
   if (args.labels.empty()) {
@@ -106,18 +107,16 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("MATRIX", args.matrix,
                       "distance matrix CSV (header row of shape names, or plain numbers)")
-           ->required()
-           ->check(CLI::ExistingFile);
+           ->required();
        app.add_option(
-              "--labels", args.labels,
-              "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat)")
-           ->check(CLI::ExistingFile);
+           "--labels", args.labels,
+           "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat)");
        app.add_option("-o,--output", args.output, "output directory")->required();
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")
-           ->check(CLI::PositiveNumber);
+           ->check(integer_at_least(1));
        app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
-           ->check(CLI::PositiveNumber);
+           ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
      },
      run});

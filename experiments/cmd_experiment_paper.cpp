@@ -28,19 +28,26 @@ std::vector<std::string> split(const std::string& text) {
 int run() {
   PaperExperimentOptions o = args.options;
   o.methods = split(args.methods);
-  CSHAPES_REQUIRE(!o.methods.empty(), "--methods: give at least one of coulomb, cmds, smacof");
+  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
+  for (const std::string& m : o.methods)
+    if (m != "coulomb" && m != "cmds" && m != "smacof")
+      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
   if (args.poses == "all") {
     o.poses_per_class = 0;
   } else {
     try {
       o.poses_per_class = std::stoi(args.poses);
     } catch (const std::exception&) {
-      fail("--poses-per-class: expected a number or 'all', got '", args.poses, "'");
+      usage_fail("--poses-per-class: expected a number or 'all', got '", args.poses, "'");
     }
-    CSHAPES_REQUIRE(o.poses_per_class >= 1, "--poses-per-class must be at least 1 (or 'all')");
+    if (o.poses_per_class < 1) usage_fail("--poses-per-class must be at least 1 (or 'all')");
   }
+  if (o.figure_vertices != 0 && o.figure_vertices < 4)
+    usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
+  check_canon_method_options(o.methods, false);  // one command line for every method: warn, do not refuse
+  require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
-  configure_canonical_form(o.canon);                 // every method option given, as in `cshapes canon`
+  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   o.progress = progress_printer();
@@ -56,10 +63,11 @@ int run() {
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
-    std::printf("experiment paper: %d shapes in %.1f s (%ld canonical forms computed, %ld cached; %ld ICP pairs "
-                "computed, %ld cached); report: %s/report.md\n",
-                s.shapes, s.seconds, s.canonical_forms_computed, s.canonical_forms_cached, s.pairs_computed,
-                s.pairs_cached, o.out.c_str());
+    std::printf(
+        "experiment paper: %d shapes in %.1f s (%ld canonical forms computed, %ld cached; %ld ICP pairs "
+        "computed, %ld cached); report: %s/report.md\n",
+        s.shapes, s.seconds, s.canonical_forms_computed, s.canonical_forms_cached, s.pairs_computed,
+        s.pairs_cached, o.out.c_str());
   }
   return 0;
 }
@@ -70,28 +78,41 @@ const bool registered = register_command(
      "of topological noise, data for Figures 2-8, Table 1 and report.md (cached: reruns resume)",
      [](CLI::App& app) {
        PaperExperimentOptions& o = args.options;
-       app.add_option("--data", o.data, "folder of meshes (class = name without trailing digits) or manifest.csv")
+       app.add_option("--data", o.data,
+                      "folder of meshes (class = name without trailing digits) or manifest.csv")
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")->capture_default_str();
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
            ->capture_default_str();
        app.add_option("--noisy-per-class", o.noisy_per_class,
                       "topologically noisy shapes per class (the data's, else glued here from another pose)")
-           ->capture_default_str();
-       app.add_option("--glue", o.glue, "glues per noisy shape made here")->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(0, 1000));
+       app.add_option("--glue", o.glue, "glues per noisy shape made here")
+           ->capture_default_str()
+           ->check(integer_in(1, 1000));
        app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
-       app.add_flag("--largest-component", o.largest_component, "keep each input's largest connected component");
-       app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")->capture_default_str();
-       app.add_flag("--no-table1", args.no_table1, "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
+       app.add_flag("--largest-component", o.largest_component,
+                    "keep each input's largest connected component");
+       app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
+           ->capture_default_str()
+           ->check(integer_in(1, 1000));
+       app.add_flag("--no-table1", args.no_table1,
+                    "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
        app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
-       app.add_option("--figure-vertices", o.figure_vertices, "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
-           ->capture_default_str();
+       app.add_option("--figure-vertices", o.figure_vertices,
+                      "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
+           ->capture_default_str()
+           ->check(integer_in(0, 10000000));
        app.add_option("--fig5-iterations", o.fig5_iterations, "Figure 5: outer iterations per curve")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(1, 100000000));
        app.add_option("--correspondence-samples", o.correspondence_samples,
                       "ground-truth samples per pair for the point-map error (0: skip)")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(0, 100000000));
        app.add_flag("--json", args.json, "print the summary as JSON");
        add_canon_method_options(app);
      },

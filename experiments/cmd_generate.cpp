@@ -49,6 +49,7 @@ std::pair<int, int> swiss_roll_grid(long n) {
 }
 
 int run_swissroll() {
+  require_output_path(swiss.output, {"off"});
   SwissRollOptions o;
   std::tie(o.nu, o.nv) = swiss_roll_grid(swiss.vertices);
   Mesh m = swiss_roll(o);
@@ -69,6 +70,7 @@ struct ArticulatedArgs {
 } art;
 
 int run_articulated() {
+  require_output_directory(art.output);
   ArticulatedOptions o;
   o.poses = art.poses;
   o.seed = art.seed;
@@ -109,6 +111,7 @@ struct HandArgs {
 } hand;
 
 int run_hand() {
+  require_output_directory(hand.output);
   GluedHand h = generate_glued_hand(hand.seed, hand.glues);
   write_off_fixed(join(hand.output, "hand_separated.off"), h.separated);
   write_off_fixed(join(hand.output, "hand_glued.off"), h.glued);
@@ -129,6 +132,7 @@ struct DatasetArgs {
 } data;
 
 int run_dataset() {
+  require_output_directory(data.output);
   ArticulatedDatasetOptions o;
   o.classes = data.classes;
   o.poses = data.poses;
@@ -174,7 +178,7 @@ const bool registered_swissroll = register_command(
      [](CLI::App& app) {
        app.add_option("--vertices", swiss.vertices, "about this many vertices (nu x nv, aspect 5:1)")
            ->capture_default_str()
-           ->check(CLI::Range(4L, 10000000L));
+           ->check(integer_in(4, 10000000));
        app.add_option("-o,--output", swiss.output, "output mesh")->capture_default_str();
      },
      run_swissroll});
@@ -184,12 +188,18 @@ const bool registered_articulated = register_command(
      "Poses of one synthetic articulated class (biped, quadruped, hand, spider), same vertex order",
      [](CLI::App& app) {
        app.add_option("--class", art.class_name, "class: biped, quadruped, hand, spider")
-           ->capture_default_str();
-       app.add_option("--poses", art.poses, "number of poses")->capture_default_str();
+           ->capture_default_str()
+           ->check(one_of({"biped", "quadruped", "hand", "spider"}));
+       app.add_option("--poses", art.poses, "number of poses")
+           ->capture_default_str()
+           ->check(integer_in(1, 100000));
        app.add_option("--seed", art.seed, "random seed")->capture_default_str();
-       app.add_option("--vertices", art.vertices, "vertices of the rest mesh")->capture_default_str();
+       app.add_option("--vertices", art.vertices, "vertices of the rest mesh")
+           ->capture_default_str()
+           ->check(integer_in(4, 10000000));
        app.add_option("--amplitude", art.amplitude, "fraction of the joint ranges used (0..1)")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_in(0, 1));
        app.add_option("-o,--output", art.output, "output folder")->capture_default_str();
        app.add_flag("--json", art.json, "print the summary as JSON");
      },
@@ -200,7 +210,9 @@ const bool registered_hand = register_command(
      "The hand of Fig. 2: fingers together but separated, and the same pose with adjacent fingers glued",
      [](CLI::App& app) {
        app.add_option("--seed", hand.seed, "random seed of the gluing")->capture_default_str();
-       app.add_option("--glue", hand.glues, "number of glues")->capture_default_str();
+       app.add_option("--glue", hand.glues, "number of glues")
+           ->capture_default_str()
+           ->check(integer_in(0, 1000));
        app.add_option("-o,--output", hand.output, "output folder")->capture_default_str();
      },
      run_hand});
@@ -210,12 +222,22 @@ const bool registered_dataset = register_command(
      "A synthetic retrieval dataset (articulated classes, clean and noisy poses) with manifest.csv",
      [](CLI::App& app) {
        app.add_option("-o,--output", data.output, "output folder")->required();
-       app.add_option("--classes", data.classes, "number of classes (1..4)")->capture_default_str();
-       app.add_option("--poses", data.poses, "clean poses per class")->capture_default_str();
-       app.add_option("--noisy", data.noisy, "noisy (glued) poses per class")->capture_default_str();
-       app.add_option("--glue", data.glue, "glues per noisy pose")->capture_default_str();
+       app.add_option("--classes", data.classes, "number of classes (1..4)")
+           ->capture_default_str()
+           ->check(integer_in(1, 4));
+       app.add_option("--poses", data.poses, "clean poses per class")
+           ->capture_default_str()
+           ->check(integer_in(1, 100000));
+       app.add_option("--noisy", data.noisy, "noisy (glued) poses per class")
+           ->capture_default_str()
+           ->check(integer_in(0, 100000));
+       app.add_option("--glue", data.glue, "glues per noisy pose")
+           ->capture_default_str()
+           ->check(integer_in(0, 1000));
        app.add_option("--seed", data.seed, "random seed")->capture_default_str();
-       app.add_option("--vertices", data.vertices, "vertices per shape")->capture_default_str();
+       app.add_option("--vertices", data.vertices, "vertices per shape")
+           ->capture_default_str()
+           ->check(integer_in(4, 10000000));
        app.add_flag("--json", data.json, "print a per-shape summary as JSON");
      },
      run_dataset});

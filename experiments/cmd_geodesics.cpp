@@ -1,6 +1,7 @@
 // cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
 // (binary format in core/distance_matrix.h), or with --source i --csv one row as CSV.
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <iostream>
 
@@ -18,12 +19,23 @@ struct GeodesicsArgs {
   bool csv = false;
   bool largest_component = false;
   bool json = false;
+  CLI::Option* heat_mode_option = nullptr;
 } args;
 
 int run() {
   GeodesicOptions options;
   options.method = parse_geodesic_method(args.method);
   options.heat_mode = parse_cgal_heat_mode(args.heat_mode);
+  // The command line is checked before any work.
+  const bool heat = options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal;
+  if (args.heat_mode_option->count() > 0 && !heat)
+    usage_fail("--heat-mode applies to --method heat or heat-cgal only");
+  if ((args.source >= 0) != args.csv)
+    usage_fail("--source i and --csv go together: one row of distances as CSV");
+  if (args.source < 0 && (args.output.empty() || args.output == "-"))
+    usage_fail("-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
+  if (!args.output.empty() && args.output != "-")
+    require_output_path(args.output, {args.csv ? "csv" : "bin"});
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
   std::string dropped;
@@ -81,7 +93,7 @@ const bool registered = register_command(
     {{"geodesics"},
      "Geodesic distances on a mesh: all pairs as a binary n×n float32 matrix, or one row as CSV",
      [](CLI::App& app) {
-       app.add_option("MESH", args.input, "input triangle mesh")->required()->check(CLI::ExistingFile);
+       app.add_option("MESH", args.input, "input triangle mesh")->required();
        app.add_option("-o,--output", args.output,
                       "output: D.bin (CSHDIST1 header, n, then n×n float32 row-major), or CSV with --source; "
                       "'-' or omitted with --source: stdout");
@@ -91,13 +103,15 @@ const bool registered = register_command(
               "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
               "edges)")
            ->capture_default_str()
-           ->check(CLI::IsMember({"heat", "heat-cgal", "fmm", "exact", "graph"}));
-       app.add_option("--heat-mode", args.heat_mode,
-                      "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
-           ->capture_default_str()
-           ->check(CLI::IsMember({"idt", "direct"}));
+           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       args.heat_mode_option =
+           app.add_option("--heat-mode", args.heat_mode,
+                          "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
+               ->capture_default_str()
+               ->check(one_of({"idt", "direct"}));
        app.add_option("--source", args.source,
-                      "one source vertex (0-based, input numbering): one row, with --csv");
+                      "one source vertex (0-based, input numbering): one row, with --csv")
+           ->check(integer_in(0, INT_MAX));
        app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
        app.add_flag("--largest-component", args.largest_component,
                     "keep the largest connected component instead of refusing a disconnected mesh");

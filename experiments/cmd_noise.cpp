@@ -39,6 +39,8 @@ nlohmann::json pairs_to_json(const TopologicalNoiseResult& r) {
 }
 
 int run() {
+  require_mesh_output_path(args.output);
+  if (!args.pairs_json.empty()) require_output_path(args.pairs_json, {"json"});
   Mesh mesh = read_mesh(args.input);
   TopologicalNoiseOptions o;
   o.glue_count = args.glue;
@@ -90,30 +92,37 @@ const bool registered = register_command(
      "Topological noise: glue K almost-touching spots (small Euclidean, large geodesic distance) by short "
      "tubes",
      [](CLI::App& app) {
-       app.add_option("MESH", args.input, "input mesh (one component, manifold)")
-           ->required()
-           ->check(CLI::ExistingFile);
+       app.add_option("MESH", args.input, "input mesh (one component, manifold)")->required();
        app.add_option("-o,--output", args.output, "output mesh (same vertices, K handles more)")->required();
        app.add_option("--glue", args.glue, "number of glues K (each adds a handle: chi drops by 2)")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(0, 10000));
        app.add_option("--seed", args.seed, "random seed (picks among admissible pairs)")
            ->capture_default_str();
        app.add_option("--max-gap", args.max_gap,
-                      "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)");
+                      "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)")
+           ->check(number_at_least(0));
        app.add_option("--gap-edges", args.gap_edges, "default gap in mean edge lengths")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_above(0));
        app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_at_least(0));
        app.add_option("--min-fraction", args.min_fraction, "geodesic must be >= this x geodesic diameter")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_in(0, 1));
        app.add_option("--separation", args.separation,
                       "glued spots this x diameter apart (halved when needed)")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_at_least(0));
        app.add_option(
               "--relax", args.relax,
               "when too few pairs qualify, up to this many times widen the gap 1.5x and lower the ratio 0.8x")
-           ->capture_default_str();
-       app.add_option("--geodesics", args.geodesic_method, "geodesic method")->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(0, 100));
+       app.add_option("--geodesics", args.geodesic_method, "geodesic method")
+           ->capture_default_str()
+           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
        app.add_option("--pairs-json", args.pairs_json, "write the glued vertex pairs and tube rims as JSON");
        app.add_flag("--json", args.json, "print the summary as JSON");
      },

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/distance_matrix.h"
 #include "core/io.h"
 #include "core/remesh.h"
 #include "experiments/command.h"
@@ -21,6 +22,11 @@ struct RemeshArgs {
 } args;
 
 int run() {
+  // The command line first, the estimate of the memory needed next: nothing is read before both pass.
+  if (!(args.tolerance > 0 && args.tolerance < 0.5))
+    usage_fail("--tolerance: expected a number in (0, 0.5), got ", args.tolerance);
+  require_mesh_output_path(args.output);
+  require_memory(remesh_memory_bytes(args.vertices), "--vertices " + std::to_string(args.vertices));
   Mesh mesh = read_mesh(args.input);
   RemeshOptions o;
   o.target_vertices = args.vertices;
@@ -87,14 +93,17 @@ const bool registered = register_command(
        app.add_option("-o,--output", args.output, "output mesh (format by extension)")->required();
        app.add_option("--vertices", args.vertices, "vertex count wanted")
            ->required()
-           ->check(CLI::Range(4L, 100000000L));
+           ->check(integer_at_least(4));
        app.add_option("--tolerance", args.tolerance, "accepted relative deviation from --vertices")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_above(0));
        app.add_option("--iterations", args.iterations, "isotropic remeshing iterations per attempt")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(1, 1000));
        app.add_option("--feature-angle", args.feature_angle,
                       "dihedral angle (degrees) above which an edge is kept as a feature line; 0: none")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(number_in(0, 180));
        app.add_flag("--protect-border", args.protect_border, "keep border edges as they are");
        app.add_flag("--json", args.json, "print the summary as JSON");
      },

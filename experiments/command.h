@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/io.h"
 #include "core/mesh.h"
 #include "core/progress.h"
@@ -22,10 +23,10 @@
 namespace cshapes::cli {
 
 struct Command {
-  std::vector<std::string> path;  // {"info"} or {"bench", "coulomb"}
-  std::string summary;            // one line for --help
+  std::vector<std::string> path;               // {"info"} or {"bench", "coulomb"}
+  std::string summary;                         // one line for --help
   std::function<void(CLI::App&)> add_options;  // declares options, bound to the command's own variables
-  std::function<int()> run;        // runs after a successful parse; returns the exit code
+  std::function<int()> run;                    // runs after a successful parse; returns the exit code
 };
 bool register_command(Command command);
 
@@ -53,6 +54,10 @@ struct CanonMethod {
   // Writes the options parsed by add_options' group into `options`, for commands that go through
   // canonical_form() (distmat, experiment paper); refuses, with a message, an option that only `canon` has.
   std::function<void(CanonicalFormOptions& options)> configure;
+  // Methods that also read this method's option group (cmds' --geodesics and --distances serve smacof too).
+  std::vector<std::string> options_also_for = {};
+  // Checks the parsed options' names and combinations before any work (throws UsageError); may be empty.
+  std::function<void()> validate = {};
 };
 bool register_canon_method(CanonMethod method);
 const std::vector<CanonMethod>& canon_methods();
@@ -61,6 +66,46 @@ const std::vector<CanonMethod>& canon_methods();
 void add_canon_method_options(CLI::App& app);
 // Applies every method's parsed options to `options` (after a successful parse of such a command).
 void configure_canonical_form(CanonicalFormOptions& options);
+// After a parse: the method options given on the command line that none of `methods` reads. refuse: throws
+// UsageError naming the first ("--scheme applies to --method coulomb only"), as `canon` does; otherwise one
+// warning line listing them (distmat, experiment paper: one command line shared across methods).
+void check_canon_method_options(const std::vector<std::string>& methods, bool refuse);
+// Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
+bool canon_option_given(const std::string& name);
+
+// Exit codes of every command (README, "The CLI"): every failure prints one line
+// "cshapes <command>: error: <what>" on stderr.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitDataError = 1,  // an input that cannot be read or is invalid, a computation that fails, out of memory
+  kExitUsage = 2,  // the command line: unknown command or option, bad value, an option that does not apply,
+                   // an output path that cannot be written
+};
+// A mistake on the command line (exit code kExitUsage). Commands throw it for what the parser cannot see.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& message) : Error(message) {}
+};
+template <typename... Args>
+[[noreturn]] void usage_fail(const Args&... args) {
+  throw UsageError(detail::concat(args...));
+}
+
+// Value checks for options, all in one wording ("--iterations: expected an integer >= 1, got '-3'"); each
+// also refuses what is not a number. Use them instead of CLI11's (whose messages print the type's whole
+// range).
+CLI::Validator integer_at_least(long long minimum);
+CLI::Validator integer_in(long long minimum, long long maximum);
+CLI::Validator number_at_least(double minimum);            // >= minimum
+CLI::Validator number_above(double minimum);               // > minimum
+CLI::Validator number_in(double minimum, double maximum);  // [minimum, maximum]
+CLI::Validator one_of(const std::vector<std::string>& names);
+
+// Refuses (UsageError) an output path that cannot be written, before any work: see check_output_path in
+// core/atomic_file.h. mesh: the extensions write_mesh knows.
+void require_output_path(const std::string& path, const std::vector<std::string>& extensions);
+void require_mesh_output_path(const std::string& path);
+void require_output_directory(const std::string& path);
 
 // Global options (given before or after the command).
 bool quiet();
@@ -69,6 +114,8 @@ int threads();  // 0: OpenMP's default
 ProgressFn progress_printer();
 // Prints a line to stderr unless --quiet.
 void note(const std::string& line);
+// Prints "cshapes <command>: warning: <line>" to stderr (also with --quiet).
+void warn(const std::string& line);
 
 // Writes a CSV (header + rows) atomically.
 void write_csv(const std::string& path, const std::vector<std::string>& columns,

@@ -1,12 +1,23 @@
 // cshapes: the command-line entry point. All logic lives in the libraries; commands are registered by
 // experiments/cmd_*.cpp (see command.h).
 #include <omp.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <climits>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
+#include <sstream>
+#include <thread>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -18,6 +29,8 @@ namespace {
 struct Registry {
   std::vector<Command> commands;
   std::vector<CanonMethod> canon;
+  // Every method option group added (one per method and command that takes them), with its method's index.
+  std::vector<std::pair<size_t, CLI::Option_group*>> canon_groups;
 };
 Registry& registry() {
   static Registry r;
@@ -25,6 +38,7 @@ Registry& registry() {
 }
 bool g_quiet = false;
 int g_threads = 0;
+std::string g_command = "";  // "canon", "bench coulomb": the command in messages
 }  // namespace
 
 bool register_command(Command command) {
@@ -35,13 +49,50 @@ bool register_canon_method(CanonMethod method) {
   registry().canon.push_back(std::move(method));
   return true;
 }
-const std::vector<CanonMethod>& canon_methods() { return registry().canon; }
+const std::vector<CanonMethod>& canon_methods() {
+  return registry().canon;
+}
 
 void add_canon_method_options(CLI::App& app) {
-  for (const CanonMethod& m : canon_methods()) {
+  for (size_t k = 0; k < canon_methods().size(); ++k) {
+    const CanonMethod& m = canon_methods()[k];
     CLI::Option_group* group = app.add_option_group(m.name + " options");
     if (m.add_options) m.add_options(*group);
+    registry().canon_groups.emplace_back(k, group);
   }
+}
+
+bool canon_option_given(const std::string& name) {
+  for (const auto& [method, group] : registry().canon_groups) {
+    const CLI::Option* option = group->get_option_no_throw(name);
+    if (option && option->count() > 0) return true;
+  }
+  return false;
+}
+
+void check_canon_method_options(const std::vector<std::string>& methods, bool refuse) {
+  std::vector<std::string> unused;
+  for (const auto& [index, group] : registry().canon_groups) {
+    const CanonMethod& m = canon_methods()[index];
+    std::vector<std::string> readers{m.name};
+    readers.insert(readers.end(), m.options_also_for.begin(), m.options_also_for.end());
+    bool used = false;
+    for (const std::string& r : readers) used = used || std::count(methods.begin(), methods.end(), r) > 0;
+    if (used) continue;
+    std::string scope;
+    for (size_t k = 0; k < readers.size(); ++k)
+      scope += (k == 0 ? "" : k + 1 == readers.size() ? " or " : ", ") + readers[k];
+    for (const CLI::Option* option : group->get_options()) {
+      if (option->count() == 0) continue;
+      if (refuse) usage_fail(option->get_name(), " applies to --method ", scope, " only");
+      unused.push_back(option->get_name() + " (" + scope + ")");
+    }
+  }
+  if (unused.empty()) return;
+  std::string list, given;
+  for (const std::string& u : unused) list += (list.empty() ? "" : ", ") + u;
+  for (const std::string& m : methods) given += (given.empty() ? "" : ",") + m;
+  warn(list + " ignored: no method run here (" + given + ") reads " + (unused.size() == 1 ? "it" : "them"));
 }
 
 void configure_canonical_form(CanonicalFormOptions& options) {
@@ -49,11 +100,127 @@ void configure_canonical_form(CanonicalFormOptions& options) {
     if (m.configure) m.configure(options);
 }
 
-bool quiet() { return g_quiet; }
-int threads() { return g_threads; }
+bool quiet() {
+  return g_quiet;
+}
+int threads() {
+  return g_threads;
+}
 
 void note(const std::string& line) {
   if (!g_quiet) std::cerr << line << std::endl;
+}
+
+void warn(const std::string& line) {
+  std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": warning: " << line << std::endl;
+}
+
+namespace {
+
+// Parses a whole string as a number: "12", "-3", "1e-3"; false for "", "abc", "12abc".
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size() && !std::isnan(value);
+}
+bool parse_integer(const std::string& text, long long& value) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtoll(text.c_str(), &end, 10);
+  return end == text.c_str() + text.size() && errno == 0;
+}
+std::string in_quotes(const std::string& text) {
+  return "'" + text + "'";
+}
+std::string integer_range(long long minimum, long long maximum) {
+  if (minimum == LLONG_MIN && maximum == LLONG_MAX) return "an integer";
+  if (maximum == LLONG_MAX) return "an integer >= " + std::to_string(minimum);
+  return "an integer in " + std::to_string(minimum) + ".." + std::to_string(maximum);
+}
+std::string format_number(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+}  // namespace
+
+CLI::Validator integer_in(long long minimum, long long maximum) {
+  const std::string expected = integer_range(minimum, maximum);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long long value = 0;
+        if (!parse_integer(text, value) || value < minimum || value > maximum)
+          return "expected " + expected + ", got " + in_quotes(text);
+        return {};
+      },
+      maximum == LLONG_MAX ? ">= " + std::to_string(minimum)
+                           : std::to_string(minimum) + ".." + std::to_string(maximum));
+}
+CLI::Validator integer_at_least(long long minimum) {
+  return integer_in(minimum, LLONG_MAX);
+}
+
+namespace {
+CLI::Validator number_check(double minimum, double maximum, bool open_below, const std::string& range) {
+  const std::string expected = range.empty() ? "a number" : "a number " + range;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        if (!parse_number(text, value) || !std::isfinite(value) || value < minimum || value > maximum ||
+            (open_below && value == minimum))
+          return "expected " + expected + ", got " + in_quotes(text);
+        return {};
+      },
+      range);
+}
+}  // namespace
+
+CLI::Validator number_at_least(double minimum) {
+  return number_check(minimum, HUGE_VAL, false, ">= " + format_number(minimum));
+}
+CLI::Validator number_above(double minimum) {
+  return number_check(minimum, HUGE_VAL, true, "> " + format_number(minimum));
+}
+CLI::Validator number_in(double minimum, double maximum) {
+  if (std::isinf(minimum) && std::isinf(maximum)) return number_check(minimum, maximum, false, "");
+  return number_check(minimum, maximum, false,
+                      "in [" + format_number(minimum) + ", " + format_number(maximum) + "]");
+}
+CLI::Validator one_of(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return {};
+        return "expected one of " + list + ", got " + in_quotes(text);
+      },
+      "{" + list + "}");
+}
+
+void require_output_path(const std::string& path, const std::vector<std::string>& extensions) {
+  try {
+    check_output_path(path, extensions);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+void require_mesh_output_path(const std::string& path) {
+  require_output_path(path, {"off", "ply", "obj", "xyz"});  // what write_mesh writes (core/io.h)
+}
+void require_output_directory(const std::string& path) {
+  try {
+    check_output_directory(path);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
 }
 
 ProgressFn progress_printer() {
@@ -75,7 +242,8 @@ ProgressFn progress_printer() {
     double elapsed = std::chrono::duration<double>(now - state->start).count();
     double fraction = total > 0 ? done / total : 1.0;
     std::fprintf(stderr, "\r[%s] %5.1f%%", stage.c_str(), 100.0 * fraction);
-    if (fraction > 0.01 && !finished) std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
+    if (fraction > 0.01 && !finished)
+      std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
     if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
     std::fflush(stderr);
   };
@@ -94,18 +262,134 @@ void write_csv(const std::string& path, const std::vector<std::string>& columns,
   });
 }
 
+namespace {
+
+// Other tasks running right now: /proc/loadavg's "running/total" counts every runnable thread on the machine,
+// this one included (libgomp's threads do not exist yet). The least of three samples 1 ms apart, so a task
+// that only runs for an instant does not count. 0 when unknown.
+int busy_cores() {
+  int least = INT_MAX;
+  for (int k = 0; k < 3; ++k) {
+    if (k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    std::ifstream loadavg("/proc/loadavg");
+    double one, five, fifteen;
+    int running = 0;
+    if (!(loadavg >> one >> five >> fifteen >> running) || running < 1) return 0;
+    least = std::min(least, running - 1);
+  }
+  return least;
+}
+
+// The OpenMP thread count: --threads (or OMP_NUM_THREADS, or all cores), at most 4 per core, and no more than
+// the cores other processes leave idle. Every parallel loop ends at a barrier, so one thread that shares its
+// core with another busy process holds all the others back: `canon` on cat0 with one of two cores kept busy
+// took 10x longer with 2 threads than with 1 (README, "Threads").
+void set_threads(int requested) {
+  const int cores = std::max(1, omp_get_num_procs());
+  int wanted = requested > 0 ? requested : omp_get_max_threads();
+  if (wanted > 4 * cores) {
+    warn((requested > 0 ? "--threads " : "OMP_NUM_THREADS=") + std::to_string(wanted) +
+         " is more than 4 per core (" + std::to_string(cores) + " cores); using " +
+         std::to_string(4 * cores));
+    wanted = 4 * cores;
+  }
+  const char* exact = std::getenv("CSHAPES_EXACT_THREADS");
+  const int busy = exact && *exact && std::string(exact) != "0" ? 0 : busy_cores();
+  if (busy > 0 && wanted + busy > cores) wanted = std::max(1, std::min(wanted, cores - busy));
+  omp_set_num_threads(wanted);
+}
+
+// The command named on the command line ("canon", "bench coulomb"), found without the parser (which may
+// have failed): the longest chain of command names among the arguments.
+std::string command_in_arguments(CLI::App& app, int argc, char** argv) {
+  CLI::App* level = &app;
+  std::string path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    CLI::App* sub = nullptr;
+    for (CLI::App* candidate : level->get_subcommands([](CLI::App*) { return true; }))
+      if (candidate->get_name() == word) sub = candidate;
+    if (!sub) {
+      if (level != &app) break;
+      continue;
+    }
+    path += (path.empty() ? "" : " ") + word;
+    level = sub;
+  }
+  return path;
+}
+
+// CLI11's message, on one line, with its conversion failures in the wording of our validators.
+std::string parse_error_message(const CLI::ParseError& error) {
+  std::string message = error.what();
+  for (char& c : message)
+    if (c == '\n') c = ' ';
+  const std::string value_prefix = "The value ", value_middle = " is not an allowed value for ";
+  const size_t middle = message.find(value_middle);
+  if (message.rfind(value_prefix, 0) == 0 && middle != std::string::npos)
+    return message.substr(middle + value_middle.size()) + ": " +
+           in_quotes(message.substr(value_prefix.size(), middle - value_prefix.size())) +
+           " is not a valid value (not a number, or out of range)";
+  const std::string convert_prefix = "Could not convert: ";
+  const size_t equals = message.find(" = ");
+  if (message.rfind(convert_prefix, 0) == 0 && equals != std::string::npos)
+    return message.substr(convert_prefix.size(), equals - convert_prefix.size()) + ": " +
+           in_quotes(message.substr(equals + 3)) + " is not a valid value";
+  return message;
+}
+
+// Every numeric option refuses what is not a number in one wording ("--iterations: expected an integer, got
+// 'abc'"), also those without a range check of their own (which run first and say the same).
+void check_numeric_options(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    std::string type = option->get_type_name();
+    type = type.substr(0, type.find(':'));
+    if (type == "INT")
+      option->check(integer_in(LLONG_MIN, LLONG_MAX).description(""));
+    else if (type == "UINT")
+      option->check(integer_at_least(0).description(""));
+    else if (type == "FLOAT")
+      option->check(number_in(-HUGE_VAL, HUGE_VAL).description(""));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_numeric_options(*sub);
+}
+
+// OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
+// they take the core from the thread that has work (README, "Threads"). libgomp reads OMP_WAIT_POLICY once,
+// when it loads, before main: so unless the user chose a policy, the process runs itself again with
+// OMP_WAIT_POLICY=passive (once: the new process sees the variable). If exec fails, it goes on as it is.
+void wait_passively(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
+  if (::setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  ::unsetenv("OMP_WAIT_POLICY");
+}
+
+int report(const std::string& what, int code) {
+  std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": error: " << what << '\n';
+  return code;
+}
+
+}  // namespace
+
 }  // namespace cshapes::cli
 
 int main(int argc, char** argv) {
   using namespace cshapes::cli;
-  CLI::App app{"cshapes " CSHAPES_VERSION
-               ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF), ICP matching "
-               "and shape-retrieval evaluation"};
+  wait_passively(argv);
+  CLI::App app{
+      "cshapes " CSHAPES_VERSION
+      ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF), ICP matching "
+      "and shape-retrieval evaluation"};
   app.require_subcommand(1);
   app.fallthrough();
   app.set_version_flag("--version", CSHAPES_VERSION);
-  app.add_option("--threads", cshapes::cli::g_threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  app.add_flag("-q,--quiet", cshapes::cli::g_quiet, "no progress or notes on stderr");
+  app.add_option("--threads", g_threads,
+                 "OpenMP threads, at most 4 per core (default: all cores); fewer when other processes keep "
+                 "cores busy at the start (set CSHAPES_EXACT_THREADS=1 to keep N)")
+      ->check(integer_at_least(0));
+  app.add_flag("-q,--quiet", g_quiet, "no progress or notes on stderr");
 
   // Build the command tree from the registered paths.
   std::map<CLI::App*, const Command*> leaf;
@@ -126,7 +410,9 @@ int main(int argc, char** argv) {
     if (cmd.add_options) cmd.add_options(*parent);
     leaf[parent] = &cmd;
   }
+  check_numeric_options(app);
 
+  g_command = command_in_arguments(app, argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -136,32 +422,34 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // One line, like every other error (CLI11 would add a second "Run with --help" line).
-    std::string message = e.what();
-    for (char& c : message)
-      if (c == '\n') c = ' ';
-    std::cerr << "cshapes: error: " << message << " (see --help)\n";
-    return e.get_exit_code() ? e.get_exit_code() : 2;
+    if (g_command.empty())
+      for (int i = 1; i < argc; ++i)
+        if (argv[i][0] != '-' && !(i > 1 && std::string(argv[i - 1]) == "--threads"))
+          return report("unknown command '" + std::string(argv[i]) + "' (see cshapes --help)", kExitUsage);
+    // One line, like every other error (CLI11 would add a second "Run with --help" line), and one exit code.
+    return report(
+        parse_error_message(e) + " (see cshapes " + (g_command.empty() ? "" : g_command + " ") + "--help)",
+        kExitUsage);
   }
-  if (g_threads > 0) omp_set_num_threads(g_threads);
 
   CLI::App* selected = &app;
-  while (!selected->get_subcommands().empty()) selected = selected->get_subcommands().front();
-  auto it = leaf.find(selected);
-  if (it == leaf.end()) {
-    std::cerr << "cshapes: no command given; see cshapes --help\n";
-    return 2;
+  g_command.clear();
+  while (!selected->get_subcommands().empty()) {
+    selected = selected->get_subcommands().front();
+    g_command += (g_command.empty() ? "" : " ") + selected->get_name();
   }
+  auto it = leaf.find(selected);
+  if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
+  set_threads(g_threads);
   try {
     return it->second->run();
+  } catch (const UsageError& e) {
+    return report(e.what(), kExitUsage);
   } catch (const cshapes::Error& e) {
-    std::cerr << "cshapes " << selected->get_name() << ": error: " << e.what() << '\n';
-    return 1;
+    return report(e.what(), kExitDataError);
   } catch (const std::bad_alloc&) {
-    std::cerr << "cshapes " << selected->get_name() << ": error: out of memory\n";
-    return 1;
+    return report("out of memory", kExitDataError);
   } catch (const std::exception& e) {
-    std::cerr << "cshapes " << selected->get_name() << ": error: " << e.what() << '\n';
-    return 1;
+    return report(e.what(), kExitDataError);
   }
 }

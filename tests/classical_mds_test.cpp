@@ -163,6 +163,99 @@ TEST(ClassicalMds, RefusesInfiniteAndNegativeDistances) {
   EXPECT_THROW(classical_mds(DistanceMatrix(DistanceMatrix::Zero(3, 3))), Error);
 }
 
+// Pairwise distances of the rows of X.
+Eigen::MatrixXd embedding_distances(const Points& X) {
+  return euclidean_distances(X);
+}
+
+TEST(ClassicalMds, RegularTetrahedronKnownAnswer) {
+  // Four points at unit distance: B = X Xᵀ of a regular tetrahedron of edge 1 (circumradius √(3/8)), so
+  // tr B = 4 · 3/8 and λ₁ = λ₂ = λ₃ = 1/2; the fourth eigenvalue (the constant vector) is 0. n = 4 is below
+  // any Lanczos subspace: the dense path.
+  Eigen::MatrixXd D = Eigen::MatrixXd::Ones(4, 4) - Eigen::MatrixXd::Identity(4, 4);
+  ClassicalMdsResult r = classical_mds(D);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.eigenvalues[k], 0.5, 1e-12);
+  EXPECT_NEAR(r.most_negative_eigenvalue, 0.0, 1e-12);
+  EXPECT_NEAR(r.trace, 1.5, 1e-12);
+  EXPECT_NEAR(r.explained_energy, 1.0, 1e-12);
+  EXPECT_EQ(r.matrix_products, 0);
+  EXPECT_LE((embedding_distances(r.X) - D).cwiseAbs().maxCoeff(), 1e-12);
+  // In single precision too (the geodesic matrices' type).
+  ClassicalMdsResult f = classical_mds(DistanceMatrix(D.cast<float>()));
+  EXPECT_LE((embedding_distances(f.X) - D).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(ClassicalMds, OctahedronSurfaceDistancesKnownAnswer) {
+  // The octahedron ±eₖ with its surface (geodesic) distances: √2 between neighbours, √6 between opposite
+  // vertices (across two faces, 2 × the height √(3/2) of a face of edge √2). Not Euclidean. With vertices
+  // ordered (e₁, −e₁, e₂, −e₂, e₃, −e₃): (D∘D) v = −6 v for v = e.g. (1, −1, 0, 0, 0, 0), so B v = 3 v three
+  // times, and the embedding is √(3/2)·(±eₖ): neighbours √3 apart, opposite vertices √6. The other
+  // eigenvalues: −1 (twice, v = (1, 1, −1, −1, 0, 0)) and 0 (the constant vector).
+  Eigen::MatrixXd D(6, 6);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) D(i, j) = i == j ? 0.0 : i / 2 == j / 2 ? std::sqrt(6.0) : std::sqrt(2.0);
+  ClassicalMdsResult r = classical_mds(D);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.eigenvalues[k], 3.0, 1e-12);
+  EXPECT_NEAR(r.most_negative_eigenvalue, -1.0, 1e-12);
+  const Eigen::MatrixXd E = embedding_distances(r.X);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      EXPECT_NEAR(E(i, j),
+                  i == j           ? 0.0
+                  : i / 2 == j / 2 ? std::sqrt(6.0)
+                                   : std::sqrt(3.0),
+                  1e-12)
+          << i << ", " << j;
+}
+
+TEST(ClassicalMds, DenseAndLanczosPathsAgree) {
+  // 162 points: dense by default; Lanczos when forced (dense_below = 0). Same spectrum, same Gram matrix.
+  Eigen::MatrixXd D = sphere_geodesics(2);
+  ClassicalMdsOptions lanczos;
+  lanczos.dense_below = 0;
+  lanczos.tolerance = 1e-12;
+  ClassicalMdsResult a = classical_mds(D), b = classical_mds(D, lanczos);
+  EXPECT_EQ(a.matrix_products, 0);
+  EXPECT_GT(b.matrix_products, 0);
+  const double scale = a.eigenvalues[0];
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(a.eigenvalues[k], b.eigenvalues[k], 1e-9 * scale);
+  EXPECT_NEAR(a.most_negative_eigenvalue, b.most_negative_eigenvalue, 1e-9 * scale);
+  EXPECT_NEAR(a.explained_energy, b.explained_energy, 1e-9);
+  const Eigen::MatrixXd gram_a = a.X * a.X.transpose(), gram_b = b.X * b.X.transpose();
+  EXPECT_LE((gram_a - gram_b).norm(), 1e-8 * gram_a.norm());
+}
+
+TEST(ClassicalMdsCli, CanonOfSmallClosedMeshes) {
+  // 4 to 8 vertices: below any Lanczos subspace (Spectra refused them with "ncv must satisfy nev < ncv <=
+  // n").
+  std::string dir = test::scratch_dir("cmds-small");
+  test::write_text(dir + "/tetra.off",
+                   "OFF\n4 4 6\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n"
+                   "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n");
+  test::write_text(dir + "/octa.off",
+                   "OFF\n6 8 12\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+                   "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n");
+  test::write_text(dir + "/cube.off",
+                   "OFF\n8 12 18\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                   "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
+                   "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
+  for (const char* shape : {"tetra", "octa", "cube"})
+    for (const char* method : {"cmds", "smacof"}) {
+      SCOPED_TRACE(std::string(shape) + " " + method);
+      const std::string in = dir + "/" + shape + ".off", out = dir + "/" + shape + "-" + method + ".off";
+      auto r =
+          test::run_cli("-q canon '" + in + "' -o '" + out + "' --method " + method + " --geodesics exact");
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      Mesh form = read_mesh(out);
+      EXPECT_TRUE(form.V.allFinite());
+      if (std::string(shape) == "tetra") {
+        // Geodesics on a regular tetrahedron are its edges: the form is the input up to a rigid motion.
+        const Mesh input = read_mesh(in);
+        EXPECT_LE((embedding_distances(form.V) - euclidean_distances(input.V)).cwiseAbs().maxCoeff(), 1e-4);
+      }
+    }
+}
+
 TEST(ClassicalMdsCli, CanonWritesFiniteFormWithTheInputsFaces) {
   std::string dir = test::scratch_dir("cmds");
   Mesh mesh = torus(24, 12, 2.0, 0.6);

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/io.h"
+#include "core/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -65,6 +67,172 @@ TEST(CliErrors, ConvertOfABadFileLeavesNoOutput) {
   expect_one_line_error(test::run_cli("convert '" + good + "' '" + stl + "'"), stl);
   EXPECT_FALSE(fs::exists(stl));
   fs::remove_all(dir);
+}
+
+// The exit codes of README's table.
+constexpr int kData = 1, kUsage = 2;
+
+// A refusal: no signal, the exit code of the table, and one line "cshapes <command>: error: ..." that names
+// every needle (the option or the file).
+void expect_refusal(const test::CliResult& result, int code, const std::string& command,
+                    const std::vector<std::string>& needles) {
+  EXPECT_GE(result.exit_code, 0) << "killed by a signal: " << result.err;
+  EXPECT_EQ(result.exit_code, code) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+  EXPECT_EQ(result.err.rfind("cshapes " + command + ": error: ", 0), 0u) << result.err;
+  for (const std::string& needle : needles)
+    EXPECT_NE(result.err.find(needle), std::string::npos) << result.err;
+}
+
+// Inputs on which any work would take long, so that a refusal must come before it: a 501,264-vertex grid
+// (all-pairs geodesics: 1 TB; Coulomb: minutes) and a regular tetrahedron (remeshed to a huge count).
+struct Inputs {
+  std::string dir, big, tetra;
+};
+const Inputs& inputs() {
+  static const Inputs in = [] {
+    Inputs i;
+    i.dir = test::scratch_dir("cli-refusals");
+    i.big = i.dir + "/big.ply";
+    WriteOptions binary;
+    binary.binary = true;
+    write_mesh(i.big, grid(708, 708), binary);
+    i.tetra = i.dir + "/tetra.off";
+    test::write_text(i.tetra, std::string("OFF\n4 4 6\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n") +
+                                  "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n");
+    return i;
+  }();
+  return in;
+}
+std::string q(const std::string& path) {
+  return "'" + path + "'";
+}
+
+TEST(CliRefusals, ParserErrorsInTheCommonFormat) {
+  const Inputs& in = inputs();
+  // CLI11's NonNegativeNumber printed a 300-digit range here.
+  test::CliResult r = test::run_cli("--threads -1 info " + q(in.tetra));
+  expect_refusal(r, kUsage, "info", {"--threads", "expected an integer >= 0", "'-1'"});
+  EXPECT_LT(r.err.size(), 200u) << r.err;
+  // CLI11 said "not in range" for a word.
+  expect_refusal(test::run_cli("--threads abc info " + q(in.tetra)), kUsage, "info", {"--threads", "'abc'"});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --bogus"), kUsage, "canon", {"--bogus"});
+  expect_refusal(test::run_cli("remesh " + q(in.tetra) + " -o x.off"), kUsage, "remesh", {"--vertices"});
+  expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o d.bin --method bogus"), kUsage, "geodesics",
+                 {"--method", "expected one of", "'bogus'"});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method coulomb --coulomb-tolerance x1"),
+                 kUsage, "canon", {"--coulomb-tolerance", "'x1'"});
+  expect_refusal(test::run_cli("bench coulomb --repeats 0"), kUsage, "bench coulomb", {"--repeats"});
+}
+
+TEST(CliRefusals, ThreadsBeyondFourPerCoreAreCappedWithAWarning) {
+  // 65,536 threads crashed inside the OpenMP runtime (the float direct Coulomb sum).
+  const Inputs& in = inputs();
+  const std::string out = in.dir + "/threads.ply";
+  test::CliResult r = test::run_cli("-q --threads 65536 canon " + q(in.tetra) + " -o " + q(out) +
+                                    " --method coulomb --coulomb-summation direct-float");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("cshapes canon: warning: --threads 65536", 0), 0u) << r.err;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(CliRefusals, CountsAndSizesBeforeAnyWork) {
+  const Inputs& in = inputs();
+  // A negative count reached CGAL's unsigned iteration count and never ended.
+  expect_refusal(test::run_cli("remesh " + q(in.tetra) + " -o " + q(in.dir + "/r.off") +
+                               " --vertices 30 --iterations -3"),
+                 kUsage, "remesh", {"--iterations", "'-3'"});
+  // Memory grew at 130 MB/s: the estimate is refused up front, and named.
+  expect_refusal(
+      test::run_cli("remesh " + q(in.tetra) + " -o " + q(in.dir + "/r.off") + " --vertices 10000000000"),
+      kData, "remesh", {"--vertices 10000000000", "GB", "available"});
+  expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o " + q(in.dir + "/d.bin")), kData, "geodesics",
+                 {"501264", "GB", "available"});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o " + q(in.dir + "/c.ply") + " --method cmds"),
+                 kData, "canon", {"501264", "GB"});
+  for (const std::string option : {"--projection-steps -1", "--coulomb-max-iterations -1", "--tear-times -2",
+                                   "--coulomb-window 0", "--knn 0", "--step-factor 0", "--momentum 1"})
+    expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method coulomb " + option), kUsage,
+                   "canon", {option.substr(0, option.find(' '))});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method smacof --iters -5"), kUsage,
+                 "canon", {"--iters"});
+}
+
+TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
+  const Inputs& in = inputs();
+  const std::string canon = "canon " + q(in.big) + " -o " + q(in.dir + "/c.ply");
+  expect_refusal(test::run_cli(canon + " --method coulomb --accelerate rre"), kUsage, "canon",
+                 {"--accelerate applies to --method smacof only"});
+  expect_refusal(test::run_cli(canon + " --method coulomb --distances d.bin"), kUsage, "canon",
+                 {"--distances applies to --method cmds or smacof only"});
+  expect_refusal(test::run_cli(canon + " --method smacof --scheme paper"), kUsage, "canon",
+                 {"--scheme applies to --method coulomb only"});
+  expect_refusal(test::run_cli(canon + " --method smacof --tear-fraction 0.1"), kUsage, "canon",
+                 {"--tear-fraction applies to --method coulomb only"});
+  expect_refusal(test::run_cli(canon + " --method cmds --iters 5"), kUsage, "canon",
+                 {"--iters applies to --method smacof only"});
+  // ... and options that only one setting of another option reads.
+  expect_refusal(test::run_cli(canon + " --method coulomb --fixed-step 0.1"), kUsage, "canon",
+                 {"--fixed-step applies to --step-rule fixed only"});
+  expect_refusal(test::run_cli(canon + " --method smacof --window 4"), kUsage, "canon",
+                 {"--window applies to --accelerate rre or mpe only"});
+  expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o d.bin --method fmm --heat-mode direct"),
+                 kUsage, "geodesics", {"--heat-mode applies to --method heat or heat-cgal only"});
+  // distmat shares one command line across methods: a warning line, then it goes on (here to a missing
+  // folder).
+  const std::string missing = in.dir + "/no-such-dataset";
+  test::CliResult r = test::run_cli("-q distmat " + q(missing) + " -o " + q(in.dir + "/D.csv") +
+                                    " --method coulomb --accelerate rre");
+  EXPECT_EQ(r.exit_code, kData) << r.err;
+  EXPECT_EQ(r.err.rfind("cshapes distmat: warning: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("--accelerate (smacof)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cshapes distmat: error: "), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+}
+
+TEST(CliRefusals, OutputPathsAreCheckedBeforeAnyWork) {
+  const Inputs& in = inputs();
+  const std::string canon = "canon " + q(in.big) + " --method coulomb -o ";
+  expect_refusal(test::run_cli(canon + q(in.dir + "/x.stl")), kUsage, "canon", {"x.stl", ".off, .ply"});
+  expect_refusal(test::run_cli(canon + q(in.dir + "/noextension")), kUsage, "canon",
+                 {"noextension", "no file extension"});
+  expect_refusal(test::run_cli(canon + q(in.tetra + "/x.ply")), kUsage, "canon", {"x.ply", "not a folder"});
+  expect_refusal(test::run_cli(canon + "/proc/cshapes-test/x.ply"), kUsage, "canon",
+                 {"/proc/cshapes-test/x.ply"});
+  expect_refusal(test::run_cli(canon + q(in.dir + "/c.ply") + " --history " + q(in.dir + "/h.txt")), kUsage,
+                 "canon", {"h.txt", ".csv"});
+  expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o " + q(in.dir + "/d.csv")), kUsage, "geodesics",
+                 {"d.csv", ".bin"});
+  expect_refusal(
+      test::run_cli("remesh " + q(in.tetra) + " --vertices 10000000000 -o " + q(in.dir + "/r.stl")), kUsage,
+      "remesh", {"r.stl"});
+  expect_refusal(test::run_cli("noise " + q(in.big) + " -o " + q(in.dir + "/n.ply") + " --pairs-json " +
+                               q(in.dir + "/p.csv")),
+                 kUsage, "noise", {"p.csv", ".json"});
+  expect_refusal(test::run_cli("distmat " + q(in.dir) + " -o " + q(in.dir + "/D.txt")), kUsage, "distmat",
+                 {"D.txt", ".csv"});
+  // Nothing was written.
+  EXPECT_FALSE(fs::exists(in.dir + "/x.stl"));
+  EXPECT_FALSE(fs::exists("/proc/cshapes-test"));
+}
+
+TEST(CliRefusals, AMissingFileReadsTheSameInEveryCommand) {
+  const Inputs& in = inputs();
+  const std::string missing = in.dir + "/missing.off";
+  std::vector<std::string> messages;
+  for (const std::string command : {"canon", "geodesics", "remesh", "noise", "info", "align"}) {
+    std::string arguments = command + " " + q(missing);
+    if (command == "align") arguments += " " + q(in.tetra);
+    if (command == "remesh") arguments += " --vertices 100";
+    if (command != "info" && command != "align") arguments += " -o " + q(in.dir + "/out-" + command + ".ply");
+    if (command == "geodesics") arguments = "geodesics " + q(missing) + " -o " + q(in.dir + "/d.bin");
+    SCOPED_TRACE(arguments);
+    test::CliResult r = test::run_cli(arguments);
+    expect_refusal(r, kData, command, {missing});
+    messages.push_back(r.err.substr(r.err.find(": error: ")));
+  }
+  for (const std::string& m : messages) EXPECT_EQ(m, messages.front());
 }
 
 TEST(CliErrors, InfoJsonOnCat0) {
