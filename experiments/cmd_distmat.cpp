@@ -16,7 +16,7 @@ namespace {
 
 struct DistmatArgs {
   std::string data, output, method = "coulomb", cache, metric = "hausdorff";
-  bool largest_component = false, json = false;
+  bool largest_component = false, strict = false, json = false;
 } args;
 
 int run() {
@@ -25,6 +25,7 @@ int run() {
   co.method = args.method;
   co.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(co);                // every method option given on the command line
+  co.strict = args.strict;
   CSHAPES_REQUIRE(args.metric == "hausdorff" || args.metric == "chamfer" || args.metric == "rmse",
                   "--metric: expected hausdorff, chamfer or rmse, got '", args.metric, "'");
   const std::string cache_dir =
@@ -32,19 +33,33 @@ int run() {
   DiskCache cache((std::filesystem::path(cache_dir) / "forms").string());
 
   std::vector<Points> forms;
-  std::vector<std::string> keys, names;
+  std::vector<std::string> keys, names, skipped;
   for (size_t i = 0; i < data.entries.size(); ++i) {
     const DatasetEntry& e = data.entries[i];
-    std::string dropped;
-    Mesh mesh = require_connected(read_mesh(e.path), e.path, args.largest_component, &dropped).mesh;
-    if (!dropped.empty()) note(dropped);
+    // Each shape is repaired for the method (a note says what), or refused with --strict; one that cannot
+    // be used at all (unreadable, too few vertices) is skipped with its reason, the others go on.
+    co.name = e.path;
     bool cached = false;
-    forms.push_back(cached_canonical_form(cache, mesh, co, &cached).X);
+    CanonicalForm form;
+    Mesh mesh;
+    try {
+      mesh = read_mesh(e.path);
+      form = cached_canonical_form(cache, mesh, co, &cached);
+    } catch (const Error& error) {
+      if (args.strict) throw;
+      note(std::string("skipped: ") + error.what());
+      skipped.push_back(e.path);
+      continue;
+    }
+    if (!form.repair_text.empty()) note(form.repair_text);
+    forms.push_back(form.X);
     keys.push_back(canonical_form_cache_key(mesh, co));
     names.push_back(e.name);
     note("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +
          (cached ? " (cached)" : ""));
   }
+  CSHAPES_REQUIRE(forms.size() >= 2, args.data, ": ", forms.size(), " usable shapes (", skipped.size(),
+                  " skipped), a distance matrix needs at least 2");
   PairwiseDistanceOptions po;
   po.cache_dir = (std::filesystem::path(cache_dir) / "pairs").string();
   po.progress = progress_printer();
@@ -54,7 +69,7 @@ int run() {
   if (args.json)
     std::cout << nlohmann::json{{"output", args.output},   {"shapes", names.size()},       {"method", args.method},
                                 {"metric", args.metric},   {"pairs_computed", pd.computed}, {"pairs_cached", pd.cached},
-                                {"cache", cache_dir}}
+                                {"cache", cache_dir},      {"skipped", skipped}}
                      .dump(2)
               << std::endl;
   note("wrote " + args.output);
@@ -72,7 +87,10 @@ const bool registered = register_command(
            ->capture_default_str();
        app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")->capture_default_str();
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
-       app.add_flag("--largest-component", args.largest_component, "keep each input's largest component");
+       app.add_flag("--largest-component", args.largest_component,
+                    "keep each input's largest component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", args.strict,
+                    "refuse a mesh the method would have to repair instead of repairing it");
        app.add_flag("--json", args.json, "print a JSON summary");
        add_canon_method_options(app);
      },
