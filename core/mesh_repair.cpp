@@ -147,8 +147,9 @@ RepairedMesh repair_for(const Mesh& input, const MeshRequirements& req, const Re
     r.text = options.name + ": repaired" + purpose + ": ";
     for (size_t k = 0; k < r.actions.size(); ++k)
       r.text += detail::concat(k ? ", " : "", r.actions[k].what, " ", r.actions[k].count);
-    r.text +=
-        detail::concat(" (", r.mesh.num_vertices(), " of ", input.num_vertices(), " input vertices used)");
+    const Index kept = static_cast<Index>(valid_input_vertices(r.vertex_map, input.num_vertices()).sum());
+    r.text += detail::concat(" (", kept, " of ", input.num_vertices(), " input vertices kept, ",
+                             r.mesh.num_vertices(), " vertices after repair)");
     if (options.strict) {
       std::string needs;
       for (size_t k = 0; k < r.actions.size(); ++k)

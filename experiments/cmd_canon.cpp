@@ -60,7 +60,9 @@ int run() {
   out.summary["repairs"] = repairs;
   out.summary["repair"] = repaired.text;
   out.summary["input_vertices"] = input.num_vertices();
-  out.summary["used_vertices"] = job.mesh.num_vertices();
+  out.summary["kept_input_vertices"] =
+      static_cast<Index>(valid_input_vertices(job.vertex_map, input.num_vertices()).sum());
+  out.summary["repaired_vertices"] = job.mesh.num_vertices();
   if (!args.history.empty() && !out.history_columns.empty())
     write_csv(args.history, out.history_columns, out.history_rows);
   out.summary["method"] = method->name;

@@ -48,7 +48,8 @@ TEST(CanonicalFormsOnImperfectMeshes, EveryMethodKeepsTheInputVertices) {
       CanonicalForm f = canonical_form(c.mesh, quick(method));
       ASSERT_EQ(f.X.rows(), c.mesh.num_vertices());
       ASSERT_EQ(f.valid.size(), c.mesh.num_vertices());
-      EXPECT_FALSE(f.repairs.empty());
+      // Coulomb takes a non-manifold edge as it is; everything else here needs a repair.
+      EXPECT_EQ(f.repairs.empty(), method == "coulomb" && std::string(c.name) == "non-manifold edge");
       std::vector<int> dropped;
       for (Index v = 0; v < c.mesh.num_vertices(); ++v) {
         if (f.valid[v] == 0) {

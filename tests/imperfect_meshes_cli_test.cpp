@@ -82,7 +82,8 @@ TEST(ImperfectMeshesCli, CanonKeepsTheInputVertexCountAndStrictRefuses) {
     EXPECT_NE(r.err.find("vertices of smaller components dropped 42"), std::string::npos) << r.err;
     nlohmann::json summary = nlohmann::json::parse(r.out);
     EXPECT_EQ(summary["input_vertices"], two.num_vertices());
-    EXPECT_EQ(summary["used_vertices"], 162);
+    EXPECT_EQ(summary["kept_input_vertices"], 162);
+    EXPECT_EQ(summary["repaired_vertices"], 162);
     // The PLY has the input's 204 vertices; the small sphere's are NaN with valid = 0. Reading it back
     // refuses the NaN by element, so look at the text.
     const std::string text = [&] {
