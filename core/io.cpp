@@ -19,6 +19,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io_formats.h"
+#include "core/mesh_defects.h"
 
 namespace cshapes {
 
@@ -223,6 +224,7 @@ MeshFile parse_by_format(const std::string& bytes, const std::string& format, co
 }
 
 MeshFile finish(MeshFile file, const std::string& name, const ReadOptions& options) {
+  if (file.mesh.num_vertices() == 0) fail(name, ": empty mesh (no vertices)");
   check_indices_and_finiteness(file.mesh, name);
   if (options.validate) validate_mesh(file.mesh, name);
   return file;
@@ -233,18 +235,21 @@ MeshFile finish(MeshFile file, const std::string& name, const ReadOptions& optio
 void validate_mesh(const Mesh& mesh, const std::string& name) {
   if (mesh.num_vertices() == 0) fail(name, ": empty mesh (no vertices)");
   check_indices_and_finiteness(mesh, name);
-  for (Index f = 0; f < mesh.num_faces(); ++f)
-    if (mesh.F(f, 0) == mesh.F(f, 1) || mesh.F(f, 1) == mesh.F(f, 2) || mesh.F(f, 0) == mesh.F(f, 2))
-      fail(name, ": face ", f, " (", mesh.F(f, 0), " ", mesh.F(f, 1), " ", mesh.F(f, 2),
-           ") is degenerate: it repeats a vertex index");
-  Edges E = mesh_edges(mesh.F);
-  Eigen::VectorXd d = edge_lengths(mesh.V, E);
-  for (Index e = 0; e < E.rows(); ++e)
-    if (d[e] == 0) fail(name, ": edge (", E(e, 0), ", ", E(e, 1), ") has zero length (coincident vertices)");
-  std::vector<int> counts = edge_face_counts(mesh.F, E);
-  for (Index e = 0; e < E.rows(); ++e)
-    if (counts[e] > 2)
-      fail(name, ": edge (", E(e, 0), ", ", E(e, 1), ") is non-manifold (shared by ", counts[e], " faces)");
+  const MeshDefects d = mesh_defects(mesh);
+  if (d.repeated_vertex_faces) {
+    const int f = d.repeated_vertex_face_examples[0];
+    fail(name, ": face ", f, " (", mesh.F(f, 0), " ", mesh.F(f, 1), " ", mesh.F(f, 2),
+         ") is degenerate: it repeats a vertex index");
+  }
+  if (d.duplicate_faces)
+    fail(name, ": face ", d.duplicate_face_examples[0][0], " duplicates face ",
+         d.duplicate_face_examples[0][1], " (same vertices)");
+  if (d.zero_length_edges)
+    fail(name, ": edge (", d.zero_length_edge_examples[0][0], ", ", d.zero_length_edge_examples[0][1],
+         ") has zero length (coincident vertices)");
+  if (d.nonmanifold_edges)
+    fail(name, ": edge (", d.nonmanifold_edge_examples[0][0], ", ", d.nonmanifold_edge_examples[0][1],
+         ") is non-manifold (shared by ", d.nonmanifold_edge_examples[0][2], " faces)");
 }
 
 MeshFile read_mesh_file_from_memory(const std::string& bytes, const std::string& format,
@@ -289,7 +294,21 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options) {
 
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options) {
   std::string ext = file_extension(path);
-  check_indices_and_finiteness(mesh, path);
+  // A result with dropped vertices (NaN rows, core/mesh_repair.h) keeps the input's vertex count in PLY,
+  // where a "valid" property (0 on those rows) says which rows hold no position.
+  const VertexScalar* valid = nullptr;
+  for (const VertexScalar& s : options.scalars)
+    if (s.name == "valid" && s.values.size() == mesh.num_vertices()) valid = &s;
+  if (ext == "ply" && valid) {
+    Mesh finite_rows;
+    finite_rows.F = mesh.F;
+    finite_rows.V = mesh.V;
+    for (Index i = 0; i < mesh.num_vertices(); ++i)
+      if (valid->values[i] == 0) finite_rows.V.row(i).setZero();
+    check_indices_and_finiteness(finite_rows, path);
+  } else {
+    check_indices_and_finiteness(mesh, path);
+  }
   if (ext == "off") {
     write_file_atomically(path, [&](std::ostream& out) { write_off(out, mesh); });
   } else if (ext == "obj") {

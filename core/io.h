@@ -6,7 +6,9 @@
 //   .ply  ASCII, binary little and big endian; any property layout and list types; faces optional (no faces:
 //         a point cloud). Vertex properties other than x, y, z come back as scalars, uchar red/green/blue as
 //         colours
-//   .obj  v and f records (f a/b/c, a/b, a//c; negative indices), polygons fan-triangulated; the rest ignored
+//   .obj  v and f records (f a/b/c, a/b, a//c; negative indices), polygons fan-triangulated; the format's
+//   other
+//         records (vt, vn, g, o, s, usemtl, mtllib, l, ...) skipped, an unknown record refused by its line
 //   .stl  ASCII and binary; corners with identical coordinates are merged into shared vertices
 //   .vert / .tri  TOSCA's pair: one "x y z" per line, and 1-based "i j k" per line; either path names the
 //   pair .xyz  point cloud, "x y z" per line (further columns ignored)
@@ -23,17 +25,22 @@
 
 namespace cshapes {
 
+// Reading is lenient, describing is exact: a reader refuses only what is malformed (syntax, counts, indices
+// out of range, NaN/Inf coordinates, truncation, an empty file), and accepts everything a mesh file can
+// legally hold: non-manifold edges and vertices, isolated vertices, duplicate and degenerate faces, several
+// components, boundaries. core/mesh_defects.h describes those; core/mesh_repair.h repairs them for a method.
 struct ReadOptions {
-  // Check the loaded mesh (see validate_mesh); false only loads and checks indices and finiteness.
-  bool validate = true;
+  // Also refuse the defects validate_mesh names (for stages that cannot repair them); default: lenient.
+  bool validate = false;
 };
 
 // Reads a mesh or point cloud. Throws cshapes::Error naming the file (and line or element) on any problem.
 Mesh read_mesh(const std::string& path, const ReadOptions& options = {});
 
-// Checks what later stages rely on, throwing with `name` and the first offending element:
-// at least one vertex, finite coordinates, face indices in range, no face repeating a vertex,
-// no zero-length edge, no edge shared by more than two faces.
+// Checks what stages that need a clean manifold input rely on (remeshing, gluing topological noise),
+// throwing with `name` and the first offending element: at least one vertex, finite coordinates, face
+// indices in range, no face repeating a vertex, no duplicate face, no zero-length edge, no edge shared by
+// more than two faces.
 void validate_mesh(const Mesh& mesh, const std::string& name);
 
 // A per-vertex scalar written as a PLY property (e.g. "torn" 0/1, "violation").
@@ -53,6 +60,8 @@ struct WriteOptions {
 };
 
 // Writes by extension (.off, .ply, .obj, .xyz). Written to a temporary file and renamed: never partial.
+// Coordinates must be finite, except in PLY rows whose "valid" scalar is 0 (vertices a method dropped: their
+// NaN is written as nan; such a file is an output, and reading it back refuses the NaN by its element).
 // Coordinates are written with 17 significant digits (ASCII) or as doubles (binary PLY): reading the file
 // back gives exactly the same V. PLY scalars are written as double properties, colours as uchar.
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options = {});

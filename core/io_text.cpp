@@ -1,4 +1,5 @@
 // Readers of the line-oriented text formats: OFF (COFF, NOFF, ...), OBJ, XYZ and TOSCA's .vert/.tri pair.
+// OBJ: v and f are read, the format's other records skipped, an unknown record (binary junk) refused.
 // Errors name the file and line; counts in headers are checked against the file size before anything is
 // reserved, and data after the declared counts is a count mismatch, not silently ignored.
 #include <climits>
@@ -33,6 +34,19 @@ void read_point(TextScanner& scanner, const char* element, long long index, bool
       fail(scanner.where(), ": ", element, " ", index, " has a non-finite ", axis[c], " coordinate (",
            printable(t), ")");
   }
+}
+
+// Records of the OBJ format (geometry, grouping, display and free-form statements) that carry nothing the
+// surface needs: skipped. Anything else is refused.
+bool is_ignored_obj_record(std::string_view keyword) {
+  static const char* const known[] = {
+      "vt",         "vn",        "vp",     "l",        "p",        "g",    "o",    "s",    "mg",    "usemtl",
+      "mtllib",     "maplib",    "usemap", "cstype",   "deg",      "bmat", "step", "curv", "curv2", "surf",
+      "parm",       "trim",      "hole",   "scrv",     "sp",       "end",  "con",  "lod",  "ctech", "stech",
+      "shadow_obj", "trace_obj", "bevel",  "c_interp", "d_interp", "call", "csh",  "res"};
+  for (const char* k : known)
+    if (keyword == k) return true;
+  return false;
 }
 
 void refuse_trailing_data(TextScanner& scanner, const char* what) {
@@ -155,8 +169,11 @@ MeshFile parse_obj(const std::string& name, std::string_view text) {
              " vertices, expected at least 3");
       builder.add_polygon(polygon);
       ++num_faces;
+    } else if (!is_ignored_obj_record(keyword)) {
+      // Binary junk or another format: refused where it starts rather than read as an empty mesh.
+      fail(scanner.where(), ": unknown OBJ record '", printable(keyword),
+           "' (expected v, f or another OBJ keyword such as vt, vn, g, o, s, usemtl; not an OBJ file?)");
     }
-    // vt, vn, g, o, s, l, p, usemtl, mtllib, ...: not needed for the surface.
     scanner.skip_line();
   }
   for (const ForwardReference& ref : forward)

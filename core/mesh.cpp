@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/mesh_defects.h"
 
 namespace cshapes {
 
@@ -144,22 +145,15 @@ MeshInfo mesh_info(const Mesh& mesh) {
   info.area = surface_area(mesh.V, mesh.F);
   if (E.rows() > 0) info.mean_edge_length = edge_lengths(mesh.V, E).mean();
 
-  std::vector<int> counts = edge_face_counts(mesh.F, E);
-  std::vector<int> boundary;
-  for (Index e = 0; e < E.rows(); ++e) {
-    if (counts[e] == 1) boundary.push_back(static_cast<int>(e));
-    if (counts[e] > 2) ++info.nonmanifold_edges;
-  }
-  info.boundary_edges = boundary.size();
-  // Boundary loops: components of the graph made of boundary edges only (vertices on no boundary ignored).
-  Edges B(boundary.size(), 2);
-  for (size_t k = 0; k < boundary.size(); ++k) B.row(k) = E.row(boundary[k]);
-  Components loops = connected_components(mesh.num_vertices(), B);
-  std::vector<int> on_boundary(loops.count, 0);
-  for (Index k = 0; k < B.rows(); ++k) on_boundary[loops.label[B(k, 0)]] = 1;
-  info.boundary_loops = std::accumulate(on_boundary.begin(), on_boundary.end(), 0);
+  // Boundaries and non-manifold edges as core/mesh_defects.h defines them (a duplicate face is a duplicate,
+  // not two faces making its edges non-manifold).
+  const MeshDefects defects = mesh_defects(mesh);
+  info.boundary_edges = defects.boundary_edges;
+  info.boundary_loops = defects.boundary_loops;
+  info.nonmanifold_edges = defects.nonmanifold_edges;
 
-  if (mesh.is_point_cloud() || info.nonmanifold_edges > 0) {
+  if (mesh.is_point_cloud() || info.nonmanifold_edges > 0 || defects.nonmanifold_vertices > 0 ||
+      defects.duplicate_faces > 0 || defects.repeated_vertex_faces > 0) {
     info.genus = -1;
   } else {
     // chi = sum_c (2 - 2 g_c - b_c) over surface components (isolated vertices contribute chi = 1 each and
@@ -203,12 +197,13 @@ Submesh require_connected(const Mesh& mesh, const std::string& name, bool keep_l
   int largest = comp.largest();
   if (!keep_largest) {
     fail(name, ": the mesh has ", comp.count, " connected components (largest ", comp.sizes[largest], " of ",
-         mesh.num_vertices(), " vertices); this stage needs one: pass --largest-component to keep the largest");
+         mesh.num_vertices(),
+         " vertices); this stage needs one: pass --largest-component to keep the largest");
   }
   Submesh sub = extract_component(mesh, comp, largest);
   if (note) {
-    *note = detail::concat(name, ": kept the largest of ", comp.count, " components (", sub.mesh.num_vertices(),
-                           " of ", mesh.num_vertices(), " vertices); dropped ",
+    *note = detail::concat(name, ": kept the largest of ", comp.count, " components (",
+                           sub.mesh.num_vertices(), " of ", mesh.num_vertices(), " vertices); dropped ",
                            mesh.num_vertices() - sub.mesh.num_vertices(), " vertices and ",
                            mesh.num_faces() - sub.mesh.num_faces(), " faces");
   }

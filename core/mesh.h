@@ -28,7 +28,7 @@ Eigen::VectorXd edge_lengths(const Points& V, const Edges& E);
 // the neighbours of vertex i are neighbors[offsets[i] .. offsets[i+1]), and edge_ids gives, for each of
 // those, the row of E it came from. Neighbours are sorted by index.
 struct Adjacency {
-  std::vector<int> offsets;   // n+1
+  std::vector<int> offsets;    // n+1
   std::vector<int> neighbors;  // 2|E|
   std::vector<int> edge_ids;   // 2|E|
   int degree(Index i) const { return offsets[i + 1] - offsets[i]; }
@@ -54,13 +54,14 @@ struct MeshInfo {
   Index faces = 0;
   Index edges = 0;
   int components = 0;
-  Index isolated_vertices = 0;   // vertices in no face (each is a component of its own)
-  Index boundary_edges = 0;      // edges in exactly one face
-  int boundary_loops = 0;        // closed chains of boundary edges
-  Index nonmanifold_edges = 0;   // edges in more than two faces
+  Index isolated_vertices = 0;    // vertices in no face (each is a component of its own)
+  Index boundary_edges = 0;       // edges in exactly one face
+  int boundary_loops = 0;         // closed chains of boundary edges
+  Index nonmanifold_edges = 0;    // edges in more than two distinct faces (core/mesh_defects.h)
   long euler_characteristic = 0;  // V - E + F
   // Total genus: sum over components of (2 - chi_c - b_c) / 2, assuming orientable surfaces.
-  // -1 when it is undefined (point cloud, non-manifold edges).
+  // -1 when it is undefined (point cloud, non-manifold edges or vertices, duplicate or repeated-vertex
+  // faces).
   long genus = 0;
   double bbox_diagonal = 0;
   double mean_edge_length = 0;

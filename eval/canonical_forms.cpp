@@ -138,6 +138,7 @@ std::string serialize(const CanonicalForm& f) {
   j["history_columns"] = f.history_columns;
   j["history_rows"] = f.history_rows;
   j["summary"] = f.summary_json;
+  j["valid"] = std::vector<double>(f.valid.data(), f.valid.data() + f.valid.size());
   std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
   return std::string(bytes.begin(), bytes.end());
 }
@@ -157,6 +158,11 @@ CanonicalForm deserialize(const std::string& bytes) {
   f.history_columns = j["history_columns"].get<std::vector<std::string>>();
   f.history_rows = j["history_rows"].get<std::vector<std::vector<double>>>();
   f.summary_json = j["summary"].get<std::string>();
+  // Entries written before repairs existed are of meshes that needed none: every vertex valid.
+  std::vector<double> valid = j.contains("valid") ? j["valid"].get<std::vector<double>>() : std::vector<double>();
+  CSHAPES_REQUIRE(valid.empty() || static_cast<Index>(valid.size()) == n, "cache entry: inconsistent valid flags");
+  f.valid = valid.empty() ? Eigen::VectorXd::Ones(n)
+                          : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(valid.data(), n));
   return f;
 }
 
@@ -167,11 +173,35 @@ const std::vector<std::string>& canonical_form_methods() {
   return methods;
 }
 
+MeshRequirements canonical_form_requirements(const std::string& method) {
+  if (method == "coulomb") return MeshRequirements::edge_graph();
+  if (method == "cmds" || method == "smacof") return MeshRequirements::manifold_surface();
+  fail("unknown canonization method '", method, "'; known: coulomb, cmds, smacof");
+}
+
+RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOptions& options) {
+  RepairOptions ro;
+  ro.strict = options.strict;
+  ro.name = options.name;
+  ro.purpose = options.method == "coulomb"
+                   ? "Coulomb canonization (the largest component's edge graph)"
+                   : options.method + " (its geodesics need one manifold component without zero-area faces)";
+  return repair_for(mesh, canonical_form_requirements(options.method), ro);
+}
+
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
                              double D_seconds) {
-  if (options.method == "coulomb") return coulomb_form(mesh, options);
-  if (options.method == "cmds" || options.method == "smacof") return mds_form(mesh, options, D, D_seconds);
-  fail("unknown canonization method '", options.method, "'; known: coulomb, cmds, smacof");
+  const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
+  CanonicalForm form = options.method == "coulomb" ? coulomb_form(repaired.mesh, options)
+                                                   : mds_form(repaired.mesh, options, D, D_seconds);
+  // Back to the input's vertices (a copy when nothing was repaired).
+  const Index n = mesh.num_vertices();
+  form.X = to_input_vertices(form.X, repaired.vertex_map, n);
+  if (form.torn.size()) form.torn = to_input_vertices(form.torn, repaired.vertex_map, n, 0.0);
+  form.valid = valid_input_vertices(repaired.vertex_map, n);
+  form.repairs = repaired.actions;
+  form.repair_text = repaired.text;
+  return form;
 }
 
 std::string canonical_form_key(const CanonicalFormOptions& o) {
@@ -224,8 +254,13 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, co
                                     bool* was_cached, const DistanceMatrix* D, double D_seconds) {
   const std::string key = canonical_form_cache_key(mesh, options);
   if (auto hit = cache.get(key)) {
+    // The repair (cheap) is redone for its report under this call's name, and so that --strict refuses.
+    const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
     if (was_cached) *was_cached = true;
-    return deserialize(*hit);
+    CanonicalForm form = deserialize(*hit);
+    form.repairs = repaired.actions;
+    form.repair_text = repaired.text;
+    return form;
   }
   if (was_cached) *was_cached = false;
   CanonicalForm form = canonical_form(mesh, options, D, D_seconds);

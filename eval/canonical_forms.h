@@ -4,10 +4,15 @@
 //   cmds     classical MDS (canon/classical_mds.h) of all-pairs geodesic distances
 //   smacof   SMACOF (canon/smacof.h) of the same distances, initialised from classical MDS
 //
-// The result keeps the mesh's vertex order. Point clouds (no faces) use a symmetric kNN graph for the
-// Coulomb constraints and for graph geodesics. The cache key is the mesh's content (coordinates and faces)
-// plus every option that changes the result (canonical_form_key), so a cached form is never stale and a
-// killed run resumes without recomputing finished shapes.
+// Each method states what it needs of the mesh (canonical_form_requirements) and the mesh is repaired for it
+// first (core/mesh_repair.h: Coulomb the largest component's edge graph, MDS a manifold surface without
+// zero-area faces in one component), unless options.strict, which refuses a mesh that needs repair, naming
+// its defects. The result always has the input's vertex count and order: vertices the repair dropped are NaN
+// rows of X with valid = 0 (never a shorter result); a vertex split in two takes its first copy's position.
+// Point clouds (no faces) use a symmetric kNN graph for the Coulomb constraints and for graph geodesics. The
+// cache key is the mesh's content (coordinates and faces) plus every option that changes the result
+// (canonical_form_key), so a cached form is never stale and a killed run resumes without recomputing finished
+// shapes.
 #pragma once
 
 #include <string>
@@ -19,6 +24,7 @@
 #include "core/geodesics.h"
 #include "core/knn_graph.h"
 #include "core/mesh.h"
+#include "core/mesh_repair.h"
 #include "eval/cache.h"
 
 namespace cshapes {
@@ -36,16 +42,27 @@ struct CanonicalFormOptions {
   SmacofOptions smacof;      // method smacof
   KnnGraphOptions knn;       // point clouds: the graph that stands in for mesh edges
   ProgressFn progress;       // stages "geodesics", "coulomb"
+  bool strict = false;  // refuse a mesh that needs repair (throws, naming the defects) instead of repairing
+  std::string name = "mesh";  // the mesh's name (its path) in messages; not part of the result
 };
+
+// What a method needs of its mesh: coulomb the edge graph, cmds and smacof a manifold surface.
+MeshRequirements canonical_form_requirements(const std::string& method);
+// The mesh a canonical form is computed on (repair_for with the method's requirements, options.name and
+// strict): the vertices of a precomputed distance matrix D are this mesh's.
+RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOptions& options);
 
 // Every method name canonical_form accepts.
 const std::vector<std::string>& canonical_form_methods();
 
 struct CanonicalForm {
-  Points X;                     // n×3, the mesh's vertex order
-  Eigen::VectorXd torn;         // coulomb: 1 for vertices of torn edges, else 0; empty for MDS
-  double precompute_seconds = 0;  // geodesics (MDS) or edge lengths and graph (coulomb)
-  double solve_seconds = 0;       // the embedding itself
+  Points X;                           // n×3, the input mesh's vertex order; NaN rows where valid is 0
+  Eigen::VectorXd valid;              // n: 1 for vertices in the form, 0 for vertices the repair dropped
+  Eigen::VectorXd torn;               // coulomb: 1 for vertices of torn edges, else 0; empty for MDS
+  std::vector<RepairAction> repairs;  // what was repaired before the method ran; empty: nothing
+  std::string repair_text;            // one line (core/mesh_repair.h), "" when nothing was repaired
+  double precompute_seconds = 0;      // geodesics (MDS) or edge lengths and graph (coulomb)
+  double solve_seconds = 0;           // the embedding itself
   int iterations = 0;
   double seconds_per_iteration = 0;
   // Per-iteration history as columns (coulomb: energy, mean_violation, ...; smacof: normalized_stress).
@@ -54,7 +71,8 @@ struct CanonicalForm {
   std::string summary_json;  // method-specific summary (eigenvalues, stress, stop reason, ...)
 };
 
-// Computes the canonical form. D: optional precomputed all-pairs distances for MDS (n×n), reused instead
+// Computes the canonical form. D: optional precomputed all-pairs distances for MDS between the vertices of
+// repair_for_canonical_form(mesh, options).mesh (the mesh itself when it needs no repair), reused instead
 // of computing geodesics (e.g. one matrix shared by cmds and smacof); D_seconds: what computing it took,
 // reported as the form's precompute_seconds.
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options,
@@ -67,9 +85,9 @@ std::string mesh_content_key(const Mesh& mesh);
 
 // canonical_form through a DiskCache (a disabled cache computes every time). *was_cached tells which.
 // The cache key of that form.
-CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, const CanonicalFormOptions& options,
-                                    bool* was_cached = nullptr, const DistanceMatrix* D = nullptr,
-                                    double D_seconds = 0);
+CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
+                                    const CanonicalFormOptions& options, bool* was_cached = nullptr,
+                                    const DistanceMatrix* D = nullptr, double D_seconds = 0);
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options);
 
 }  // namespace cshapes

@@ -40,7 +40,8 @@ struct PairwiseDistanceResult {
   double seconds = 0;
 };
 
-// shapes: N point sets (canonical forms); keys: N content keys, or empty to hash the coordinates.
+// shapes: N point sets (canonical forms); rows with a non-finite coordinate (vertices a repair dropped) are
+// left out of the alignment and the distances. keys: N content keys, or empty to hash the coordinates.
 // Throws on invalid input, and rethrows the first error of any pair (pairs finished before it stay cached).
 PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
                                           const std::vector<std::string>& keys,

@@ -1,5 +1,6 @@
 // `cshapes canon --method cmds|smacof`: MDS canonical forms (Elad & Kimmel) of a mesh, from its all-pairs
 // geodesic distances (computed here, or read with --distances).
+#include <algorithm>
 #include <cmath>
 
 #include "canon/classical_mds.h"
@@ -36,11 +37,12 @@ DistanceMatrix job_distances(const CanonJob& job) {
   }
   DistanceMatrix D = read_distance_matrix(args.distances);
   if (D.rows() == n) return D;
-  const Index needed = job.vertex_map.empty() ? n : job.vertex_map.back() + 1;
+  const Index needed =
+      job.vertex_map.empty() ? n : *std::max_element(job.vertex_map.begin(), job.vertex_map.end()) + 1;
   if (job.vertex_map.empty() || D.rows() < needed)
     fail(args.distances, ": has ", D.rows(), " points but ", job.input_path, " has ", n,
          " vertices (in the part kept)");
-  // The input was reduced to a component: keep its rows and columns (vertex_map is increasing).
+  // The input was repaired (vertices dropped or split): the rows and columns of the vertices it maps to.
   require_memory(distance_matrix_bytes(n), "restricting " + args.distances + " to the kept component");
   DistanceMatrix sub(n, n);
   for (Index j = 0; j < n; ++j)

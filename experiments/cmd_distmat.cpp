@@ -16,7 +16,7 @@ namespace {
 
 struct DistmatArgs {
   std::string data, output, method = "coulomb", cache, metric = "hausdorff";
-  bool largest_component = false, json = false;
+  bool largest_component = false, strict = false, json = false;
 } args;
 
 int run() {
@@ -28,25 +28,40 @@ int run() {
   co.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(co);                // every method option given on the command line
   Dataset data = read_dataset(args.data);
+  co.strict = args.strict;
   const std::string cache_dir =
       args.cache.empty() ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string()
                          : args.cache;
   DiskCache cache((std::filesystem::path(cache_dir) / "forms").string());
 
   std::vector<Points> forms;
-  std::vector<std::string> keys, names;
+  std::vector<std::string> keys, names, skipped;
   for (size_t i = 0; i < data.entries.size(); ++i) {
     const DatasetEntry& e = data.entries[i];
-    std::string dropped;
-    Mesh mesh = require_connected(read_mesh(e.path), e.path, args.largest_component, &dropped).mesh;
-    if (!dropped.empty()) note(dropped);
+    // Each shape is repaired for the method (a note says what), or refused with --strict; one that cannot
+    // be used at all (unreadable, too few vertices) is skipped with its reason, the others go on.
+    co.name = e.path;
     bool cached = false;
-    forms.push_back(cached_canonical_form(cache, mesh, co, &cached).X);
+    CanonicalForm form;
+    Mesh mesh;
+    try {
+      mesh = read_mesh(e.path);
+      form = cached_canonical_form(cache, mesh, co, &cached);
+    } catch (const Error& error) {
+      if (args.strict) throw;
+      note(std::string("skipped: ") + error.what());
+      skipped.push_back(e.path);
+      continue;
+    }
+    if (!form.repair_text.empty()) note(form.repair_text);
+    forms.push_back(form.X);
     keys.push_back(canonical_form_cache_key(mesh, co));
     names.push_back(e.name);
     note("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +
          (cached ? " (cached)" : ""));
   }
+  CSHAPES_REQUIRE(forms.size() >= 2, args.data, ": ", forms.size(), " usable shapes (", skipped.size(),
+                  " skipped), a distance matrix needs at least 2");
   PairwiseDistanceOptions po;
   po.cache_dir = (std::filesystem::path(cache_dir) / "pairs").string();
   po.progress = progress_printer();
@@ -56,13 +71,9 @@ int run() {
                                                         : pd.rmse;
   write_distance_csv(args.output, names, D);
   if (args.json)
-    std::cout << nlohmann::json{{"output", args.output},
-                                {"shapes", names.size()},
-                                {"method", args.method},
-                                {"metric", args.metric},
-                                {"pairs_computed", pd.computed},
-                                {"pairs_cached", pd.cached},
-                                {"cache", cache_dir}}
+    std::cout << nlohmann::json{{"output", args.output},   {"shapes", names.size()},       {"method", args.method},
+                                {"metric", args.metric},   {"pairs_computed", pd.computed}, {"pairs_cached", pd.cached},
+                                {"cache", cache_dir},      {"skipped", skipped}}
                      .dump(2)
               << std::endl;
   note("wrote " + args.output);
@@ -85,7 +96,10 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(one_of({"hausdorff", "chamfer", "rmse"}));
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
-       app.add_flag("--largest-component", args.largest_component, "keep each input's largest component");
+       app.add_flag("--largest-component", args.largest_component,
+                    "keep each input's largest component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", args.strict,
+                    "refuse a mesh the method would have to repair instead of repairing it");
        app.add_flag("--json", args.json, "print a JSON summary");
        add_canon_method_options(app);
      },

@@ -95,7 +95,10 @@ const bool registered = register_command(
            ->check(integer_in(1, 1000));
        app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
        app.add_flag("--largest-component", o.largest_component,
-                    "keep each input's largest connected component");
+                    "keep each input's largest connected component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", o.canon.strict,
+                    "refuse a mesh a method would have to repair (non-manifold for MDS, several components, ...) "
+                    "instead of repairing it");
        app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
            ->capture_default_str()
            ->check(integer_in(1, 1000));

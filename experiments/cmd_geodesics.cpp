@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/geodesics.h"
 #include "core/heat_method.h"
+#include "core/mesh_repair.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -18,6 +19,7 @@ struct GeodesicsArgs {
   int source = -1;
   bool csv = false;
   bool largest_component = false;
+  bool strict = false;
   bool json = false;
   CLI::Option* heat_mode_option = nullptr;
 } args;
@@ -38,9 +40,14 @@ int run() {
     require_output_path(args.output, {args.csv ? "csv" : "bin"});
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
-  std::string dropped;
-  Submesh sub = require_connected(input, args.input, args.largest_component, &dropped);
-  if (!dropped.empty()) note(dropped + " (the distance matrix follows the kept vertices' order)");
+  // Geodesics need one manifold component without zero-area faces: repaired (core/mesh_repair.h) unless
+  // --strict; the output then follows the repaired mesh's vertices (RepairedMesh::vertex_map).
+  RepairOptions ro;
+  ro.strict = args.strict;
+  ro.name = args.input;
+  ro.purpose = "geodesics (one manifold component, no zero-area faces)";
+  RepairedMesh sub = repair_for(input, MeshRequirements::manifold_surface(), ro);
+  if (sub.changed()) note(sub.text + "; the distances follow the repaired mesh's vertices");
   const Mesh& mesh = sub.mesh;
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json summary = {{"input", args.input},
@@ -64,7 +71,7 @@ int run() {
     int local = -1;
     for (size_t k = 0; k < sub.vertex_map.size(); ++k)
       if (sub.vertex_map[k] == args.source) local = static_cast<int>(k);
-    CSHAPES_REQUIRE(local >= 0, "--source ", args.source, " is not in the largest component that was kept");
+    CSHAPES_REQUIRE(local >= 0, "--source ", args.source, " was dropped by the repair (", sub.text, ")");
     Eigen::VectorXd d = geodesic_distances(mesh, {local}, options);
     std::vector<std::vector<double>> rows;
     rows.reserve(d.size());
@@ -114,7 +121,10 @@ const bool registered = register_command(
            ->check(integer_in(0, INT_MAX));
        app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
        app.add_flag("--largest-component", args.largest_component,
-                    "keep the largest connected component instead of refusing a disconnected mesh");
+                    "keep the largest connected component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", args.strict,
+                    "refuse a mesh that needs repair (non-manifold, several components, ...) instead of "
+                    "repairing it");
        app.add_flag("--json", args.json, "print a JSON summary on stdout");
      },
      run});

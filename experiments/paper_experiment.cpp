@@ -10,11 +10,13 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/articulated.h"
+#include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/mesh_defects.h"
+#include "core/mesh_repair.h"
 #include "core/remesh.h"
 #include "core/synthetic.h"
 #include "core/topological_noise.h"
@@ -35,31 +37,60 @@ using nlohmann::json;
 
 namespace {
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 struct Shape {
-  std::string name;        // file stem, or SOURCE_noisy for shapes glued here
+  std::string name;  // file stem, or SOURCE_noisy for shapes glued here
   std::string class_name;
   std::string source_path;  // the file read, or the file written for shapes made here
   std::string source_name;  // noisy shapes made here: the clean pose they were glued from
   bool noisy = false;
   bool in_retrieval = true;  // false: only a reference for the noise measurement
   Mesh mesh;
-  std::vector<int> glued;   // vertices of glued pairs (noisy shapes made here)
-  std::string vts;          // ground-truth correspondence file, when it exists
-  std::string key;          // mesh content key
+  std::vector<int> glued;                      // vertices of glued pairs (noisy shapes made here)
+  std::string vts;                             // ground-truth correspondence file, when it exists
+  std::string key;                             // mesh content key
+  std::string defects = "none";                // core/mesh_defects.h summary of the mesh as read
+  std::map<std::string, std::string> repairs;  // per method: what its repair did ("" when nothing)
+  bool untouched = true;  // no method repairs it and it is a manifold surface (geodesics on it as read)
 };
 
 void say(const PaperExperimentOptions& o, const std::string& line) {
   if (o.note) o.note(line);
 }
 
-Mesh load_connected(const std::string& path, bool largest, const PaperExperimentOptions& o) {
-  Mesh mesh = read_mesh(path);
-  std::string dropped;
-  Submesh sub = require_connected(mesh, path, largest, &dropped);
-  if (!dropped.empty()) say(o, dropped);
-  return sub.mesh;
+// The method options of one method, named after the shape's file (for messages).
+CanonicalFormOptions method_options(const PaperExperimentOptions& o, const std::string& method,
+                                    const std::string& name) {
+  CanonicalFormOptions co = o.canon;
+  co.method = method;
+  co.name = name;
+  co.progress = {};
+  return co;
+}
+
+// Reads a mesh as it is (lenient) and works out, per method, what its repair will do (one line each on the
+// note channel). Throws when a method cannot use it (too few vertices left, or --strict and a repair is
+// needed); the caller skips the file then, or stops under --strict.
+void check_shape(Shape& s, const std::string& path, const PaperExperimentOptions& o) {
+  const MeshDefects defects = mesh_defects(s.mesh);
+  s.defects = defects.summary();
+  std::set<std::string> said;
+  for (const std::string& m : o.methods) {
+    RepairedMesh r = repair_for_canonical_form(s.mesh, method_options(o, m, path));
+    s.repairs[m] = r.text;
+    if (r.changed()) s.untouched = false;
+    if (r.changed() && said.insert(r.text).second) say(o, r.text);
+  }
+  if (!s.mesh.is_point_cloud() && repair_for(s.mesh, MeshRequirements::manifold_surface()).changed())
+    s.untouched = false;
+}
+
+void load_and_check(Shape& s, const std::string& path, const PaperExperimentOptions& o) {
+  s.mesh = read_mesh(path);
+  check_shape(s, path, o);
 }
 
 // The folder where corres/NAME.vts would be: the dataset folder, or the manifest's folder.
@@ -75,8 +106,9 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   no.glue_count = o.glue;
   no.seed = o.seed + static_cast<std::uint64_t>(index);
   no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
-  const std::string key = cache_key({"noisy-v2", source.key, std::to_string(no.glue_count), std::to_string(no.seed),
-                                     std::to_string(no.relax_steps), to_string(no.geodesic.method)});
+  const std::string key =
+      cache_key({"noisy-v2", source.key, std::to_string(no.glue_count), std::to_string(no.seed),
+                 std::to_string(no.relax_steps), to_string(no.geodesic.method)});
   Shape s;
   s.name = source.name + "_noisy";
   s.class_name = source.class_name;
@@ -86,7 +118,8 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   if (auto hit = cache.get(key)) {
     json j = json::from_cbor(*hit);
     std::vector<int> f = j["F"].get<std::vector<int>>();
-    s.mesh.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.size() / 3, 3);
+    s.mesh.F =
+        Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.size() / 3, 3);
     s.glued = j["glued"].get<std::vector<int>>();
   } else {
     TopologicalNoiseResult r = glue_topological_noise(source.mesh, no);
@@ -105,7 +138,8 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
 }
 
 // Clean poses (and the dataset's noisy shapes) per class, plus noisy shapes glued here.
-std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache) {
+std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
+                                 std::vector<PaperReport::Skipped>& skipped) {
   Dataset data = read_dataset(o.data);
   const std::string corres = correspondence_folder(o.data);
   std::vector<Shape> shapes;
@@ -114,23 +148,50 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
     std::vector<const DatasetEntry*> clean, noisy;
     for (const DatasetEntry& e : data.entries)
       if (e.class_name == cls) (e.noisy ? noisy : clean).push_back(&e);
-    const size_t n_clean = o.poses_per_class <= 0 ? clean.size() : std::min<size_t>(clean.size(), o.poses_per_class);
-    auto load = [&](const DatasetEntry& e, bool in_retrieval) {
+    // A shape no method can use (unreadable, too few vertices after repair) is skipped with its reason, and
+    // the next pose takes its place; under --strict a mesh needing repair stops the run instead.
+    auto try_load = [&](const DatasetEntry& e, bool in_retrieval) -> std::optional<Shape> {
       Shape s;
       s.name = e.name;
       s.class_name = cls;
       s.source_path = e.path;
       s.noisy = e.noisy;
       s.in_retrieval = in_retrieval;
-      s.mesh = load_connected(e.path, o.largest_component, o);
+      try {
+        load_and_check(s, e.path, o);
+      } catch (const Error& error) {
+        if (o.canon.strict) throw;
+        say(o, std::string("skipped: ") + error.what());
+        skipped.push_back({e.path, error.what()});
+        return std::nullopt;
+      }
       s.key = mesh_content_key(s.mesh);
       std::string vts = corres + "/" + e.name + ".vts";
       if (fs::exists(vts)) s.vts = vts;
       return s;
     };
-    for (size_t k = 0; k < n_clean; ++k) shapes.push_back(load(*clean[k], true));
-    const size_t from_data = std::min<size_t>(noisy.size(), std::max(o.noisy_per_class, 0));
-    for (size_t k = 0; k < from_data; ++k) shapes.push_back(load(*noisy[k], true));
+    const size_t want_clean = o.poses_per_class <= 0 ? clean.size() : static_cast<size_t>(o.poses_per_class);
+    size_t n_clean = 0;
+    for (size_t k = 0; k < clean.size() && n_clean < want_clean;) {
+      if (auto s = try_load(*clean[k], true)) {
+        shapes.push_back(std::move(*s));
+        ++n_clean;
+        ++k;
+      } else {
+        clean.erase(clean.begin() + static_cast<long>(k));
+      }
+    }
+    size_t from_data = 0;
+    for (size_t k = 0; k < noisy.size() && static_cast<int>(from_data) < std::max(o.noisy_per_class, 0); ++k)
+      if (auto s = try_load(*noisy[k], true)) {
+        shapes.push_back(std::move(*s));
+        ++from_data;
+      }
+    auto load = [&](const DatasetEntry& e, bool in_retrieval) {
+      std::optional<Shape> s = try_load(e, in_retrieval);
+      if (!s) fail(e.path, ": cannot be used (see above)");
+      return std::move(*s);
+    };
     // Noisy shapes made here: from the poses not in the retrieval set if there are any (so the noisy shape is
     // a pose of its own, as in the paper), else from the retrieval poses. Their clean source is kept as a
     // reference for the noise measurement. With noisy shapes from the data, one more is glued from the first
@@ -153,12 +214,13 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         const size_t c = candidates[next_candidate++];
         const DatasetEntry& src = *clean[c];
         Shape source;
-        auto it = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
+        auto it =
+            std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
         const bool loaded = it != shapes.end();
-        if (loaded) {
-          source = *it;
-        } else {
-          source = load(src, false);
+        try {
+          source = loaded ? *it : load(src, false);
+        } catch (const Error& e) {
+          continue;  // already said and listed as skipped
         }
         say(o, "gluing " + std::to_string(o.glue) + " spots of " + src.name);
         Shape s;
@@ -171,19 +233,22 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         if (!loaded) shapes.push_back(source);  // kept as the reference of the noise measurement
         s.in_retrieval = !measurement_only;
         s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
+        check_shape(s, s.source_path, o);
         write_mesh(s.source_path, s.mesh);
         write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
-                              [&](std::ostream& out) { out << json{{"glued_vertices", s.glued}}.dump() << '\n'; });
+                              [&](std::ostream& out) {
+                                out << json{{"glued_vertices", s.glued}}.dump() << '\n';
+                              });
         shapes.push_back(std::move(s));
         made = true;
       }
-      if (!made) say(o, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
+      if (!made)
+        say(o, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
     }
   }
   CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");
   return shapes;
 }
-
 
 // Canonical forms of every shape by one method; MDS methods share one geodesic matrix per shape.
 struct MethodForms {
@@ -191,8 +256,9 @@ struct MethodForms {
   std::vector<std::string> keys;     // per shape: cache key of the form (content key for the pair cache)
 };
 
-std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes, const PaperExperimentOptions& o,
-                                                const DiskCache& cache, PaperExperimentSummary& summary) {
+std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes,
+                                                const PaperExperimentOptions& o, const DiskCache& cache,
+                                                PaperExperimentSummary& summary) {
   std::map<std::string, MethodForms> result;
   for (const std::string& m : o.methods) {
     result[m].forms.resize(shapes.size());
@@ -205,25 +271,27 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     bool have_D = false;
     double D_seconds = 0;
     for (const std::string& m : o.methods) {
-      CanonicalFormOptions co = o.canon;
-      co.method = m;
-      co.progress = {};
+      CanonicalFormOptions co = method_options(o, m, s.source_path);
       const bool mds = m != "coulomb";
       const std::string key = canonical_form_cache_key(s.mesh, co);
       if (mds && !have_D && !std::filesystem::exists(cache.entry_path(key))) {
-        // One geodesic matrix serves both MDS methods; each form reports its cost as its pre-computation.
+        // One geodesic matrix serves both MDS methods (on the mesh repaired for them); each form reports its
+        // cost as its pre-computation.
         auto t = Clock::now();
-        D = all_pairs_geodesics(s.mesh, co.geodesics);
+        D = all_pairs_geodesics(repair_for_canonical_form(s.mesh, co).mesh, co.geodesics);
         D_seconds = seconds_since(t);
         have_D = true;
       }
       bool was_cached = false;
-      CanonicalForm f = cached_canonical_form(cache, s.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
+      CanonicalForm f =
+          cached_canonical_form(cache, s.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
       (was_cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
       result[m].keys[i] = key;
       // Write the form for users and for the figures.
       WriteOptions wo;
       if (f.torn.size() == s.mesh.num_vertices()) wo.scalars.push_back({"torn", f.torn});
+      if (f.valid.size() == s.mesh.num_vertices() && f.valid.minCoeff() == 0)
+        wo.scalars.push_back({"valid", f.valid});
       if (!s.glued.empty()) {
         Eigen::VectorXd glued = Eigen::VectorXd::Zero(s.mesh.num_vertices());
         for (int v : s.glued) glued[v] = 1;
@@ -232,16 +300,27 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
       write_mesh((fs::path(o.out) / "canon" / m / (s.name + ".ply")).string(), Mesh{f.X, s.mesh.F}, wo);
       result[m].forms[i] = std::move(f);
     }
-    if (o.progress) o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
+    if (o.progress)
+      o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
     double elapsed = seconds_since(start);
-    say(o, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/", shapes.size(),
-                          ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)), " s left"));
+    say(o, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
+                          shapes.size(), ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)),
+                          " s left"));
   }
   return result;
 }
 
-// Best rigid fit (rotation or reflection) of A onto B with the same vertex order; RMS after it.
-double vertexwise_rms(const Points& A, const Points& B) {
+// Best rigid fit (rotation or reflection) of A onto B with the same vertex order; RMS after it. Over the rows
+// that are finite in both (vertices a repair dropped are NaN rows).
+double vertexwise_rms(const Points& A_all, const Points& B_all) {
+  std::vector<Index> rows;
+  for (Index i = 0; i < A_all.rows(); ++i)
+    if (A_all.row(i).allFinite() && B_all.row(i).allFinite()) rows.push_back(i);
+  Points A(rows.size(), 3), B(rows.size(), 3);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    A.row(k) = A_all.row(rows[k]);
+    B.row(k) = B_all.row(rows[k]);
+  }
   double best = std::numeric_limits<double>::infinity();
   for (int det : {+1, -1}) {
     RigidTransform t = best_rigid_transform(A, B, det);
@@ -257,8 +336,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '", m,
-                    "'; known: coulomb, cmds, smacof");
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
+                    m, "'; known: coulomb, cmds, smacof");
   }
   fs::create_directories(o.out);
   const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
@@ -269,7 +348,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   // 1. Shapes.
   say(o, "== shapes from " + o.data);
-  std::vector<Shape> shapes = select_shapes(o, misc_cache);
+  std::vector<Shape> shapes = select_shapes(o, misc_cache, report.skipped);
   std::vector<int> retrieval;  // indices of shapes in the retrieval set
   for (size_t i = 0; i < shapes.size(); ++i)
     if (shapes[i].in_retrieval) retrieval.push_back(static_cast<int>(i));
@@ -288,8 +367,13 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
             << shapes[i].mesh.num_vertices() << ',' << shapes[i].source_path << '\n';
     });
   }
-  for (const Shape& s : shapes)
-    report.shapes.push_back({s.name, s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(), s.source_name});
+  for (const Shape& s : shapes) {
+    PaperReport::ShapeRow row{s.name,        s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(),
+                              s.source_name, s.defects,    {}};
+    for (const auto& [m, text] : s.repairs)
+      if (!text.empty()) row.repairs[m] = text;
+    report.shapes.push_back(row);
+  }
 
   // 2. Canonical forms.
   say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
@@ -328,8 +412,12 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     write_distance_csv((fs::path(o.out) / "distances" / (m + ".csv")).string(), names, pd.hausdorff);
     RetrievalResult rr = evaluate_retrieval(pd.hausdorff, labels);
     DistanceMatrixImage image = distance_matrix_image(pd.hausdorff, labels);
-    json jm{{"map", rr.mean.ap}, {"nn", rr.mean.nn},   {"ft", rr.mean.ft},
-            {"st", rr.mean.st},  {"e", rr.mean.e},     {"dcg", rr.mean.dcg},
+    json jm{{"map", rr.mean.ap},
+            {"nn", rr.mean.nn},
+            {"ft", rr.mean.ft},
+            {"st", rr.mean.st},
+            {"e", rr.mean.e},
+            {"dcg", rr.mean.dcg},
             {"pr", {{"recall", rr.pr.recall}, {"precision", rr.pr.precision}}}};
     std::vector<std::vector<int>> confusion(image.confusion.rows());
     for (Index r = 0; r < image.confusion.rows(); ++r)
@@ -345,7 +433,12 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
       }
     if (noisy_queries) jm["noisy_query_nn"] = noisy_nn / noisy_queries;
     metrics["methods"][m] = jm;
-    report.retrieval[m] = {rr.mean.ap, rr.mean.nn, rr.mean.ft, rr.mean.st, rr.mean.e, rr.mean.dcg,
+    report.retrieval[m] = {rr.mean.ap,
+                           rr.mean.nn,
+                           rr.mean.ft,
+                           rr.mean.st,
+                           rr.mean.e,
+                           rr.mean.dcg,
                            noisy_queries ? noisy_nn / noisy_queries : -1.0};
   }
   {
@@ -366,14 +459,16 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     for (size_t i = 0; i < shapes.size(); ++i) {
       const Shape& noisy = shapes[i];
       if (noisy.source_name.empty()) continue;
-      size_t j = std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == noisy.source_name; }) -
+      size_t j = std::find_if(shapes.begin(), shapes.end(),
+                              [&](const Shape& s) { return s.name == noisy.source_name; }) -
                  shapes.begin();
       for (const std::string& m : o.methods) {
         const Points& A = forms[m].forms[i].X;
         const Points& B = forms[m].forms[j].X;
-        const double scale = bbox_diagonal(B);
+        const double scale = bbox_diagonal(finite_rows(B));
         ShapeDistance sd = aligned_shape_distance(A, B);
-        PaperReport::NoiseRow row{noisy.name, m, vertexwise_rms(A, B) / scale, sd.hausdorff / scale, sd.rmse / scale};
+        PaperReport::NoiseRow row{noisy.name, m, vertexwise_rms(A, B) / scale, sd.hausdorff / scale,
+                                  sd.rmse / scale};
         report.noise.push_back(row);
       }
     }
@@ -386,14 +481,16 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
           const Shape& sb = shapes[retrieval[b]];
           if (sa.noisy || sb.noisy || sa.class_name != sb.class_name) continue;
           const Points& B = forms[m].forms[retrieval[b]].X;
-          within.push_back(aligned_shape_distance(forms[m].forms[retrieval[a]].X, B).rmse / bbox_diagonal(B));
+          within.push_back(aligned_shape_distance(forms[m].forms[retrieval[a]].X, B).rmse /
+                           bbox_diagonal(finite_rows(B)));
         }
       report.pose_variation[m] = median_of(within);
     }
     write_file_atomically((fs::path(o.out) / "noise_effect.csv").string(), [&](std::ostream& out) {
       out << "shape,method,vertexwise_rms,hausdorff,icp_rmse\n";
       for (const auto& r : report.noise)
-        out << r.shape << ',' << r.method << ',' << r.vertexwise_rms << ',' << r.hausdorff << ',' << r.icp_rmse << '\n';
+        out << r.shape << ',' << r.method << ',' << r.vertexwise_rms << ',' << r.hausdorff << ','
+            << r.icp_rmse << '\n';
     });
   }
   report.stage_seconds["noise effect"] = seconds_since(t);
@@ -406,11 +503,13 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     int pairs = 0;
     for (size_t b = 0; b < retrieval.size(); ++b) {
       const Shape& sb = shapes[retrieval[b]];
-      if (sb.vts.empty() || sb.noisy) continue;
+      // Point maps index the input's vertices: only shapes used as read (no repair) take part.
+      if (sb.vts.empty() || sb.noisy || !sb.untouched) continue;
       std::vector<size_t> sources;
       for (size_t a = 0; a < retrieval.size(); ++a) {
         const Shape& sa = shapes[retrieval[a]];
-        if (a != b && !sa.vts.empty() && !sa.noisy && sa.class_name == sb.class_name) sources.push_back(a);
+        if (a != b && !sa.vts.empty() && !sa.noisy && sa.untouched && sa.class_name == sb.class_name)
+          sources.push_back(a);
       }
       if (sources.empty()) continue;
       if (pairs == 0) say(o, "== point-map errors against ground-truth correspondences");
@@ -425,8 +524,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
         for (const std::string& m : o.methods) {
           std::ostringstream key;
           key.precision(17);
-          key << "point-map;" << forms[m].keys[retrieval[a]] << ";" << forms[m].keys[retrieval[b]] << ";vts="
-              << truth_a_key << "," << truth_b_key << ";samples=" << o.correspondence_samples
+          key << "point-map;" << forms[m].keys[retrieval[a]] << ";" << forms[m].keys[retrieval[b]]
+              << ";vts=" << truth_a_key << "," << truth_b_key << ";samples=" << o.correspondence_samples
               << ";geodesics=" << to_string(go.method) << "," << static_cast<int>(go.heat_mode) << ","
               << go.heat_time_factor << ";icp=" << to_key_string(IcpOptions{});
           const std::string entry = cache_key({key.str()});
@@ -439,11 +538,13 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
             IcpResult align = icp(forms[m].forms[retrieval[a]].X, forms[m].forms[retrieval[b]].X);
             CorrespondenceErrorOptions ce;
             ce.max_samples = o.correspondence_samples;
-            CorrespondenceErrorResult r = correspondence_error(sb.mesh, align.source_to_target, truth_a, truth_b, ce, &*G);
+            CorrespondenceErrorResult r =
+                correspondence_error(sb.mesh, align.source_to_target, truth_a, truth_b, ce, &*G);
             std::ostringstream out;
             out.precision(17);
             out << r.mean_error << '\n';
-            for (Index k = 0; k < r.thresholds.size(); ++k) out << r.thresholds[k] << ' ' << r.fraction[k] << '\n';
+            for (Index k = 0; k < r.thresholds.size(); ++k)
+              out << r.thresholds[k] << ' ' << r.fraction[k] << '\n';
             return out.str();
           });
           std::istringstream in(text);
@@ -470,7 +571,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
           Eigen::VectorXd mean = Eigen::VectorXd::Zero(thresholds.size());
           for (const auto& c : list) mean += c;
           mean /= static_cast<double>(list.size());
-          for (Index k = 0; k < thresholds.size(); ++k) out << m << ',' << thresholds[k] << ',' << mean[k] << '\n';
+          for (Index k = 0; k < thresholds.size(); ++k)
+            out << m << ',' << thresholds[k] << ',' << mean[k] << '\n';
         }
       });
       report.correspondence_pairs = pairs;
@@ -485,10 +587,14 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     write_figure_data(o, report, misc_cache, form_cache);
     json grids = report.figure_grids;
     // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
-    json fig6{{"title", "Fig. 6: shapes (top) and canonical forms; glued (shape, MDS) and torn (Coulomb) vertices red"}};
-    json fig4{{"title", "Fig. 4: shapes with point-wise connectivity artifacts (top) and their coulombization"}};
+    json fig6{
+        {"title",
+         "Fig. 6: shapes (top) and canonical forms; glued (shape, MDS) and torn (Coulomb) vertices red"}};
+    json fig4{
+        {"title", "Fig. 4: shapes with point-wise connectivity artifacts (top) and their coulombization"}};
     std::vector<std::string> row_titles = {"shape"};
-    for (const std::string& m : o.methods) row_titles.push_back(m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : "SMACOF");
+    for (const std::string& m : o.methods)
+      row_titles.push_back(m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : "SMACOF");
     json cells = json::array();
     for (size_t r = 0; r < row_titles.size(); ++r) cells.push_back(json::array());
     json fig4_cells = json::array({json::array(), json::array()});
@@ -498,17 +604,21 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
       if (noisy.source_name.empty() || classes_shown.count(noisy.class_name)) continue;
       classes_shown.insert(noisy.class_name);
       json red{{"property", "glued"}};
-      cells[0].push_back({{"mesh", "canon/input/" + noisy.source_name + ".ply"}, {"title", noisy.source_name}});
-      cells[0].push_back({{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.source_name + ".ply"}, {"title", noisy.source_name}});
+      cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
       for (size_t k = 0; k < o.methods.size(); ++k) {
         const std::string& m = o.methods[k];
         json noisy_red = m == "coulomb" ? json{{"property", "torn"}} : red;
         cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.source_name + ".ply"}});
         cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.name + ".ply"}, {"red", noisy_red}});
       }
-      fig4_cells[0].push_back({{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      fig4_cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
       if (std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end())
-        fig4_cells[1].push_back({{"mesh", "canon/coulomb/" + noisy.name + ".ply"}, {"red", {{"property", "torn"}}}});
+        fig4_cells[1].push_back(
+            {{"mesh", "canon/coulomb/" + noisy.name + ".ply"}, {"red", {{"property", "torn"}}}});
     }
     // The inputs, as PLY with the glued flag, for the figure scripts.
     for (const Shape& s : shapes) {

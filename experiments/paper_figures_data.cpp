@@ -9,6 +9,7 @@
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/mesh_repair.h"
 #include "core/remesh.h"
 #include "core/synthetic.h"
 #include "eval/canonical_forms.h"
@@ -85,7 +86,8 @@ FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache
     }
   }
   CSHAPES_REQUIRE(chosen, o.data, ": no clean shape for the figures");
-  Mesh mesh = require_connected(read_mesh(chosen->path), chosen->path, true, nullptr).mesh;
+  // As Coulomb and the remeshing need it: one manifold component (core/mesh_repair.h).
+  Mesh mesh = repair_for(read_mesh(chosen->path), MeshRequirements::manifold_surface()).mesh;
   return {chosen->name, o.figure_vertices > 0 ? remeshed(mesh, o.figure_vertices, cache) : mesh};
 }
 
@@ -278,7 +280,7 @@ void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const 
     if (!t.entry) {
       mesh = swiss_roll();
     } else {
-      Mesh input = require_connected(read_mesh(t.entry->path), t.entry->path, true, nullptr).mesh;
+      Mesh input = repair_for(read_mesh(t.entry->path), MeshRequirements::manifold_surface()).mesh;
       say(o, "  remeshing " + t.entry->name + " to " + std::to_string(t.vertices) + " vertices");
       mesh = remeshed(input, t.vertices, misc_cache);
       if (t.entry->name.rfind(t.label, 0) != 0) label = t.label + " (" + t.entry->name + ")";

@@ -20,9 +20,15 @@ struct PaperReport {
     std::string name, class_name;
     bool noisy = false, in_retrieval = true;
     Index vertices = 0;
-    std::string source;  // noisy shapes glued here: their clean pose
+    std::string source;                          // noisy shapes glued here: their clean pose
+    std::string defects;                         // core/mesh_defects.h summary, "none" for a clean mesh
+    std::map<std::string, std::string> repairs;  // per method: what was repaired ("" or absent: nothing)
   };
   std::vector<ShapeRow> shapes;
+  struct Skipped {
+    std::string file, reason;
+  };
+  std::vector<Skipped> skipped;  // files of the data that could not be used, and why
   struct Retrieval {
     double map = 0, nn = 0, ft = 0, st = 0, e = 0, dcg = 0;
     double noisy_query_nn = -1;  // nearest-neighbour rate of the noisy queries alone (−1: none)
@@ -50,7 +56,7 @@ struct PaperReport {
     double final_energy = 0, final_violation = 0;
   };
   std::vector<Convergence> convergence;
-  std::string figure_shape;  // the shape of Figures 3 and 5
+  std::string figure_shape;                                // the shape of Figures 3 and 5
   nlohmann::json figure_grids = nlohmann::json::object();  // Fig. 2, 3 mesh grids for paper_figures.py
   std::map<std::string, double> stage_seconds;
   PaperExperimentSummary summary;

@@ -6,7 +6,9 @@
 # --data   shapes to use: a folder of meshes (class = file name without trailing digits, e.g. cat3.off -> cat)
 #          or a manifest.csv. Default: a synthetic articulated dataset that cshapes generates itself
 #          (deterministic), so the job runs on a fresh machine with no data. For the paper's TOSCA shapes:
-#          --data ../shared/data/tosca5k
+#          --data ../shared/data/tosca5k. Imperfect meshes (non-manifold, several components, ...) are repaired
+#          per method and reported per shape (report.md); --strict refuses them instead. Files that are not
+#          meshes are ignored; a mesh that cannot be used is skipped with its reason.
 # --out    where everything is written (default: results/). Intermediate results are cached there: rerunning
 #          after an interruption resumes where it stopped.
 # --pdf    also write every figure as PDF

@@ -19,7 +19,18 @@ ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const E
   return d;
 }
 
-ShapeDistance shape_distance(const Points& A, const Points& B) {
+Points finite_rows(const Points& X) {
+  const Eigen::Array<bool, Eigen::Dynamic, 1> finite = X.array().isFinite().rowwise().all();
+  const Index kept = finite.count();
+  if (kept == X.rows()) return X;
+  Points out(kept, 3);
+  for (Index i = 0, k = 0; i < X.rows(); ++i)
+    if (finite[i]) out.row(k++) = X.row(i);
+  return out;
+}
+
+ShapeDistance shape_distance(const Points& A_all, const Points& B_all) {
+  const Points A = finite_rows(A_all), B = finite_rows(B_all);
   NearestNeighbors tree_a(A), tree_b(B);
   Eigen::VectorXi index;
   Eigen::VectorXd a_to_b, b_to_a;
@@ -43,7 +54,7 @@ ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const
 
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options,
                                      IcpResult* alignment) {
-  IcpShape a(A, options), b(B, options);
+  IcpShape a(finite_rows(A), options), b(finite_rows(B), options);
   return aligned_shape_distance(a, b, options, alignment);
 }
 

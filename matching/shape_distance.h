@@ -22,16 +22,23 @@ struct ShapeDistance {
   double directed_ba = 0;  // max_b d_B(b)
 };
 
+// The rows of X with finite coordinates, in order: canonical forms mark the vertices a repair dropped with
+// NaN rows (eval/canonical_forms.h), and distances are measured between the points that exist. X itself when
+// every row is finite.
+Points finite_rows(const Points& X);
+
 // The distances from the nearest-neighbour distances of both directions (Euclidean, not squared).
 ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const Eigen::VectorXd& b_to_a);
 
-// The distances between A and B as they are placed (no alignment). KD-trees: O((|A| + |B|) log).
+// The distances between A and B as they are placed (no alignment), over their finite rows (finite_rows).
+// KD-trees: O((|A| + |B|) log).
 ShapeDistance shape_distance(const Points& A, const Points& B);
 
 // The distances after the alignment `icp` found (its final nearest neighbours; A = source, B = target).
 ShapeDistance shape_distance(const IcpResult& alignment);
 
-// Aligns A onto B with ICP, then measures: the paper's pipeline for two canonical forms.
+// Aligns A onto B with ICP, then measures: the paper's pipeline for two canonical forms. The Points overload
+// uses only their finite rows (finite_rows).
 // The alignment is returned through `alignment` when non-null.
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options = {},
                                      IcpResult* alignment = nullptr);

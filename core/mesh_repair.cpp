@@ -1,0 +1,202 @@
+#include "core/mesh_repair.h"
+
+#include <limits>
+#include <set>
+
+#include "core/error.h"
+#include "core/mesh_defects.h"
+
+namespace cshapes {
+
+MeshRequirements MeshRequirements::edge_graph() {
+  return MeshRequirements{};
+}
+
+MeshRequirements MeshRequirements::manifold_surface() {
+  MeshRequirements r;
+  r.manifold = true;
+  r.no_degenerate_faces = true;
+  return r;
+}
+
+namespace {
+
+// Keeps the faces with keep[f] set.
+Faces select_faces(const Faces& F, const std::vector<char>& keep) {
+  Faces out(std::count(keep.begin(), keep.end(), 1), 3);
+  Index k = 0;
+  for (Index f = 0; f < F.rows(); ++f)
+    if (keep[f]) out.row(k++) = F.row(f);
+  return out;
+}
+
+// Keeps the vertices with keep[v] set (faces must use only those), renumbering in order; composes the map.
+void select_vertices(Mesh& mesh, std::vector<int>& vertex_map, const std::vector<char>& keep) {
+  std::vector<int> new_index(mesh.num_vertices(), -1);
+  std::vector<int> map;
+  for (Index v = 0; v < mesh.num_vertices(); ++v)
+    if (keep[v]) {
+      new_index[v] = static_cast<int>(map.size());
+      map.push_back(vertex_map[v]);
+    }
+  Points V(map.size(), 3);
+  for (Index v = 0; v < mesh.num_vertices(); ++v)
+    if (keep[v]) V.row(new_index[v]) = mesh.V.row(v);
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) mesh.F(f, c) = new_index[mesh.F(f, c)];
+  mesh.V = std::move(V);
+  vertex_map = std::move(map);
+}
+
+}  // namespace
+
+RepairedMesh repair_for(const Mesh& input, const MeshRequirements& req, const RepairOptions& options) {
+  RepairedMesh r;
+  r.mesh = input;
+  r.input_vertices = input.num_vertices();
+  r.vertex_map.resize(input.num_vertices());
+  for (Index v = 0; v < input.num_vertices(); ++v) r.vertex_map[v] = static_cast<int>(v);
+  Mesh& mesh = r.mesh;
+  auto act = [&r](const std::string& what, Index count) {
+    if (count > 0) r.actions.push_back({what, count});
+  };
+
+  if (!input.is_point_cloud()) {
+    // 1. Faces that are not triangles of the surface: repeating a vertex, repeating an earlier face, and
+    // (for a manifold surface) with zero area.
+    {
+      std::vector<char> keep(mesh.num_faces(), 1);
+      std::set<std::array<int, 3>> seen;
+      Index repeated = 0, duplicates = 0, zero_area = 0;
+      for (Index f = 0; f < mesh.num_faces(); ++f) {
+        if (face_repeats_vertex(mesh.F, f)) {
+          keep[f] = 0;
+          ++repeated;
+        } else if (!seen.insert(sorted_face(mesh.F, f)).second) {
+          keep[f] = 0;
+          ++duplicates;
+        } else if (req.no_degenerate_faces && face_has_zero_area(mesh.V, mesh.F, f)) {
+          keep[f] = 0;
+          ++zero_area;
+        }
+      }
+      act("faces repeating a vertex dropped", repeated);
+      act("duplicate faces dropped", duplicates);
+      act("zero-area faces dropped", zero_area);
+      if (repeated + duplicates + zero_area > 0) mesh.F = select_faces(mesh.F, keep);
+    }
+    // 2. Non-manifold vertices: one copy per fan (see the header); the first fan keeps the vertex.
+    if (req.manifold) {
+      CornerFans fans = corner_fans(mesh.num_vertices(), mesh.F);
+      std::vector<int> first_copy(mesh.num_vertices(), -1);
+      Index split = 0, added = 0;
+      for (Index v = 0; v < mesh.num_vertices(); ++v)
+        if (fans.fan_count[v] > 1) {
+          first_copy[v] = static_cast<int>(mesh.num_vertices() + added);
+          added += fans.fan_count[v] - 1;
+          ++split;
+        }
+      if (split > 0) {
+        const Index n = mesh.num_vertices();
+        Points V(n + added, 3);
+        V.topRows(n) = mesh.V;
+        r.vertex_map.resize(n + added);
+        for (Index v = 0; v < n; ++v)
+          for (int k = 1; k < fans.fan_count[v]; ++k) {
+            V.row(first_copy[v] + k - 1) = mesh.V.row(v);
+            r.vertex_map[first_copy[v] + k - 1] = r.vertex_map[v];
+          }
+        for (Index f = 0; f < mesh.num_faces(); ++f)
+          for (int c = 0; c < 3; ++c) {
+            const int v = mesh.F(f, c), fan = fans.corner_fan[3 * f + c];
+            if (fan > 0) mesh.F(f, c) = first_copy[v] + fan - 1;
+          }
+        mesh.V = std::move(V);
+        act("non-manifold vertices split into fans", split);
+        act("vertex copies added by splitting", added);
+      }
+    }
+    // 3. Vertices in no face.
+    {
+      std::vector<char> used(mesh.num_vertices(), 0);
+      for (Index f = 0; f < mesh.num_faces(); ++f)
+        for (int c = 0; c < 3; ++c) used[mesh.F(f, c)] = 1;
+      const Index unused = mesh.num_vertices() - std::count(used.begin(), used.end(), 1);
+      act("isolated vertices dropped", unused);
+      if (unused > 0) select_vertices(mesh, r.vertex_map, used);
+    }
+    // 4. The largest component.
+    if (req.single_component && mesh.num_vertices() > 0) {
+      Components comp = connected_components(mesh.num_vertices(), mesh_edges(mesh.F));
+      if (comp.count > 1) {
+        const int largest = comp.largest();
+        std::vector<char> keep(mesh.num_vertices());
+        for (Index v = 0; v < mesh.num_vertices(); ++v) keep[v] = comp.label[v] == largest;
+        std::vector<char> keep_face(mesh.num_faces());
+        for (Index f = 0; f < mesh.num_faces(); ++f) keep_face[f] = keep[mesh.F(f, 0)];
+        act("smaller components dropped", comp.count - 1);
+        act("vertices of smaller components dropped", mesh.num_vertices() - comp.sizes[largest]);
+        mesh.F = select_faces(mesh.F, keep_face);
+        select_vertices(mesh, r.vertex_map, keep);
+      }
+    }
+  }
+
+  const std::string purpose = options.purpose.empty() ? "" : " for " + options.purpose;
+  if (r.changed()) {
+    r.text = options.name + ": repaired" + purpose + ": ";
+    for (size_t k = 0; k < r.actions.size(); ++k)
+      r.text += detail::concat(k ? ", " : "", r.actions[k].what, " ", r.actions[k].count);
+    const Index kept = static_cast<Index>(valid_input_vertices(r.vertex_map, input.num_vertices()).sum());
+    r.text += detail::concat(" (", kept, " of ", input.num_vertices(), " input vertices kept, ",
+                             r.mesh.num_vertices(), " vertices after repair)");
+    if (options.strict) {
+      std::string needs;
+      for (size_t k = 0; k < r.actions.size(); ++k)
+        needs += detail::concat(k ? ", " : "", r.actions[k].what, " ", r.actions[k].count);
+      fail(options.name, ": refused (--strict)", purpose, ": the mesh has ", mesh_defects(input).summary(),
+           "; a repair would have: ", needs, ". Drop --strict to repair it");
+    }
+  }
+  if (r.mesh.num_vertices() < req.min_vertices)
+    fail(options.name, ": only ", r.mesh.num_vertices(), " vertices left", purpose,
+         r.changed() ? " after repair" : "", " (of ", input.num_vertices(), "), at least ", req.min_vertices,
+         " needed");
+  return r;
+}
+
+Points to_input_vertices(const Points& X, const std::vector<int>& vertex_map, Index input_vertices) {
+  CSHAPES_REQUIRE(X.rows() == static_cast<Index>(vertex_map.size()), "to_input_vertices: ", X.rows(),
+                  " rows for ", vertex_map.size(), " mapped vertices");
+  Points out = Points::Constant(input_vertices, 3, std::numeric_limits<double>::quiet_NaN());
+  std::vector<char> done(input_vertices, 0);
+  for (size_t k = 0; k < vertex_map.size(); ++k)
+    if (!done[vertex_map[k]]) {
+      out.row(vertex_map[k]) = X.row(k);
+      done[vertex_map[k]] = 1;
+    }
+  return out;
+}
+
+Eigen::VectorXd to_input_vertices(const Eigen::VectorXd& values, const std::vector<int>& vertex_map,
+                                  Index input_vertices, double fill) {
+  CSHAPES_REQUIRE(values.size() == static_cast<Index>(vertex_map.size()),
+                  "to_input_vertices: ", values.size(), " values for ", vertex_map.size(),
+                  " mapped vertices");
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(input_vertices, fill);
+  std::vector<char> done(input_vertices, 0);
+  for (size_t k = 0; k < vertex_map.size(); ++k)
+    if (!done[vertex_map[k]]) {
+      out[vertex_map[k]] = values[k];
+      done[vertex_map[k]] = 1;
+    }
+  return out;
+}
+
+Eigen::VectorXd valid_input_vertices(const std::vector<int>& vertex_map, Index input_vertices) {
+  Eigen::VectorXd valid = Eigen::VectorXd::Zero(input_vertices);
+  for (int v : vertex_map) valid[v] = 1;
+  return valid;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,134 @@
+// canonical_form on imperfect meshes: every method repairs what it needs, the result keeps the input's vertex
+// count and order (NaN rows and valid = 0 for dropped vertices), --strict refuses; forms with NaN rows go
+// through pairwise distances using their valid vertices only.
+#include "eval/canonical_forms.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/synthetic.h"
+#include "eval/pairwise_distances.h"
+#include "tests/imperfect_meshes.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+CanonicalFormOptions quick(const std::string& method) {
+  CanonicalFormOptions o;
+  o.method = method;
+  o.coulomb.max_iterations = 60;  // the shape is not the point here, only which vertices it has
+  o.coulomb.tear_after = 30;
+  o.smacof.max_iterations = 30;
+  o.name = "test mesh";
+  return o;
+}
+
+struct Case {
+  const char* name;
+  Mesh mesh;
+  std::vector<int> dropped;  // input vertices with valid = 0, the same for every method
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> c;
+  c.push_back({"non-manifold edge", test::two_spheres_sharing(2), {}});
+  c.push_back({"isolated vertex", test::sphere_with_isolated_vertex(), {162}});
+  std::vector<int> small;
+  for (int v = 162; v < 204; ++v) small.push_back(v);
+  c.push_back({"two components", test::two_components(), small});
+  c.push_back({"duplicate face", test::sphere_with_duplicate_face(), {}});
+  return c;
+}
+
+TEST(CanonicalFormsOnImperfectMeshes, EveryMethodKeepsTheInputVertices) {
+  for (const Case& c : cases())
+    for (const std::string& method : canonical_form_methods()) {
+      SCOPED_TRACE(std::string(c.name) + ", " + method);
+      CanonicalForm f = canonical_form(c.mesh, quick(method));
+      ASSERT_EQ(f.X.rows(), c.mesh.num_vertices());
+      ASSERT_EQ(f.valid.size(), c.mesh.num_vertices());
+      // Coulomb takes a non-manifold edge as it is; everything else here needs a repair.
+      EXPECT_EQ(f.repairs.empty(), method == "coulomb" && std::string(c.name) == "non-manifold edge");
+      std::vector<int> dropped;
+      for (Index v = 0; v < c.mesh.num_vertices(); ++v) {
+        if (f.valid[v] == 0) {
+          dropped.push_back(static_cast<int>(v));
+          EXPECT_TRUE(f.X.row(v).array().isNaN().all()) << "vertex " << v;
+        } else {
+          EXPECT_TRUE(f.X.row(v).allFinite()) << "vertex " << v;
+        }
+      }
+      if (std::string(c.name) == "non-manifold edge") {
+        // Coulomb takes the edge graph as it is; MDS splits the edge and keeps one sphere (the other's
+        // vertices, except the two shared ones, dropped).
+        if (method == "coulomb") {
+          EXPECT_TRUE(dropped.empty());
+        } else {
+          EXPECT_EQ(dropped.size(), static_cast<size_t>(c.mesh.num_vertices() - 162));
+        }
+        continue;
+      }
+      EXPECT_EQ(dropped, c.dropped);
+    }
+}
+
+TEST(CanonicalFormsOnImperfectMeshes, CleanMeshesNeedNoRepair) {
+  CanonicalForm f = canonical_form(icosphere(2), quick("cmds"));
+  EXPECT_TRUE(f.repairs.empty());
+  EXPECT_EQ(f.repair_text, "");
+  EXPECT_EQ(f.valid.sum(), 162);
+  EXPECT_TRUE(f.X.allFinite());
+}
+
+TEST(CanonicalFormsOnImperfectMeshes, StrictRefusesWhatWouldBeRepaired) {
+  for (const Case& c : cases())
+    for (const std::string& method : canonical_form_methods()) {
+      SCOPED_TRACE(std::string(c.name) + ", " + method);
+      CanonicalFormOptions o = quick(method);
+      o.strict = true;
+      const bool coulomb_takes_it = method == "coulomb" && std::string(c.name) == "non-manifold edge";
+      if (coulomb_takes_it) {
+        EXPECT_NO_THROW(canonical_form(c.mesh, o));
+        continue;
+      }
+      try {
+        canonical_form(c.mesh, o);
+        ADD_FAILURE() << "accepted";
+      } catch (const Error& e) {
+        std::string message = e.what();
+        EXPECT_NE(message.find("test mesh"), std::string::npos) << message;
+        EXPECT_NE(message.find("--strict"), std::string::npos) << message;
+      }
+    }
+}
+
+TEST(CanonicalFormsOnImperfectMeshes, StrictRefusesACachedFormToo) {
+  DiskCache cache(test::scratch_dir("forms"));
+  Mesh m = test::sphere_with_isolated_vertex();
+  CanonicalFormOptions o = quick("coulomb");
+  CanonicalForm first = cached_canonical_form(cache, m, o);
+  bool cached = false;
+  CanonicalForm again = cached_canonical_form(cache, m, o, &cached);
+  EXPECT_TRUE(cached);
+  EXPECT_EQ(again.valid, first.valid);
+  EXPECT_EQ(again.repair_text, first.repair_text);
+  o.strict = true;
+  EXPECT_THROW(cached_canonical_form(cache, m, o), Error);
+}
+
+TEST(PairwiseDistancesWithDroppedVertices, NaNRowsAreLeftOut) {
+  // The same shape with and without NaN rows appended: distance zero, and finite.
+  Points A = icosphere(2).V;
+  Points B(A.rows() + 3, 3);
+  B << A, Points::Constant(3, 3, std::numeric_limits<double>::quiet_NaN());
+  Points C = A * 1.5;
+  PairwiseDistanceResult r = pairwise_distances({A, B, C}, {});
+  EXPECT_TRUE(r.hausdorff.allFinite());
+  EXPECT_NEAR(r.hausdorff(0, 1), 0, 1e-9);
+  EXPECT_NEAR(r.hausdorff(0, 2), r.hausdorff(1, 2), 1e-9);
+  EXPECT_GT(r.hausdorff(0, 2), 0.1);
+}
+
+}  // namespace
+}  // namespace cshapes
