@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <cmath>
@@ -270,7 +272,7 @@ TEST(ClassicalMdsCli, CanonWritesFiniteFormWithTheInputsFaces) {
   EXPECT_NE(r.out.find("most_negative_eigenvalue"), std::string::npos);
 }
 
-TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
+TEST(ClassicalMdsCli, DisconnectedMeshIsRepairedOrRefusedWithStrict) {
   std::string dir = test::scratch_dir("cmds-disc");
   Mesh a = icosphere(1), b = icosphere(1);
   Mesh both;
@@ -279,26 +281,32 @@ TEST(ClassicalMdsCli, DisconnectedMeshIsRefusedWithAClearError) {
   both.F.resize(a.F.rows() * 2, 3);
   both.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
   write_mesh(dir + "/two.off", both);
+  // --strict refuses, naming the defect.
   auto r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
-                         "/out.off' --method cmds --geodesics graph");
+                         "/out.ply' --method cmds --geodesics graph --strict");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("component"), std::string::npos) << r.err;
-  // With --largest-component it succeeds on one sphere.
+  EXPECT_NE(r.err.find("2 components"), std::string::npos) << r.err;
+  // By default the largest component is kept (the first sphere on a tie); the dropped sphere cannot go to
+  // OFF, and goes to PLY as NaN rows with valid = 0, so the form has the input's vertex count.
   r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
-                    "/out.off' --method cmds --geodesics graph "
-                    "--largest-component");
+                    "/out.off' --method cmds --geodesics graph");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("write .ply"), std::string::npos) << r.err;
+  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir +
+                    "/out.ply' --method cmds --geodesics graph");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  // A distance matrix of the whole input (infinite between the spheres): refused as such, and restricted to
-  // the kept component with --largest-component.
+  // A distance matrix of the whole input (infinite between the spheres): restricted to the kept component.
   const Index m = a.num_vertices();
   DistanceMatrix D = DistanceMatrix::Constant(2 * m, 2 * m, std::numeric_limits<float>::infinity());
   D.topLeftCorner(m, m) = all_pairs_geodesics(a);
   D.bottomRightCorner(m, m) = all_pairs_geodesics(a);  // the second sphere is a translated copy
   write_distance_matrix(dir + "/D.bin", D);
-  r = test::run_cli("-q canon '" + dir + "/two.off' -o '" + dir + "/out.off' --method cmds --distances '" +
-                    dir + "/D.bin' --largest-component");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(read_mesh(dir + "/out.off").num_vertices(), a.num_vertices());
+  r = test::run_cli("canon '" + dir + "/two.off' -o '" + dir + "/out2.ply' --method cmds --distances '" +
+                    dir + "/D.bin' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["input_vertices"], 2 * m);
+  EXPECT_EQ(summary["kept_input_vertices"], m);
 }
 
 }  // namespace

@@ -216,18 +216,20 @@ TEST(GeodesicsCli, AllPairsAndOneRow) {
   EXPECT_EQ(rows, 240);
 }
 
-TEST(GeodesicsCli, DisconnectedMeshNeedsLargestComponent) {
+TEST(GeodesicsCli, DisconnectedMeshIsRepairedOrRefusedWithStrict) {
   std::string dir = test::scratch_dir("geodesics_cli_split");
   Mesh two = two_spheres();
   // Make the second sphere smaller so the largest component is well defined.
   two.F.conservativeResize(two.num_faces() - 40, 3);
   write_mesh(dir + "/two.off", two);
-  test::CliResult r = test::run_cli("-q geodesics " + dir + "/two.off -o " + dir + "/D.bin");
+  test::CliResult r = test::run_cli("-q geodesics " + dir + "/two.off -o " + dir + "/D.bin --strict");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("--largest-component"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("components"), std::string::npos) << r.err;
   EXPECT_FALSE(std::ifstream(dir + "/D.bin").good());
-  r = test::run_cli("-q geodesics " + dir + "/two.off -o " + dir + "/D.bin --largest-component");
+  // By default repaired: the largest component kept, the matrix follows its vertices.
+  r = test::run_cli("geodesics " + dir + "/two.off -o " + dir + "/D.bin");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("repaired"), std::string::npos) << r.err;
   EXPECT_EQ(read_distance_matrix(dir + "/D.bin").rows(), 162);
 }
 
