@@ -119,7 +119,7 @@ TEST(FastMarching, ContinuesAPartialField) {
     if (two.V(i, 0) < 0.3) known[i] = 1, d[i] = exact[i];
   fmm.continue_distances(d, known);
   for (Index i = 0; i < a.num_vertices(); ++i) {
-    if (known[i]) EXPECT_EQ(d[i], exact[i]);
+    if (known[i]) { EXPECT_EQ(d[i], exact[i]); }
   }
   for (Index i = a.num_vertices(); i < two.num_vertices(); ++i) EXPECT_TRUE(std::isinf(d[i]));
   const Eigen::VectorXd part = d.head(a.num_vertices()), full_part = full.head(a.num_vertices()),
