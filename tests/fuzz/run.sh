@@ -23,7 +23,7 @@ mkdir -p "$out/obj" "$out/seeds" "$out/corpus" "$out/artifacts"
 eigen=$(pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3)
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
        -I"$root" $eigen)
-sources=(core/io.cpp core/io_text.cpp core/io_stl.cpp core/io_ply.cpp core/mesh.cpp core/atomic_file.cpp)
+sources=(core/io.cpp core/io_text.cpp core/io_stl.cpp core/io_ply.cpp core/mesh.cpp core/mesh_defects.cpp core/atomic_file.cpp)
 
 # Rebuild when a source or header is newer than the last build.
 newest=$(ls -t "$root"/core/*.h "$root"/tests/fuzz/fuzz_reader.cpp "${sources[@]/#/$root/}" | head -1)
