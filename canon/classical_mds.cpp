@@ -55,20 +55,8 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
   if (bad_row >= 0) {
     Index j = 0;
     while (j < n && D(j, bad_row) >= 0 && D(j, bad_row) <= std::numeric_limits<Scalar>::max()) ++j;
-    // An infinite distance means a disconnected mesh only if no point is at a finite distance from both.
-    const double value = static_cast<double>(D(j, bad_row));
-    Index via = -1;
-    for (Index k = 0; k < n && via < 0 && std::isinf(value); ++k)
-      if (std::isfinite(static_cast<double>(D(k, bad_row))) && std::isfinite(static_cast<double>(D(k, j))))
-        via = k;
-    fail("classical MDS: distance (", bad_row, ", ", j, ") is ", value,
-         "; distances must be finite and non-negative",
-         !std::isinf(value) ? ""
-         : via < 0
-             ? " (an infinite distance means a disconnected mesh: keep its largest component)"
-             : " (both points are at finite distances from point " + std::to_string(via) +
-                   ", so they are connected: the distance computation failed; try another geodesic method, "
-                   "e.g. --method fmm)");
+    fail("classical MDS: distance (", bad_row, ", ", j, ") is ", static_cast<double>(D(j, bad_row)),
+         "; distances must be finite and non-negative", bad_distance_hint(D, j, bad_row));
   }
   s.sum_fourth = sum_fourth;
   for (Index i = 0; i < n; ++i) s.diagonal += static_cast<double>(D(i, i)) * static_cast<double>(D(i, i));

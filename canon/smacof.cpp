@@ -303,19 +303,8 @@ double weighted_distance_energy(const DistanceMatrix& D, const Eigen::VectorXd& 
     energy += tile_energy;
   }
   if (bad_kind == 1) {
-    // An infinite distance means a disconnected mesh only if no point is at a finite distance from both.
-    const double value = D(bad_j, bad_i);
-    Index via = -1;
-    for (Index k = 0; k < n && via < 0 && std::isinf(value); ++k)
-      if (std::isfinite(D(k, bad_i)) && std::isfinite(D(k, bad_j))) via = k;
-    fail(what, ": distance (", bad_i, ", ", bad_j, ") is ", value,
-         "; distances must be finite and non-negative",
-         !std::isinf(value) ? ""
-         : via < 0
-             ? " (an infinite distance means a disconnected mesh: keep its largest component)"
-             : " (both points are at finite distances from point " + std::to_string(via) +
-                   ", so they are connected: the distance computation failed; try another geodesic method, "
-                   "e.g. --method fmm)");
+    fail(what, ": distance (", bad_i, ", ", bad_j, ") is ", D(bad_j, bad_i),
+         "; distances must be finite and non-negative", bad_distance_hint(D, bad_j, bad_i));
   }
   if (bad_kind == 2)
     fail(what, ": distance matrix is not symmetric: (", bad_i, ", ", bad_j, ") is ", D(bad_j, bad_i),

@@ -7,6 +7,7 @@
 // The matrix is symmetric with a zero diagonal; infinity marks unreachable pairs (disconnected meshes).
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "core/types.h"
@@ -23,5 +24,20 @@ DistanceMatrix read_distance_matrix(const std::string& path);
 double distance_matrix_bytes(Index n);
 // Throws, with the figures, when `bytes` (for `what`) exceed the memory available now (MemAvailable).
 void require_memory(double bytes, const std::string& what);
+
+// What an invalid entry D(i, j) means, as a suffix for an error message: for an infinite entry, whether
+// the two points are connected through a third point at finite distance from both (then the distance
+// computation failed) or not (a disconnected mesh); empty for other values (negative, NaN).
+template <class Matrix>
+std::string bad_distance_hint(const Matrix& D, Index i, Index j) {
+  const double value = static_cast<double>(D(i, j));
+  if (!std::isinf(value)) return "";
+  for (Index k = 0; k < D.rows(); ++k)
+    if (std::isfinite(static_cast<double>(D(k, i))) && std::isfinite(static_cast<double>(D(k, j))))
+      return " (both points are at finite distances from point " + std::to_string(k) +
+             ", so they are connected: the distance computation failed; try another geodesic method, "
+             "e.g. --method fmm)";
+  return " (an infinite distance means a disconnected mesh: keep its largest component)";
+}
 
 }  // namespace cshapes

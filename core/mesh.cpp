@@ -65,32 +65,30 @@ Adjacency adjacency(Index num_vertices, const Edges& E) {
   return adj;
 }
 
-namespace {
-int find_root(std::vector<int>& parent, int i) {
+int Components::largest() const {
+  return static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
+}
+
+int union_find_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) {
     parent[i] = parent[parent[i]];
     i = parent[i];
   }
   return i;
 }
-}  // namespace
-
-int Components::largest() const {
-  return static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
-}
 
 Components connected_components(Index num_vertices, const Edges& E) {
   std::vector<int> parent(num_vertices);
   std::iota(parent.begin(), parent.end(), 0);
   for (Index e = 0; e < E.rows(); ++e) {
-    int a = find_root(parent, E(e, 0)), b = find_root(parent, E(e, 1));
+    int a = union_find_root(parent, E(e, 0)), b = union_find_root(parent, E(e, 1));
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
   Components c;
   c.label.assign(num_vertices, -1);
   std::vector<int> root_label(num_vertices, -1);
   for (Index i = 0; i < num_vertices; ++i) {
-    int r = find_root(parent, static_cast<int>(i));
+    int r = union_find_root(parent, static_cast<int>(i));
     if (root_label[r] < 0) {
       root_label[r] = c.count++;
       c.sizes.push_back(0);

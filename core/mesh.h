@@ -45,6 +45,9 @@ struct Components {
 };
 Components connected_components(Index num_vertices, const Edges& E);
 
+// Union-find: the root of i's set in `parent` (parent[r] == r at a root), halving the path on the way.
+int union_find_root(std::vector<int>& parent, int i);
+
 // For each edge of mesh_edges(F), how many triangles contain it (1: boundary, 2: interior, >2: non-manifold).
 std::vector<int> edge_face_counts(const Faces& F, const Edges& E);
 

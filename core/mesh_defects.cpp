@@ -11,14 +11,6 @@ namespace cshapes {
 
 namespace {
 
-int find_root(std::vector<int>& parent, int i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
 template <typename T>
 void keep_example(std::vector<T>& examples, const T& example) {
   if (examples.size() < MeshDefects::max_examples) examples.push_back(example);
@@ -87,8 +79,8 @@ CornerFans corner_fans(Index num_vertices, const Faces& F) {
     while (j < half.size() && half[j].a == half[i].a && half[j].b == half[i].b) ++j;
     if (j - i == 2) {  // a manifold edge joins the two faces' corners at both of its ends
       for (int v : {half[i].a, half[i].b}) {
-        int x = find_root(parent, corner(half[i].face, v)),
-            y = find_root(parent, corner(half[i + 1].face, v));
+        int x = union_find_root(parent, corner(half[i].face, v)),
+            y = union_find_root(parent, corner(half[i + 1].face, v));
         if (x != y) parent[std::max(x, y)] = std::min(x, y);
       }
     }
@@ -99,7 +91,7 @@ CornerFans corner_fans(Index num_vertices, const Faces& F) {
   fans.fan_count.assign(num_vertices, 0);
   std::vector<int> fan_of_root(3 * m, -1);
   for (Index k = 0; k < 3 * m; ++k) {
-    int root = find_root(parent, static_cast<int>(k));
+    int root = union_find_root(parent, static_cast<int>(k));
     if (fan_of_root[root] < 0) fan_of_root[root] = fans.fan_count[F(k / 3, k % 3)]++;
     fans.corner_fan[k] = fan_of_root[root];
   }
