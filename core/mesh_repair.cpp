@@ -1,5 +1,7 @@
 #include "core/mesh_repair.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <set>
 
@@ -197,6 +199,42 @@ Eigen::VectorXd valid_input_vertices(const std::vector<int>& vertex_map, Index i
   Eigen::VectorXd valid = Eigen::VectorXd::Zero(input_vertices);
   for (int v : vertex_map) valid[v] = 1;
   return valid;
+}
+
+std::vector<int> repaired_copies(const std::vector<int>& vertex_map, int v) {
+  std::vector<int> copies;
+  for (size_t k = 0; k < vertex_map.size(); ++k)
+    if (vertex_map[k] == v) copies.push_back(static_cast<int>(k));
+  return copies;
+}
+
+Eigen::VectorXd distances_to_input_vertices(const Eigen::VectorXd& d, const std::vector<int>& vertex_map,
+                                            Index input_vertices) {
+  CSHAPES_REQUIRE(d.size() == static_cast<Index>(vertex_map.size()), "distances_to_input_vertices: ",
+                  d.size(), " values for ", vertex_map.size(), " mapped vertices");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(input_vertices, nan);
+  for (size_t k = 0; k < vertex_map.size(); ++k) {
+    double& o = out[vertex_map[k]];
+    o = std::isnan(o) ? d[k] : std::min(o, d[k]);
+  }
+  return out;
+}
+
+DistanceMatrix distances_to_input_vertices(const DistanceMatrix& D, const std::vector<int>& vertex_map,
+                                           Index input_vertices) {
+  CSHAPES_REQUIRE(D.rows() == static_cast<Index>(vertex_map.size()) && D.cols() == D.rows(),
+                  "distances_to_input_vertices: a ", D.rows(), "x", D.cols(), " matrix for ",
+                  vertex_map.size(), " mapped vertices");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  DistanceMatrix out = DistanceMatrix::Constant(input_vertices, input_vertices, nan);
+  const Index m = D.rows();
+  for (Index b = 0; b < m; ++b)
+    for (Index a = 0; a < m; ++a) {
+      float& o = out(vertex_map[a], vertex_map[b]);
+      o = std::isnan(o) ? D(a, b) : std::min(o, D(a, b));
+    }
+  return out;
 }
 
 }  // namespace cshapes

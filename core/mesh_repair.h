@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "core/distance_matrix.h"
 #include "core/mesh.h"
 
 namespace cshapes {
@@ -76,5 +77,14 @@ Eigen::VectorXd to_input_vertices(const Eigen::VectorXd& values, const std::vect
                                   Index input_vertices, double fill);
 // 1 for input vertices that some repaired vertex maps to, 0 for dropped ones.
 Eigen::VectorXd valid_input_vertices(const std::vector<int>& vertex_map, Index input_vertices);
+
+// The repaired vertices that stand for input vertex v: none when it was dropped, several when it was split.
+std::vector<int> repaired_copies(const std::vector<int>& vertex_map, int v);
+// Distances on the repaired mesh placed back at the input's vertices. A split vertex's copies share one
+// position, so its distance is the smallest over its copies; a dropped vertex gets NaN (row and column).
+Eigen::VectorXd distances_to_input_vertices(const Eigen::VectorXd& d, const std::vector<int>& vertex_map,
+                                            Index input_vertices);
+DistanceMatrix distances_to_input_vertices(const DistanceMatrix& D, const std::vector<int>& vertex_map,
+                                           Index input_vertices);
 
 }  // namespace cshapes

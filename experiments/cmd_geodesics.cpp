@@ -41,17 +41,20 @@ int run() {
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
   // Geodesics need one manifold component without zero-area faces: repaired (core/mesh_repair.h) unless
-  // --strict; the output then follows the repaired mesh's vertices (RepairedMesh::vertex_map).
+  // --strict; the output is placed back at the input's vertices (distances_to_input_vertices).
   RepairOptions ro;
   ro.strict = args.strict;
   ro.name = args.input;
   ro.purpose = "geodesics (one manifold component, no zero-area faces)";
   RepairedMesh sub = repair_for(input, MeshRequirements::manifold_surface(), ro);
-  if (sub.changed()) note(sub.text + "; the distances follow the repaired mesh's vertices");
+  if (sub.changed())
+    note(sub.text + "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
+                    "nearest copy where one was split)");
   const Mesh& mesh = sub.mesh;
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json summary = {{"input", args.input},
-                            {"vertices", mesh.num_vertices()},
+                            {"vertices", input.num_vertices()},
+                          {"repaired_vertices", mesh.num_vertices()},
                             {"method", to_string(options.method)},
                             {"output", args.output.empty() ? "-" : args.output}};
   if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal) {
@@ -68,14 +71,13 @@ int run() {
                     "--source i and --csv go together: one row of distances as CSV");
     CSHAPES_REQUIRE(args.source < input.num_vertices(), "--source ", args.source, " is out of range 0..",
                     input.num_vertices() - 1);
-    int local = -1;
-    for (size_t k = 0; k < sub.vertex_map.size(); ++k)
-      if (sub.vertex_map[k] == args.source) local = static_cast<int>(k);
-    CSHAPES_REQUIRE(local >= 0, "--source ", args.source, " was dropped by the repair (", sub.text, ")");
-    Eigen::VectorXd d = geodesic_distances(mesh, {local}, options);
+    const std::vector<int> sources = repaired_copies(sub.vertex_map, args.source);
+    CSHAPES_REQUIRE(!sources.empty(), "--source ", args.source, " was dropped by the repair (", sub.text, ")");
+    const Eigen::VectorXd d = distances_to_input_vertices(geodesic_distances(mesh, sources, options),
+                                                          sub.vertex_map, input.num_vertices());
     std::vector<std::vector<double>> rows;
     rows.reserve(d.size());
-    for (Index k = 0; k < d.size(); ++k) rows.push_back({static_cast<double>(sub.vertex_map[k]), d[k]});
+    for (Index v = 0; v < d.size(); ++v) rows.push_back({static_cast<double>(v), d[v]});
     if (args.output.empty() || args.output == "-") {
       std::printf("vertex,distance\n");
       for (const auto& row : rows) std::printf("%d,%.10g\n", static_cast<int>(row[0]), row[1]);
@@ -87,8 +89,9 @@ int run() {
     CSHAPES_REQUIRE(!args.output.empty() && args.output != "-",
                     "-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
     DistanceMatrix D = all_pairs_geodesics(mesh, options);
-    write_distance_matrix(args.output, D);
     summary["max_distance"] = D.maxCoeff();
+    if (sub.changed()) D = distances_to_input_vertices(D, sub.vertex_map, input.num_vertices());
+    write_distance_matrix(args.output, D);
   }
   summary["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.json) std::cout << summary.dump(2) << std::endl;

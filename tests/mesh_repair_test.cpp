@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/error.h"
 #include "core/mesh_defects.h"
 #include "core/synthetic.h"
@@ -150,6 +152,39 @@ TEST(MeshRepair, ResultsGoBackToTheInputVertices) {
   EXPECT_EQ(back.row(3), Eigen::RowVector3d(3, 3, 3));
   EXPECT_TRUE(back.row(4).array().isNaN().all());
   EXPECT_EQ(valid_input_vertices(map, 5), (Eigen::VectorXd(5) << 1, 0, 1, 1, 0).finished());
+}
+
+TEST(MeshRepair, DistancesGoBackToTheInputVerticesWithTheNearestCopy) {
+  std::vector<int> map = {0, 2, 2, 3};  // vertex 1 dropped, vertex 2 split into repaired 1 and 2
+  EXPECT_EQ(repaired_copies(map, 2), (std::vector<int>{1, 2}));
+  EXPECT_TRUE(repaired_copies(map, 1).empty());
+  Eigen::VectorXd d(4);
+  d << 0, 5, 4, 7;
+  Eigen::VectorXd back = distances_to_input_vertices(d, map, 5);
+  ASSERT_EQ(back.size(), 5);
+  EXPECT_EQ(back[0], 0);
+  EXPECT_TRUE(std::isnan(back[1]));
+  EXPECT_EQ(back[2], 4);  // the nearer copy
+  EXPECT_EQ(back[3], 7);
+  EXPECT_TRUE(std::isnan(back[4]));
+
+  DistanceMatrix D(4, 4);
+  D << 0, 5, 4, 7,  //
+      5, 0, 3, 2,   //
+      4, 3, 0, 6,   //
+      7, 2, 6, 0;
+  DistanceMatrix B = distances_to_input_vertices(D, map, 5);
+  ASSERT_EQ(B.rows(), 5);
+  EXPECT_EQ(B(0, 2), 4);
+  EXPECT_EQ(B(2, 0), 4);
+  EXPECT_EQ(B(2, 2), 0);  // the copies of one vertex are one point
+  EXPECT_EQ(B(2, 3), 2);
+  EXPECT_EQ(B(3, 2), 2);
+  EXPECT_EQ(B(0, 3), 7);
+  for (Index k = 0; k < 5; ++k) {
+    EXPECT_TRUE(std::isnan(B(1, k)) && std::isnan(B(k, 1))) << k;
+    EXPECT_TRUE(std::isnan(B(4, k)) && std::isnan(B(k, 4))) << k;
+  }
 }
 
 }  // namespace
