@@ -111,7 +111,7 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
   for (int i = 0; i < n; ++i) {
     if (!needed[static_cast<size_t>(i)] || stop) continue;
     try {
-      // Vertices a repair dropped are NaN rows (eval/canonical_forms.h): aligned and measured without them.
+      // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without them.
       prepared[static_cast<size_t>(i)] =
           std::make_unique<IcpShape>(finite_rows(shapes[static_cast<size_t>(i)]), icp_options);
     } catch (...) {

@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/synthetic.h"
-#include "eval/timing.h"
+#include "pipeline/timing_table.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -50,7 +50,7 @@ int run() {
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), source, ": the benchmark needs a mesh with faces");
   const Edges edges = mesh_edges(mesh.F);
 
-  // 1 Coulomb step + 1 projection sweep, median of the repeats (eval/timing.h, as Table 1 measures it): with
+  // 1 Coulomb step + 1 projection sweep, median of the repeats (pipeline/timing_table.h, as Table 1 measures it): with
   // the canonization's defaults (fast sum at 1e-2 in the iterations) and with the fast sum at 1e-3.
   const double median = coulomb_iteration_seconds(mesh, args.repeats);
   const double median_1e3 = coulomb_iteration_seconds(mesh, args.repeats, 1e-3);

@@ -34,7 +34,7 @@ int run() {
   job.input_path = args.input;
   job.history_path = args.history;
   const Mesh input = read_mesh(args.input);
-  // The method's requirements (eval/canonical_forms.h), repaired unless --strict; a point cloud (no faces)
+  // The method's requirements (pipeline/canonical_forms.h), repaired unless --strict; a point cloud (no faces)
   // passes unchanged: the method builds its own neighbourhood graph (and refuses a disconnected one).
   CanonicalFormOptions requirements;
   requirements.method = method->name;

@@ -6,7 +6,7 @@
 #include "canon/coulomb.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
-#include "eval/form_quality_json.h"
+#include "pipeline/form_quality_json.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {

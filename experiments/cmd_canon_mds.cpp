@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/geodesics.h"
 #include "core/knn_graph.h"
-#include "eval/form_quality_json.h"
+#include "pipeline/form_quality_json.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {

@@ -6,7 +6,7 @@
 
 #include "core/dataset.h"
 #include "core/error.h"
-#include "eval/canonical_forms.h"
+#include "pipeline/canonical_forms.h"
 #include "eval/distance_csv.h"
 #include "eval/pairwise_distances.h"
 #include "experiments/command.h"

@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 #include "experiments/command.h"
-#include "experiments/paper_experiment.h"
+#include "pipeline/paper_experiment.h"
 
 namespace cshapes::cli {
 namespace {

@@ -18,7 +18,7 @@
 #include "core/io.h"
 #include "core/mesh.h"
 #include "core/progress.h"
-#include "eval/canonical_forms.h"
+#include "pipeline/canonical_forms.h"
 
 namespace cshapes::cli {
 

@@ -23,7 +23,7 @@ struct ShapeDistance {
 };
 
 // The rows of X with finite coordinates, in order: canonical forms mark the vertices a repair dropped with
-// NaN rows (eval/canonical_forms.h), and distances are measured between the points that exist. X itself when
+// NaN rows (pipeline/canonical_forms.h), and distances are measured between the points that exist. X itself when
 // every row is finite.
 Points finite_rows(const Points& X);
 

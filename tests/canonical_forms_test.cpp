@@ -1,7 +1,7 @@
 // canonical_form on imperfect meshes: every method repairs what it needs, the result keeps the input's vertex
 // count and order (NaN rows and valid = 0 for dropped vertices), --strict refuses; forms with NaN rows go
 // through pairwise distances using their valid vertices only.
-#include "eval/canonical_forms.h"
+#include "pipeline/canonical_forms.h"
 
 #include <gtest/gtest.h>
 

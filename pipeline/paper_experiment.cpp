@@ -1,4 +1,4 @@
-#include "experiments/paper_experiment.h"
+#include "pipeline/paper_experiment.h"
 
 #include <algorithm>
 #include <chrono>
@@ -24,10 +24,11 @@
 #include "eval/distance_csv.h"
 #include "eval/pairwise_distances.h"
 #include "eval/retrieval.h"
-#include "eval/timing.h"
-#include "experiments/paper_report.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
+#include "pipeline/paper_figures.h"
+#include "pipeline/paper_report.h"
+#include "pipeline/timing_table.h"
 
 namespace cshapes {
 
@@ -56,10 +57,6 @@ struct Shape {
   std::map<std::string, std::string> repairs;  // per method: what its repair did ("" when nothing)
   bool untouched = true;  // no method repairs it and it is a manifold surface (geodesics on it as read)
 };
-
-void say(const PaperExperimentOptions& o, const std::string& line) {
-  if (o.note) o.note(line);
-}
 
 // The method options of one method, named after the shape's file (for messages).
 CanonicalFormOptions method_options(const PaperExperimentOptions& o, const std::string& method,
@@ -593,8 +590,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     json fig4{
         {"title", "Fig. 4: shapes with point-wise connectivity artifacts (top) and their coulombization"}};
     std::vector<std::string> row_titles = {"shape"};
-    for (const std::string& m : o.methods)
-      row_titles.push_back(m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : "SMACOF");
+    for (const std::string& m : o.methods) row_titles.push_back(method_title(m));
     json cells = json::array();
     for (size_t r = 0; r < row_titles.size(); ++r) cells.push_back(json::array());
     json fig4_cells = json::array({json::array(), json::array()});

@@ -1,4 +1,4 @@
-#include "eval/canonical_forms.h"
+#include "pipeline/canonical_forms.h"
 
 #include <chrono>
 #include <cstring>
@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "core/heat_method.h"
-#include "eval/form_quality_json.h"
+#include "pipeline/form_quality_json.h"
 
 namespace cshapes {
 
@@ -30,8 +30,8 @@ DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& opt
   Mesh graph_mesh = mesh;
   Edges E = knn_graph(mesh.V, options.knn);
   Components comp = connected_components(mesh.num_vertices(), E);
-  CSHAPES_REQUIRE(comp.count == 1, "point cloud: its ", options.knn.k, "-nearest-neighbour graph has ", comp.count,
-                  " components; MDS needs one (raise k)");
+  CSHAPES_REQUIRE(comp.count == 1, "point cloud: its ", options.knn.k, "-nearest-neighbour graph has ",
+                  comp.count, " components; MDS needs one (raise k)");
   const Index n = mesh.num_vertices();
   require_memory(distance_matrix_bytes(n), "all-pairs graph distances on " + std::to_string(n) + " points");
   DistanceMatrix D(n, n);
@@ -56,8 +56,8 @@ CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options
   form.iterations = r.iterations;
   form.solve_seconds = r.seconds;
   form.seconds_per_iteration = r.iterations ? r.seconds / r.iterations : 0;
-  form.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
-                          "torn_edges", "shape_change", "momentum",      "seconds"};
+  form.history_columns = {"iteration",  "energy",       "mean_violation", "max_violation", "step",
+                          "torn_edges", "shape_change", "momentum",       "seconds"};
   for (const CoulombIterationRecord& h : r.history)
     form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
                                  double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
@@ -159,8 +159,10 @@ CanonicalForm deserialize(const std::string& bytes) {
   f.history_rows = j["history_rows"].get<std::vector<std::vector<double>>>();
   f.summary_json = j["summary"].get<std::string>();
   // Entries written before repairs existed are of meshes that needed none: every vertex valid.
-  std::vector<double> valid = j.contains("valid") ? j["valid"].get<std::vector<double>>() : std::vector<double>();
-  CSHAPES_REQUIRE(valid.empty() || static_cast<Index>(valid.size()) == n, "cache entry: inconsistent valid flags");
+  std::vector<double> valid =
+      j.contains("valid") ? j["valid"].get<std::vector<double>>() : std::vector<double>();
+  CSHAPES_REQUIRE(valid.empty() || static_cast<Index>(valid.size()) == n,
+                  "cache entry: inconsistent valid flags");
   f.valid = valid.empty() ? Eigen::VectorXd::Ones(n)
                           : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(valid.data(), n));
   return f;
@@ -216,13 +218,14 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
       << ";k=" << c.projection.steps << ";norm=" << static_cast<int>(c.projection.norm)
       << ";l1_floor=" << c.projection.l1_floor << ";dilation=" << c.projection.dilation
       << ";tear=" << c.tear_fraction << "," << c.tear_after << "," << c.tear_times << "," << c.tear_interval
-      << ";tear_guard=" << to_string(c.tear_guard)
-      << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
-      << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
-      << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy
-      << ";floor=" << c.energy.min_distance << ";result_accuracy=" << c.result_accuracy;
+      << ";tear_guard=" << to_string(c.tear_guard) << ";max_it=" << c.max_iterations
+      << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance << ";momentum=" << c.momentum
+      << ";rigid=" << c.remove_rigid_motion << ";summation=" << static_cast<int>(c.energy.summation)
+      << ";accuracy=" << c.energy.accuracy << ";floor=" << c.energy.min_distance
+      << ";result_accuracy=" << c.result_accuracy;
   } else {
-    k << ";geodesics=" << to_string(o.geodesics.method) << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
+    k << ";geodesics=" << to_string(o.geodesics.method)
+      << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
       << ";heat_t=" << o.geodesics.heat_time_factor << ";lanczos=" << o.cmds.lanczos_vectors
       << ";eig_tol=" << o.cmds.tolerance;
     if (o.method == "smacof")
@@ -250,8 +253,9 @@ std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOption
   return cache_key({"canonical-form-v1", mesh_content_key(mesh), canonical_form_key(options)});
 }
 
-CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh, const CanonicalFormOptions& options,
-                                    bool* was_cached, const DistanceMatrix* D, double D_seconds) {
+CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
+                                    const CanonicalFormOptions& options, bool* was_cached,
+                                    const DistanceMatrix* D, double D_seconds) {
   const std::string key = canonical_form_cache_key(mesh, options);
   if (auto hit = cache.get(key)) {
     // The repair (cheap) is redone for its report under this call's name, and so that --strict refuses.

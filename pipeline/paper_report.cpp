@@ -1,6 +1,6 @@
 // report.md of `cshapes experiment paper`: every figure and table, and each claim of the paper beside what
 // was measured here, with a plain verdict.
-#include "experiments/paper_report.h"
+#include "pipeline/paper_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,10 +21,6 @@ std::string fmt(const char* format, double value) {
   return buffer;
 }
 
-std::string title(const std::string& m) {
-  return m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : m == "smacof" ? "SMACOF" : m;
-}
-
 double median(std::vector<double> v) {
   return median_of(std::move(v));
 }
@@ -38,6 +34,17 @@ const PaperTiming kPaperTable1[] = {{"swissroll", 561, 0.14, 0.03, 0.003, 0.01},
                                     {"michael", 22738, 647.6, 277.5, 0.13, 0.21}};
 
 }  // namespace
+
+void say(const PaperExperimentOptions& o, const std::string& line) {
+  if (o.note) o.note(line);
+}
+
+std::string method_title(const std::string& method) {
+  return method == "coulomb"  ? "Coulomb"
+         : method == "cmds"   ? "classical MDS"
+         : method == "smacof" ? "SMACOF"
+                              : method;
+}
 
 void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
   std::ostringstream md;
@@ -71,7 +78,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
      << o.glue << " almost-touching spots (large geodesic, small Euclidean distance) with short tubes, as §3 "
      << "describes; their clean pose is kept as a reference. `labels.csv` lists every shape.\n";
   md << "- Methods: ";
-  for (size_t k = 0; k < o.methods.size(); ++k) md << (k ? ", " : "") << title(o.methods[k]);
+  for (size_t k = 0; k < o.methods.size(); ++k) md << (k ? ", " : "") << method_title(o.methods[k]);
   md << ". MDS uses all-pairs geodesics by `" << to_string(o.canon.geodesics.method)
      << "` (the paper used fast marching; `--geodesics fmm` does too). SMACOF starts from classical MDS.\n";
   md << "- Coulomb: scheme `" << to_string(o.canon.coulomb.scheme) << "`, step rule `"
@@ -100,7 +107,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
         if (s.defects == "none" && s.repairs.empty()) continue;
         std::string repairs;
         for (const auto& [m, text] : s.repairs)
-          repairs += (repairs.empty() ? "" : "<br>") + title(m) + ": " + text;
+          repairs += (repairs.empty() ? "" : "<br>") + method_title(m) + ": " + text;
         md << "| " << s.name << " | " << s.defects << " | " << (repairs.empty() ? "none" : repairs) << " |\n";
       }
       for (const auto& s : r.skipped) md << "\nSkipped `" << s.file << "`: " << s.reason << "\n";
@@ -123,7 +130,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
       it += c.iterations[k];
     }
     const double n = std::max<double>(1, c.solve.size());
-    md << "| " << title(m) << " | " << fmt("%.2f", pre / n) << " | " << fmt("%.2f", solve / n) << " | "
+    md << "| " << method_title(m) << " | " << fmt("%.2f", pre / n) << " | " << fmt("%.2f", solve / n) << " | "
        << fmt("%.0f", it / n) << " |\n";
   }
   md << "\n";
@@ -134,7 +141,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
   for (const std::string& m : o.methods) {
     if (!r.retrieval.count(m)) continue;
     const auto& x = r.retrieval.at(m);
-    md << "| " << title(m) << " | " << fmt("%.3f", x.map) << " | " << fmt("%.3f", x.nn) << " | "
+    md << "| " << method_title(m) << " | " << fmt("%.3f", x.map) << " | " << fmt("%.3f", x.nn) << " | "
        << fmt("%.3f", x.ft) << " | " << fmt("%.3f", x.st) << " | " << fmt("%.3f", x.e) << " | "
        << fmt("%.3f", x.dcg) << " | " << (x.noisy_query_nn >= 0 ? fmt("%.2f", x.noisy_query_nn) : "—")
        << " |\n";
@@ -171,7 +178,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
     if (rms.empty()) continue;
     noise_rms[m] = median(rms);
     const double pose = r.pose_variation.count(m) ? r.pose_variation.at(m) : 0;
-    md << "| " << title(m) << " | " << fmt("%.2f%%", 100 * median(rms)) << " | "
+    md << "| " << method_title(m) << " | " << fmt("%.2f%%", 100 * median(rms)) << " | "
        << fmt("%.2f%%", 100 * median(haus)) << " | " << fmt("%.2f%%", 100 * pose) << " | "
        << (pose > 0 ? fmt("%.2f", median(rms) / pose) : "—") << " |\n";
   }
@@ -202,8 +209,8 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
       const auto& v = r.correspondence_mean_error.at(m);
       double mean = 0;
       for (double x : v) mean += x;
-      md << "| " << title(m) << " | " << fmt("%.3f", mean / v.size()) << " | " << fmt("%.3f", median(v))
-         << " |\n";
+      md << "| " << method_title(m) << " | " << fmt("%.3f", mean / v.size()) << " | "
+         << fmt("%.3f", median(v)) << " |\n";
     }
     md << "\n![point maps](fig9_correspondence.png)\n\n";
   }
@@ -243,7 +250,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
     if (!best_mds.empty()) {
       double c = r.retrieval.at("coulomb").map, b = r.retrieval.at(best_mds).map;
       md << "| Retrieval with Coulomb shapes \"compares favorably\" to MDS canonical forms (Fig. 8) | mAP "
-         << fmt("%.3f", c) << " (Coulomb) vs " << fmt("%.3f", b) << " (" << title(best_mds)
+         << fmt("%.3f", c) << " (Coulomb) vs " << fmt("%.3f", b) << " (" << method_title(best_mds)
          << ", the better MDS) | "
          << (c > b + 0.01    ? "holds"
              : c >= b - 0.01 ? "a tie (within 0.01)"

@@ -1,5 +1,5 @@
 // The parts of `cshapes experiment paper` beyond retrieval: the data of Figures 2, 3 and 5, Table 1, and
-// report.md (each claim of the paper beside our measurement). Used by experiments/paper_experiment.cpp.
+// report.md (each claim of the paper beside our measurement). Used by pipeline/paper_experiment.cpp.
 #pragma once
 
 #include <map>
@@ -7,9 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/cache.h"
-#include "eval/timing.h"
-#include "experiments/paper_experiment.h"
+#include "pipeline/paper_experiment.h"
+#include "pipeline/timing_table.h"
 
 namespace cshapes {
 
@@ -62,17 +61,11 @@ struct PaperReport {
   PaperExperimentSummary summary;
 };
 
-// Figure 2 (the hand, separated and glued, by every method, and their ICP alignment), Figure 3 (one shape
-// after 300 … 10,000 paper-scheme iterations) and Figure 5 (energy and violation per iteration for 1, 10
-// and 100 projection steps): meshes under out/figures/, convergence.csv, and report.figure_grids.
-void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache,
-                       const DiskCache& form_cache);
-
-// Table 1 on the swiss roll (561 vertices), a cat (3,505) and a michael (22,738) — remeshed from the data's
-// "cat"/"michael" classes when present, else from its first and second classes; table1.csv.
-void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache);
-
 // report.md.
 void write_report(const PaperExperimentOptions& o, const PaperReport& report);
+
+// Shared by the experiment's parts: one line on o.note (when set); a method's name as the paper writes it.
+void say(const PaperExperimentOptions& o, const std::string& line);
+std::string method_title(const std::string& method);
 
 }  // namespace cshapes

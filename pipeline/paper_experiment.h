@@ -1,21 +1,21 @@
 // `cshapes experiment paper`: the paper's experiment end to end (§3), and more.
 //
 // Per class: N near-isometric poses + K topologically noisy shapes (the dataset's own, or made here by gluing
-// another pose with core/topological_noise.h); canonical forms by every method (eval/canonical_forms.h,
+// another pose with core/topological_noise.h); canonical forms by every method (pipeline/canonical_forms.h,
 // cached); ICP distances between all pairs (eval/pairwise_distances.h, cached); retrieval measures and PR
 // curves (eval/retrieval.h); the effect of topological noise on each method's canonical form; point-map
-// errors where ground-truth correspondences exist; the data behind Figures 2-8; Table 1 (eval/timing.h);
-// report.md. Imperfect meshes are read as they are and repaired per method, said per shape in notes and
-// report.md; a file no method can use (unreadable, too few vertices) is skipped with its reason. Everything
-// is written under options.out; every expensive intermediate is cached in out/cache, so a run that is killed
-// resumes where it stopped.
+// errors where ground-truth correspondences exist; the data behind Figures 2-8; Table 1
+// (pipeline/timing_table.h); report.md. Imperfect meshes are read as they are and repaired per method, said
+// per shape in notes and report.md; a file no method can use (unreadable, too few vertices) is skipped with
+// its reason. Everything is written under options.out; every expensive intermediate is cached in out/cache,
+// so a run that is killed resumes where it stopped.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "eval/canonical_forms.h"
+#include "pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -27,7 +27,7 @@ struct PaperExperimentOptions {
   int noisy_per_class = 1;  // topologically noisy shapes per class (the paper's 1)
   int glue = 2;             // glues per noisy shape made here
   std::uint64_t seed = 1;   // noise placement
-  // Meshes are repaired per method (eval/canonical_forms.h), the largest component kept by default;
+  // Meshes are repaired per method (pipeline/canonical_forms.h), the largest component kept by default;
   // canon.strict refuses a mesh that needs repair. Kept for old scripts: has no effect.
   bool largest_component = false;
   CanonicalFormOptions canon;  // method options (geodesics for MDS: canon.geodesics)

@@ -1,4 +1,5 @@
-// The data behind Figures 2, 3 and 5 and Table 1 of the paper (see paper_report.h).
+#include "pipeline/paper_figures.h"
+
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -12,9 +13,8 @@
 #include "core/mesh_repair.h"
 #include "core/remesh.h"
 #include "core/synthetic.h"
-#include "eval/canonical_forms.h"
-#include "experiments/paper_report.h"
 #include "matching/icp.h"
+#include "pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -22,14 +22,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-void say(const PaperExperimentOptions& o, const std::string& line) {
-  if (o.note) o.note(line);
-}
-
-std::string method_title(const std::string& m) {
-  return m == "coulomb" ? "Coulomb" : m == "cmds" ? "classical MDS" : m == "smacof" ? "SMACOF" : m;
-}
 
 std::string serialize_mesh(const Mesh& mesh) {
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V = mesh.V;
@@ -45,7 +37,8 @@ Mesh deserialize_mesh(const std::string& bytes) {
   std::vector<double> V = j["V"].get<std::vector<double>>();
   std::vector<int> F = j["F"].get<std::vector<int>>();
   Mesh m;
-  m.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(V.data(), V.size() / 3, 3);
+  m.V =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(V.data(), V.size() / 3, 3);
   m.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(F.data(), F.size() / 3, 3);
   return m;
 }
@@ -111,9 +104,10 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
     write_mesh((dir / "hand_separated.ply").string(), hand.separated);
     write_mesh((dir / "hand_glued.ply").string(), hand.glued, flags);
     json cells = json::array();
-    cells.push_back(json::array({{{"mesh", "figures/hand_separated.ply"}, {"title", "separated"}},
-                                 {{"mesh", "figures/hand_glued.ply"}, {"title", "glued"}, {"red", {{"property", "glued"}}}},
-                                 nullptr}));
+    cells.push_back(json::array(
+        {{{"mesh", "figures/hand_separated.ply"}, {"title", "separated"}},
+         {{"mesh", "figures/hand_glued.ply"}, {"title", "glued"}, {"red", {{"property", "glued"}}}},
+         nullptr}));
     json rows = json::array({"shape"});
     for (const std::string& m : o.methods) {
       CanonicalFormOptions co = o.canon;
@@ -139,11 +133,12 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
       ov.scalars.push_back({"glued_hand", second});
       write_mesh((dir / (m + "_hand_overlay.ply")).string(), overlay, ov);
       const std::string red = m == "coulomb" ? "torn" : "glued";
-      cells.push_back(json::array({{{"mesh", "figures/" + m + "_hand_separated.ply"}},
-                                   {{"mesh", "figures/" + m + "_hand_glued.ply"}, {"red", {{"property", red}}}},
-                                   {{"mesh", "figures/" + m + "_hand_overlay.ply"},
-                                    {"title", "ICP alignment (glued: red)"},
-                                    {"red", {{"property", "glued_hand"}}}}}));
+      cells.push_back(
+          json::array({{{"mesh", "figures/" + m + "_hand_separated.ply"}},
+                       {{"mesh", "figures/" + m + "_hand_glued.ply"}, {"red", {{"property", red}}}},
+                       {{"mesh", "figures/" + m + "_hand_overlay.ply"},
+                        {"title", "ICP alignment (glued: red)"},
+                        {"red", {{"property", "glued_hand"}}}}}));
       rows.push_back(method_title(m));
     }
     report.figure_grids["fig2_hand"] = {
@@ -161,9 +156,10 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
   // Figure 3: the paper's plain scheme after 300, 600, 900, 3000, 10000 iterations. One run, cut at the
   // checkpoints: each piece continues from the previous one's shape, edges and rest lengths.
   {
-    say(o, "  Fig. 3: " + report.figure_shape + ", iterations up to " + std::to_string(o.fig3_iterations.back()));
-    const std::string key = cache_key({"fig3-v1", mesh_content_key(fs_shape.mesh), canonical_form_key(o.canon),
-                                       json(o.fig3_iterations).dump()});
+    say(o, "  Fig. 3: " + report.figure_shape + ", iterations up to " +
+               std::to_string(o.fig3_iterations.back()));
+    const std::string key = cache_key({"fig3-v1", mesh_content_key(fs_shape.mesh),
+                                       canonical_form_key(o.canon), json(o.fig3_iterations).dump()});
     json cached;
     if (auto hit = misc_cache.get(key)) cached = json::from_cbor(*hit);
     json row = json::array({{{"mesh", "figures/fig3_input.ply"}, {"title", fs_shape.name}}});
@@ -179,7 +175,8 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
       const int target = o.fig3_iterations[c];
       if (!cached.is_null()) {
         std::vector<double> flat = cached["snapshots"][c]["X"].get<std::vector<double>>();
-        X = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(flat.data(), X.rows(), 3);
+        X = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(flat.data(), X.rows(),
+                                                                                        3);
         std::vector<double> t = cached["snapshots"][c]["torn"].get<std::vector<double>>();
         torn = Eigen::Map<const Eigen::VectorXd>(t.data(), X.rows());
       } else if (target > done) {
@@ -209,7 +206,8 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
       wo.scalars.push_back({"torn", torn});
       const std::string file = "fig3_" + std::to_string(target) + ".ply";
       write_mesh((dir / file).string(), Mesh{X, fs_shape.mesh.F}, wo);
-      row.push_back({{"mesh", "figures/" + file}, {"title", std::to_string(target) + " iterations"},
+      row.push_back({{"mesh", "figures/" + file},
+                     {"title", std::to_string(target) + " iterations"},
                      {"red", {{"property", "torn"}}}});
     }
     if (cached.is_null()) {
@@ -217,7 +215,8 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
       misc_cache.put(key, std::string(bytes.begin(), bytes.end()));
     }
     report.figure_grids["fig3_iterations"] = {
-        {"title", "Fig. 3: coulombization (paper's scheme) of " + report.figure_shape}, {"cells", json::array({row})}};
+        {"title", "Fig. 3: coulombization (paper's scheme) of " + report.figure_shape},
+        {"cells", json::array({row})}};
   }
 
   // Figure 5: energy and mean violation per outer iteration for 1, 10 and 100 projection steps.

@@ -27,8 +27,8 @@ struct TimingOptions {
 struct TimingRow {
   std::string shape;
   Index vertices = 0;
-  double mds_precompute = 0;    // seconds (a single run: all-pairs geodesics are the expensive part)
-  double mds_iteration = 0;     // seconds, median
+  double mds_precompute = 0;      // seconds (a single run: all-pairs geodesics are the expensive part)
+  double mds_iteration = 0;       // seconds, median
   double coulomb_precompute = 0;  // seconds, median
   double coulomb_iteration = 0;   // seconds, median
   bool mds_measured = false;

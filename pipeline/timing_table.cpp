@@ -1,4 +1,4 @@
-#include "eval/timing.h"
+#include "pipeline/timing_table.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +11,9 @@ namespace cshapes {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 }  // namespace
 
 double median_of(std::vector<double> values) {
@@ -33,7 +35,8 @@ double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy)
   if (accuracy > 0) o.energy.accuracy = accuracy;
   const CoulombCanonResult r = coulomb_canonical_form(mesh.V, mesh_edges(mesh.F), o);
   std::vector<double> per_iteration;
-  for (size_t k = 1; k < r.history.size(); ++k) per_iteration.push_back(r.history[k].seconds - r.history[k - 1].seconds);
+  for (size_t k = 1; k < r.history.size(); ++k)
+    per_iteration.push_back(r.history[k].seconds - r.history[k - 1].seconds);
   return median_of(per_iteration);
 }
 
