@@ -1,10 +1,12 @@
-// cshapes canon MESH -o OUT --method M: a canonical form by any registered method (see command.h).
+// cshapes canon MESH -o OUT --method M: a canonical form by any registered method (see command.h), computed
+// by the drivers library (pipeline/canonical_forms.h) as `distmat` and `experiment paper` compute theirs.
 #include <iostream>
-#include <sstream>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "core/io.h"
 #include "experiments/command.h"
+#include "pipeline/canonical_forms.h"
 
 namespace cshapes::cli {
 namespace {
@@ -17,63 +19,51 @@ struct CanonArgs {
 } args;
 
 int run() {
-  const CanonMethod* method = nullptr;
-  std::string known;
-  for (const CanonMethod& m : canon_methods()) {
-    if (m.name == args.method) method = &m;
-    known += (known.empty() ? "" : ", ") + m.name;
-  }
-  if (!method) usage_fail("--method: expected one of ", known, ", got '", args.method, "'");
   // Everything the command line decides is checked before any work.
-  check_canon_method_options({method->name}, true);
-  if (method->validate) method->validate();
+  check_canon_method_options({args.method}, true);
+  CanonicalFormOptions options;
+  options.method = args.method;
+  configure_canonical_form(options, true);
+  options.name = args.input;
+  options.strict = args.strict;
+  options.progress = progress_printer();
+  options.note = note;
   require_mesh_output_path(args.output);
   if (!args.history.empty()) require_output_path(args.history, {"csv"});
 
-  CanonJob job;
-  job.input_path = args.input;
-  job.history_path = args.history;
   const Mesh input = read_mesh(args.input);
-  // The method's requirements (pipeline/canonical_forms.h), repaired unless --strict; a point cloud (no faces)
-  // passes unchanged: the method builds its own neighbourhood graph (and refuses a disconnected one).
-  CanonicalFormOptions requirements;
-  requirements.method = method->name;
-  requirements.name = args.input;
-  requirements.strict = args.strict;
-  RepairedMesh repaired = repair_for_canonical_form(input, requirements);
+  // The method's requirements, repaired unless --strict; a point cloud (no faces) passes unchanged: the
+  // method builds its own neighbourhood graph (and refuses a disconnected one).
+  const RepairedMesh repaired = repair_for_canonical_form(input, options);
   const bool dropped_some = valid_input_vertices(repaired.vertex_map, input.num_vertices()).minCoeff() == 0;
   CSHAPES_REQUIRE(!dropped_some || file_extension(args.output) == "ply", args.output, ": the repair dropped ",
-                  "vertices (", repaired.text, "); write .ply, which keeps the input's vertex count with NaN rows ",
+                  "vertices (", repaired.text,
+                  "); write .ply, which keeps the input's vertex count with NaN rows ",
                   "and a per-vertex 'valid' flag, or pass --strict to refuse the mesh");
   if (repaired.changed()) note(repaired.text);
-  job.mesh = std::move(repaired.mesh);
-  job.vertex_map = repaired.vertex_map;
 
-  CanonOutput out = method->run(job);
-  CSHAPES_REQUIRE(out.X.rows() == job.mesh.num_vertices() && out.X.allFinite(), "method ", method->name,
-                  " returned an invalid canonical form (wrong size or non-finite coordinates)");
-  // Back to the input's vertex count and order, with the input's faces: dropped vertices are NaN rows with
+  const CanonicalForm form = canonical_form(input, options);
+  // The input's vertex count and order, with the input's faces: dropped vertices are NaN rows with
   // valid = 0 (PLY); a split vertex takes its first copy's position.
-  Mesh result{to_input_vertices(out.X, job.vertex_map, input.num_vertices()), input.F};
   WriteOptions wo;
-  for (const VertexScalar& s : out.scalars)
-    wo.scalars.push_back({s.name, to_input_vertices(s.values, job.vertex_map, input.num_vertices(), 0.0)});
-  if (dropped_some) wo.scalars.push_back({"valid", valid_input_vertices(job.vertex_map, input.num_vertices())});
-  write_mesh(args.output, result, wo);
+  if (form.torn.size()) wo.scalars.push_back({"torn", form.torn});
+  if (dropped_some) wo.scalars.push_back({"valid", form.valid});
+  write_mesh(args.output, Mesh{form.X, input.F}, wo);
+  if (!args.history.empty() && !form.history_columns.empty())
+    write_csv(args.history, form.history_columns, form.history_rows);
+
+  nlohmann::json summary = nlohmann::json::parse(form.summary_json);
   nlohmann::json repairs = nlohmann::json::array();
-  for (const RepairAction& a : repaired.actions) repairs.push_back({{"what", a.what}, {"count", a.count}});
-  out.summary["repairs"] = repairs;
-  out.summary["repair"] = repaired.text;
-  out.summary["input_vertices"] = input.num_vertices();
-  out.summary["kept_input_vertices"] =
-      static_cast<Index>(valid_input_vertices(job.vertex_map, input.num_vertices()).sum());
-  out.summary["repaired_vertices"] = job.mesh.num_vertices();
-  if (!args.history.empty() && !out.history_columns.empty())
-    write_csv(args.history, out.history_columns, out.history_rows);
-  out.summary["method"] = method->name;
-  out.summary["input"] = args.input;
-  out.summary["output"] = args.output;
-  if (args.json) std::cout << out.summary.dump(2) << std::endl;
+  for (const RepairAction& a : form.repairs) repairs.push_back({{"what", a.what}, {"count", a.count}});
+  summary["repairs"] = repairs;
+  summary["repair"] = form.repair_text;
+  summary["input_vertices"] = input.num_vertices();
+  summary["kept_input_vertices"] = static_cast<Index>(form.valid.sum());
+  summary["repaired_vertices"] = repaired.mesh.num_vertices();
+  summary["method"] = args.method;
+  summary["input"] = args.input;
+  summary["output"] = args.output;
+  if (args.json) std::cout << summary.dump(2) << std::endl;
   note("wrote " + args.output);
   return 0;
 }
@@ -87,14 +77,21 @@ const bool registered = register_command(
        app.add_option("-o,--output", args.output, "output mesh (.ply keeps per-vertex flags such as 'torn')")
            ->required();
        std::string names;
-       for (const CanonMethod& m : canon_methods()) names += "\n  " + m.name + ": " + m.summary;
-       app.add_option("--method", args.method, "canonization method:" + names)->capture_default_str();
+       std::vector<std::string> known;
+       for (const CanonMethod& m : canon_methods()) {
+         names += "\n  " + m.name + ": " + m.summary;
+         known.push_back(m.name);
+       }
+       app.add_option("--method", args.method, "canonization method:" + names)
+           ->capture_default_str()
+           ->check(one_of(known));
        app.add_option("--history", args.history, "write the per-iteration history as CSV");
        app.add_flag("--largest-component", args.largest_component,
                     "keep the largest connected component (the default repair; kept for old scripts)");
-       app.add_flag("--strict", args.strict,
-                    "refuse a mesh the method would have to repair (non-manifold for MDS, several components, "
-                    "duplicate faces, ...) instead of repairing it");
+       app.add_flag(
+           "--strict", args.strict,
+           "refuse a mesh the method would have to repair (non-manifold for MDS, several components, "
+           "duplicate faces, ...) instead of repairing it");
        app.add_flag("--json", args.json, "print a JSON summary on stdout");
        add_canon_method_options(app);
      },

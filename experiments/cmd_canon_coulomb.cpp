@@ -1,12 +1,9 @@
 // cshapes canon MESH -o OUT --method coulomb [options]: the Coulomb canonical form (§2 of the paper).
 // Output: the input's vertex order and faces; PLY carries a per-vertex `torn` flag (1: endpoint of a torn
 // edge).
-#include <map>
-
 #include "canon/coulomb.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
-#include "pipeline/form_quality_json.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -134,63 +131,16 @@ void validate() {
     usage_fail("--momentum applies to --scheme momentum only");
 }
 
-void configure(CanonicalFormOptions& o) {
+void configure(CanonicalFormOptions& o, bool /*single_mesh*/) {
   validate();
   o.coulomb = parsed_options();
   o.knn = args.knn;
-}
-
-CanonOutput run(const CanonJob& job) {
-  CoulombCanonOptions options = parsed_options();
-  options.progress = progress_printer();
-  // A point cloud gets its symmetric kNN graph as the edges of the metric constraints (§5 of the issue).
-  const Edges edges = job.mesh.is_point_cloud() ? knn_graph(job.mesh.V, args.knn) : mesh_edges(job.mesh.F);
-  if (job.mesh.is_point_cloud()) {
-    const Components components = connected_components(job.mesh.num_vertices(), edges);
-    CSHAPES_REQUIRE(components.count == 1, job.input_path, ": the ", args.knn.k,
-                    "-nearest-neighbour graph has ", components.count,
-                    " components; its parts would drift apart: raise --knn");
-    note(job.input_path + ": point cloud, " + std::to_string(edges.rows()) +
-         " kNN edges (k = " + std::to_string(args.knn.k) + ")");
-  }
-  CoulombCanonResult r = coulomb_canonical_form(job.mesh.V, edges, options);
-
-  CanonOutput out;
-  out.X = r.X;
-  out.scalars.push_back({"torn", r.torn_vertices});
-  out.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
-                         "max_move",  "torn_edges", "shape_change",   "momentum",      "seconds"};
-  for (const CoulombIterationRecord& h : r.history)
-    out.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
-                                h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
-  out.summary = {{"vertices", job.mesh.num_vertices()},
-                 {"edges", edges.rows()},
-                 {"torn_edges", r.torn_edges.rows()},
-                 {"iterations", r.iterations},
-                 {"converged", r.converged},
-                 {"stop_reason", r.stop_reason},
-                 {"energy", r.energy},
-                 {"mean_violation", r.violation.mean_relative},
-                 {"max_violation", r.violation.max_relative},
-                 {"median_length_ratio", r.violation.median_length_ratio},
-                 {"seconds", r.seconds},
-                 {"scheme", to_string(options.scheme)},
-                 {"step_rule", to_string(options.step_rule)},
-                 {"projection", to_string(options.projection.norm)},
-                 {"projection_steps", options.projection.steps},
-                 {"form_quality", form_quality_json(r.quality)}};
-  note("coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
-       std::to_string(r.seconds) + " s; mean violation " + std::to_string(r.violation.mean_relative) + ", " +
-       std::to_string(r.torn_edges.rows()) + " edges torn");
-  note("coulomb: form quality " + r.quality.description);
-  return out;
 }
 
 const bool registered =
     register_canon_method({"coulomb",
                            "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)",
                            add_options,
-                           run,
                            configure,
                            {},
                            validate});

@@ -30,30 +30,16 @@ struct Command {
 };
 bool register_command(Command command);
 
-// What `cshapes canon` hands a method: the mesh (reduced to its largest component when asked) and names.
-struct CanonJob {
-  std::string input_path;
-  Mesh mesh;
-  std::vector<int> vertex_map;  // vertex k of mesh is vertex vertex_map[k] of the input file
-  std::string history_path;     // empty: no history requested
-};
-// What a method gives back: the canonical form (same vertex order and faces as job.mesh), per-vertex
-// scalars to write as PLY properties (e.g. "torn"), a history table to write as CSV, and a JSON summary.
-struct CanonOutput {
-  Points X;
-  std::vector<VertexScalar> scalars;
-  std::vector<std::string> history_columns;
-  std::vector<std::vector<double>> history_rows;
-  nlohmann::json summary;
-};
+// A canonization method's command-line face: its option group and how the parsed options become
+// CanonicalFormOptions. The computation itself is the drivers library's (pipeline/canonical_forms.h), the
+// same for `canon`, `distmat` and `experiment paper`.
 struct CanonMethod {
   std::string name;     // value of --method
   std::string summary;  // one line for --help
   std::function<void(CLI::Option_group&)> add_options;
-  std::function<CanonOutput(const CanonJob&)> run;
-  // Writes the options parsed by add_options' group into `options`, for commands that go through
-  // canonical_form() (distmat, experiment paper); refuses, with a message, an option that only `canon` has.
-  std::function<void(CanonicalFormOptions& options)> configure;
+  // Writes the options parsed by add_options' group into `options`. single_mesh: `cshapes canon`; otherwise
+  // (distmat, experiment paper) an option that only makes sense for one mesh is refused with a message.
+  std::function<void(CanonicalFormOptions& options, bool single_mesh)> configure;
   // Methods that also read this method's option group (cmds' --geodesics and --distances serve smacof too).
   std::vector<std::string> options_also_for = {};
   // Checks the parsed options' names and combinations before any work (throws UsageError); may be empty.
@@ -65,7 +51,7 @@ const std::vector<CanonMethod>& canon_methods();
 // take the same method options, with the same names and defaults.
 void add_canon_method_options(CLI::App& app);
 // Applies every method's parsed options to `options` (after a successful parse of such a command).
-void configure_canonical_form(CanonicalFormOptions& options);
+void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = false);
 // After a parse: the method options given on the command line that none of `methods` reads. refuse: throws
 // UsageError naming the first ("--scheme applies to --method coulomb only"), as `canon` does; otherwise one
 // warning line listing them (distmat, experiment paper: one command line shared across methods).

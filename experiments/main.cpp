@@ -95,9 +95,9 @@ void check_canon_method_options(const std::vector<std::string>& methods, bool re
   warn(list + " ignored: no method run here (" + given + ") reads " + (unused.size() == 1 ? "it" : "them"));
 }
 
-void configure_canonical_form(CanonicalFormOptions& options) {
+void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {
   for (const CanonMethod& m : canon_methods())
-    if (m.configure) m.configure(options);
+    if (m.configure) m.configure(options, single_mesh);
 }
 
 bool quiet() {

@@ -1,6 +1,7 @@
 #include "pipeline/canonical_forms.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -43,9 +44,22 @@ DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& opt
   return D;
 }
 
+void say(const CanonicalFormOptions& options, const std::string& line) {
+  if (options.note) options.note(line);
+}
+
 CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options) {
   auto start = std::chrono::steady_clock::now();
-  Edges E = constraint_edges(mesh, options.knn);
+  const Edges E = constraint_edges(mesh, options.knn);
+  if (mesh.is_point_cloud()) {
+    // A point cloud's kNN graph stands in for the mesh's edges; its parts would drift apart if it fell apart.
+    const Components components = connected_components(mesh.num_vertices(), E);
+    CSHAPES_REQUIRE(components.count == 1, options.name, ": the ", options.knn.k,
+                    "-nearest-neighbour graph has ", components.count,
+                    " components; its parts would drift apart: raise --knn");
+    say(options, options.name + ": point cloud, " + std::to_string(E.rows()) +
+                     " kNN edges (k = " + std::to_string(options.knn.k) + ")");
+  }
   CanonicalForm form;
   form.precompute_seconds = seconds_since(start);
   CoulombCanonOptions co = options.coulomb;
@@ -56,22 +70,58 @@ CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options
   form.iterations = r.iterations;
   form.solve_seconds = r.seconds;
   form.seconds_per_iteration = r.iterations ? r.seconds / r.iterations : 0;
-  form.history_columns = {"iteration",  "energy",       "mean_violation", "max_violation", "step",
-                          "torn_edges", "shape_change", "momentum",       "seconds"};
+  form.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
+                          "max_move",  "torn_edges", "shape_change",   "momentum",      "seconds"};
   for (const CoulombIterationRecord& h : r.history)
     form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
-                                 double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
-  form.summary_json = nlohmann::json{{"iterations", r.iterations},
+                                 h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
+  form.summary_json = nlohmann::json{{"vertices", mesh.num_vertices()},
+                                     {"edges", E.rows()},
+                                     {"torn_edges", r.torn_edges.rows()},
+                                     {"iterations", r.iterations},
                                      {"converged", r.converged},
                                      {"stop_reason", r.stop_reason},
                                      {"energy", r.energy},
                                      {"mean_violation", r.violation.mean_relative},
                                      {"max_violation", r.violation.max_relative},
-                                     {"torn_edges", r.torn_edges.rows()},
+                                     {"median_length_ratio", r.violation.median_length_ratio},
                                      {"seconds", r.seconds},
+                                     {"scheme", to_string(co.scheme)},
+                                     {"step_rule", to_string(co.step_rule)},
+                                     {"projection", to_string(co.projection.norm)},
+                                     {"projection_steps", co.projection.steps},
                                      {"form_quality", form_quality_json(r.quality)}}
                           .dump();
+  say(options, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
+                   std::to_string(r.seconds) + " s; mean violation " +
+                   std::to_string(r.violation.mean_relative) + ", " + std::to_string(r.torn_edges.rows()) +
+                   " edges torn");
+  say(options, "coulomb: form quality " + r.quality.description);
   return form;
+}
+
+nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
+  return {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
+          {"most_negative_eigenvalue", std::isfinite(r.most_negative_eigenvalue)
+                                           ? nlohmann::json(r.most_negative_eigenvalue)
+                                           : nlohmann::json(nullptr)},
+          {"trace", r.trace},
+          {"frobenius_squared", r.frobenius_squared},
+          {"explained_energy", r.explained_energy},
+          {"negative_mass_lower_bound", r.negative_mass_lower_bound},
+          {"negative_energy_upper_bound", r.negative_energy_upper_bound},
+          {"matrix_products", r.matrix_products},
+          {"seconds", r.seconds}};
+}
+
+ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
+  ClassicalMdsResult r = classical_mds(D, options.cmds);
+  say(options, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
+                   std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
+                   "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
+                   "% of the spectrum's energy; most negative " + "eigenvalue " +
+                   std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) + " s");
+  return r;
 }
 
 CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given,
@@ -88,39 +138,62 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
   CSHAPES_REQUIRE(given->rows() == mesh.num_vertices(), "MDS: distance matrix has ", given->rows(),
                   " rows for a mesh of ", mesh.num_vertices(), " vertices");
   auto start = std::chrono::steady_clock::now();
-  ClassicalMdsOptions mo = options.cmds;
-  ClassicalMdsResult cm = classical_mds(*given, mo);
-  nlohmann::json summary{{"eigenvalues", {cm.eigenvalues[0], cm.eigenvalues[1], cm.eigenvalues[2]}},
-                         {"explained_energy", cm.explained_energy},
-                         {"negative_mass_lower_bound", cm.negative_mass_lower_bound},
-                         {"cmds_seconds", cm.seconds}};
+  nlohmann::json summary = nlohmann::json::object();
   if (options.geodesics.method == GeodesicMethod::Heat ||
       options.geodesics.method == GeodesicMethod::HeatCgal) {
     const std::string warning = heat_method_warning(mesh);
-    if (!warning.empty()) summary["warning"] = warning;
+    if (!warning.empty()) {
+      summary["warning"] = warning;
+      say(options, "warning: " + warning);
+    }
   }
   const Edges E = constraint_edges(mesh, options.knn);
-  if (options.method == "cmds") {
-    form.X = cm.X;
-    form.solve_seconds = seconds_since(start);
-    summary["form_quality"] = form_quality_json(form_quality(mesh.V, E, form.X));
-    form.summary_json = summary.dump();
-    return form;
+  Points X0;
+  if (options.method == "cmds" || options.smacof_init == "cmds") {
+    ClassicalMdsResult cm = run_classical_mds(*given, options);
+    summary["classical_mds"] = cmds_summary(cm);
+    X0 = std::move(cm.X);
+  } else {
+    CSHAPES_REQUIRE(options.smacof_init == "mesh", "smacof: unknown start '", options.smacof_init,
+                    "'; known: cmds, mesh");
+    X0 = mesh.V;
   }
-  SmacofOptions so = options.smacof;
-  if (!so.progress) so.progress = options.progress;
-  SmacofResult sr = smacof(*given, cm.X, so);
-  form.X = sr.X;
-  form.iterations = sr.iterations;
+  if (options.method == "cmds") {
+    form.X = std::move(X0);
+  } else {
+    SmacofOptions so = options.smacof;
+    if (!so.progress) so.progress = options.progress;
+    CSHAPES_REQUIRE(options.smacof_weights == "uniform" || options.smacof_weights == "area",
+                    "smacof: unknown weights '", options.smacof_weights, "'; known: uniform, area");
+    if (options.smacof_weights == "area") so.vertex_weights = vertex_area_weights(mesh);
+    SmacofResult sr = smacof(*given, X0, so);
+    say(options, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
+                     std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
+                     " iterations (" + sr.stop_reason + "), " + std::to_string(sr.seconds_per_iteration) +
+                     " s per iteration");
+    form.X = sr.X;
+    form.iterations = sr.iterations;
+    form.seconds_per_iteration = sr.seconds_per_iteration;
+    form.history_columns = {"iteration", "passes", "normalized_stress", "extrapolated"};
+    for (size_t k = 0; k < sr.stress_history.size(); ++k)
+      form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
+                                   sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
+    summary["smacof"] = {{"normalized_stress", sr.normalized_stress},
+                         {"initial_normalized_stress", sr.stress_history.front()},
+                         {"iterations", sr.iterations},
+                         {"stop_reason", sr.stop_reason},
+                         {"acceleration", to_string(so.acceleration)},
+                         {"extrapolations_accepted", sr.extrapolations_accepted},
+                         {"extrapolations_rejected", sr.extrapolations_rejected},
+                         {"init", options.smacof_init},
+                         {"weights", options.smacof_weights},
+                         {"seconds", sr.seconds},
+                         {"seconds_per_iteration", sr.seconds_per_iteration}};
+  }
   form.solve_seconds = seconds_since(start);
-  form.seconds_per_iteration = sr.seconds_per_iteration;
-  form.history_columns = {"iteration", "normalized_stress"};
-  for (size_t k = 0; k < sr.stress_history.size(); ++k)
-    form.history_rows.push_back({double(k), sr.stress_history[k]});
-  summary["iterations"] = sr.iterations;
-  summary["normalized_stress"] = sr.normalized_stress;
-  summary["seconds_per_iteration"] = sr.seconds_per_iteration;
-  summary["form_quality"] = form_quality_json(form_quality(mesh.V, E, form.X));
+  const FormQuality quality = form_quality(mesh.V, E, form.X);
+  say(options, "form quality " + quality.description);
+  summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
   return form;
 }
@@ -191,9 +264,31 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
   return repair_for(mesh, canonical_form_requirements(options.method), ro);
 }
 
+DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
+                                          const std::string& source) {
+  const Index n = repaired.mesh.num_vertices();
+  if (D.rows() == n && D.cols() == n) return D;
+  CSHAPES_REQUIRE(D.rows() == repaired.input_vertices && D.cols() == D.rows(), source, ": has ", D.rows(),
+                  " points but the mesh has ", repaired.input_vertices, " vertices (", n, " after repair)");
+  // The input was repaired (vertices dropped or split): the rows and columns of the vertices it maps to.
+  require_memory(distance_matrix_bytes(n), "restricting " + source + " to the repaired mesh");
+  DistanceMatrix sub(n, n);
+  for (Index j = 0; j < n; ++j)
+    for (Index i = 0; i < n; ++i) sub(i, j) = D(repaired.vertex_map[i], repaired.vertex_map[j]);
+  return sub;
+}
+
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
                              double D_seconds) {
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
+  DistanceMatrix from_file;
+  if (options.method != "coulomb" && !D && !options.distances_file.empty()) {
+    const auto start = std::chrono::steady_clock::now();
+    from_file = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
+                                           options.distances_file);
+    D = &from_file;
+    D_seconds = seconds_since(start);
+  }
   CanonicalForm form = options.method == "coulomb" ? coulomb_form(repaired.mesh, options)
                                                    : mds_form(repaired.mesh, options, D, D_seconds);
   // Back to the input's vertices (a copy when nothing was repaired).
@@ -232,6 +327,10 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
       k << ";iters=" << o.smacof.max_iterations << ";tol=" << o.smacof.tolerance
         << ";target=" << o.smacof.target_stress << ";accel=" << to_string(o.smacof.acceleration)
         << ";window=" << o.smacof.extrapolation_window << ";weights=" << o.smacof.vertex_weights.size();
+    // Added after the first caches were written: named only when not the default, so older keys still hold.
+    if (o.method == "smacof" && o.smacof_init != "cmds") k << ";init=" << o.smacof_init;
+    if (!o.distances_file.empty()) k << ";distances=" << file_content_hash(o.distances_file);
+    if (o.method == "smacof" && o.smacof_weights != "uniform") k << ";weight_rule=" << o.smacof_weights;
   }
   return k.str();
 }

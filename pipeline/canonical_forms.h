@@ -15,6 +15,7 @@
 // shapes.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,17 @@ struct CanonicalFormOptions {
   }();
   ClassicalMdsOptions cmds;  // method cmds, and the initialisation of smacof
   SmacofOptions smacof;      // method smacof
-  KnnGraphOptions knn;       // point clouds: the graph that stands in for mesh edges
-  ProgressFn progress;       // stages "geodesics", "coulomb"
+  // SMACOF's start: "cmds" (classical MDS of the same distances) or "mesh" (the input's coordinates); its
+  // pair weights: "uniform" or "area" (w_i·w_j from vertex areas).
+  std::string smacof_init = "cmds";
+  std::string smacof_weights = "uniform";
+  // cmds/smacof: read the all-pairs distances from this .bin (core/distance_matrix.h) instead of computing
+  // geodesics; it has the input's or the repaired mesh's vertex count. For one mesh; empty: compute.
+  std::string distances_file;
+  KnnGraphOptions knn;  // point clouds: the graph that stands in for mesh edges
+  ProgressFn progress;  // stages "geodesics", "coulomb"
+  // One line per stage result ("coulomb: 620 iterations ..."), for a front end to print; none when unset.
+  std::function<void(const std::string&)> note;
   bool strict = false;  // refuse a mesh that needs repair (throws, naming the defects) instead of repairing
   std::string name = "mesh";  // the mesh's name (its path) in messages; not part of the result
 };
@@ -51,6 +61,12 @@ MeshRequirements canonical_form_requirements(const std::string& method);
 // The mesh a canonical form is computed on (repair_for with the method's requirements, options.name and
 // strict): the vertices of a precomputed distance matrix D are this mesh's.
 RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOptions& options);
+
+// A precomputed distance matrix for the mesh repair_for_canonical_form gives: D itself when it has the
+// repaired mesh's size, or, when it has the input's, its rows and columns at the repaired vertices
+// (vertex_map). Throws, naming `source`, for any other size.
+DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
+                                          const std::string& source);
 
 // Every method name canonical_form accepts.
 const std::vector<std::string>& canonical_form_methods();
@@ -68,7 +84,10 @@ struct CanonicalForm {
   // Per-iteration history as columns (coulomb: energy, mean_violation, ...; smacof: normalized_stress).
   std::vector<std::string> history_columns;
   std::vector<std::vector<double>> history_rows;
-  std::string summary_json;  // method-specific summary (eigenvalues, stress, stop reason, ...)
+  // Method-specific summary as JSON text: coulomb {vertices, edges, torn_edges, iterations, converged,
+  // stop_reason, energy, mean/max_violation, ...}; cmds {classical_mds}; smacof {classical_mds, smacof};
+  // all {form_quality} (pipeline/form_quality_json.h), and {warning} when the heat method is too coarse.
+  std::string summary_json;
 };
 
 // Computes the canonical form. D: optional precomputed all-pairs distances for MDS between the vertices of

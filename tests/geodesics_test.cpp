@@ -226,11 +226,23 @@ TEST(GeodesicsCli, DisconnectedMeshIsRepairedOrRefusedWithStrict) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("components"), std::string::npos) << r.err;
   EXPECT_FALSE(std::ifstream(dir + "/D.bin").good());
-  // By default repaired: the largest component kept, the matrix follows its vertices.
+  // By default repaired: the largest component kept; the matrix has the input's vertices, NaN rows and
+  // columns for those of the dropped component.
   r = test::run_cli("geodesics " + dir + "/two.off -o " + dir + "/D.bin");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("repaired"), std::string::npos) << r.err;
-  EXPECT_EQ(read_distance_matrix(dir + "/D.bin").rows(), 162);
+  const DistanceMatrix D = read_distance_matrix(dir + "/D.bin");
+  ASSERT_EQ(D.rows(), two.num_vertices());
+  std::vector<bool> dropped(D.rows());
+  Index kept = 0;
+  for (Index v = 0; v < D.rows(); ++v) {
+    dropped[v] = D.row(v).array().isNaN().all();
+    kept += !dropped[v];
+  }
+  for (Index v = 0; v < D.rows(); ++v)
+    for (Index w = 0; w < D.rows(); ++w)
+      ASSERT_TRUE(dropped[v] || dropped[w] ? std::isnan(D(v, w)) : std::isfinite(D(v, w))) << v << ", " << w;
+  EXPECT_EQ(kept, 162);
 }
 
 }  // namespace
