@@ -150,4 +150,58 @@ std::string DiskCache::get_or_compute(const std::string& key,
   return value;
 }
 
+nlohmann::json points_to_json(const Points& X) {
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = X;
+  return std::vector<double>(rows.data(), rows.data() + rows.size());
+}
+
+Points points_from_json(const nlohmann::json& j) {
+  const std::vector<double> flat = j.get<std::vector<double>>();
+  CSHAPES_REQUIRE(flat.size() % 3 == 0, "cache entry: ", flat.size(), " coordinates, not a multiple of 3");
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      flat.data(), static_cast<Index>(flat.size() / 3), 3);
+}
+
+nlohmann::json faces_to_json(const Faces& F) {
+  const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> rows = F;
+  return std::vector<int>(rows.data(), rows.data() + rows.size());
+}
+
+Faces faces_from_json(const nlohmann::json& j) {
+  const std::vector<int> flat = j.get<std::vector<int>>();
+  CSHAPES_REQUIRE(flat.size() % 3 == 0, "cache entry: ", flat.size(), " face indices, not a multiple of 3");
+  return Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      flat.data(), static_cast<Index>(flat.size() / 3), 3);
+}
+
+nlohmann::json mesh_to_json(const Mesh& mesh) {
+  return {{"V", points_to_json(mesh.V)}, {"F", faces_to_json(mesh.F)}};
+}
+
+Mesh mesh_from_json(const nlohmann::json& j) {
+  return Mesh{points_from_json(j.at("V")), faces_from_json(j.at("F"))};
+}
+
+std::optional<nlohmann::json> DiskCache::get_json(const std::string& key) const {
+  std::optional<std::string> bytes = get(key);
+  if (!bytes) return std::nullopt;
+  nlohmann::json value = nlohmann::json::from_cbor(*bytes, true, false);  // discarded on any error
+  if (value.is_discarded()) return std::nullopt;
+  return value;
+}
+
+void DiskCache::put_json(const std::string& key, const nlohmann::json& value) const {
+  if (!enabled()) return;
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(value);
+  put(key, std::string(bytes.begin(), bytes.end()));
+}
+
+nlohmann::json DiskCache::get_or_compute_json(const std::string& key,
+                                              const std::function<nlohmann::json()>& compute) const {
+  if (std::optional<nlohmann::json> cached = get_json(key)) return *cached;
+  nlohmann::json value = compute();
+  put_json(key, value);
+  return value;
+}
+
 }  // namespace cshapes

@@ -6,6 +6,9 @@
 // names or dates: content_hash / file_content_hash) and a canonical option string (e.g. to_key_string of
 // the options). Values are opaque bytes.
 //
+// Values: every cshapes cache stores CBOR-encoded JSON through get_json/put_json (compact, exact for doubles,
+// readable by any CBOR tool); get/put move the raw bytes.
+//
 // Layout: DIR/ab/abcdef….bin, one file per entry (the first two hex digits fan out the directory), each
 // "CSHCACHE1 <size>\n" followed by the value. Entries are written to a temporary file and renamed, so an
 // entry exists completely or not at all: a process killed mid-write leaves at most a stray "*.tmp.*" file,
@@ -15,11 +18,22 @@
 
 #include <atomic>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
+
 namespace cshapes {
+
+// Cache values of the common types, as JSON (rows of coordinates flattened row-major).
+nlohmann::json points_to_json(const Points& X);
+Points points_from_json(const nlohmann::json& j);  // throws on a malformed value
+nlohmann::json faces_to_json(const Faces& F);
+Faces faces_from_json(const nlohmann::json& j);  // throws on a malformed value
+nlohmann::json mesh_to_json(const Mesh& mesh);   // {"V": [...], "F": [...]}
+Mesh mesh_from_json(const nlohmann::json& j);    // throws on a malformed value
 
 // SHA-256 (FIPS 180-4) of `bytes`, as 64 lowercase hex digits.
 std::string sha256_hex(const std::string& bytes);
@@ -45,6 +59,15 @@ class DiskCache {
   void put(const std::string& key, const std::string& value) const;
   // get(), or compute() then put(): compute runs only on a miss.
   std::string get_or_compute(const std::string& key, const std::function<std::string()>& compute) const;
+
+  // The value under key decoded from CBOR; nothing when missing or not CBOR (an entry of an older format:
+  // the caller recomputes and overwrites it).
+  std::optional<nlohmann::json> get_json(const std::string& key) const;
+  // Stores value as CBOR, atomically.
+  void put_json(const std::string& key, const nlohmann::json& value) const;
+  // get_json(), or compute() then put_json().
+  nlohmann::json get_or_compute_json(const std::string& key,
+                                     const std::function<nlohmann::json()>& compute) const;
 
   long hits() const { return hits_; }
   long misses() const { return misses_; }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/error.h"
@@ -22,21 +23,33 @@ struct PairValue {
   int reflection = 0;
 };
 
-// Cached as one text line: exact doubles (%.17g) and the alignment's summary.
-std::string encode(const PairValue& v, const IcpResult& r) {
-  char buffer[512];
+// A pair's cache value (JSON, stored as CBOR like every cache entry): the distances and the alignment.
+nlohmann::json encode(const PairValue& v, const IcpResult& r) {
   const Eigen::Matrix3d& R = r.transform.rotation;
   const Eigen::Vector3d& t = r.transform.translation;
-  std::snprintf(buffer, sizeof buffer,
-                "hausdorff %.17g chamfer %.17g rmse %.17g reflection %d iterations %d "
-                "R %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g t %.17g %.17g %.17g\n",
-                v.hausdorff, v.chamfer, v.rmse, v.reflection, r.total_iterations, R(0, 0), R(0, 1), R(0, 2),
-                R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t[0], t[1], t[2]);
-  return buffer;
+  return {{"hausdorff", v.hausdorff},
+          {"chamfer", v.chamfer},
+          {"rmse", v.rmse},
+          {"reflection", v.reflection},
+          {"iterations", r.total_iterations},
+          {"R", {R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)}},
+          {"t", {t[0], t[1], t[2]}}};
 }
 
-bool decode(const std::string& text, PairValue& v) {
-  std::istringstream in(text);
+bool decode(const std::string& bytes, PairValue& v) {
+  const nlohmann::json j = nlohmann::json::from_cbor(bytes, true, false);
+  if (!j.is_discarded()) {
+    if (!j.is_object() || !j.contains("hausdorff") || !j.contains("chamfer") || !j.contains("rmse") ||
+        !j.contains("reflection"))
+      return false;
+    v.hausdorff = j["hausdorff"].get<double>();
+    v.chamfer = j["chamfer"].get<double>();
+    v.rmse = j["rmse"].get<double>();
+    v.reflection = j["reflection"].get<int>();
+    return true;
+  }
+  // Entries written before the caches shared one format: one text line with exact doubles (%.17g).
+  std::istringstream in(bytes);
   std::string a, b, c, d;
   return static_cast<bool>(in >> a >> v.hausdorff >> b >> v.chamfer >> c >> v.rmse >> d >> v.reflection) &&
          a == "hausdorff" && b == "chamfer" && c == "rmse" && d == "reflection";
@@ -111,7 +124,8 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
   for (int i = 0; i < n; ++i) {
     if (!needed[static_cast<size_t>(i)] || stop) continue;
     try {
-      // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without them.
+      // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without
+      // them.
       prepared[static_cast<size_t>(i)] =
           std::make_unique<IcpShape>(finite_rows(shapes[static_cast<size_t>(i)]), icp_options);
     } catch (...) {
@@ -134,7 +148,7 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
           aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
                                  *prepared[static_cast<size_t>(p.target)], icp_options, &alignment);
       PairValue v{d.hausdorff, d.chamfer, d.rmse, alignment.transform.is_reflection() ? 1 : 0};
-      cache.put(p.key, encode(v, alignment));
+      cache.put_json(p.key, encode(v, alignment));
       store(p.source, p.target, v);  // distinct entries per pair: no race
       long done = ++computed;
       if (options.progress) {

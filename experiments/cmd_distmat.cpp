@@ -4,12 +4,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "core/dataset.h"
-#include "core/error.h"
-#include "pipeline/canonical_forms.h"
 #include "eval/distance_csv.h"
-#include "eval/pairwise_distances.h"
 #include "experiments/command.h"
+#include "pipeline/dataset_distances.h"
 
 namespace cshapes::cli {
 namespace {
@@ -23,57 +20,28 @@ int run() {
   // The command line first: nothing is read or computed before it passes.
   check_canon_method_options({args.method}, false);  // the same options serve a loop over methods: warn
   require_output_path(args.output, {"csv"});
-  CanonicalFormOptions co;
-  co.method = args.method;
-  co.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
-  configure_canonical_form(co);                // every method option given on the command line
-  Dataset data = read_dataset(args.data);
-  co.strict = args.strict;
-  const std::string cache_dir =
-      args.cache.empty() ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string()
-                         : args.cache;
-  DiskCache cache((std::filesystem::path(cache_dir) / "forms").string());
-
-  std::vector<Points> forms;
-  std::vector<std::string> keys, names, skipped;
-  for (size_t i = 0; i < data.entries.size(); ++i) {
-    const DatasetEntry& e = data.entries[i];
-    // Each shape is repaired for the method (a note says what), or refused with --strict; one that cannot
-    // be used at all (unreadable, too few vertices) is skipped with its reason, the others go on.
-    co.name = e.path;
-    bool cached = false;
-    CanonicalForm form;
-    Mesh mesh;
-    try {
-      mesh = read_mesh(e.path);
-      form = cached_canonical_form(cache, mesh, co, &cached);
-    } catch (const Error& error) {
-      if (args.strict) throw;
-      note(std::string("skipped: ") + error.what());
-      skipped.push_back(e.path);
-      continue;
-    }
-    if (!form.repair_text.empty()) note(form.repair_text);
-    forms.push_back(form.X);
-    keys.push_back(canonical_form_cache_key(mesh, co));
-    names.push_back(e.name);
-    note("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +
-         (cached ? " (cached)" : ""));
-  }
-  CSHAPES_REQUIRE(forms.size() >= 2, args.data, ": ", forms.size(), " usable shapes (", skipped.size(),
-                  " skipped), a distance matrix needs at least 2");
-  PairwiseDistanceOptions po;
-  po.cache_dir = (std::filesystem::path(cache_dir) / "pairs").string();
-  po.progress = progress_printer();
-  PairwiseDistanceResult pd = pairwise_distances(forms, keys, po);
+  DatasetDistanceOptions o;
+  o.data = args.data;
+  o.canon.method = args.method;
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
+  configure_canonical_form(o.canon);                // every method option given on the command line
+  o.canon.strict = args.strict;
+  o.cache_dir = args.cache.empty()
+                    ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string()
+                    : args.cache;
+  o.progress = progress_printer();
+  o.note = note;
+  const DatasetDistances result = dataset_distances(o);
+  const PairwiseDistanceResult& pd = result.distances;
   const Eigen::MatrixXd& D = args.metric == "hausdorff" ? pd.hausdorff
                              : args.metric == "chamfer" ? pd.chamfer
                                                         : pd.rmse;
-  write_distance_csv(args.output, names, D);
+  write_distance_csv(args.output, result.names, D);
   if (args.json)
-    std::cout << nlohmann::json{{"output", args.output},   {"shapes", names.size()},       {"method", args.method},
-                                {"metric", args.metric},   {"pairs_computed", pd.computed}, {"pairs_cached", pd.cached},
-                                {"cache", cache_dir},      {"skipped", skipped}}
+    std::cout << nlohmann::json{{"output", args.output},         {"shapes", result.names.size()},
+                                {"method", args.method},         {"metric", args.metric},
+                                {"pairs_computed", pd.computed}, {"pairs_cached", pd.cached},
+                                {"cache", o.cache_dir},          {"skipped", result.skipped}}
                      .dump(2)
               << std::endl;
   note("wrote " + args.output);

@@ -1,7 +1,6 @@
 // cshapes experiment paper --data DIR --out OUT: the paper's experiment end to end (paper_experiment.h).
 #include <cstdio>
 #include <iostream>
-#include <sstream>
 
 #include "core/error.h"
 #include "experiments/command.h"
@@ -17,17 +16,9 @@ struct PaperArgs {
   bool no_table1 = false, no_figures = false, json = false;
 } args;
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string p; std::getline(in, p, ',');)
-    if (!p.empty()) parts.push_back(p);
-  return parts;
-}
-
 int run() {
   PaperExperimentOptions o = args.options;
-  o.methods = split(args.methods);
+  o.methods = split_list(args.methods);
   if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
   for (const std::string& m : o.methods)
     if (m != "coulomb" && m != "cmds" && m != "smacof")

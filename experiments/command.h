@@ -103,6 +103,9 @@ void note(const std::string& line);
 // Prints "cshapes <command>: warning: <line>" to stderr (also with --quiet).
 void warn(const std::string& line);
 
+// "a,b,,c" -> {"a", "b", "c"}: a comma-separated option value, empty items dropped.
+std::vector<std::string> split_list(const std::string& text);
+
 // Writes a CSV (header + rows) atomically.
 void write_csv(const std::string& path, const std::vector<std::string>& columns,
                const std::vector<std::vector<double>>& rows);

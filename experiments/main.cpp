@@ -107,6 +107,14 @@ int threads() {
   return g_threads;
 }
 
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');)
+    if (!part.empty()) parts.push_back(part);
+  return parts;
+}
+
 void note(const std::string& line) {
   if (!g_quiet) std::cerr << line << std::endl;
 }

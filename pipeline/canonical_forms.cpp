@@ -198,8 +198,8 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
   return form;
 }
 
-// Binary serialisation of a CanonicalForm for the cache (CBOR: compact and exact for doubles).
-std::string serialize(const CanonicalForm& f) {
+// A CanonicalForm as a cache value (eval/cache.h stores it as CBOR: compact and exact for doubles).
+nlohmann::json to_json(const CanonicalForm& f) {
   nlohmann::json j;
   j["n"] = f.X.rows();
   j["X"] = std::vector<double>(f.X.data(), f.X.data() + f.X.size());
@@ -212,12 +212,10 @@ std::string serialize(const CanonicalForm& f) {
   j["history_rows"] = f.history_rows;
   j["summary"] = f.summary_json;
   j["valid"] = std::vector<double>(f.valid.data(), f.valid.data() + f.valid.size());
-  std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
-  return std::string(bytes.begin(), bytes.end());
+  return j;
 }
 
-CanonicalForm deserialize(const std::string& bytes) {
-  nlohmann::json j = nlohmann::json::from_cbor(bytes);
+CanonicalForm form_from_json(const nlohmann::json& j) {
   CanonicalForm f;
   const Index n = j["n"].get<Index>();
   std::vector<double> X = j["X"].get<std::vector<double>>(), torn = j["torn"].get<std::vector<double>>();
@@ -356,18 +354,18 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const CanonicalFormOptions& options, bool* was_cached,
                                     const DistanceMatrix* D, double D_seconds) {
   const std::string key = canonical_form_cache_key(mesh, options);
-  if (auto hit = cache.get(key)) {
+  if (std::optional<nlohmann::json> hit = cache.get_json(key)) {
     // The repair (cheap) is redone for its report under this call's name, and so that --strict refuses.
     const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
     if (was_cached) *was_cached = true;
-    CanonicalForm form = deserialize(*hit);
+    CanonicalForm form = form_from_json(*hit);
     form.repairs = repaired.actions;
     form.repair_text = repaired.text;
     return form;
   }
   if (was_cached) *was_cached = false;
   CanonicalForm form = canonical_form(mesh, options, D, D_seconds);
-  cache.put(key, serialize(form));
+  cache.put_json(key, to_json(form));
   return form;
 }
 

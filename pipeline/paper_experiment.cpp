@@ -112,12 +112,9 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   s.source_name = source.name;
   s.noisy = true;
   s.mesh.V = source.mesh.V;
-  if (auto hit = cache.get(key)) {
-    json j = json::from_cbor(*hit);
-    std::vector<int> f = j["F"].get<std::vector<int>>();
-    s.mesh.F =
-        Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.size() / 3, 3);
-    s.glued = j["glued"].get<std::vector<int>>();
+  if (std::optional<json> hit = cache.get_json(key)) {
+    s.mesh.F = faces_from_json(hit->at("F"));
+    s.glued = hit->at("glued").get<std::vector<int>>();
   } else {
     TopologicalNoiseResult r = glue_topological_noise(source.mesh, no);
     s.mesh = r.mesh;
@@ -125,10 +122,7 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
       s.glued.push_back(p.a);
       s.glued.push_back(p.b);
     }
-    Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F = s.mesh.F;
-    json j{{"F", std::vector<int>(F.data(), F.data() + F.size())}, {"glued", s.glued}};
-    std::vector<std::uint8_t> bytes = json::to_cbor(j);
-    cache.put(key, std::string(bytes.begin(), bytes.end()));
+    cache.put_json(key, json{{"F", faces_to_json(s.mesh.F)}, {"glued", s.glued}});
   }
   s.key = mesh_content_key(s.mesh);
   return s;
@@ -525,8 +519,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
               << ";vts=" << truth_a_key << "," << truth_b_key << ";samples=" << o.correspondence_samples
               << ";geodesics=" << to_string(go.method) << "," << static_cast<int>(go.heat_mode) << ","
               << go.heat_time_factor << ";icp=" << to_key_string(IcpOptions{});
-          const std::string entry = cache_key({key.str()});
-          const std::string text = misc_cache.get_or_compute(entry, [&] {
+          const std::string entry = cache_key({key.str(), "json"});
+          const json value = misc_cache.get_or_compute_json(entry, [&] {
             if (!G) {
               G = all_pairs_geodesics(sb.mesh, go);
               truth_b = read_vts(sb.vts, sb.mesh.num_vertices());
@@ -537,22 +531,16 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
             ce.max_samples = o.correspondence_samples;
             CorrespondenceErrorResult r =
                 correspondence_error(sb.mesh, align.source_to_target, truth_a, truth_b, ce, &*G);
-            std::ostringstream out;
-            out.precision(17);
-            out << r.mean_error << '\n';
-            for (Index k = 0; k < r.thresholds.size(); ++k)
-              out << r.thresholds[k] << ' ' << r.fraction[k] << '\n';
-            return out.str();
+            return json{
+                {"mean_error", r.mean_error},
+                {"thresholds",
+                 std::vector<double>(r.thresholds.data(), r.thresholds.data() + r.thresholds.size())},
+                {"fraction", std::vector<double>(r.fraction.data(), r.fraction.data() + r.fraction.size())}};
           });
-          std::istringstream in(text);
-          double mean_error = 0;
-          in >> mean_error;
-          std::vector<double> tk, fk;
-          for (double x, y; in >> x >> y;) {
-            tk.push_back(x);
-            fk.push_back(y);
-          }
-          CSHAPES_REQUIRE(in.eof() && !tk.empty(), misc_cache.entry_path(entry),
+          const double mean_error = value.at("mean_error").get<double>();
+          std::vector<double> tk = value.at("thresholds").get<std::vector<double>>();
+          std::vector<double> fk = value.at("fraction").get<std::vector<double>>();
+          CSHAPES_REQUIRE(!tk.empty() && tk.size() == fk.size(), misc_cache.entry_path(entry),
                           ": a damaged point-map cache entry (delete it to recompute)");
           curves[m].push_back(Eigen::Map<Eigen::VectorXd>(fk.data(), static_cast<Index>(fk.size())));
           thresholds = Eigen::Map<Eigen::VectorXd>(tk.data(), static_cast<Index>(tk.size()));

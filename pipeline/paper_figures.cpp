@@ -23,35 +23,15 @@ using nlohmann::json;
 
 namespace {
 
-std::string serialize_mesh(const Mesh& mesh) {
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V = mesh.V;
-  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F = mesh.F;
-  json j{{"V", std::vector<double>(V.data(), V.data() + V.size())},
-         {"F", std::vector<int>(F.data(), F.data() + F.size())}};
-  std::vector<std::uint8_t> bytes = json::to_cbor(j);
-  return std::string(bytes.begin(), bytes.end());
-}
-
-Mesh deserialize_mesh(const std::string& bytes) {
-  json j = json::from_cbor(bytes);
-  std::vector<double> V = j["V"].get<std::vector<double>>();
-  std::vector<int> F = j["F"].get<std::vector<int>>();
-  Mesh m;
-  m.V =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(V.data(), V.size() / 3, 3);
-  m.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(F.data(), F.size() / 3, 3);
-  return m;
-}
-
 // A mesh remeshed to `vertices`, cached by the input's content.
 Mesh remeshed(const Mesh& mesh, Index vertices, const DiskCache& cache) {
   if (mesh.num_vertices() == vertices) return mesh;
   const std::string key = cache_key({"remesh-v1", mesh_content_key(mesh), std::to_string(vertices)});
-  if (auto hit = cache.get(key)) return deserialize_mesh(*hit);
+  if (std::optional<json> hit = cache.get_json(key)) return mesh_from_json(*hit);
   RemeshOptions ro;
   ro.target_vertices = vertices;
   Mesh out = remesh(mesh, ro).mesh;
-  cache.put(key, serialize_mesh(out));
+  cache.put_json(key, mesh_to_json(out));
   return out;
 }
 
@@ -161,7 +141,7 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
     const std::string key = cache_key({"fig3-v1", mesh_content_key(fs_shape.mesh),
                                        canonical_form_key(o.canon), json(o.fig3_iterations).dump()});
     json cached;
-    if (auto hit = misc_cache.get(key)) cached = json::from_cbor(*hit);
+    if (std::optional<json> hit = misc_cache.get_json(key)) cached = *hit;
     json row = json::array({{{"mesh", "figures/fig3_input.ply"}, {"title", fs_shape.name}}});
     write_mesh((dir / "fig3_input.ply").string(), fs_shape.mesh);
     json snapshots = json::array();
@@ -210,10 +190,7 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
                      {"title", std::to_string(target) + " iterations"},
                      {"red", {{"property", "torn"}}}});
     }
-    if (cached.is_null()) {
-      std::vector<std::uint8_t> bytes = json::to_cbor(json{{"snapshots", snapshots}});
-      misc_cache.put(key, std::string(bytes.begin(), bytes.end()));
-    }
+    if (cached.is_null()) misc_cache.put_json(key, json{{"snapshots", snapshots}});
     report.figure_grids["fig3_iterations"] = {
         {"title", "Fig. 3: coulombization (paper's scheme) of " + report.figure_shape},
         {"cells", json::array({row})}};

@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <filesystem>
 #include <random>
 
 #include "core/error.h"
+#include "eval/cache.h"
 #include "matching/shape_distance.h"
 #include "tests/test_support.h"
 
@@ -105,12 +108,35 @@ TEST(PairwiseDistances, KilledRunResumesWithoutRecomputing) {
   PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
   EXPECT_EQ(again.cached, total);
   EXPECT_EQ(again.computed, 0);
-  // Cached values are exact (%.17g round trip) and equal a run without a cache.
+  // Cached values are exact (CBOR doubles) and equal a run without a cache.
   PairwiseDistanceResult fresh = pairwise_distances(shapes, {}, fast_options("", 1));
   EXPECT_EQ(again.hausdorff, fresh.hausdorff);
   EXPECT_EQ(again.chamfer, fresh.chamfer);
   EXPECT_EQ(again.rmse, fresh.rmse);
   EXPECT_EQ(resumed.hausdorff, fresh.hausdorff);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, EntriesOfTheOlderTextFormatAreStillRead) {
+  std::vector<Points> shapes = small_shapes();
+  shapes.resize(2);
+  std::string dir = test::scratch_dir("pairwise-legacy");
+  PairwiseDistanceResult first = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  ASSERT_EQ(count_entries(dir), 1);
+  // Rewrite the one entry as the text line caches held before they shared the CBOR format.
+  const DiskCache cache(dir);
+  std::string key;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) key = entry.path().stem().string();
+  ASSERT_TRUE(cache.get_json(key).has_value());
+  char line[256];
+  std::snprintf(line, sizeof line, "hausdorff %.17g chamfer %.17g rmse %.17g reflection %d iterations 3\n",
+                first.hausdorff(0, 1) * 2, first.chamfer(0, 1), first.rmse(0, 1), first.reflection(0, 1));
+  cache.put(key, line);
+  PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(again.cached, 1);
+  EXPECT_EQ(again.hausdorff(0, 1), first.hausdorff(0, 1) * 2);  // the value read, not recomputed
+  EXPECT_EQ(again.chamfer(0, 1), first.chamfer(0, 1));
   fs::remove_all(dir);
 }
 
