@@ -15,6 +15,10 @@ namespace cshapes {
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                            bool binary = false);
 
+// A CSV of numbers (header + rows, 10 significant digits), written atomically.
+void write_csv(const std::string& path, const std::vector<std::string>& columns,
+               const std::vector<std::vector<double>>& rows);
+
 // Checks, before any work, that an output file can later be written at `path`: its lower-cased extension is
 // one of `extensions` (without the dot, e.g. {"off", "ply"}; empty: any), the path is not a folder, and its
 // folder exists and takes a new file, or can be created (a probe file is created and removed there, so the

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
 #include "core/mesh.h"
@@ -105,9 +106,5 @@ void warn(const std::string& line);
 
 // "a,b,,c" -> {"a", "b", "c"}: a comma-separated option value, empty items dropped.
 std::vector<std::string> split_list(const std::string& text);
-
-// Writes a CSV (header + rows) atomically.
-void write_csv(const std::string& path, const std::vector<std::string>& columns,
-               const std::vector<std::vector<double>>& rows);
 
 }  // namespace cshapes::cli

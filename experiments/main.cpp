@@ -257,19 +257,6 @@ ProgressFn progress_printer() {
   };
 }
 
-void write_csv(const std::string& path, const std::vector<std::string>& columns,
-               const std::vector<std::vector<double>>& rows) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    for (size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
-    out << '\n';
-    out.precision(10);
-    for (const auto& row : rows) {
-      for (size_t c = 0; c < row.size(); ++c) out << (c ? "," : "") << row[c];
-      out << '\n';
-    }
-  });
-}
-
 namespace {
 
 // Other tasks running right now: /proc/loadavg's "running/total" counts every runnable thread on the machine,

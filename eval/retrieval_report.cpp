@@ -1,0 +1,75 @@
+#include "eval/retrieval_report.h"
+
+#include "core/atomic_file.h"
+
+namespace cshapes {
+
+nlohmann::json retrieval_scores_json(const RetrievalScores& s) {
+  return {{"map", s.ap}, {"nn", s.nn}, {"ft", s.ft}, {"st", s.st}, {"e", s.e}, {"dcg", s.dcg}};
+}
+
+RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<std::string>& classes,
+                                 const RetrievalOptions& options, const std::string& source) {
+  RetrievalReport report;
+  report.labels = labels_from_classes(classes, &report.class_names);
+  report.result = evaluate_retrieval(input.D, report.labels, options);
+  report.image = distance_matrix_image(input.D, report.labels);
+  report.metrics = retrieval_scores_json(report.result.mean);
+  const RetrievalResult& r = report.result;
+  nlohmann::json& metrics = report.metrics;
+  metrics["pr"] = {{"recall", r.pr.recall}, {"precision", r.pr.precision}};
+  metrics["input"] = source;
+  metrics["shapes"] = input.names.size();
+  metrics["queries"] = r.queries.size();
+  metrics["skipped"] = r.skipped;
+  nlohmann::json per_class = nlohmann::json::object();
+  for (size_t c = 0; c < report.class_names.size(); ++c) {
+    nlohmann::json entry =
+        r.class_queries[c] ? retrieval_scores_json(r.class_mean[c]) : nlohmann::json::object();
+    entry["queries"] = r.class_queries[c];
+    per_class[report.class_names[c]] = entry;
+  }
+  metrics["classes"] = per_class;
+  metrics["conventions"] =
+      "psbTable: query excluded; tiers over C-1; E over the first min(32, N-1); DCG normalised by the ideal; "
+      "classes with fewer than min_class_size shapes are not queries; PR interpolated (max precision at "
+      "recall >= r), "
+      "averaged over queries";
+  metrics["min_class_size"] = options.min_class_size;
+
+  return report;
+}
+
+void write_retrieval_report(const std::string& folder, const NamedDistances& input,
+                            const RetrievalReport& report) {
+  const RetrievalResult& r = report.result;
+  write_file_atomically(folder + "/metrics.json",
+                        [&](std::ostream& s) { s << report.metrics.dump(2) << '\n'; });
+  std::vector<std::vector<double>> pr_rows;
+  for (size_t l = 0; l < r.pr.recall.size(); ++l) pr_rows.push_back({r.pr.recall[l], r.pr.precision[l]});
+  write_csv(folder + "/pr.csv", {"recall", "precision"}, pr_rows);
+  write_file_atomically(folder + "/queries.csv", [&](std::ostream& s) {
+    s << "shape,class,nn,ft,st,e,dcg,ap\n";
+    s.precision(10);
+    for (const QueryResult& q : r.queries)
+      s << input.names[static_cast<size_t>(q.query)] << ','
+        << report.class_names[static_cast<size_t>(q.label)] << ',' << q.scores.nn << ',' << q.scores.ft << ','
+        << q.scores.st << ',' << q.scores.e << ',' << q.scores.dcg << ',' << q.scores.ap << '\n';
+  });
+  std::vector<std::string> ordered_names;
+  for (int k : report.image.order) ordered_names.push_back(input.names[static_cast<size_t>(k)]);
+  write_distance_csv(folder + "/matrix.csv", ordered_names, report.image.values);
+  write_file_atomically(folder + "/confusion.csv", [&](std::ostream& s) {
+    s << "class";
+    for (const std::string& c : report.class_names) s << ',' << c;
+    s << '\n';
+    for (size_t a = 0; a < report.class_names.size(); ++a) {
+      s << report.class_names[a];
+      for (size_t b = 0; b < report.class_names.size(); ++b)
+        s << ',' << report.image.confusion(static_cast<Index>(a), static_cast<Index>(b));
+      s << '\n';
+    }
+  });
+}
+
+}  // namespace cshapes

@@ -1,0 +1,40 @@
+// Retrieval measures of a named distance matrix as files and JSON: what `cshapes evaluate` writes and the
+// Python module returns (eval/retrieval.h computes them).
+//
+//   metrics.json   map, nn, ft, st, e, dcg, the PR curve, per-class values, the conventions
+//   pr.csv         recall, precision (interpolated, 11 points)
+//   queries.csv    per query: shape, class, nn, ft, st, e, dcg, ap
+//   matrix.csv     the matrix grouped by class and normalised (the paper's Fig. 7 image)
+//   confusion.csv  nearest-neighbour class counts
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "eval/distance_csv.h"
+#include "eval/retrieval.h"
+
+namespace cshapes {
+
+// {map, nn, ft, st, e, dcg}.
+nlohmann::json retrieval_scores_json(const RetrievalScores& scores);
+
+struct RetrievalReport {
+  std::vector<std::string> class_names;  // label order
+  std::vector<int> labels;
+  RetrievalResult result;
+  DistanceMatrixImage image;
+  nlohmann::json metrics;  // the content of metrics.json
+};
+
+// Measures `input` with one class per shape (classes[i] for input.names[i]). source: what metrics.json
+// names as its input.
+RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<std::string>& classes,
+                                 const RetrievalOptions& options = {}, const std::string& source = "");
+
+// Writes the five files above into `folder` (each atomically).
+void write_retrieval_report(const std::string& folder, const NamedDistances& input,
+                            const RetrievalReport& report);
+
+}  // namespace cshapes
