@@ -4,7 +4,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/timing.h"
 
 namespace cshapes {
 namespace {
@@ -152,7 +152,7 @@ class DoubleCentredOp {
 template <typename Scalar>
 ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& D,
                                       const ClassicalMdsOptions& options) {
-  auto start = std::chrono::steady_clock::now();
+  const WallClock::time_point start = WallClock::now();
   const Index n = D.rows();
   CSHAPES_REQUIRE(D.rows() == D.cols(), "classical MDS: distance matrix must be square, got ", D.rows(), "x",
                   D.cols());
@@ -225,7 +225,7 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
       result.frobenius_squared > 0 ? std::min(1.0, top_energy / result.frobenius_squared) : 1;
   result.negative_energy_upper_bound = 1 - result.explained_energy;
   result.negative_mass_lower_bound = top_sum > 0 ? std::max(0.0, top_sum - result.trace) / top_sum : 0;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
 }
 

@@ -1,8 +1,6 @@
 #include "canon/coulomb.h"
 
-#include <Eigen/SVD>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -10,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/timing.h"
 
 namespace cshapes {
 
@@ -47,42 +46,6 @@ TearGuard parse_tear_guard(const std::string& name) {
 
 std::string to_string(TearGuard guard) {
   return guard == TearGuard::Vertex ? "vertex" : "connected";
-}
-
-void rigid_align_in_place(Points& A, const Points& B) {
-  CSHAPES_REQUIRE(A.rows() == B.rows(), "rigid_align: ", A.rows(), " vs ", B.rows(), " points");
-  const Index n = A.rows();
-  if (n == 0) return;
-  const Eigen::RowVector3d ca = A.colwise().mean(), cb = B.colwise().mean();
-  Eigen::Matrix3d H;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) H(r, c) = ((A.col(r).array() - ca(r)) * (B.col(c).array() - cb(c))).sum();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  // Exclude reflections: a canonical form and its mirror image are different shapes.
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
-  // Written back without the n×3 temporaries of an Eigen expression: the Coulomb loop runs this every iteration.
-  double* x = A.data();
-  double* y = x + n;
-  double* z = y + n;
-  for (Index i = 0; i < n; ++i) {
-    const double ax = x[i] - ca(0), ay = y[i] - ca(1), az = z[i] - ca(2);
-    x[i] = R(0, 0) * ax + R(0, 1) * ay + R(0, 2) * az + cb(0);
-    y[i] = R(1, 0) * ax + R(1, 1) * ay + R(1, 2) * az + cb(1);
-    z[i] = R(2, 0) * ax + R(2, 1) * ay + R(2, 2) * az + cb(2);
-  }
-}
-
-Points rigid_align(const Points& A, const Points& B) {
-  Points moved = A;
-  rigid_align_in_place(moved, B);
-  return moved;
-}
-
-double rigid_rms_distance(const Points& A, const Points& B) {
-  if (A.rows() == 0) return 0;
-  return std::sqrt((rigid_align(A, B) - B).rowwise().squaredNorm().mean());
 }
 
 namespace {
@@ -233,9 +196,8 @@ void check_options(const CoulombCanonOptions& o) {
 
 CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options,
                                           const Eigen::VectorXd& rest_lengths) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const WallClock::time_point start = WallClock::now();
+  auto elapsed = [&] { return seconds_since(start); };
   check_options(options);
   const Index n = X0.rows();
   CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);

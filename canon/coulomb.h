@@ -19,6 +19,7 @@
 #include "canon/form_quality.h"
 #include "canon/metric_projection.h"
 #include "core/progress.h"
+#include "core/rigid_transform.h"
 
 namespace cshapes {
 
@@ -170,12 +171,7 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
                                         Index num_vertices, Index count,
                                         TearGuard guard = TearGuard::Connected);
 
-// Rigid alignment (Kabsch, no scaling) of A onto B with the same vertex order: the rotation R and translation
-// t minimising Σ ‖R a_i + t − b_i‖². Returns A moved. Reflections are excluded.
-Points rigid_align(const Points& A, const Points& B);
-// The same, written back into A.
-void rigid_align_in_place(Points& A, const Points& B);
-// RMS of ‖rigid_align(A, B)_i − b_i‖.
-double rigid_rms_distance(const Points& A, const Points& B);
+// rigid_align, rigid_align_in_place and rigid_rms_distance (Kabsch, same vertex order, reflections
+// excluded), which the iteration uses to remove rigid motion, live in core/rigid_transform.h.
 
 }  // namespace cshapes

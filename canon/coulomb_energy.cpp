@@ -210,4 +210,41 @@ CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions&
   }
 }
 
+double relative_l2_error(const Points& a, const Points& b) {
+  return (a - b).norm() / b.norm();
+}
+
+CoulombErrors coulomb_errors(const CoulombEvaluation& evaluation, const CoulombEvaluation& reference) {
+  CSHAPES_REQUIRE(evaluation.gradient.rows() == reference.gradient.rows(),
+                  "coulomb_errors: ", evaluation.gradient.rows(), " vs ", reference.gradient.rows(),
+                  " points");
+  CoulombErrors e;
+  e.gradient = relative_l2_error(evaluation.gradient, reference.gradient);
+  e.energy = std::abs(evaluation.energy - reference.energy) / std::abs(reference.energy);
+  return e;
+}
+
+CoulombErrors coulomb_errors(const CoulombEvaluation& evaluation, const std::vector<Index>& targets,
+                             const CoulombTargetSums& reference) {
+  const Index count = static_cast<Index>(targets.size());
+  CSHAPES_REQUIRE(reference.gradient.rows() == count && reference.potential.size() == count,
+                  "coulomb_errors: the reference has ", reference.gradient.rows(), " rows for ", count,
+                  " targets");
+  CSHAPES_REQUIRE(evaluation.potential.size() == evaluation.gradient.rows(),
+                  "coulomb_errors: the evaluation has no potentials (set want_potentials)");
+  double diff2 = 0, ref2 = 0, phi = 0, phi_exact = 0;
+  for (Index t = 0; t < count; ++t) {
+    const Index i = targets[static_cast<size_t>(t)];
+    CSHAPES_REQUIRE(i >= 0 && i < evaluation.gradient.rows(), "coulomb_errors: target ", i, " out of range");
+    diff2 += (evaluation.gradient.row(i) - reference.gradient.row(t)).squaredNorm();
+    ref2 += reference.gradient.row(t).squaredNorm();
+    phi += evaluation.potential[i];
+    phi_exact += reference.potential[t];
+  }
+  CoulombErrors e;
+  e.gradient = std::sqrt(diff2 / ref2);
+  e.energy = std::abs(phi - phi_exact) / std::abs(phi_exact);
+  return e;
+}
+
 }  // namespace cshapes

@@ -77,6 +77,22 @@ struct CoulombTargetSums {
 CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Index>& targets,
                                          double min_distance = 0);
 
+// The accuracy of an evaluation against exact direct summation (the reference path every fast summation is
+// checked against, in the benchmark and in the tests alike).
+struct CoulombErrors {
+  double gradient = 0;  // relative L2 error of the gradient, ‖g − g_ref‖ / ‖g_ref‖ (Frobenius, over the rows)
+  double energy = 0;  // |E − E_ref| / |E_ref|; on a sample of targets, of Σ_t φ_t instead of E
+};
+// Against a complete direct sum (coulomb_direct of the same points): all n rows.
+CoulombErrors coulomb_errors(const CoulombEvaluation& evaluation, const CoulombEvaluation& reference);
+// Against exact sums at a sample of targets (reference = coulomb_direct_targets(X, targets)): the gradient
+// error over the targets' rows, the energy error from their potentials, so evaluation.potential is needed
+// (want_potentials). O(|targets|).
+CoulombErrors coulomb_errors(const CoulombEvaluation& evaluation, const std::vector<Index>& targets,
+                             const CoulombTargetSums& reference);
+// ‖a − b‖ / ‖b‖ (Frobenius norms; b is the reference).
+double relative_l2_error(const Points& a, const Points& b);
+
 // The floor used for X when options.min_distance is 0: 1e-9 × floor_reference_length(X).
 double default_min_distance(const Points& X);
 // The bounding-box diagonal of X, or max(1, max |coordinate|) when it is 0 (all points coincide).

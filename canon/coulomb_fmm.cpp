@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,6 +9,7 @@
 #include "canon/coulomb_p2p.h"
 #include "core/error.h"
 #include "core/morton.h"
+#include "core/timing.h"
 
 namespace cshapes {
 namespace {
@@ -18,10 +18,6 @@ using coulomb_detail::FloatPoints;
 using coulomb_detail::FramedRange;
 using coulomb_detail::kBlock;
 using coulomb_detail::SourceRange;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Four doubles in one AVX register (GCC/Clang vector extension): M2L runs four source cells at once.
 typedef double V4 __attribute__((vector_size(32)));
@@ -527,13 +523,13 @@ class Fmm {
   }
 
   CoulombEvaluation run(bool want_potentials) {
-    auto t = std::chrono::steady_clock::now();
+    auto t = WallClock::now();
     build_tree();
     stats_.seconds_tree = seconds_since(t);
-    t = std::chrono::steady_clock::now();
+    t = WallClock::now();
     upward_pass();
     stats_.seconds_upward = seconds_since(t);
-    t = std::chrono::steady_clock::now();
+    t = WallClock::now();
     m2l_lists_.assign(cells_.size(), {});
     p2p_lists_.assign(cells_.size(), {});
     // One allocation per list instead of a growth sequence (typical lists: ~60 M2L sources per cell, ~30
@@ -544,10 +540,10 @@ class Fmm {
     }
     traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
-    t = std::chrono::steady_clock::now();
+    t = WallClock::now();
     interactions();
     stats_.seconds_interactions = seconds_since(t);
-    t = std::chrono::steady_clock::now();
+    t = WallClock::now();
     downward_pass();
     stats_.seconds_downward = seconds_since(t);
     return gather(want_potentials);
@@ -811,7 +807,7 @@ class Fmm {
         // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
         // the lanes are summed at the end in a fixed order.
         const std::vector<int32_t>& list = m2l_lists_[a];
-        const auto m2l_start = std::chrono::steady_clock::now();
+        const auto m2l_start = WallClock::now();
         if (!list.empty()) {
           std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
           for (size_t g = 0; g < list.size(); g += 4) {
@@ -861,7 +857,7 @@ class Fmm {
         m2l_total += static_cast<Index>(m2l_lists_[a].size());
         m2l_seconds += seconds_since(m2l_start);
         if (!A.leaf() || p2p_lists_[a].empty()) continue;
-        const auto p2p_start = std::chrono::steady_clock::now();
+        const auto p2p_start = WallClock::now();
         ranges.clear(), exact_ranges.clear();
         Index sources = 0;
         int self_range = -1;

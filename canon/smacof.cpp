@@ -5,14 +5,13 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cfloat>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 #include <limits>
 #include <string>
 
 #include "canon/classical_mds.h"
 #include "core/error.h"
+#include "core/timing.h"
 
 #ifdef __AVX2__
 #include <immintrin.h>
@@ -30,16 +29,6 @@ constexpr Index kTileCols = 256;
 // Rows ahead whose tile segment is prefetched: each row of a tile is a separate 1 KB run of D, and the
 // hardware prefetcher alone stalls at the start of every run.
 constexpr Index kPrefetchRows = 2;
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-double process_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 // The tiles (row block, column block) of an n×n matrix holding some entry (i, j) with i < j.
 std::vector<std::pair<Index, Index>> upper_tiles(Index n) {
@@ -377,7 +366,7 @@ GuttmanTransform guttman_transform(const DistanceMatrix& D, const Points& X, con
 }
 
 SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptions& options) {
-  const auto start = Clock::now();
+  const WallClock::time_point start = WallClock::now();
   CSHAPES_REQUIRE(X0.rows() == D.rows(), "SMACOF: initial configuration has ", X0.rows(), " points for a ",
                   D.rows(), "x", D.cols(), " distance matrix");
   CSHAPES_REQUIRE(X0.allFinite(), "SMACOF: initial configuration has non-finite coordinates");
@@ -388,7 +377,7 @@ SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptio
   const double energy = weighted_distance_energy(D, options.vertex_weights, "SMACOF");
 
   Evaluator evaluate(D, options.vertex_weights);
-  const auto iterations_start = Clock::now();
+  const WallClock::time_point iterations_start = WallClock::now();
   const double cpu_start = process_cpu_seconds();
   SmacofResult result;
   Points X = X0.rowwise() - evaluate.centroid(X0);

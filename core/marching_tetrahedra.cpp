@@ -94,12 +94,7 @@ Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d&)>& fi
           }
         }
       }
-  Mesh mesh;
-  mesh.V.resize(verts.size(), 3);
-  for (size_t i = 0; i < verts.size(); ++i) mesh.V.row(i) = verts[i];
-  mesh.F.resize(tris.size(), 3);
-  for (size_t f = 0; f < tris.size(); ++f) mesh.F.row(f) = tris[f];
-  return mesh;
+  return mesh_from_vectors(verts, tris);
 }
 
 }  // namespace cshapes

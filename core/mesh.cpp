@@ -8,6 +8,16 @@
 
 namespace cshapes {
 
+Mesh mesh_from_vectors(const std::vector<Eigen::Vector3d>& vertices,
+                       const std::vector<Eigen::Vector3i>& triangles) {
+  Mesh m;
+  m.V.resize(static_cast<Index>(vertices.size()), 3);
+  for (size_t i = 0; i < vertices.size(); ++i) m.V.row(static_cast<Index>(i)) = vertices[i];
+  m.F.resize(static_cast<Index>(triangles.size()), 3);
+  for (size_t f = 0; f < triangles.size(); ++f) m.F.row(static_cast<Index>(f)) = triangles[f];
+  return m;
+}
+
 Edges mesh_edges(const Faces& F) {
   std::vector<std::pair<int, int>> all;
   all.reserve(3 * F.rows());

@@ -18,6 +18,11 @@ struct Mesh {
   bool is_point_cloud() const { return F.rows() == 0; }
 };
 
+// A mesh from a vertex list and a triangle list (0-based indices into the vertices), as the generators build
+// them; no validation.
+Mesh mesh_from_vectors(const std::vector<Eigen::Vector3d>& vertices,
+                       const std::vector<Eigen::Vector3i>& triangles);
+
 // Unique undirected edges of the triangles, each (i, j) with i < j, sorted lexicographically.
 Edges mesh_edges(const Faces& F);
 

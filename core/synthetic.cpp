@@ -12,15 +12,6 @@ namespace cshapes {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-
-Mesh from_vectors(const std::vector<Eigen::Vector3d>& verts, const std::vector<Eigen::Vector3i>& tris) {
-  Mesh m;
-  m.V.resize(verts.size(), 3);
-  for (size_t i = 0; i < verts.size(); ++i) m.V.row(i) = verts[i];
-  m.F.resize(tris.size(), 3);
-  for (size_t f = 0; f < tris.size(); ++f) m.F.row(f) = tris[f];
-  return m;
-}
 }  // namespace
 
 Mesh icosphere(int subdivisions, double radius) {
@@ -56,7 +47,7 @@ Mesh icosphere(int subdivisions, double radius) {
     tris.swap(next);
   }
   for (auto& v : verts) v *= radius;
-  return from_vectors(verts, tris);
+  return mesh_from_vectors(verts, tris);
 }
 
 Mesh torus(int nu, int nv, double R, double r) {
@@ -77,7 +68,7 @@ Mesh torus(int nu, int nv, double R, double r) {
       tris.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
       tris.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
     }
-  return from_vectors(verts, tris);
+  return mesh_from_vectors(verts, tris);
 }
 
 Mesh grid(int nx, int ny, double width, double height) {
@@ -97,7 +88,7 @@ Mesh grid(int nx, int ny, double width, double height) {
         tris.emplace_back(id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
       }
     }
-  return from_vectors(verts, tris);
+  return mesh_from_vectors(verts, tris);
 }
 
 Points lumpy_blob(Index n, std::uint64_t seed) {
@@ -165,7 +156,7 @@ Mesh capsule(const CapsuleOptions& o) {
       }
     }
   for (int j = 0; j < s; ++j) tris.emplace_back(last_pole, id(num_rings - 1, j), id(num_rings - 1, j + 1));
-  return from_vectors(verts, tris);
+  return mesh_from_vectors(verts, tris);
 }
 
 Mesh split_faces(const Mesh& mesh, int every, double w0, double w1) {
@@ -219,6 +210,107 @@ Mesh swiss_roll(const SwissRollOptions& o) {
     flat.V.row(k) << ts[i] * std::cos(ts[i]), y, ts[i] * std::sin(ts[i]);
   }
   return flat;
+}
+
+SwissRollSample random_swiss_roll_points(Index n, unsigned seed, const SwissRollOptions& roll) {
+  CSHAPES_REQUIRE(n >= 0, "random_swiss_roll_points: n must be >= 0, got ", n);
+  CSHAPES_REQUIRE(roll.t1 > roll.t0 && roll.t0 >= 0 && roll.height > 0,
+                  "random_swiss_roll_points: needs 0 <= t0 < t1 and height > 0");
+  const double length = swiss_roll_length(roll.t0, roll.t1);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> along(0.0, length), across(0.0, roll.height);
+  // Arc length → spiral angle by a fine table (the roll's arc length is monotone in t).
+  const int table = 4096;
+  std::vector<double> arc(table + 1);
+  for (int k = 0; k <= table; ++k)
+    arc[k] = swiss_roll_length(roll.t0, roll.t0 + (roll.t1 - roll.t0) * k / table);
+  SwissRollSample sample;
+  sample.flat.resize(n, 2);
+  sample.X.resize(n, 3);
+  for (Index i = 0; i < n; ++i) {
+    const double s = along(rng), y = across(rng);
+    const int k = std::min<int>(table - 1, std::lower_bound(arc.begin(), arc.end(), s) - arc.begin());
+    const double t = roll.t0 + (roll.t1 - roll.t0) * (k + (k + 1 < table ? 0.5 : 0.0)) / table;
+    sample.flat.row(i) << s, y;
+    sample.X.row(i) << t * std::cos(t), y, t * std::sin(t);
+  }
+  return sample;
+}
+
+DistanceMatrix swiss_roll_geodesic_distances(const SwissRollSample& sample) {
+  const Index n = sample.flat.rows();
+  require_memory(distance_matrix_bytes(n), "the " + std::to_string(n) + "x" + std::to_string(n) +
+                                               " distance matrix of the Swiss roll sample");
+  DistanceMatrix D(n, n);
+  const Eigen::MatrixX2d& flat = sample.flat;
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j)
+    for (Index i = 0; i < n; ++i) D(i, j) = static_cast<float>((flat.row(i) - flat.row(j)).norm());
+  return D;
+}
+
+PointDistribution parse_point_distribution(const std::string& name) {
+  if (name == "uniform") return PointDistribution::Uniform;
+  if (name == "sphere") return PointDistribution::Sphere;
+  if (name == "clustered") return PointDistribution::Clustered;
+  fail("unknown point distribution '", name, "' (expected uniform, sphere or clustered)");
+}
+
+Points random_points(Index n, PointDistribution distribution, std::mt19937_64& rng) {
+  CSHAPES_REQUIRE(n >= 0, "random_points: n must be >= 0, got ", n);
+  Points X(n, 3);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  std::normal_distribution<double> normal(0, 1);
+  switch (distribution) {
+    case PointDistribution::Uniform:
+      for (Index i = 0; i < n; ++i) X.row(i) << uniform(rng), uniform(rng), uniform(rng);
+      break;
+    case PointDistribution::Sphere:
+      for (Index i = 0; i < n; ++i) {
+        Eigen::RowVector3d v(normal(rng), normal(rng), normal(rng));
+        X.row(i) = v / std::max(v.norm(), 1e-300);
+      }
+      break;
+    case PointDistribution::Clustered: {
+      const int clusters = 20;
+      std::vector<Eigen::RowVector3d> centers(clusters);
+      std::vector<double> widths(clusters), weights(clusters);
+      for (int c = 0; c < clusters; ++c) {
+        centers[c] << uniform(rng), uniform(rng), uniform(rng);
+        widths[c] = std::pow(10.0, -3 + 2 * uniform(rng));
+        weights[c] = 1 + 9 * uniform(rng);
+      }
+      std::discrete_distribution<int> pick(weights.begin(), weights.end());
+      for (Index i = 0; i < n; ++i) {
+        const int c = pick(rng);
+        X.row(i) = centers[c] + widths[c] * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
+      }
+      break;
+    }
+  }
+  return X;
+}
+
+Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
+  std::vector<double> area(mesh.F.rows());
+  for (Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                             c = mesh.V.row(mesh.F(f, 2));
+    area[f] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  CSHAPES_REQUIRE(std::any_of(area.begin(), area.end(), [](double a) { return a > 0; }),
+                  "sample_surface: the mesh has no face of positive area to sample points on");
+  std::discrete_distribution<Index> pick(area.begin(), area.end());
+  std::uniform_real_distribution<double> uniform(0, 1);
+  Points X(n, 3);
+  for (Index i = 0; i < n; ++i) {
+    const Index f = pick(rng);
+    double u = uniform(rng), v = uniform(rng);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    X.row(i) =
+        (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
+  }
+  return X;
 }
 
 }  // namespace cshapes

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
+#include <string>
 
+#include "core/distance_matrix.h"
 #include "core/mesh.h"
 
 namespace cshapes {
@@ -58,5 +61,38 @@ Mesh split_faces(const Mesh& mesh, int every, double w0 = 0.6, double w1 = 0.3);
 
 // Arc length of the spiral (t cos t, t sin t) from t0 to t1.
 double swiss_roll_length(double t0, double t1);
+
+// n points drawn uniformly by area on the Swiss roll of `options` (nu, nv unused), for `seed` (std::mt19937),
+// with their geodesic distances known exactly: the roll is developable, so the geodesic distance of two
+// points is the Euclidean distance of their (arc length, height) coordinates in the unrolled rectangle.
+// The 3-D position takes the spiral angle from a 4,096-entry table of arc length: the middle of the table
+// cell AFTER the one holding the point's arc length (as cshapes bench smacof has always drawn its start), so
+// X lies 0.5 to 1.5 cells (of 1/4,096 of the angle span) further along the roll than `flat` says; `flat` and
+// the distances are exact. X serves as a starting configuration, not as ground truth.
+struct SwissRollSample {
+  Points X;               // n×3 points on the roll
+  Eigen::MatrixX2d flat;  // n×2 (arc length from t0, height): the same points unrolled
+};
+SwissRollSample random_swiss_roll_points(Index n, unsigned seed, const SwissRollOptions& options = {});
+
+// The n×n geodesic distances of a SwissRollSample (Euclidean distances of its `flat` rows), in single
+// precision. Throws cshapes::Error (before allocating) when the matrix does not fit in the memory available.
+// OpenMP over columns.
+DistanceMatrix swiss_roll_geodesic_distances(const SwissRollSample& sample);
+
+// Random point sets for the Coulomb benchmarks and tests:
+//   Uniform    in the unit cube [0, 1]³
+//   Sphere     on the unit sphere (normalised Gaussian vectors)
+//   Clustered  20 Gaussian clusters, centres uniform in the unit cube, widths log-uniform in 1e-3 … 1e-1,
+//              populations drawn with weights uniform in [1, 10] (the hard case for a tree's adaptivity)
+enum class PointDistribution { Uniform, Sphere, Clustered };
+// "uniform", "sphere", "clustered"; throws cshapes::Error naming the known ones otherwise.
+PointDistribution parse_point_distribution(const std::string& name);
+// n points of the distribution, drawn from rng (which advances; the same rng state gives the same points).
+Points random_points(Index n, PointDistribution distribution, std::mt19937_64& rng);
+
+// n points uniformly distributed by area on the mesh's triangles (a triangle by area, then a uniform point in
+// it), drawn from rng. The mesh needs at least one face of positive area.
+Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng);
 
 }  // namespace cshapes

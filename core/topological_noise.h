@@ -78,6 +78,17 @@ struct TopologicalNoiseResult {
 // exist.
 TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const TopologicalNoiseOptions& options);
 
+// Topological noise as extra edges rather than faces (for methods that take an edge graph, e.g. the Coulomb
+// iteration's rest lengths): up to `count` vertex pairs (i, j) closer than 8 mean edge lengths in space and
+// at least 15 mean edge lengths apart along the edges (Dijkstra), all at one site: the closest such pair,
+// then the closest pairs whose both ends lie within 8 mean edges of its ends, each vertex used once; like
+// gluing a foot to a foot. Pairs within 10 hops of each other are never candidates (a cheap pre-filter: most
+// near pairs are near along the surface too). Returns the bridges as edges (i < j), by increasing Euclidean
+// length, ties by index; a bridge's rest length is its Euclidean length, as for an edge of added faces.
+// V: n×3; E: the graph's edges. Throws cshapes::Error when no pair qualifies. Cost: a 10-hop search and a
+// scan of later vertices per vertex, O(n²) distance tests, plus one Dijkstra per pair examined.
+Edges glue_bridges(const Points& V, const Edges& E, int count);
+
 // Area-weighted vertex normals (unit length; zero for isolated vertices).
 Points vertex_normals(const Mesh& mesh);
 

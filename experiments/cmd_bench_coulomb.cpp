@@ -12,10 +12,8 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <iostream>
 #include <numeric>
 #include <random>
@@ -24,6 +22,8 @@
 #include "canon/coulomb_fmm.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/synthetic.h"
+#include "core/timing.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -44,82 +44,20 @@ struct BenchArgs {
   bool json = false;
 } args;
 
-// Points in the unit cube, on the unit sphere, or in 20 Gaussian clusters whose widths span two decades
-// (1e-3 … 1e-1) and whose populations vary tenfold: the hard case for a tree's adaptivity.
-Points generate_points(Index n, const std::string& distribution, std::mt19937_64& rng) {
-  Points X(n, 3);
-  std::uniform_real_distribution<double> uniform(0, 1);
-  std::normal_distribution<double> normal(0, 1);
-  if (distribution == "uniform") {
-    for (Index i = 0; i < n; ++i) X.row(i) << uniform(rng), uniform(rng), uniform(rng);
-  } else if (distribution == "sphere") {
-    for (Index i = 0; i < n; ++i) {
-      Eigen::RowVector3d v(normal(rng), normal(rng), normal(rng));
-      X.row(i) = v / std::max(v.norm(), 1e-300);
-    }
-  } else if (distribution == "clustered") {
-    const int clusters = 20;
-    std::vector<Eigen::RowVector3d> centers(clusters);
-    std::vector<double> widths(clusters), weights(clusters);
-    for (int c = 0; c < clusters; ++c) {
-      centers[c] << uniform(rng), uniform(rng), uniform(rng);
-      widths[c] = std::pow(10.0, -3 + 2 * uniform(rng));
-      weights[c] = 1 + 9 * uniform(rng);
-    }
-    std::discrete_distribution<int> pick(weights.begin(), weights.end());
-    for (Index i = 0; i < n; ++i) {
-      const int c = pick(rng);
-      X.row(i) = centers[c] + widths[c] * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
-    }
-  } else {
-    fail("bench coulomb: unknown distribution '", distribution, "' (expected uniform, sphere or clustered)");
-  }
-  return X;
-}
-
-// n points uniformly distributed by area on the mesh's surface.
-Points sample_surface(const Mesh& mesh, Index n, std::mt19937_64& rng) {
-  std::vector<double> area(mesh.F.rows());
-  for (Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                             c = mesh.V.row(mesh.F(f, 2));
-    area[f] = 0.5 * (b - a).cross(c - a).norm();
-  }
-  std::discrete_distribution<Index> pick(area.begin(), area.end());
-  std::uniform_real_distribution<double> uniform(0, 1);
-  Points X(n, 3);
-  for (Index i = 0; i < n; ++i) {
-    const Index f = pick(rng);
-    double u = uniform(rng), v = uniform(rng);
-    if (u + v > 1) u = 1 - u, v = 1 - v;
-    X.row(i) =
-        (1 - u - v) * mesh.V.row(mesh.F(f, 0)) + u * mesh.V.row(mesh.F(f, 1)) + v * mesh.V.row(mesh.F(f, 2));
-  }
-  return X;
-}
-
-double process_cpu_seconds() {
-  timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-// Median wall-clock seconds over the runs; cpu_seconds (if given) gets the median process CPU seconds, which
-// on a machine shared with other jobs shows the work done independently of the share of the cores obtained.
+// Median wall-clock seconds over the runs (core/timing.h's median); cpu_seconds (if given) gets the median
+// process CPU seconds, which on a machine shared with other jobs shows the work done independently of the
+// share of the cores obtained.
 template <class F>
 double median_seconds(int repeats, F&& f, double* cpu_seconds = nullptr) {
-  std::vector<double> t, cpu;
+  std::vector<double> wall, cpu;
   for (int r = 0; r < repeats; ++r) {
-    const double cpu_start = process_cpu_seconds();
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch stopwatch;
     f();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    cpu.push_back(process_cpu_seconds() - cpu_start);
+    wall.push_back(stopwatch.wall_seconds());
+    cpu.push_back(stopwatch.cpu_seconds());
   }
-  std::sort(t.begin(), t.end());
-  std::sort(cpu.begin(), cpu.end());
-  if (cpu_seconds) *cpu_seconds = cpu[cpu.size() / 2];
-  return t[t.size() / 2];
+  if (cpu_seconds) *cpu_seconds = median(cpu);
+  return median(wall);
 }
 
 int run() {
@@ -138,7 +76,7 @@ int run() {
     }
   } else {
     CSHAPES_REQUIRE(args.n >= 2, "bench coulomb: --n must be at least 2 (or give --mesh)");
-    X = generate_points(args.n, args.distribution, rng);
+    X = random_points(args.n, parse_point_distribution(args.distribution), rng);
   }
   const Index n = X.rows();
 
@@ -164,8 +102,9 @@ int run() {
         args.repeats, [&] { direct = coulomb_direct(X); }, &direct_cpu_seconds);
     direct_float_seconds = median_seconds(
         args.repeats, [&] { coulomb_direct_float(X); }, &direct_float_cpu_seconds);
-    gradient_error = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
-    energy_error = std::abs(fast.energy - direct.energy) / std::abs(direct.energy);
+    const CoulombErrors errors = coulomb_errors(fast, direct);
+    gradient_error = errors.gradient;
+    energy_error = errors.energy;
   } else {
     error_targets = std::min(args.sample, n);
     std::vector<Index> all(n);
@@ -178,15 +117,9 @@ int run() {
         1, [&] { exact = coulomb_direct_targets(X, targets); }, &direct_cpu_seconds);
     direct_seconds = sample_seconds * double(n) / double(error_targets);
     direct_cpu_seconds *= double(n) / double(error_targets);
-    double diff2 = 0, ref2 = 0, phi_fast = 0, phi_exact = 0;
-    for (Index t = 0; t < error_targets; ++t) {
-      diff2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
-      ref2 += exact.gradient.row(t).squaredNorm();
-      phi_fast += fast.potential[targets[t]];
-      phi_exact += exact.potential[t];
-    }
-    gradient_error = std::sqrt(diff2 / ref2);
-    energy_error = std::abs(phi_fast - phi_exact) / std::abs(phi_exact);
+    const CoulombErrors errors = coulomb_errors(fast, targets, exact);
+    gradient_error = errors.gradient;
+    energy_error = errors.energy;
   }
 
   nlohmann::json j = {{"n", n},

@@ -10,9 +10,7 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 #include <iostream>
 #include <map>
 #include <numeric>
@@ -22,7 +20,9 @@
 #include "core/fast_marching.h"
 #include "core/geodesics.h"
 #include "core/heat_method.h"
+#include "core/subdivide.h"
 #include "core/synthetic.h"
+#include "core/timing.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -40,103 +40,11 @@ struct BenchArgs {
   bool json = false;
 } args;
 
-struct Clock {
-  std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
-  double cpu0 = cpu_now();
-  static double cpu_now() {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-  }
-  double wall_seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-  }
-  double cpu_seconds() const { return cpu_now() - cpu0; }
-};
-
-// 1-to-4 midpoint subdivision (every triangle into four; edge midpoints become vertices).
-Mesh subdivide(const Mesh& mesh) {
-  Edges E = mesh_edges(mesh.F);
-  const Index n = mesh.num_vertices();
-  std::map<std::pair<int, int>, int> midpoint;
-  Mesh out;
-  out.V.resize(n + E.rows(), 3);
-  out.V.topRows(n) = mesh.V;
-  for (Index e = 0; e < E.rows(); ++e) {
-    out.V.row(n + e) = 0.5 * (mesh.V.row(E(e, 0)) + mesh.V.row(E(e, 1)));
-    midpoint[{E(e, 0), E(e, 1)}] = static_cast<int>(n + e);
-  }
-  auto mid = [&](int a, int b) { return midpoint.at({std::min(a, b), std::max(a, b)}); };
-  out.F.resize(4 * mesh.num_faces(), 3);
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
-    int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-    out.F.row(4 * f) << a, ab, ca;
-    out.F.row(4 * f + 1) << b, bc, ab;
-    out.F.row(4 * f + 2) << c, ca, bc;
-    out.F.row(4 * f + 3) << ab, bc, ca;
-  }
-  return out;
-}
-
-// Splits the longest edges at their midpoints (each split: +1 vertex, its two triangles into four), rounds of
-// edges not sharing a triangle, until the mesh has exactly `target` vertices.
-Mesh split_longest_edges(Mesh mesh, Index target) {
-  while (mesh.num_vertices() < target) {
-    std::map<std::pair<int, int>, std::vector<int>> faces_of;  // undirected edge → faces
-    for (Index f = 0; f < mesh.num_faces(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
-        faces_of[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
-      }
-    std::vector<std::pair<double, std::pair<int, int>>> by_length;
-    for (const auto& [edge, faces] : faces_of)
-      if (faces.size() <= 2)
-        by_length.push_back({(mesh.V.row(edge.first) - mesh.V.row(edge.second)).norm(), edge});
-    std::sort(by_length.begin(), by_length.end(), std::greater<>());
-    std::vector<char> touched(mesh.num_faces(), 0);
-    std::vector<Eigen::Vector3i> faces(mesh.num_faces());
-    for (Index f = 0; f < mesh.num_faces(); ++f) faces[f] = mesh.F.row(f).transpose();
-    std::vector<Eigen::RowVector3d> new_vertices;
-    Index n = mesh.num_vertices();
-    for (const auto& [length, edge] : by_length) {
-      if (n + static_cast<Index>(new_vertices.size()) >= target) break;
-      const std::vector<int>& fs = faces_of[edge];
-      if (std::any_of(fs.begin(), fs.end(), [&](int f) { return touched[f]; })) continue;
-      const int m = static_cast<int>(n + new_vertices.size());
-      new_vertices.push_back(0.5 * (mesh.V.row(edge.first) + mesh.V.row(edge.second)));
-      for (int f : fs) {
-        touched[f] = 1;
-        Eigen::Vector3i t = faces[f];
-        int k = 0;  // t(k) → t(k+1) is the split edge
-        while (!((t(k) == edge.first && t((k + 1) % 3) == edge.second) ||
-                 (t(k) == edge.second && t((k + 1) % 3) == edge.first)))
-          ++k;
-        const int a = t(k), b = t((k + 1) % 3), c = t((k + 2) % 3);
-        faces[f] = Eigen::Vector3i(a, m, c);
-        faces.emplace_back(m, b, c);
-      }
-    }
-    CSHAPES_REQUIRE(!new_vertices.empty(), "bench geodesics: cannot refine the mesh further");
-    Mesh out;
-    out.V.resize(n + new_vertices.size(), 3);
-    out.V.topRows(n) = mesh.V;
-    for (size_t k = 0; k < new_vertices.size(); ++k) out.V.row(n + k) = new_vertices[k];
-    out.F.resize(faces.size(), 3);
-    for (size_t f = 0; f < faces.size(); ++f) out.F.row(f) = faces[f].transpose();
-    mesh = std::move(out);
-  }
-  return mesh;
-}
-
 Mesh refine_to(Mesh mesh, Index target, std::string& description) {
-  int subdivisions = 0;
-  while (mesh.num_vertices() + mesh_edges(mesh.F).rows() <= target) mesh = subdivide(mesh), ++subdivisions;
-  Index before = mesh.num_vertices();
-  mesh = split_longest_edges(std::move(mesh), target);
-  description += ", " + std::to_string(subdivisions) + "× 1-to-4 midpoint subdivision, then " +
-                 std::to_string(mesh.num_vertices() - before) + " longest-edge splits";
-  return mesh;
+  RefineToVertexCountResult refined = refine_to_vertex_count(std::move(mesh), target);
+  description += ", " + std::to_string(refined.subdivisions) + "× 1-to-4 midpoint subdivision, then " +
+                 std::to_string(refined.edge_splits) + " longest-edge splits";
+  return std::move(refined.mesh);
 }
 
 double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact, double min_distance) {
@@ -187,7 +95,7 @@ int run() {
   ours_options.method = GeodesicMethod::Heat;
   ours_options.heat_mode = mode;
   ours_options.progress = progress_printer();
-  Clock ours_clock;
+  Stopwatch ours_clock;
   DistanceMatrix D = all_pairs_geodesics(mesh, ours_options);
   const double ours_wall = ours_clock.wall_seconds(), ours_cpu = ours_clock.cpu_seconds();
 
@@ -195,7 +103,7 @@ int run() {
   std::vector<int> anchor_sources = sample(args.anchor_samples);
   double setup_wall = 0, setup_cpu = 0, loop_wall = 0, loop_cpu = 0;
   {
-    Clock setup_clock, loop_clock;
+    Stopwatch setup_clock, loop_clock;
 #pragma omp parallel num_threads(threads)
     {
       CgalHeatMethod solver(mesh, mode);
@@ -204,7 +112,7 @@ int run() {
       {
         setup_wall = setup_clock.wall_seconds();
         setup_cpu = setup_clock.cpu_seconds();
-        loop_clock = Clock();
+        loop_clock.restart();
       }
 #pragma omp for schedule(dynamic, 1)
       for (size_t k = 0; k < anchor_sources.size(); ++k) solver.distances({anchor_sources[k]});
@@ -223,10 +131,10 @@ int run() {
 
   // Fast marching on a sample, extrapolated the same way (its set-up is the stencil precomputation).
   std::vector<int> fmm_sources = sample(args.fmm_samples);
-  Clock fmm_clock;
+  Stopwatch fmm_clock;
   FastMarching fmm(mesh);
   const double fmm_setup = fmm_clock.wall_seconds();
-  Clock fmm_loop;
+  Stopwatch fmm_loop;
 #pragma omp parallel for schedule(dynamic, 4)
   for (size_t k = 0; k < fmm_sources.size(); ++k) fmm.distances({fmm_sources[k]});
   const double fmm_wall = fmm_setup + fmm_loop.wall_seconds() * n / fmm_sources.size();
@@ -235,7 +143,7 @@ int run() {
   std::vector<int> exact_sources = sample(args.exact_samples);
   std::vector<double> err_ours(exact_sources.size()), err_anchor(exact_sources.size()),
       err_fmm(exact_sources.size());
-  Clock exact_clock;
+  Stopwatch exact_clock;
 #pragma omp parallel for schedule(dynamic, 1)
   for (size_t k = 0; k < exact_sources.size(); ++k) {
     const int s = exact_sources[k];

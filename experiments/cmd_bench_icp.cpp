@@ -1,7 +1,8 @@
 // cshapes bench icp [--n 5000] [--a A --b B] [--json]: ICP of two ~5,000-point shapes with every starting
 // pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the same
-// points. Everything runs on one thread; times are medians, reported as wall time and as the thread's CPU
-// time (on a shared machine the wall time includes other processes' time slices; see load_average).
+// points. Everything runs on one thread; times are medians (core/timing.h: the upper median), reported as
+// wall time and as the thread's CPU time (on a shared machine the wall time includes other processes' time
+// slices; see load_average).
 //
 // Shapes: A and B when given, else TOSCA cat0 and cat1 (two poses: different vertex counts' orders, a real
 // non-rigid difference) from the shared data, else two generated non-symmetric blobs. B is moved by a random
@@ -16,11 +17,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -31,6 +30,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/synthetic.h"
+#include "core/timing.h"
 #include "experiments/command.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
@@ -48,26 +48,11 @@ struct BenchIcpArgs {
   bool no_open3d = false;
 } args;
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double thread_cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 double load_average() {
   std::ifstream in("/proc/loadavg");
   double one_minute = 0;
   in >> one_minute;
   return one_minute;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
 }
 
 Points subsample(const Points& X, Index n, uint64_t seed) {
@@ -103,7 +88,7 @@ double our_iterations_seconds(const IcpShape& a, const IcpShape& b, int steps) {
   o.relative_tolerance = 0;
   o.absolute_tolerance = 0;
   o.parallel = false;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = WallClock::now();
   IcpResult r = icp(a, b, o);
   (void)r;
   return seconds_since(t0);
@@ -137,10 +122,10 @@ int run() {
     Timing t;
     for (int r = 0; r < args.repeats; ++r) {
       double c0 = thread_cpu_seconds();
-      auto t0 = std::chrono::steady_clock::now();
+      auto t0 = WallClock::now();
       IcpShape sa(A, options), sb(B, options);
       double built = seconds_since(t0);
-      auto t1 = std::chrono::steady_clock::now();
+      auto t1 = WallClock::now();
       t.result = icp(sa, sb, options);
       double aligned = seconds_since(t1);
       t.total_cpu.push_back(thread_cpu_seconds() - c0);

@@ -47,34 +47,6 @@ double peak_rss_mb() {
   return usage.ru_maxrss / 1024.0;  // Linux: kilobytes
 }
 
-// n points uniform on the Swiss roll; D their exact geodesic distances (flat in the unrolled coordinates).
-void swiss_roll_problem(Index n, unsigned seed, DistanceMatrix& D, Points& X) {
-  SwissRollOptions roll;
-  const double length = swiss_roll_length(roll.t0, roll.t1);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> along(0.0, length), across(0.0, roll.height);
-  // Arc length → spiral angle by a fine table (the roll's arc length is monotone in t).
-  const int table = 4096;
-  std::vector<double> arc(table + 1);
-  for (int k = 0; k <= table; ++k)
-    arc[k] = swiss_roll_length(roll.t0, roll.t0 + (roll.t1 - roll.t0) * k / table);
-  Eigen::MatrixX2d flat(n, 2);
-  X.resize(n, 3);
-  for (Index i = 0; i < n; ++i) {
-    const double s = along(rng), y = across(rng);
-    const int k = std::min<int>(table - 1, std::lower_bound(arc.begin(), arc.end(), s) - arc.begin());
-    const double t = roll.t0 + (roll.t1 - roll.t0) * (k + (k + 1 < table ? 0.5 : 0.0)) / table;
-    flat.row(i) << s, y;
-    X.row(i) << t * std::cos(t), y, t * std::sin(t);
-  }
-  require_memory(distance_matrix_bytes(n),
-                 "the benchmark's " + std::to_string(n) + "x" + std::to_string(n) + " distance matrix");
-  D.resize(n, n);
-#pragma omp parallel for schedule(static)
-  for (Index j = 0; j < n; ++j)
-    for (Index i = 0; i < n; ++i) D(i, j) = static_cast<float>((flat.row(i) - flat.row(j)).norm());
-}
-
 // scikit-learn's smacof on the same matrix and start, timed inside Python. Null with a reason when
 // unavailable.
 nlohmann::json sklearn_reference(const DistanceMatrix& D, const Points& X0, int iterations) {
@@ -190,7 +162,9 @@ int run() {
     source = args.mesh + " (" + to_string(go.method) + " geodesics)";
   } else {
     CSHAPES_REQUIRE(args.n >= 4, "bench smacof: --n must be at least 4");
-    swiss_roll_problem(args.n, args.seed, D, X0);
+    const SwissRollSample roll = random_swiss_roll_points(args.n, args.seed);
+    D = swiss_roll_geodesic_distances(roll);
+    X0 = roll.X;
     source = "swiss roll, exact geodesics of " + std::to_string(args.n) + " uniform samples";
   }
   const Index n = D.rows();

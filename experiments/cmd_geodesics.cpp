@@ -1,6 +1,5 @@
 // cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
 // (binary format in core/distance_matrix.h), or with --source i --csv one row as CSV.
-#include <chrono>
 #include <climits>
 #include <cstdio>
 #include <iostream>
@@ -9,6 +8,7 @@
 #include "core/geodesics.h"
 #include "core/heat_method.h"
 #include "core/mesh_repair.h"
+#include "core/timing.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -51,7 +51,7 @@ int run() {
     note(sub.text + "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
                     "nearest copy where one was split)");
   const Mesh& mesh = sub.mesh;
-  const auto start = std::chrono::steady_clock::now();
+  const WallClock::time_point start = WallClock::now();
   nlohmann::json summary = {{"input", args.input},
                             {"vertices", input.num_vertices()},
                           {"repaired_vertices", mesh.num_vertices()},
@@ -93,7 +93,7 @@ int run() {
     if (sub.changed()) D = distances_to_input_vertices(D, sub.vertex_map, input.num_vertices());
     write_distance_matrix(args.output, D);
   }
-  summary["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary["seconds"] = seconds_since(start);
   if (args.json) std::cout << summary.dump(2) << std::endl;
   if (!args.output.empty() && args.output != "-") note("wrote " + args.output);
   return 0;

@@ -3,102 +3,18 @@
 #include <omp.h>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <numeric>
 #include <random>
 #include <sstream>
 
-#include "core/morton.h"
 #include "core/error.h"
+#include "core/morton.h"
+#include "core/timing.h"
 
 namespace cshapes {
-
-// ---------------------------------------------------------------------------------------------------------
-// Rigid transforms
-
-Points RigidTransform::apply(const Points& X) const {
-  Points Y = X * rotation.transpose();
-  Y.rowwise() += translation.transpose();
-  return Y;
-}
-
-RigidTransform RigidTransform::inverse() const {
-  RigidTransform inv;
-  inv.rotation = rotation.transpose();
-  inv.translation = -(inv.rotation * translation);
-  return inv;
-}
-
-Eigen::Matrix4d RigidTransform::matrix() const {
-  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
-  M.topLeftCorner<3, 3>() = rotation;
-  M.topRightCorner<3, 1>() = translation;
-  return M;
-}
-
-RigidTransform operator*(const RigidTransform& a, const RigidTransform& b) {
-  RigidTransform c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.rotation * b.translation + a.translation;
-  return c;
-}
-
-RigidTransform random_rigid_transform(uint64_t seed, double translation_scale, bool reflection) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::Quaterniond q;
-  do {
-    q = Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng));
-  } while (q.norm() < 1e-6);
-  q.normalize();
-  RigidTransform T;
-  T.rotation = q.toRotationMatrix();
-  if (reflection) T.rotation.col(2) *= -1;  // R·diag(1, 1, −1): mirror z first, then rotate
-  for (int k = 0; k < 3; ++k) T.translation[k] = translation_scale * normal(rng);
-  return T;
-}
-
-namespace {
-
-// The orthogonal matrix closest to a cross-covariance H = Σ w (p − p̄)(q − q̄)ᵀ, with the requested
-// determinant: R = V·diag(1, 1, s)·Uᵀ for H = U·Σ·Vᵀ, s chosen so that det R = determinant. Flipping the
-// axis of the smallest singular value costs least (Umeyama 1991, Lemma).
-Eigen::Matrix3d closest_orthogonal(const Eigen::Matrix3d& H, int determinant) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Matrix3d& U = svd.matrixU();
-  const Eigen::Matrix3d& V = svd.matrixV();
-  double s = (V * U.transpose()).determinant() * determinant < 0 ? -1.0 : 1.0;
-  Eigen::Vector3d d(1.0, 1.0, s);
-  return V * d.asDiagonal() * U.transpose();
-}
-
-}  // namespace
-
-RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determinant,
-                                    const Eigen::VectorXd& weights) {
-  CSHAPES_REQUIRE(P.rows() == Q.rows() && P.rows() > 0,
-                  "best_rigid_transform: need equally many (> 0) rows, got ", P.rows(), " and ", Q.rows());
-  CSHAPES_REQUIRE(determinant == 1 || determinant == -1,
-                  "best_rigid_transform: determinant must be +1 or -1");
-  CSHAPES_REQUIRE(weights.size() == 0 || weights.size() == P.rows(), "best_rigid_transform: ", weights.size(),
-                  " weights for ", P.rows(), " pairs");
-  Eigen::VectorXd w = weights.size() ? weights : Eigen::VectorXd::Ones(P.rows());
-  double total = w.sum();
-  CSHAPES_REQUIRE(total > 0, "best_rigid_transform: the weights sum to zero");
-  Eigen::Vector3d p_mean = (P.transpose() * w) / total;
-  Eigen::Vector3d q_mean = (Q.transpose() * w) / total;
-  // Two passes (means first) keep the cross-covariance accurate far from the origin.
-  Eigen::Matrix3d H =
-      (P.rowwise() - p_mean.transpose()).transpose() * w.asDiagonal() * (Q.rowwise() - q_mean.transpose());
-  RigidTransform T;
-  T.rotation = closest_orthogonal(H, determinant);
-  T.translation = q_mean - T.rotation * p_mean;
-  return T;
-}
 
 // ---------------------------------------------------------------------------------------------------------
 // Shapes prepared for ICP
@@ -367,7 +283,8 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
       break;
     }
     previous = rmse;
-    // The closed-form rigid motion of the pairs (as best_rigid_transform with unit weights): means first,
+    // The closed-form rigid motion of the pairs (best_rigid_transform with unit weights, without gathering
+    // the pairs into matrices): means first,
     // then the cross-covariance of the centred pairs (two passes keep it accurate).
     Eigen::Vector3d x_sum = Eigen::Vector3d::Zero(), y_sum = Eigen::Vector3d::Zero();
     for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
@@ -380,7 +297,7 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
     for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
       H.noalias() += (X.row(a).transpose() - x_mean) * (Y.row(b) - y_mean.transpose());
     });
-    track.T.rotation = closest_orthogonal(H, track.determinant);
+    track.T.rotation = closest_orthogonal_matrix(H, track.determinant);
     track.T.translation = y_mean - track.T.rotation * x_mean;
     ++track.iterations;
     ++track.total_iterations;
@@ -435,7 +352,7 @@ std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& t
 }
 
 IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& o) {
-  auto clock_start = std::chrono::steady_clock::now();
+  const WallClock::time_point clock_start = WallClock::now();
   check_options(o);
   CSHAPES_REQUIRE(source.num_levels() >= 1 && target.num_levels() >= 1, "ICP: shapes not prepared");
 
@@ -531,7 +448,7 @@ IcpResult icp(const IcpShape& source, const IcpShape& target, const IcpOptions& 
     result.inlier_fraction = 1;
     result.iterations = 0;
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  result.seconds = seconds_since(clock_start);
   return result;
 }
 

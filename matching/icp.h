@@ -22,7 +22,7 @@
 //   3. One ICP step: correspondences by nearest neighbour (KD-tree), source→target and, when symmetric,
 //      target→source; optionally drop the worst `trim_fraction` of each direction (trimmed ICP,
 //      Chetverikov et al. 2002) and pairs farther than max_correspondence_distance; then the closed-form
-//      least-squares rigid motion of all kept pairs (best_rigid_transform, Kabsch/Umeyama by a 3×3 SVD)
+//      least-squares rigid motion of all kept pairs (Kabsch/Umeyama, core/rigid_transform.h, by a 3×3 SVD)
 //      whose determinant is that of the start: a start that is a reflection stays a reflection.
 //   4. Stop when the RMSE changes by less than relative_tolerance of itself, when it falls below
 //      absolute_tolerance × (the target's RMS radius) (exact fit), or after max_iterations.
@@ -42,38 +42,14 @@
 #include <string>
 #include <vector>
 
+#include "core/rigid_transform.h"
 #include "core/types.h"
 #include "matching/nearest_neighbors.h"
 
 namespace cshapes {
 
-// x ↦ rotation·x + translation. `rotation` is orthogonal; its determinant is -1 for a reflection.
-struct RigidTransform {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-
-  bool is_reflection() const { return rotation.determinant() < 0; }
-  Eigen::Vector3d apply(const Eigen::Vector3d& x) const { return rotation * x + translation; }
-  // Every row of X (n×3) transformed.
-  Points apply(const Points& X) const;
-  RigidTransform inverse() const;
-  // The 4×4 homogeneous matrix [R t; 0 1].
-  Eigen::Matrix4d matrix() const;
-};
-// Composition: (a * b).apply(x) == a.apply(b.apply(x)).
-RigidTransform operator*(const RigidTransform& a, const RigidTransform& b);
-
-// A rotation uniformly distributed on SO(3) (a normalised Gaussian quaternion), composed with the mirror
-// z ↦ −z when `reflection`, and a translation with independent N(0, translation_scale²) coordinates.
-// Deterministic for a given seed. For tests and benchmarks.
-RigidTransform random_rigid_transform(uint64_t seed, double translation_scale = 1.0, bool reflection = false);
-
-// Closed-form least squares (Kabsch 1976, Umeyama 1991): the rigid motion minimising
-// Σ_i w_i ‖R·P_i + t − Q_i‖², rows of P and Q paired (both m×3, m ≥ 1), weights w ≥ 0 (empty: all 1),
-// over rotations when determinant = +1 and over reflections when determinant = −1. O(m).
-// Degenerate pairs (collinear points) give one of the minimisers.
-RigidTransform best_rigid_transform(const Points& P, const Points& Q, int determinant = +1,
-                                    const Eigen::VectorXd& weights = {});
+// RigidTransform, random_rigid_transform and best_rigid_transform (the closed-form Kabsch/Umeyama fit) live
+// in core/rigid_transform.h, included here for the callers of icp().
 
 struct IcpOptions {
   // Starting poses (see the method above).

@@ -21,10 +21,6 @@ Points random_points(Index n, unsigned seed, double scale = 1.0) {
   return X;
 }
 
-double relative_l2(const Points& a, const Points& b) {
-  return (a - b).norm() / b.norm();
-}
-
 CoulombEvaluation evaluate(const Points& X, Summation summation) {
   CoulombOptions o;
   o.summation = summation;
@@ -75,7 +71,7 @@ TEST(CoulombEnergy, FloatDirectMatchesDoubleDirect) {
   const Points X = random_points(3000, 11);
   const CoulombEvaluation d = coulomb_direct(X);
   const CoulombEvaluation f = coulomb_direct_float(X, 0, true);
-  EXPECT_LT(relative_l2(f.gradient, d.gradient), 1e-5);
+  EXPECT_LT(relative_l2_error(f.gradient, d.gradient), 1e-5);
   EXPECT_NEAR(f.energy, d.energy, 1e-6 * d.energy);
   EXPECT_LT((f.potential - d.potential).norm() / d.potential.norm(), 1e-6);
 }
@@ -90,6 +86,37 @@ TEST(CoulombEnergy, DirectOnTargetsMatchesFullDirect) {
     for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(t.gradient(k, c), d.gradient(targets[k], c));
   }
   EXPECT_THROW(coulomb_direct_targets(X, {500}), std::exception);
+}
+
+// The error measure itself: known answers for a perturbed evaluation, and the sampled form equal to the
+// complete one when every point is a target.
+TEST(CoulombErrors, KnownAnswersFullAndSampled) {
+  const Points X = random_points(300, 11);
+  const CoulombEvaluation d = coulomb_direct(X);
+  EXPECT_EQ(coulomb_errors(d, d).gradient, 0.0);
+  EXPECT_EQ(coulomb_errors(d, d).energy, 0.0);
+  CoulombEvaluation off = d;
+  off.gradient *= 1.001;  // every row 0.1% long: relative L2 error 1e-3
+  off.energy *= 0.99;
+  off.potential *= 0.99;
+  const CoulombErrors full = coulomb_errors(off, d);
+  EXPECT_NEAR(full.gradient, 1e-3, 1e-12);
+  EXPECT_NEAR(full.energy, 1e-2, 1e-12);
+  std::vector<Index> all(300);
+  for (Index i = 0; i < 300; ++i) all[i] = 299 - i;
+  const CoulombErrors sampled = coulomb_errors(off, all, coulomb_direct_targets(X, all));
+  EXPECT_NEAR(sampled.gradient, full.gradient, 1e-12);
+  EXPECT_NEAR(sampled.energy, full.energy, 1e-12);
+  // One wrong row among the sampled targets shows; a wrong row outside them does not.
+  CoulombEvaluation one = d;
+  one.gradient.row(5) *= 2;
+  const std::vector<Index> with5 = {5, 6, 7}, without5 = {6, 7, 8};
+  EXPECT_GT(coulomb_errors(one, with5, coulomb_direct_targets(X, with5)).gradient, 0.1);
+  EXPECT_EQ(coulomb_errors(one, without5, coulomb_direct_targets(X, without5)).gradient, 0.0);
+  EXPECT_NEAR(relative_l2_error(off.gradient, d.gradient), 1e-3, 1e-12);
+  CoulombEvaluation no_potentials = d;
+  no_potentials.potential.resize(0);
+  EXPECT_THROW(coulomb_errors(no_potentials, with5, coulomb_direct_targets(X, with5)), std::exception);
 }
 
 // Coincident points: finite everywhere, no mutual force, each adds 1/min_distance to the other's potential.
@@ -112,7 +139,7 @@ TEST(CoulombEnergy, CoincidentPointsGiveFiniteResults) {
     EXPECT_TRUE(e.gradient.allFinite()) << int(s);
     EXPECT_TRUE(std::isfinite(e.energy)) << int(s);
     EXPECT_NEAR(e.energy, reference.energy, 1e-4 * reference.energy) << int(s);
-    EXPECT_LT(relative_l2(e.gradient, reference.gradient), 1e-3) << int(s);
+    EXPECT_LT(relative_l2_error(e.gradient, reference.gradient), 1e-3) << int(s);
   }
   // Points 1 and 399 coincide: the same gradient (they see the same other points and not each other).
   EXPECT_NEAR((reference.gradient.row(1) - reference.gradient.row(399)).norm(), 0,
@@ -141,7 +168,7 @@ TEST(CoulombEnergy, TranslationInvariantRotationEquivariant) {
     const CoulombEvaluation a = evaluate(X, s), b = evaluate(moved, s);
     const double tolerance = s == Summation::Fast ? 1e-3 : 1e-5;
     EXPECT_NEAR(b.energy, a.energy, tolerance * 0.1 * a.energy) << int(s);
-    EXPECT_LT(relative_l2(b.gradient, a.gradient * Rot.transpose()), tolerance) << int(s);
+    EXPECT_LT(relative_l2_error(b.gradient, a.gradient * Rot.transpose()), tolerance) << int(s);
   }
 }
 
@@ -152,7 +179,8 @@ TEST(CoulombEnergy, ScalesAsInverseDistance) {
     for (double scale : {1e-8, 1e8}) {
       const CoulombEvaluation b = evaluate(X * scale, s);
       EXPECT_NEAR(b.energy * scale, a.energy, 1e-5 * a.energy) << int(s) << " scale " << scale;
-      EXPECT_LT(relative_l2(b.gradient * scale * scale, a.gradient), 1e-5) << int(s) << " scale " << scale;
+      EXPECT_LT(relative_l2_error(b.gradient * scale * scale, a.gradient), 1e-5)
+          << int(s) << " scale " << scale;
     }
   }
 }

@@ -12,70 +12,30 @@
 namespace cshapes {
 namespace {
 
-// The bench's distributions: uniform cube, unit sphere surface, 20 Gaussian clusters of widths 1e-3 … 1e-1.
+// The bench's distributions (core/synthetic.h random_points): uniform cube, unit sphere surface, 20
+// Gaussian clusters of widths 1e-3 … 1e-1.
 Points make_points(Index n, const std::string& distribution, unsigned seed) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uniform(0, 1);
-  std::normal_distribution<double> normal(0, 1);
-  Points X(n, 3);
-  if (distribution == "uniform") {
-    for (Index i = 0; i < n; ++i) X.row(i) << uniform(rng), uniform(rng), uniform(rng);
-  } else if (distribution == "sphere") {
-    for (Index i = 0; i < n; ++i) {
-      Eigen::RowVector3d v(normal(rng), normal(rng), normal(rng));
-      X.row(i) = v.normalized();
-    }
-  } else {
-    std::vector<Eigen::RowVector3d> centers(20);
-    std::vector<double> widths(20);
-    for (int c = 0; c < 20; ++c) {
-      centers[c] << uniform(rng), uniform(rng), uniform(rng);
-      widths[c] = std::pow(10.0, -3 + 2 * uniform(rng));
-    }
-    for (Index i = 0; i < n; ++i) {
-      const int c = static_cast<int>(uniform(rng) * 20);
-      X.row(i) = centers[c] + widths[c] * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
-    }
-  }
-  return X;
+  return random_points(n, parse_point_distribution(distribution), rng);
 }
 
-struct Errors {
-  double gradient = 0, energy = 0;
-};
-
-// Relative L2 gradient error and relative energy error against exact direct summation: complete when
-// `sample` is 0, else on `sample` random targets (energy error then from their potentials).
-Errors fmm_errors(const Points& X, const CoulombFmmOptions& options, Index sample = 0) {
+// Relative L2 gradient error and relative energy error against exact direct summation (the bench's measure,
+// canon/coulomb_energy.h coulomb_errors): complete when `sample` is 0, else on `sample` random targets
+// (energy error then from their potentials).
+CoulombErrors fmm_errors(const Points& X, const CoulombFmmOptions& options, Index sample = 0) {
   CoulombFmmOptions o = options;
   o.want_potentials = true;
   const CoulombEvaluation fast = coulomb_fmm(X, o);
-  Errors e;
-  if (sample == 0) {
-    const CoulombEvaluation direct = coulomb_direct(X);
-    e.gradient = (fast.gradient - direct.gradient).norm() / direct.gradient.norm();
-    e.energy = std::abs(fast.energy - direct.energy) / direct.energy;
-    return e;
-  }
+  if (sample == 0) return coulomb_errors(fast, coulomb_direct(X));
   std::mt19937_64 rng(99);
   std::vector<Index> targets(sample);
   for (Index& t : targets) t = std::uniform_int_distribution<Index>(0, X.rows() - 1)(rng);
-  const CoulombTargetSums exact = coulomb_direct_targets(X, targets);
-  double d2 = 0, r2 = 0, pf = 0, pe = 0;
-  for (Index t = 0; t < sample; ++t) {
-    d2 += (fast.gradient.row(targets[t]) - exact.gradient.row(t)).squaredNorm();
-    r2 += exact.gradient.row(t).squaredNorm();
-    pf += fast.potential[targets[t]];
-    pe += exact.potential[t];
-  }
-  e.gradient = std::sqrt(d2 / r2);
-  e.energy = std::abs(pf - pe) / pe;
-  return e;
+  return coulomb_errors(fast, targets, coulomb_direct_targets(X, targets));
 }
 
 TEST(CoulombFmm, DefaultAccuracyContractOnSmallSets) {
   for (const char* distribution : {"uniform", "sphere", "clustered"}) {
-    const Errors e = fmm_errors(make_points(2000, distribution, 1), {});
+    const CoulombErrors e = fmm_errors(make_points(2000, distribution, 1), {});
     EXPECT_LE(e.gradient, 1e-3) << distribution;
     EXPECT_LE(e.energy, 1e-4) << distribution;
   }
@@ -83,7 +43,7 @@ TEST(CoulombFmm, DefaultAccuracyContractOnSmallSets) {
 
 TEST(CoulombFmm, DefaultAccuracyContractOnLargerSets) {
   for (const char* distribution : {"uniform", "sphere", "clustered"}) {
-    const Errors e = fmm_errors(make_points(20000, distribution, 2), {}, 400);
+    const CoulombErrors e = fmm_errors(make_points(20000, distribution, 2), {}, 400);
     EXPECT_LE(e.gradient, 1e-3) << distribution;
     EXPECT_LE(e.energy, 1e-4) << distribution;
   }
@@ -93,7 +53,7 @@ TEST(CoulombFmm, DefaultAccuracyContractOnTosca) {
   CSHAPES_REQUIRE_DATA();
   for (const char* name : {"cat0", "michael0"}) {
     const Mesh mesh = read_mesh(test::tosca5k(name));
-    const Errors e = fmm_errors(mesh.V, {});
+    const CoulombErrors e = fmm_errors(mesh.V, {});
     EXPECT_LE(e.gradient, 1e-3) << name;
     EXPECT_LE(e.energy, 1e-4) << name;
   }
@@ -104,13 +64,13 @@ TEST(CoulombFmm, DefaultAccuracyContractOnTosca) {
 TEST(CoulombFmm, DefaultAccuracyContractOnGeneratedMeshesOfSeveralSizes) {
   for (const auto& [nu, nv] : {std::pair{60, 20}, std::pair{140, 45}, std::pair{300, 100}}) {
     const Mesh mesh = torus(nu, nv);
-    const Errors e = fmm_errors(mesh.V, {}, mesh.V.rows() > 10000 ? 1000 : 0);
+    const CoulombErrors e = fmm_errors(mesh.V, {}, mesh.V.rows() > 10000 ? 1000 : 0);
     EXPECT_LE(e.gradient, 1e-3) << "torus " << nu << "x" << nv;
     EXPECT_LE(e.energy, 1e-4) << "torus " << nu << "x" << nv;
   }
   for (int subdivisions : {4, 5}) {
     const Mesh mesh = icosphere(subdivisions);
-    const Errors e = fmm_errors(mesh.V, {});
+    const CoulombErrors e = fmm_errors(mesh.V, {});
     EXPECT_LE(e.gradient, 1e-3) << "icosphere " << subdivisions;
     EXPECT_LE(e.energy, 1e-4) << "icosphere " << subdivisions;
   }
@@ -141,7 +101,7 @@ TEST(CoulombFmm, AccuracyParameterIsHonoured) {
     for (const char* distribution : {"uniform", "sphere"}) {
       CoulombFmmOptions o;
       o.accuracy = accuracy;
-      const Errors e = fmm_errors(make_points(3000, distribution, 3), o);
+      const CoulombErrors e = fmm_errors(make_points(3000, distribution, 3), o);
       EXPECT_LE(e.gradient, accuracy) << distribution << " accuracy " << accuracy;
       EXPECT_LE(e.energy, accuracy) << distribution << " accuracy " << accuracy;
     }

@@ -371,21 +371,6 @@ TEST(CoulombCli, WritesPlyWithTornFlagAndHistory) {
   EXPECT_NE(bad.err.find("max-edge"), std::string::npos) << bad.err;
 }
 
-TEST(RigidAlign, RecoversARigidMotion) {
-  const Mesh m = icosphere(2);
-  Points A = m.V;
-  A.col(0) *= 2.0;  // not symmetric
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  const Points B = (A * R.transpose()).rowwise() + Eigen::RowVector3d(3, -1, 2);
-  EXPECT_LT((rigid_align(A, B) - B).cwiseAbs().maxCoeff(), 1e-12 * 10);
-  EXPECT_LT(rigid_rms_distance(A, B), 1e-12 * 10);
-  // A mirror image is not a rigid motion.
-  Points M = A;
-  M.col(1) *= -1;
-  M.col(2) *= 1.3;
-  EXPECT_GT(rigid_rms_distance(M, A), 1e-3);
-}
-
 TEST(CoulombCanon, RejectsBadInput) {
   const Mesh m = icosphere(1);
   CoulombCanonOptions o;

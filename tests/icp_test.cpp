@@ -44,61 +44,7 @@ double transform_error(const RigidTransform& found, const RigidTransform& truth,
                   (found.translation - truth.translation).norm() / radius);
 }
 
-TEST(RigidTransform, ComposeInverseMatrix) {
-  RigidTransform a = random_rigid_transform(1, 2.0, false), b = random_rigid_transform(2, 3.0, true);
-  Eigen::Vector3d x(0.3, -1.2, 2.5);
-  EXPECT_LT(((a * b).apply(x) - a.apply(b.apply(x))).norm(), 1e-12);
-  EXPECT_LT((b.inverse().apply(b.apply(x)) - x).norm(), 1e-12);
-  EXPECT_TRUE(b.is_reflection());
-  EXPECT_FALSE(a.is_reflection());
-  EXPECT_NEAR(std::abs(b.rotation.determinant()), 1.0, 1e-12);
-  EXPECT_LT((b.rotation.transpose() * b.rotation - Eigen::Matrix3d::Identity()).norm(), 1e-12);
-  Eigen::Vector4d h = b.matrix() * Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0);
-  EXPECT_LT((h.head<3>() - b.apply(x)).norm(), 1e-12);
-}
-
-TEST(BestRigidTransform, RecoversRotationsAndReflectionsExactly) {
-  Points P = lumpy_blob(50, 3);
-  for (int trial = 0; trial < 20; ++trial) {
-    bool reflection = trial % 2;
-    RigidTransform truth = random_rigid_transform(100 + trial, 5.0, reflection);
-    Points Q = truth.apply(P);
-    RigidTransform found = best_rigid_transform(P, Q, reflection ? -1 : 1);
-    EXPECT_LT(transform_error(found, truth, rms_radius(P)), 1e-12) << "trial " << trial;
-    // Asking for the other determinant gives a worse fit, never the truth.
-    RigidTransform wrong = best_rigid_transform(P, Q, reflection ? 1 : -1);
-    EXPECT_GT((wrong.apply(P) - Q).norm(), 1e-3 * (Q.norm()));
-  }
-}
-
-TEST(BestRigidTransform, ZeroWeightsIgnorePairs) {
-  Points P = lumpy_blob(40, 4);
-  RigidTransform truth = random_rigid_transform(5, 1.0, false);
-  Points Q = truth.apply(P);
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(40);
-  for (int i = 0; i < 40; i += 4) {
-    Q.row(i) += Eigen::RowVector3d(10, -7, 3);  // gross outliers...
-    w[i] = 0;                                   // ...carrying no weight
-  }
-  EXPECT_LT(transform_error(best_rigid_transform(P, Q, 1, w), truth, rms_radius(P)), 1e-12);
-  EXPECT_THROW(best_rigid_transform(P, Q.topRows(10)), Error);
-}
-
-TEST(BestRigidTransform, MinimisesAgainstPerturbations) {
-  // The closed form is the least-squares optimum: any small rotation of it fits worse.
-  Points P = lumpy_blob(60, 8);
-  Points Q = random_rigid_transform(9, 1.0, false).apply(P) + 0.05 * lumpy_blob(60, 10);
-  RigidTransform best = best_rigid_transform(P, Q);
-  double cost = (best.apply(P) - Q).squaredNorm();
-  for (int k = 0; k < 10; ++k) {
-    RigidTransform nudge = random_rigid_transform(200 + k, 1e-3, false);
-    Eigen::AngleAxisd small(1e-3, nudge.rotation.col(0));
-    RigidTransform other = best;
-    other.rotation = small.toRotationMatrix() * best.rotation;
-    other.translation += nudge.translation;
-    EXPECT_GT((other.apply(P) - Q).squaredNorm(), cost);
-  }
-}
+// RigidTransform and best_rigid_transform: tests/rigid_transform_test.cpp.
 
 TEST(IcpShape, PrincipalAxesAndLevels) {
   Points X = lumpy_blob(3000, 11);

@@ -71,6 +71,20 @@ TEST(Synthetic, SwissRollHasThePapersSizeAndItsLength) {
   EXPECT_NEAR(info.area, exact * o.height, exact * o.height * 0.01);
 }
 
+TEST(Mesh, FromVectorsKeepsOrder) {
+  const std::vector<Eigen::Vector3d> vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const std::vector<Eigen::Vector3i> triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const Mesh m = mesh_from_vectors(vertices, triangles);
+  ASSERT_EQ(m.num_vertices(), 4);
+  ASSERT_EQ(m.num_faces(), 4);
+  for (Index i = 0; i < 4; ++i) EXPECT_EQ(m.V.row(i), vertices[i].transpose());
+  for (Index f = 0; f < 4; ++f) EXPECT_EQ(m.F.row(f), triangles[f].transpose());
+  EXPECT_EQ(mesh_info(m).euler_characteristic, 2);
+  const Mesh empty = mesh_from_vectors({}, {});
+  EXPECT_EQ(empty.num_vertices(), 0);
+  EXPECT_TRUE(empty.is_point_cloud());
+}
+
 TEST(Mesh, AdjacencyIsSymmetricAndSorted) {
   Mesh m = icosphere(2);
   Edges E = mesh_edges(m.F);

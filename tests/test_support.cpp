@@ -70,6 +70,13 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
   return count ? sum / count : 0.0;
 }
 
+double signed_volume(const Mesh& m) {
+  double v = 0;
+  for (Index f = 0; f < m.num_faces(); ++f)
+    v += m.V.row(m.F(f, 0)).dot(m.V.row(m.F(f, 1)).cross(m.V.row(m.F(f, 2)))) / 6;
+  return v;
+}
+
 Mesh obtuse_grid(int nx, int ny) {
   Mesh m;
   const double hx = 1.0 / (nx - 1), hy = 0.3 * hx;

@@ -34,6 +34,10 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
 // and fast marching needs its unfolding step.
 Mesh obtuse_grid(int nx, int ny);
 
+// Signed volume enclosed by the triangles, Σ v0·(v1 × v2) / 6: positive when the faces are counter-clockwise
+// seen from outside; unchanged by any refinement that keeps the surface and its orientation.
+double signed_volume(const Mesh& m);
+
 // Writes text to a file (creating parent directories).
 void write_text(const std::string& path, const std::string& text);
 

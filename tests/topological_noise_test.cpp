@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -95,6 +96,44 @@ TEST(TopologicalNoise, RefusesWhenNoPairQualifiesAndSaysSo) {
   // The sausage has one almost-touching place; twenty glues, kept at least two gaps apart, cannot fit there.
   o.glue_count = 20;
   EXPECT_THROW(glue_topological_noise(bent_sausage(0.15), o), Error);
+}
+
+// Bridges (edges, not faces) at the sausage's one almost-touching place; the first is the closest pair that
+// qualifies, found here by brute force (Dijkstra from every vertex).
+TEST(GlueBridges, BentSausageBridgesTheEndsAndTheFirstIsTheClosestQualifyingPair) {
+  const Mesh m = bent_sausage(0.15);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd lengths = edge_lengths(m.V, E);
+  const double h = lengths.mean();
+  const Adjacency adj = adjacency(m.num_vertices(), E);
+  const Edges bridges = glue_bridges(m.V, E, 3);
+  ASSERT_GE(bridges.rows(), 1);
+  ASSERT_LE(bridges.rows(), 3);
+  std::set<int> ends;
+  double previous = 0;
+  for (Index k = 0; k < bridges.rows(); ++k) {
+    const int i = bridges(k, 0), j = bridges(k, 1);
+    EXPECT_LT(i, j);
+    EXPECT_TRUE(ends.insert(i).second && ends.insert(j).second) << "each vertex in one bridge at most";
+    const double euclidean = (m.V.row(i) - m.V.row(j)).norm();
+    EXPECT_LT(euclidean, 8 * h);
+    EXPECT_GE(euclidean, previous);  // by increasing length
+    previous = euclidean;
+    EXPECT_GE(dijkstra(m.num_vertices(), adj, lengths, {i})(j), 15 * h);
+    for (int v : {i, j}) EXPECT_GT(std::abs(std::atan2(m.V(v, 1), m.V(v, 0))), 0.8 * kPi);
+  }
+  double closest = 1e300;
+  for (Index i = 0; i < m.num_vertices(); ++i) {
+    const Eigen::VectorXd graph = dijkstra(m.num_vertices(), adj, lengths, {static_cast<int>(i)});
+    for (Index j = i + 1; j < m.num_vertices(); ++j) {
+      const double d = (m.V.row(i) - m.V.row(j)).norm();
+      if (d < 8 * h && graph(j) >= 15 * h) closest = std::min(closest, d);
+    }
+  }
+  EXPECT_DOUBLE_EQ((m.V.row(bridges(0, 0)) - m.V.row(bridges(0, 1))).norm(), closest);
+  // A convex surface has no such pair.
+  const Mesh sphere = icosphere(3);
+  EXPECT_THROW(glue_bridges(sphere.V, mesh_edges(sphere.F), 1), Error);
 }
 
 TEST(TopologicalNoise, SameSeedSameGlue) {
