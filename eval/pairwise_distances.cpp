@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <atomic>
-#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -11,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/timing.h"
 #include "eval/cache.h"
 #include "matching/shape_distance.h"
 
@@ -67,7 +67,7 @@ std::string points_content_key(const Points& X) {
 PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
                                           const std::vector<std::string>& keys,
                                           const PairwiseDistanceOptions& options) {
-  auto start = std::chrono::steady_clock::now();
+  const auto start = WallClock::now();
   const int n = static_cast<int>(shapes.size());
   CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(),
                   " keys for ", shapes.size(), " shapes");
@@ -166,7 +166,7 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
   }
   result.computed = computed;
   if (error) std::rethrow_exception(error);
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
 }
 

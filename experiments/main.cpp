@@ -21,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/timing.h"
 #include "experiments/command.h"
 
 namespace cshapes::cli {
@@ -234,12 +235,12 @@ void require_output_directory(const std::string& path) {
 ProgressFn progress_printer() {
   if (g_quiet) return {};
   struct State {
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last{};
+    WallClock::time_point start = WallClock::now(), last{};
     std::string stage;
   };
   auto state = std::make_shared<State>();
   return [state](const std::string& stage, double done, double total) {
-    auto now = std::chrono::steady_clock::now();
+    auto now = WallClock::now();
     if (stage != state->stage) {
       state->stage = stage;
       state->start = now;

@@ -1,6 +1,5 @@
 #include "pipeline/canonical_forms.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -8,15 +7,12 @@
 
 #include "core/error.h"
 #include "core/heat_method.h"
+#include "core/timing.h"
 #include "pipeline/form_quality_json.h"
 
 namespace cshapes {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The edges standing in for the mesh's: its triangle edges, or a kNN graph for a point cloud.
 Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn) {
@@ -49,7 +45,7 @@ void say(const CanonicalFormOptions& options, const std::string& line) {
 }
 
 CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options) {
-  auto start = std::chrono::steady_clock::now();
+  auto start = WallClock::now();
   const Edges E = constraint_edges(mesh, options.knn);
   if (mesh.is_point_cloud()) {
     // A point cloud's kNN graph stands in for the mesh's edges; its parts would drift apart if it fell apart.
@@ -130,14 +126,14 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
   form.precompute_seconds = given_seconds;
   DistanceMatrix computed;
   if (!given) {
-    auto start = std::chrono::steady_clock::now();
+    auto start = WallClock::now();
     computed = geodesic_matrix(mesh, options);
     form.precompute_seconds = seconds_since(start);
     given = &computed;
   }
   CSHAPES_REQUIRE(given->rows() == mesh.num_vertices(), "MDS: distance matrix has ", given->rows(),
                   " rows for a mesh of ", mesh.num_vertices(), " vertices");
-  auto start = std::chrono::steady_clock::now();
+  auto start = WallClock::now();
   nlohmann::json summary = nlohmann::json::object();
   if (options.geodesics.method == GeodesicMethod::Heat ||
       options.geodesics.method == GeodesicMethod::HeatCgal) {
@@ -281,7 +277,7 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
   if (options.method != "coulomb" && !D && !options.distances_file.empty()) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = WallClock::now();
     from_file = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
                                            options.distances_file);
     D = &from_file;

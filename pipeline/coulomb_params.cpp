@@ -7,73 +7,13 @@
 #include "core/error.h"
 #include "core/geodesics.h"
 #include "core/io.h"
+#include "core/rigid_transform.h"
+#include "core/topological_noise.h"
 #include "eval/correspondence_error.h"
 
 namespace cshapes {
 
 namespace {
-
-// Bridges: K vertex pairs (i, j) closer than 8 mean edges in space whose graph distance is at least 15 mean
-// edges, all at one site (the closest such pair and the pairs near it): like gluing a foot to a foot.
-// The bridge's rest length is its Euclidean length, as for an edge of added faces.
-Edges glue_bridges(const Points& V, const Edges& E, int count) {
-  const Index n = V.rows();
-  const Eigen::VectorXd lengths = edge_lengths(V, E);
-  const double h = lengths.mean();
-  const Adjacency adj = adjacency(n, E);
-  // Hop-limited BFS rejects the pairs that are near along the surface (most near pairs) cheaply.
-  const int hops = 10;
-  struct Pair {
-    double distance;
-    int i, j;
-  };
-  std::vector<Pair> pairs;
-  std::vector<int> seen(n, -1);
-  for (Index i = 0; i < n; ++i) {
-    std::vector<int> frontier{static_cast<int>(i)};
-    seen[i] = static_cast<int>(i);
-    for (int hop = 0; hop < hops; ++hop) {
-      std::vector<int> next;
-      for (int v : frontier)
-        for (int k = adj.offsets[v]; k < adj.offsets[v + 1]; ++k)
-          if (seen[adj.neighbors[k]] != i) {
-            seen[adj.neighbors[k]] = static_cast<int>(i);
-            next.push_back(adj.neighbors[k]);
-          }
-      frontier.swap(next);
-    }
-    for (Index j = i + 1; j < n; ++j) {
-      if (seen[j] == i) continue;
-      const double d = (V.row(i) - V.row(j)).norm();
-      if (d < 8 * h) pairs.push_back({d, static_cast<int>(i), static_cast<int>(j)});
-    }
-  }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-    return a.distance != b.distance ? a.distance < b.distance : (a.i != b.i ? a.i < b.i : a.j < b.j);
-  });
-  std::vector<Pair> chosen;
-  std::vector<char> used(n, 0);
-  for (const Pair& p : pairs) {
-    if (static_cast<int>(chosen.size()) >= count) break;
-    if (used[p.i] || used[p.j]) continue;
-    if (!chosen.empty()) {
-      // Same site as the first bridge: both ends near its ends.
-      const Pair& f = chosen.front();
-      if ((V.row(p.i) - V.row(f.i)).norm() > 8 * h && (V.row(p.i) - V.row(f.j)).norm() > 8 * h) continue;
-      if ((V.row(p.j) - V.row(f.i)).norm() > 8 * h && (V.row(p.j) - V.row(f.j)).norm() > 8 * h) continue;
-    }
-    const Eigen::VectorXd graph = dijkstra(n, adj, lengths, {p.i});
-    if (graph(p.j) < 15 * h) continue;
-    chosen.push_back(p);
-    used[p.i] = used[p.j] = 1;
-  }
-  CSHAPES_REQUIRE(!chosen.empty(), "coulomb-params: found no vertex pair to glue");
-  Edges bridges(static_cast<Index>(chosen.size()), 2);
-  for (size_t k = 0; k < chosen.size(); ++k)
-    bridges.row(static_cast<Index>(k)) << std::min(chosen[k].i, chosen[k].j),
-        std::max(chosen[k].i, chosen[k].j);
-  return bridges;
-}
 
 // RMS distance between corresponding samples of two shapes after rigid alignment, over A's bbox diagonal:
 // 0 when the two poses have the same canonical form up to a rigid motion.

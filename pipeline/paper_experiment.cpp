@@ -1,7 +1,6 @@
 #include "pipeline/paper_experiment.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -18,7 +17,9 @@
 #include "core/mesh_defects.h"
 #include "core/mesh_repair.h"
 #include "core/remesh.h"
+#include "core/rigid_transform.h"
 #include "core/synthetic.h"
+#include "core/timing.h"
 #include "core/topological_noise.h"
 #include "eval/correspondence_error.h"
 #include "eval/distance_csv.h"
@@ -33,14 +34,9 @@
 namespace cshapes {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 namespace {
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 struct Shape {
   std::string name;  // file stem, or SOURCE_noisy for shapes glued here
@@ -255,7 +251,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     result[m].forms.resize(shapes.size());
     result[m].keys.resize(shapes.size());
   }
-  const auto start = Clock::now();
+  const auto start = WallClock::now();
   for (size_t i = 0; i < shapes.size(); ++i) {
     const Shape& s = shapes[i];
     DistanceMatrix D;
@@ -268,7 +264,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
       if (mds && !have_D && !std::filesystem::exists(cache.entry_path(key))) {
         // One geodesic matrix serves both MDS methods (on the mesh repaired for them); each form reports its
         // cost as its pre-computation.
-        auto t = Clock::now();
+        auto t = WallClock::now();
         D = all_pairs_geodesics(repair_for_canonical_form(s.mesh, co).mesh, co.geodesics);
         D_seconds = seconds_since(t);
         have_D = true;
@@ -301,29 +297,10 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   return result;
 }
 
-// Best rigid fit (rotation or reflection) of A onto B with the same vertex order; RMS after it. Over the rows
-// that are finite in both (vertices a repair dropped are NaN rows).
-double vertexwise_rms(const Points& A_all, const Points& B_all) {
-  std::vector<Index> rows;
-  for (Index i = 0; i < A_all.rows(); ++i)
-    if (A_all.row(i).allFinite() && B_all.row(i).allFinite()) rows.push_back(i);
-  Points A(rows.size(), 3), B(rows.size(), 3);
-  for (size_t k = 0; k < rows.size(); ++k) {
-    A.row(k) = A_all.row(rows[k]);
-    B.row(k) = B_all.row(rows[k]);
-  }
-  double best = std::numeric_limits<double>::infinity();
-  for (int det : {+1, -1}) {
-    RigidTransform t = best_rigid_transform(A, B, det);
-    best = std::min(best, std::sqrt((t.apply(A) - B).rowwise().squaredNorm().mean()));
-  }
-  return best;
-}
-
 }  // namespace
 
 PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
-  const auto start = Clock::now();
+  const auto start = WallClock::now();
   CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
@@ -368,7 +345,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   // 2. Canonical forms.
   say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
-  auto t = Clock::now();
+  auto t = WallClock::now();
   std::map<std::string, MethodForms> forms = canonize_all(shapes, o, form_cache, summary);
   report.stage_seconds["canonical forms"] = seconds_since(t);
   for (const auto& [m, mf] : forms) {
@@ -383,7 +360,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   // 3. Distances between canonical forms, retrieval measures.
   say(o, "== ICP distances between all pairs");
-  t = Clock::now();
+  t = WallClock::now();
   json metrics;
   metrics["shapes"] = names;
   metrics["classes"] = classes;
@@ -444,7 +421,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   // 4. Topological noise: each noisy shape against its clean source, per method.
   say(o, "== effect of topological noise");
-  t = Clock::now();
+  t = WallClock::now();
   {
     std::vector<std::vector<double>> rows;
     for (size_t i = 0; i < shapes.size(); ++i) {
@@ -458,7 +435,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
         const Points& B = forms[m].forms[j].X;
         const double scale = bbox_diagonal(finite_rows(B));
         ShapeDistance sd = aligned_shape_distance(A, B);
-        PaperReport::NoiseRow row{noisy.name, m, vertexwise_rms(A, B) / scale, sd.hausdorff / scale,
+        PaperReport::NoiseRow row{noisy.name, m, aligned_rms(A, B, true) / scale, sd.hausdorff / scale,
                                   sd.rmse / scale};
         report.noise.push_back(row);
       }
@@ -475,7 +452,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
           within.push_back(aligned_shape_distance(forms[m].forms[retrieval[a]].X, B).rmse /
                            bbox_diagonal(finite_rows(B)));
         }
-      report.pose_variation[m] = median_of(within);
+      report.pose_variation[m] = median(within);
     }
     write_file_atomically((fs::path(o.out) / "noise_effect.csv").string(), [&](std::ostream& out) {
       out << "shape,method,vertexwise_rms,hausdorff,icp_rmse\n";
@@ -487,7 +464,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   report.stage_seconds["noise effect"] = seconds_since(t);
 
   // 5. Point maps induced by aligning canonical forms, against ground-truth correspondences.
-  t = Clock::now();
+  t = WallClock::now();
   if (o.correspondence_samples > 0) {
     std::map<std::string, std::vector<Eigen::VectorXd>> curves;
     Eigen::VectorXd thresholds;
@@ -568,7 +545,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   // 6. Figures' data.
   if (o.figures) {
     say(o, "== data for the figures");
-    t = Clock::now();
+    t = WallClock::now();
     write_figure_data(o, report, misc_cache, form_cache);
     json grids = report.figure_grids;
     // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
@@ -630,7 +607,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   // 7. Table 1.
   if (o.table1) {
     say(o, "== Table 1 (timings)");
-    t = Clock::now();
+    t = WallClock::now();
     measure_table1(o, report, misc_cache);
     report.stage_seconds["table 1"] = seconds_since(t);
   }

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/geodesics.h"
+#include "core/timing.h"
 
 namespace cshapes {
 
@@ -19,10 +20,6 @@ std::string fmt(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, value);
   return buffer;
-}
-
-double median(std::vector<double> v) {
-  return median_of(std::move(v));
 }
 
 struct PaperTiming {

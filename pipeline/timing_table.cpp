@@ -1,26 +1,13 @@
 #include "pipeline/timing_table.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "canon/coulomb.h"
 #include "canon/smacof.h"
 #include "core/error.h"
+#include "core/timing.h"
 
 namespace cshapes {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-}  // namespace
-
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
 
 double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy) {
   CSHAPES_REQUIRE(repeats >= 1, "timing: repeats must be >= 1");
@@ -37,7 +24,7 @@ double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy)
   std::vector<double> per_iteration;
   for (size_t k = 1; k < r.history.size(); ++k)
     per_iteration.push_back(r.history[k].seconds - r.history[k - 1].seconds);
-  return median_of(per_iteration);
+  return median(per_iteration);
 }
 
 TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const TimingOptions& options) {
@@ -48,30 +35,30 @@ TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const
 
   std::vector<double> pre;
   for (int r = 0; r < options.repeats; ++r) {
-    auto start = Clock::now();
+    auto start = WallClock::now();
     Edges E = mesh_edges(mesh.F);
     Eigen::VectorXd d = edge_lengths(mesh.V, E);
     pre.push_back(seconds_since(start));
     if (d.size() == 0) fail(shape, ": no edges");
   }
-  row.coulomb_precompute = median_of(pre);
+  row.coulomb_precompute = median(pre);
   row.coulomb_iteration = coulomb_iteration_seconds(mesh, options.repeats);
 
   if (options.mds) {
-    auto start = Clock::now();
+    auto start = WallClock::now();
     DistanceMatrix D = all_pairs_geodesics(mesh, options.geodesics);
     row.mds_precompute = seconds_since(start);
     // Start from the mesh itself (centred): the pass costs the same from any start.
     Points X = mesh.V.rowwise() - mesh.V.colwise().mean();
     std::vector<double> passes;
     for (int r = 0; r < options.repeats + 1; ++r) {
-      auto t = Clock::now();
+      auto t = WallClock::now();
       GuttmanTransform g = guttman_transform(D, X);
       double s = seconds_since(t);
       if (r > 0) passes.push_back(s);  // the first pass warms the caches
       X = g.X_next;
     }
-    row.mds_iteration = median_of(passes);
+    row.mds_iteration = median(passes);
     row.mds_measured = true;
   }
   return row;

@@ -15,9 +15,6 @@
 
 namespace cshapes {
 
-// Median of the values (the upper median for an even count); 0 for none.
-double median_of(std::vector<double> values);
-
 struct TimingOptions {
   int repeats = 5;            // timed runs per measurement (the median is reported)
   GeodesicOptions geodesics;  // MDS pre-computation
