@@ -352,14 +352,17 @@ void check_numeric_options(CLI::App& app) {
 }
 
 // OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
-// they take the core from the thread that has work (README, "Threads"). libgomp reads OMP_WAIT_POLICY once,
-// when it loads, before main: so unless the user chose a policy, the process runs itself again with
-// OMP_WAIT_POLICY=passive (once: the new process sees the variable). If exec fails, it goes on as it is.
-void wait_passively(char** argv) {
+// they take the core from the thread that has work (README, "Threads"); a wait that only sleeps costs each
+// of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
+// (GOMP_SPINCOUNT=1000; scripts/busy_canon.py, README "Benchmarks"). libgomp reads its variables once, when
+// it loads, before main: so unless the user chose (OMP_WAIT_POLICY or GOMP_SPINCOUNT), the process runs
+// itself again with GOMP_SPINCOUNT set (once: the new process sees the variable). If exec fails, it goes on.
+constexpr const char* kSpinCount = "1000";
+void bound_the_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
-  if (::setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
+  if (::setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0) return;
   ::execv("/proc/self/exe", argv);
-  ::unsetenv("OMP_WAIT_POLICY");
+  ::unsetenv("GOMP_SPINCOUNT");
 }
 
 int report(const std::string& what, int code) {
@@ -373,7 +376,7 @@ int report(const std::string& what, int code) {
 
 int main(int argc, char** argv) {
   using namespace cshapes::cli;
-  wait_passively(argv);
+  bound_the_spin(argv);
   CLI::App app{
       "cshapes " CSHAPES_VERSION
       ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF), ICP matching "

@@ -8,8 +8,8 @@ average before the run.
   scripts/busy_canon.py [--mesh M] [--repeats N] [--idle] [--env NAME=VALUE ...] [--cshapes build/cshapes]
 
 --idle: no busy loop (the same comparison on whatever the machine is doing). --env: extra environment for the
-timed runs, e.g. OMP_WAIT_POLICY=active (spin, as before) or CSHAPES_EXACT_THREADS=1 (keep 2 threads even when
-a core is busy).
+timed runs, e.g. OMP_WAIT_POLICY=active (libgomp's long spin, as before), OMP_WAIT_POLICY=passive (sleep at
+once), GOMP_SPINCOUNT=N, or CSHAPES_EXACT_THREADS=1 (keep 2 threads even when a core is busy).
 """
 import argparse
 import json
