@@ -297,70 +297,36 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   return result;
 }
 
-}  // namespace
+// What the stages of the experiment share: the options, the shapes, their canonical forms and the report.
+struct ExperimentRun {
+  explicit ExperimentRun(const PaperExperimentOptions& options)
+      : o(options),
+        form_cache((fs::path(options.out) / "cache" / "forms").string()),
+        misc_cache((fs::path(options.out) / "cache" / "misc").string()) {}
 
-PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
-  const auto start = WallClock::now();
-  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
-                    m, "'; known: coulomb, cmds, smacof");
-  }
-  fs::create_directories(o.out);
-  const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
-  const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
-  PaperExperimentSummary summary;
-  PaperReport report;
-  report.options = &o;
-
-  // 1. Shapes.
-  say(o, "== shapes from " + o.data);
-  std::vector<Shape> shapes = select_shapes(o, misc_cache, report.skipped);
+  const PaperExperimentOptions& o;
+  DiskCache form_cache, misc_cache;
+  std::vector<Shape> shapes;
   std::vector<int> retrieval;  // indices of shapes in the retrieval set
-  for (size_t i = 0; i < shapes.size(); ++i)
-    if (shapes[i].in_retrieval) retrieval.push_back(static_cast<int>(i));
-  summary.shapes = static_cast<int>(retrieval.size());
   std::vector<std::string> names, classes;
-  for (int i : retrieval) {
-    names.push_back(shapes[i].name);
-    classes.push_back(shapes[i].class_name);
-  }
-  std::vector<int> labels = labels_from_classes(classes);
-  {
-    write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
-      out << "shape,class,noisy,vertices,file\n";
-      for (int i : retrieval)
-        out << shapes[i].name << ',' << shapes[i].class_name << ',' << shapes[i].noisy << ','
-            << shapes[i].mesh.num_vertices() << ',' << shapes[i].source_path << '\n';
-    });
-  }
-  for (const Shape& s : shapes) {
-    PaperReport::ShapeRow row{s.name,        s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(),
-                              s.source_name, s.defects,    {}};
-    for (const auto& [m, text] : s.repairs)
-      if (!text.empty()) row.repairs[m] = text;
-    report.shapes.push_back(row);
-  }
+  std::vector<int> labels;
+  std::map<std::string, MethodForms> forms;
+  PaperReport report;
+  PaperExperimentSummary summary;
+};
 
-  // 2. Canonical forms.
-  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
-  auto t = WallClock::now();
-  std::map<std::string, MethodForms> forms = canonize_all(shapes, o, form_cache, summary);
-  report.stage_seconds["canonical forms"] = seconds_since(t);
-  for (const auto& [m, mf] : forms) {
-    PaperReport::MethodCost cost;
-    for (int i : retrieval) {
-      cost.precompute.push_back(mf.forms[i].precompute_seconds);
-      cost.solve.push_back(mf.forms[i].solve_seconds);
-      cost.iterations.push_back(mf.forms[i].iterations);
-    }
-    report.cost[m] = cost;
-  }
-
-  // 3. Distances between canonical forms, retrieval measures.
+// 3. Distances between canonical forms (ICP, cached), retrieval measures: distances/*.csv, metrics.json.
+void retrieval_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
+  const std::vector<std::string>& names = run.names;
+  const std::vector<std::string>& classes = run.classes;
+  const std::vector<int>& labels = run.labels;
   say(o, "== ICP distances between all pairs");
-  t = WallClock::now();
+  const auto t = WallClock::now();
   json metrics;
   metrics["shapes"] = names;
   metrics["classes"] = classes;
@@ -375,8 +341,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
     po.progress = o.progress;
     PairwiseDistanceResult pd = pairwise_distances(X, keys, po);
-    summary.pairs_computed += pd.computed;
-    summary.pairs_cached += pd.cached;
+    run.summary.pairs_computed += pd.computed;
+    run.summary.pairs_cached += pd.cached;
     write_distance_csv((fs::path(o.out) / "distances" / (m + ".csv")).string(), names, pd.hausdorff);
     RetrievalResult rr = evaluate_retrieval(pd.hausdorff, labels);
     DistanceMatrixImage image = distance_matrix_image(pd.hausdorff, labels);
@@ -418,10 +384,17 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   write_file_atomically((fs::path(o.out) / "metrics.json").string(),
                         [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
   report.stage_seconds["distances and retrieval"] = seconds_since(t);
+}
 
-  // 4. Topological noise: each noisy shape against its clean source, per method.
+// 4. Topological noise: each noisy shape against its clean source, per method; noise_effect.csv.
+void noise_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
   say(o, "== effect of topological noise");
-  t = WallClock::now();
+  const auto t = WallClock::now();
   {
     std::vector<std::vector<double>> rows;
     for (size_t i = 0; i < shapes.size(); ++i) {
@@ -462,9 +435,18 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     });
   }
   report.stage_seconds["noise effect"] = seconds_since(t);
+}
 
-  // 5. Point maps induced by aligning canonical forms, against ground-truth correspondences.
-  t = WallClock::now();
+// 5. Point maps induced by aligning canonical forms, against ground-truth correspondences (cached);
+// correspondence_error.csv.
+void point_map_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
+  const DiskCache& misc_cache = run.misc_cache;
+  const auto t = WallClock::now();
   if (o.correspondence_samples > 0) {
     std::map<std::string, std::vector<Eigen::VectorXd>> curves;
     Eigen::VectorXd thresholds;
@@ -541,11 +523,18 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     }
   }
   report.stage_seconds["correspondence"] = seconds_since(t);
+}
 
-  // 6. Figures' data.
+// 6. The figures' data (Figures 2-8), unless o.figures is off: figures.json and the meshes behind it.
+void figure_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  PaperReport& report = run.report;
+  const DiskCache& misc_cache = run.misc_cache;
+  const DiskCache& form_cache = run.form_cache;
   if (o.figures) {
     say(o, "== data for the figures");
-    t = WallClock::now();
+    const auto t = WallClock::now();
     write_figure_data(o, report, misc_cache, form_cache);
     json grids = report.figure_grids;
     // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
@@ -603,11 +592,81 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
                           [&](std::ostream& out) { out << grids.dump(2) << '\n'; });
     report.stage_seconds["figures"] = seconds_since(t);
   }
+}
+
+}  // namespace
+
+PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
+  const auto start = WallClock::now();
+  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
+                    m, "'; known: coulomb, cmds, smacof");
+  }
+  fs::create_directories(o.out);
+  ExperimentRun run(o);
+  const DiskCache& form_cache = run.form_cache;
+  const DiskCache& misc_cache = run.misc_cache;
+  PaperExperimentSummary& summary = run.summary;
+  PaperReport& report = run.report;
+  report.options = &o;
+
+  // 1. Shapes.
+  say(o, "== shapes from " + o.data);
+  run.shapes = select_shapes(o, misc_cache, report.skipped);
+  const std::vector<Shape>& shapes = run.shapes;
+  std::vector<int>& retrieval = run.retrieval;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (shapes[i].in_retrieval) retrieval.push_back(static_cast<int>(i));
+  summary.shapes = static_cast<int>(retrieval.size());
+  for (int i : retrieval) {
+    run.names.push_back(shapes[i].name);
+    run.classes.push_back(shapes[i].class_name);
+  }
+  run.labels = labels_from_classes(run.classes);
+  {
+    write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
+      out << "shape,class,noisy,vertices,file\n";
+      for (int i : retrieval)
+        out << shapes[i].name << ',' << shapes[i].class_name << ',' << shapes[i].noisy << ','
+            << shapes[i].mesh.num_vertices() << ',' << shapes[i].source_path << '\n';
+    });
+  }
+  for (const Shape& s : shapes) {
+    PaperReport::ShapeRow row{s.name,        s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(),
+                              s.source_name, s.defects,    {}};
+    for (const auto& [m, text] : s.repairs)
+      if (!text.empty()) row.repairs[m] = text;
+    report.shapes.push_back(row);
+  }
+
+  // 2. Canonical forms.
+  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
+  auto t = WallClock::now();
+  run.forms = canonize_all(shapes, o, form_cache, summary);
+  const std::map<std::string, MethodForms>& forms = run.forms;
+  report.stage_seconds["canonical forms"] = seconds_since(t);
+  for (const auto& [m, mf] : forms) {
+    PaperReport::MethodCost cost;
+    for (int i : retrieval) {
+      cost.precompute.push_back(mf.forms[i].precompute_seconds);
+      cost.solve.push_back(mf.forms[i].solve_seconds);
+      cost.iterations.push_back(mf.forms[i].iterations);
+    }
+    report.cost[m] = cost;
+  }
+
+  // 3.-6. The measurements, each a stage of its own.
+  retrieval_stage(run);
+  noise_stage(run);
+  point_map_stage(run);
+  figure_stage(run);
 
   // 7. Table 1.
   if (o.table1) {
     say(o, "== Table 1 (timings)");
-    t = WallClock::now();
+    const auto t = WallClock::now();
     measure_table1(o, report, misc_cache);
     report.stage_seconds["table 1"] = seconds_since(t);
   }
