@@ -1,16 +1,10 @@
 // The options of `--method cmds|smacof`: MDS canonical forms (Elad & Kimmel) of a mesh, from its all-pairs
 // geodesic distances (computed, or read with --distances by `cshapes canon`); pipeline/canonical_forms.h
 // computes them.
-#include <algorithm>
-#include <cmath>
-
-#include "canon/classical_mds.h"
 #include "canon/smacof.h"
 #include "core/error.h"
 #include "core/geodesics.h"
-#include "core/knn_graph.h"
 #include "experiments/command.h"
-#include "pipeline/form_quality_json.h"
 
 namespace cshapes::cli {
 namespace {
