@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
+#include "core/mesh_repair.h"
 #include "core/synthetic.h"
 #include "eval/pairwise_distances.h"
 #include "tests/imperfect_meshes.h"
@@ -128,6 +131,56 @@ TEST(PairwiseDistancesWithDroppedVertices, NaNRowsAreLeftOut) {
   EXPECT_NEAR(r.hausdorff(0, 1), 0, 1e-9);
   EXPECT_NEAR(r.hausdorff(0, 2), r.hausdorff(1, 2), 1e-9);
   EXPECT_GT(r.hausdorff(0, 2), 0.1);
+}
+
+// --distances (options.distances_file): a matrix of the input's size is restricted to the repaired vertices,
+// and the form equals the one computed from the same matrix passed in memory.
+TEST(CanonicalFormsFromADistanceFile, InputSizedMatrixIsRestrictedToTheRepairedVertices) {
+  const Mesh mesh = test::sphere_with_isolated_vertex();  // vertex 162 is dropped for MDS
+  CanonicalFormOptions o = quick("cmds");
+  const RepairedMesh repaired = repair_for_canonical_form(mesh, o);
+  ASSERT_EQ(repaired.mesh.num_vertices(), mesh.num_vertices() - 1);
+  const DistanceMatrix on_repaired = all_pairs_geodesics(repaired.mesh, o.geodesics);
+  // The input-sized matrix `geodesics` writes: NaN at the dropped vertex.
+  const DistanceMatrix on_input =
+      distances_to_input_vertices(on_repaired, repaired.vertex_map, mesh.num_vertices());
+  EXPECT_EQ(distances_on_repaired_mesh(on_input, repaired, "D.bin"), on_repaired);
+  EXPECT_EQ(distances_on_repaired_mesh(on_repaired, repaired, "D.bin"), on_repaired);
+  EXPECT_THROW(distances_on_repaired_mesh(DistanceMatrix::Zero(5, 5), repaired, "D.bin"), Error);
+
+  const std::string dir = test::scratch_dir("canon_distances_file");
+  write_distance_matrix(dir + "/D.bin", on_input);
+  o.distances_file = dir + "/D.bin";
+  const CanonicalForm from_file = canonical_form(mesh, o);
+  CanonicalFormOptions in_memory = quick("cmds");
+  const CanonicalForm from_memory = canonical_form(mesh, in_memory, &on_repaired);
+  ASSERT_EQ(from_file.X.rows(), mesh.num_vertices());
+  EXPECT_TRUE(from_file.X.row(162).array().isNaN().all());
+  EXPECT_EQ(from_file.X.topRows(162), from_memory.X.topRows(162));
+  // The file's content is part of the cache key.
+  EXPECT_NE(canonical_form_key(o), canonical_form_key(in_memory));
+}
+
+// SMACOF's start and weights: defaults leave the cache key as it was; other choices change it and the form.
+TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
+  const Mesh mesh = icosphere(2);
+  CanonicalFormOptions o = quick("smacof");
+  const std::string default_key = canonical_form_key(o);
+  EXPECT_EQ(default_key.find("init="), std::string::npos);
+  EXPECT_EQ(default_key.find("weight_rule="), std::string::npos);
+  o.smacof_init = "mesh";
+  o.smacof_weights = "area";
+  EXPECT_NE(canonical_form_key(o), default_key);
+  const CanonicalForm f = canonical_form(mesh, o);
+  const CanonicalForm g = canonical_form(mesh, quick("smacof"));
+  ASSERT_TRUE(f.X.allFinite());
+  EXPECT_GT((f.X - g.X).norm(), 0);  // another start: another (rotated or different) configuration
+  const nlohmann::json summary = nlohmann::json::parse(f.summary_json);
+  EXPECT_EQ(summary["smacof"]["init"], "mesh");
+  EXPECT_EQ(summary["smacof"]["weights"], "area");
+  EXPECT_FALSE(summary.contains("classical_mds"));  // started from the mesh: no classical MDS ran
+  o.smacof_init = "random";
+  EXPECT_THROW(canonical_form(mesh, o), Error);
 }
 
 }  // namespace
