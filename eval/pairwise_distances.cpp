@@ -39,9 +39,8 @@ nlohmann::json encode(const PairValue& v, const IcpResult& r) {
 bool decode(const std::string& bytes, PairValue& v) {
   const nlohmann::json j = nlohmann::json::from_cbor(bytes, true, false);
   if (!j.is_discarded()) {
-    if (!j.is_object() || !j.contains("hausdorff") || !j.contains("chamfer") || !j.contains("rmse") ||
-        !j.contains("reflection"))
-      return false;
+    for (const char* field : {"hausdorff", "chamfer", "rmse", "reflection"})
+      if (!j.is_object() || !j.contains(field) || !j[field].is_number()) return false;
     v.hausdorff = j["hausdorff"].get<double>();
     v.chamfer = j["chamfer"].get<double>();
     v.rmse = j["rmse"].get<double>();

@@ -278,8 +278,8 @@ int busy_cores() {
 
 // The OpenMP thread count: --threads (or OMP_NUM_THREADS, or all cores), at most 4 per core, and no more than
 // the cores other processes leave idle. Every parallel loop ends at a barrier, so one thread that shares its
-// core with another busy process holds all the others back: `canon` on cat0 with one of two cores kept busy
-// took 10x longer with 2 threads than with 1 (README, "Threads").
+// core with another busy process holds all the others back: `canon` on dog0 with another job running took
+// 10x longer with 2 threads than with 1 (README, "Threads").
 void set_threads(int requested) {
   const int cores = std::max(1, omp_get_num_procs());
   int wanted = requested > 0 ? requested : omp_get_max_threads();

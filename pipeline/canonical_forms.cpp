@@ -1,7 +1,6 @@
 #include "pipeline/canonical_forms.h"
 
 #include <cmath>
-#include <cstring>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -24,7 +23,6 @@ DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& opt
   if (!go.progress) go.progress = options.progress;
   if (!mesh.is_point_cloud()) return all_pairs_geodesics(mesh, go);
   // A point cloud has no surface: graph distances on its kNN graph (as Isomap does).
-  Mesh graph_mesh = mesh;
   Edges E = knn_graph(mesh.V, options.knn);
   Components comp = connected_components(mesh.num_vertices(), E);
   CSHAPES_REQUIRE(comp.count == 1, "point cloud: its ", options.knn.k, "-nearest-neighbour graph has ",
@@ -261,9 +259,15 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
 DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
                                           const std::string& source) {
   const Index n = repaired.mesh.num_vertices();
-  if (D.rows() == n && D.cols() == n) return D;
-  CSHAPES_REQUIRE(D.rows() == repaired.input_vertices && D.cols() == D.rows(), source, ": has ", D.rows(),
-                  " points but the mesh has ", repaired.input_vertices, " vertices (", n, " after repair)");
+  // The input's size first: `cshapes geodesics` writes that on a repaired mesh, and a repair that drops some
+  // vertices and splits others can leave the count unchanged while the order is not.
+  if (D.rows() == repaired.input_vertices && D.cols() == D.rows()) {
+    if (!repaired.changed()) return D;
+  } else {
+    CSHAPES_REQUIRE(D.rows() == n && D.cols() == n, source, ": has ", D.rows(), " points but the mesh has ",
+                    repaired.input_vertices, " vertices (", n, " after repair)");
+    return D;
+  }
   // The input was repaired (vertices dropped or split): the rows and columns of the vertices it maps to.
   require_memory(distance_matrix_bytes(n), "restricting " + source + " to the repaired mesh");
   DistanceMatrix sub(n, n);

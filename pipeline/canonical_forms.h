@@ -62,9 +62,9 @@ MeshRequirements canonical_form_requirements(const std::string& method);
 // strict): the vertices of a precomputed distance matrix D are this mesh's.
 RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOptions& options);
 
-// A precomputed distance matrix for the mesh repair_for_canonical_form gives: D itself when it has the
-// repaired mesh's size, or, when it has the input's, its rows and columns at the repaired vertices
-// (vertex_map). Throws, naming `source`, for any other size.
+// A precomputed distance matrix for the mesh repair_for_canonical_form gives: when D has the input's size
+// (what `cshapes geodesics` writes), its rows and columns at the repaired vertices (vertex_map); otherwise D
+// itself when it has the repaired mesh's size. Throws, naming `source`, for any other size.
 DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
                                           const std::string& source);
 

@@ -9,16 +9,13 @@
 #include <set>
 #include <sstream>
 
-#include "core/articulated.h"
 #include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
 #include "core/mesh_defects.h"
 #include "core/mesh_repair.h"
-#include "core/remesh.h"
 #include "core/rigid_transform.h"
-#include "core/synthetic.h"
 #include "core/timing.h"
 #include "core/topological_noise.h"
 #include "eval/correspondence_error.h"
@@ -29,7 +26,6 @@
 #include "matching/shape_distance.h"
 #include "pipeline/paper_figures.h"
 #include "pipeline/paper_report.h"
-#include "pipeline/timing_table.h"
 
 namespace cshapes {
 
@@ -307,8 +303,9 @@ struct ExperimentRun {
   const PaperExperimentOptions& o;
   DiskCache form_cache, misc_cache;
   std::vector<Shape> shapes;
-  std::vector<int> retrieval;  // indices of shapes in the retrieval set
-  std::vector<std::string> names, classes;
+  std::vector<int> retrieval;               // indices of shapes in the retrieval set
+  std::vector<std::string> names, classes;  // of the retrieval set
+  std::vector<std::string> class_names;     // distinct classes, in label order
   std::vector<int> labels;
   std::map<std::string, MethodForms> forms;
   PaperReport report;
@@ -375,12 +372,7 @@ void retrieval_stage(ExperimentRun& run) {
                            rr.mean.dcg,
                            noisy_queries ? noisy_nn / noisy_queries : -1.0};
   }
-  {
-    std::vector<std::string> class_names;
-    for (const std::string& c : classes)
-      if (std::find(class_names.begin(), class_names.end(), c) == class_names.end()) class_names.push_back(c);
-    metrics["class_names"] = class_names;
-  }
+  metrics["class_names"] = run.class_names;
   write_file_atomically((fs::path(o.out) / "metrics.json").string(),
                         [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
   report.stage_seconds["distances and retrieval"] = seconds_since(t);
@@ -396,7 +388,6 @@ void noise_stage(ExperimentRun& run) {
   say(o, "== effect of topological noise");
   const auto t = WallClock::now();
   {
-    std::vector<std::vector<double>> rows;
     for (size_t i = 0; i < shapes.size(); ++i) {
       const Shape& noisy = shapes[i];
       if (noisy.source_name.empty()) continue;
@@ -624,7 +615,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     run.names.push_back(shapes[i].name);
     run.classes.push_back(shapes[i].class_name);
   }
-  run.labels = labels_from_classes(run.classes);
+  run.labels = labels_from_classes(run.classes, &run.class_names);
   {
     write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
       out << "shape,class,noisy,vertices,file\n";

@@ -154,9 +154,9 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
     for (size_t c = 0; c < o.fig3_iterations.size(); ++c) {
       const int target = o.fig3_iterations[c];
       if (!cached.is_null()) {
-        std::vector<double> flat = cached["snapshots"][c]["X"].get<std::vector<double>>();
-        X = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(flat.data(), X.rows(),
-                                                                                        3);
+        X = points_from_json(cached["snapshots"][c]["X"]);
+        CSHAPES_REQUIRE(X.rows() == fs_shape.mesh.num_vertices(), misc_cache.entry_path(key),
+                        ": a damaged Figure 3 cache entry (delete it to recompute)");
         std::vector<double> t = cached["snapshots"][c]["torn"].get<std::vector<double>>();
         torn = Eigen::Map<const Eigen::VectorXd>(t.data(), X.rows());
       } else if (target > done) {
@@ -179,9 +179,8 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
         torn = torn.cwiseMax(r.torn_vertices);
         done = target;
       }
-      Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> Xr = X;
-      snapshots.push_back({{"X", std::vector<double>(Xr.data(), Xr.data() + Xr.size())},
-                           {"torn", std::vector<double>(torn.data(), torn.data() + torn.size())}});
+      snapshots.push_back(
+          {{"X", points_to_json(X)}, {"torn", std::vector<double>(torn.data(), torn.data() + torn.size())}});
       WriteOptions wo;
       wo.scalars.push_back({"torn", torn});
       const std::string file = "fig3_" + std::to_string(target) + ".ply";

@@ -147,6 +147,17 @@ TEST(CanonicalFormsFromADistanceFile, InputSizedMatrixIsRestrictedToTheRepairedV
   EXPECT_EQ(distances_on_repaired_mesh(on_input, repaired, "D.bin"), on_repaired);
   EXPECT_EQ(distances_on_repaired_mesh(on_repaired, repaired, "D.bin"), on_repaired);
   EXPECT_THROW(distances_on_repaired_mesh(DistanceMatrix::Zero(5, 5), repaired, "D.bin"), Error);
+  // A repair that drops one vertex and splits another keeps the count: the matrix is read as the input's.
+  RepairedMesh same_count;
+  same_count.input_vertices = 3;
+  same_count.vertex_map = {0, 2, 2};  // input vertex 1 dropped, input vertex 2 split in two
+  same_count.mesh.V = Points::Zero(3, 3);
+  same_count.actions.push_back({"test", 1});
+  DistanceMatrix input3(3, 3);
+  input3 << 0, 1, 2, 1, 0, 3, 2, 3, 0;
+  DistanceMatrix expected(3, 3);
+  expected << 0, 2, 2, 2, 0, 0, 2, 0, 0;
+  EXPECT_EQ(distances_on_repaired_mesh(input3, same_count, "D.bin"), expected);
 
   const std::string dir = test::scratch_dir("canon_distances_file");
   write_distance_matrix(dir + "/D.bin", on_input);
