@@ -1,6 +1,7 @@
 #include "canon/classical_mds.h"
 
 #include <Spectra/SymEigsSolver.h>
+#include <omp.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -32,8 +33,8 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
   SquaredDistanceSums s;
   s.row_sums.resize(n);
   Index bad_row = -1;
-  double sum_fourth = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum_fourth)
+  Eigen::VectorXd row_fourth(n);  // summed in row order below: deterministic, unlike an OpenMP reduction
+#pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     const Scalar* column = D.data() + i * n;
     double row = 0, fourth = 0;
@@ -46,7 +47,7 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
       finite = finite && column[j] >= 0 && column[j] <= std::numeric_limits<Scalar>::max();
     }
     s.row_sums[i] = row;
-    sum_fourth += fourth;
+    row_fourth[i] = fourth;
     if (!finite) {
 #pragma omp critical(cshapes_cmds_bad_row)
       if (bad_row < 0 || i < bad_row) bad_row = i;
@@ -58,6 +59,8 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
     fail("classical MDS: distance (", bad_row, ", ", j, ") is ", static_cast<double>(D(j, bad_row)),
          "; distances must be finite and non-negative", bad_distance_hint(D, j, bad_row));
   }
+  double sum_fourth = 0;
+  for (Index i = 0; i < n; ++i) sum_fourth += row_fourth[i];
   s.sum_fourth = sum_fourth;
   for (Index i = 0; i < n; ++i) s.diagonal += static_cast<double>(D(i, i)) * static_cast<double>(D(i, i));
   return s;
@@ -88,14 +91,16 @@ class DoubleCentredOp {
     Eigen::Map<const Eigen::VectorXd> x(x_in, n);
     centred_ = x.array() - x.mean();
     const double* v = centred_.data();
-    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
     // Symmetry: only the tiles above the diagonal are read, each entry credited to its row and its column,
-    // so a product streams half of D.
-#pragma omp parallel
+    // so a product streams half of D. Deterministic: tiles go to threads round-robin and the threads' sums
+    // are added in thread order, so equal inputs and thread counts give bit-identical products.
+    std::vector<Eigen::VectorXd> locals(static_cast<size_t>(omp_get_max_threads()));
+#pragma omp parallel num_threads(static_cast<int>(locals.size()))
     {
-      Eigen::VectorXd local = Eigen::VectorXd::Zero(n);
+      Eigen::VectorXd& local = locals[static_cast<size_t>(omp_get_thread_num())];
+      local = Eigen::VectorXd::Zero(n);
       alignas(64) double column_sums[kTile];
-#pragma omp for schedule(dynamic, 1) nowait
+#pragma omp for schedule(static, 1) nowait
       for (size_t t = 0; t < tiles_.size(); ++t) {
         const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
         const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
@@ -123,9 +128,10 @@ class DoubleCentredOp {
         }
         for (Index j = j0; j < j1; ++j) local[j] += column_sums[j - j0];
       }
-#pragma omp critical(cshapes_cmds_reduce)
-      product += local;
     }
+    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
+    for (const Eigen::VectorXd& local : locals)
+      if (local.size()) product += local;
     for (Index i = 0; i < n; ++i) {  // the diagonal (zero for a proper distance matrix)
       const double d = static_cast<double>(D_(i, i));
       product[i] += d * d * v[i];

@@ -144,13 +144,18 @@ double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config
   const Index n = D.rows();
   const auto tiles = upper_tiles(n);
   sums.setZero(n, 3);
-  double stress = 0;
-#pragma omp parallel
+  // Deterministic: tiles go to threads round-robin, and the threads' sums are added in thread order.
+  const size_t threads = static_cast<size_t>(omp_get_max_threads());
+  std::vector<std::vector<double>> locals(threads);
+  std::vector<double> local_stresses(threads, 0.0);
+#pragma omp parallel num_threads(static_cast<int>(threads))
   {
-    std::vector<double> local(3 * n, 0.0);  // x, y, z of row j at 3j
+    const size_t me = static_cast<size_t>(omp_get_thread_num());
+    std::vector<double>& local = locals[me];  // x, y, z of row j at 3j
+    local.assign(3 * static_cast<size_t>(n), 0.0);
     double local_stress = 0;
     alignas(32) float col[3][kTileCols];
-#pragma omp for schedule(dynamic, 1) nowait
+#pragma omp for schedule(static, 1) nowait
     for (size_t t = 0; t < tiles.size(); ++t) {
       const Index i0 = tiles[t].first * kTileRows, i1 = std::min(n, i0 + kTileRows);
       const Index j0 = tiles[t].second * kTileCols, j1 = std::min(n, j0 + kTileCols);
@@ -176,12 +181,14 @@ double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config
         local[3 * j + 2] += col[2][j - j0];
       }
     }
-#pragma omp critical(cshapes_smacof_reduce)
-    {
-      for (Index i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) sums(i, k) += local[3 * i + k];
-      stress += local_stress;
-    }
+    local_stresses[me] = local_stress;
+  }
+  double stress = 0;
+  for (size_t t = 0; t < threads; ++t) {
+    if (locals[t].empty()) continue;
+    for (Index i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) sums(i, k) += locals[t][static_cast<size_t>(3 * i + k)];
+    stress += local_stresses[t];
   }
   return stress;
 }
@@ -255,12 +262,12 @@ double weighted_distance_energy(const DistanceMatrix& D, const Eigen::VectorXd& 
                   D.cols());
   CSHAPES_REQUIRE(n >= 4, what, ": needs at least 4 points for a 3-D embedding, got ", n);
   const auto tiles = upper_tiles(n);
-  double energy = 0;
+  std::vector<double> tile_energies(tiles.size(), 0.0);  // summed in tile order: deterministic
   // First offending pair (i, j), i < j, in tile order; kind 1: not finite or negative, 2: asymmetric.
   Index bad_i = -1, bad_j = -1;
   int bad_kind = 0;
   size_t bad_tile = tiles.size();
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy)
+#pragma omp parallel for schedule(dynamic, 1)
   for (size_t t = 0; t < tiles.size(); ++t) {
     const Index i0 = tiles[t].first * kTileRows, i1 = std::min(n, i0 + kTileRows);
     const Index j0 = tiles[t].second * kTileCols, j1 = std::min(n, j0 + kTileCols);
@@ -289,8 +296,10 @@ double weighted_distance_energy(const DistanceMatrix& D, const Eigen::VectorXd& 
         tile_energy += wi * wj * static_cast<double>(a) * static_cast<double>(a);
       }
     }
-    energy += tile_energy;
+    tile_energies[t] = tile_energy;
   }
+  double energy = 0;
+  for (const double e : tile_energies) energy += e;
   if (bad_kind == 1) {
     fail(what, ": distance (", bad_i, ", ", bad_j, ") is ", D(bad_j, bad_i),
          "; distances must be finite and non-negative", bad_distance_hint(D, bad_j, bad_i));
