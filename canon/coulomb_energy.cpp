@@ -247,4 +247,22 @@ CoulombErrors coulomb_errors(const CoulombEvaluation& evaluation, const std::vec
   return e;
 }
 
+CoulombOptions::Summation parse_coulomb_summation(const std::string& name) {
+  if (name == "auto") return CoulombOptions::Summation::Auto;
+  if (name == "direct") return CoulombOptions::Summation::Direct;
+  if (name == "direct-float") return CoulombOptions::Summation::DirectFloat;
+  if (name == "fast") return CoulombOptions::Summation::Fast;
+  fail("unknown Coulomb summation '", name, "'; known: auto, direct, direct-float, fast");
+}
+
+std::string to_string(CoulombOptions::Summation summation) {
+  switch (summation) {
+    case CoulombOptions::Summation::Auto: return "auto";
+    case CoulombOptions::Summation::Direct: return "direct";
+    case CoulombOptions::Summation::DirectFloat: return "direct-float";
+    case CoulombOptions::Summation::Fast: return "fast";
+  }
+  return "auto";
+}
+
 }  // namespace cshapes

@@ -22,6 +22,7 @@
 //   Auto         DirectFloat below the measured crossover (3,000 points), Fast from there on
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "core/types.h"
@@ -41,6 +42,10 @@ struct CoulombOptions {
   double min_distance = 0;       // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
   bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
 };
+
+// "auto", "direct", "direct-float", "fast" (the CLI's --coulomb-summation); throws listing them otherwise.
+CoulombOptions::Summation parse_coulomb_summation(const std::string& name);
+std::string to_string(CoulombOptions::Summation summation);
 
 struct CoulombEvaluation {
   double energy = 0;

@@ -24,19 +24,19 @@ void write_file_atomically(const std::string& path, const std::function<void(std
   if (target.has_parent_path()) {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
-    if (ec) fail(path, ": cannot create directory ", target.parent_path().string(), ": ", ec.message());
+    if (ec) fail_file(path, ": cannot create directory ", target.parent_path().string(), ": ", ec.message());
   }
   std::string tmp = detail::concat(path, ".tmp.", ::getpid(), ".", counter++);
   try {
     std::ofstream out(
         tmp, binary ? std::ios::out | std::ios::binary | std::ios::trunc : std::ios::out | std::ios::trunc);
-    if (!out) fail(path, ": cannot open for writing: ", std::strerror(errno));
+    if (!out) fail_file(path, ": cannot open for writing: ", std::strerror(errno));
     write(out);
     out.flush();
-    if (!out) fail(path, ": write failed (disk full?)");
+    if (!out) fail_file(path, ": write failed (disk full?)");
     out.close();
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      fail(path, ": cannot rename temporary file: ", std::strerror(errno));
+      fail_file(path, ": cannot rename temporary file: ", std::strerror(errno));
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -66,7 +66,7 @@ void check_folder_takes_files(const std::string& path, const fs::path& folder) {
     ::unlink(probe.c_str());
     fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
   }
-  if (fd < 0) fail(path, ": cannot write in ", existing.string(), ": ", std::strerror(errno));
+  if (fd < 0) fail_file(path, ": cannot write in ", existing.string(), ": ", std::strerror(errno));
   ::close(fd);
   ::unlink(probe.c_str());
 }
@@ -103,13 +103,13 @@ void check_output_directory(const std::string& path) {
 
 std::string read_file(const std::string& path) {
   std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, ": no such file");
-  if (fs::is_directory(path, ec)) fail(path, ": is a directory, expected a file");
+  if (!fs::exists(path, ec)) fail_file(path, ": no such file");
+  if (fs::is_directory(path, ec)) fail_file(path, ": is a directory, expected a file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, ": cannot open for reading: ", std::strerror(errno));
+  if (!in) fail_file(path, ": cannot open for reading: ", std::strerror(errno));
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  if (in.bad()) fail(path, ": read error");
+  if (in.bad()) fail_file(path, ": read error");
   return buffer.str();
 }
 

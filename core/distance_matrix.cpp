@@ -48,7 +48,7 @@ void write_distance_matrix(const std::string& path, const DistanceMatrix& D) {
 
 DistanceMatrix read_distance_matrix(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, ": cannot open distance matrix");
+  if (!in) fail_file(path, ": cannot open distance matrix");
   char magic[8];
   uint64_t n = 0;
   in.read(magic, 8);

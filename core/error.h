@@ -13,6 +13,13 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A file that cannot be found, opened, created or written (the file system's refusal, not its content):
+// front ends that tell the two apart (the Python module raises OSError for it, ValueError for Error).
+class FileError : public Error {
+ public:
+  explicit FileError(const std::string& message) : Error(message) {}
+};
+
 namespace detail {
 template <typename... Args>
 std::string concat(const Args&... args) {
@@ -26,6 +33,12 @@ std::string concat(const Args&... args) {
 template <typename... Args>
 [[noreturn]] void fail(const Args&... args) {
   throw Error(detail::concat(args...));
+}
+
+// Throws cshapes::FileError whose message is the concatenation of the arguments.
+template <typename... Args>
+[[noreturn]] void fail_file(const Args&... args) {
+  throw FileError(detail::concat(args...));
 }
 
 }  // namespace cshapes

@@ -201,18 +201,6 @@ void write_xyz(std::ostream& out, const Mesh& mesh) {
   }
 }
 
-// Indices and finiteness: what even an unvalidated load must guarantee, since every later array access
-// relies on it. Parsers already report these with line numbers; this is the backstop for all formats.
-void check_indices_and_finiteness(const Mesh& mesh, const std::string& name) {
-  for (Index i = 0; i < mesh.num_vertices(); ++i)
-    if (!mesh.V.row(i).allFinite()) fail(name, ": vertex ", i, " has a non-finite coordinate (NaN or Inf)");
-  for (Index f = 0; f < mesh.num_faces(); ++f)
-    for (int c = 0; c < 3; ++c)
-      if (mesh.F(f, c) < 0 || mesh.F(f, c) >= mesh.num_vertices())
-        fail(name, ": face ", f, " has vertex index ", mesh.F(f, c), ", expected 0..",
-             mesh.num_vertices() - 1);
-}
-
 MeshFile parse_by_format(const std::string& bytes, const std::string& format, const std::string& name) {
   if (format == "off") return parse_off(name, bytes);
   if (format == "ply") return parse_ply(name, bytes);
@@ -224,17 +212,29 @@ MeshFile parse_by_format(const std::string& bytes, const std::string& format, co
 }
 
 MeshFile finish(MeshFile file, const std::string& name, const ReadOptions& options) {
-  if (file.mesh.num_vertices() == 0) fail(name, ": empty mesh (no vertices)");
-  check_indices_and_finiteness(file.mesh, name);
+  check_mesh_arrays(file.mesh, name);
   if (options.validate) validate_mesh(file.mesh, name);
   return file;
 }
 
 }  // namespace
 
-void validate_mesh(const Mesh& mesh, const std::string& name) {
+// Indices and finiteness: what even an unvalidated load must guarantee, since every later array access
+// relies on it. Parsers already report these with line numbers; this is the backstop for all formats and
+// the check of meshes that come from memory (the Python module's arrays).
+void check_mesh_arrays(const Mesh& mesh, const std::string& name) {
   if (mesh.num_vertices() == 0) fail(name, ": empty mesh (no vertices)");
-  check_indices_and_finiteness(mesh, name);
+  for (Index i = 0; i < mesh.num_vertices(); ++i)
+    if (!mesh.V.row(i).allFinite()) fail(name, ": vertex ", i, " has a non-finite coordinate (NaN or Inf)");
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (mesh.F(f, c) < 0 || mesh.F(f, c) >= mesh.num_vertices())
+        fail(name, ": face ", f, " has vertex index ", mesh.F(f, c), ", expected 0..",
+             mesh.num_vertices() - 1);
+}
+
+void validate_mesh(const Mesh& mesh, const std::string& name) {
+  check_mesh_arrays(mesh, name);
   const MeshDefects d = mesh_defects(mesh);
   if (d.repeated_vertex_faces) {
     const int f = d.repeated_vertex_face_examples[0];
@@ -305,9 +305,9 @@ void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& o
     finite_rows.V = mesh.V;
     for (Index i = 0; i < mesh.num_vertices(); ++i)
       if (valid->values[i] == 0) finite_rows.V.row(i).setZero();
-    check_indices_and_finiteness(finite_rows, path);
+    check_mesh_arrays(finite_rows, path);
   } else {
-    check_indices_and_finiteness(mesh, path);
+    check_mesh_arrays(mesh, path);
   }
   if (ext == "off") {
     write_file_atomically(path, [&](std::ostream& out) { write_off(out, mesh); });

@@ -37,6 +37,11 @@ struct ReadOptions {
 // Reads a mesh or point cloud. Throws cshapes::Error naming the file (and line or element) on any problem.
 Mesh read_mesh(const std::string& path, const ReadOptions& options = {});
 
+// What every mesh the library takes must satisfy, files and arrays alike: at least one vertex, finite
+// coordinates, face indices in 0..n−1. Throws cshapes::Error naming `name` and the first offending vertex or
+// face ("NAME: face 7 has vertex index 12, expected 0..9").
+void check_mesh_arrays(const Mesh& mesh, const std::string& name);
+
 // Checks what stages that need a clean manifold input rely on (remeshing, gluing topological noise),
 // throwing with `name` and the first offending element: at least one vertex, finite coordinates, face
 // indices in range, no face repeating a vertex, no duplicate face, no zero-length edge, no edge shared by

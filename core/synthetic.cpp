@@ -188,6 +188,19 @@ double swiss_roll_length(double t0, double t1) {
   return primitive(t1) - primitive(t0);
 }
 
+std::pair<int, int> swiss_roll_grid(long n) {
+  double best = 1e300;
+  std::pair<int, int> grid{2, 2};
+  for (int nv = 2; nv <= n / 2; ++nv) {
+    int nu = static_cast<int>(std::lround(static_cast<double>(n) / nv));
+    if (nu < 2) break;
+    double cost = std::abs(static_cast<double>(nu) * nv - n) / n +
+                  0.05 * std::abs(std::log((nu - 1.0) / (nv - 1.0) / 5.0));
+    if (cost < best) best = cost, grid = {nu, nv};
+  }
+  return grid;
+}
+
 Mesh swiss_roll(const SwissRollOptions& o) {
   CSHAPES_REQUIRE(o.nu >= 2 && o.nv >= 2, "swiss_roll: needs nu, nv >= 2, got ", o.nu, ", ", o.nv);
   CSHAPES_REQUIRE(o.t1 > o.t0 && o.t0 >= 0 && o.height > 0, "swiss_roll: needs 0 <= t0 < t1 and height > 0");

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "core/distance_matrix.h"
 #include "core/mesh.h"
@@ -33,6 +34,9 @@ struct SwissRollOptions {
   double height = 21.0;                      // width across the roll, in the units of x and z
 };
 Mesh swiss_roll(const SwissRollOptions& options = {});
+// The grid nu × nv closest to n vertices with the paper's aspect (nu − 1) : (nv − 1) = 5 : 1 (561: 51 × 11),
+// as `cshapes generate swissroll --vertices n` uses it. n ≥ 4.
+std::pair<int, int> swiss_roll_grid(long n);
 
 // n points on a lumpy, elongated closed surface (a sphere radially perturbed by smooth bumps, scaled 3 : 1.5
 // : 1), drawn at random for `seed`: distinct principal axes and no symmetry, so a rigid motion of it is

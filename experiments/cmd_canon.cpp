@@ -7,6 +7,7 @@
 #include "core/io.h"
 #include "experiments/command.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {
@@ -52,15 +53,8 @@ int run() {
   if (!args.history.empty() && !form.history_columns.empty())
     write_csv(args.history, form.history_columns, form.history_rows);
 
-  nlohmann::json summary = nlohmann::json::parse(form.summary_json);
-  nlohmann::json repairs = nlohmann::json::array();
-  for (const RepairAction& a : form.repairs) repairs.push_back({{"what", a.what}, {"count", a.count}});
-  summary["repairs"] = repairs;
-  summary["repair"] = form.repair_text;
-  summary["input_vertices"] = input.num_vertices();
-  summary["kept_input_vertices"] = static_cast<Index>(form.valid.sum());
+  nlohmann::json summary = canonical_form_summary(form, args.method);
   summary["repaired_vertices"] = repaired.mesh.num_vertices();
-  summary["method"] = args.method;
   summary["input"] = args.input;
   summary["output"] = args.output;
   if (args.json) std::cout << summary.dump(2) << std::endl;

@@ -15,17 +15,9 @@ struct CoulombArgs {
   std::string step_rule = to_string(CoulombCanonOptions{}.step_rule);
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
   std::string tear_guard = to_string(CoulombCanonOptions{}.tear_guard);
-  std::string summation = "auto";
+  std::string summation = to_string(CoulombCanonOptions{}.energy.summation);
   KnnGraphOptions knn;
 } args;
-
-CoulombOptions::Summation parse_summation(const std::string& name) {
-  if (name == "auto") return CoulombOptions::Summation::Auto;
-  if (name == "direct") return CoulombOptions::Summation::Direct;
-  if (name == "direct-float") return CoulombOptions::Summation::DirectFloat;
-  if (name == "fast") return CoulombOptions::Summation::Fast;
-  usage_fail("--coulomb-summation: expected one of auto, direct, direct-float, fast, got '", name, "'");
-}
 
 void add_options(CLI::Option_group& g) {
   CoulombCanonOptions& o = args.options;
@@ -116,7 +108,7 @@ CoulombCanonOptions parsed_options() {
   options.step_rule = parse_coulomb_step_rule(args.step_rule);
   options.projection.norm = parse_projection_norm(args.norm);
   options.tear_guard = parse_tear_guard(args.tear_guard);
-  options.energy.summation = parse_summation(args.summation);
+  options.energy.summation = parse_coulomb_summation(args.summation);
   return options;
 }
 

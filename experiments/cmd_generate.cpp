@@ -34,20 +34,6 @@ struct SwissArgs {
   long vertices = 561;
 } swiss;
 
-// nu × nv close to N with the paper's aspect (nu - 1) : (nv - 1) = 5 : 1 (51 × 11 = 561).
-std::pair<int, int> swiss_roll_grid(long n) {
-  double best = 1e300;
-  std::pair<int, int> grid{2, 2};
-  for (int nv = 2; nv <= n / 2; ++nv) {
-    int nu = static_cast<int>(std::lround(static_cast<double>(n) / nv));
-    if (nu < 2) break;
-    double cost = std::abs(static_cast<double>(nu) * nv - n) / n +
-                  0.05 * std::abs(std::log((nu - 1.0) / (nv - 1.0) / 5.0));
-    if (cost < best) best = cost, grid = {nu, nv};
-  }
-  return grid;
-}
-
 int run_swissroll() {
   require_output_path(swiss.output, {"off"});
   SwissRollOptions o;

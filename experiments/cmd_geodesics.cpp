@@ -5,11 +5,9 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "core/geodesics.h"
-#include "core/heat_method.h"
-#include "core/mesh_repair.h"
 #include "core/timing.h"
 #include "experiments/command.h"
+#include "pipeline/mesh_geodesics.h"
 
 namespace cshapes::cli {
 namespace {
@@ -40,41 +38,32 @@ int run() {
     require_output_path(args.output, {args.csv ? "csv" : "bin"});
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
-  // Geodesics need one manifold component without zero-area faces: repaired (core/mesh_repair.h) unless
-  // --strict; the output is placed back at the input's vertices (distances_to_input_vertices).
-  RepairOptions ro;
-  ro.strict = args.strict;
-  ro.name = args.input;
-  ro.purpose = "geodesics (one manifold component, no zero-area faces)";
-  RepairedMesh sub = repair_for(input, MeshRequirements::manifold_surface(), ro);
+  // Repaired for geodesics unless --strict; the output is given at the input's vertices
+  // (pipeline/mesh_geodesics.h).
+  MeshGeodesicsOptions mo;
+  mo.geodesics = options;
+  mo.strict = args.strict;
+  mo.name = args.input;
+  const MeshGeodesics prepared = prepare_mesh_geodesics(input, mo);
+  const RepairedMesh& sub = prepared.repaired;
   if (sub.changed())
     note(sub.text + "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
                     "nearest copy where one was split)");
-  const Mesh& mesh = sub.mesh;
   const WallClock::time_point start = WallClock::now();
   nlohmann::json summary = {{"input", args.input},
                             {"vertices", input.num_vertices()},
-                          {"repaired_vertices", mesh.num_vertices()},
+                            {"repaired_vertices", sub.mesh.num_vertices()},
                             {"method", to_string(options.method)},
                             {"output", args.output.empty() ? "-" : args.output}};
-  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal) {
+  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
     summary["heat_mode"] = to_string(options.heat_mode);
-    const std::string warning = heat_method_warning(mesh);
-    if (!warning.empty()) {
-      note("warning: " + warning);
-      summary["warning"] = warning;
-    }
+  if (!prepared.warning.empty()) {
+    note("warning: " + prepared.warning);
+    summary["warning"] = prepared.warning;
   }
 
-  if (args.source >= 0 || args.csv) {
-    CSHAPES_REQUIRE(args.source >= 0 && args.csv,
-                    "--source i and --csv go together: one row of distances as CSV");
-    CSHAPES_REQUIRE(args.source < input.num_vertices(), "--source ", args.source, " is out of range 0..",
-                    input.num_vertices() - 1);
-    const std::vector<int> sources = repaired_copies(sub.vertex_map, args.source);
-    CSHAPES_REQUIRE(!sources.empty(), "--source ", args.source, " was dropped by the repair (", sub.text, ")");
-    const Eigen::VectorXd d = distances_to_input_vertices(geodesic_distances(mesh, sources, options),
-                                                          sub.vertex_map, input.num_vertices());
+  if (args.source >= 0) {
+    const Eigen::VectorXd d = geodesic_rows(input, prepared, {args.source}, mo).row(0).transpose();
     std::vector<std::vector<double>> rows;
     rows.reserve(d.size());
     for (Index v = 0; v < d.size(); ++v) rows.push_back({static_cast<double>(v), d[v]});
@@ -86,11 +75,8 @@ int run() {
     }
     summary["source"] = args.source;
   } else {
-    CSHAPES_REQUIRE(!args.output.empty() && args.output != "-",
-                    "-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
-    DistanceMatrix D = all_pairs_geodesics(mesh, options);
-    summary["max_distance"] = D.maxCoeff();
-    if (sub.changed()) D = distances_to_input_vertices(D, sub.vertex_map, input.num_vertices());
+    const DistanceMatrix D = geodesic_all_pairs(input, prepared, mo);
+    summary["max_distance"] = D.array().isNaN().select(0.0f, D.array()).maxCoeff();  // NaN: dropped
     write_distance_matrix(args.output, D);
   }
   summary["seconds"] = seconds_since(start);

@@ -6,6 +6,7 @@
 #include "core/io.h"
 #include "core/mesh_defects.h"
 #include "experiments/command.h"
+#include "pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {
@@ -16,51 +17,15 @@ struct InfoArgs {
   bool no_validate = false;
 } args;
 
-nlohmann::json to_json(const std::string& path, const MeshInfo& i) {
-  return {{"file", path},
-          {"vertices", i.vertices},
-          {"faces", i.faces},
-          {"edges", i.edges},
-          {"components", i.components},
-          {"isolated_vertices", i.isolated_vertices},
-          {"boundary_edges", i.boundary_edges},
-          {"boundary_loops", i.boundary_loops},
-          {"nonmanifold_edges", i.nonmanifold_edges},
-          {"euler_characteristic", i.euler_characteristic},
-          {"genus", i.genus},
-          {"bbox_diagonal", i.bbox_diagonal},
-          {"mean_edge_length", i.mean_edge_length},
-          {"area", i.area}};
-}
-
-nlohmann::json to_json(const MeshDefects& d) {
-  using nlohmann::json;
-  auto kind = [](Index count, const auto& examples) {
-    return json{{"count", count}, {"examples", examples}};
-  };
-  return {{"summary", d.summary()},
-          {"any", d.any()},
-          {"nonmanifold_edges", kind(d.nonmanifold_edges, d.nonmanifold_edge_examples)},
-          {"nonmanifold_vertices", kind(d.nonmanifold_vertices, d.nonmanifold_vertex_examples)},
-          {"isolated_vertices", kind(d.isolated_vertices, d.isolated_vertex_examples)},
-          {"duplicate_faces", kind(d.duplicate_faces, d.duplicate_face_examples)},
-          {"repeated_vertex_faces", kind(d.repeated_vertex_faces, d.repeated_vertex_face_examples)},
-          {"zero_area_faces", kind(d.zero_area_faces, d.zero_area_face_examples)},
-          {"zero_length_edges", kind(d.zero_length_edges, d.zero_length_edge_examples)},
-          {"components", d.components},
-          {"component_sizes", d.component_sizes},
-          {"boundary_edges", d.boundary_edges},
-          {"boundary_loops", d.boundary_loops}};
-}
-
 int run() {
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& path : args.paths) {
     Mesh mesh = read_mesh(path);  // lenient: only malformed files are refused
     MeshInfo info = mesh_info(mesh);
     MeshDefects defects = mesh_defects(mesh);
-    nlohmann::json j = to_json(path, info);
-    j["defects"] = to_json(defects);
+    nlohmann::json j = {{"file", path}};
+    j.update(mesh_info_json(info));
+    j["defects"] = mesh_defects_json(defects);
     if (args.json) {
       all.push_back(j);
       continue;

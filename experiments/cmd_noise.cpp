@@ -9,6 +9,7 @@
 #include "core/io.h"
 #include "core/topological_noise.h"
 #include "experiments/command.h"
+#include "pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {
@@ -21,22 +22,6 @@ struct NoiseArgs {
   double max_gap = 0, gap_edges = 6, min_ratio = 5, min_fraction = 0.1, separation = 0.15;
   bool json = false;
 } args;
-
-// Only vertex indices are integers in this JSON (render_mesh.py --red-json reads every integer as a vertex).
-nlohmann::json pairs_to_json(const TopologicalNoiseResult& r) {
-  nlohmann::json pairs = nlohmann::json::array(), rims = nlohmann::json::array(),
-                 eu = nlohmann::json::array(), geo = nlohmann::json::array();
-  for (const GluedPair& p : r.pairs) {
-    pairs.push_back({p.a, p.b});
-    rims.push_back({p.rim_a[0], p.rim_a[1], p.rim_a[2], p.rim_b[0], p.rim_b[1], p.rim_b[2]});
-    eu.push_back(p.euclidean);
-    geo.push_back(p.geodesic);
-  }
-  return {{"input", args.input},  {"output", args.output},
-          {"pairs", pairs},       {"rims", rims},
-          {"euclidean", eu},      {"geodesic", geo},
-          {"max_gap", r.max_gap}, {"geodesic_diameter", r.geodesic_diameter}};
-}
 
 int run() {
   require_mesh_output_path(args.output);
@@ -57,7 +42,9 @@ int run() {
     note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + std::to_string(r.max_gap) +
          ", min ratio " + std::to_string(r.min_ratio));
   write_mesh(args.output, r.mesh);
-  nlohmann::json j = pairs_to_json(r);
+  nlohmann::json j = topological_noise_json(r);
+  j["input"] = args.input;
+  j["output"] = args.output;
   j["min_ratio"] = r.min_ratio;
   if (!args.pairs_json.empty())
     write_file_atomically(args.pairs_json, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
