@@ -10,6 +10,7 @@ declare -A allowed=(
   [eval]="core matching eval"
   [pipeline]="core canon matching eval pipeline"
   [experiments]="core canon matching eval pipeline experiments"
+  [python]="core canon matching eval pipeline python"
 )
 bad=0
 for layer in "${!allowed[@]}"; do
@@ -22,5 +23,5 @@ for layer in "${!allowed[@]}"; do
     fi
   done < <(grep -rnE '^#include "[a-z_]+/' "$root/$layer" --include='*.h' --include='*.cpp' || true)
 done
-[[ $bad == 0 ]] && echo "layering: every include follows core -> canon, matching -> eval -> pipeline -> experiments"
+[[ $bad == 0 ]] && echo "layering: every include follows core -> canon, matching -> eval -> pipeline -> experiments, python"
 exit $bad

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds into build/, runs every test with CTest,
-# then runs each mesh reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure
-# and ends with one summary line "tests: N passed, N failed" (CTest tests and fuzzers together).
+# then the Python module's tests (pytest, tests/python) with the interpreter it was built for, then each mesh
+# reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with one
+# summary line "tests: N passed, N failed" (CTest tests, Python tests and fuzzers together).
 #   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 20, at most 30; 0 skips fuzzing)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -22,6 +23,24 @@ total=${total:-0}
 failed=${failed:-0}
 [[ $ctest_status -ne 0 && $failed -eq 0 ]] && failed=1
 
+# The Python module's tests, from the build tree (PYTHONPATH=build/python).
+py_passed=0
+py_failed=0
+interpreter=$(cat build/python/interpreter 2>/dev/null || true)
+if [[ -n "$interpreter" ]] && ls build/python/cshapes*.so >/dev/null 2>&1; then
+  PYTHONPATH="$root/build/python${PYTHONPATH:+:$PYTHONPATH}" "$interpreter" -m pytest -q -p no:cacheprovider \
+    tests/python 2>&1 | tee "$log"
+  py_status=${PIPESTATUS[0]}
+  summary=$(grep -E '^(=+ )?[0-9]+ (passed|failed|error)' "$log" | tail -1)
+  py_passed=$(grep -oE '[0-9]+ passed' <<<"$summary" | grep -oE '[0-9]+' || echo 0)
+  py_failed=$(( $(grep -oE '[0-9]+ failed' <<<"$summary" | grep -oE '[0-9]+' || echo 0) + \
+                $(grep -oE '[0-9]+ errors?' <<<"$summary" | grep -oE '[0-9]+' || echo 0) ))
+  [[ $py_status -ne 0 && $py_failed -eq 0 ]] && py_failed=1
+else
+  echo "python: the module was not built (see the CMake output: pybind11-dev, python3-dev)"
+  py_failed=1
+fi
+
 fuzz_passed=0
 fuzz_failed=0
 if [[ -x tests/fuzz/run.sh ]]; then
@@ -32,7 +51,7 @@ if [[ -x tests/fuzz/run.sh ]]; then
   [[ $fuzz_status -ne 0 && $fuzz_failed -eq 0 ]] && fuzz_failed=1
 fi
 
-passed=$(( total - failed + fuzz_passed ))
-failed=$(( failed + fuzz_failed ))
+passed=$(( total - failed + py_passed + fuzz_passed ))
+failed=$(( failed + py_failed + fuzz_failed ))
 echo "tests: $passed passed, $failed failed"
 [[ $ctest_status -eq 0 && $failed -eq 0 ]]

@@ -1,0 +1,286 @@
+// cshapes.coulomb, classical_mds, smacof, canonical_form and the CanonicalForm they return: the drivers
+// library's canonical forms (pipeline/canonical_forms.h) and the two MDS solvers on a distance matrix the
+// caller has (canon/classical_mds.h, canon/smacof.h). Option names and defaults are the CLI's.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "canon/classical_mds.h"
+#include "canon/smacof.h"
+#include "core/error.h"
+#include "pipeline/canonical_forms.h"
+#include "pipeline/mesh_report.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/kwargs.h"
+
+namespace cshapes::python {
+
+namespace {
+
+// What every function here returns; arrays are owned by numpy.
+struct PyCanonicalForm {
+  py::object X;          // (n, 3) float64, the input's vertex order (NaN rows where valid is 0)
+  py::object valid;      // (n,) float64: 1 for vertices in the form, 0 for vertices a repair dropped
+  py::object torn;       // (n,) float64 (coulomb: 1 for vertices of torn edges) or None
+  py::dict history;      // column name → (iterations,) float64
+  int iterations = 0;
+  py::object summary;    // dict: what `cshapes canon --json` prints for the method
+  double seconds = 0;    // wall time: geodesics or graph set-up plus the solve
+};
+
+const std::vector<std::string> kCoulombOptions = {
+    "scheme",      "step_rule",     "step_factor",  "fixed_step",  "coulomb_steps",
+    "projection_steps", "projection", "l1_floor",   "dilation",    "tear_fraction",
+    "tear_after",  "tear_times",    "tear_interval", "tear_guard", "coulomb_max_iterations",
+    "coulomb_window", "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy", "knn"};
+const std::vector<std::string> kMdsOptions = {"geodesics"};
+const std::vector<std::string> kSmacofOptions = {"iters", "tolerance", "init", "accelerate", "window", "weights"};
+
+// The `coulomb options` group of `cshapes canon`, read from keywords; the library checks the ranges.
+void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
+  CoulombCanonOptions& c = o.coulomb;
+  c.scheme = parse_coulomb_scheme(k.text("scheme", to_string(c.scheme)));
+  c.step_rule = parse_coulomb_step_rule(k.text("step_rule", to_string(c.step_rule)));
+  c.step_factor = k.number("step_factor", c.step_factor);
+  c.fixed_step = k.number("fixed_step", c.fixed_step);
+  c.coulomb_steps = static_cast<int>(k.integer("coulomb_steps", c.coulomb_steps));
+  c.projection.steps = static_cast<int>(k.integer("projection_steps", c.projection.steps));
+  c.projection.norm = parse_projection_norm(k.text("projection", to_string(c.projection.norm)));
+  c.projection.l1_floor = k.number("l1_floor", c.projection.l1_floor);
+  c.projection.dilation = k.number("dilation", c.projection.dilation);
+  c.tear_fraction = k.number("tear_fraction", c.tear_fraction);
+  c.tear_after = static_cast<int>(k.integer("tear_after", c.tear_after));
+  c.tear_times = static_cast<int>(k.integer("tear_times", c.tear_times));
+  c.tear_interval = static_cast<int>(k.integer("tear_interval", c.tear_interval));
+  c.tear_guard = parse_tear_guard(k.text("tear_guard", to_string(c.tear_guard)));
+  c.max_iterations = static_cast<int>(k.integer("coulomb_max_iterations", c.max_iterations));
+  c.stop_window = static_cast<int>(k.integer("coulomb_window", c.stop_window));
+  c.stop_tolerance = k.number("coulomb_tolerance", c.stop_tolerance);
+  c.momentum = k.number("momentum", c.momentum);
+  c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
+  c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy);
+  o.knn.k = static_cast<int>(k.integer("knn", o.knn.k));
+  // As the CLI: an option only another setting reads is refused rather than ignored.
+  if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
+    fail("fixed_step applies to step_rule='fixed' only");
+  if (k.given("l1_floor") && c.projection.norm != ProjectionNorm::L1)
+    fail("l1_floor applies to projection='l1' only");
+  if (k.given("momentum") && c.scheme != CoulombScheme::Momentum)
+    fail("momentum applies to scheme='momentum' only");
+}
+
+// SMACOF's solver options (both smacof() and canonical_form()).
+void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
+  s.max_iterations = static_cast<int>(k.integer("iters", s.max_iterations));
+  s.tolerance = k.number("tolerance", s.tolerance);
+  s.acceleration = parse_smacof_acceleration(k.text("accelerate", to_string(s.acceleration)));
+  s.extrapolation_window = static_cast<int>(k.integer("window", s.extrapolation_window));
+  if (k.given("window") && s.acceleration == SmacofAcceleration::None)
+    fail("window applies to accelerate='rre' or 'mpe' only");
+}
+
+// canonical_form(method='smacof'): the solver's options, and its start and weights from the mesh.
+void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
+  read_smacof_solver_options(k, o.smacof);
+  o.smacof_init = k.text("init", o.smacof_init);
+  o.smacof_weights = k.text("weights", o.smacof_weights);
+  CSHAPES_REQUIRE(o.smacof_init == "cmds" || o.smacof_init == "mesh", "init: expected 'cmds' or 'mesh', got '",
+                  o.smacof_init, "'");
+  CSHAPES_REQUIRE(o.smacof_weights == "uniform" || o.smacof_weights == "area",
+                  "weights: expected 'uniform' or 'area', got '", o.smacof_weights, "'");
+}
+
+// Refuses, by name, the options of another method (as `cshapes canon --method` does).
+void refuse_other_methods(const Kwargs& k, const std::string& method) {
+  auto refuse = [&](const std::vector<std::string>& names, const char* owner) {
+    for (const std::string& name : names)
+      if (k.given(name)) fail(name, " applies to method ", owner, " only, not '", method, "'");
+  };
+  if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
+  if (method == "coulomb") refuse(kMdsOptions, "'cmds' or 'smacof'");
+  if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
+}
+
+PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) {
+  PyCanonicalForm out;
+  out.X = to_numpy(form.X);
+  out.valid = to_numpy(form.valid);
+  out.torn = form.torn.size() ? py::object(to_numpy(form.torn)) : py::object(py::none());
+  for (size_t c = 0; c < form.history_columns.size(); ++c) {
+    Eigen::VectorXd column(static_cast<Index>(form.history_rows.size()));
+    for (size_t r = 0; r < form.history_rows.size(); ++r) column[static_cast<Index>(r)] = form.history_rows[r][c];
+    out.history[form.history_columns[c].c_str()] = to_numpy(column);
+  }
+  out.iterations = form.iterations;
+  out.summary = python::to_python(canonical_form_summary(form, method));
+  out.seconds = form.precompute_seconds + form.solve_seconds;
+  return out;
+}
+
+PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, const std::string& method,
+                                  const py::kwargs& kwargs, const char* function) {
+  const Mesh mesh = to_mesh(V, F);
+  Kwargs k(kwargs, function);
+  const auto& methods = canonical_form_methods();
+  CSHAPES_REQUIRE(std::find(methods.begin(), methods.end(), method) != methods.end(), function,
+                  "(): unknown method '", method, "'; known: coulomb, cmds, smacof");
+  refuse_other_methods(k, method);
+  CanonicalFormOptions o;
+  o.method = method;
+  if (method == "coulomb") read_coulomb_options(k, o);
+  if (method != "coulomb")
+    o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
+  if (method == "smacof") read_smacof_options(k, o);
+  o.strict = k.flag("strict", false);
+  k.done();
+  o.name = std::string(function) + "() mesh";
+  CanonicalForm form;
+  {
+    Computing computing;
+    form = canonical_form(mesh, o);
+  }
+  return to_python(form, method);
+}
+
+PyCanonicalForm classical_mds_py(const py::object& D_in, int dim) {
+  CSHAPES_REQUIRE(dim >= 1 && dim <= 3, "classical_mds(): dim: expected 1, 2 or 3 (the embedding is 3-D; "
+                  "lower dimensions are its leading axes), got ", dim);
+  const Eigen::MatrixXd D = to_matrix(D_in, "D");
+  ClassicalMdsResult r;
+  {
+    Computing computing;
+    r = classical_mds(D);
+  }
+  PyCanonicalForm out;
+  out.X = to_numpy(Eigen::MatrixXd(r.X.leftCols(dim)));
+  out.valid = to_numpy(Eigen::VectorXd::Ones(r.X.rows()).eval());
+  out.torn = py::none();
+  out.summary = python::to_python(nlohmann::json{{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
+                                                 {"most_negative_eigenvalue", r.most_negative_eigenvalue},
+                                                 {"explained_energy", r.explained_energy},
+                                                 {"trace", r.trace},
+                                                 {"matrix_products", r.matrix_products}});
+  out.seconds = r.seconds;
+  return out;
+}
+
+PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const py::kwargs& kwargs) {
+  const DistanceMatrix D = to_distance_matrix(D_in, "D");
+  Kwargs k(kwargs, "smacof");
+  SmacofOptions so;
+  read_smacof_solver_options(k, so);
+  CSHAPES_REQUIRE(!k.given("init"), "smacof(): init: pass the start as X0 (None: classical MDS of D)");
+  const py::object weights = k.object("weights");
+  k.done();
+  CSHAPES_REQUIRE(!py::isinstance<py::str>(weights),
+                  "smacof(): weights: pass n vertex weights as an array (area weights need the mesh: use "
+                  "canonical_form(V, F, method='smacof', weights='area'))");
+  if (!weights.is_none()) so.vertex_weights = to_vector(weights, "weights");
+  const bool have_start = !X0_in.is_none();
+  Points X0 = have_start ? to_points(X0_in, "X0") : Points();
+  SmacofResult r;
+  {
+    Computing computing;
+    r = have_start ? smacof(D, X0, so) : smacof(D, so);
+  }
+  PyCanonicalForm out;
+  out.X = to_numpy(r.X);
+  out.valid = to_numpy(Eigen::VectorXd::Ones(r.X.rows()).eval());
+  out.torn = py::none();
+  Eigen::VectorXd stress = Eigen::Map<const Eigen::VectorXd>(r.stress_history.data(),
+                                                               static_cast<Index>(r.stress_history.size()));
+  out.history["normalized_stress"] = to_numpy(stress);
+  out.iterations = r.iterations;
+  out.summary = python::to_python(nlohmann::json{{"stress", r.stress},
+                                                 {"normalized_stress", r.normalized_stress},
+                                                 {"iterations", r.iterations},
+                                                 {"stop_reason", r.stop_reason},
+                                                 {"extrapolations_accepted", r.extrapolations_accepted},
+                                                 {"extrapolations_rejected", r.extrapolations_rejected}});
+  out.seconds = r.seconds;
+  return out;
+}
+
+std::string coulomb_doc() {
+  const CoulombCanonOptions c;
+  const CanonicalFormOptions o;
+  std::ostringstream d;
+  d << "The Coulomb canonical form of a mesh (paper §2): electrostatic repulsion under edge-length "
+       "constraints.\n\n"
+       "V (n, 3) coordinates, F (m, 3) vertex indices (an empty F: a point cloud, joined by its kNN graph).\n"
+       "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n"
+    << "  scheme ['" << to_string(c.scheme) << "'] paper | momentum\n"
+    << "  step_rule ['" << to_string(c.step_rule) << "'] max-edge | mean-edge | median-edge | fixed\n"
+    << "  step_factor [" << c.step_factor << "], fixed_step [" << c.fixed_step << "] (step_rule='fixed')\n"
+    << "  coulomb_steps [" << c.coulomb_steps << "], projection_steps [" << c.projection.steps << "]\n"
+    << "  projection ['" << to_string(c.projection.norm) << "'] l2 | l1, l1_floor [" << c.projection.l1_floor
+    << "] (l1), dilation [" << c.projection.dilation << "]\n"
+    << "  tear_fraction [" << c.tear_fraction << "], tear_after [" << c.tear_after << "], tear_times ["
+    << c.tear_times << "], tear_interval [" << c.tear_interval << "], tear_guard ['" << to_string(c.tear_guard)
+    << "'] connected | vertex\n"
+    << "  coulomb_max_iterations [" << c.max_iterations << "], coulomb_window [" << c.stop_window
+    << "], coulomb_tolerance [" << c.stop_tolerance << "]\n"
+    << "  momentum [" << c.momentum << "] (scheme='momentum')\n"
+    << "  coulomb_summation ['" << to_string(c.energy.summation) << "'] auto | direct | direct-float | fast, "
+    << "coulomb_accuracy [" << c.energy.accuracy << "]\n"
+    << "  knn [" << o.knn.k << "] (point clouds), strict [False] (refuse a mesh that needs repair)\n\n"
+       "Returns a CanonicalForm: X (n, 3) in the input's vertex order and units, torn (n,) 1 at vertices of "
+       "torn edges, history {energy, mean_violation, ...} per iteration, iterations, summary (dict), seconds.\n"
+       "A mesh with several components or other defects is repaired for the method first (summary['repair'] "
+       "says what); dropped vertices are NaN rows with valid = 0. The GIL is released while it runs.";
+  return d.str();
+}
+
+}  // namespace
+
+void bind_canon(py::module_& m) {
+  py::class_<PyCanonicalForm>(m, "CanonicalForm",
+                              "A canonical form: X (n, 3), valid (n,), torn (n,) or None, history (dict of "
+                              "per-iteration columns), iterations, summary (dict), seconds")
+      .def_readonly("X", &PyCanonicalForm::X)
+      .def_readonly("valid", &PyCanonicalForm::valid)
+      .def_readonly("torn", &PyCanonicalForm::torn)
+      .def_readonly("history", &PyCanonicalForm::history)
+      .def_readonly("iterations", &PyCanonicalForm::iterations)
+      .def_readonly("summary", &PyCanonicalForm::summary)
+      .def_readonly("seconds", &PyCanonicalForm::seconds)
+      .def("__repr__", [](const PyCanonicalForm& f) {
+        return "<cshapes.CanonicalForm: " + py::str(f.X.attr("shape")).cast<std::string>() + " points, " +
+               std::to_string(f.iterations) + " iterations, " + std::to_string(f.seconds) + " s>";
+      });
+  m.def(
+      "coulomb",
+      [](const py::object& V, const py::object& F, const py::kwargs& kwargs) {
+        return canonical_form_py(V, F, "coulomb", kwargs, "coulomb");
+      },
+      py::arg("V"), py::arg("F"), coulomb_doc().c_str());
+  m.def(
+      "canonical_form",
+      [](const py::object& V, const py::object& F, const std::string& method, const py::kwargs& kwargs) {
+        return canonical_form_py(V, F, method, kwargs, "canonical_form");
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb",
+      R"(A canonical form by any method, as `cshapes canon --method M` computes it.
+
+method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
+distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph). smacof also takes
+iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
+(with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
+Returns a CanonicalForm.)");
+  m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3,
+        R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
+
+Returns a CanonicalForm whose X is (n, dim), centred, in the units of D; dim 1..3 (the leading axes of the
+3-D embedding). summary: eigenvalues, most_negative_eigenvalue, explained_energy. GIL released.)");
+  m.def("smacof", &smacof_py, py::arg("D"), py::arg("X0") = py::none(),
+        R"(SMACOF metric MDS of an (n, n) distance matrix D (stored as float32, as the library keeps them).
+
+X0: (n, 3) start; None starts from classical MDS of D. Keywords (the CLI's): iters [300], tolerance
+[1e-5], accelerate ['none'] | 'rre' | 'mpe', window [6] (rre/mpe), weights [None] or n positive vertex
+weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history['normalized_stress'],
+iterations, summary {stress, normalized_stress, stop_reason, ...}. GIL released.)");
+}
+
+}  // namespace cshapes::python

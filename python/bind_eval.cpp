@@ -1,0 +1,106 @@
+// cshapes.distance_matrix and retrieval_measures: the all-pairs distance matrix of canonical forms
+// (eval/pairwise_distances.h, the computation `cshapes distmat` runs) and its retrieval measures
+// (eval/retrieval_report.h, what `cshapes evaluate` writes to metrics.json).
+#include <pybind11/stl.h>
+
+#include "core/error.h"
+#include "eval/pairwise_distances.h"
+#include "eval/retrieval_report.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/kwargs.h"
+
+namespace cshapes::python {
+
+namespace {
+
+py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwargs& kwargs) {
+  std::vector<Points> shapes;
+  for (size_t i = 0; i < forms.size(); ++i) {
+    py::object item = forms[i];
+    if (py::hasattr(item, "X") && !py::isinstance<py::array>(item)) item = item.attr("X");
+    shapes.push_back(to_points(item, "forms[" + std::to_string(i) + "]", /*allow_nonfinite=*/true));
+  }
+  CSHAPES_REQUIRE(shapes.size() >= 2, "distance_matrix(): forms: expected at least 2 point sets, got ",
+                  shapes.size());
+  Kwargs k(kwargs, "distance_matrix");
+  const std::string metric = k.text("metric", "hausdorff");
+  PairwiseDistanceOptions o;
+  o.icp = read_icp_options(k);
+  const py::object cache = k.object("cache");
+  o.cache_dir = cache.is_none() ? "" : to_path(cache, "cache");
+  o.threads = static_cast<int>(k.integer("threads", 0));
+  k.done();
+  CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
+                  "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");
+  CSHAPES_REQUIRE(o.threads >= 0, "distance_matrix(): threads: expected an integer >= 0, got ", o.threads);
+  PairwiseDistanceResult r;
+  {
+    Computing computing;
+    r = pairwise_distances(shapes, {}, o);
+  }
+  return to_numpy(metric == "hausdorff" ? r.hausdorff : metric == "chamfer" ? r.chamfer : r.rmse);
+}
+
+py::object retrieval_measures_py(const py::object& D_in, const py::sequence& labels, const py::object& names_in,
+                                 int min_class_size) {
+  NamedDistances input;
+  input.D = to_matrix(D_in, "D");
+  const Index n = input.D.rows();
+  CSHAPES_REQUIRE(static_cast<Index>(labels.size()) == n, "retrieval_measures(): labels: ", labels.size(),
+                  " labels for a ", n, "x", n, " matrix");
+  std::vector<std::string> classes;
+  for (py::handle label : labels) classes.push_back(py::str(label).cast<std::string>());
+  if (names_in.is_none()) {
+    for (Index i = 0; i < n; ++i) input.names.push_back(std::to_string(i));
+  } else {
+    for (py::handle name : names_in) input.names.push_back(py::str(name).cast<std::string>());
+    CSHAPES_REQUIRE(static_cast<Index>(input.names.size()) == n, "retrieval_measures(): names: ",
+                    input.names.size(), " names for a ", n, "x", n, " matrix");
+  }
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j)
+      CSHAPES_REQUIRE(std::isfinite(input.D(i, j)), "retrieval_measures(): D[", i, ", ", j, "] is ",
+                      input.D(i, j), ", expected a finite distance");
+  RetrievalOptions options;
+  options.min_class_size = min_class_size;
+  RetrievalReport report;
+  {
+    Computing computing;
+    report = retrieval_report(input, classes, options, "numpy array");
+  }
+  nlohmann::json j = report.metrics;
+  nlohmann::json confusion = nlohmann::json::array();
+  for (Index a = 0; a < report.image.confusion.rows(); ++a) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Index b = 0; b < report.image.confusion.cols(); ++b) row.push_back(report.image.confusion(a, b));
+    confusion.push_back(row);
+  }
+  j["confusion"] = confusion;
+  j["class_names"] = report.class_names;
+  return to_python(j);
+}
+
+}  // namespace
+
+void bind_eval(py::module_& m) {
+  m.def("distance_matrix", &distance_matrix_py, py::arg("forms"),
+        R"(The all-pairs distance matrix of canonical forms: ICP between every pair, then the distance.
+
+forms: a sequence of (n_i, 3) arrays or CanonicalForm objects (their X; NaN rows are left out). Keywords:
+metric ['hausdorff'] (the paper's) | 'chamfer' | 'rmse'; cache [''] a folder where each pair's result is
+kept (a rerun, or a killed run restarted, recomputes nothing cached); threads [0: OpenMP's default];
+and the ICP keywords of icp(). Returns an (N, N) float64 symmetric matrix with a zero diagonal. The pairs
+run in parallel with the GIL released.)");
+  m.def("retrieval_measures", &retrieval_measures_py, py::arg("D"), py::arg("labels"), py::kw_only(),
+        py::arg("names") = py::none(), py::arg("min_class_size") = 3,
+        R"(Retrieval measures of an (N, N) distance matrix with one class label per shape (any hashable
+printed as text): the dict `cshapes evaluate` writes to metrics.json.
+
+Keys: map, nn, ft, st, e, dcg (micro averages over queries, psbTable conventions), pr {recall, precision}
+(interpolated, averaged over queries), classes {name: per-class measures}, queries, skipped, confusion
+(nearest-neighbour class counts, rows and columns in class_names order), class_names. Queries from classes
+smaller than min_class_size are skipped.)");
+}
+
+}  // namespace cshapes::python

@@ -1,0 +1,122 @@
+// cshapes.icp and shape_distance: rigid alignment of two point sets and the paper's distances after it
+// (matching/icp.h, matching/shape_distance.h), as `cshapes align` computes them.
+#include "core/error.h"
+#include "matching/icp.h"
+#include "matching/shape_distance.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/kwargs.h"
+
+namespace cshapes::python {
+
+namespace {
+
+struct PyAlignment {
+  py::object R, t, transform, aligned, correspondences, correspondence_distances;
+  bool reflection = false;
+  double rmse = 0, hausdorff = 0, chamfer = 0, icp_rmse = 0, seconds = 0;
+  int iterations = 0;
+  std::string stop_reason;
+};
+
+PyAlignment icp_py(const py::object& A_in, const py::object& B_in, const py::kwargs& kwargs) {
+  const Points A = to_points(A_in, "A"), B = to_points(B_in, "B");
+  Kwargs k(kwargs, "icp");
+  const IcpOptions options = read_icp_options(k);
+  k.done();
+  IcpResult r;
+  ShapeDistance d;
+  {
+    Computing computing;
+    d = aligned_shape_distance(A, B, options, &r);
+  }
+  PyAlignment out;
+  out.R = to_numpy(Eigen::MatrixXd(r.transform.rotation));
+  out.t = to_numpy(Eigen::VectorXd(r.transform.translation));
+  out.transform = to_numpy(Eigen::MatrixXd(r.transform.matrix()));
+  out.aligned = to_numpy(r.transform.apply(A));
+  out.correspondences = to_numpy(r.source_to_target);
+  out.correspondence_distances = to_numpy(r.source_to_target_distance);
+  out.reflection = r.transform.is_reflection();
+  out.rmse = d.rmse;
+  out.hausdorff = d.hausdorff;
+  out.chamfer = d.chamfer;
+  out.icp_rmse = r.rmse;
+  out.iterations = r.total_iterations;
+  out.stop_reason = r.stop_reason;
+  out.seconds = r.seconds;
+  return out;
+}
+
+double shape_distance_py(const py::object& A_in, const py::object& B_in, const std::string& kind, bool align,
+                         const py::kwargs& kwargs) {
+  // Rows with a NaN (vertices a repair dropped from a canonical form) are left out, as in distance_matrix.
+  const Points A = to_points(A_in, "A", true), B = to_points(B_in, "B", true);
+  CSHAPES_REQUIRE(kind == "hausdorff" || kind == "chamfer" || kind == "rmse",
+                  "shape_distance(): kind: expected 'hausdorff', 'chamfer' or 'rmse', got '", kind, "'");
+  Kwargs k(kwargs, "shape_distance");
+  const IcpOptions options = read_icp_options(k);
+  k.done();
+  CSHAPES_REQUIRE(align || kwargs.size() == 0, "shape_distance(): ICP options need align=True");
+  ShapeDistance d;
+  {
+    Computing computing;
+    d = align ? aligned_shape_distance(A, B, options) : shape_distance(A, B);
+  }
+  return kind == "hausdorff" ? d.hausdorff : kind == "chamfer" ? d.chamfer : d.rmse;
+}
+
+}  // namespace
+
+// The `cshapes align` options.
+IcpOptions read_icp_options(Kwargs& k) {
+  IcpOptions o;
+  o.allow_reflections = !k.flag("no_reflections", false);
+  o.symmetric = !k.flag("one_way", false);
+  o.try_axis_swaps = k.flag("axis_swaps", o.try_axis_swaps);
+  o.trim_fraction = k.number("trim", o.trim_fraction);
+  o.relative_tolerance = k.number("tolerance", o.relative_tolerance);
+  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9, "trim: expected a number in [0, 0.9], got ",
+                  o.trim_fraction);
+  CSHAPES_REQUIRE(o.relative_tolerance >= 0, "tolerance: expected a number >= 0, got ", o.relative_tolerance);
+  return o;
+}
+
+void bind_matching(py::module_& m) {
+  py::class_<PyAlignment>(m, "Alignment",
+                          "A rigid alignment of A onto B: B ≈ A @ R.T + t (R orthogonal; det -1 when reflection)")
+      .def_readonly("R", &PyAlignment::R, "(3, 3) orthogonal matrix")
+      .def_readonly("t", &PyAlignment::t, "(3,) translation")
+      .def_readonly("transform", &PyAlignment::transform, "(4, 4) homogeneous matrix")
+      .def_readonly("aligned", &PyAlignment::aligned, "(n, 3): A after the alignment")
+      .def_readonly("reflection", &PyAlignment::reflection)
+      .def_readonly("rmse", &PyAlignment::rmse, "RMS nearest-neighbour distance, both directions")
+      .def_readonly("hausdorff", &PyAlignment::hausdorff, "the paper's distance: the largest nearest-neighbour distance")
+      .def_readonly("chamfer", &PyAlignment::chamfer, "mean nearest-neighbour distance, both directions")
+      .def_readonly("icp_rmse", &PyAlignment::icp_rmse, "RMS of the pairs ICP kept at its last step")
+      .def_readonly("correspondences", &PyAlignment::correspondences,
+                    "(n,) int32: for each point of A, its nearest point of B after the alignment")
+      .def_readonly("correspondence_distances", &PyAlignment::correspondence_distances)
+      .def_readonly("iterations", &PyAlignment::iterations, "ICP steps over every start and level")
+      .def_readonly("stop_reason", &PyAlignment::stop_reason)
+      .def_readonly("seconds", &PyAlignment::seconds)
+      .def("__repr__", [](const PyAlignment& a) {
+        return "<cshapes.Alignment: hausdorff " + std::to_string(a.hausdorff) + ", rmse " + std::to_string(a.rmse) +
+               (a.reflection ? ", a reflection>" : ">");
+      });
+  m.def("icp", &icp_py, py::arg("A"), py::arg("B"),
+        R"(Rigid ICP alignment of point set A (n, 3) onto B (k, 3), as `cshapes align` does it.
+
+Starts from the matched principal axes (every sign, reflections included) and the input pose, coarse to
+fine. Keywords (the CLI's): no_reflections [False], one_way [False], axis_swaps [False], trim [0.0] (fraction
+of worst pairs dropped per direction), tolerance [1e-3] (relative RMSE change). Returns an Alignment. The GIL
+is released while it runs.)");
+  m.def("shape_distance", &shape_distance_py, py::arg("A"), py::arg("B"), py::kw_only(),
+        py::arg("kind") = "hausdorff", py::arg("align") = true,
+        R"(Distance between two point sets after ICP (align=True, the paper's) or as given (align=False).
+
+kind: hausdorff (largest nearest-neighbour distance, the paper's), chamfer (mean), rmse. Rows with NaN
+(vertices dropped by a repair) are left out. ICP keywords as for icp().)");
+}
+
+}  // namespace cshapes::python

@@ -1,0 +1,274 @@
+// cshapes.read_mesh, write_mesh, mesh_info, geodesics, add_topological_noise, generate: meshes in and out of
+// the library (core/io.h, pipeline/mesh_report.h, pipeline/mesh_geodesics.h, core/topological_noise.h,
+// core/articulated.h, core/synthetic.h).
+#include <pybind11/stl.h>
+
+#include "core/articulated.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "core/topological_noise.h"
+#include "pipeline/mesh_geodesics.h"
+#include "pipeline/mesh_report.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/kwargs.h"
+
+namespace cshapes::python {
+
+namespace {
+
+py::tuple mesh_tuple(const Mesh& mesh) { return py::make_tuple(to_numpy(mesh.V), to_numpy(mesh.F)); }
+
+py::object read_mesh_py(const py::object& path_in, bool fields) {
+  const std::string path = to_path(path_in, "path");
+  MeshFile file;
+  {
+    Computing computing;
+    file = read_mesh_file(path);
+  }
+  if (!fields) return mesh_tuple(file.mesh);
+  py::dict scalars;
+  for (const VertexScalar& s : file.scalars) scalars[s.name.c_str()] = to_numpy(s.values);
+  if (file.colors.rows() > 0) {
+    py::array_t<unsigned char> colors({static_cast<py::ssize_t>(file.colors.rows()), py::ssize_t{3}});
+    auto w = colors.mutable_unchecked<2>();
+    for (Index i = 0; i < file.colors.rows(); ++i)
+      for (int c = 0; c < 3; ++c) w(i, c) = file.colors(i, c);
+    scalars["colors"] = colors;
+  }
+  return py::make_tuple(to_numpy(file.mesh.V), to_numpy(file.mesh.F), scalars);
+}
+
+void write_mesh_py(const py::object& path_in, const py::object& V, const py::object& F, bool binary,
+                   const py::kwargs& fields) {
+  const std::string path = to_path(path_in, "path");
+  Mesh mesh{to_points(V, "V", /*allow_nonfinite=*/true), to_faces(F, "F")};
+  WriteOptions options;
+  options.binary = binary;
+  for (auto item : fields) {
+    const std::string name = item.first.cast<std::string>();
+    Eigen::VectorXd values = to_vector(item.second, name);
+    CSHAPES_REQUIRE(values.size() == mesh.num_vertices(), name, ": ", values.size(), " values for ",
+                    mesh.num_vertices(), " vertices");
+    options.scalars.push_back({name, std::move(values)});
+  }
+  CSHAPES_REQUIRE(options.scalars.empty() || file_extension(path) == "ply", path,
+                  ": per-vertex fields are written to .ply only");
+  Computing computing;
+  write_mesh(path, mesh, options);
+}
+
+py::object mesh_info_py(const py::object& V, const py::object& F) {
+  const Mesh mesh = to_mesh(V, F);
+  nlohmann::json j;
+  {
+    Computing computing;
+    j = describe_mesh(mesh);
+  }
+  return to_python(j);
+}
+
+py::object geodesics_py(const py::object& V, const py::object& F, const py::object& sources,
+                        const std::string& method, const std::string& heat_mode, bool strict) {
+  const Mesh mesh = to_mesh(V, F);
+  MeshGeodesicsOptions options;
+  options.geodesics.method = parse_geodesic_method(method);
+  options.geodesics.heat_mode = parse_cgal_heat_mode(heat_mode);
+  options.strict = strict;
+  std::vector<int> rows;
+  const bool one = !sources.is_none() && py::hasattr(sources, "__index__");
+  if (one) {
+    rows.push_back(sources.attr("__index__")().cast<int>());
+  } else if (!sources.is_none()) {
+    for (const Eigen::VectorXd::Scalar s : to_vector(sources, "sources")) {
+      CSHAPES_REQUIRE(s == std::floor(s), "sources: expected vertex indices, got ", s);
+      rows.push_back(static_cast<int>(s));
+    }
+  }
+  MeshGeodesics prepared;
+  Eigen::MatrixXd D_rows;
+  DistanceMatrix D;
+  {
+    Computing computing;
+    prepared = prepare_mesh_geodesics(mesh, options);
+    if (sources.is_none())
+      D = geodesic_all_pairs(mesh, prepared, options);
+    else
+      D_rows = geodesic_rows(mesh, prepared, rows, options);
+  }
+  auto warnings = py::module_::import("warnings");
+  if (prepared.repaired.changed())
+    warnings.attr("warn")("cshapes.geodesics: " + prepared.repaired.text +
+                          "; distances are given at the input's vertices (NaN where a vertex was dropped)");
+  if (!prepared.warning.empty()) warnings.attr("warn")("cshapes.geodesics: " + prepared.warning);
+  if (sources.is_none()) return to_numpy(D);
+  if (one) return to_numpy(Eigen::VectorXd(D_rows.row(0).transpose()));
+  return to_numpy(D_rows);
+}
+
+py::object add_topological_noise_py(const py::object& V, const py::object& F, const py::kwargs& kwargs) {
+  const Mesh mesh = to_mesh(V, F);
+  Kwargs k(kwargs, "add_topological_noise");
+  TopologicalNoiseOptions o;
+  o.glue_count = static_cast<int>(k.integer("glue", o.glue_count));
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed)));
+  o.max_gap = k.number("max_gap", o.max_gap);
+  o.gap_edge_lengths = k.number("gap_edges", o.gap_edge_lengths);
+  o.min_ratio = k.number("min_ratio", o.min_ratio);
+  o.min_geodesic_fraction = k.number("min_fraction", o.min_geodesic_fraction);
+  o.min_separation_fraction = k.number("separation", o.min_separation_fraction);
+  o.relax_steps = static_cast<int>(k.integer("relax", o.relax_steps));
+  o.geodesic.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesic.method)));
+  const bool info = k.flag("return_info", false);
+  k.done();
+  CSHAPES_REQUIRE(o.glue_count >= 0, "add_topological_noise(): glue: expected an integer >= 0, got ", o.glue_count);
+  TopologicalNoiseResult r;
+  {
+    Computing computing;
+    r = glue_topological_noise(mesh, o);
+  }
+  if (!info) return mesh_tuple(r.mesh);
+  return py::make_tuple(to_numpy(r.mesh.V), to_numpy(r.mesh.F), to_python(topological_noise_json(r)));
+}
+
+py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
+  Kwargs k(kwargs, "generate");
+  if (kind == "swissroll") {
+    SwissRollOptions o;
+    const long n = static_cast<long>(k.integer("vertices", 561));
+    k.done();
+    CSHAPES_REQUIRE(n >= 4, "generate('swissroll'): vertices: expected an integer >= 4, got ", n);
+    std::tie(o.nu, o.nv) = swiss_roll_grid(n);
+    return mesh_tuple(swiss_roll(o));
+  }
+  if (kind == "icosphere") {
+    const int subdivisions = static_cast<int>(k.integer("subdivisions", 3));
+    const double radius = k.number("radius", 1.0);
+    k.done();
+    CSHAPES_REQUIRE(subdivisions >= 0 && subdivisions <= 8,
+                    "generate('icosphere'): subdivisions: expected 0..8, got ", subdivisions);
+    return mesh_tuple(icosphere(subdivisions, radius));
+  }
+  if (kind == "articulated") {
+    ArticulatedOptions o;
+    const std::string class_name = k.text("class_", "biped");
+    o.poses = static_cast<int>(k.integer("poses", o.poses));
+    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0));
+    o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
+    o.amplitude = k.number("amplitude", o.amplitude);
+    k.done();
+    ArticulatedClass c;
+    {
+      Computing computing;
+      c = generate_articulated(class_name, o);
+    }
+    py::list poses;
+    for (const Mesh& pose : c.poses) poses.append(mesh_tuple(pose));
+    return poses;
+  }
+  if (kind == "hand") {
+    const auto seed = static_cast<std::uint64_t>(k.integer("seed", 0));
+    const int glues = static_cast<int>(k.integer("glue", 3));
+    k.done();
+    GluedHand h;
+    {
+      Computing computing;
+      h = generate_glued_hand(seed, glues);
+    }
+    py::dict d;
+    d["separated"] = mesh_tuple(h.separated);
+    d["glued"] = mesh_tuple(h.glued);
+    d["glued_pairs"] = h.glued_pairs;
+    return d;
+  }
+  if (kind == "dataset") {
+    ArticulatedDatasetOptions o;
+    o.classes = static_cast<int>(k.integer("classes", o.classes));
+    o.poses = static_cast<int>(k.integer("poses", o.poses));
+    o.noisy = static_cast<int>(k.integer("noisy", o.noisy));
+    o.glue_count = static_cast<int>(k.integer("glue", o.glue_count));
+    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0));
+    o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
+    k.done();
+    std::vector<ArticulatedShape> shapes;
+    {
+      Computing computing;
+      shapes = make_articulated_dataset(o);
+    }
+    py::list out;
+    for (const ArticulatedShape& s : shapes) {
+      py::dict d;
+      d["name"] = s.name;
+      d["class"] = s.class_name;
+      d["pose"] = s.pose;
+      d["noisy"] = s.noisy;
+      d["V"] = to_numpy(s.mesh.V);
+      d["F"] = to_numpy(s.mesh.F);
+      d["glued_pairs"] = s.glued_pairs;
+      out.append(d);
+    }
+    return out;
+  }
+  fail("generate(): unknown kind '", kind, "'; known: swissroll, icosphere, articulated, hand, dataset");
+}
+
+}  // namespace
+
+void bind_mesh(py::module_& m) {
+  m.def("read_mesh", &read_mesh_py, py::arg("path"), py::kw_only(), py::arg("fields") = false,
+        R"(Reads a mesh or point cloud: .off, .ply, .obj, .stl, .vert/.tri (TOSCA), .xyz.
+
+Returns (V, F): V (n, 3) float64 coordinates in the file's units, F (m, 3) int32 vertex indices (0-based;
+(0, 3) for a point cloud). With fields=True, (V, F, fields): PLY's other per-vertex properties as 1-D
+float64 arrays (and "colors", (n, 3) uint8). Reading is lenient: only malformed files are refused
+(ValueError naming the file and line or element; OSError when the file cannot be opened). Defects a
+real mesh may have (non-manifold edges, duplicate faces, several components) are described by mesh_info.)");
+  m.def("write_mesh", &write_mesh_py, py::arg("path"), py::arg("V"), py::arg("F"), py::kw_only(),
+        py::arg("binary") = false,
+        R"(Writes V (n, 3) and F (m, 3) by the path's extension (.off, .ply, .obj, .xyz), atomically.
+
+Further keywords are per-vertex fields written as PLY double properties, e.g. write_mesh("a.ply", V, F,
+torn=form.torn). binary=True writes binary little-endian PLY. Coordinates must be finite, except in PLY
+rows whose "valid" field is 0. Reading the file back gives exactly the same V (17 significant digits).)");
+  m.def("mesh_info", &mesh_info_py, py::arg("V"), py::arg("F"),
+        R"(Counts, topology and size of a mesh, and its defects: the dict `cshapes info --json` prints.
+
+Keys: vertices, faces, edges, components, isolated_vertices, boundary_edges, boundary_loops,
+nonmanifold_edges, euler_characteristic, genus (-1 when undefined), bbox_diagonal, mean_edge_length, area
+(mesh units), and defects: {summary, any, nonmanifold_edges: {count, examples}, nonmanifold_vertices,
+isolated_vertices, duplicate_faces, repeated_vertex_faces, zero_area_faces, zero_length_edges, components,
+component_sizes, boundary_edges, boundary_loops}.)");
+  m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(), py::kw_only(),
+        py::arg("method") = "heat", py::arg("heat_mode") = "idt", py::arg("strict") = false,
+        R"(Geodesic distances on a triangle mesh, in mesh units.
+
+sources: None for all pairs ((n, n) float32, as the library stores them: n^2 * 4 bytes); a vertex index for
+one row ((n,) float64); a sequence of k indices for k rows ((k, n) float64, row r from sources[r]).
+method: heat (ours, the fastest), heat-cgal, fmm (fast marching), exact (slow), graph (Dijkstra on edges).
+heat_mode: idt (intrinsic Delaunay) or direct. A mesh that is not one manifold component is repaired
+first (a warning says what) and the distances are given at the input's vertices: NaN where a vertex was
+dropped. strict=True refuses such a mesh instead (ValueError naming its defects).)");
+  m.def("add_topological_noise", &add_topological_noise_py, py::arg("V"), py::arg("F"),
+        R"(Topological noise the paper's way: glue almost-touching spots by short tubes (cshapes noise).
+
+Keywords (the CLI's, defaults in brackets): glue [1] tubes to add, seed [0], max_gap [0: gap_edges mean
+edge lengths], gap_edges [6], min_ratio [5] (geodesic >= ratio x Euclidean), min_fraction [0.1] (of the
+geodesic diameter), separation [0.15], relax [0] retries with a wider gap, geodesics ["graph"],
+return_info [False]. Returns (V, F) with the same vertices and K more handles; with return_info=True,
+(V, F, info) where info has the glued pairs, tube rims and distances. The input must be one manifold
+component; ValueError says how many admissible pairs were found when fewer than glue exist.)");
+  m.def("generate", &generate_py, py::arg("kind"),
+        R"(Shapes made here, deterministic for a seed (cshapes generate).
+
+generate("swissroll", vertices=561) -> (V, F), the Swiss roll of Table 1
+generate("icosphere", subdivisions=3, radius=1.0) -> (V, F)
+generate("articulated", class_="biped", poses=5, seed=0, vertices=3500, amplitude=1.0) -> [(V, F), ...]
+    poses of one synthetic class (biped, quadruped, hand, spider), same faces and vertex order
+generate("hand", seed=0, glue=3) -> {"separated": (V, F), "glued": (V, F), "glued_pairs": [...]}
+generate("dataset", classes=4, poses=5, noisy=1, glue=2, seed=0, vertices=3500)
+    -> [{"name", "class", "pose", "noisy", "V", "F", "glued_pairs"}, ...]
+The CLI writes these shapes as OFF with 6 decimals; these arrays are not rounded.)");
+}
+
+}  // namespace cshapes::python

@@ -1,0 +1,37 @@
+// Keyword options of the Python functions, named as the CLI names them (--tear-fraction → tear_fraction),
+// with the library's defaults. Each function reads what it knows and then calls done(), which refuses any
+// other name (TypeError listing the known ones), as the CLI refuses an unknown option.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace cshapes::python {
+
+namespace py = pybind11;
+
+class Kwargs {
+ public:
+  Kwargs(const py::kwargs& kwargs, std::string function) : kwargs_(kwargs), function_(std::move(function)) {}
+
+  bool given(const std::string& name) const { return kwargs_.contains(name.c_str()); }
+  double number(const std::string& name, double fallback);
+  long long integer(const std::string& name, long long fallback);
+  bool flag(const std::string& name, bool fallback);
+  std::string text(const std::string& name, const std::string& fallback);
+  // The object itself (None when absent); for arrays and other non-scalar options.
+  py::object object(const std::string& name);
+  // Refuses every keyword not read so far (TypeError naming it and listing the known ones).
+  void done() const;
+
+ private:
+  py::object take(const std::string& name);
+  const py::kwargs& kwargs_;
+  std::string function_;
+  std::set<std::string> known_;
+};
+
+}  // namespace cshapes::python

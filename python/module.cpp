@@ -1,0 +1,37 @@
+// `import cshapes`: the library from Python, numpy in and numpy out. A skin over the same library calls as
+// the CLI (pipeline/, eval/, matching/, canon/, core/): no pipeline logic of its own. Errors raise
+// ValueError (cshapes::Error) or OSError (cshapes::FileError) with the CLI's messages.
+#include "core/error.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(cshapes, m) {
+  m.doc() = R"(cshapes: Coulomb shapes and MDS canonical forms, ICP shape distances and retrieval measures.
+
+Arrays: V (n, 3) float64 coordinates, F (m, 3) int32/int64 vertex indices, D (n, n) distances; any real
+dtype and any strides are accepted (copied once into the library's layout). Keyword options carry the
+CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations release the GIL.)";
+  m.attr("__version__") = CSHAPES_VERSION;
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const cshapes::FileError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const cshapes::Error& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.def(
+      "set_num_threads", [](int n) {
+        if (n < 0) throw py::value_error("set_num_threads(): expected an integer >= 0, got " + std::to_string(n));
+        cshapes::python::set_threads(n);
+      },
+      py::arg("n"), "OpenMP threads of every later call, from any Python thread; 0: the default (OMP_NUM_THREADS or all cores).");
+  m.def("get_num_threads", &cshapes::python::threads, "OpenMP threads later calls use.");
+  cshapes::python::bind_mesh(m);
+  cshapes::python::bind_canon(m);
+  cshapes::python::bind_matching(m);
+  cshapes::python::bind_eval(m);
+}

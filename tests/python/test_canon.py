@@ -1,0 +1,125 @@
+"""Canonical forms from Python against the CLI on the same input (identical forms for identical options),
+option handling, and the GIL released while they run."""
+import threading
+
+import numpy as np
+import pytest
+
+import cshapes
+
+
+def cli_form(cli, mesh, tmp_path, *args):
+    out = tmp_path / "form.ply"
+    summary = cli.json("canon", mesh, "-o", out, "--json", *args)
+    X, F, fields = cshapes.read_mesh(out, fields=True)
+    return X, fields, summary
+
+
+def test_coulomb_is_the_cli_canon(cli, shapes, tmp_path):
+    V, F = cshapes.read_mesh(shapes[0])
+    form = cshapes.coulomb(V, F)
+    X, fields, summary = cli_form(cli, shapes[0], tmp_path, "--method", "coulomb")
+    np.testing.assert_array_equal(form.X, X)
+    np.testing.assert_array_equal(form.torn, fields["torn"])
+    assert form.iterations == summary["iterations"]
+    assert form.summary["energy"] == summary["energy"]
+    assert set(form.history) >= {"energy", "mean_violation"}
+    assert len(form.history["energy"]) == form.iterations
+
+
+def test_coulomb_options_are_the_cli_options(cli, shapes, tmp_path):
+    V, F = cshapes.read_mesh(shapes[1])
+    form = cshapes.coulomb(V, F, scheme="paper", tear_fraction=0, coulomb_max_iterations=40, step_factor=0.05)
+    X, _, _ = cli_form(cli, shapes[1], tmp_path, "--scheme", "paper", "--tear-fraction", "0",
+                       "--coulomb-max-iterations", "40", "--step-factor", "0.05")
+    np.testing.assert_array_equal(form.X, X)
+    assert form.iterations == 40 and not form.torn.any()
+
+
+@pytest.mark.parametrize("method, args", [("cmds", []), ("smacof", ["--iters", "15"])])
+def test_mds_forms_are_the_cli_canon(cli, shapes, tmp_path, method, args):
+    V, F = cshapes.read_mesh(shapes[0])
+    kwargs = {"iters": 15} if method == "smacof" else {}
+    form = cshapes.canonical_form(V, F, method=method, **kwargs)
+    X, _, summary = cli_form(cli, shapes[0], tmp_path, "--method", method, *args)
+    np.testing.assert_array_equal(form.X, X)
+    assert form.torn is None
+
+
+def test_classical_mds_and_smacof_of_a_matrix_recover_a_point_set():
+    rng = np.random.default_rng(0)
+    P = rng.normal(size=(60, 3)) * [3.0, 2.0, 1.0]
+    D = np.linalg.norm(P[:, None] - P[None], axis=2)
+    X = cshapes.classical_mds(D).X
+    np.testing.assert_allclose(np.linalg.norm(X[:, None] - X[None], axis=2), D, atol=1e-8 * D.max())
+    assert cshapes.classical_mds(D, dim=2).X.shape == (60, 2)
+    s = cshapes.smacof(D.astype(np.float32), iters=50)
+    assert s.summary["normalized_stress"] < 1e-6
+    assert len(s.history["normalized_stress"]) >= 1
+    start = cshapes.smacof(D, X0=P + 0.01, iters=200)
+    assert start.summary["normalized_stress"] < 1e-6
+    with pytest.raises(ValueError, match="dim"):
+        cshapes.classical_mds(D, dim=4)
+    with pytest.raises(ValueError, match=r"D: expected a square \(n, n\)"):
+        cshapes.classical_mds(D[:5])
+
+
+def test_options_are_checked_by_name(shapes):
+    V, F = cshapes.read_mesh(shapes[0])
+    with pytest.raises(TypeError, match="unexpected keyword argument 'tear_fractoin'.*tear_fraction"):
+        cshapes.coulomb(V, F, tear_fractoin=0.1)
+    with pytest.raises(ValueError, match="fixed_step applies to step_rule='fixed' only"):
+        cshapes.coulomb(V, F, fixed_step=0.1)
+    with pytest.raises(ValueError, match="unknown Coulomb scheme 'fast'"):
+        cshapes.coulomb(V, F, scheme="fast")
+    with pytest.raises(ValueError, match="step_factor must be > 0"):
+        cshapes.coulomb(V, F, step_factor=-1)
+    with pytest.raises(ValueError, match="step_factor: expected a number"):
+        cshapes.coulomb(V, F, step_factor="big")
+    with pytest.raises(ValueError, match="iters applies to method 'smacof' only"):
+        cshapes.canonical_form(V, F, method="cmds", iters=3)
+    with pytest.raises(ValueError, match="tear_fraction applies to method 'coulomb' only"):
+        cshapes.canonical_form(V, F, method="smacof", tear_fraction=0.1)
+
+
+def test_a_mesh_with_two_pieces_is_repaired_and_keeps_its_vertex_count():
+    V, F = cshapes.generate("icosphere", subdivisions=3)
+    V2 = np.vstack([V, V[:3] * 0.1 + 5])
+    F2 = np.vstack([F, [[len(V), len(V) + 1, len(V) + 2]]])
+    form = cshapes.coulomb(V2, F2, coulomb_max_iterations=30)
+    assert form.X.shape == (len(V2), 3)
+    assert np.isnan(form.X[len(V):]).all() and np.isfinite(form.X[: len(V)]).all()
+    np.testing.assert_array_equal(form.valid, np.r_[np.ones(len(V)), np.zeros(3)])
+    assert "largest component" in form.summary["repair"]
+    with pytest.raises(ValueError, match="components"):
+        cshapes.coulomb(V2, F2, strict=True)
+
+
+def test_two_threads_canonize_at_once_with_the_gil_released(shapes):
+    """Both threads get the serial answer, and the interpreter keeps running Python while they compute:
+    with the GIL held, the counting loop below could not advance during the computations."""
+    meshes = [cshapes.read_mesh(path) for path in shapes]
+    options = dict(tear_fraction=0, coulomb_max_iterations=300, coulomb_tolerance=0)
+    cshapes.set_num_threads(1)
+    try:
+        serial = [cshapes.coulomb(V, F, **options).X for V, F in meshes]
+        results = [None, None]
+
+        def work(k):
+            results[k] = cshapes.coulomb(*meshes[k], **options).X
+
+        threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+        count = 0
+        for t in threads:
+            t.start()
+        while any(t.is_alive() for t in threads):
+            count += 1
+        for t in threads:
+            t.join()
+    finally:
+        cshapes.set_num_threads(0)
+    for k in range(2):
+        np.testing.assert_array_equal(results[k], serial[k])
+    # 300 iterations on ~900 vertices take a good fraction of a second; the loop turns millions of times a
+    # second when it holds the interpreter, and at most a few thousand when the workers hold the GIL.
+    assert count > 100_000, count
