@@ -21,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/threads.h"
 #include "core/timing.h"
 #include "experiments/command.h"
 
@@ -260,39 +261,10 @@ ProgressFn progress_printer() {
 
 namespace {
 
-// Other tasks running right now: /proc/loadavg's "running/total" counts every runnable thread on the machine,
-// this one included (libgomp's threads do not exist yet). The least of three samples 1 ms apart, so a task
-// that only runs for an instant does not count. 0 when unknown.
-int busy_cores() {
-  int least = INT_MAX;
-  for (int k = 0; k < 3; ++k) {
-    if (k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    std::ifstream loadavg("/proc/loadavg");
-    double one, five, fifteen;
-    int running = 0;
-    if (!(loadavg >> one >> five >> fifteen >> running) || running < 1) return 0;
-    least = std::min(least, running - 1);
-  }
-  return least;
-}
-
-// The OpenMP thread count: --threads (or OMP_NUM_THREADS, or all cores), at most 4 per core, and no more than
-// the cores other processes leave idle. Every parallel loop ends at a barrier, so one thread that shares its
-// core with another busy process holds all the others back: `canon` on dog0 with another job running took
-// 10x longer with 2 threads than with 1 (README, "Threads").
 void set_threads(int requested) {
-  const int cores = std::max(1, omp_get_num_procs());
-  int wanted = requested > 0 ? requested : omp_get_max_threads();
-  if (wanted > 4 * cores) {
-    warn((requested > 0 ? "--threads " : "OMP_NUM_THREADS=") + std::to_string(wanted) +
-         " is more than 4 per core (" + std::to_string(cores) + " cores); using " +
-         std::to_string(4 * cores));
-    wanted = 4 * cores;
-  }
-  const char* exact = std::getenv("CSHAPES_EXACT_THREADS");
-  const int busy = exact && *exact && std::string(exact) != "0" ? 0 : busy_cores();
-  if (busy > 0 && wanted + busy > cores) wanted = std::max(1, std::min(wanted, cores - busy));
-  omp_set_num_threads(wanted);
+  omp_set_num_threads(threads_for_computation(requested, 3, [requested](const std::string& line) {
+    warn((requested > 0 ? "--threads " : "OMP_NUM_THREADS=") + line);
+  }));
 }
 
 // The command named on the command line ("canon", "bench coulomb"), found without the parser (which may
@@ -357,10 +329,9 @@ void check_numeric_options(CLI::App& app) {
 // (GOMP_SPINCOUNT=1000; scripts/busy_canon.py, README "Benchmarks"). libgomp reads its variables once, when
 // it loads, before main: so unless the user chose (OMP_WAIT_POLICY or GOMP_SPINCOUNT), the process runs
 // itself again with GOMP_SPINCOUNT set (once: the new process sees the variable). If exec fails, it goes on.
-constexpr const char* kSpinCount = "1000";
 void bound_the_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
-  if (::setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0) return;
+  if (::setenv("GOMP_SPINCOUNT", kGompSpinCount, 1) != 0) return;
   ::execv("/proc/self/exe", argv);
   ::unsetenv("GOMP_SPINCOUNT");
 }

@@ -36,7 +36,8 @@ DistanceMatrix to_distance_matrix(const py::handle& array, const std::string& na
 Eigen::VectorXd to_vector(const py::handle& array, const std::string& name);
 
 // The scope of a computation: the GIL released (other Python threads run, and other computations start) and
-// the module's thread count (set_num_threads) applied to this thread's OpenMP loops.
+// the module's thread count (set_num_threads) applied to this thread's OpenMP loops, fewer when other tasks
+// keep cores busy (core/threads.h, as in the CLI).
 struct Computing {
   Computing();
   py::gil_scoped_release release;

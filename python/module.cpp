@@ -1,19 +1,21 @@
-// `import cshapes`: the library from Python, numpy in and numpy out. A skin over the same library calls as
+// The extension behind `import cshapes` (python/__init__.py loads it as cshapes._cshapes): the library from Python, numpy in and numpy out. A skin over the same library calls as
 // the CLI (pipeline/, eval/, matching/, canon/, core/): no pipeline logic of its own. Errors raise
 // ValueError (cshapes::Error) or OSError (cshapes::FileError) with the CLI's messages.
 #include "core/error.h"
+#include "core/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 
 namespace py = pybind11;
 
-PYBIND11_MODULE(cshapes, m) {
+PYBIND11_MODULE(_cshapes, m) {
   m.doc() = R"(cshapes: Coulomb shapes and MDS canonical forms, ICP shape distances and retrieval measures.
 
 Arrays: V (n, 3) float64 coordinates, F (m, 3) int32/int64 vertex indices, D (n, n) distances; any real
 dtype and any strides are accepted (copied once into the library's layout). Keyword options carry the
 CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations release the GIL.)";
   m.attr("__version__") = CSHAPES_VERSION;
+  m.attr("GOMP_SPINCOUNT") = cshapes::kGompSpinCount;  // what cshapes/__init__.py sets before loading libgomp
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

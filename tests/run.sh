@@ -27,7 +27,7 @@ failed=${failed:-0}
 py_passed=0
 py_failed=0
 interpreter=$(cat build/python/interpreter 2>/dev/null || true)
-if [[ -n "$interpreter" ]] && ls build/python/cshapes*.so >/dev/null 2>&1; then
+if [[ -n "$interpreter" ]] && ls build/python/cshapes/_cshapes*.so >/dev/null 2>&1; then
   PYTHONPATH="$root/build/python${PYTHONPATH:+:$PYTHONPATH}" "$interpreter" -m pytest -q -p no:cacheprovider \
     tests/python 2>&1 | tee "$log"
   py_status=${PIPESTATUS[0]}

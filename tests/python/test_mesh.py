@@ -158,3 +158,25 @@ def test_generate_matches_the_cli_files(cli, tmp_path):
     assert len(poses) == 2 and np.array_equal(poses[0][1], poses[1][1])
     with pytest.raises(ValueError, match="unknown kind 'cube'"):
         cshapes.generate("cube")
+
+
+def test_the_package_bounds_the_spin_as_the_cli_does():
+    import os
+    from pathlib import Path
+
+    init = Path(cshapes.__file__).read_text()
+    assert f'_os.environ["GOMP_SPINCOUNT"] = "{cshapes._cshapes.GOMP_SPINCOUNT}"' in init
+    assert cshapes.get_num_threads() >= 1
+
+
+def test_importing_restores_the_environment(tmp_path):
+    """A fresh interpreter without OpenMP settings: the spin bound is set while the extension loads, then
+    removed from the environment again."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
+    code = "import os, cshapes; print('GOMP_SPINCOUNT' in os.environ)"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
