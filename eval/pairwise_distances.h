@@ -20,8 +20,9 @@
 // aligns its block and stores it in the cache; the matrices are summed onto rank 0 (each entry has exactly
 // one non-zero contribution, so the sum is exact and the result bit-identical to one process).
 //
-// Cost: N(N−1)/2 alignments of ~12 ms each for 5,000-point shapes (3.5 ms for 1,000 points); everything else
-// (cache lookups, one IcpShape per shape, packs) is under 1% of that.
+// Cost: N(N−1)/2 alignments of ~12 ms each for 5,000-point shapes (3.5 ms for 1,000 points): 94% of a
+// profile at N = 200 was ICP's nearest-neighbour search and steps. Besides that: one IcpShape per shape, and
+// the cache (reading 19,900 cached pairs from packs: 0.6 s).
 #pragma once
 
 #include <string>
