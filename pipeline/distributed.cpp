@@ -15,14 +15,14 @@ namespace cshapes {
 
 namespace {
 
+#ifdef CSHAPES_HAVE_MPI
+
 // Set by mpirun/mpiexec (OpenMPI, MPICH's hydra) and srun (PMI, PMIx): this process is one rank of a run.
 bool started_by_mpi_launcher() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
     if (const char* value = std::getenv(name); value && *value) return true;
   return false;
 }
-
-#ifdef CSHAPES_HAVE_MPI
 
 // MPI counts are ints: large buffers go in pieces of at most this many elements.
 constexpr size_t kChunk = size_t{1} << 26;
