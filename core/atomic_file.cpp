@@ -26,7 +26,14 @@ void write_file_atomically(const std::string& path, const std::function<void(std
     fs::create_directories(target.parent_path(), ec);
     if (ec) fail_file(path, ": cannot create directory ", target.parent_path().string(), ": ", ec.message());
   }
-  std::string tmp = detail::concat(path, ".tmp.", ::getpid(), ".", counter++);
+  // Host, process and a counter: unique among the threads and processes (MPI ranks on several nodes
+  // included) that may write the same path at once on a shared file system.
+  static const std::string host = [] {
+    char name[256] = {};
+    if (::gethostname(name, sizeof name - 1) != 0) return std::string("host");
+    return std::string(name);
+  }();
+  std::string tmp = detail::concat(path, ".tmp.", host, ".", ::getpid(), ".", counter++);
   try {
     std::ofstream out(
         tmp, binary ? std::ios::out | std::ios::binary | std::ios::trunc : std::ios::out | std::ios::trunc);

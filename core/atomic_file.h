@@ -12,6 +12,9 @@ namespace cshapes {
 // Calls write(stream) on a temporary file next to `path` and renames it to `path` when write returns.
 // If write throws (or the stream fails), the temporary file is removed and the error propagates;
 // `path` is then untouched. Creates missing parent directories. binary: open in binary mode.
+// Several threads or processes (MPI ranks on other nodes of a shared file system too) may write the same path
+// at once: each writes its own temporary file (host, process id and a counter in its name) and the last
+// rename wins whole.
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                            bool binary = false);
 

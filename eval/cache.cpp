@@ -1,5 +1,6 @@
 #include "eval/cache.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -140,6 +141,24 @@ void DiskCache::put(const std::string& key, const std::string& value) const {
         out.write(value.data(), static_cast<std::streamsize>(value.size()));
       },
       true);
+}
+
+std::vector<std::string> DiskCache::keys() const {
+  std::vector<std::string> result;
+  std::error_code ec;
+  if (!enabled() || !std::filesystem::is_directory(directory_, ec)) return result;
+  for (const auto& fan : std::filesystem::directory_iterator(directory_, ec)) {
+    const std::string prefix = fan.path().filename().string();
+    if (prefix.size() != 2 || !fan.is_directory(ec)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(fan.path(), ec)) {
+      const std::filesystem::path& p = entry.path();
+      const std::string stem = p.stem().string();
+      if (p.extension() == ".bin" && stem.compare(0, 2, prefix) == 0 && stem.find('.') == std::string::npos)
+        result.push_back(stem);
+    }
+  }
+  std::sort(result.begin(), result.end());
+  return result;
 }
 
 std::string DiskCache::get_or_compute(const std::string& key,

@@ -69,6 +69,10 @@ class DiskCache {
   nlohmann::json get_or_compute_json(const std::string& key,
                                      const std::function<nlohmann::json()>& compute) const;
 
+  // The keys of the entries present, sorted (a writer's temporary files are not entries). Empty for a
+  // disabled cache or a missing directory. Cost: one listing of the directory and its fan-out folders.
+  std::vector<std::string> keys() const;
+
   long hits() const { return hits_; }
   long misses() const { return misses_; }
 

@@ -5,9 +5,13 @@
 #include <atomic>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "core/error.h"
 #include "core/timing.h"
@@ -23,19 +27,8 @@ struct PairValue {
   int reflection = 0;
 };
 
-// A pair's cache value (JSON, stored as CBOR like every cache entry): the distances and the alignment.
-nlohmann::json encode(const PairValue& v, const IcpResult& r) {
-  const Eigen::Matrix3d& R = r.transform.rotation;
-  const Eigen::Vector3d& t = r.transform.translation;
-  return {{"hausdorff", v.hausdorff},
-          {"chamfer", v.chamfer},
-          {"rmse", v.rmse},
-          {"reflection", v.reflection},
-          {"iterations", r.total_iterations},
-          {"R", {R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)}},
-          {"t", {t[0], t[1], t[2]}}};
-}
-
+// A pair's entry in the older one-file-per-pair layout (CBOR {hausdorff, chamfer, rmse, reflection, ...},
+// or before that a text line); read, no longer written.
 bool decode(const std::string& bytes, PairValue& v) {
   const nlohmann::json j = nlohmann::json::from_cbor(bytes, true, false);
   if (!j.is_discarded()) {
@@ -54,6 +47,77 @@ bool decode(const std::string& bytes, PairValue& v) {
          a == "hausdorff" && b == "chamfer" && c == "rmse" && d == "reflection";
 }
 
+constexpr const char* kPackFormat = "cshapes-pair-pack-1";
+
+// A finished pair on its way to a pack.
+struct PackRecord {
+  int source, target;
+  PairValue value;
+  IcpResult alignment;  // only iterations, rotation and translation are stored
+};
+
+// One pack: columns of the records, CBOR, named by the SHA-256 of its bytes.
+void write_pack(const DiskCache& packs, const std::vector<PackRecord>& records,
+                const std::vector<std::string>& key, const std::string& option_key) {
+  if (!packs.enabled() || records.empty()) return;
+  nlohmann::json source = nlohmann::json::array(), target = nlohmann::json::array();
+  std::vector<double> hausdorff, chamfer, rmse, rotation, translation;
+  std::vector<int> reflection, iterations;
+  for (const PackRecord& r : records) {
+    source.push_back(key[static_cast<size_t>(r.source)]);
+    target.push_back(key[static_cast<size_t>(r.target)]);
+    hausdorff.push_back(r.value.hausdorff);
+    chamfer.push_back(r.value.chamfer);
+    rmse.push_back(r.value.rmse);
+    reflection.push_back(r.value.reflection);
+    iterations.push_back(r.alignment.total_iterations);
+    const Eigen::Matrix3d& R = r.alignment.transform.rotation;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) rotation.push_back(R(a, b));
+    for (int a = 0; a < 3; ++a) translation.push_back(r.alignment.transform.translation[a]);
+  }
+  const nlohmann::json pack{{"format", kPackFormat}, {"icp", option_key},        {"source", source},
+                            {"target", target},      {"hausdorff", hausdorff},   {"chamfer", chamfer},
+                            {"rmse", rmse},          {"reflection", reflection}, {"iterations", iterations},
+                            {"R", rotation},         {"t", translation}};
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(pack);
+  const std::string content(bytes.begin(), bytes.end());
+  packs.put(sha256_hex(content), content);
+}
+
+// Calls found(source key, target key, value) for every pair of every readable pack made with option_key.
+// A pack of another format or with inconsistent columns is ignored (as a damaged cache entry is).
+template <typename Found>
+void read_packs(const DiskCache& packs, const std::string& option_key, Found found) {
+  for (const std::string& name : packs.keys()) {
+    std::optional<nlohmann::json> pack = packs.get_json(name);
+    if (!pack || !pack->is_object() || pack->value("format", "") != kPackFormat ||
+        pack->value("icp", "") != option_key)
+      continue;
+    try {
+      const auto source = pack->at("source").get<std::vector<std::string>>();
+      const auto target = pack->at("target").get<std::vector<std::string>>();
+      const auto hausdorff = pack->at("hausdorff").get<std::vector<double>>();
+      const auto chamfer = pack->at("chamfer").get<std::vector<double>>();
+      const auto rmse = pack->at("rmse").get<std::vector<double>>();
+      const auto reflection = pack->at("reflection").get<std::vector<int>>();
+      const size_t n = source.size();
+      if (target.size() != n || hausdorff.size() != n || chamfer.size() != n || rmse.size() != n ||
+          reflection.size() != n)
+        continue;
+      for (size_t k = 0; k < n; ++k)
+        found(source[k], target[k], PairValue{hausdorff[k], chamfer[k], rmse[k], reflection[k]});
+    } catch (const nlohmann::json::exception&) {
+      continue;
+    }
+  }
+}
+
+// Pair (i, j), i < j, of n shapes: its position in row order (0, 1), (0, 2), ..., (1, 2), ...
+long condensed_index(long i, long j, long n) {
+  return i * (2 * n - i - 1) / 2 + (j - i - 1);
+}
+
 }  // namespace
 
 std::string points_content_key(const Points& X) {
@@ -67,51 +131,104 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
                                           const std::vector<std::string>& keys,
                                           const PairwiseDistanceOptions& options) {
   const auto start = WallClock::now();
+  const Communicator& comm = options.communicator ? *options.communicator : single_process();
   const int n = static_cast<int>(shapes.size());
   CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(),
                   " keys for ", shapes.size(), " shapes");
+  CSHAPES_REQUIRE(options.pack_pairs >= 1, "pairwise distances: pack_pairs ", options.pack_pairs,
+                  ", expected at least 1");
   std::vector<std::string> key(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i)
     key[static_cast<size_t>(i)] =
         keys.empty() ? points_content_key(shapes[static_cast<size_t>(i)]) : keys[static_cast<size_t>(i)];
+  auto source_of = [&](int i, int j) {
+    return key[static_cast<size_t>(i)] <= key[static_cast<size_t>(j)] ? i : j;
+  };
+
+  // Which pairs are wanted, in row order: 0 not wanted, 1 to compute, 2 cached.
+  const long all_pairs = static_cast<long>(n) * (n - 1) / 2;
+  std::string status(static_cast<size_t>(all_pairs), options.only_pairs.empty() ? 1 : 0);
+  for (const auto& [a, b] : options.only_pairs) {
+    CSHAPES_REQUIRE(a >= 0 && b >= 0 && a < n && b < n && a != b, "pairwise distances: pair (", a, ", ", b,
+                    ") of ", n, " shapes");
+    status[static_cast<size_t>(condensed_index(std::min(a, b), std::max(a, b), n))] = 1;
+  }
 
   PairwiseDistanceResult result;
   result.hausdorff = result.chamfer = result.rmse = Eigen::MatrixXd::Zero(n, n);
-  result.reflection = Eigen::MatrixXi::Zero(n, n);
-  result.pairs = static_cast<long>(n) * (n - 1) / 2;
+  Eigen::MatrixXd reflection = Eigen::MatrixXd::Zero(n, n);  // summed over ranks as doubles (0 or 1)
+  result.pairs = static_cast<long>(std::count(status.begin(), status.end(), 1));
   IcpOptions icp_options = options.icp;
   icp_options.parallel = false;
   const std::string option_key = to_key_string(icp_options);
-  DiskCache cache(options.cache_dir);
-
-  // Pass 1 (cheap, serial): cached pairs. The shape with the smaller key is the source.
-  struct Pair {
-    int source, target;
-    std::string key;
-  };
-  std::vector<Pair> todo;
+  const DiskCache packs(options.cache_dir.empty() ? "" : options.cache_dir + "/packs");
   auto store = [&](int i, int j, const PairValue& v) {
     result.hausdorff(i, j) = result.hausdorff(j, i) = v.hausdorff;
     result.chamfer(i, j) = result.chamfer(j, i) = v.chamfer;
     result.rmse(i, j) = result.rmse(j, i) = v.rmse;
-    result.reflection(i, j) = result.reflection(j, i) = v.reflection;
+    reflection(i, j) = reflection(j, i) = v.reflection;
   };
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
-      int s = key[static_cast<size_t>(i)] <= key[static_cast<size_t>(j)] ? i : j, t = s == i ? j : i;
-      std::string pair_key = cache_key(
-          {"pairwise-distance-1", key[static_cast<size_t>(s)], key[static_cast<size_t>(t)], option_key});
-      PairValue v;
-      std::optional<std::string> cached = cache.get(pair_key);
-      if (cached && decode(*cached, v)) {
-        store(i, j, v);
-        ++result.cached;
-      } else {
-        todo.push_back({s, t, pair_key});
-      }
-    }
 
-  // Pass 2: prepare the shapes the remaining pairs need, then align them, OpenMP over pairs.
+  // Pass 1 (rank 0, serial): what the cache holds, from the packs, then from the older one-file-per-pair
+  // entries when there are any.
+  if (comm.is_root()) {
+    std::unordered_map<std::string, std::vector<int>> index_of;
+    for (int i = 0; i < n; ++i) index_of[key[static_cast<size_t>(i)]].push_back(i);
+    read_packs(packs, option_key, [&](const std::string& a, const std::string& b, const PairValue& v) {
+      auto ia = index_of.find(a), ib = index_of.find(b);
+      if (ia == index_of.end() || ib == index_of.end()) return;
+      for (int i : ia->second)
+        for (int j : ib->second) {
+          if (i == j) continue;
+          char& s = status[static_cast<size_t>(condensed_index(std::min(i, j), std::max(i, j), n))];
+          if (s != 1 || source_of(i, j) != i) continue;
+          store(i, j, v);
+          s = 2;
+        }
+    });
+    const DiskCache legacy(options.cache_dir);
+    std::vector<std::string> legacy_keys = legacy.keys();
+    if (!legacy_keys.empty()) {
+      const std::unordered_set<std::string> present(legacy_keys.begin(), legacy_keys.end());
+      for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j) {
+          char& s = status[static_cast<size_t>(condensed_index(i, j, n))];
+          if (s != 1) continue;
+          const int src = source_of(i, j), tgt = src == i ? j : i;
+          const std::string pair_key = cache_key({"pairwise-distance-1", key[static_cast<size_t>(src)],
+                                                  key[static_cast<size_t>(tgt)], option_key});
+          PairValue v;
+          if (!present.count(pair_key)) continue;
+          std::optional<std::string> cached = legacy.get(pair_key);
+          if (cached && decode(*cached, v)) {
+            store(i, j, v);
+            s = 2;
+          }
+        }
+    }
+  }
+  comm.broadcast_from_root(status);
+  result.cached = static_cast<long>(std::count(status.begin(), status.end(), 2));
+
+  // This rank's share of the missing pairs: a contiguous block of the row-order list, balanced by count.
+  struct Pair {
+    int source, target;
+  };
+  std::vector<Pair> todo;
+  {
+    const long missing = static_cast<long>(std::count(status.begin(), status.end(), 1));
+    const ItemRange mine = contiguous_share(missing, comm.size(), comm.rank());
+    long rank_in_missing = 0;
+    for (int i = 0; i < n && rank_in_missing < mine.end; ++i)
+      for (int j = i + 1; j < n && rank_in_missing < mine.end; ++j) {
+        if (status[static_cast<size_t>(condensed_index(i, j, n))] != 1) continue;
+        if (rank_in_missing++ < mine.begin) continue;
+        const int src = source_of(i, j);
+        todo.push_back({src, src == i ? j : i});
+      }
+  }
+
+  // Pass 2: prepare the shapes this rank's pairs need, then align them, OpenMP over pairs.
   std::vector<std::unique_ptr<IcpShape>> prepared(static_cast<size_t>(n));
   std::vector<char> needed(static_cast<size_t>(n), 0);
   for (const Pair& p : todo)
@@ -133,38 +250,93 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
       stop = true;
     }
   }
-  if (error) std::rethrow_exception(error);
 
   std::atomic<long> computed{0};
-  const long total_todo = static_cast<long>(todo.size());
+  std::vector<PackRecord> pending;  // finished, not yet in a pack
+  auto last_pack = WallClock::now();
+  auto write_pending = [&](std::vector<PackRecord>& records) {
+    try {
+      write_pack(packs, records, key, option_key);
+    } catch (...) {
+#pragma omp critical(cshapes_pairwise_error)
+      if (!error) error = std::current_exception();
+      stop = true;
+    }
+    records.clear();
+  };
+  const long total_todo = error ? 0 : static_cast<long>(todo.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (long k = 0; k < total_todo; ++k) {
     if (stop) continue;
     const Pair& p = todo[static_cast<size_t>(k)];
     try {
-      IcpResult alignment;
+      PackRecord record{p.source, p.target, {}, {}};
       ShapeDistance d =
           aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
-                                 *prepared[static_cast<size_t>(p.target)], icp_options, &alignment);
-      PairValue v{d.hausdorff, d.chamfer, d.rmse, alignment.transform.is_reflection() ? 1 : 0};
-      cache.put_json(p.key, encode(v, alignment));
-      store(p.source, p.target, v);  // distinct entries per pair: no race
-      long done = ++computed;
+                                 *prepared[static_cast<size_t>(p.target)], icp_options, &record.alignment);
+      record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
+      store(p.source, p.target, record.value);  // distinct entries per pair: no race
+      std::vector<PackRecord> full;
+      long done = 0;
+#pragma omp critical(cshapes_pairwise_pack)
+      {
+        pending.push_back(std::move(record));
+        done = ++computed;
+        if (static_cast<long>(pending.size()) >= options.pack_pairs ||
+            seconds_since(last_pack) >= options.pack_seconds) {
+          full.swap(pending);
+          last_pack = WallClock::now();
+        }
+      }
+      write_pending(full);
       if (options.progress) {
 #pragma omp critical(cshapes_pairwise_progress)
         options.progress("distances", static_cast<double>(result.cached + done),
-                         static_cast<double>(result.pairs));
+                         static_cast<double>(result.cached + total_todo));
       }
-      if (options.fail_after_computed >= 0 && done >= options.fail_after_computed)
+      if (options.fail_after_computed >= 0 && done >= options.fail_after_computed) {
+        // The hook simulates a kill after `done` stored pairs: store them now.
+        std::vector<PackRecord> rest;
+#pragma omp critical(cshapes_pairwise_pack)
+        rest.swap(pending);
+        write_pending(rest);
         fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");
+      }
     } catch (...) {
 #pragma omp critical(cshapes_pairwise_error)
       if (!error) error = std::current_exception();
       stop = true;
     }
   }
-  result.computed = computed;
-  if (error) std::rethrow_exception(error);
+  write_pending(pending);  // what is left, also after an error: finished pairs stay cached
+
+  // Every rank learns whether any failed, so that none waits for the others in the sums below.
+  if (comm.any(static_cast<bool>(error))) {
+    if (error) std::rethrow_exception(error);
+    fail("pairwise distances: another rank failed (its message says why)");
+  }
+  result.computed = comm.sum(static_cast<long>(computed));
+  if (comm.size() > 1) {
+    for (Eigen::MatrixXd* M : {&result.hausdorff, &result.chamfer, &result.rmse, &reflection})
+      comm.sum_to_root(M->data(), static_cast<size_t>(M->size()));
+    if (!comm.is_root()) {
+      result.hausdorff.resize(0, 0);
+      result.chamfer.resize(0, 0);
+      result.rmse.resize(0, 0);
+      result.reflection.resize(0, 0);
+      result.seconds = seconds_since(start);
+      return result;
+    }
+  }
+  result.reflection = reflection.cast<int>();
+  if (!options.only_pairs.empty()) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (status[static_cast<size_t>(condensed_index(i, j, n))] == 0)
+          result.hausdorff(i, j) = result.hausdorff(j, i) = result.chamfer(i, j) = result.chamfer(j, i) =
+              result.rmse(i, j) = result.rmse(j, i) = nan;
+  }
   result.seconds = seconds_since(start);
   return result;
 }

@@ -1,9 +1,12 @@
 // cshapes experiment paper --data DIR --out OUT: the paper's experiment end to end (paper_experiment.h).
+// Under `mpirun -np R` the canonical forms and the ICP pairs are split over the ranks; rank 0 alone prints
+// and writes the outputs.
 #include <cstdio>
 #include <iostream>
 
 #include "core/error.h"
 #include "experiments/command.h"
+#include "pipeline/distributed.h"
 #include "pipeline/paper_experiment.h"
 
 namespace cshapes::cli {
@@ -35,15 +38,21 @@ int run() {
   }
   if (o.figure_vertices != 0 && o.figure_vertices < 4)
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
-  check_canon_method_options(o.methods, false);  // one command line for every method: warn, do not refuse
+  const Communicator& comm = world_communicator();
+  if (comm.is_root())
+    check_canon_method_options(o.methods, false);  // one command line for every method: warn
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
-  o.progress = progress_printer();
-  o.note = [](const std::string& line) { note(line); };
+  if (comm.is_root()) {  // one voice: the other ranks work silently
+    o.progress = progress_printer();
+    o.note = [](const std::string& line) { note(line); };
+  }
+  o.communicator = &comm;
   PaperExperimentSummary s = run_paper_experiment(o);
+  if (!comm.is_root()) return 0;
   nlohmann::json j{{"out", o.out},
                    {"shapes", s.shapes},
                    {"seconds", s.seconds},
@@ -85,11 +94,13 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(1, 1000));
        app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
-       app.add_flag("--largest-component", o.largest_component,
-                    "keep each input's largest connected component (the default repair; kept for old scripts)");
-       app.add_flag("--strict", o.canon.strict,
-                    "refuse a mesh a method would have to repair (non-manifold for MDS, several components, ...) "
-                    "instead of repairing it");
+       app.add_flag(
+           "--largest-component", o.largest_component,
+           "keep each input's largest connected component (the default repair; kept for old scripts)");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "refuse a mesh a method would have to repair (non-manifold for MDS, several components, ...) "
+           "instead of repairing it");
        app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
            ->capture_default_str()
            ->check(integer_in(1, 1000));

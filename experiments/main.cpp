@@ -24,6 +24,7 @@
 #include "core/threads.h"
 #include "core/timing.h"
 #include "experiments/command.h"
+#include "pipeline/distributed.h"
 
 namespace cshapes::cli {
 
@@ -262,8 +263,12 @@ ProgressFn progress_printer() {
 namespace {
 
 void set_threads(int requested) {
-  omp_set_num_threads(threads_for_computation(requested, 3, [requested](const std::string& line) {
-    warn((requested > 0 ? "--threads " : "OMP_NUM_THREADS=") + line);
+  const bool given = requested > 0;
+  // R ranks of an MPI run on one node share its cores: by default each takes its part.
+  if (!given && !std::getenv("OMP_NUM_THREADS"))
+    requested = std::max(1, omp_get_max_threads() / cshapes::ranks_on_this_node());
+  omp_set_num_threads(threads_for_computation(requested, 3, [given](const std::string& line) {
+    warn((given ? "--threads " : "OMP_NUM_THREADS=") + line);
   }));
 }
 
@@ -356,7 +361,8 @@ int main(int argc, char** argv) {
   app.fallthrough();
   app.set_version_flag("--version", CSHAPES_VERSION);
   app.add_option("--threads", g_threads,
-                 "OpenMP threads, at most 4 per core (default: all cores); fewer when other processes keep "
+                 "OpenMP threads, at most 4 per core (default: all cores, shared among the MPI ranks of a "
+                 "node); fewer when other processes keep "
                  "cores busy at the start (set CSHAPES_EXACT_THREADS=1 to keep N)")
       ->check(integer_at_least(0));
   app.add_flag("-q,--quiet", g_quiet, "no progress or notes on stderr");
@@ -411,15 +417,19 @@ int main(int argc, char** argv) {
   auto it = leaf.find(selected);
   if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
   set_threads(g_threads);
+  int code = 0;
   try {
     return it->second->run();
   } catch (const UsageError& e) {
-    return report(e.what(), kExitUsage);
+    code = report(e.what(), kExitUsage);
   } catch (const cshapes::Error& e) {
-    return report(e.what(), kExitDataError);
+    code = report(e.what(), kExitDataError);
   } catch (const std::bad_alloc&) {
-    return report("out of memory", kExitDataError);
+    code = report("out of memory", kExitDataError);
   } catch (const std::exception& e) {
-    return report(e.what(), kExitDataError);
+    code = report(e.what(), kExitDataError);
   }
+  // Under mpirun the other ranks may be waiting for this one in a collective call: end them all.
+  cshapes::abort_all_ranks(code);
+  return code;
 }

@@ -1,22 +1,70 @@
 #include "pipeline/dataset_distances.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "eval/candidate_pairs.h"
+#include "eval/distance_csv.h"
+#include "matching/shape_distance.h"
+#include "pipeline/distributed.h"
 
 namespace cshapes {
+
+namespace {
+
+// Distributed runs: each rank canonizes its share of the shapes (longest first by vertex count) into the
+// cache, silently (the main pass reports every shape and every error). Returns the forms computed, summed
+// over ranks.
+long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOptions co,
+                    const Communicator& comm) {
+  const size_t n = data.entries.size();
+  // Vertex counts, each rank reading every R-th mesh.
+  std::vector<long> vertices(n, 0);
+  for (size_t i = static_cast<size_t>(comm.rank()); i < n; i += static_cast<size_t>(comm.size())) {
+    try {
+      vertices[i] = static_cast<long>(read_mesh(data.entries[i].path).num_vertices());
+    } catch (const Error&) {
+      // the main pass says why
+    }
+  }
+  comm.sum_to_all(vertices.data(), vertices.size());
+  const std::vector<int> owner = canonical_form_owners(vertices, {co.method}, comm.size());
+  co.note = {};
+  co.progress = {};
+  long computed = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (owner[i] != comm.rank() || vertices[i] == 0) continue;
+    try {
+      co.name = data.entries[i].path;
+      bool cached = false;
+      cached_canonical_form(cache, read_mesh(data.entries[i].path), co, &cached);
+      if (!cached) ++computed;
+    } catch (const Error&) {
+      // the main pass meets the same error and reports it (or stops, under strict)
+    }
+  }
+  return comm.sum(computed);
+}
+
+}  // namespace
 
 DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   auto say = [&options](const std::string& line) {
     if (options.note) options.note(line);
   };
+  const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  CSHAPES_REQUIRE(comm.size() == 1 || !options.cache_dir.empty(), options.data,
+                  ": a distributed run needs a cache folder (the ranks share their results through it)");
+  CSHAPES_REQUIRE(options.two_stage_k >= 0, "two-stage k = ", options.two_stage_k, ", expected >= 0");
   const Dataset data = read_dataset(options.data);
   const std::filesystem::path cache_dir(options.cache_dir);
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
   DatasetDistances result;
+  const long computed_by_ranks = comm.size() > 1 ? canonize_share(data, cache, co, comm) : 0;
   std::vector<Points> forms;
   std::vector<std::string> keys;
   for (size_t i = 0; i < data.entries.size(); ++i) {
@@ -44,12 +92,58 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
     say("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +
         (cached ? " (cached)" : ""));
   }
+  // The forms the ranks computed were read from the cache here: count them as computed.
+  result.forms_computed += computed_by_ranks;
+  result.forms_cached -= computed_by_ranks;
   CSHAPES_REQUIRE(forms.size() >= 2, options.data, ": ", forms.size(), " usable shapes (",
                   result.skipped.size(), " skipped), a distance matrix needs at least 2");
   PairwiseDistanceOptions po = options.pairs;
   po.cache_dir = options.cache_dir.empty() ? "" : (cache_dir / "pairs").string();
   po.progress = options.progress;
+  po.communicator = &comm;
+
+  // Two-stage: descriptors rank the candidates, ICP aligns only those pairs.
+  Eigen::MatrixXd descriptor_distances;
+  if (options.two_stage_k > 0) {
+    const int n = static_cast<int>(forms.size());
+    std::vector<ShapeDescriptor> descriptors(static_cast<size_t>(n));
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < n; ++i)
+      descriptors[static_cast<size_t>(i)] =
+          shape_descriptor(finite_rows(forms[static_cast<size_t>(i)]), options.descriptor);
+    descriptor_distances = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        descriptor_distances(i, j) = descriptor_distances(j, i) =
+            descriptor_distance(descriptors[static_cast<size_t>(i)], descriptors[static_cast<size_t>(j)]);
+    result.two_stage.k = options.two_stage_k;
+    result.two_stage.candidates = nearest_candidates(descriptor_distances, options.two_stage_k);
+    po.only_pairs = candidate_pairs(result.two_stage.candidates);
+    result.two_stage.pairs_aligned = static_cast<long>(po.only_pairs.size());
+  }
   result.distances = pairwise_distances(forms, keys, po);
+  if (options.two_stage_k > 0 && comm.is_root()) {
+    PairwiseDistanceResult& d = result.distances;
+    for (Eigen::MatrixXd* M : {&d.hausdorff, &d.chamfer, &d.rmse})
+      rank_unmeasured_last(*M, descriptor_distances);
+    if (!options.reference.empty()) {
+      // The reference's rows and columns in this run's order, matched by name.
+      const NamedDistances reference = read_distance_csv(options.reference);
+      std::vector<Index> at;
+      for (const std::string& name : result.names) {
+        auto it = std::find(reference.names.begin(), reference.names.end(), name);
+        CSHAPES_REQUIRE(it != reference.names.end(), options.reference, ": no shape '", name,
+                        "' (the reference must be the exact matrix of the same dataset)");
+        at.push_back(it - reference.names.begin());
+      }
+      const Index n = static_cast<Index>(at.size());
+      Eigen::MatrixXd R(n, n);
+      for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j < n; ++j)
+          R(i, j) = reference.D(at[static_cast<size_t>(i)], at[static_cast<size_t>(j)]);
+      result.two_stage.recall = candidate_recall(R, result.two_stage.candidates);
+    }
+  }
   return result;
 }
 

@@ -1,6 +1,20 @@
 // The distance matrix of a whole dataset: each shape's canonical form (cached), ICP between every pair
-// (cached per pair), the paper's distances. `cshapes distmat` is this call and a CSV writer; the Python
-// module and MPI runs call the same function.
+// (cached), the paper's distances. `cshapes distmat` is this call and a CSV writer; the Python module and
+// MPI runs (`mpirun -np R cshapes distmat`) call the same function.
+//
+// Distributed (options.communicator with R > 1 ranks, pipeline/distributed.h): the shapes are split by
+// expected cost (vertex counts, longest first) and each rank canonizes its share into the cache; then every
+// rank reads all forms from the cache, the missing pairs are split in blocks of equal count
+// (eval/pairwise_distances.h) and the matrices meet on rank 0. The result is bit-identical to one process;
+// only rank 0's `distances` holds the matrices. Counts (forms and pairs computed or cached) are over all
+// ranks. A distributed run needs a cache folder that every rank sees.
+//
+// Two-stage mode (two_stage_k = k > 0; off by default, the exact all-pairs matrix is the reference): a
+// descriptor of each form (matching/shape_descriptor.h) picks each shape's k nearest candidates, ICP runs
+// only on the union of those pairs (each once), and every pair not aligned gets M·(1 + δ) — M the largest
+// aligned distance, δ the descriptor distance — so it ranks after every aligned candidate of its row, in
+// descriptor order (eval/candidate_pairs.h). With a reference matrix (the exact run's CSV), recall@k is
+// reported: the fraction of each shape's true k nearest that its candidates held.
 //
 // Each shape is repaired for the method (pipeline/canonical_forms.h) or, with canon.strict, refused (the
 // error is thrown). A file no method can use (unreadable, too few vertices after repair) is skipped with its
@@ -11,7 +25,9 @@
 #include <string>
 #include <vector>
 
+#include "core/communicator.h"
 #include "eval/pairwise_distances.h"
+#include "matching/shape_descriptor.h"
 #include "pipeline/canonical_forms.h"
 
 namespace cshapes {
@@ -23,6 +39,17 @@ struct DatasetDistanceOptions {
   PairwiseDistanceOptions pairs;                 // ICP options; cache_dir and progress are set here
   ProgressFn progress;                           // stage "distances"
   std::function<void(const std::string&)> note;  // one line per shape (and per repair or skipped file)
+  const Communicator* communicator = nullptr;    // the ranks sharing the work; nullptr: this process
+  int two_stage_k = 0;                // > 0: align only each shape's k descriptor-nearest candidates
+  ShapeDescriptorOptions descriptor;  // two-stage: the descriptor
+  std::string reference;              // two-stage: the exact matrix's CSV, for recall@k; empty: none
+};
+
+struct TwoStageSummary {
+  int k = 0;                                 // 0: the exact mode ran
+  long pairs_aligned = 0;                    // distinct candidate pairs (of N(N−1)/2)
+  double recall = -1;                        // recall@k against `reference`; −1 without one
+  std::vector<std::vector<int>> candidates;  // per shape, its k candidates, nearest first
 };
 
 struct DatasetDistances {
@@ -30,8 +57,9 @@ struct DatasetDistances {
   std::vector<std::string> classes;  // their classes
   std::vector<std::string> skipped;  // files skipped (not under strict)
   std::vector<std::string> skipped_reasons;
-  long forms_computed = 0, forms_cached = 0;
-  PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse
+  long forms_computed = 0, forms_cached = 0;  // over all ranks
+  PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse (rank 0)
+  TwoStageSummary two_stage;
 };
 
 DatasetDistances dataset_distances(const DatasetDistanceOptions& options);

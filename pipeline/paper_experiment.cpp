@@ -24,6 +24,7 @@
 #include "eval/retrieval.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
+#include "pipeline/distributed.h"
 #include "pipeline/paper_figures.h"
 #include "pipeline/paper_report.h"
 
@@ -121,8 +122,9 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
 }
 
 // Clean poses (and the dataset's noisy shapes) per class, plus noisy shapes glued here.
+// write_files: the glued shapes' files under out/shapes (rank 0 only).
 std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
-                                 std::vector<PaperReport::Skipped>& skipped) {
+                                 std::vector<PaperReport::Skipped>& skipped, bool write_files) {
   Dataset data = read_dataset(o.data);
   const std::string corres = correspondence_folder(o.data);
   std::vector<Shape> shapes;
@@ -217,11 +219,13 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         s.in_retrieval = !measurement_only;
         s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
         check_shape(s, s.source_path, o);
-        write_mesh(s.source_path, s.mesh);
-        write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
-                              [&](std::ostream& out) {
-                                out << json{{"glued_vertices", s.glued}}.dump() << '\n';
-                              });
+        if (write_files) {
+          write_mesh(s.source_path, s.mesh);
+          write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
+                                [&](std::ostream& out) {
+                                  out << json{{"glued_vertices", s.glued}}.dump() << '\n';
+                                });
+        }
         shapes.push_back(std::move(s));
         made = true;
       }
@@ -239,9 +243,13 @@ struct MethodForms {
   std::vector<std::string> keys;     // per shape: cache key of the form (content key for the pair cache)
 };
 
+// only: when non-null, the shapes to canonize (the others are left empty); write_files: the forms' PLY files
+// under out/canon and progress on o.progress (rank 0's full pass).
 std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes,
                                                 const PaperExperimentOptions& o, const DiskCache& cache,
-                                                PaperExperimentSummary& summary) {
+                                                PaperExperimentSummary& summary,
+                                                const std::vector<char>* only = nullptr,
+                                                bool write_files = true) {
   std::map<std::string, MethodForms> result;
   for (const std::string& m : o.methods) {
     result[m].forms.resize(shapes.size());
@@ -249,6 +257,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   }
   const auto start = WallClock::now();
   for (size_t i = 0; i < shapes.size(); ++i) {
+    if (only && !(*only)[i]) continue;
     const Shape& s = shapes[i];
     DistanceMatrix D;
     bool have_D = false;
@@ -270,6 +279,10 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
           cached_canonical_form(cache, s.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
       (was_cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
       result[m].keys[i] = key;
+      if (!write_files) {
+        result[m].forms[i] = std::move(f);
+        continue;
+      }
       // Write the form for users and for the figures.
       WriteOptions wo;
       if (f.torn.size() == s.mesh.num_vertices()) wo.scalars.push_back({"torn", f.torn});
@@ -283,6 +296,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
       write_mesh((fs::path(o.out) / "canon" / m / (s.name + ".ply")).string(), Mesh{f.X, s.mesh.F}, wo);
       result[m].forms[i] = std::move(f);
     }
+    if (!write_files) continue;
     if (o.progress)
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
     double elapsed = seconds_since(start);
@@ -297,10 +311,12 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
 struct ExperimentRun {
   explicit ExperimentRun(const PaperExperimentOptions& options)
       : o(options),
+        comm(options.communicator ? *options.communicator : single_process()),
         form_cache((fs::path(options.out) / "cache" / "forms").string()),
         misc_cache((fs::path(options.out) / "cache" / "misc").string()) {}
 
   const PaperExperimentOptions& o;
+  const Communicator& comm;  // rank 0 writes every output
   DiskCache form_cache, misc_cache;
   std::vector<Shape> shapes;
   std::vector<int> retrieval;               // indices of shapes in the retrieval set
@@ -337,9 +353,11 @@ void retrieval_stage(ExperimentRun& run) {
     PairwiseDistanceOptions po;
     po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
     po.progress = o.progress;
+    po.communicator = &run.comm;
     PairwiseDistanceResult pd = pairwise_distances(X, keys, po);
     run.summary.pairs_computed += pd.computed;
     run.summary.pairs_cached += pd.cached;
+    if (!run.comm.is_root()) continue;  // the matrices are on rank 0
     write_distance_csv((fs::path(o.out) / "distances" / (m + ".csv")).string(), names, pd.hausdorff);
     RetrievalResult rr = evaluate_retrieval(pd.hausdorff, labels);
     DistanceMatrixImage image = distance_matrix_image(pd.hausdorff, labels);
@@ -372,6 +390,7 @@ void retrieval_stage(ExperimentRun& run) {
                            rr.mean.dcg,
                            noisy_queries ? noisy_nn / noisy_queries : -1.0};
   }
+  if (!run.comm.is_root()) return;
   metrics["class_names"] = run.class_names;
   write_file_atomically((fs::path(o.out) / "metrics.json").string(),
                         [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
@@ -603,9 +622,14 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   PaperReport& report = run.report;
   report.options = &o;
 
-  // 1. Shapes.
+  const Communicator& comm = run.comm;
+
+  // 1. Shapes. Rank 0 first (it glues the noisy shapes into the cache and writes them out); then the others,
+  // which find the glued shapes in the cache.
   say(o, "== shapes from " + o.data);
-  run.shapes = select_shapes(o, misc_cache, report.skipped);
+  if (comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, true);
+  comm.barrier();
+  if (!comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, false);
   const std::vector<Shape>& shapes = run.shapes;
   std::vector<int>& retrieval = run.retrieval;
   for (size_t i = 0; i < shapes.size(); ++i)
@@ -616,7 +640,7 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     run.classes.push_back(shapes[i].class_name);
   }
   run.labels = labels_from_classes(run.classes, &run.class_names);
-  {
+  if (comm.is_root()) {
     write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
       out << "shape,class,noisy,vertices,file\n";
       for (int i : retrieval)
@@ -632,10 +656,29 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     report.shapes.push_back(row);
   }
 
-  // 2. Canonical forms.
-  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes)");
+  // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
+  // expected cost); then every rank reads them all, and rank 0 writes them out.
+  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes" +
+             (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
   auto t = WallClock::now();
-  run.forms = canonize_all(shapes, o, form_cache, summary);
+  long computed_by_ranks = 0;
+  if (comm.size() > 1) {
+    std::vector<long> vertices;
+    for (const Shape& s : shapes) vertices.push_back(static_cast<long>(s.mesh.num_vertices()));
+    const std::vector<int> owner = canonical_form_owners(vertices, o.methods, comm.size());
+    std::vector<char> mine(shapes.size(), 0);
+    for (size_t i = 0; i < shapes.size(); ++i) mine[i] = owner[i] == comm.rank();
+    PaperExperimentOptions quiet = o;
+    quiet.progress = {};
+    quiet.note = {};
+    PaperExperimentSummary share;
+    canonize_all(shapes, quiet, form_cache, share, &mine, false);
+    computed_by_ranks = comm.sum(share.canonical_forms_computed);
+  }
+  run.forms = canonize_all(shapes, o, form_cache, summary, nullptr, comm.is_root());
+  // The forms the ranks computed were read from the cache in the full pass: count them as computed.
+  summary.canonical_forms_computed += computed_by_ranks;
+  summary.canonical_forms_cached -= computed_by_ranks;
   const std::map<std::string, MethodForms>& forms = run.forms;
   report.stage_seconds["canonical forms"] = seconds_since(t);
   for (const auto& [m, mf] : forms) {
@@ -648,8 +691,13 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     report.cost[m] = cost;
   }
 
-  // 3.-6. The measurements, each a stage of its own.
+  // 3.-6. The measurements, each a stage of its own. Only the pairs of stage 3 are distributed: the other
+  // ranks are done after them.
   retrieval_stage(run);
+  if (!comm.is_root()) {
+    summary.seconds = seconds_since(start);
+    return summary;
+  }
   noise_stage(run);
   point_map_stage(run);
   figure_stage(run);

@@ -9,12 +9,19 @@
 // per shape in notes and report.md; a file no method can use (unreadable, too few vertices) is skipped with
 // its reason. Everything is written under options.out; every expensive intermediate is cached in out/cache,
 // so a run that is killed resumes where it stopped.
+//
+// Distributed (options.communicator with R > 1 ranks, pipeline/distributed.h): the two expensive stages are
+// split over the ranks — canonical forms by expected cost (vertex counts, longest first), the ICP pairs of
+// each method in blocks of equal count — through the cache in out/cache, which every rank must see. Rank 0
+// does everything else and writes every output; the other ranks write nothing but cache entries and return
+// after the pairs (their summary holds only the counts). The outputs are those of one process, byte for byte.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "core/communicator.h"
 #include "pipeline/canonical_forms.h"
 
 namespace cshapes {
@@ -42,13 +49,14 @@ struct PaperExperimentOptions {
   int correspondence_samples = 300;  // ground-truth samples per pair for the point-map error (0: skip)
   ProgressFn progress;
   std::function<void(const std::string&)> note;  // one line of progress text
+  const Communicator* communicator = nullptr;    // the ranks sharing the work; nullptr: this process
 };
 
 struct PaperExperimentSummary {
   double seconds = 0;
   int shapes = 0;
-  long canonical_forms_computed = 0, canonical_forms_cached = 0;
-  long pairs_computed = 0, pairs_cached = 0;
+  long canonical_forms_computed = 0, canonical_forms_cached = 0;  // over all ranks
+  long pairs_computed = 0, pairs_cached = 0;                      // over all ranks
 };
 
 PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& options);

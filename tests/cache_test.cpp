@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -144,6 +145,23 @@ TEST(DiskCache, FileContentHashFollowsContentNotName) {
   EXPECT_NE(file_content_hash(dir + "/a.off"), file_content_hash(dir + "/c.off"));
   EXPECT_THROW(file_content_hash(dir + "/missing.off"), Error);
   EXPECT_THROW(DiskCache(dir).entry_path("../escape"), Error);
+  fs::remove_all(dir);
+}
+
+TEST(DiskCache, KeysListsTheEntries) {
+  const std::string dir = test::scratch_dir("cache-keys");
+  const DiskCache cache(dir);
+  EXPECT_TRUE(cache.keys().empty());
+  const std::string a = cache_key({"a"}), b = cache_key({"b"});
+  cache.put(b, "2");
+  cache.put(a, "1");
+  // A writer's temporary file and a foreign file are not entries.
+  std::ofstream(cache.entry_path(a) + ".tmp.host.1.0") << "half";
+  std::ofstream(dir + "/README") << "x";
+  std::vector<std::string> expected = {a, b};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(cache.keys(), expected);
+  EXPECT_TRUE(DiskCache("").keys().empty());
   fs::remove_all(dir);
 }
 

@@ -52,6 +52,15 @@ long count_entries(const std::string& dir) {
   return n;
 }
 
+// Pairs stored in the cache's packs (the layout eval/pairwise_distances.h documents).
+long count_cached_pairs(const std::string& dir) {
+  const DiskCache packs(dir + "/packs");
+  long n = 0;
+  for (const std::string& key : packs.keys())
+    n += static_cast<long>(packs.get_json(key)->at("source").size());
+  return n;
+}
+
 TEST(PairwiseDistances, SymmetricZeroDiagonalAndEqualToSingleAlignments) {
   std::vector<Points> shapes = small_shapes();
   PairwiseDistanceOptions o = fast_options("", 2);
@@ -100,7 +109,8 @@ TEST(PairwiseDistances, KilledRunResumesWithoutRecomputing) {
   PairwiseDistanceOptions killed = fast_options(dir, 1);
   killed.fail_after_computed = k;
   EXPECT_THROW(pairwise_distances(shapes, {}, killed), Error);
-  EXPECT_EQ(count_entries(dir), k);
+  EXPECT_EQ(count_cached_pairs(dir), k);
+  EXPECT_EQ(count_entries(dir), 1);  // in one pack
 
   PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 1));
   EXPECT_EQ(resumed.cached, k);            // hits: what the killed run stored
@@ -117,27 +127,92 @@ TEST(PairwiseDistances, KilledRunResumesWithoutRecomputing) {
   fs::remove_all(dir);
 }
 
-TEST(PairwiseDistances, EntriesOfTheOlderTextFormatAreStillRead) {
+TEST(PairwiseDistances, EntriesOfTheOlderLayoutsAreStillRead) {
+  // Before packs, each pair had an entry of its own under cache_key({"pairwise-distance-1", source key,
+  // target key, ICP options}): CBOR, and before that a text line. Both are still read.
   std::vector<Points> shapes = small_shapes();
-  shapes.resize(2);
-  std::string dir = test::scratch_dir("pairwise-legacy");
-  PairwiseDistanceResult first = pairwise_distances(shapes, {}, fast_options(dir, 1));
-  ASSERT_EQ(count_entries(dir), 1);
-  // Rewrite the one entry as the text line caches held before they shared the CBOR format.
+  shapes.resize(3);
+  const std::string dir = test::scratch_dir("pairwise-legacy");
+  const PairwiseDistanceOptions o = fast_options(dir, 1);
+  const PairwiseDistanceResult fresh = pairwise_distances(shapes, {}, fast_options("", 1));
+  std::vector<std::string> key;
+  for (const Points& X : shapes) key.push_back(points_content_key(X));
+  IcpOptions icp = o.icp;
+  icp.parallel = false;
+  auto legacy_key = [&](int i, int j) {
+    const int s = key[i] <= key[j] ? i : j, t = s == i ? j : i;
+    return cache_key({"pairwise-distance-1", key[s], key[t], to_key_string(icp)});
+  };
   const DiskCache cache(dir);
-  std::string key;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    if (entry.is_regular_file()) key = entry.path().stem().string();
-  ASSERT_TRUE(cache.get_json(key).has_value());
+  cache.put_json(legacy_key(0, 1), {{"hausdorff", fresh.hausdorff(0, 1) * 2},
+                                    {"chamfer", fresh.chamfer(0, 1)},
+                                    {"rmse", fresh.rmse(0, 1)},
+                                    {"reflection", fresh.reflection(0, 1)}});
   char line[256];
   std::snprintf(line, sizeof line, "hausdorff %.17g chamfer %.17g rmse %.17g reflection %d iterations 3\n",
-                first.hausdorff(0, 1) * 2, first.chamfer(0, 1), first.rmse(0, 1), first.reflection(0, 1));
-  cache.put(key, line);
-  PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
-  EXPECT_EQ(again.cached, 1);
-  EXPECT_EQ(again.hausdorff(0, 1), first.hausdorff(0, 1) * 2);  // the value read, not recomputed
-  EXPECT_EQ(again.chamfer(0, 1), first.chamfer(0, 1));
+                fresh.hausdorff(1, 2) * 3, fresh.chamfer(1, 2), fresh.rmse(1, 2), fresh.reflection(1, 2));
+  cache.put(legacy_key(1, 2), line);
+  PairwiseDistanceResult again = pairwise_distances(shapes, {}, o);
+  EXPECT_EQ(again.cached, 2);
+  EXPECT_EQ(again.computed, 1);
+  EXPECT_EQ(again.hausdorff(0, 1), fresh.hausdorff(0, 1) * 2);  // the values read, not recomputed
+  EXPECT_EQ(again.hausdorff(2, 1), fresh.hausdorff(1, 2) * 3);
+  EXPECT_EQ(again.chamfer(1, 2), fresh.chamfer(1, 2));
+  EXPECT_EQ(again.hausdorff(0, 2), fresh.hausdorff(0, 2));
+  EXPECT_EQ(count_cached_pairs(dir), 1);  // only the new pair went into a pack
   fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, PacksHoldManyPairs) {
+  std::vector<Points> shapes = small_shapes();
+  const std::string dir = test::scratch_dir("pairwise-packs");
+  PairwiseDistanceOptions o = fast_options(dir, 2);
+  o.pack_pairs = 5;
+  PairwiseDistanceResult first = pairwise_distances(shapes, {}, o);
+  EXPECT_EQ(count_cached_pairs(dir), 15);
+  EXPECT_EQ(count_entries(dir), 3);
+  // Read back exactly, whatever the pack size of the reader.
+  PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(again.cached, 15);
+  EXPECT_EQ(again.hausdorff, first.hausdorff);
+  EXPECT_EQ(again.reflection, first.reflection);
+  // A damaged pack is ignored (its pairs recomputed), like any damaged entry.
+  const DiskCache packs(dir + "/packs");
+  packs.put(packs.keys().front(), "not CBOR");
+  PairwiseDistanceResult repaired = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(repaired.computed, 5);
+  EXPECT_EQ(repaired.hausdorff, first.hausdorff);
+  EXPECT_THROW(pairwise_distances(shapes, {},
+                                  [&] {
+                                    PairwiseDistanceOptions bad = fast_options("", 1);
+                                    bad.pack_pairs = 0;
+                                    return bad;
+                                  }()),
+               Error);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, OnlyThePairsAsked) {
+  std::vector<Points> shapes = small_shapes();
+  const PairwiseDistanceResult all = pairwise_distances(shapes, {}, fast_options("", 2));
+  PairwiseDistanceOptions o = fast_options("", 2);
+  o.only_pairs = {{0, 3}, {3, 0}, {5, 1}};  // a pair listed in both orders counts once
+  const PairwiseDistanceResult some = pairwise_distances(shapes, {}, o);
+  EXPECT_EQ(some.pairs, 2);
+  EXPECT_EQ(some.computed, 2);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const bool asked =
+          (std::min(i, j) == 0 && std::max(i, j) == 3) || (std::min(i, j) == 1 && std::max(i, j) == 5);
+      if (i == j)
+        EXPECT_EQ(some.hausdorff(i, j), 0.0);
+      else if (asked)
+        EXPECT_EQ(some.hausdorff(i, j), all.hausdorff(i, j));
+      else
+        EXPECT_TRUE(std::isnan(some.hausdorff(i, j))) << i << "," << j;
+    }
+  o.only_pairs = {{2, 2}};
+  EXPECT_THROW(pairwise_distances(shapes, {}, o), Error);
 }
 
 TEST(PairwiseDistances, KilledParallelRunResumesWithoutRecomputing) {
@@ -148,7 +223,7 @@ TEST(PairwiseDistances, KilledParallelRunResumesWithoutRecomputing) {
   PairwiseDistanceOptions killed = fast_options(dir, 2);
   killed.fail_after_computed = 4;
   EXPECT_THROW(pairwise_distances(shapes, {}, killed), Error);
-  long stored = count_entries(dir);
+  long stored = count_cached_pairs(dir);
   EXPECT_GE(stored, 4);
   EXPECT_LT(stored, 15);
   PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 2));
