@@ -108,6 +108,30 @@ nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
           {"seconds", r.seconds}};
 }
 
+// SMACOF's result as a form's X, iterations and history.
+void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
+  form.X = sr.X;
+  form.iterations = sr.iterations;
+  form.seconds_per_iteration = sr.seconds_per_iteration;
+  form.history_columns = {"iteration", "passes", "normalized_stress", "extrapolated"};
+  form.history_rows.clear();
+  for (size_t k = 0; k < sr.stress_history.size(); ++k)
+    form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
+                                 sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
+}
+
+nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
+  return {{"normalized_stress", sr.normalized_stress},
+          {"initial_normalized_stress", sr.stress_history.empty() ? sr.normalized_stress : sr.stress_history.front()},
+          {"iterations", sr.iterations},
+          {"stop_reason", sr.stop_reason},
+          {"acceleration", to_string(so.acceleration)},
+          {"extrapolations_accepted", sr.extrapolations_accepted},
+          {"extrapolations_rejected", sr.extrapolations_rejected},
+          {"seconds", sr.seconds},
+          {"seconds_per_iteration", sr.seconds_per_iteration}};
+}
+
 ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
   ClassicalMdsResult r = classical_mds(D, options.cmds);
   say(options, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
@@ -165,24 +189,10 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
                      std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
                      " iterations (" + sr.stop_reason + "), " + std::to_string(sr.seconds_per_iteration) +
                      " s per iteration");
-    form.X = sr.X;
-    form.iterations = sr.iterations;
-    form.seconds_per_iteration = sr.seconds_per_iteration;
-    form.history_columns = {"iteration", "passes", "normalized_stress", "extrapolated"};
-    for (size_t k = 0; k < sr.stress_history.size(); ++k)
-      form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
-                                   sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
-    summary["smacof"] = {{"normalized_stress", sr.normalized_stress},
-                         {"initial_normalized_stress", sr.stress_history.front()},
-                         {"iterations", sr.iterations},
-                         {"stop_reason", sr.stop_reason},
-                         {"acceleration", to_string(so.acceleration)},
-                         {"extrapolations_accepted", sr.extrapolations_accepted},
-                         {"extrapolations_rejected", sr.extrapolations_rejected},
-                         {"init", options.smacof_init},
-                         {"weights", options.smacof_weights},
-                         {"seconds", sr.seconds},
-                         {"seconds_per_iteration", sr.seconds_per_iteration}};
+    set_smacof_result(form, sr);
+    summary["smacof"] = smacof_summary(sr, so);
+    summary["smacof"]["init"] = options.smacof_init;
+    summary["smacof"]["weights"] = options.smacof_weights;
   }
   form.solve_seconds = seconds_since(start);
   const FormQuality quality = form_quality(mesh.V, E, form.X);
@@ -234,6 +244,24 @@ CanonicalForm form_from_json(const nlohmann::json& j) {
 }
 
 }  // namespace
+
+CanonicalForm classical_mds_form(const ClassicalMdsResult& r) {
+  CanonicalForm form;
+  form.X = r.X;
+  form.valid = Eigen::VectorXd::Ones(r.X.rows());
+  form.solve_seconds = r.seconds;
+  form.summary_json = nlohmann::json{{"classical_mds", cmds_summary(r)}}.dump();
+  return form;
+}
+
+CanonicalForm smacof_form(const SmacofResult& r, const SmacofOptions& options) {
+  CanonicalForm form;
+  set_smacof_result(form, r);
+  form.valid = Eigen::VectorXd::Ones(r.X.rows());
+  form.solve_seconds = r.seconds;
+  form.summary_json = nlohmann::json{{"smacof", smacof_summary(r, options)}}.dump();
+  return form;
+}
 
 const std::vector<std::string>& canonical_form_methods() {
   static const std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};

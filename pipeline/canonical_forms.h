@@ -97,6 +97,12 @@ struct CanonicalForm {
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options,
                              const DistanceMatrix* D = nullptr, double D_seconds = 0);
 
+// Forms of a distance matrix alone (no mesh: no repair, no form quality), described as canonical_form
+// describes its MDS forms (summary {classical_mds} or {smacof}, SMACOF's history): the Python module's
+// classical_mds() and smacof().
+CanonicalForm classical_mds_form(const ClassicalMdsResult& result);
+CanonicalForm smacof_form(const SmacofResult& result, const SmacofOptions& options);
+
 // The part of the cache key that depends on the options: every field that changes the result.
 std::string canonical_form_key(const CanonicalFormOptions& options);
 // Content key of a mesh: SHA-256 of its coordinates and faces.

@@ -153,16 +153,8 @@ PyCanonicalForm classical_mds_py(const py::object& D_in, int dim) {
     Computing computing;
     r = classical_mds(D);
   }
-  PyCanonicalForm out;
+  PyCanonicalForm out = to_python(classical_mds_form(r), "cmds");
   out.X = to_numpy(Eigen::MatrixXd(r.X.leftCols(dim)));
-  out.valid = to_numpy(Eigen::VectorXd::Ones(r.X.rows()).eval());
-  out.torn = py::none();
-  out.summary = python::to_python(nlohmann::json{{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
-                                                 {"most_negative_eigenvalue", r.most_negative_eigenvalue},
-                                                 {"explained_energy", r.explained_energy},
-                                                 {"trace", r.trace},
-                                                 {"matrix_products", r.matrix_products}});
-  out.seconds = r.seconds;
   return out;
 }
 
@@ -185,22 +177,7 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
     Computing computing;
     r = have_start ? smacof(D, X0, so) : smacof(D, so);
   }
-  PyCanonicalForm out;
-  out.X = to_numpy(r.X);
-  out.valid = to_numpy(Eigen::VectorXd::Ones(r.X.rows()).eval());
-  out.torn = py::none();
-  Eigen::VectorXd stress = Eigen::Map<const Eigen::VectorXd>(r.stress_history.data(),
-                                                               static_cast<Index>(r.stress_history.size()));
-  out.history["normalized_stress"] = to_numpy(stress);
-  out.iterations = r.iterations;
-  out.summary = python::to_python(nlohmann::json{{"stress", r.stress},
-                                                 {"normalized_stress", r.normalized_stress},
-                                                 {"iterations", r.iterations},
-                                                 {"stop_reason", r.stop_reason},
-                                                 {"extrapolations_accepted", r.extrapolations_accepted},
-                                                 {"extrapolations_rejected", r.extrapolations_rejected}});
-  out.seconds = r.seconds;
-  return out;
+  return to_python(smacof_form(r, so), "smacof");
 }
 
 std::string coulomb_doc() {
@@ -273,14 +250,15 @@ Returns a CanonicalForm.)");
         R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
 
 Returns a CanonicalForm whose X is (n, dim), centred, in the units of D; dim 1..3 (the leading axes of the
-3-D embedding). summary: eigenvalues, most_negative_eigenvalue, explained_energy. GIL released.)");
+3-D embedding). summary['classical_mds']: eigenvalues, most_negative_eigenvalue, explained_energy, ...
+GIL released.)");
   m.def("smacof", &smacof_py, py::arg("D"), py::arg("X0") = py::none(),
         R"(SMACOF metric MDS of an (n, n) distance matrix D (stored as float32, as the library keeps them).
 
 X0: (n, 3) start; None starts from classical MDS of D. Keywords (the CLI's): iters [300], tolerance
 [1e-5], accelerate ['none'] | 'rre' | 'mpe', window [6] (rre/mpe), weights [None] or n positive vertex
-weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history['normalized_stress'],
-iterations, summary {stress, normalized_stress, stop_reason, ...}. GIL released.)");
+weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history (passes, normalized_stress,
+extrapolated per iteration), iterations, summary['smacof'] {normalized_stress, stop_reason, ...}. GIL released.)");
 }
 
 }  // namespace cshapes::python

@@ -180,3 +180,26 @@ def test_importing_restores_the_environment(tmp_path):
     code = "import os, cshapes; print('GOMP_SPINCOUNT' in os.environ)"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_a_real_scan_with_a_non_manifold_edge_goes_through(cli):
+    """kid00 (SHREC'16 TOPKIDS) has a non-manifold edge and a duplicate face: described like `info`, and its
+    geodesics from a vertex of that edge are the CLI's, at the input's 12,000 vertices."""
+    import os
+    from pathlib import Path
+
+    data = Path(os.environ.get("CSHAPES_DATA", Path(__file__).resolve().parents[3] / "shared" / "data"))
+    kid = data / "topkids" / "kid00.off"
+    if not kid.exists():
+        pytest.skip(f"no shared data at {data}")
+    V, F = cshapes.read_mesh(kid)
+    info = cshapes.mesh_info(V, F)
+    expected = cli.json("info", kid, "--json")
+    expected.pop("file")
+    assert info == expected and info["defects"]["nonmanifold_edges"]["count"] == 1
+    with pytest.warns(UserWarning, match="repaired for geodesics"):
+        row = cshapes.geodesics(V, F, 8425, method="fmm")
+    reference = [float(line.split(",")[1]) for line in
+                 cli("geodesics", kid, "--method", "fmm", "--source", "8425", "--csv").stdout.splitlines()[1:]]
+    assert row.shape == (len(V),)
+    np.testing.assert_allclose(row, reference, rtol=1e-9, atol=1e-9 * np.nanmax(row), equal_nan=True)
