@@ -1,0 +1,79 @@
+// `cshapes experiment pose`: how much of the pose variation each canonical form removes, measured with
+// ground-truth correspondences instead of retrieval, and how faithful each form is to the surface's metric.
+//
+// Pairs of poses of one shape with known corresponding vertices:
+//   - a TOSCA-style folder (NAME.off + corres/NAME.vts, class = name without trailing digits): every pair of
+//     poses of a class; sample s is vertex vts_A[s] of A and vts_B[s] of B (evenly thinned to `samples`);
+//   - a TOPKIDS-style folder (kid00.off + kidNN.off + kidNN_ref.txt: "vertex of kidNN, vertex of kid00",
+//     1-based): every kidNN against kid00, over the listed vertices.
+// Per pair and form (the two inputs themselves, and the canonical forms of each method):
+//   pose RMS = sqrt(mean_s ‖R·a_s + t − b_s‖²) / ((diag A + diag B) / 2)
+// after the best rigid fit of the samples (Kabsch; reflections allowed, since MDS forms are defined only up to
+// one), diag = the bounding-box diagonal of the form. 0: the two poses have the same canonical form up to a
+// rigid motion. "Removed" = 1 − form RMS / input RMS: the share of the pose variation the method undoes.
+// Per shape and form, the metric faithfulness: edge stretch ‖x_i − x_j‖ / ‖v_i − v_j‖ over the edges not
+// torn (mean |stretch − 1|, 99th percentile and max), and the geodesic stress against fast-marching distances
+// from `stress_sources` sources: sqrt(Σ (‖x_i − x_s‖ − g_is)² / Σ g_is²) over all vertices i and sources s
+// (the normalised stress MDS minimises, measured the same way for every method).
+//
+// Canonical forms are cached under OUT/cache (a rerun, or a second run with other Coulomb options, computes
+// only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): OUT/pose_pairs.csv
+// (one row per pair and form), OUT/pose_shapes.csv (one row per shape and form), OUT/pose_summary.csv and
+// OUT/pose.md (per form: medians over pairs, overall and per class).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pipeline/canonical_forms.h"
+
+namespace cshapes {
+
+struct PoseInvarianceOptions {
+  std::string data;  // TOSCA-style or TOPKIDS-style folder (see above)
+  std::string out;   // output folder (its cache/ makes reruns resume)
+  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.
+  std::vector<std::string> shapes;
+  int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
+  int stress_sources = 16;   // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
+  std::string label;         // a name for this run's configuration, written into every CSV row
+  CanonicalFormOptions canon;  // method options (the method field is set per method)
+  std::function<void(const std::string&)> note;  // one line per shape and pair
+};
+
+struct PosePairRow {
+  std::string a, b, class_name, form;  // form: "input" or a method
+  double rms = 0;                      // pose RMS (see above), a fraction of the diagonal
+  double input_rms = 0;                // the same for the inputs
+  int samples = 0;
+};
+
+struct PoseShapeRow {
+  std::string shape, form;
+  double mean_abs_stretch = 0, p99_stretch = 0, max_stretch = 0;
+  double stress = -1;  // geodesic stress; −1 when not measured
+  int iterations = 0;
+  double seconds = 0;
+  int torn_edges = 0;
+};
+
+struct PoseSummaryRow {
+  std::string form, class_name;  // class_name "all" for every pair
+  int pairs = 0;
+  double median_rms = 0, mean_rms = 0, median_input_rms = 0;
+  double removed = 0;  // 1 − median_rms / median_input_rms
+  double mean_abs_stretch = 0, max_stretch = 0, stress = -1;  // medians over the shapes (max: the worst)
+};
+
+struct PoseInvarianceResult {
+  std::vector<PosePairRow> pairs;
+  std::vector<PoseShapeRow> shapes;
+  std::vector<PoseSummaryRow> summary;
+  std::string markdown;  // OUT/pose.md
+};
+
+PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& options);
+
+}  // namespace cshapes

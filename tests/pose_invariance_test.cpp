@@ -1,0 +1,175 @@
+// The pose-invariance measure (pipeline/pose_invariance.h): known answers on generated shapes with known
+// correspondences, and the TOPKIDS correspondence reader's errors.
+#include "pipeline/pose_invariance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/io.h"
+#include "core/rigid_transform.h"
+#include "core/synthetic.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes NAME.off and corres/NAME.vts (1-based: sample s is vertex order[s]).
+void write_pose(const std::string& dir, const std::string& name, const Mesh& m, const std::vector<int>& order) {
+  write_mesh(dir + "/" + name + ".off", m);
+  std::ostringstream vts;
+  for (int v : order) vts << v + 1 << "\n";
+  test::write_text(dir + "/corres/" + name + ".vts", vts.str());
+}
+
+// The mesh with its vertices renumbered by a random permutation: new vertex k is old vertex perm[k].
+Mesh permuted(const Mesh& m, std::vector<int>& perm, unsigned seed) {
+  perm.resize(m.num_vertices());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::mt19937 rng(seed);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  std::vector<int> inverse(perm.size());
+  for (size_t k = 0; k < perm.size(); ++k) inverse[perm[k]] = static_cast<int>(k);
+  Mesh out;
+  out.V.resize(m.V.rows(), 3);
+  for (Index k = 0; k < m.V.rows(); ++k) out.V.row(k) = m.V.row(perm[k]);
+  out.F = m.F;
+  for (Index f = 0; f < m.F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) out.F(f, c) = inverse[m.F(f, c)];
+  return out;
+}
+
+const PosePairRow& pair_row(const PoseInvarianceResult& r, const std::string& b, const std::string& form) {
+  for (const PosePairRow& p : r.pairs)
+    if (p.b == b && p.form == form) return p;
+  throw Error("no pair row " + b + " " + form);
+}
+
+TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
+  const std::string dir = test::scratch_dir("pose_rigid");
+  const Mesh a = torus(24, 12, 1.0, 0.35);
+  const Index n = a.num_vertices();
+  std::vector<int> identity(n);
+  std::iota(identity.begin(), identity.end(), 0);
+  write_pose(dir, "ring0", a, identity);
+  // ring1: moved by a rigid motion with a reflection, vertices renumbered; sample s is still a's vertex s.
+  std::vector<int> perm;
+  Mesh b = permuted(a, perm, 7);
+  b.V = random_rigid_transform(3, 2.0, true).apply(b.V);
+  std::vector<int> where(n);
+  for (Index k = 0; k < n; ++k) where[perm[k]] = static_cast<int>(k);
+  write_pose(dir, "ring1", b, where);
+  // ring2: scaled by s about the centroid. The best rigid fit of a onto s·a is the identity, so the RMS is
+  // (s − 1)·sqrt(mean ‖a − ā‖²), over the mean diagonal (1 + s)/2 · diag(a).
+  const double s = 1.25;
+  Mesh c = a;
+  const Eigen::RowVector3d centroid = a.V.colwise().mean();
+  c.V = ((a.V.rowwise() - centroid) * s).rowwise() + centroid;
+  write_pose(dir, "ring2", c, identity);
+  // Another class: not paired with the rings.
+  write_pose(dir, "ball0", icosphere(2), [] {
+    std::vector<int> v(162);
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+  }());
+
+  PoseInvarianceOptions o;
+  o.data = dir;
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.samples = 0;
+  o.stress_sources = 4;
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  // Pairs ring0-ring1, ring0-ring2, ring1-ring2 (not ball0), each for the input and cmds.
+  EXPECT_EQ(r.pairs.size(), 6u);
+  const double diag = bbox_diagonal(a.V);
+  EXPECT_LT(pair_row(r, "ring1", "input").rms, 1e-9);
+  EXPECT_LT(pair_row(r, "ring1", "cmds").rms, 1e-6);  // classical MDS is blind to rigid motion and order
+  const double spread = std::sqrt((a.V.rowwise() - centroid).rowwise().squaredNorm().mean());
+  const double expected = (s - 1) * spread / ((1 + s) / 2 * diag);
+  EXPECT_NEAR(pair_row(r, "ring2", "input").rms, expected, 1e-9 * expected);
+  EXPECT_EQ(pair_row(r, "ring2", "input").samples, n);
+  // The summary's "removed" share is 1 − form / input.
+  for (const PoseSummaryRow& row : r.summary)
+    if (row.form == "cmds" && row.class_name == "ring")
+      EXPECT_NEAR(row.removed, 1 - row.median_rms / row.median_input_rms, 1e-12);
+  for (const char* f : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv", "pose.md"})
+    EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
+}
+
+TEST(PoseInvariance, GeodesicStressIsSmallOnAPlaneAndLargeOnARoll) {
+  // The input's own stress: Euclidean against fast-marching distances. A flat grid has equal ones (up to
+  // fast marching's discretisation); a Swiss roll's Euclidean distances cut across the roll.
+  const std::string dir = test::scratch_dir("pose_stress");
+  const Mesh flat = grid(21, 21, 1.0, 1.0);
+  const Mesh roll = swiss_roll();
+  std::vector<int> flat_ids(flat.num_vertices()), roll_ids(roll.num_vertices());
+  std::iota(flat_ids.begin(), flat_ids.end(), 0);
+  std::iota(roll_ids.begin(), roll_ids.end(), 0);
+  write_pose(dir, "flat0", flat, flat_ids);
+  write_pose(dir, "flat1", flat, flat_ids);
+  write_pose(dir, "roll0", roll, roll_ids);
+  write_pose(dir, "roll1", roll, roll_ids);
+  PoseInvarianceOptions o;
+  o.data = dir;
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.stress_sources = 8;
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  for (const PoseShapeRow& row : r.shapes) {
+    if (row.form != "input") continue;
+    if (row.shape.rfind("flat", 0) == 0) EXPECT_LT(row.stress, 0.03) << row.shape;
+    if (row.shape.rfind("roll", 0) == 0) EXPECT_GT(row.stress, 0.2) << row.shape;
+  }
+  // Classical MDS unrolls the roll: its stress is far below the input's.
+  double input_stress = 0, cmds_stress = 0;
+  for (const PoseShapeRow& row : r.shapes)
+    if (row.shape == "roll0") (row.form == "input" ? input_stress : cmds_stress) = row.stress;
+  EXPECT_LT(cmds_stress, 0.5 * input_stress);
+}
+
+TEST(PoseInvariance, TopkidsReferenceFileErrorsNameFileAndLine) {
+  const std::string dir = test::scratch_dir("pose_topkids");
+  const Mesh m = icosphere(1);
+  write_mesh(dir + "/kid00.off", m);
+  write_mesh(dir + "/kid01.off", m);
+  test::write_text(dir + "/kid01_ref.txt", "1 1\n2 2\n3 x\n");
+  PoseInvarianceOptions o;
+  o.data = dir;
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  try {
+    run_pose_invariance(o);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("kid01_ref.txt:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("two 1-based vertex indices"), std::string::npos) << what;
+  }
+  test::write_text(dir + "/kid01_ref.txt", "1 1\n2 500\n");
+  try {
+    run_pose_invariance(o);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("kid01_ref.txt:2"), std::string::npos) << e.what();
+  }
+  // A good file: identical meshes with identity correspondences have zero pose distance.
+  std::ostringstream ref;
+  for (Index v = 0; v < m.num_vertices(); ++v) ref << v + 1 << " " << v + 1 << "\n";
+  test::write_text(dir + "/kid01_ref.txt", ref.str());
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  ASSERT_EQ(r.pairs.size(), 2u);
+  EXPECT_EQ(r.pairs[0].a, "kid01");
+  EXPECT_EQ(r.pairs[0].b, "kid00");
+  EXPECT_LT(r.pairs[0].rms, 1e-12);
+}
+
+}  // namespace
+}  // namespace cshapes
