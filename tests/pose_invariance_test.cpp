@@ -98,8 +98,9 @@ TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
   EXPECT_EQ(pair_row(r, "ring2", "input").samples, n);
   // The summary's "removed" share is 1 − form / input.
   for (const PoseSummaryRow& row : r.summary)
-    if (row.form == "cmds" && row.class_name == "ring")
+    if (row.form == "cmds" && row.class_name == "ring") {
       EXPECT_NEAR(row.removed, 1 - row.median_rms / row.median_input_rms, 1e-12);
+    }
   for (const char* f : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv", "pose.md"})
     EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
 }
@@ -125,8 +126,11 @@ TEST(PoseInvariance, GeodesicStressIsSmallOnAPlaneAndLargeOnARoll) {
   const PoseInvarianceResult r = run_pose_invariance(o);
   for (const PoseShapeRow& row : r.shapes) {
     if (row.form != "input") continue;
-    if (row.shape.rfind("flat", 0) == 0) EXPECT_LT(row.stress, 0.03) << row.shape;
-    if (row.shape.rfind("roll", 0) == 0) EXPECT_GT(row.stress, 0.2) << row.shape;
+    if (row.shape.rfind("flat", 0) == 0) {
+      EXPECT_LT(row.stress, 0.03) << row.shape;
+    } else {
+      EXPECT_GT(row.stress, 0.2) << row.shape;
+    }
   }
   // Classical MDS unrolls the roll: its stress is far below the input's.
   double input_stress = 0, cmds_stress = 0;
