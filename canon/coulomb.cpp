@@ -38,6 +38,14 @@ std::string to_string(CoulombStepRule rule) {
   return "?";
 }
 
+StepGradient parse_step_gradient(const std::string& name) {
+  if (name == "max") return StepGradient::Max;
+  if (name == "mean") return StepGradient::Mean;
+  fail("unknown step gradient statistic '", name, "'; known: max, mean");
+}
+
+std::string to_string(StepGradient statistic) { return statistic == StepGradient::Max ? "max" : "mean"; }
+
 TearGuard parse_tear_guard(const std::string& name) {
   if (name == "vertex") return TearGuard::Vertex;
   if (name == "connected") return TearGuard::Connected;
@@ -159,6 +167,8 @@ namespace {
 
 // max_i ‖g_i‖ with one square root (sqrt is monotone, so this is exactly the max of the row norms).
 double max_row_norm(const Points& G) { return std::sqrt(G.rowwise().squaredNorm().maxCoeff()); }
+
+double mean_row_norm(const Points& G) { return G.rowwise().norm().mean(); }
 
 double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
   if (rest.size() == 0) return 0;
@@ -284,14 +294,15 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
       const double gmax = max_row_norm(eval.gradient);
       CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
                       " (coincident or diverging vertices?)");
+      const double g = options.step_gradient == StepGradient::Max ? gmax : mean_row_norm(eval.gradient);
       double c = 0;
-      if (gmax > 0) {
+      if (g > 0) {
         if (options.step_rule == CoulombStepRule::Fixed) {
-          if (fixed_c == 0) fixed_c = options.step_factor * scale / gmax;
+          if (fixed_c == 0) fixed_c = options.step_factor * scale / g;
           c = fixed_c;
         } else {
           // Step rule after eq. (4): the fastest vertex moves step_factor · (edge scale).
-          c = options.step_factor * scale / gmax;
+          c = options.step_factor * scale / g;
         }
       }
       // eq. (4)

@@ -40,6 +40,14 @@ enum class CoulombStepRule {
 CoulombStepRule parse_coulomb_step_rule(const std::string& name);  // "max-edge" | "mean-edge" | ... | "fixed"
 std::string to_string(CoulombStepRule rule);
 
+// The gradient statistic G in the step rule's denominator: c = step_factor · L / G.
+enum class StepGradient {
+  Max,  // G = max_i ‖∇_i E‖: the paper's rule; the fastest vertex moves step_factor · L
+  Mean  // G = mean_i ‖∇_i E‖: a typical vertex moves step_factor · L, whatever the few fastest do
+};
+StepGradient parse_step_gradient(const std::string& name);  // "max" | "mean"
+std::string to_string(StepGradient statistic);
+
 // Which tears select_edges_to_tear refuses. A part of the edge graph that tearing cuts off feels nothing but
 // the repulsion of the rest: it drifts away for as long as the iteration runs, dragging the faces that joined
 // it to the body across the form (a runaway; form_quality.h flags it). Measured with the default options on
@@ -72,6 +80,7 @@ struct CoulombCanonOptions {
   // with the mean-edge rule (violation ≈ 0.04, but little unfolding). Measured: README, coulomb-params.
   CoulombStepRule step_rule = CoulombStepRule::MaxEdge;
   double step_factor = 0.1;  // the paper's 0.1
+  StepGradient step_gradient = StepGradient::Max;
   double fixed_step = 0;     // c for step_rule Fixed (units: length³/charge²); 0: frozen at the first iteration
   int coulomb_steps = 1;     // m: Coulomb steps per outer iteration
   // k (projection.steps), the norm (L2/L1), the L1 floor and the dilation constant of eq. (3).

@@ -13,6 +13,7 @@ struct CoulombArgs {
   CoulombCanonOptions options;
   std::string scheme = to_string(CoulombCanonOptions{}.scheme);
   std::string step_rule = to_string(CoulombCanonOptions{}.step_rule);
+  std::string step_gradient = to_string(CoulombCanonOptions{}.step_gradient);
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
   std::string tear_guard = to_string(CoulombCanonOptions{}.tear_guard);
   std::string summation = to_string(CoulombCanonOptions{}.energy.summation);
@@ -31,6 +32,11 @@ void add_options(CLI::Option_group& g) {
                "mean-edge, median-edge; or fixed")
       ->capture_default_str()
       ->check(one_of({"max-edge", "mean-edge", "median-edge", "fixed"}));
+  g.add_option("--step-gradient", args.step_gradient,
+               "the step rule's denominator: max (paper: the fastest vertex moves factor·L) or mean "
+               "(a typical vertex does)")
+      ->capture_default_str()
+      ->check(one_of({"max", "mean"}));
   g.add_option("--step-factor", o.step_factor, "the factor of the step rule (paper: 0.1)")
       ->capture_default_str()
       ->check(number_above(0));
@@ -106,6 +112,7 @@ CoulombCanonOptions parsed_options() {
   CoulombCanonOptions options = args.options;
   options.scheme = parse_coulomb_scheme(args.scheme);
   options.step_rule = parse_coulomb_step_rule(args.step_rule);
+  options.step_gradient = parse_step_gradient(args.step_gradient);
   options.projection.norm = parse_projection_norm(args.norm);
   options.tear_guard = parse_tear_guard(args.tear_guard);
   options.energy.summation = parse_coulomb_summation(args.summation);

@@ -82,6 +82,7 @@ CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options
                                      {"seconds", r.seconds},
                                      {"scheme", to_string(co.scheme)},
                                      {"step_rule", to_string(co.step_rule)},
+                                     {"step_gradient", to_string(co.step_gradient)},
                                      {"projection", to_string(co.projection.norm)},
                                      {"projection_steps", co.projection.steps},
                                      {"form_quality", form_quality_json(r.quality)}}
@@ -335,7 +336,7 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
   if (o.method == "coulomb") {
     const CoulombCanonOptions& c = o.coulomb;
     k << ";scheme=" << to_string(c.scheme) << ";step_rule=" << to_string(c.step_rule)
-      << ";step_factor=" << c.step_factor << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps
+      << ";step_gradient=" << to_string(c.step_gradient) << ";step_factor=" << c.step_factor << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps
       << ";k=" << c.projection.steps << ";norm=" << static_cast<int>(c.projection.norm)
       << ";l1_floor=" << c.projection.l1_floor << ";dilation=" << c.projection.dilation
       << ";tear=" << c.tear_fraction << "," << c.tear_after << "," << c.tear_times << "," << c.tear_interval

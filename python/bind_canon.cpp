@@ -31,7 +31,7 @@ struct PyCanonicalForm {
 };
 
 const std::vector<std::string> kCoulombOptions = {
-    "scheme",      "step_rule",     "step_factor",  "fixed_step",  "coulomb_steps",
+    "scheme",      "step_rule",     "step_gradient", "step_factor",  "fixed_step",  "coulomb_steps",
     "projection_steps", "projection", "l1_floor",   "dilation",    "tear_fraction",
     "tear_after",  "tear_times",    "tear_interval", "tear_guard", "coulomb_max_iterations",
     "coulomb_window", "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy", "knn"};
@@ -43,6 +43,7 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   CoulombCanonOptions& c = o.coulomb;
   c.scheme = parse_coulomb_scheme(k.text("scheme", to_string(c.scheme)));
   c.step_rule = parse_coulomb_step_rule(k.text("step_rule", to_string(c.step_rule)));
+  c.step_gradient = parse_step_gradient(k.text("step_gradient", to_string(c.step_gradient)));
   c.step_factor = k.number("step_factor", c.step_factor);
   c.fixed_step = k.number("fixed_step", c.fixed_step);
   c.coulomb_steps = static_cast<int>(k.integer("coulomb_steps", c.coulomb_steps));
@@ -190,6 +191,7 @@ std::string coulomb_doc() {
        "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n"
     << "  scheme ['" << to_string(c.scheme) << "'] paper | momentum\n"
     << "  step_rule ['" << to_string(c.step_rule) << "'] max-edge | mean-edge | median-edge | fixed\n"
+    << "  step_gradient ['" << to_string(c.step_gradient) << "'] max | mean\n"
     << "  step_factor [" << c.step_factor << "], fixed_step [" << c.fixed_step << "] (step_rule='fixed')\n"
     << "  coulomb_steps [" << c.coulomb_steps << "], projection_steps [" << c.projection.steps << "]\n"
     << "  projection ['" << to_string(c.projection.norm) << "'] l2 | l1, l1_floor [" << c.projection.l1_floor
