@@ -138,9 +138,10 @@ CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_v
       char* end = nullptr;
       errno = 0;
       value[c] = std::strtol(tokens[static_cast<size_t>(c)].c_str(), &end, 10);
-      CSHAPES_REQUIRE(end && *end == '\0' && errno == 0, path, ":", number, ": '", tokens[static_cast<size_t>(c)],
-                      "' is not a vertex index");
-      CSHAPES_REQUIRE(value[c] >= 1, path, ":", number, ": vertex index ", value[c], " (expected 1-based, >= 1)");
+      CSHAPES_REQUIRE(end && *end == '\0' && errno == 0, path, ":", number, ": '",
+                      tokens[static_cast<size_t>(c)], "' is not a vertex index");
+      CSHAPES_REQUIRE(value[c] >= 1, path, ":", number, ": vertex index ", value[c],
+                      " (expected 1-based, >= 1)");
       const Index limit = c == 0 ? a_vertices : b_vertices;
       CSHAPES_REQUIRE(limit <= 0 || value[c] <= limit, path, ":", number, ": vertex index ", value[c],
                       " exceeds the ", c == 0 ? "query" : "reference", " mesh's ", limit, " vertices");
@@ -173,9 +174,10 @@ void summarise_errors(CorrespondenceErrorResult& result, const CorrespondenceErr
   Index finite = 0;
   for (double e : sorted)
     if (std::isfinite(e)) sum += e, ++finite;
-  result.mean_error = finite > 0 ? sum / static_cast<double>(finite) : std::numeric_limits<double>::quiet_NaN();
+  result.mean_error =
+      finite > 0 ? sum / static_cast<double>(finite) : std::numeric_limits<double>::quiet_NaN();
   const size_t h = static_cast<size_t>(used / 2);
-  result.median_error = used == 0 ? std::numeric_limits<double>::quiet_NaN()
+  result.median_error = used == 0  ? std::numeric_limits<double>::quiet_NaN()
                         : used % 2 ? sorted[h]
                                    : 0.5 * (sorted[h - 1] + sorted[h]);
 }
@@ -187,10 +189,12 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
     const CorrespondenceErrorOptions& options, const std::string& b_name) {
   const Index nb = b.num_vertices();
-  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(), "correspondence error: ",
-                  truth_a.size(), " and ", truth_b.size(), " ground-truth samples (expected equal, non-zero counts)");
-  CSHAPES_REQUIRE(symmetric_b.empty() || symmetric_b.size() == truth_b.size(), "correspondence error: ",
-                  symmetric_b.size(), " symmetric entries for ", truth_b.size(), " samples");
+  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(),
+                  "correspondence error: ", truth_a.size(), " and ", truth_b.size(),
+                  " ground-truth samples (expected equal, non-zero counts)");
+  CSHAPES_REQUIRE(symmetric_b.empty() || symmetric_b.size() == truth_b.size(),
+                  "correspondence error: ", symmetric_b.size(), " symmetric entries for ", truth_b.size(),
+                  " samples");
   CSHAPES_REQUIRE(options.curve_points >= 2 && options.max_threshold > 0,
                   "correspondence error: need curve_points >= 2 and max_threshold > 0");
   CSHAPES_REQUIRE(!maps.empty(), "correspondence error: no map to score");
@@ -223,8 +227,9 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     }
     kept.push_back(s);
   }
-  CSHAPES_REQUIRE(!kept.empty(), "correspondence error: every sample's true vertex was dropped by the repair of ",
-                  b_name, " (", repaired.text, ")");
+  CSHAPES_REQUIRE(!kept.empty(),
+                  "correspondence error: every sample's true vertex was dropped by the repair of ", b_name,
+                  " (", repaired.text, ")");
   const Index used = static_cast<Index>(kept.size());
   for (size_t i = 0; i < maps.size(); ++i) {
     for (int s : kept) {
@@ -232,13 +237,13 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
       CSHAPES_REQUIRE(va >= 0 && va < maps[i].size(), "correspondence error: sample ", s, " is vertex ", va,
                       " of A, but map ", i, " covers ", maps[i].size(), " vertices");
       const int m = maps[i][va];
-      CSHAPES_REQUIRE(m >= -1 && m < nb, "correspondence error: map ", i, " sends vertex ", va, " of A to ", m,
-                      ", not a vertex of ", b_name);
+      CSHAPES_REQUIRE(m >= -1 && m < nb, "correspondence error: map ", i, " sends vertex ", va, " of A to ",
+                      m, ", not a vertex of ", b_name);
     }
   }
 
-  // Sources: every distinct true and mirrored vertex (a mirrored one the repair dropped is not used). For each,
-  // the (sample, is-mirrored) entries it serves.
+  // Sources: every distinct true and mirrored vertex (a mirrored one the repair dropped is not used). For
+  // each, the (sample, is-mirrored) entries it serves.
   std::map<int, std::vector<std::pair<Index, bool>>> by_source;
   for (Index k = 0; k < used; ++k) {
     const size_t s = static_cast<size_t>(kept[static_cast<size_t>(k)]);
@@ -279,7 +284,8 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
   }
   if (error) std::rethrow_exception(error);
 
-  const double normaliser = options.normalise ? std::sqrt(surface_area(repaired.mesh.V, repaired.mesh.F)) : 1.0;
+  const double normaliser =
+      options.normalise ? std::sqrt(surface_area(repaired.mesh.V, repaired.mesh.F)) : 1.0;
   CSHAPES_REQUIRE(normaliser > 0, "correspondence error: ", b_name, " has zero area");
   for (size_t i = 0; i < maps.size(); ++i) {
     CorrespondenceErrorResult r;

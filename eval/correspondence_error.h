@@ -59,7 +59,8 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
                                                const CorrespondenceErrorOptions& options = {},
                                                const DistanceMatrix* geodesics_b = nullptr);
 
-// ---- SHREC'16 ground truth (TOPKIDS): vertex pairs, and errors with a forgiven symmetric flip ----------------
+// ---- SHREC'16 ground truth (TOPKIDS): vertex pairs, and errors with a forgiven symmetric flip
+// ----------------
 
 // A ground-truth correspondence file of SHREC'16 "Topological KIDS" (shared/data/topkids/kidNN_ref.txt and
 // kidNN_sym.txt): one line per listed vertex, two 1-based integers "a b": vertex a of the query shape A
@@ -71,8 +72,8 @@ struct CorrespondencePairs {
 };
 
 // Throws naming the file and line on a line that is not exactly two integers, an index < 1, an index beyond
-// a_vertices / b_vertices (when those are > 0), a vertex of A listed twice (naming both lines), or a file with
-// no pair.
+// a_vertices / b_vertices (when those are > 0), a vertex of A listed twice (naming both lines), or a file
+// with no pair.
 CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_vertices = 0,
                                               Index b_vertices = 0);
 
@@ -85,12 +86,12 @@ CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_v
 // truth_a / truth_b / symmetric_b: equal lengths; symmetric_b[s] = −1 where there is no mirrored truth
 // (an empty symmetric_b: none anywhere). Samples: options.max_samples evenly spaced over the list (≤ 0: all).
 //
-// Geodesics on B: B is first repaired to a manifold surface (core/mesh_repair.h: largest component, non-manifold
-// vertices split, zero-area faces dropped) and distances are placed back at B's vertices; a sample whose true
-// vertex the repair dropped is skipped (counted in skipped_samples). One single-source run (options.geodesics)
-// per distinct true or symmetric vertex serves every map, so scoring k maps costs about what scoring one does:
-// O(S · n log n) for S samples with fast marching (its stencils built once), OpenMP over sources. The area is
-// that of the repaired B (duplicate faces counted once).
+// Geodesics on B: B is first repaired to a manifold surface (core/mesh_repair.h: largest component,
+// non-manifold vertices split, zero-area faces dropped) and distances are placed back at B's vertices; a
+// sample whose true vertex the repair dropped is skipped (counted in skipped_samples). One single-source run
+// (options.geodesics) per distinct true or symmetric vertex serves every map, so scoring k maps costs about
+// what scoring one does: O(S · n log n) for S samples with fast marching (its stencils built once), OpenMP
+// over sources. The area is that of the repaired B (duplicate faces counted once).
 struct SymmetricCorrespondenceErrorResult {
   std::vector<CorrespondenceErrorResult> maps;  // per map: errors (+inf where unmapped), curve, mean, median
   std::vector<int> unmapped;                    // per map: samples whose vertex of A has no image (−1)

@@ -38,7 +38,8 @@ int run() {
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README); --geodesics overrides
   configure_canonical_form(o.canon);
   if (!args.no_figure)
-    o.plot_script = (std::filesystem::path(CSHAPES_SOURCE_DIR) / "experiments" / "plots" / "topkids_figure.py").string();
+    o.plot_script =
+        (std::filesystem::path(CSHAPES_SOURCE_DIR) / "experiments" / "plots" / "topkids_figure.py").string();
   if (const char* python = std::getenv("CSHAPES_PYTHON")) o.python = python;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
@@ -54,12 +55,13 @@ int run() {
                      {"scorings_cached", r.scorings_cached},
                      {"figure", r.figure}};
     for (const TopkidsSummary& s : r.summaries)
-      j["summary"][s.method] = {{"mean_error", s.mean_error}, {"under_0.1", s.under_0_1}, {"under_0.25", s.under_0_25}};
+      j["summary"][s.method] = {
+          {"mean_error", s.mean_error}, {"under_0.1", s.under_0_1}, {"under_0.25", s.under_0_25}};
     std::cout << j.dump(2) << std::endl;
     return 0;
   }
-  std::printf("experiment topkids: %zu poses in %.1f s (%ld canonical forms computed, %ld cached)\n", r.poses.size(),
-              r.seconds, r.forms_computed, r.forms_cached);
+  std::printf("experiment topkids: %zu poses in %.1f s (%ld canonical forms computed, %ld cached)\n",
+              r.poses.size(), r.seconds, r.forms_computed, r.forms_cached);
   std::printf("%-10s %10s %8s %8s\n", "method", "mean error", "<= 0.1", "<= 0.25");
   for (const TopkidsSummary& s : r.summaries)
     std::printf("%-10s %10.4f %8.3f %8.3f\n", s.method.c_str(), s.mean_error, s.under_0_1, s.under_0_25);
@@ -69,7 +71,8 @@ int run() {
 
 const bool registered = register_command(
     {{"experiment", "topkids"},
-     "Point maps under real topological noise (SHREC'16 TOPKIDS): each pose's canonical form aligned by ICP to "
+     "Point maps under real topological noise (SHREC'16 TOPKIDS): each pose's canonical form aligned by ICP "
+     "to "
      "the reference's, errors by the benchmark's protocol, per method and for the inputs; curves, table, "
      "report.md (cached: reruns resume)",
      [](CLI::App& app) {
@@ -79,9 +82,11 @@ const bool registered = register_command(
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
        app.add_option("--reference", o.reference, "file stem of the reference pose")->capture_default_str();
-       app.add_option("--poses", args.poses,
-                      "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")->capture_default_str();
+       app.add_option(
+           "--poses", args.poses,
+           "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
        app.add_option("--samples", o.samples,
                       "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)")
            ->capture_default_str()

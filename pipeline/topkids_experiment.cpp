@@ -66,7 +66,9 @@ PointMap align_and_map(const Points& source, const Points& target, const IcpOpti
   return pm;
 }
 
-double finite_bbox_diagonal(const Points& X) { return bbox_diagonal(take_rows(X, finite_rows(X))); }
+double finite_bbox_diagonal(const Points& X) {
+  return bbox_diagonal(take_rows(X, finite_rows(X)));
+}
 
 std::string fixed(double value, int decimals) {
   if (!std::isfinite(value)) return "n/a";
@@ -124,18 +126,17 @@ std::string draw_figure(const TopkidsExperimentOptions& o) {
   for (const std::string& python : candidates) {
     const std::string probe = quote(python) + " -c 'import matplotlib, numpy' >/dev/null 2>&1";
     if (std::system(probe.c_str()) != 0) continue;
-    const std::string command = quote(python) + " " + quote(o.plot_script) + " " + quote(o.out) + " >/dev/null 2>&1";
+    const std::string command =
+        quote(python) + " " + quote(o.plot_script) + " " + quote(o.out) + " >/dev/null 2>&1";
     const int status = std::system(command.c_str());
     if (status == 0 && fs::exists(fs::path(o.out) / "topkids.png")) return "";
     return python + " " + o.plot_script + " failed (status " + std::to_string(status) + ")";
   }
-  return "no Python with matplotlib and numpy found (tried " +
-         [&] {
-           std::string s;
-           for (const std::string& c : candidates) s += (s.empty() ? "" : ", ") + c;
-           return s;
-         }() +
-         ")";
+  return "no Python with matplotlib and numpy found (tried " + [&] {
+    std::string s;
+    for (const std::string& c : candidates) s += (s.empty() ? "" : ", ") + c;
+    return s;
+  }() + ")";
 }
 
 struct Pose {
@@ -176,11 +177,10 @@ std::string topkids_mesh_path(const std::string& data, const std::string& name) 
 
 TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o) {
   const auto start = WallClock::now();
-  CSHAPES_REQUIRE(!o.methods.empty(), "experiment topkids: no method");
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment topkids: unknown method '",
-                    m, "'");
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment topkids: unknown method '", m, "'");
   }
   CSHAPES_REQUIRE(o.max_threshold > 0.25 && o.curve_points >= 2,
                   "experiment topkids: the curve must reach past 0.25 with at least 2 points");
@@ -239,7 +239,8 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
         have_D = true;
       }
       bool was_cached = false;
-      forms[m] = cached_canonical_form(form_cache, mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
+      forms[m] =
+          cached_canonical_form(form_cache, mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
       (was_cached ? r.forms_cached : r.forms_computed)++;
       say(o, detail::concat("  ", fs::path(path).stem().string(), " ", m, ": ",
                             was_cached ? "cached" : "computed in " + fixed(seconds_since(t), 1) + " s",
@@ -252,7 +253,8 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   auto [reference_forms, reference_keys] = forms_of(reference, reference_path);
   for (const std::string& m : o.methods) r.reference_repair[m] = reference_forms[m].repair_text;
   std::map<std::string, double> reference_form_diagonal;
-  for (const std::string& m : o.methods) reference_form_diagonal[m] = finite_bbox_diagonal(reference_forms[m].X);
+  for (const std::string& m : o.methods)
+    reference_form_diagonal[m] = finite_bbox_diagonal(reference_forms[m].X);
   reference_form_diagonal[kInputs] = bbox_diagonal(reference.V);
   const std::string reference_key = mesh_content_key(reference);
 
@@ -266,8 +268,9 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
     std::ostringstream key;
     key.precision(17);
     key << "topkids-score;v1;reference=" << reference_key << ";pose=" << mesh_content_key(p.mesh)
-        << ";ref=" << file_content_hash(p.ref_path) << ";sym=" << (p.sym_path.empty() ? "" : file_content_hash(p.sym_path))
-        << ";samples=" << o.samples << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
+        << ";ref=" << file_content_hash(p.ref_path)
+        << ";sym=" << (p.sym_path.empty() ? "" : file_content_hash(p.sym_path)) << ";samples=" << o.samples
+        << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
         << static_cast<int>(o.scoring_geodesics.heat_mode) << "," << o.scoring_geodesics.heat_time_factor
         << ";icp=" << to_key_string(o.icp) << ";curve=" << o.max_threshold << "," << o.curve_points;
     for (const std::string& m : o.methods) key << ";" << m << "=" << reference_keys[m] << "," << keys[m];
@@ -287,7 +290,8 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
       }
       std::vector<PointMap> maps;
       maps.push_back(align_and_map(p.mesh.V, reference.V, o.icp));
-      for (const std::string& m : o.methods) maps.push_back(align_and_map(forms[m].X, reference_forms[m].X, o.icp));
+      for (const std::string& m : o.methods)
+        maps.push_back(align_and_map(forms[m].X, reference_forms[m].X, o.icp));
       std::vector<Eigen::VectorXi> map_list;
       for (const PointMap& pm : maps) map_list.push_back(pm.map);
       CorrespondenceErrorOptions ce;
@@ -338,11 +342,12 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
         pooled[m].push_back(e);
       }
     } catch (const json::exception& e) {
-      fail(misc_cache.entry_path(entry), ": a damaged scoring cache entry (", e.what(), "; delete it to recompute)");
+      fail(misc_cache.entry_path(entry), ": a damaged scoring cache entry (", e.what(),
+           "; delete it to recompute)");
     }
     std::ostringstream line;
-    line << "  " << p.name << " scored" << (computed ? "" : " (cached)") << " in " << fixed(seconds_since(pose_start), 1)
-         << " s; mean error";
+    line << "  " << p.name << " scored" << (computed ? "" : " (cached)") << " in "
+         << fixed(seconds_since(pose_start), 1) << " s; mean error";
     for (const TopkidsRow& row : r.rows)
       if (row.pose == p.name) line << " " << row.method << " " << fixed(row.mean_error, 3);
     say(o, line.str());
@@ -387,23 +392,25 @@ std::string label(const std::string& m) {
 void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
   const fs::path out(o.out);
   write_file_atomically((out / "topkids.csv").string(), [&](std::ostream& s) {
-    s << "pose,method,samples,mean_error,median_error,under_0.1,under_0.25,unmapped,symmetric_chosen,reflected,"
+    s << "pose,method,samples,mean_error,median_error,under_0.1,under_0.25,unmapped,symmetric_chosen,"
+         "reflected,"
          "icp_rmse,icp_rmse_relative,torn_edges,repair\n";
     s.precision(6);
     for (const TopkidsRow& row : r.rows) {
       std::string repair = row.repair;
       std::replace(repair.begin(), repair.end(), '"', '\'');
-      s << row.pose << ',' << row.method << ',' << row.samples << ',' << row.mean_error << ',' << row.median_error
-        << ',' << row.under_0_1 << ',' << row.under_0_25 << ',' << row.unmapped << ',' << row.symmetric_chosen
-        << ',' << (row.reflected ? 1 : 0) << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ','
-        << row.torn_edges << ",\"" << repair << "\"\n";
+      s << row.pose << ',' << row.method << ',' << row.samples << ',' << row.mean_error << ','
+        << row.median_error << ',' << row.under_0_1 << ',' << row.under_0_25 << ',' << row.unmapped << ','
+        << row.symmetric_chosen << ',' << (row.reflected ? 1 : 0) << ',' << row.icp_rmse << ','
+        << row.icp_rmse_relative << ',' << row.torn_edges << ",\"" << repair << "\"\n";
     }
   });
   write_file_atomically((out / "curves.csv").string(), [&](std::ostream& s) {
     s << "method,error,fraction\n";
     s.precision(6);
     for (const TopkidsSummary& sm : r.summaries)
-      for (Index t = 0; t < r.thresholds.size(); ++t) s << sm.method << ',' << r.thresholds[t] << ',' << sm.fraction[t] << '\n';
+      for (Index t = 0; t < r.thresholds.size(); ++t)
+        s << sm.method << ',' << r.thresholds[t] << ',' << sm.fraction[t] << '\n';
   });
 
   // The figure, then the files that mention it.
@@ -428,13 +435,14 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
          {"thresholds", std::vector<double>(r.thresholds.data(), r.thresholds.data() + r.thresholds.size())}};
   json summaries = json::array();
   for (const TopkidsSummary& s : r.summaries)
-    summaries.push_back({{"method", s.method},
-                         {"samples", s.samples},
-                         {"mean_error", finite_or_null(s.mean_error)},
-                         {"median_error", finite_or_null(s.median_error)},
-                         {"under_0.1", s.under_0_1},
-                         {"under_0.25", s.under_0_25},
-                         {"fraction", std::vector<double>(s.fraction.data(), s.fraction.data() + s.fraction.size())}});
+    summaries.push_back(
+        {{"method", s.method},
+         {"samples", s.samples},
+         {"mean_error", finite_or_null(s.mean_error)},
+         {"median_error", finite_or_null(s.median_error)},
+         {"under_0.1", s.under_0_1},
+         {"under_0.25", s.under_0_25},
+         {"fraction", std::vector<double>(s.fraction.data(), s.fraction.data() + s.fraction.size())}});
   j["summary"] = summaries;
   json rows = json::array();
   for (const TopkidsRow& row : r.rows)
@@ -457,22 +465,29 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
 
   write_file_atomically((out / "report.md").string(), [&](std::ostream& s) {
     s << "# TOPKIDS: point maps under real topological noise\n\n";
-    s << "Data: `" << o.data << "` (SHREC'16 \"Matching of deformable shapes with topological noise\", Lähner et "
+    s << "Data: `" << o.data
+      << "` (SHREC'16 \"Matching of deformable shapes with topological noise\", Lähner et "
          "al. 2016, low resolution). Reference `"
       << o.reference << "`; " << r.poses.size() << " query poses (";
     for (size_t i = 0; i < r.poses.size(); ++i) s << (i ? ", " : "") << r.poses[i];
     s << "). Each pose's canonical form was aligned onto the reference's by ICP (the retrieval's options: "
-         "principal-axis starts, reflections allowed); every vertex of the pose goes to the nearest vertex of "
-         "the reference's aligned form. *inputs*: the same ICP on the meshes themselves, no canonical form.\n\n";
-    s << "Error (SHREC'16 protocol): geodesic distance on the reference between the mapped and the true vertex, "
+         "principal-axis starts, reflections allowed); every vertex of the pose goes to the nearest vertex "
+         "of "
+         "the reference's aligned form. *inputs*: the same ICP on the meshes themselves, no canonical "
+         "form.\n\n";
+    s << "Error (SHREC'16 protocol): geodesic distance on the reference between the mapped and the true "
+         "vertex, "
          "over √area of the reference ("
-      << fixed(r.reference_sqrt_area, 2) << "); where the pose's `_sym.txt` gives a mirrored truth the smaller of "
+      << fixed(r.reference_sqrt_area, 2)
+      << "); where the pose's `_sym.txt` gives a mirrored truth the smaller of "
       << "the two distances counts (a left-right flip is forgiven). "
-      << (o.samples > 0 ? std::to_string(o.samples) + " ground-truth vertices per pose, evenly spaced over "
-                                                        "`NAME_ref.txt`"
+      << (o.samples > 0 ? std::to_string(o.samples) +
+                              " ground-truth vertices per pose, evenly spaced over "
+                              "`NAME_ref.txt`"
                         : std::string("every ground-truth vertex"))
       << "; geodesics by " << to_string(o.scoring_geodesics.method)
-      << " on the reference (first-order fast marching: ~1–2% relative error, i.e. about 0.004 at an error of "
+      << " on the reference (first-order fast marching: ~1–2% relative error, i.e. about 0.004 at an error "
+         "of "
          "0.25). Mean error over mapped vertices; fractions over all scored vertices.\n\n";
     s << "## Pooled over poses\n\n| method | samples | mean error | median error | ≤ 0.1 | ≤ 0.25 |\n"
          "| --- | --- | --- | --- | --- | --- |\n";

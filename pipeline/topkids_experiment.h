@@ -8,19 +8,20 @@
 // left-right mirrored truth, for the vertices that have one). Query poses are every NAME_ref.txt of the
 // folder but the reference's, in name order, or options.poses.
 //
-// Per method (pipeline/canonical_forms.h: each mesh repaired for the method, the repair reported; forms cached
-// under out/cache/forms, so a killed run resumes): the canonical forms of the reference and of each pose; the
-// pose's form aligned onto the reference's by ICP (matching/icp.h with the retrieval's options: principal-axis
-// starts, reflections allowed, since canonical forms are defined up to one); the induced map sends each
-// vertex of the pose to the nearest vertex of the reference's aligned form (IcpResult::source_to_target). The
-// "inputs" row is the same ICP on the meshes as they are (no canonical form): the floor a canonical form has
-// to beat. Scoring (eval/correspondence_error.h symmetric_correspondence_errors): for each ground-truth vertex
-// v used (options.samples, evenly spaced over NAME_ref.txt), the geodesic distance on the reference between
-// map(v) and truth(v) over √area(reference), the smaller of that and the distance to the mirrored truth where
-// NAME_sym.txt has one (the benchmark forgives a symmetric flip). Geodesics by fast marching on the
-// reference repaired to a manifold (first order, ~1-2% relative error on TOSCA-like meshes: at an error of
-// 0.25 that is about 0.004, far below the curve's resolution of 0.005). One scoring per pose serves every
-// method; it is cached (out/cache/misc) by the forms' keys, the truth files' contents and the options.
+// Per method (pipeline/canonical_forms.h: each mesh repaired for the method, the repair reported; forms
+// cached under out/cache/forms, so a killed run resumes): the canonical forms of the reference and of each
+// pose; the pose's form aligned onto the reference's by ICP (matching/icp.h with the retrieval's options:
+// principal-axis starts, reflections allowed, since canonical forms are defined up to one); the induced map
+// sends each vertex of the pose to the nearest vertex of the reference's aligned form
+// (IcpResult::source_to_target). The "inputs" row is the same ICP on the meshes as they are (no canonical
+// form): the floor a canonical form has to beat. Scoring (eval/correspondence_error.h
+// symmetric_correspondence_errors): for each ground-truth vertex v used (options.samples, evenly spaced over
+// NAME_ref.txt), the geodesic distance on the reference between map(v) and truth(v) over √area(reference),
+// the smaller of that and the distance to the mirrored truth where NAME_sym.txt has one (the benchmark
+// forgives a symmetric flip). Geodesics by fast marching on the reference repaired to a manifold (first
+// order, ~1-2% relative error on TOSCA-like meshes: at an error of 0.25 that is about 0.004, far below the
+// curve's resolution of 0.005). One scoring per pose serves every method; it is cached (out/cache/misc) by
+// the forms' keys, the truth files' contents and the options.
 //
 // Outputs in out/: topkids.csv (one row per method and pose), curves.csv (cumulative error curve per method,
 // pooled over poses), topkids.json (everything, with the per-method pooled summary), topkids.png (drawn by
@@ -28,8 +29,8 @@
 // report.md (the table, the figure, how it was made).
 //
 // Cost: the forms (Coulomb a few seconds per 12,000-vertex pose; MDS an all-pairs geodesic matrix, n² floats:
-// 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring one
-// fast-marching run per distinct true or mirrored vertex (≤ 2 × samples) on the reference.
+// 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring
+// one fast-marching run per distinct true or mirrored vertex (≤ 2 × samples) on the reference.
 #pragma once
 
 #include <functional>
@@ -45,14 +46,14 @@
 namespace cshapes {
 
 struct TopkidsExperimentOptions {
-  std::string data;                  // the folder (see above)
-  std::string out;                   // output folder; out/cache makes reruns resume
-  std::string reference = "kid00";   // file stem of the reference pose
-  std::vector<std::string> poses;    // query poses by file stem; empty: every NAME_ref.txt but the reference's
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
-  int samples = 1000;                // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
-  CanonicalFormOptions canon;        // method options (canon.method is set per method)
-  IcpOptions icp;                    // the retrieval's alignment (defaults: reflections allowed)
+  std::string data;                 // the folder (see above)
+  std::string out;                  // output folder; out/cache makes reruns resume
+  std::string reference = "kid00";  // file stem of the reference pose
+  std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
+  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};  // empty: the inputs alone
+  int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
+  CanonicalFormOptions canon;  // method options (canon.method is set per method)
+  IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
   // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
   GeodesicOptions scoring_geodesics = [] {
     GeodesicOptions g;
@@ -73,19 +74,19 @@ struct TopkidsExperimentOptions {
 // One method (or "inputs") on one query pose.
 struct TopkidsRow {
   std::string pose;
-  std::string method;             // "inputs", "coulomb", "cmds" or "smacof"
-  int samples = 0;                // ground-truth vertices scored
-  int unmapped = 0;               // of them, vertices with no image (dropped from the pose's form)
-  int symmetric_chosen = 0;       // of them, errors measured to the mirrored truth (a forgiven flip)
-  double mean_error = 0;          // over mapped samples, units of √area(reference)
+  std::string method;        // "inputs", "coulomb", "cmds" or "smacof"
+  int samples = 0;           // ground-truth vertices scored
+  int unmapped = 0;          // of them, vertices with no image (dropped from the pose's form)
+  int symmetric_chosen = 0;  // of them, errors measured to the mirrored truth (a forgiven flip)
+  double mean_error = 0;     // over mapped samples, units of √area(reference)
   double median_error = 0;
-  double under_0_1 = 0;           // fraction of samples with error ≤ 0.1
-  double under_0_25 = 0;          // ≤ 0.25
-  bool reflected = false;         // the ICP alignment is a reflection (det R = −1)
-  double icp_rmse = 0;            // of the alignment, in the reference form's units
-  double icp_rmse_relative = 0;   // over the reference form's bounding-box diagonal
-  long torn_edges = -1;           // coulomb: edges of the pose's form torn; −1 for other methods
-  std::string repair;             // what the method's repair did to the pose ("" when nothing)
+  double under_0_1 = 0;          // fraction of samples with error ≤ 0.1
+  double under_0_25 = 0;         // ≤ 0.25
+  bool reflected = false;        // the ICP alignment is a reflection (det R = −1)
+  double icp_rmse = 0;           // of the alignment, in the reference form's units
+  double icp_rmse_relative = 0;  // over the reference form's bounding-box diagonal
+  long torn_edges = -1;          // coulomb: edges of the pose's form torn; −1 for other methods
+  std::string repair;            // what the method's repair did to the pose ("" when nothing)
 };
 
 struct TopkidsSummary {  // one method, pooled over poses
@@ -100,7 +101,7 @@ struct TopkidsExperimentResult {
   std::vector<std::string> methods;  // "inputs" first, then the options' methods
   std::vector<TopkidsRow> rows;      // per pose, per method in `methods` order
   Eigen::VectorXd thresholds;
-  std::vector<TopkidsSummary> summaries;             // per method in `methods` order
+  std::vector<TopkidsSummary> summaries;                // per method in `methods` order
   std::map<std::string, std::string> reference_repair;  // per method: what its repair did to the reference
   std::string scoring_repair;  // the repair of the reference for the scoring geodesics ("" when none)
   double reference_sqrt_area = 0;

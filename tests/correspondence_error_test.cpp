@@ -167,7 +167,9 @@ TEST(CorrespondencePairs, ErrorsNameFileAndLine) {
 }
 
 // The mirror of the test grid: (i, j) -> (10 − i, j).
-int mirrored(int v) { return (v / 11) * 11 + 10 - v % 11; }
+int mirrored(int v) {
+  return (v / 11) * 11 + 10 - v % 11;
+}
 
 TEST(SymmetricCorrespondenceError, AgreesWithOneMapScoringWithoutSymmetry) {
   // Graph geodesics on the grid: the shifted map's errors are known exactly (2/√120 or 0), and several maps
@@ -178,7 +180,8 @@ TEST(SymmetricCorrespondenceError, AgreesWithOneMapScoringWithoutSymmetry) {
   for (int v = 0; v < 121; ++v) shifted[v] = v % 11 <= 8 ? v + 2 : v;
   CorrespondenceErrorOptions o;
   o.max_samples = 0;
-  SymmetricCorrespondenceErrorResult r = symmetric_correspondence_errors(b, {identity, shifted}, truth, truth, {}, o);
+  SymmetricCorrespondenceErrorResult r =
+      symmetric_correspondence_errors(b, {identity, shifted}, truth, truth, {}, o);
   ASSERT_EQ(r.maps.size(), 2u);
   EXPECT_EQ(r.maps[0].errors.maxCoeff(), 0.0);
   CorrespondenceErrorResult one = correspondence_error(b, shifted, truth, truth, o);
@@ -193,7 +196,8 @@ TEST(SymmetricCorrespondenceError, AgreesWithOneMapScoringWithoutSymmetry) {
 
 TEST(SymmetricCorrespondenceError, ForgivesTheMirroredMapAndCountsUnmapped) {
   // A map that mirrors left and right is wrong by up to 10/√120 against the truth and exactly right against
-  // the mirrored truth, which it is then scored by; fast marching (the experiment's scoring) gives 0 there too.
+  // the mirrored truth, which it is then scored by; fast marching (the experiment's scoring) gives 0 there
+  // too.
   Mesh b = test_grid();
   std::vector<int> truth = all_vertices(121), mirror(121);
   Eigen::VectorXi flip(121);
@@ -220,7 +224,7 @@ TEST(SymmetricCorrespondenceError, ForgivesTheMirroredMapAndCountsUnmapped) {
   EXPECT_TRUE(std::isinf(r.maps[0].errors[5]));
   EXPECT_EQ(r.unmapped[0], 1);
   EXPECT_EQ(r.maps[0].fraction[r.maps[0].fraction.size() - 1], 120.0 / 121);  // never within a threshold
-  EXPECT_TRUE(std::isfinite(r.maps[0].mean_error));                            // mean over mapped samples
+  EXPECT_TRUE(std::isfinite(r.maps[0].mean_error));                           // mean over mapped samples
   EXPECT_THROW(symmetric_correspondence_errors(b, {flip}, truth, truth, {1, 2}, o), Error);
   EXPECT_THROW(symmetric_correspondence_errors(b, {flip.head(10)}, truth, truth, mirror, o), Error);
 }
@@ -235,7 +239,8 @@ TEST(SymmetricCorrespondenceError, RepairsTheReferenceAndCountsItsAreaOnce) {
   Eigen::VectorXi identity = Eigen::VectorXi::LinSpaced(121, 0, 120);
   CorrespondenceErrorOptions o;
   o.geodesics.method = GeodesicMethod::FastMarching;
-  SymmetricCorrespondenceErrorResult r = symmetric_correspondence_errors(b, {identity}, truth, truth, {}, o, "b.off");
+  SymmetricCorrespondenceErrorResult r =
+      symmetric_correspondence_errors(b, {identity}, truth, truth, {}, o, "b.off");
   EXPECT_NE(r.repair_text.find("b.off"), std::string::npos) << r.repair_text;
   EXPECT_NEAR(r.maps[0].normaliser, std::sqrt(120.0), 1e-9);
   EXPECT_EQ(r.maps[0].errors.maxCoeff(), 0.0);

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "core/articulated.h"
@@ -65,7 +65,8 @@ TopkidsExperimentOptions options_for(const SyntheticKids& k, const std::string& 
   return o;
 }
 
-const TopkidsRow& row_of(const TopkidsExperimentResult& r, const std::string& pose, const std::string& method) {
+const TopkidsRow& row_of(const TopkidsExperimentResult& r, const std::string& pose,
+                         const std::string& method) {
   for (const TopkidsRow& row : r.rows)
     if (row.pose == pose && row.method == method) return row;
   throw Error("no row " + pose + " " + method);
@@ -82,7 +83,7 @@ TEST(TopkidsExperiment, IdenticalPairMapsWithoutErrorAndRerunsFromCache) {
   ASSERT_EQ(r.rows.size(), 4u);
   // The rigidly moved copy: ICP finds the motion, every vertex maps onto itself, in both the inputs and the
   // Coulomb forms (a form of a moved mesh is the moved form).
-  for (const std::string& m : {"inputs", "coulomb"}) {
+  for (const std::string m : {"inputs", "coulomb"}) {
     const TopkidsRow& row = row_of(r, "moved", m);
     EXPECT_EQ(row.samples, 200) << m;
     EXPECT_EQ(row.unmapped, 0) << m;
@@ -141,7 +142,8 @@ TEST(TopkidsExperiment, MissingOrMalformedFilesAreNamed) {
   };
   // A malformed line in a ground-truth file: file and line, before any canonical form is computed.
   test::write_text(k.dir + "/posed_ref.txt", "1 1\n2 2 2\n");
-  EXPECT_EQ(message(), k.dir + "/posed_ref.txt:2: expected two 1-based vertex indices, got 3 fields ('2 2 2')");
+  EXPECT_EQ(message(),
+            k.dir + "/posed_ref.txt:2: expected two 1-based vertex indices, got 3 fields ('2 2 2')");
   EXPECT_FALSE(fs::exists(k.dir + "/out/cache"));
   // A ground-truth file without its mesh.
   test::write_text(k.dir + "/posed_ref.txt", identity_pairs(k.reference.num_vertices()));
@@ -175,9 +177,11 @@ TEST(TopkidsExperiment, CliRunsAndRefusesBadOptions) {
   fs::remove_all(k.dir);
 }
 
-TEST(TopkidsExperiment, RealNoiseOnePose) {
-  // kid07 onto kid00 (the non-manifold reference) by Coulomb forms, 100 ground-truth vertices: the repair is
-  // reported, every vertex is mapped, and the errors are fractions of the body's size.
+TEST(TopkidsExperiment, RealNoiseOnePoseInputs) {
+  // kid07 onto kid00 (non-manifold edge, duplicate face), the inputs alone (a canonical form of these
+  // 12,000-vertex meshes takes 10 s to minutes: that is the CLI run's), 100 ground-truth vertices: the
+  // reference's repair for the geodesics is reported, every vertex is mapped, and the errors are fractions of
+  // the body's size; with the mirrored truth some vertices are forgiven a flip.
   CSHAPES_REQUIRE_DATA();
   const std::string data = test::data_dir() + "/topkids";
   if (!fs::exists(data + "/kid00.off")) GTEST_SKIP() << data << " not found";
@@ -185,18 +189,18 @@ TEST(TopkidsExperiment, RealNoiseOnePose) {
   o.data = data;
   o.out = test::scratch_dir("topkids_data");
   o.poses = {"kid07"};
-  o.methods = {"coulomb"};
+  o.methods = {};
   o.samples = 100;
   TopkidsExperimentResult r = run_topkids_experiment(o);
-  ASSERT_EQ(r.rows.size(), 2u);
-  EXPECT_FALSE(r.scoring_repair.empty());  // kid00's non-manifold edge, split for the geodesics
-  for (const TopkidsRow& row : r.rows) {
-    EXPECT_EQ(row.samples, 100);
-    EXPECT_EQ(row.unmapped, 0);
-    EXPECT_GT(row.mean_error, 0.0);
-    EXPECT_LT(row.mean_error, 1.5);
-  }
-  EXPECT_GT(r.reference_sqrt_area, 0.0);
+  ASSERT_EQ(r.rows.size(), 1u);
+  EXPECT_NE(r.scoring_repair.find("non-manifold"), std::string::npos) << r.scoring_repair;
+  EXPECT_NEAR(r.reference_sqrt_area, std::sqrt(9591.71), 0.1);  // `cshapes info`: area 9,591.71
+  const TopkidsRow& row = r.rows[0];
+  EXPECT_EQ(row.method, "inputs");
+  EXPECT_EQ(row.samples, 100);
+  EXPECT_EQ(row.unmapped, 0);
+  EXPECT_GT(row.mean_error, 0.0);
+  EXPECT_LT(row.mean_error, 1.5);
   fs::remove_all(o.out);
 }
 
