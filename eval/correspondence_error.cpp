@@ -292,6 +292,7 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     r.samples = kept;
     r.normaliser = normaliser;
     r.errors.resize(used);
+    Eigen::VectorXd direct_errors(used), mirrored_errors(used);
     int unmapped = 0, mirrored = 0;
     for (Index k = 0; k < used; ++k) {
       const int va = truth_a[static_cast<size_t>(kept[static_cast<size_t>(k)])];
@@ -299,8 +300,15 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
       const double direct = distance[i](k, 0), flipped = distance[i](k, 1);
       if (flipped < direct) ++mirrored;
       r.errors[k] = std::min(direct, flipped) / normaliser;
+      direct_errors[k] = direct / normaliser;
+      const size_t s = static_cast<size_t>(kept[static_cast<size_t>(k)]);
+      const bool has_mirror = !symmetric_b.empty() && symmetric_b[s] >= 0 && maps[i][va] >= 0 &&
+                              !repaired_copies(repaired.vertex_map, symmetric_b[s]).empty();
+      mirrored_errors[k] = (has_mirror ? flipped : direct) / normaliser;
     }
     summarise_errors(r, options);
+    result.direct_errors.push_back(direct_errors);
+    result.mirrored_errors.push_back(mirrored_errors);
     result.maps.push_back(std::move(r));
     result.unmapped.push_back(unmapped);
     result.symmetric_chosen.push_back(mirrored);

@@ -96,8 +96,14 @@ struct SymmetricCorrespondenceErrorResult {
   std::vector<CorrespondenceErrorResult> maps;  // per map: errors (+inf where unmapped), curve, mean, median
   std::vector<int> unmapped;                    // per map: samples whose vertex of A has no image (−1)
   std::vector<int> symmetric_chosen;            // per map: samples whose error came from the mirrored truth
-  int skipped_samples = 0;                      // true vertex dropped by B's repair (not in the results)
-  std::string repair_text;                      // what the repair of B did ("" when nothing)
+  // Per map, per sample (normalised, +inf where unmapped): the error against the truth alone, and against the
+  // mirrored truth where there is one (the truth elsewhere). Scoring a whole map by the better of the two
+  // (Kim, Lipman & Funkhouser 2011) forgives a flip of the whole shape but not a map that mixes the sides,
+  // which the per-sample minimum above forgives too: a map unrelated to the truth has about half its
+  // samples nearer the mirrored vertex.
+  std::vector<Eigen::VectorXd> direct_errors, mirrored_errors;
+  int skipped_samples = 0;  // true vertex dropped by B's repair (not in the results)
+  std::string repair_text;  // what the repair of B did ("" when nothing)
 };
 
 SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(

@@ -23,10 +23,13 @@
 // curve's resolution of 0.005). One scoring per pose serves every method; it is cached (out/cache/misc) by
 // the forms' keys, the truth files' contents and the options.
 //
+// The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported
+// beside.
+//
 // Outputs in out/: topkids.csv (one row per method and pose), curves.csv (cumulative error curve per method,
-// pooled over poses), topkids.json (everything, with the per-method pooled summary), topkids.png (drawn by
-// options.plot_script when given and a Python with matplotlib is found; otherwise report.md says how) and
-// report.md (the table, the figure, how it was made).
+// pooled over poses, flip forgiven per vertex and per map), topkids.json (everything, with the per-method
+// pooled summary), topkids.png (drawn by options.plot_script when given and a Python with matplotlib is
+// found; otherwise report.md says how) and report.md (the table, the figure, how it was made).
 //
 // Cost: the forms (Coulomb a few seconds per 12,000-vertex pose; MDS an all-pairs geodesic matrix, n² floats:
 // 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring
@@ -80,8 +83,12 @@ struct TopkidsRow {
   int symmetric_chosen = 0;  // of them, errors measured to the mirrored truth (a forgiven flip)
   double mean_error = 0;     // over mapped samples, units of √area(reference)
   double median_error = 0;
-  double under_0_1 = 0;          // fraction of samples with error ≤ 0.1
-  double under_0_25 = 0;         // ≤ 0.25
+  double under_0_1 = 0;   // fraction of samples with error ≤ 0.1
+  double under_0_25 = 0;  // ≤ 0.25
+  // The same with the flip forgiven for the whole map only (the better of truth and mirrored truth for all
+  // samples together, eval/correspondence_error.h): stricter, a map mixing the sides is not forgiven.
+  bool whole_map_mirrored = false;  // the mirrored truth was the better one
+  double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
   bool reflected = false;        // the ICP alignment is a reflection (det R = −1)
   double icp_rmse = 0;           // of the alignment, in the reference form's units
   double icp_rmse_relative = 0;  // over the reference form's bounding-box diagonal
@@ -94,6 +101,9 @@ struct TopkidsSummary {  // one method, pooled over poses
   int samples = 0;
   double mean_error = 0, median_error = 0, under_0_1 = 0, under_0_25 = 0;
   Eigen::VectorXd fraction;  // cumulative curve at TopkidsExperimentResult::thresholds
+  // Flip forgiven per map (TopkidsRow::whole_map_*), pooled likewise.
+  double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
+  Eigen::VectorXd whole_map_fraction;
 };
 
 struct TopkidsExperimentResult {

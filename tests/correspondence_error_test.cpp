@@ -208,6 +208,10 @@ TEST(SymmetricCorrespondenceError, ForgivesTheMirroredMapAndCountsUnmapped) {
   SymmetricCorrespondenceErrorResult r = symmetric_correspondence_errors(b, {flip}, truth, truth, mirror, o);
   EXPECT_EQ(r.maps[0].errors.maxCoeff(), 0.0);
   EXPECT_EQ(r.symmetric_chosen[0], 110);  // all but the middle column (its mirror is itself: no gain)
+  // Whole-map scoring: against the mirrored truth the flip is exact, against the truth it is not.
+  ASSERT_EQ(r.mirrored_errors.size(), 1u);
+  EXPECT_EQ(r.mirrored_errors[0].maxCoeff(), 0.0);
+  EXPECT_GT(r.direct_errors[0].maxCoeff(), 0.8);  // 10/√120 = 0.91 at the grid's sides
   // Graph geodesics (exact along a row): without a mirrored truth the flip is up to 10/√120 wrong.
   o.geodesics.method = GeodesicMethod::Graph;
   o.max_threshold = 1.0;  // beyond every error of a mapped vertex (10/√120 = 0.91)
@@ -225,6 +229,10 @@ TEST(SymmetricCorrespondenceError, ForgivesTheMirroredMapAndCountsUnmapped) {
   EXPECT_EQ(r.unmapped[0], 1);
   EXPECT_EQ(r.maps[0].fraction[r.maps[0].fraction.size() - 1], 120.0 / 121);  // never within a threshold
   EXPECT_TRUE(std::isfinite(r.maps[0].mean_error));                           // mean over mapped samples
+  // Without a mirrored truth the mirrored errors fall back to the direct ones.
+  EXPECT_EQ(r.mirrored_errors[0][0], 0.0);
+  EXPECT_EQ(r.mirrored_errors[0][1], r.direct_errors[0][1]);
+  EXPECT_TRUE(std::isinf(r.mirrored_errors[0][5]));
   EXPECT_THROW(symmetric_correspondence_errors(b, {flip}, truth, truth, {1, 2}, o), Error);
   EXPECT_THROW(symmetric_correspondence_errors(b, {flip.head(10)}, truth, truth, mirror, o), Error);
 }
