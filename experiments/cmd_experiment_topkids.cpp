@@ -97,6 +97,9 @@ const bool registered = register_command(
        app.add_option("--max-error", o.max_threshold, "largest error of the curves (units of sqrt(area))")
            ->capture_default_str()
            ->check(number_above(0.25));
+       app.add_flag("--icp-axis-swaps", o.icp.try_axis_swaps,
+                    "ICP also starts from the principal-axis poses with two axes exchanged (12 more starts; "
+                    "default off, as in the retrieval)");
        app.add_flag("--strict", o.canon.strict,
                     "refuse a mesh a method would have to repair (kid00's non-manifold edge, ...) instead of "
                     "repairing it");

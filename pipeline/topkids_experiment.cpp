@@ -512,11 +512,13 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
          "resolution). Reference `"
       << o.reference << "`; " << r.poses.size() << " query poses (";
     for (size_t i = 0; i < r.poses.size(); ++i) s << (i ? ", " : "") << r.poses[i];
-    s << "). Each pose's canonical form was aligned onto the reference's by ICP (the retrieval's options: "
-         "principal-axis starts, reflections allowed); every vertex of the pose goes to the nearest vertex "
-         "of "
-         "the reference's aligned form. *inputs*: the same ICP on the meshes themselves, no canonical "
-         "form.\n\n";
+    s << "). Each pose's canonical form was aligned onto the reference's by ICP ("
+      << (o.icp.try_axis_swaps ? "principal-axis starts and their axis swaps"
+                               : "the retrieval's options: principal-axis starts")
+      << (o.icp.allow_reflections ? ", reflections allowed" : ", no reflections")
+      << "; all options in `topkids.json`); every vertex of the pose goes to the nearest vertex of the "
+         "reference's aligned form. *inputs*: "
+         "the same ICP on the meshes themselves, no canonical form.\n\n";
     s << "Error (SHREC'16 protocol): geodesic distance on the reference between the mapped and the true "
          "vertex, over √area of the reference ("
       << fixed(r.reference_sqrt_area, 2)
@@ -594,7 +596,8 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
       }
     s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << o.out << " --methods ";
     for (size_t i = 0; i < o.methods.size(); ++i) s << (i ? "," : "") << o.methods[i];
-    s << " --samples " << o.samples << "` (canonical forms and scorings are cached in `cache/`).\n";
+    s << " --samples " << o.samples << (o.icp.try_axis_swaps ? " --icp-axis-swaps" : "")
+      << "` (canonical forms and scorings are cached in `cache/`).\n";
   });
 }
 
