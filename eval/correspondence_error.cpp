@@ -1,15 +1,20 @@
 #include "eval/correspondence_error.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/fast_marching.h"
 #include "core/geodesics.h"
+#include "core/mesh_repair.h"
 
 namespace cshapes {
 
@@ -111,6 +116,203 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
   result.median_error =
       used % 2 ? sorted[static_cast<size_t>(used / 2)]
                : 0.5 * (sorted[static_cast<size_t>(used / 2 - 1)] + sorted[static_cast<size_t>(used / 2)]);
+  return result;
+}
+
+CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_vertices, Index b_vertices) {
+  std::istringstream in(read_file(path));
+  CorrespondencePairs pairs;
+  std::map<long, int> line_of;  // vertex of A -> the line that listed it
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream fields(line);
+    std::vector<std::string> tokens;
+    for (std::string t; fields >> t;) tokens.push_back(t);
+    if (tokens.empty()) continue;  // blank line
+    CSHAPES_REQUIRE(tokens.size() == 2, path, ":", number, ": expected two 1-based vertex indices, got ",
+                    tokens.size(), " field", tokens.size() == 1 ? "" : "s", " ('", line, "')");
+    long value[2];
+    for (int c = 0; c < 2; ++c) {
+      char* end = nullptr;
+      errno = 0;
+      value[c] = std::strtol(tokens[static_cast<size_t>(c)].c_str(), &end, 10);
+      CSHAPES_REQUIRE(end && *end == '\0' && errno == 0, path, ":", number, ": '",
+                      tokens[static_cast<size_t>(c)], "' is not a vertex index");
+      CSHAPES_REQUIRE(value[c] >= 1, path, ":", number, ": vertex index ", value[c],
+                      " (expected 1-based, >= 1)");
+      const Index limit = c == 0 ? a_vertices : b_vertices;
+      CSHAPES_REQUIRE(limit <= 0 || value[c] <= limit, path, ":", number, ": vertex index ", value[c],
+                      " exceeds the ", c == 0 ? "query" : "reference", " mesh's ", limit, " vertices");
+    }
+    auto [it, inserted] = line_of.emplace(value[0], number);
+    CSHAPES_REQUIRE(inserted, path, ":", number, ": vertex ", value[0], " is listed again (first on line ",
+                    it->second, ")");
+    pairs.from.push_back(static_cast<int>(value[0] - 1));
+    pairs.to.push_back(static_cast<int>(value[1] - 1));
+  }
+  CSHAPES_REQUIRE(!pairs.from.empty(), path, ": no vertex pair");
+  return pairs;
+}
+
+namespace {
+
+// The cumulative curve, mean and median of result.errors (+inf entries count in the curve's denominator and
+// the median, not in the mean).
+void summarise_errors(CorrespondenceErrorResult& result, const CorrespondenceErrorOptions& options) {
+  const Index used = result.errors.size();
+  result.thresholds = Eigen::VectorXd::LinSpaced(options.curve_points, 0.0, options.max_threshold);
+  std::vector<double> sorted(result.errors.data(), result.errors.data() + used);
+  std::sort(sorted.begin(), sorted.end());
+  result.fraction = Eigen::VectorXd::Zero(options.curve_points);
+  for (int t = 0; used > 0 && t < options.curve_points; ++t) {
+    auto within = std::upper_bound(sorted.begin(), sorted.end(), result.thresholds[t]) - sorted.begin();
+    result.fraction[t] = static_cast<double>(within) / static_cast<double>(used);
+  }
+  double sum = 0;
+  Index finite = 0;
+  for (double e : sorted)
+    if (std::isfinite(e)) sum += e, ++finite;
+  result.mean_error =
+      finite > 0 ? sum / static_cast<double>(finite) : std::numeric_limits<double>::quiet_NaN();
+  const size_t h = static_cast<size_t>(used / 2);
+  result.median_error = used == 0  ? std::numeric_limits<double>::quiet_NaN()
+                        : used % 2 ? sorted[h]
+                                   : 0.5 * (sorted[h - 1] + sorted[h]);
+}
+
+}  // namespace
+
+SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
+    const Mesh& b, const std::vector<Eigen::VectorXi>& maps, const std::vector<int>& truth_a,
+    const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
+    const CorrespondenceErrorOptions& options, const std::string& b_name) {
+  const Index nb = b.num_vertices();
+  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(),
+                  "correspondence error: ", truth_a.size(), " and ", truth_b.size(),
+                  " ground-truth samples (expected equal, non-zero counts)");
+  CSHAPES_REQUIRE(symmetric_b.empty() || symmetric_b.size() == truth_b.size(),
+                  "correspondence error: ", symmetric_b.size(), " symmetric entries for ", truth_b.size(),
+                  " samples");
+  CSHAPES_REQUIRE(options.curve_points >= 2 && options.max_threshold > 0,
+                  "correspondence error: need curve_points >= 2 and max_threshold > 0");
+  CSHAPES_REQUIRE(!maps.empty(), "correspondence error: no map to score");
+
+  // The samples, evenly spaced over the list.
+  const int total = static_cast<int>(truth_a.size());
+  const int wanted = options.max_samples > 0 ? std::min(options.max_samples, total) : total;
+  std::vector<int> samples;
+  for (int k = 0; k < wanted; ++k) samples.push_back(static_cast<int>(static_cast<long>(k) * total / wanted));
+
+  RepairOptions ro;
+  ro.name = b_name;
+  ro.purpose = "geodesics of the correspondence error (one manifold component, no zero-area faces)";
+  const RepairedMesh repaired = repair_for(b, MeshRequirements::manifold_surface(), ro);
+
+  SymmetricCorrespondenceErrorResult result;
+  result.repair_text = repaired.text;
+  // Keep the samples whose true vertex is on the repaired mesh; check every index.
+  std::vector<int> kept;
+  for (int s : samples) {
+    const size_t u = static_cast<size_t>(s);
+    CSHAPES_REQUIRE(truth_b[u] >= 0 && truth_b[u] < nb, "correspondence error: sample ", s, " is vertex ",
+                    truth_b[u], " of ", b_name, ", which has ", nb, " vertices");
+    CSHAPES_REQUIRE(symmetric_b.empty() || (symmetric_b[u] >= -1 && symmetric_b[u] < nb),
+                    "correspondence error: the mirrored truth of sample ", s, " is vertex ", symmetric_b[u],
+                    " of ", b_name, ", which has ", nb, " vertices");
+    if (repaired_copies(repaired.vertex_map, truth_b[u]).empty()) {
+      ++result.skipped_samples;
+      continue;
+    }
+    kept.push_back(s);
+  }
+  CSHAPES_REQUIRE(!kept.empty(),
+                  "correspondence error: every sample's true vertex was dropped by the repair of ", b_name,
+                  " (", repaired.text, ")");
+  const Index used = static_cast<Index>(kept.size());
+  for (size_t i = 0; i < maps.size(); ++i) {
+    for (int s : kept) {
+      const int va = truth_a[static_cast<size_t>(s)];
+      CSHAPES_REQUIRE(va >= 0 && va < maps[i].size(), "correspondence error: sample ", s, " is vertex ", va,
+                      " of A, but map ", i, " covers ", maps[i].size(), " vertices");
+      const int m = maps[i][va];
+      CSHAPES_REQUIRE(m >= -1 && m < nb, "correspondence error: map ", i, " sends vertex ", va, " of A to ",
+                      m, ", not a vertex of ", b_name);
+    }
+  }
+
+  // Sources: every distinct true and mirrored vertex (a mirrored one the repair dropped is not used). For
+  // each, the (sample, is-mirrored) entries it serves.
+  std::map<int, std::vector<std::pair<Index, bool>>> by_source;
+  for (Index k = 0; k < used; ++k) {
+    const size_t s = static_cast<size_t>(kept[static_cast<size_t>(k)]);
+    by_source[truth_b[s]].push_back({k, false});
+    if (!symmetric_b.empty() && symmetric_b[s] >= 0 &&
+        !repaired_copies(repaired.vertex_map, symmetric_b[s]).empty())
+      by_source[symmetric_b[s]].push_back({k, true});
+  }
+  std::vector<std::pair<int, std::vector<std::pair<Index, bool>>>> groups(by_source.begin(), by_source.end());
+
+  // distance[i](k, 0 / 1): map i's image of sample k from its true / mirrored vertex (+inf: none).
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::MatrixX2d> distance(maps.size(), Eigen::MatrixX2d::Constant(used, 2, inf));
+  std::unique_ptr<FastMarching> marching;
+  if (options.geodesics.method == GeodesicMethod::FastMarching)
+    marching = std::make_unique<FastMarching>(repaired.mesh);  // stencils once, sources many
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 4)
+  for (long g = 0; g < static_cast<long>(groups.size()); ++g) {
+    try {
+      const auto& [source, entries] = groups[static_cast<size_t>(g)];
+      const std::vector<int> copies = repaired_copies(repaired.vertex_map, source);
+      Eigen::VectorXd on_repaired = marching ? marching->distances(copies)
+                                             : geodesic_distances(repaired.mesh, copies, options.geodesics);
+      Eigen::VectorXd d = distances_to_input_vertices(on_repaired, repaired.vertex_map, nb);
+      for (const auto& [k, mirrored] : entries) {
+        const int va = truth_a[static_cast<size_t>(kept[static_cast<size_t>(k)])];
+        for (size_t i = 0; i < maps.size(); ++i) {
+          const int m = maps[i][va];
+          // A map onto a vertex the repair dropped (another component): no surface path, infinitely wrong.
+          if (m >= 0 && std::isfinite(d[m])) distance[i](k, mirrored ? 1 : 0) = d[m];
+        }
+      }
+    } catch (...) {
+#pragma omp critical(cshapes_symmetric_correspondence_error)
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+
+  const double normaliser =
+      options.normalise ? std::sqrt(surface_area(repaired.mesh.V, repaired.mesh.F)) : 1.0;
+  CSHAPES_REQUIRE(normaliser > 0, "correspondence error: ", b_name, " has zero area");
+  for (size_t i = 0; i < maps.size(); ++i) {
+    CorrespondenceErrorResult r;
+    r.samples = kept;
+    r.normaliser = normaliser;
+    r.errors.resize(used);
+    Eigen::VectorXd direct_errors(used), mirrored_errors(used);
+    int unmapped = 0, mirrored = 0;
+    for (Index k = 0; k < used; ++k) {
+      const int va = truth_a[static_cast<size_t>(kept[static_cast<size_t>(k)])];
+      if (maps[i][va] < 0) ++unmapped;
+      const double direct = distance[i](k, 0), flipped = distance[i](k, 1);
+      if (flipped < direct) ++mirrored;
+      r.errors[k] = std::min(direct, flipped) / normaliser;
+      direct_errors[k] = direct / normaliser;
+      const size_t s = static_cast<size_t>(kept[static_cast<size_t>(k)]);
+      const bool has_mirror = !symmetric_b.empty() && symmetric_b[s] >= 0 && maps[i][va] >= 0 &&
+                              !repaired_copies(repaired.vertex_map, symmetric_b[s]).empty();
+      mirrored_errors[k] = (has_mirror ? flipped : direct) / normaliser;
+    }
+    summarise_errors(r, options);
+    result.direct_errors.push_back(direct_errors);
+    result.mirrored_errors.push_back(mirrored_errors);
+    result.maps.push_back(std::move(r));
+    result.unmapped.push_back(unmapped);
+    result.symmetric_chosen.push_back(mirrored);
+  }
   return result;
 }
 

@@ -59,4 +59,56 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
                                                const CorrespondenceErrorOptions& options = {},
                                                const DistanceMatrix* geodesics_b = nullptr);
 
+// ---- SHREC'16 ground truth (TOPKIDS): vertex pairs, and errors with a forgiven symmetric flip
+// ----------------
+
+// A ground-truth correspondence file of SHREC'16 "Topological KIDS" (shared/data/topkids/kidNN_ref.txt and
+// kidNN_sym.txt): one line per listed vertex, two 1-based integers "a b": vertex a of the query shape A
+// corresponds to vertex b of the reference B (for _sym: to b's left-right mirror). Not every vertex of A need
+// be listed; a vertex of A listed twice is refused (its truth would be ambiguous). Blank lines are skipped.
+struct CorrespondencePairs {
+  std::vector<int> from;  // 0-based vertices of A, in the file's order
+  std::vector<int> to;    // 0-based vertices of B, to[k] for from[k]
+};
+
+// Throws naming the file and line on a line that is not exactly two integers, an index < 1, an index beyond
+// a_vertices / b_vertices (when those are > 0), a vertex of A listed twice (naming both lines), or a file
+// with no pair.
+CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_vertices = 0,
+                                              Index b_vertices = 0);
+
+// Errors of several maps A → B against one ground truth, by the SHREC'16 protocol: for each ground-truth
+// vertex a of A used, the geodesic distance on B between map(a) and truth(a), over √area(B); where a has a
+// symmetric truth sym(a) ≥ 0, the smaller of that and the distance to sym(a) (a left-right flip is forgiven).
+//
+// maps[i]: for every vertex of A, a vertex of B, or −1 where the map gives none (e.g. a vertex dropped from a
+// canonical form): such a sample counts as unmapped — never under any threshold, left out of the mean.
+// truth_a / truth_b / symmetric_b: equal lengths; symmetric_b[s] = −1 where there is no mirrored truth
+// (an empty symmetric_b: none anywhere). Samples: options.max_samples evenly spaced over the list (≤ 0: all).
+//
+// Geodesics on B: B is first repaired to a manifold surface (core/mesh_repair.h: largest component,
+// non-manifold vertices split, zero-area faces dropped) and distances are placed back at B's vertices; a
+// sample whose true vertex the repair dropped is skipped (counted in skipped_samples). One single-source run
+// (options.geodesics) per distinct true or symmetric vertex serves every map, so scoring k maps costs about
+// what scoring one does: O(S · n log n) for S samples with fast marching (its stencils built once), OpenMP
+// over sources. The area is that of the repaired B (duplicate faces counted once).
+struct SymmetricCorrespondenceErrorResult {
+  std::vector<CorrespondenceErrorResult> maps;  // per map: errors (+inf where unmapped), curve, mean, median
+  std::vector<int> unmapped;                    // per map: samples whose vertex of A has no image (−1)
+  std::vector<int> symmetric_chosen;            // per map: samples whose error came from the mirrored truth
+  // Per map, per sample (normalised, +inf where unmapped): the error against the truth alone, and against the
+  // mirrored truth where there is one (the truth elsewhere). Scoring a whole map by the better of the two
+  // (Kim, Lipman & Funkhouser 2011) forgives a flip of the whole shape but not a map that mixes the sides,
+  // which the per-sample minimum above forgives too: a map unrelated to the truth has about half its
+  // samples nearer the mirrored vertex.
+  std::vector<Eigen::VectorXd> direct_errors, mirrored_errors;
+  int skipped_samples = 0;  // true vertex dropped by B's repair (not in the results)
+  std::string repair_text;  // what the repair of B did ("" when nothing)
+};
+
+SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
+    const Mesh& b, const std::vector<Eigen::VectorXi>& maps, const std::vector<int>& truth_a,
+    const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
+    const CorrespondenceErrorOptions& options = {}, const std::string& b_name = "B");
+
 }  // namespace cshapes

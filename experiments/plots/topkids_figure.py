@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Draw the TOPKIDS cumulative error curves of `cshapes experiment topkids` from the files it wrote into OUT.
+
+  scripts/python.sh experiments/plots/topkids_figure.py OUT [--pdf]
+
+Reads OUT/curves.csv (method,forgiven,error,fraction: the fraction of ground-truth vertices mapped within each
+geodesic error, in units of sqrt(area) of the reference, pooled over the poses; forgiven = vertex or map, how a
+left-right flip is forgiven: one panel each) and, for the legend's means, OUT/topkids.json. Writes OUT/topkids.png (and .pdf), through a temporary file renamed at the end.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLE = {"inputs": ("inputs (no canonical form)", "0.45", "--"),
+         "coulomb": ("Coulomb", "tab:red", "-"),
+         "cmds": ("classical MDS", "tab:blue", "-"),
+         "smacof": ("SMACOF MDS", "tab:green", "-")}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out")
+    parser.add_argument("--pdf", action="store_true")
+    args = parser.parse_args()
+
+    # curves[forgiven][method] = (errors, fractions); files without the column are per-vertex curves.
+    curves = {}
+    with open(os.path.join(args.out, "curves.csv")) as f:
+        for row in csv.DictReader(f):
+            panel = curves.setdefault(row.get("forgiven", "vertex"), {})
+            x, y = panel.setdefault(row["method"], ([], []))
+            x.append(float(row["error"]))
+            y.append(float(row["fraction"]))
+    summary, poses, samples = {}, [], None
+    path = os.path.join(args.out, "topkids.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            j = json.load(f)
+        summary = {s["method"]: s for s in j.get("summary", [])}
+        poses = j.get("poses", [])
+        samples = j.get("samples_per_pose")
+
+    panels = [(k, t) for k, t in (("vertex", "flip forgiven per vertex (SHREC'16)"),
+                                  ("map", "flip forgiven per whole map (stricter)")) if k in curves]
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.8), squeeze=False)
+    for ax, (kind, panel_title) in zip(axes[0], panels):
+        prefix = "" if kind == "vertex" else "whole_map_"
+        for method, (x, y) in curves[kind].items():
+            name, colour, dash = STYLE.get(method, (method, None, "-"))
+            s = summary.get(method)
+            if s and s.get(prefix + "mean_error") is not None:
+                name += f"  (mean {s[prefix + 'mean_error']:.3f}, \u2264 0.25: {100 * s[prefix + 'under_0.25']:.0f}%)"
+            ax.plot(x, y, dash, color=colour, lw=2, label=name)
+        for t in (0.1, 0.25):
+            ax.axvline(t, color="0.75", lw=0.8, zorder=0)
+        ax.set_xlim(0, max(max(x) for x, _ in curves[kind].values()))
+        ax.set_ylim(0, 1)
+        ax.set_xlabel("geodesic error on the reference / \u221aarea")
+        ax.set_ylabel("fraction of ground-truth vertices")
+        ax.set_title(panel_title, fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", fontsize=8)
+    title = "TOPKIDS (SHREC'16, real topological noise): point maps from ICP of canonical forms"
+    if poses:
+        title += f"\n{len(poses)} poses onto kid00"
+        if samples:
+            title += f", {samples} ground-truth vertices each"
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    for ext in ["png"] + (["pdf"] if args.pdf else []):
+        target = os.path.join(args.out, f"topkids.{ext}")
+        tmp = target + ".tmp." + ext
+        fig.savefig(tmp, dpi=150)
+        os.replace(tmp, target)
+    plt.close(fig)
+    print("wrote topkids.png", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
