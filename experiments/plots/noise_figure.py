@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""Draw noise.png of `cshapes experiment noise` from the noise.json it wrote into OUT.
+
+  scripts/python.sh experiments/plots/noise_figure.py OUT [--pdf]
+
+Three panels against the number of glues per shape: mAP of noisy queries among clean shapes under the
+paper's Hausdorff distance; the same under Chamfer (dashed) and RMSE (dotted); and the median (solid) and mean
+(dashed) RMS distance between each glued pose's canonical form and its clean pose's form (% of the bbox
+diagonal). One colour and marker per method, the methods drawn side by side around each level. The paper's claim predicts flat Coulomb curves and falling mAP /
+growing distance for MDS.
+"""
+import argparse
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
+                "smacof": ("SMACOF MDS", "tab:green")}
+METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^"}
+DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
+
+
+def save(fig, out, name, pdf):
+    for ext in ["png"] + (["pdf"] if pdf else []):
+        path = os.path.join(out, f"{name}.{ext}")
+        tmp = path + ".tmp." + ext
+        fig.savefig(tmp, dpi=150, bbox_inches="tight")
+        os.replace(tmp, path)
+    plt.close(fig)
+    print(f"wrote {name}.png", file=sys.stderr)
+
+
+def series(rows, method, distance, key):
+    sel = sorted((r for r in rows if r["method"] == method and r["distance"] == distance),
+                 key=lambda r: r["level"])
+    return [r["level"] for r in sel], [r[key] for r in sel], [r["queries"] for r in sel]
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out")
+    p.add_argument("--pdf", action="store_true")
+    args = p.parse_args()
+    with open(os.path.join(args.out, "noise.json")) as f:
+        data = json.load(f)
+    rows = data["rows"]
+    levels = data["levels"]
+    methods = data["methods"]
+
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    ax_h, ax_other, ax_form = axes
+    # Methods side by side around each level (equal values would hide each other's curves).
+    spacing = min((b - a for a, b in zip(levels, levels[1:])), default=1)
+    for k, m in enumerate(methods):
+        label, color = METHOD_STYLE.get(m, (m, None))
+        marker = METHOD_MARKER.get(m, "o")
+        shift = (k - (len(methods) - 1) / 2) * 0.06 * spacing
+
+        def xs(x):
+            return [v + shift for v in x]
+
+        x, y, q = series(rows, m, "hausdorff", "map")
+        ax_h.plot(xs(x), y, "-", marker=marker, color=color, label=label)
+        for d in ("chamfer", "rmse"):
+            x, y, _ = series(rows, m, d, "map")
+            ax_other.plot(xs(x), y, DISTANCE_STYLE[d][1], marker=marker, ms=4, color=color,
+                          label=f"{label}, {DISTANCE_STYLE[d][0]}")
+        x, med, _ = series(rows, m, "hausdorff", "form_rms_median")
+        _, mean, _ = series(rows, m, "hausdorff", "form_rms_mean")
+        ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color, label=f"{label}, median")
+        ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1,
+                     label=f"{label}, mean")
+    queries = sorted({r["queries"] for r in rows})
+    for ax in (ax_h, ax_other):
+        ax.set_ylim(0, 1.02)
+        ax.set_ylabel("mAP (noisy queries among clean shapes)")
+    ax_h.set_title("retrieval, Hausdorff distance (the paper's)")
+    ax_other.set_title("retrieval, Chamfer (dashed) and RMSE (dotted)")
+    ax_form.set_title("glued vs clean canonical form (median, mean)")
+    ax_form.set_ylabel("RMS after rigid fit, % of bbox diagonal")
+    ax_form.set_ylim(bottom=0)
+    for ax in axes:
+        ax.set_xlabel("glues per shape")
+        ax.set_xticks(levels)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    n_poses = len(data.get("poses", []))
+    q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
+    fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, "
+                 f"seed {data.get('seed')}")
+    fig.tight_layout()
+    save(fig, args.out, "noise", args.pdf)
+
+
+if __name__ == "__main__":
+    main()
