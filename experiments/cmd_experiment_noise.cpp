@@ -56,15 +56,18 @@ int run() {
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)
   configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
-  if (!args.no_figure) o.figure_script = std::string(CSHAPES_SOURCE_DIR) + "/experiments/plots/noise_figure.py";
+  if (!args.no_figure)
+    o.figure_script = std::string(CSHAPES_SOURCE_DIR) + "/experiments/plots/noise_figure.py";
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
   NoiseExperimentResult r = run_noise_experiment(o);
   if (r.chi_mismatches > 0)
-    warn(std::to_string(r.chi_mismatches) + " glued meshes had an unexpected Euler characteristic and were "
+    warn(std::to_string(r.chi_mismatches) +
+         " glued meshes had an unexpected Euler characteristic and were "
          "left out (report.md lists them)");
   if (r.glue_failures > 0)
-    warn(std::to_string(r.glue_failures) + " (pose, level) pairs could not be glued and were left out "
+    warn(std::to_string(r.glue_failures) +
+         " (pose, level) pairs could not be glued and were left out "
          "(report.md lists them)");
   if (args.json) {
     nlohmann::json j{{"out", o.out},
@@ -84,7 +87,8 @@ int run() {
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf(
-        "experiment noise: %d poses × %zu levels in %.1f s (%ld canonical forms computed, %ld cached; %ld ICP "
+        "experiment noise: %d poses × %zu levels in %.1f s (%ld canonical forms computed, %ld cached; %ld "
+        "ICP "
         "pairs computed, %ld cached); report: %s/report.md\n",
         r.poses, o.levels.size(), r.seconds, r.canonical_forms_computed, r.canonical_forms_cached,
         r.pairs_computed, r.pairs_cached, o.out.c_str());
@@ -106,7 +110,8 @@ const bool registered = register_command(
            ->capture_default_str();
        app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
            ->capture_default_str();
-       app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")->capture_default_str();
+       app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")
+           ->capture_default_str();
        app.add_option("--seed", o.seed, "base seed of the glues (each pose and level derives its own)")
            ->capture_default_str();
        app.add_option("--relax-steps", o.relax_steps,

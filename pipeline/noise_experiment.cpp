@@ -82,9 +82,8 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
         vertices.push_back(p.a);
         vertices.push_back(p.b);
       }
-      value = json{{"F", faces_to_json(r.mesh.F)},
-                   {"glued", vertices},
-                   {"relax_steps_used", r.relax_steps_used}};
+      value =
+          json{{"F", faces_to_json(r.mesh.F)}, {"glued", vertices}, {"relax_steps_used", r.relax_steps_used}};
     } catch (const Error& e) {
       value = json{{"error", e.what()}};
     }
@@ -107,8 +106,9 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
   glue.chi_after = mesh_info(m).euler_characteristic;
   if (glue.chi_after != glue.chi_expected) {
     glue.ok = false;
-    glue.error = detail::concat("Euler characteristic ", glue.chi_after, " after ", level, " glues, expected ",
-                                glue.chi_expected, " (", glue.chi_before, " − 2·", level, ")");
+    glue.error =
+        detail::concat("Euler characteristic ", glue.chi_after, " after ", level, " glues, expected ",
+                       glue.chi_expected, " (", glue.chi_before, " − 2·", level, ")");
     ++result.chi_mismatches;
     return std::nullopt;
   }
@@ -167,7 +167,9 @@ std::string find_plot_python() {
   return "";
 }
 
-std::string percent(double fraction) { return fmt("%.2f%%", 100 * fraction); }
+std::string percent(double fraction) {
+  return fmt("%.2f%%", 100 * fraction);
+}
 
 void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& r,
                   const std::vector<Pose>& poses, const std::vector<std::string>& skipped,
@@ -191,13 +193,15 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
      << o.relax_steps
      << " relaxations of the gap and ratio where a pose offers too few spots). Seed of pose P at level K: "
         "SHA-256 of (`--seed` "
-     << o.seed << ", P, K), so every pose and level is its own draw (noise.json lists them). Level 0 is the "
-                  "clean pose. Glued meshes: `shapes/*_glueK.off`.\n";
+     << o.seed
+     << ", P, K), so every pose and level is its own draw (noise.json lists them). Level 0 is the "
+        "clean pose. Glued meshes: `shapes/*_glueK.off`.\n";
   md << "- χ check: each glue adds a handle, so χ must drop by 2 per glue. " << r.glues.size()
      << " glued meshes, " << r.chi_mismatches << " with a χ mismatch, " << r.glue_failures
      << " where the pose offered too few admissible spots; those are left out of every measurement";
   if (r.chi_mismatches + r.glue_failures > 0) {
-    md << ":\n\n| pose | glues | χ before | χ after | expected | why left out |\n| --- | --- | --- | --- | --- | "
+    md << ":\n\n| pose | glues | χ before | χ after | expected | why left out |\n| --- | --- | --- | --- | "
+          "--- | "
           "--- |\n";
     for (const NoiseGlue& g : r.glues)
       if (!g.ok)
@@ -216,13 +220,15 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
         "relevant = same class. Distance: ICP alignment of the canonical forms (reflections allowed), then "
         "Hausdorff (the paper's), Chamfer or RMSE between nearest points. mAP and NN over the queries whose "
         "class has another pose. Level 0 is clean leave-one-out retrieval.\n";
-  md << "- Form distance: the glued pose's canonical form against its clean pose's form at the same vertices, "
+  md << "- Form distance: the glued pose's canonical form against its clean pose's form at the same "
+        "vertices, "
         "RMS after the best rigid fit (reflections allowed), in % of the clean form's bbox diagonal.\n";
   for (const std::string& s : skipped) md << "- Skipped: " << s << "\n";
   md << "\n";
 
   md << "## Results\n\n";
-  md << "| method | glues | queries | mAP Hausdorff | mAP Chamfer | mAP RMSE | NN Hausdorff | form RMS median | "
+  md << "| method | glues | queries | mAP Hausdorff | mAP Chamfer | mAP RMSE | NN Hausdorff | form RMS "
+        "median | "
         "form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const std::string& m : o.methods)
     for (int level : o.levels) {
@@ -262,7 +268,8 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
         if (row.method == m && row.level == level && row.distance == "hausdorff") return &row;
       return nullptr;
     };
-    md << "## Change from " << bottom << " to " << top << " glues\n\n| method | mAP (Hausdorff) | form RMS median |\n"
+    md << "## Change from " << bottom << " to " << top
+       << " glues\n\n| method | mAP (Hausdorff) | form RMS median |\n"
        << "| --- | --- | --- |\n";
     for (const std::string& m : o.methods) {
       const NoiseRow* a = find(m, bottom);
@@ -272,19 +279,23 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
          << fmt("%+.3f", b->map - a->map) << ") | " << percent(a->form_rms_median) << " → "
          << percent(b->form_rms_median) << " |\n";
     }
-    md << "\nThe paper's claim predicts a flat Coulomb curve and falling mAP / growing form distance for MDS. "
+    md << "\nThe paper's claim predicts a flat Coulomb curve and falling mAP / growing form distance for "
+          "MDS. "
           "With few queries per level a single retrieval moves mAP by 1/queries: read small differences as "
           "ties.\n\n";
   }
   md << "Data: `noise.csv` (one row per method, level and distance), `noise.json` (also every glued mesh's "
-        "seed and χ, and every query's average precision). Figure: `experiments/plots/noise_figure.py OUT`.\n";
-  write_file_atomically((fs::path(o.out) / "report.md").string(), [&](std::ostream& out) { out << md.str(); });
+        "seed and χ, and every query's average precision). Figure: `experiments/plots/noise_figure.py "
+        "OUT`.\n";
+  write_file_atomically((fs::path(o.out) / "report.md").string(),
+                        [&](std::ostream& out) { out << md.str(); });
 }
 
 }  // namespace
 
 std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level) {
-  const std::string hex = sha256_hex(cache_key({"noise-glue", std::to_string(seed), shape, std::to_string(level)}));
+  const std::string hex =
+      sha256_hex(cache_key({"noise-glue", std::to_string(seed), shape, std::to_string(level)}));
   return std::stoull(hex.substr(0, 16), nullptr, 16);
 }
 
@@ -309,8 +320,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   CSHAPES_REQUIRE(!o.methods.empty(), "experiment noise: no method given");
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment noise: unknown method '",
-                    m, "'; known: coulomb, cmds, smacof");
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
   }
   std::vector<int> levels = o.levels;
   std::sort(levels.begin(), levels.end());
@@ -334,8 +345,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     for (const Pose& p : poses) classes.insert(p.class_name);
     result.classes = static_cast<int>(classes.size());
   }
-  std::vector<Variant> variants;                    // clean poses first (index = pose), then glued versions
-  std::map<std::pair<int, int>, int> variant_of;    // (pose, level) -> index in variants, when usable
+  std::vector<Variant> variants;                  // clean poses first (index = pose), then glued versions
+  std::map<std::pair<int, int>, int> variant_of;  // (pose, level) -> index in variants, when usable
   for (size_t p = 0; p < poses.size(); ++p) {
     variants.push_back({static_cast<int>(p), 0, poses[p].name, poses[p].mesh, {}});
     if (levels.front() == 0) variant_of[{static_cast<int>(p), 0}] = static_cast<int>(p);
@@ -433,8 +444,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
         auto it = variant_of.find({static_cast<int>(p), level});
         if (it == variant_of.end()) continue;
         const Points& clean = forms[m][p];
-        const double value =
-            aligned_rms(forms[m][static_cast<size_t>(it->second)], clean, true) / bbox_diagonal(finite_rows(clean));
+        const double value = aligned_rms(forms[m][static_cast<size_t>(it->second)], clean, true) /
+                             bbox_diagonal(finite_rows(clean));
         rms.push_back(value);
         rms_by_pose[poses[p].name] = value;
       }
@@ -469,7 +480,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
           row.map += ap;
           row.nn += nn;
           ++row.queries;
-          queries.push_back({{"query", variants[static_cast<size_t>(it->second)].name}, {"ap", ap}, {"nn", nn}});
+          queries.push_back(
+              {{"query", variants[static_cast<size_t>(it->second)].name}, {"ap", ap}, {"nn", nn}});
         }
         if (row.queries > 0) {
           row.map /= row.queries;
@@ -547,13 +559,14 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     const std::string python = find_plot_python();
     if (python.empty()) {
       result.figure_note =
-          "no Python with matplotlib found ($CSHAPES_PYTHON, /usr/bin/python3, python3); run `scripts/python.sh "
+          "no Python with matplotlib found ($CSHAPES_PYTHON, /usr/bin/python3, python3); run "
+          "`scripts/python.sh "
           "experiments/plots/noise_figure.py OUT` once it is installed.";
     } else {
       const std::string png = (fs::path(o.out) / "noise.png").string();
       fs::remove(png);
-      const std::string command =
-          shell_quote(python) + " " + shell_quote(o.figure_script) + " " + shell_quote(o.out) + " >/dev/null 2>&1";
+      const std::string command = shell_quote(python) + " " + shell_quote(o.figure_script) + " " +
+                                  shell_quote(o.out) + " >/dev/null 2>&1";
       const int status = std::system(command.c_str());
       result.figure = status == 0 && fs::exists(png);
       if (!result.figure)

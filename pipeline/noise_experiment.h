@@ -17,10 +17,11 @@
 //      (eval/pairwise_distances.h, cached in out/cache/pairs) under each of Hausdorff (the paper's), Chamfer
 //      and RMSE (matching/shape_distance.h). Reported: mAP and the nearest-neighbour rate over queries, with
 //      the average precision of eval/retrieval.h ((1/R) Σ_k k / rank_k, ties by database order). Level 0 is
-//      the clean leave-one-out retrieval. A class with a single usable pose gives no query (nothing relevant).
+//      the clean leave-one-out retrieval. A class with a single usable pose gives no query (nothing
+//      relevant).
 //   b) the noisy form against its own clean pose's form, at the same vertices: aligned_rms (core/
-//      rigid_transform.h: best rigid fit, reflections allowed) over the clean form's bbox diagonal; median and
-//      mean over poses. 0 at level 0 (the same mesh has the same cached form).
+//      rigid_transform.h: best rigid fit, reflections allowed) over the clean form's bbox diagonal; median
+//      and mean over poses. 0 at level 0 (the same mesh has the same cached form).
 //
 // Outputs under options.out: noise.csv (one row per method, level and distance kind), noise.json (the same
 // plus every glued mesh's seed and χ check and every per-query value), shapes/NAME_glueK.off (the glued
@@ -29,8 +30,8 @@
 // resumes and a rerun computes nothing.
 //
 // Cost per method: one canonical form per (pose, level) — P·|levels| — and P·(P−1)/2 + P·(P−1)·(|levels|−1)
-// ICP pairs at most (P clean poses; only pairs within the database are aligned). tosca5k (24 poses, 5 levels):
-// 120 forms and about 2,500 pairs per method.
+// ICP pairs at most (P clean poses; only pairs within the database are aligned). tosca5k (24 poses, 5
+// levels): 120 forms and about 2,500 pairs per method.
 #pragma once
 
 #include <cstdint>
@@ -52,7 +53,8 @@ struct NoiseExperimentOptions {
   // Gluing: where a pose offers fewer admissible spots than K, widen the gap ×1.5 and lower the geodesic
   // ratio ×0.8 up to this many times (TopologicalNoiseOptions::relax_steps; `experiment paper` uses 3).
   int relax_steps = 3;
-  CanonicalFormOptions canon;  // method options (canon.method is set per method; MDS geodesics: canon.geodesics)
+  CanonicalFormOptions
+      canon;  // method options (canon.method is set per method; MDS geodesics: canon.geodesics)
   // noise.png: this matplotlib script (experiments/plots/noise_figure.py) run as `PYTHON SCRIPT OUT`; empty:
   // no figure. The interpreter is $CSHAPES_PYTHON, /usr/bin/python3 or python3, the first that imports
   // matplotlib (the python3 on PATH may lack it).
@@ -67,8 +69,8 @@ struct NoiseGlue {
   int level = 0;
   std::uint64_t seed = 0;
   long chi_before = 0, chi_after = 0, chi_expected = 0;  // Euler characteristics; expected = before − 2·level
-  bool ok = true;       // glued and χ as expected; false: left out of the measurements (see error)
-  std::string error;    // why not ok: the glue failed (too few admissible spots) or χ mismatched
+  bool ok = true;     // glued and χ as expected; false: left out of the measurements (see error)
+  std::string error;  // why not ok: the glue failed (too few admissible spots) or χ mismatched
   int relax_steps_used = 0;
 };
 
@@ -87,14 +89,14 @@ struct NoiseRow {
 };
 
 struct NoiseExperimentResult {
-  std::vector<NoiseRow> rows;   // methods × levels × {hausdorff, chamfer, rmse}, in that order
-  std::vector<NoiseGlue> glues; // every (pose, level > 0), in pose then level order
+  std::vector<NoiseRow> rows;    // methods × levels × {hausdorff, chamfer, rmse}, in that order
+  std::vector<NoiseGlue> glues;  // every (pose, level > 0), in pose then level order
   int poses = 0, classes = 0;
   int chi_mismatches = 0, glue_failures = 0;
   long glued_computed = 0, glued_cached = 0;
   long canonical_forms_computed = 0, canonical_forms_cached = 0;
   long pairs_computed = 0, pairs_cached = 0;
-  bool figure = false;  // noise.png was drawn
+  bool figure = false;      // noise.png was drawn
   std::string figure_note;  // why not, when not
   double seconds = 0;
 };

@@ -88,7 +88,7 @@ def main():
         ax.set_xlabel("glues per shape")
         ax.set_xticks(levels)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, handlelength=3.5)
     n_poses = len(data.get("poses", []))
     q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
     fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, "
