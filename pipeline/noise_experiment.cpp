@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -32,7 +33,9 @@ namespace {
 
 const char* const kDistanceKinds[] = {"hausdorff", "chamfer", "rmse"};
 
+// value by format, or "—" when it is NaN (nothing measured).
 std::string fmt(const char* format, double value) {
+  if (std::isnan(value)) return "—";
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, value);
   return buffer;
@@ -227,9 +230,9 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
   md << "\n";
 
   md << "## Results\n\n";
-  md << "| method | glues | queries | mAP Hausdorff | mAP Chamfer | mAP RMSE | NN Hausdorff | form RMS "
-        "median | "
-        "form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  md << "| method | glues | poses | queries | mAP Hausdorff | mAP Chamfer | mAP RMSE | NN Hausdorff | form "
+        "RMS "
+        "median | form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const std::string& m : o.methods)
     for (int level : o.levels) {
       std::map<std::string, const NoiseRow*> by;
@@ -237,12 +240,18 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
         if (row.method == m && row.level == level) by[row.distance] = &row;
       if (!by.count("hausdorff")) continue;
       const NoiseRow& h = *by.at("hausdorff");
-      md << "| " << method_title(m) << " | " << level << " | " << h.queries << " | " << fmt("%.3f", h.map)
-         << " | " << fmt("%.3f", by.at("chamfer")->map) << " | " << fmt("%.3f", by.at("rmse")->map) << " | "
-         << fmt("%.3f", h.nn) << " | " << percent(h.form_rms_median) << " | " << percent(h.form_rms_mean)
-         << " |\n";
+      md << "| " << method_title(m) << " | " << level << " | " << h.form_poses << " | " << h.queries << " | "
+         << fmt("%.3f", h.map) << " | " << fmt("%.3f", by.at("chamfer")->map) << " | "
+         << fmt("%.3f", by.at("rmse")->map) << " | " << fmt("%.3f", h.nn) << " | "
+         << percent(h.form_rms_median) << " | " << percent(h.form_rms_mean) << " |\n";
     }
-  md << "\nFor scale, the median ICP RMSE between the canonical forms of two clean poses of one class: ";
+  md << "\n`poses`: the poses measured at that level (glued as often, χ as expected); `queries`: those whose "
+        "class has another pose in the database.";
+  if (r.glue_failures + r.chi_mismatches > 0)
+    md << " **Not every pose could be glued at every level** (table above): a level with fewer poses is "
+          "measured on those poses only, a smaller and different set, so compare its numbers with the other "
+          "levels with care.";
+  md << "\n\nFor scale, the median ICP RMSE between the canonical forms of two clean poses of one class: ";
   {
     bool first = true;
     for (const std::string& m : o.methods)
@@ -452,7 +461,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
       form_rms_json[m][std::to_string(level)] = rms_by_pose;
       double rms_mean = 0;
       for (double x : rms) rms_mean += x;
-      rms_mean = rms.empty() ? 0 : rms_mean / static_cast<double>(rms.size());
+      rms_mean =
+          rms.empty() ? std::numeric_limits<double>::quiet_NaN() : rms_mean / static_cast<double>(rms.size());
       // a) retrieval of each query among the clean poses but its own.
       for (const char* kind : kDistanceKinds) {
         const Eigen::MatrixXd& M = *matrices.at(kind);
@@ -460,7 +470,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
         row.method = m;
         row.level = level;
         row.distance = kind;
-        row.form_rms_median = rms.empty() ? 0 : median(rms);
+        row.form_rms_median = rms.empty() ? std::numeric_limits<double>::quiet_NaN() : median(rms);
         row.form_rms_mean = rms_mean;
         row.form_poses = static_cast<int>(rms.size());
         json queries = json::array();
@@ -486,6 +496,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
         if (row.queries > 0) {
           row.map /= row.queries;
           row.nn /= row.queries;
+        } else {  // no pose could be glued this often (or no class has two poses): nothing measured
+          row.map = row.nn = std::numeric_limits<double>::quiet_NaN();
         }
         per_query[m][std::to_string(level)][kind] = queries;
         result.rows.push_back(row);

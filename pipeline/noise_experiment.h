@@ -80,10 +80,10 @@ struct NoiseRow {
   int level = 0;
   std::string distance;  // hausdorff | chamfer | rmse
   int queries = 0;       // noisy queries with at least one relevant shape in the database
-  double map = 0;        // mean average precision over those queries
+  double map = 0;        // mean average precision over those queries (NaN when there is none)
   double nn = 0;         // fraction whose nearest database shape has their class
   // Noisy-vs-clean canonical forms (the same for every distance kind): aligned_rms / clean form's bbox
-  // diagonal, over the glued poses of this level.
+  // diagonal, over the glued poses of this level (form_poses; NaN when none could be glued this often).
   double form_rms_median = 0, form_rms_mean = 0;
   int form_poses = 0;
 };

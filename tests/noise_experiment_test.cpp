@@ -141,7 +141,7 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
     EXPECT_EQ(j["queries"]["coulomb"]["1"][kind].size(), 6u);
   const std::string report = read_file(out + "/report.md");
   EXPECT_NE(report.find("χ"), std::string::npos);
-  EXPECT_NE(report.find("| Coulomb | 2 | 6 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| Coulomb | 2 | 6 | 6 |"), std::string::npos) << report;
   if (first["figure"].get<bool>())
     EXPECT_TRUE(fs::exists(out + "/noise.png"));
   else
@@ -157,6 +157,33 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
   EXPECT_EQ(again["pairs_computed"], 0);
   EXPECT_EQ(again["pairs_cached"], first["pairs_computed"]);
   EXPECT_EQ(read_file(out + "/noise.csv"), csv);
+}
+
+TEST(NoiseExperimentCli, ALevelNoPoseOffersIsReportedNotInvented) {
+  // 60 glues on 400-vertex shapes: no pose offers that many admissible spots.
+  const std::string dir = small_dataset("noise-too-many");
+  const std::string out = dir + "/out";
+  const nlohmann::json j = run_json("-q experiment noise --data '" + dir + "/data' --out '" + out +
+                                    "' --methods coulomb --levels 0,60 --relax-steps 0");
+  EXPECT_EQ(j["glue_failures"], 6);
+  EXPECT_EQ(j["canonical_forms_computed"], 6);  // the clean poses only
+  const auto rows = read_csv_rows(out + "/noise.csv");
+  ASSERT_EQ(rows.size(), 7u);
+  for (size_t k = 1; k < rows.size(); ++k) {
+    if (rows[k][1] != "60") continue;
+    EXPECT_EQ(rows[k][3], "0");  // no query
+    EXPECT_EQ(rows[k][4], "nan");
+    EXPECT_EQ(rows[k][8], "0");  // no pose measured
+  }
+  const nlohmann::json noise = nlohmann::json::parse(read_file(out + "/noise.json"));
+  for (const auto& g : noise["glues"]) {
+    EXPECT_FALSE(g["ok"].get<bool>());
+    EXPECT_NE(g["error"].get<std::string>().find("glue failed"), std::string::npos) << g.dump();
+  }
+  const std::string report = read_file(out + "/report.md");
+  EXPECT_NE(report.find("Not every pose could be glued"), std::string::npos) << report;
+  EXPECT_NE(report.find("| Coulomb | 60 | 0 | 0 | — |"), std::string::npos) << report;
+  if (j["figure"].get<bool>()) EXPECT_TRUE(fs::exists(out + "/noise.png"));
 }
 
 TEST(NoiseExperimentCli, RefusesBadLevels) {

@@ -6,7 +6,8 @@
 Three panels against the number of glues per shape: mAP of noisy queries among clean shapes under the
 paper's Hausdorff distance; the same under Chamfer (dashed) and RMSE (dotted); and the median (solid) and mean
 (dashed) RMS distance between each glued pose's canonical form and its clean pose's form (% of the bbox
-diagonal). One colour and marker per method, the methods drawn side by side around each level. The paper's claim predicts flat Coulomb curves and falling mAP /
+diagonal). One colour and marker per method, the methods drawn side by side around each level; the levels
+are equally spaced, and a level that not every pose could reach says how many it has. The paper's claim predicts flat Coulomb curves and falling mAP /
 growing distance for MDS.
 """
 import argparse
@@ -36,8 +37,10 @@ def save(fig, out, name, pdf):
 
 
 def series(rows, method, distance, key):
-    sel = sorted((r for r in rows if r["method"] == method and r["distance"] == distance),
-                 key=lambda r: r["level"])
+    """Levels and values of one curve; levels where nothing was measured (null: no pose glued that often)
+    are left out."""
+    sel = sorted((r for r in rows if r["method"] == method and r["distance"] == distance
+                  and r.get(key) is not None), key=lambda r: r["level"])
     return [r["level"] for r in sel], [r[key] for r in sel], [r["queries"] for r in sel]
 
 
@@ -54,15 +57,16 @@ def main():
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
     ax_h, ax_other, ax_form = axes
-    # Methods side by side around each level (equal values would hide each other's curves).
-    spacing = min((b - a for a, b in zip(levels, levels[1:])), default=1)
+    # The levels equally spaced (0, 1, 2, 4, 8 read as steps), the methods side by side around each one (equal
+    # values would hide each other's curves).
+    position = {L: i for i, L in enumerate(levels)}
     for k, m in enumerate(methods):
         label, color = METHOD_STYLE.get(m, (m, None))
         marker = METHOD_MARKER.get(m, "o")
-        shift = (k - (len(methods) - 1) / 2) * 0.06 * spacing
+        shift = (k - (len(methods) - 1) / 2) * 0.06
 
         def xs(x):
-            return [v + shift for v in x]
+            return [position[v] + shift for v in x]
 
         x, y, q = series(rows, m, "hausdorff", "map")
         ax_h.plot(xs(x), y, "-", marker=marker, color=color, label=label)
@@ -75,7 +79,7 @@ def main():
         ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color, label=f"{label}, median")
         ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1,
                      label=f"{label}, mean")
-    queries = sorted({r["queries"] for r in rows})
+    queries = sorted({r["queries"] for r in rows if r["queries"] > 0}) or [0]
     for ax in (ax_h, ax_other):
         ax.set_ylim(0, 1.02)
         ax.set_ylabel("mAP (noisy queries among clean shapes)")
@@ -84,12 +88,19 @@ def main():
     ax_form.set_title("glued vs clean canonical form (median, mean)")
     ax_form.set_ylabel("RMS after rigid fit, % of bbox diagonal")
     ax_form.set_ylim(bottom=0)
+    # Under each level: how many poses could be glued that often (a level with fewer is another set).
+    measured = {r["level"]: r["form_poses"] for r in rows if r["method"] == methods[0]
+                and r["distance"] == "hausdorff"}
+    n_poses = len(data.get("poses", []))
+    labels = [f"{L}" if measured.get(L, 0) == n_poses else f"{L}\n({measured.get(L, 0)}/{n_poses} poses)"
+              for L in levels]
     for ax in axes:
         ax.set_xlabel("glues per shape")
-        ax.set_xticks(levels)
+        ax.set_xticks(range(len(levels)))
+        ax.set_xlim(-0.4, len(levels) - 0.6)
+        ax.set_xticklabels(labels, fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, handlelength=3.5)
-    n_poses = len(data.get("poses", []))
     q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
     fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, "
                  f"seed {data.get('seed')}")
