@@ -36,6 +36,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,9 @@ struct NoiseRow {
   // diagonal, over the glued poses of this level (form_poses; NaN when none could be glued this often).
   double form_rms_median = 0, form_rms_mean = 0;
   int form_poses = 0;
+  // The mAP of the same queries' clean poses (level 0, this distance): the baseline of exactly the poses
+  // this level measures, which is fewer than all when some poses offer too few spots. NaN without level 0.
+  double map_clean_same_poses = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct NoiseExperimentResult {

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -96,11 +97,13 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
   const auto rows = read_csv_rows(out + "/noise.csv");
   ASSERT_EQ(rows.size(), 28u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"method", "level", "distance", "queries", "map", "nn",
-                                               "form_rms_median", "form_rms_mean", "form_poses"}));
+                                               "form_rms_median", "form_rms_mean", "form_poses",
+                                               "map_clean_same_poses"}));
   std::set<std::string> seen;
+  std::map<std::string, double> clean_map;
   for (size_t k = 1; k < rows.size(); ++k) {
     const auto& r = rows[k];
-    ASSERT_EQ(r.size(), 9u);
+    ASSERT_EQ(r.size(), 10u);
     seen.insert(r[0] + "/" + r[1] + "/" + r[2]);
     EXPECT_EQ(r[3], "6");  // every pose is a query with two relevant poses
     const double map = std::stod(r[4]), nn = std::stod(r[5]);
@@ -111,7 +114,10 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
     EXPECT_GE(map, (1.0 / 4 + 2.0 / 5) / 2 - 1e-12);  // two relevant of five, at worst ranked 4th and 5th
     const double median = std::stod(r[6]), mean = std::stod(r[7]);
     EXPECT_EQ(r[8], "6");
+    // Every pose is measured at every level here, so the clean baseline is level 0's mAP.
+    clean_map[r[0] + "/" + r[1] + "/" + r[2]] = std::stod(r[9]);
     if (r[1] == "0") {
+      EXPECT_EQ(r[9], r[4]);
       EXPECT_LT(median, 1e-9) << "level 0 is the clean form itself";
       EXPECT_LT(mean, 1e-9);
     } else {
@@ -120,6 +126,10 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
     }
   }
   EXPECT_EQ(seen.size(), 27u);
+  for (const auto& [key, value] : clean_map) {
+    const std::string level0 = key.substr(0, key.find('/')) + "/0" + key.substr(key.rfind('/'));
+    EXPECT_NEAR(value, clean_map.at(level0), 1e-12) << key;
+  }
 
   // noise.json: χ before and after every glue, as the noise module promises (χ − 2 per glue).
   const nlohmann::json j = nlohmann::json::parse(read_file(out + "/noise.json"));
