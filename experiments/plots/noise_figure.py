@@ -7,7 +7,8 @@ Three panels against the number of glues per shape: mAP of noisy queries among c
 paper's Hausdorff distance; the same under Chamfer (dashed) and RMSE (dotted); and the median (solid) and mean
 (dashed) RMS distance between each glued pose's canonical form and its clean pose's form (% of the bbox
 diagonal). One colour and marker per method, the methods drawn side by side around each level; the levels
-are equally spaced, and a level that not every pose could reach says how many it has. The paper's claim predicts flat Coulomb curves and falling mAP /
+are equally spaced, and a level that not every pose could reach says how many it has; one that fewer than
+half of the poses reached is drawn as lone hollow markers. The paper's claim predicts flat Coulomb curves and falling mAP /
 growing distance for MDS.
 """
 import argparse
@@ -36,12 +37,16 @@ def save(fig, out, name, pdf):
     print(f"wrote {name}.png", file=sys.stderr)
 
 
-def series(rows, method, distance, key):
+def series(rows, method, distance, key, few=False):
     """Levels and values of one curve; levels where nothing was measured (null: no pose glued that often)
-    are left out."""
+    are left out. The curve holds the levels that at least half of the poses reached (FEW_POSES); few=True
+    gives the others, drawn as lone hollow markers (a level of one or two poses shows no trend)."""
     sel = sorted((r for r in rows if r["method"] == method and r["distance"] == distance
-                  and r.get(key) is not None), key=lambda r: r["level"])
+                  and r.get(key) is not None and FEW_POSES(r) == few), key=lambda r: r["level"])
     return [r["level"] for r in sel], [r[key] for r in sel], [r["queries"] for r in sel]
+
+
+FEW_POSES = None  # set in main: row -> True when fewer than half of the poses were measured at its level
 
 
 def main():
@@ -54,6 +59,9 @@ def main():
     rows = data["rows"]
     levels = data["levels"]
     methods = data["methods"]
+    n_poses = len(data.get("poses", []))
+    global FEW_POSES
+    FEW_POSES = lambda r: 2 * r["form_poses"] < n_poses  # noqa: E731
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
     ax_h, ax_other, ax_form = axes
@@ -79,6 +87,14 @@ def main():
         ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color, label=f"{label}, median")
         ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1,
                      label=f"{label}, mean")
+        # Levels fewer than half of the poses reached: lone hollow markers, not joined to the curves.
+        x, y, _ = series(rows, m, "hausdorff", "map", few=True)
+        ax_h.plot(xs(x), y, ls="none", marker=marker, mfc="none", color=color)
+        for d in ("chamfer", "rmse"):
+            x, y, _ = series(rows, m, d, "map", few=True)
+            ax_other.plot(xs(x), y, ls="none", marker=marker, ms=4, mfc="none", color=color)
+        x, med, _ = series(rows, m, "hausdorff", "form_rms_median", few=True)
+        ax_form.plot(xs(x), [100 * v for v in med], ls="none", marker=marker, mfc="none", color=color)
     queries = sorted({r["queries"] for r in rows if r["queries"] > 0}) or [0]
     for ax in (ax_h, ax_other):
         ax.set_ylim(0, 1.02)
@@ -91,7 +107,6 @@ def main():
     # Under each level: how many poses could be glued that often (a level with fewer is another set).
     measured = {r["level"]: r["form_poses"] for r in rows if r["method"] == methods[0]
                 and r["distance"] == "hausdorff"}
-    n_poses = len(data.get("poses", []))
     labels = [f"{L}" if measured.get(L, 0) == n_poses else f"{L}\n({measured.get(L, 0)}/{n_poses} poses)"
               for L in levels]
     for ax in axes:
@@ -102,8 +117,9 @@ def main():
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, handlelength=3.5)
     q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
-    fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, "
-                 f"seed {data.get('seed')}")
+    few = any(FEW_POSES(r) and r["form_poses"] > 0 for r in rows)
+    fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, seed {data.get('seed')}"
+                 + ("; hollow markers: levels fewer than half of the poses reached" if few else ""))
     fig.tight_layout()
     save(fig, args.out, "noise", args.pdf)
 
