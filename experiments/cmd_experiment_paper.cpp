@@ -16,6 +16,7 @@ struct PaperArgs {
   PaperExperimentOptions options;
   std::string methods = "coulomb,cmds,smacof";
   std::string poses = "4";
+  std::string noisy = "1";
   bool no_table1 = false, no_figures = false, json = false;
 } args;
 
@@ -35,6 +36,18 @@ int run() {
       usage_fail("--poses-per-class: expected a number or 'all', got '", args.poses, "'");
     }
     if (o.poses_per_class < 1) usage_fail("--poses-per-class must be at least 1 (or 'all')");
+  }
+  if (args.noisy == "all") {
+    o.noisy_per_class = PaperExperimentOptions::kNoisyEveryPose;
+  } else {
+    size_t used = 0;
+    try {
+      o.noisy_per_class = std::stoi(args.noisy, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != args.noisy.size() || o.noisy_per_class < 0 || o.noisy_per_class > 1000)
+      usage_fail("--noisy-per-class: expected a number from 0 to 1000 or 'all', got '", args.noisy, "'");
   }
   if (o.figure_vertices != 0 && o.figure_vertices < 4)
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
@@ -86,10 +99,11 @@ const bool registered = register_command(
            ->capture_default_str();
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
            ->capture_default_str();
-       app.add_option("--noisy-per-class", o.noisy_per_class,
-                      "topologically noisy shapes per class (the data's, else glued here from another pose)")
-           ->capture_default_str()
-           ->check(integer_in(0, 1000));
+       app.add_option(
+              "--noisy-per-class", args.noisy,
+              "topologically noisy shapes per class (the data's, else glued here from another pose), or "
+              "'all': the data's and a glued version of every clean pose of the class")
+           ->capture_default_str();
        app.add_option("--glue", o.glue, "glues per noisy shape made here")
            ->capture_default_str()
            ->check(integer_in(1, 1000));

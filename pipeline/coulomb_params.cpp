@@ -63,25 +63,25 @@ const std::vector<CoulombParamsConfig>& coulomb_params_configs() {
          o.step_factor = 0.3;
          o.projection.steps = 30;
        }},
-      {"gradient=mean,0.1",
+      {"gradient=mean@0.1",
        [](CoulombCanonOptions& o) {
          o.step_rule = CoulombStepRule::MeanEdge;
          o.step_gradient = StepGradient::Mean;
          o.step_factor = 0.1;
        }},
-      {"gradient=mean,0.15",
+      {"gradient=mean@0.15",
        [](CoulombCanonOptions& o) {
          o.step_rule = CoulombStepRule::MeanEdge;
          o.step_gradient = StepGradient::Mean;
          o.step_factor = 0.15;
        }},
-      {"gradient=mean,0.2",
+      {"gradient=mean@0.2",
        [](CoulombCanonOptions& o) {
          o.step_rule = CoulombStepRule::MeanEdge;
          o.step_gradient = StepGradient::Mean;
          o.step_factor = 0.2;
        }},
-      {"step=max-edge,gradient=max",
+      {"step=max-edge@gradient=max",
        [](CoulombCanonOptions& o) {
          o.step_rule = CoulombStepRule::MaxEdge;
          o.step_gradient = StepGradient::Max;

@@ -31,9 +31,14 @@ struct PaperExperimentOptions {
   std::string out;   // output folder
   std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
   int poses_per_class = 4;  // clean poses per class in the retrieval set (the paper's 4); ≤ 0: all
-  int noisy_per_class = 1;  // topologically noisy shapes per class (the paper's 1)
-  int glue = 2;             // glues per noisy shape made here
-  std::uint64_t seed = 1;   // noise placement
+  // Topologically noisy shapes per class (the paper's 1): the data's noisy shapes first, then shapes glued
+  // here from the poses not in the retrieval set, then from the retrieval poses. kNoisyEveryPose: every noisy
+  // shape of the data and a glued version of every clean pose of the class (retrieval poses and spare ones
+  // alike), each a query of its own.
+  int noisy_per_class = 1;
+  static constexpr int kNoisyEveryPose = -1;
+  int glue = 2;            // glues per noisy shape made here
+  std::uint64_t seed = 1;  // noise placement
   // Meshes are repaired per method (pipeline/canonical_forms.h), the largest component kept by default;
   // canon.strict refuses a mesh that needs repair. Kept for old scripts: has no effect.
   bool largest_component = false;

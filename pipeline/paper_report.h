@@ -32,7 +32,10 @@ struct PaperReport {
     double map = 0, nn = 0, ft = 0, st = 0, e = 0, dcg = 0;
     double noisy_query_nn = -1;  // nearest-neighbour rate of the noisy queries alone (−1: none)
   };
-  std::map<std::string, Retrieval> retrieval;
+  std::map<std::string, Retrieval> retrieval;  // per method, under the paper's (Hausdorff) distance
+  // Per method, then per distance kind between canonical forms after ICP (hausdorff, chamfer, rmse:
+  // matching/shape_distance.h): a conclusion that depends on the choice of distance shows here.
+  std::map<std::string, std::map<std::string, Retrieval>> retrieval_by_distance;
   struct MethodCost {
     std::vector<double> precompute, solve;
     std::vector<int> iterations;

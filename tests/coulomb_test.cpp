@@ -42,6 +42,7 @@ CoulombCanonOptions roll_options(CoulombScheme scheme) {
   // k = 10 with the mean-edge step: the paper's max-edge rule stretches the roll's sheet by 16% along the roll
   // (mean violation 9%), which is its fixed point, not an unrolling failure (measured; see README).
   o.step_rule = CoulombStepRule::MeanEdge;
+  o.step_gradient = StepGradient::Max;
   o.projection.steps = 10;
   o.tear_fraction = 0;
   o.max_iterations = 4000;
@@ -380,6 +381,43 @@ TEST(CoulombCanon, RejectsBadInput) {
   EXPECT_THROW(coulomb_canonical_form(bad, mesh_edges(m.F), o), Error);
   o.step_factor = -1;
   EXPECT_THROW(coulomb_canonical_form(m.V, mesh_edges(m.F), o), Error);
+}
+
+}  // namespace
+}  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// One plain Coulomb step without projection: with the mean-gradient rule every vertex moves c·‖∇_i E‖ and
+// c = factor · L / mean_i ‖∇_i E‖, so the mean displacement is exactly factor · L; with the max rule the
+// largest displacement is.
+TEST(CoulombCanon, StepGradientRuleSetsTheMeanOrTheLargestMove) {
+  const Mesh m = torus(24, 10, 2.0, 0.5);
+  const Edges E = mesh_edges(m.F);
+  const Eigen::VectorXd rest = edge_lengths(m.V, E);
+  CoulombCanonOptions o;
+  o.scheme = CoulombScheme::Paper;
+  o.projection.steps = 0;
+  o.max_iterations = 1;
+  o.tear_fraction = 0;
+  o.remove_rigid_motion = false;
+  o.step_factor = 0.1;
+  o.energy.summation = CoulombOptions::Summation::Direct;
+  for (StepGradient g : {StepGradient::Mean, StepGradient::Max}) {
+    o.step_gradient = g;
+    for (CoulombStepRule rule : {CoulombStepRule::MeanEdge, CoulombStepRule::MaxEdge}) {
+      o.step_rule = rule;
+      const CoulombCanonResult r = coulomb_canonical_form(m.V, E, o);
+      const Eigen::VectorXd move = (r.X - m.V).rowwise().norm();
+      const double L = rule == CoulombStepRule::MeanEdge ? rest.mean() : rest.maxCoeff();
+      const double measured = g == StepGradient::Mean ? move.mean() : move.maxCoeff();
+      EXPECT_NEAR(measured, 0.1 * L, 1e-9 * L) << to_string(g) << " " << to_string(rule);
+      if (g == StepGradient::Mean) EXPECT_GT(move.maxCoeff(), move.mean());
+    }
+  }
+  EXPECT_EQ(parse_step_gradient("mean"), StepGradient::Mean);
+  EXPECT_THROW(parse_step_gradient("median"), Error);
 }
 
 }  // namespace

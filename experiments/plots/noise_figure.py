@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Draw noise.png of `cshapes experiment noise` from the noise.json it wrote into OUT.
+
+  scripts/python.sh experiments/plots/noise_figure.py OUT [--pdf]
+
+Three panels against the number of glues per shape: mAP of noisy queries among clean shapes under the
+paper's Hausdorff distance; the same under Chamfer (dashed) and RMSE (dotted); and the median (solid) and mean
+(dashed) RMS distance between each glued pose's canonical form and its clean pose's form (% of the bbox
+diagonal). One colour and marker per method, the methods drawn side by side around each level; the levels
+are equally spaced, and a level that not every pose could reach says how many it has; one that fewer than
+half of the poses reached is drawn as lone hollow markers. The paper's claim predicts flat Coulomb curves and falling mAP /
+growing distance for MDS.
+"""
+import argparse
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
+                "smacof": ("SMACOF MDS", "tab:green")}
+METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^"}
+DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
+
+
+def save(fig, out, name, pdf):
+    for ext in ["png"] + (["pdf"] if pdf else []):
+        path = os.path.join(out, f"{name}.{ext}")
+        tmp = path + ".tmp." + ext
+        fig.savefig(tmp, dpi=150, bbox_inches="tight")
+        os.replace(tmp, path)
+    plt.close(fig)
+    print(f"wrote {name}.png", file=sys.stderr)
+
+
+def series(rows, method, distance, key, few=False):
+    """Levels and values of one curve; levels where nothing was measured (null: no pose glued that often)
+    are left out. The curve holds the levels that at least half of the poses reached (FEW_POSES); few=True
+    gives the others, drawn as lone hollow markers (a level of one or two poses shows no trend)."""
+    sel = sorted((r for r in rows if r["method"] == method and r["distance"] == distance
+                  and r.get(key) is not None and FEW_POSES(r) == few), key=lambda r: r["level"])
+    return [r["level"] for r in sel], [r[key] for r in sel], [r["queries"] for r in sel]
+
+
+FEW_POSES = None  # set in main: row -> True when fewer than half of the poses were measured at its level
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out")
+    p.add_argument("--pdf", action="store_true")
+    args = p.parse_args()
+    with open(os.path.join(args.out, "noise.json")) as f:
+        data = json.load(f)
+    rows = data["rows"]
+    levels = data["levels"]
+    methods = data["methods"]
+    n_poses = len(data.get("poses", []))
+    global FEW_POSES
+    FEW_POSES = lambda r: 2 * r["form_poses"] < n_poses  # noqa: E731
+
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    ax_h, ax_other, ax_form = axes
+    # The levels equally spaced (0, 1, 2, 4, 8 read as steps), the methods side by side around each one (equal
+    # values would hide each other's curves).
+    position = {L: i for i, L in enumerate(levels)}
+    for k, m in enumerate(methods):
+        label, color = METHOD_STYLE.get(m, (m, None))
+        marker = METHOD_MARKER.get(m, "o")
+        shift = (k - (len(methods) - 1) / 2) * 0.06
+
+        def xs(x):
+            return [position[v] + shift for v in x]
+
+        x, y, q = series(rows, m, "hausdorff", "map")
+        ax_h.plot(xs(x), y, "-", marker=marker, color=color, label=label)
+        for d in ("chamfer", "rmse"):
+            x, y, _ = series(rows, m, d, "map")
+            ax_other.plot(xs(x), y, DISTANCE_STYLE[d][1], marker=marker, ms=4, color=color,
+                          label=f"{label}, {DISTANCE_STYLE[d][0]}")
+        x, med, _ = series(rows, m, "hausdorff", "form_rms_median")
+        _, mean, _ = series(rows, m, "hausdorff", "form_rms_mean")
+        ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color, label=f"{label}, median")
+        ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1,
+                     label=f"{label}, mean")
+        # Levels fewer than half of the poses reached: lone hollow markers, not joined to the curves.
+        x, y, _ = series(rows, m, "hausdorff", "map", few=True)
+        ax_h.plot(xs(x), y, ls="none", marker=marker, mfc="none", color=color)
+        for d in ("chamfer", "rmse"):
+            x, y, _ = series(rows, m, d, "map", few=True)
+            ax_other.plot(xs(x), y, ls="none", marker=marker, ms=4, mfc="none", color=color)
+        x, med, _ = series(rows, m, "hausdorff", "form_rms_median", few=True)
+        ax_form.plot(xs(x), [100 * v for v in med], ls="none", marker=marker, mfc="none", color=color)
+    queries = sorted({r["queries"] for r in rows if r["queries"] > 0}) or [0]
+    for ax in (ax_h, ax_other):
+        ax.set_ylim(0, 1.02)
+        ax.set_ylabel("mAP (noisy queries among clean shapes)")
+    ax_h.set_title("retrieval, Hausdorff distance (the paper's)")
+    ax_other.set_title("retrieval, Chamfer (dashed) and RMSE (dotted)")
+    ax_form.set_title("glued vs clean canonical form (median, mean)")
+    ax_form.set_ylabel("RMS after rigid fit, % of bbox diagonal")
+    ax_form.set_ylim(bottom=0)
+    # Under each level: how many poses could be glued that often (a level with fewer is another set).
+    measured = {r["level"]: r["form_poses"] for r in rows if r["method"] == methods[0]
+                and r["distance"] == "hausdorff"}
+    labels = [f"{L}" if measured.get(L, 0) == n_poses else f"{L}\n({measured.get(L, 0)}/{n_poses} poses)"
+              for L in levels]
+    for ax in axes:
+        ax.set_xlabel("glues per shape")
+        ax.set_xticks(range(len(levels)))
+        ax.set_xlim(-0.4, len(levels) - 0.6)
+        ax.set_xticklabels(labels, fontsize=8)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, handlelength=3.5)
+    q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
+    few = any(FEW_POSES(r) and r["form_poses"] > 0 for r in rows)
+    fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, seed {data.get('seed')}"
+                 + ("; hollow markers: levels fewer than half of the poses reached" if few else ""))
+    fig.tight_layout()
+    save(fig, args.out, "noise", args.pdf)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,259 @@
+// `cshapes experiment noise` (pipeline/noise_experiment.h) on a small generated dataset: the outputs'
+// structure, χ recorded and checked for every glued mesh, level 0 equal to the clean forms (form distance 0),
+// mAP in [0, 1], and a rerun that computes nothing. Also the known answers of average_precision and
+// glue_seed, and `experiment paper --noisy-per-class all` with its retrieval under Hausdorff, Chamfer and
+// RMSE.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "eval/distance_csv.h"
+#include "pipeline/noise_experiment.h"
+#include "test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+// 2 classes × 3 clean poses of 400 vertices (no noisy shapes): a few seconds per run.
+std::string small_dataset(const std::string& tag) {
+  const std::string dir = test::scratch_dir(tag);
+  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+                                    "/data' --classes 2 --poses 3 --noisy 0 --vertices 400");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return dir;
+}
+
+nlohmann::json run_json(const std::string& arguments) {
+  test::CliResult r = test::run_cli(arguments + " --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out.empty() ? "{}" : r.out);
+}
+
+std::vector<std::vector<std::string>> read_csv_rows(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(NoiseExperiment, AveragePrecisionKnownAnswers) {
+  // Ranked: index 1 (irrelevant), 2 (relevant, rank 2), 0 (relevant, rank 3): AP = (1/2 + 2/3) / 2.
+  bool nn = true;
+  EXPECT_NEAR(average_precision({3, 1, 2}, {1, 0, 1}, &nn), (0.5 + 2.0 / 3) / 2, 1e-15);
+  EXPECT_FALSE(nn);
+  EXPECT_DOUBLE_EQ(average_precision({1, 2, 3}, {1, 1, 0}, &nn), 1.0);
+  EXPECT_TRUE(nn);
+  // Ties go to the smaller index (eval/retrieval.h): the irrelevant index 0 comes first.
+  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {0, 1}, &nn), 0.5);
+  EXPECT_FALSE(nn);
+  EXPECT_EQ(average_precision({1, 2}, {0, 0}), -1.0);  // nothing relevant
+  EXPECT_THROW(average_precision({1, 2}, {0}), Error);
+}
+
+TEST(NoiseExperiment, GlueSeedsAreDeterministicAndDistinct) {
+  EXPECT_EQ(glue_seed(1, "cat0", 2), glue_seed(1, "cat0", 2));
+  std::set<std::uint64_t> seeds;
+  for (std::uint64_t base : {1, 2})
+    for (const char* shape : {"cat0", "cat1", "dog0"})
+      for (int level : {1, 2, 4, 8}) seeds.insert(glue_seed(base, shape, level));
+  EXPECT_EQ(seeds.size(), 24u);
+}
+
+TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
+  const std::string dir = small_dataset("noise-experiment");
+  const std::string out = dir + "/out";
+  const std::string command =
+      "-q experiment noise --data '" + dir + "/data' --out '" + out + "' --levels 0,1,2 --geodesics graph";
+  const nlohmann::json first = run_json(command);
+  EXPECT_EQ(first["poses"], 6);
+  EXPECT_EQ(first["classes"], 2);
+  EXPECT_EQ(first["glued"], 12);  // 6 poses × levels 1, 2
+  EXPECT_EQ(first["chi_mismatches"], 0);
+  EXPECT_EQ(first["glue_failures"], 0);
+  EXPECT_EQ(first["glued_computed"], 12);
+  EXPECT_EQ(first["canonical_forms_computed"], 54);  // 18 shapes × 3 methods
+  EXPECT_EQ(first["canonical_forms_cached"], 0);
+  // Per method: level 0 the 15 clean pairs, levels 1 and 2 each 6 queries × 5 clean poses.
+  EXPECT_EQ(first["pairs_computed"], 3 * (15 + 2 * 30));
+
+  // noise.csv: 3 methods × 3 levels × 3 distances.
+  const auto rows = read_csv_rows(out + "/noise.csv");
+  ASSERT_EQ(rows.size(), 28u);
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"method", "level", "distance", "queries", "map", "nn",
+                                               "form_rms_median", "form_rms_mean", "form_poses",
+                                               "map_clean_same_poses"}));
+  std::set<std::string> seen;
+  std::map<std::string, double> clean_map;
+  for (size_t k = 1; k < rows.size(); ++k) {
+    const auto& r = rows[k];
+    ASSERT_EQ(r.size(), 10u);
+    seen.insert(r[0] + "/" + r[1] + "/" + r[2]);
+    EXPECT_EQ(r[3], "6");  // every pose is a query with two relevant poses
+    const double map = std::stod(r[4]), nn = std::stod(r[5]);
+    EXPECT_GE(map, 0.0);
+    EXPECT_LE(map, 1.0);
+    EXPECT_GE(nn, 0.0);
+    EXPECT_LE(nn, 1.0);
+    EXPECT_GE(map, (1.0 / 4 + 2.0 / 5) / 2 - 1e-12);  // two relevant of five, at worst ranked 4th and 5th
+    const double median = std::stod(r[6]), mean = std::stod(r[7]);
+    EXPECT_EQ(r[8], "6");
+    // Every pose is measured at every level here, so the clean baseline is level 0's mAP.
+    clean_map[r[0] + "/" + r[1] + "/" + r[2]] = std::stod(r[9]);
+    if (r[1] == "0") {
+      EXPECT_EQ(r[9], r[4]);
+      EXPECT_LT(median, 1e-9) << "level 0 is the clean form itself";
+      EXPECT_LT(mean, 1e-9);
+    } else {
+      EXPECT_GT(mean, 0.0) << "a glued form moved not at all: " << r[0] << " level " << r[1];
+      EXPECT_LT(mean, 1.0);
+    }
+  }
+  EXPECT_EQ(seen.size(), 27u);
+  for (const auto& [key, value] : clean_map) {
+    const std::string level0 = key.substr(0, key.find('/')) + "/0" + key.substr(key.rfind('/'));
+    EXPECT_NEAR(value, clean_map.at(level0), 1e-12) << key;
+  }
+
+  // noise.json: χ before and after every glue, as the noise module promises (χ − 2 per glue).
+  const nlohmann::json j = nlohmann::json::parse(read_file(out + "/noise.json"));
+  ASSERT_EQ(j["poses"].size(), 6u);
+  ASSERT_EQ(j["glues"].size(), 12u);
+  std::set<std::uint64_t> seeds;
+  for (const auto& g : j["glues"]) {
+    EXPECT_TRUE(g["ok"].get<bool>()) << g.dump();
+    EXPECT_EQ(g["chi_expected"].get<long>(), g["chi_before"].get<long>() - 2 * g["level"].get<long>());
+    EXPECT_EQ(g["chi_after"], g["chi_expected"]);
+    seeds.insert(g["seed"].get<std::uint64_t>());
+    const std::string glued = out + "/shapes/" + g["shape"].get<std::string>() + "_glue" +
+                              std::to_string(g["level"].get<int>()) + ".off";
+    ASSERT_TRUE(fs::exists(glued)) << glued;
+    EXPECT_EQ(mesh_info(read_mesh(glued)).euler_characteristic, g["chi_after"].get<long>());
+  }
+  EXPECT_EQ(seeds.size(), 12u);  // a seed per pose and level
+  for (const char* kind : {"hausdorff", "chamfer", "rmse"})
+    EXPECT_EQ(j["queries"]["coulomb"]["1"][kind].size(), 6u);
+  const std::string report = read_file(out + "/report.md");
+  EXPECT_NE(report.find("χ"), std::string::npos);
+  EXPECT_NE(report.find("| Coulomb | 2 | 6 | 6 |"), std::string::npos) << report;
+  if (first["figure"].get<bool>())
+    EXPECT_TRUE(fs::exists(out + "/noise.png"));
+  else
+    EXPECT_NE(report.find("No figure"), std::string::npos);
+
+  // A rerun computes nothing and writes the same table.
+  const std::string csv = read_file(out + "/noise.csv");
+  const nlohmann::json again = run_json(command + " --no-figure");
+  EXPECT_EQ(again["glued_computed"], 0);
+  EXPECT_EQ(again["glued_cached"], 12);
+  EXPECT_EQ(again["canonical_forms_computed"], 0);
+  EXPECT_EQ(again["canonical_forms_cached"], 54);
+  EXPECT_EQ(again["pairs_computed"], 0);
+  EXPECT_EQ(again["pairs_cached"], first["pairs_computed"]);
+  EXPECT_EQ(read_file(out + "/noise.csv"), csv);
+}
+
+TEST(NoiseExperimentCli, ALevelNoPoseOffersIsReportedNotInvented) {
+  // 60 glues on 400-vertex shapes: no pose offers that many admissible spots.
+  const std::string dir = small_dataset("noise-too-many");
+  const std::string out = dir + "/out";
+  const nlohmann::json j = run_json("-q experiment noise --data '" + dir + "/data' --out '" + out +
+                                    "' --methods coulomb --levels 0,60 --relax-steps 0");
+  EXPECT_EQ(j["glue_failures"], 6);
+  EXPECT_EQ(j["canonical_forms_computed"], 6);  // the clean poses only
+  const auto rows = read_csv_rows(out + "/noise.csv");
+  ASSERT_EQ(rows.size(), 7u);
+  for (size_t k = 1; k < rows.size(); ++k) {
+    if (rows[k][1] != "60") continue;
+    EXPECT_EQ(rows[k][3], "0");  // no query
+    EXPECT_EQ(rows[k][4], "nan");
+    EXPECT_EQ(rows[k][8], "0");  // no pose measured
+  }
+  const nlohmann::json noise = nlohmann::json::parse(read_file(out + "/noise.json"));
+  for (const auto& g : noise["glues"]) {
+    EXPECT_FALSE(g["ok"].get<bool>());
+    EXPECT_NE(g["error"].get<std::string>().find("glue failed"), std::string::npos) << g.dump();
+  }
+  const std::string report = read_file(out + "/report.md");
+  EXPECT_NE(report.find("Not every pose could be glued"), std::string::npos) << report;
+  EXPECT_NE(report.find("| Coulomb | 60 | 0 | 0 | — |"), std::string::npos) << report;
+  if (j["figure"].get<bool>()) EXPECT_TRUE(fs::exists(out + "/noise.png"));
+}
+
+TEST(NoiseExperimentCli, RefusesBadLevels) {
+  const std::string dir = test::scratch_dir("noise-levels");
+  for (const char* levels : {"0,1,x", "1,1", "-2", ""}) {
+    test::CliResult r = test::run_cli("-q experiment noise --data '" + dir + "' --out '" + dir +
+                                      "/out' --levels '" + levels + "'");
+    EXPECT_EQ(r.exit_code, 2) << levels << ": " << r.err;
+    EXPECT_NE(r.err.find("--levels"), std::string::npos) << r.err;
+  }
+}
+
+TEST(PaperExperimentCli, NoisyPerClassAllAndEveryDistance) {
+  const std::string dir = small_dataset("paper-noisy-all");
+  const std::string base = "-q experiment paper --data '" + dir +
+                           "/data' --methods coulomb --no-table1 --no-figures --correspondence-samples 0 ";
+  // 'all' with 2 poses per class in the retrieval set: every clean pose (the spare one too) gets a glued
+  // version, so 2 classes × (2 clean + 3 noisy) shapes are compared.
+  const std::string out = dir + "/all";
+  run_json(base + "--poses-per-class 2 --noisy-per-class all --out '" + out + "'");
+  const auto labels = read_csv_rows(out + "/labels.csv");
+  ASSERT_EQ(labels.size(), 11u);  // header + 10 shapes
+  int noisy = 0;
+  for (size_t k = 1; k < labels.size(); ++k) noisy += labels[k][2] == "1";
+  EXPECT_EQ(noisy, 6);
+  // Every retrieval table under all three distances: metrics.json, the matrices, report.md.
+  const nlohmann::json metrics = nlohmann::json::parse(read_file(out + "/metrics.json"));
+  const auto& coulomb = metrics["methods"]["coulomb"];
+  EXPECT_EQ(coulomb["map"], coulomb["by_distance"]["hausdorff"]["map"]);  // the top level stays Hausdorff
+  for (const char* kind : {"hausdorff", "chamfer", "rmse"}) {
+    const double map = coulomb["by_distance"][kind]["map"].get<double>();
+    EXPECT_GE(map, 0.0);
+    EXPECT_LE(map, 1.0);
+    EXPECT_TRUE(coulomb["by_distance"][kind].contains("noisy_query_nn")) << kind;
+  }
+  const NamedDistances hausdorff = read_distance_csv(out + "/distances/coulomb.csv");
+  const NamedDistances chamfer = read_distance_csv(out + "/distances/chamfer/coulomb.csv");
+  const NamedDistances rmse = read_distance_csv(out + "/distances/rmse/coulomb.csv");
+  ASSERT_EQ(chamfer.names, hausdorff.names);
+  ASSERT_EQ(rmse.names, hausdorff.names);
+  // Chamfer (means) and RMSE (a root mean square) of the nearest-point distances ≤ Hausdorff (their
+  // maximum), pair by pair, and not all equal to it.
+  const double tolerance = 1e-9 * hausdorff.D.maxCoeff();
+  EXPECT_LE((chamfer.D - hausdorff.D).maxCoeff(), tolerance);
+  EXPECT_LE((rmse.D - hausdorff.D).maxCoeff(), tolerance);
+  EXPECT_LT(chamfer.D.sum(), hausdorff.D.sum());
+  const std::string report = read_file(out + "/report.md");
+  for (const char* row :
+       {"| Coulomb | Hausdorff |", "| Coulomb | Chamfer |", "| Coulomb | RMSE |", "`--noisy-per-class all`"})
+    EXPECT_NE(report.find(row), std::string::npos) << row << "\n" << report;
+
+  // An integer keeps its meaning: one noisy shape per class.
+  const std::string one = dir + "/one";
+  run_json(base + "--poses-per-class 2 --noisy-per-class 1 --out '" + one + "'");
+  EXPECT_EQ(read_csv_rows(one + "/labels.csv").size(), 7u);  // header + 2 × (2 clean + 1 noisy)
+
+  test::CliResult bad = test::run_cli(base + "--noisy-per-class some --out '" + dir + "/bad'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--noisy-per-class"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace cshapes
