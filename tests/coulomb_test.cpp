@@ -413,7 +413,9 @@ TEST(CoulombCanon, StepGradientRuleSetsTheMeanOrTheLargestMove) {
       const double L = rule == CoulombStepRule::MeanEdge ? rest.mean() : rest.maxCoeff();
       const double measured = g == StepGradient::Mean ? move.mean() : move.maxCoeff();
       EXPECT_NEAR(measured, 0.1 * L, 1e-9 * L) << to_string(g) << " " << to_string(rule);
-      if (g == StepGradient::Mean) EXPECT_GT(move.maxCoeff(), move.mean());
+      if (g == StepGradient::Mean) {
+        EXPECT_GT(move.maxCoeff(), move.mean());
+      }
     }
   }
   EXPECT_EQ(parse_step_gradient("mean"), StepGradient::Mean);

@@ -193,7 +193,9 @@ TEST(NoiseExperimentCli, ALevelNoPoseOffersIsReportedNotInvented) {
   const std::string report = read_file(out + "/report.md");
   EXPECT_NE(report.find("Not every pose could be glued"), std::string::npos) << report;
   EXPECT_NE(report.find("| Coulomb | 60 | 0 | 0 | — |"), std::string::npos) << report;
-  if (j["figure"].get<bool>()) EXPECT_TRUE(fs::exists(out + "/noise.png"));
+  if (j["figure"].get<bool>()) {
+    EXPECT_TRUE(fs::exists(out + "/noise.png"));
+  }
 }
 
 TEST(NoiseExperimentCli, RefusesBadLevels) {
