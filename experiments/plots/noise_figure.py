@@ -107,10 +107,10 @@ def main():
     # Under each level: how many poses could be glued that often (a level with fewer is another set).
     measured = {r["level"]: r["form_poses"] for r in rows if r["method"] == methods[0]
                 and r["distance"] == "hausdorff"}
-    labels = [f"{L}" if measured.get(L, 0) == n_poses else f"{L}\n({measured.get(L, 0)}/{n_poses} poses)"
+    labels = [f"{L}" if measured.get(L, 0) == n_poses else f"{L}\n{measured.get(L, 0)}/{n_poses}"
               for L in levels]
     for ax in axes:
-        ax.set_xlabel("glues per shape")
+        ax.set_xlabel("glues per shape (below: poses glued so often)")
         ax.set_xticks(range(len(levels)))
         ax.set_xlim(-0.4, len(levels) - 0.6)
         ax.set_xticklabels(labels, fontsize=8)
