@@ -1,6 +1,7 @@
 #include "pipeline/canonical_forms.h"
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -396,6 +397,36 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
   CanonicalForm form = canonical_form(mesh, options, D, D_seconds);
   cache.put_json(key, to_json(form));
   return form;
+}
+
+std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
+                                               const std::vector<CanonicalFormOptions>& options) {
+  std::vector<CachedForm> result(options.size());
+  // The shared matrix and the options it was computed for (heat/FMM settings and the repair).
+  DistanceMatrix D;
+  const CanonicalFormOptions* D_for = nullptr;
+  double D_seconds = 0;
+  auto same_geodesics = [](const CanonicalFormOptions& a, const CanonicalFormOptions& b) {
+    return a.geodesics.method == b.geodesics.method && a.geodesics.heat_mode == b.geodesics.heat_mode &&
+           a.geodesics.heat_time_factor == b.geodesics.heat_time_factor && a.strict == b.strict &&
+           a.knn.k == b.knn.k;
+  };
+  for (size_t k = 0; k < options.size(); ++k) {
+    const CanonicalFormOptions& co = options[k];
+    CachedForm& out = result[k];
+    const auto start = WallClock::now();
+    out.key = canonical_form_cache_key(mesh, co);
+    const bool mds = co.method != "coulomb" && co.distances_file.empty();
+    if (mds && !(D_for && same_geodesics(*D_for, co)) && !std::filesystem::exists(cache.entry_path(out.key))) {
+      D = geodesic_matrix(repair_for_canonical_form(mesh, co).mesh, co);
+      D_seconds = seconds_since(start);
+      D_for = &co;
+    }
+    const bool use_D = mds && D_for && same_geodesics(*D_for, co);
+    out.form = cached_canonical_form(cache, mesh, co, &out.cached, use_D ? &D : nullptr, D_seconds);
+    out.seconds = seconds_since(start);
+  }
+  return result;
 }
 
 }  // namespace cshapes

@@ -115,4 +115,17 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const DistanceMatrix* D = nullptr, double D_seconds = 0);
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options);
 
+// One mesh's canonical forms by several methods (options[k].method each), through the cache. MDS methods with
+// the same geodesic options share one geodesic matrix, computed only when one of their forms is missing from
+// the cache (each form computed from it reports its cost as its pre-computation): what `experiment paper`,
+// `noise`, `topkids` and `pose` do for every shape.
+struct CachedForm {
+  CanonicalForm form;
+  std::string key;      // canonical_form_cache_key
+  bool cached = false;  // read from the cache
+  double seconds = 0;   // wall time of this form's call, the shared matrix included
+};
+std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
+                                               const std::vector<CanonicalFormOptions>& options);
+
 }  // namespace cshapes

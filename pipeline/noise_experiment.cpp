@@ -402,28 +402,19 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   std::map<std::string, std::vector<std::string>> form_keys;
   for (size_t i = 0; i < variants.size(); ++i) {
     const Variant& v = variants[i];
-    DistanceMatrix D;
-    bool have_D = false;
-    double D_seconds = 0;
+    std::vector<CanonicalFormOptions> per_method;
     for (const std::string& m : o.methods) {
       CanonicalFormOptions co = o.canon;
       co.method = m;
       co.name = v.name;
       co.progress = {};
-      const bool mds = m != "coulomb";
-      const std::string key = canonical_form_cache_key(v.mesh, co);
-      if (mds && !have_D && !fs::exists(form_cache.entry_path(key))) {
-        const auto t = WallClock::now();
-        D = all_pairs_geodesics(repair_for_canonical_form(v.mesh, co).mesh, co.geodesics);
-        D_seconds = seconds_since(t);
-        have_D = true;
-      }
-      bool was_cached = false;
-      CanonicalForm f =
-          cached_canonical_form(form_cache, v.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
-      (was_cached ? result.canonical_forms_cached : result.canonical_forms_computed)++;
-      forms[m].push_back(std::move(f.X));
-      form_keys[m].push_back(key);
+      per_method.push_back(co);
+    }
+    std::vector<CachedForm> computed = cached_canonical_forms(form_cache, v.mesh, per_method);
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      (computed[k].cached ? result.canonical_forms_cached : result.canonical_forms_computed)++;
+      forms[o.methods[k]].push_back(std::move(computed[k].form.X));
+      form_keys[o.methods[k]].push_back(computed[k].key);
     }
     if (o.progress)
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(variants.size()));

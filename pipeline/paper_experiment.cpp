@@ -263,26 +263,15 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   for (size_t i = 0; i < shapes.size(); ++i) {
     if (only && !(*only)[i]) continue;
     const Shape& s = shapes[i];
-    DistanceMatrix D;
-    bool have_D = false;
-    double D_seconds = 0;
-    for (const std::string& m : o.methods) {
-      CanonicalFormOptions co = method_options(o, m, s.source_path);
-      const bool mds = m != "coulomb";
-      const std::string key = canonical_form_cache_key(s.mesh, co);
-      if (mds && !have_D && !std::filesystem::exists(cache.entry_path(key))) {
-        // One geodesic matrix serves both MDS methods (on the mesh repaired for them); each form reports its
-        // cost as its pre-computation.
-        auto t = WallClock::now();
-        D = all_pairs_geodesics(repair_for_canonical_form(s.mesh, co).mesh, co.geodesics);
-        D_seconds = seconds_since(t);
-        have_D = true;
-      }
-      bool was_cached = false;
-      CanonicalForm f =
-          cached_canonical_form(cache, s.mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
-      (was_cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
-      result[m].keys[i] = key;
+    // One geodesic matrix serves both MDS methods (on the mesh repaired for them).
+    std::vector<CanonicalFormOptions> per_method;
+    for (const std::string& m : o.methods) per_method.push_back(method_options(o, m, s.source_path));
+    std::vector<CachedForm> computed = cached_canonical_forms(cache, s.mesh, per_method);
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      const std::string& m = o.methods[k];
+      CanonicalForm f = std::move(computed[k].form);
+      (computed[k].cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
+      result[m].keys[i] = computed[k].key;
       if (!write_files) {
         result[m].forms[i] = std::move(f);
         continue;

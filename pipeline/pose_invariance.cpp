@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -34,29 +33,6 @@ struct PosePair {
   int a = 0, b = 0;            // shape indices
   std::vector<int> va, vb;     // corresponding vertices (0-based), equal lengths
 };
-
-// kidNN_ref.txt: "vertex of kidNN, vertex of kid00" per line, 1-based. Returns the 0-based pairs.
-void read_ref_pairs(const std::string& path, Index na, Index nb, std::vector<int>& va, std::vector<int>& vb) {
-  std::ifstream in(path);
-  if (!in) fail_file(path, ": cannot open the correspondence file");
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream s(line);
-    long a = 0, b = 0;
-    if (!(s >> a >> b))
-      fail(path, ":", line_no, ": expected two 1-based vertex indices (pose vertex, reference vertex), got '",
-           line, "'");
-    if (a < 1 || a > na || b < 1 || b > nb)
-      fail(path, ":", line_no, ": vertex indices ", a, " ", b, " out of range (the pose has ", na,
-           " vertices, the reference ", nb, ")");
-    va.push_back(static_cast<int>(a - 1));
-    vb.push_back(static_cast<int>(b - 1));
-  }
-  CSHAPES_REQUIRE(!va.empty(), path, ": no correspondences");
-}
 
 // Evenly spaced subset of `count` of n indices (all when count ≤ 0 or ≥ n).
 std::vector<size_t> thin(size_t n, int count) {
@@ -94,8 +70,11 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
       PosePair pair;
       pair.a = static_cast<int>(k);
       pair.b = 0;
-      read_ref_pairs((dir / (shapes[k].name + "_ref.txt")).string(), shapes[k].mesh.num_vertices(),
-                     shapes[0].mesh.num_vertices(), pair.va, pair.vb);
+      CorrespondencePairs truth = read_correspondence_pairs((dir / (shapes[k].name + "_ref.txt")).string(),
+                                                            shapes[k].mesh.num_vertices(),
+                                                            shapes[0].mesh.num_vertices());
+      pair.va = std::move(truth.from);
+      pair.vb = std::move(truth.to);
       pairs.push_back(std::move(pair));
     }
     return;
@@ -277,23 +256,19 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
     in_row.form = "input";
     in_row.stress = geodesic_stress(s.mesh.V, ref);
     result.shapes.push_back(in_row);
-    DistanceMatrix D;
-    bool have_D = false;
-    double D_seconds = 0;
+    std::vector<CanonicalFormOptions> per_method;
     for (const std::string& m : o.methods) {
       CanonicalFormOptions co = o.canon;
       co.method = m;
       co.name = s.path;
       co.progress = {};
-      const bool mds = m != "coulomb";
-      if (mds && !have_D && !fs::exists(cache.entry_path(canonical_form_cache_key(s.mesh, co)))) {
-        const auto t = WallClock::now();
-        D = all_pairs_geodesics(repair_for_canonical_form(s.mesh, co).mesh, co.geodesics);
-        D_seconds = seconds_since(t);
-        have_D = true;
-      }
-      bool cached = false;
-      CanonicalForm form = cached_canonical_form(cache, s.mesh, co, &cached, mds && have_D ? &D : nullptr, D_seconds);
+      per_method.push_back(co);
+    }
+    std::vector<CachedForm> computed = cached_canonical_forms(cache, s.mesh, per_method);
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      const std::string& m = o.methods[k];
+      CanonicalForm& form = computed[k].form;
+      const bool cached = computed[k].cached;
       PoseShapeRow row;
       row.shape = s.name;
       row.form = m;

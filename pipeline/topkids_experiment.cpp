@@ -221,29 +221,24 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   auto forms_of = [&](const Mesh& mesh, const std::string& path) {
     std::map<std::string, CanonicalForm> forms;
     std::map<std::string, std::string> keys;
-    DistanceMatrix D;
-    bool have_D = false;
-    double D_seconds = 0;
+    std::vector<CanonicalFormOptions> per_method;
     for (const std::string& m : o.methods) {
       CanonicalFormOptions co = o.canon;
       co.method = m;
       co.name = path;
       co.progress = {};
       co.note = {};
-      const bool mds = m != "coulomb";
-      keys[m] = canonical_form_cache_key(mesh, co);
-      const auto t = WallClock::now();
-      if (mds && !have_D && !fs::exists(form_cache.entry_path(keys[m]))) {
-        D = all_pairs_geodesics(repair_for_canonical_form(mesh, co).mesh, co.geodesics);
-        D_seconds = seconds_since(t);
-        have_D = true;
-      }
-      bool was_cached = false;
-      forms[m] =
-          cached_canonical_form(form_cache, mesh, co, &was_cached, mds && have_D ? &D : nullptr, D_seconds);
+      per_method.push_back(co);
+    }
+    std::vector<CachedForm> computed = cached_canonical_forms(form_cache, mesh, per_method);
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      const std::string& m = o.methods[k];
+      const bool was_cached = computed[k].cached;
+      keys[m] = computed[k].key;
+      forms[m] = std::move(computed[k].form);
       (was_cached ? r.forms_cached : r.forms_computed)++;
       say(o, detail::concat("  ", fs::path(path).stem().string(), " ", m, ": ",
-                            was_cached ? "cached" : "computed in " + fixed(seconds_since(t), 1) + " s",
+                            was_cached ? "cached" : "computed in " + fixed(computed[k].seconds, 1) + " s",
                             forms[m].repair_text.empty() ? "" : "; " + forms[m].repair_text));
     }
     return std::make_pair(std::move(forms), std::move(keys));

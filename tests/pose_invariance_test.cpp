@@ -155,7 +155,6 @@ TEST(PoseInvariance, TopkidsReferenceFileErrorsNameFileAndLine) {
   } catch (const Error& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("kid01_ref.txt:3"), std::string::npos) << what;
-    EXPECT_NE(what.find("two 1-based vertex indices"), std::string::npos) << what;
   }
   test::write_text(dir + "/kid01_ref.txt", "1 1\n2 500\n");
   try {
