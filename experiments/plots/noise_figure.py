@@ -14,27 +14,16 @@ growing distance for MDS.
 import argparse
 import json
 import os
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
-                "smacof": ("SMACOF MDS", "tab:green")}
+from figure_style import METHOD_STYLE, save  # noqa: E402
+
 METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^"}
 DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
-
-
-def save(fig, out, name, pdf):
-    for ext in ["png"] + (["pdf"] if pdf else []):
-        path = os.path.join(out, f"{name}.{ext}")
-        tmp = path + ".tmp." + ext
-        fig.savefig(tmp, dpi=150, bbox_inches="tight")
-        os.replace(tmp, path)
-    plt.close(fig)
-    print(f"wrote {name}.png", file=sys.stderr)
 
 
 def series(rows, method, distance, key, few=False):

@@ -27,19 +27,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
-
-METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
-                "smacof": ("SMACOF MDS", "tab:green")}
-
-
-def save(fig, out, name, pdf):
-    for ext in ["png"] + (["pdf"] if pdf else []):
-        path = os.path.join(out, f"{name}.{ext}")
-        tmp = path + ".tmp." + ext
-        fig.savefig(tmp, dpi=150, bbox_inches="tight")
-        os.replace(tmp, path)
-    plt.close(fig)
-    print(f"wrote {name}.png", file=sys.stderr)
+from figure_style import METHOD_STYLE, save  # noqa: E402
 
 
 def read_csv(path):
