@@ -399,6 +399,21 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
   return form;
 }
 
+std::vector<CanonicalFormOptions> options_per_method(const CanonicalFormOptions& base,
+                                                     const std::vector<std::string>& methods,
+                                                     const std::string& name) {
+  std::vector<CanonicalFormOptions> out;
+  for (const std::string& m : methods) {
+    CanonicalFormOptions co = base;
+    co.method = m;
+    co.name = name;
+    co.progress = {};
+    co.note = {};
+    out.push_back(std::move(co));
+  }
+  return out;
+}
+
 std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
                                                const std::vector<CanonicalFormOptions>& options) {
   std::vector<CachedForm> result(options.size());

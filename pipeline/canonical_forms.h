@@ -125,6 +125,11 @@ struct CachedForm {
   bool cached = false;  // read from the cache
   double seconds = 0;   // wall time of this form's call, the shared matrix included
 };
+// `base` once per method (method set, name = the mesh's name, no progress or note): cached_canonical_forms's
+// options for one mesh.
+std::vector<CanonicalFormOptions> options_per_method(const CanonicalFormOptions& base,
+                                                     const std::vector<std::string>& methods,
+                                                     const std::string& name);
 std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
                                                const std::vector<CanonicalFormOptions>& options);
 

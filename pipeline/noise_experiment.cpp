@@ -402,15 +402,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   std::map<std::string, std::vector<std::string>> form_keys;
   for (size_t i = 0; i < variants.size(); ++i) {
     const Variant& v = variants[i];
-    std::vector<CanonicalFormOptions> per_method;
-    for (const std::string& m : o.methods) {
-      CanonicalFormOptions co = o.canon;
-      co.method = m;
-      co.name = v.name;
-      co.progress = {};
-      per_method.push_back(co);
-    }
-    std::vector<CachedForm> computed = cached_canonical_forms(form_cache, v.mesh, per_method);
+    std::vector<CachedForm> computed =
+        cached_canonical_forms(form_cache, v.mesh, options_per_method(o.canon, o.methods, v.name));
     for (size_t k = 0; k < o.methods.size(); ++k) {
       (computed[k].cached ? result.canonical_forms_cached : result.canonical_forms_computed)++;
       forms[o.methods[k]].push_back(std::move(computed[k].form.X));

@@ -256,15 +256,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
     in_row.form = "input";
     in_row.stress = geodesic_stress(s.mesh.V, ref);
     result.shapes.push_back(in_row);
-    std::vector<CanonicalFormOptions> per_method;
-    for (const std::string& m : o.methods) {
-      CanonicalFormOptions co = o.canon;
-      co.method = m;
-      co.name = s.path;
-      co.progress = {};
-      per_method.push_back(co);
-    }
-    std::vector<CachedForm> computed = cached_canonical_forms(cache, s.mesh, per_method);
+    std::vector<CachedForm> computed =
+        cached_canonical_forms(cache, s.mesh, options_per_method(o.canon, o.methods, s.path));
     for (size_t k = 0; k < o.methods.size(); ++k) {
       const std::string& m = o.methods[k];
       CanonicalForm& form = computed[k].form;

@@ -221,16 +221,8 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   auto forms_of = [&](const Mesh& mesh, const std::string& path) {
     std::map<std::string, CanonicalForm> forms;
     std::map<std::string, std::string> keys;
-    std::vector<CanonicalFormOptions> per_method;
-    for (const std::string& m : o.methods) {
-      CanonicalFormOptions co = o.canon;
-      co.method = m;
-      co.name = path;
-      co.progress = {};
-      co.note = {};
-      per_method.push_back(co);
-    }
-    std::vector<CachedForm> computed = cached_canonical_forms(form_cache, mesh, per_method);
+    std::vector<CachedForm> computed =
+        cached_canonical_forms(form_cache, mesh, options_per_method(o.canon, o.methods, path));
     for (size_t k = 0; k < o.methods.size(); ++k) {
       const std::string& m = o.methods[k];
       const bool was_cached = computed[k].cached;
