@@ -1,6 +1,7 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 #include "core/error.h"
@@ -136,6 +137,19 @@ double surface_area(const Points& V, const Faces& F) {
 double bbox_diagonal(const Points& V) {
   if (V.rows() == 0) return 0;
   return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+double finite_bbox_diagonal(const Points& V) {
+  Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::RowVector3d hi = -lo;
+  bool any = false;
+  for (Index i = 0; i < V.rows(); ++i) {
+    if (!V.row(i).allFinite()) continue;
+    lo = lo.cwiseMin(V.row(i));
+    hi = hi.cwiseMax(V.row(i));
+    any = true;
+  }
+  return any ? (hi - lo).norm() : 0.0;
 }
 
 MeshInfo mesh_info(const Mesh& mesh) {

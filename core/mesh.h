@@ -81,6 +81,9 @@ MeshInfo mesh_info(const Mesh& mesh);
 double surface_area(const Points& V, const Faces& F);
 // Length of the diagonal of the axis-aligned bounding box.
 double bbox_diagonal(const Points& V);
+// The same over the rows with finite coordinates only (a canonical form marks the vertices a repair dropped with
+// NaN rows); 0 when there is none.
+double finite_bbox_diagonal(const Points& V);
 
 // The sub-mesh made of one connected component (vertices renumbered in their original order).
 // vertex_map[k] is the original index of new vertex k.

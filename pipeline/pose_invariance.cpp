@@ -105,16 +105,6 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
   CSHAPES_REQUIRE(!pairs.empty(), "experiment pose: no two poses of one class in ", o.data);
 }
 
-double finite_bbox_diagonal(const Points& X) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
-  for (Index i = 0; i < X.rows(); ++i) {
-    if (!X.row(i).allFinite()) continue;
-    lo = lo.cwiseMin(X.row(i).transpose());
-    hi = hi.cwiseMax(X.row(i).transpose());
-  }
-  return (hi - lo).allFinite() ? (hi - lo).norm() : 0.0;
-}
-
 double pose_rms(const Points& A, const Points& B, const PosePair& pair, const std::vector<size_t>& keep) {
   Points SA(static_cast<Index>(keep.size()), 3), SB(static_cast<Index>(keep.size()), 3);
   for (size_t k = 0; k < keep.size(); ++k) {

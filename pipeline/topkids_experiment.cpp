@@ -66,10 +66,6 @@ PointMap align_and_map(const Points& source, const Points& target, const IcpOpti
   return pm;
 }
 
-double finite_bbox_diagonal(const Points& X) {
-  return bbox_diagonal(take_rows(X, finite_rows(X)));
-}
-
 std::string fixed(double value, int decimals) {
   if (!std::isfinite(value)) return "n/a";
   std::ostringstream s;

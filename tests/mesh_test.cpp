@@ -138,3 +138,18 @@ TEST(Mesh, ToscaCatIsAClosedSphere) {
 
 }  // namespace
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+TEST(Mesh, FiniteBboxDiagonalSkipsNonFiniteRows) {
+  Points V(4, 3);
+  V << 0, 0, 0, 3, 4, 0, NAN, 1, 1, 100, INFINITY, 0;
+  EXPECT_DOUBLE_EQ(finite_bbox_diagonal(V), 5.0);  // the two finite rows: a 3-4-5 box
+  EXPECT_DOUBLE_EQ(finite_bbox_diagonal(V.topRows(2)), bbox_diagonal(V.topRows(2)));
+  EXPECT_EQ(finite_bbox_diagonal(V.bottomRows(2)), 0.0);
+  EXPECT_EQ(finite_bbox_diagonal(Points(0, 3)), 0.0);
+}
+
+}  // namespace
+}  // namespace cshapes
