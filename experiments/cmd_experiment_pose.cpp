@@ -34,16 +34,20 @@ int run() {
 
 const bool registered = register_command(
     {{"experiment", "pose"},
-     "Pose invariance of the canonical forms against ground-truth correspondences (TOSCA corres/*.vts or "
-     "TOPKIDS *_ref.txt), and their edge stretch and geodesic stress (cached: reruns resume)",
+     "Pose invariance of the canonical forms against ground-truth correspondences (TOSCA corres/*.vts, "
+     "TOPKIDS *_ref.txt, or poses sharing their faces as `generate dataset` writes them), and their edge "
+     "stretch and geodesic stress (cached: reruns resume)",
      [](CLI::App& app) {
        PoseInvarianceOptions& o = args.options;
-       app.add_option("--data", o.data,
-                      "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
-                      "kidNN_ref.txt (every kidNN against kid00)")
+       app.add_option(
+              "--data", o.data,
+              "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
+              "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
+              "clean poses of a class share their faces (vertex i against vertex i)")
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")->capture_default_str();
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
        app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
        app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")
            ->capture_default_str()

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -30,8 +31,8 @@ struct PoseShape {
 };
 
 struct PosePair {
-  int a = 0, b = 0;            // shape indices
-  std::vector<int> va, vb;     // corresponding vertices (0-based), equal lengths
+  int a = 0, b = 0;         // shape indices
+  std::vector<int> va, vb;  // corresponding vertices (0-based), equal lengths
 };
 
 // Evenly spaced subset of `count` of n indices (all when count ≤ 0 or ≥ n).
@@ -42,14 +43,58 @@ std::vector<size_t> thin(size_t n, int count) {
   return keep;
 }
 
-std::string stem_of(const fs::path& p) { return p.stem().string(); }
+std::string stem_of(const fs::path& p) {
+  return p.stem().string();
+}
+
+// A dataset (folder or manifest.csv, core/dataset.h) whose clean poses of one class share their faces, as
+// `cshapes generate dataset` writes them: vertex i of one pose is vertex i of every other, so each pair of
+// poses of a class is compared at all vertices. Noisy entries are left out (their faces differ by the glues).
+// A class whose poses do not share faces is refused: nothing tells which vertices correspond.
+void discover_shared_connectivity(const PoseInvarianceOptions& o,
+                                  const std::function<bool(const std::string&)>& wanted,
+                                  std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs) {
+  const Dataset data = read_dataset(o.data);
+  for (const DatasetEntry& e : data.entries)
+    if (!e.noisy && wanted(e.name)) shapes.push_back({e.name, e.class_name, e.path, read_mesh(e.path), {}});
+  CSHAPES_REQUIRE(
+      !shapes.empty(), "experiment pose: ", o.data, " lists no clean shape",
+      o.shapes.empty() ? "" : " among the shapes asked for",
+      " (expected TOSCA's corres/NAME.vts, TOPKIDS's kid00.off with kidNN_ref.txt, or a dataset whose "
+      "poses of a class share their faces)");
+  for (size_t i = 0; i < shapes.size(); ++i)
+    for (size_t j = i + 1; j < shapes.size(); ++j) {
+      if (shapes[i].class_name != shapes[j].class_name) continue;
+      const Mesh& a = shapes[i].mesh;
+      const Mesh& b = shapes[j].mesh;
+      CSHAPES_REQUIRE(
+          a.num_vertices() == b.num_vertices() && a.F.rows() == b.F.rows() && a.F == b.F,
+          "experiment pose: ", shapes[i].path, " and ", shapes[j].path, " (class ", shapes[i].class_name,
+          ") do not share their faces (", a.num_vertices(), " and ", b.num_vertices(), " vertices, ",
+          a.F.rows(), " and ", b.F.rows(),
+          " faces), so vertex i of one is not known to be vertex i of the other; a dataset without "
+          "shared connectivity needs TOSCA's corres/NAME.vts");
+      PosePair pair;
+      pair.a = static_cast<int>(i);
+      pair.b = static_cast<int>(j);
+      pair.va.resize(a.num_vertices());
+      for (Index v = 0; v < a.num_vertices(); ++v) pair.va[v] = static_cast<int>(v);
+      pair.vb = pair.va;
+      pairs.push_back(std::move(pair));
+    }
+  CSHAPES_REQUIRE(!pairs.empty(), "experiment pose: no two clean poses of one class in ", o.data);
+}
 
 // The shapes and pairs of the folder (see the header), restricted to `only` when not empty.
 void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs) {
   const fs::path dir(o.data);
-  CSHAPES_REQUIRE(fs::is_directory(dir), "experiment pose: ", o.data, " is not a folder");
   const std::set<std::string> only(o.shapes.begin(), o.shapes.end());
   auto wanted = [&](const std::string& name) { return only.empty() || only.count(name); };
+  if (fs::is_regular_file(dir)) {  // a manifest.csv
+    discover_shared_connectivity(o, wanted, shapes, pairs);
+    return;
+  }
+  CSHAPES_REQUIRE(fs::is_directory(dir), "experiment pose: ", o.data, " is neither a folder nor a manifest");
   if (fs::exists(dir / "kid00.off")) {
     // TOPKIDS: kid00 is the reference; every kidNN with a _ref.txt is a pose.
     std::vector<std::string> poses;
@@ -70,13 +115,17 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
       PosePair pair;
       pair.a = static_cast<int>(k);
       pair.b = 0;
-      CorrespondencePairs truth = read_correspondence_pairs((dir / (shapes[k].name + "_ref.txt")).string(),
-                                                            shapes[k].mesh.num_vertices(),
-                                                            shapes[0].mesh.num_vertices());
+      CorrespondencePairs truth =
+          read_correspondence_pairs((dir / (shapes[k].name + "_ref.txt")).string(),
+                                    shapes[k].mesh.num_vertices(), shapes[0].mesh.num_vertices());
       pair.va = std::move(truth.from);
       pair.vb = std::move(truth.to);
       pairs.push_back(std::move(pair));
     }
+    return;
+  }
+  if (!fs::is_directory(dir / "corres")) {
+    discover_shared_connectivity(o, wanted, shapes, pairs);
     return;
   }
   // TOSCA: NAME.off with corres/NAME.vts; pairs within a class.
@@ -88,7 +137,8 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
     if (!fs::exists(vts)) continue;
     shapes.push_back({name, class_from_name(name), e.path().string(), {}, {}});
   }
-  std::sort(shapes.begin(), shapes.end(), [](const PoseShape& x, const PoseShape& y) { return x.name < y.name; });
+  std::sort(shapes.begin(), shapes.end(),
+            [](const PoseShape& x, const PoseShape& y) { return x.name < y.name; });
   CSHAPES_REQUIRE(!shapes.empty(), "experiment pose: no NAME.off with corres/NAME.vts in ", o.data,
                   only.empty() ? "" : " among the shapes asked for");
   for (PoseShape& s : shapes) {
@@ -219,8 +269,8 @@ std::string fixed(double v, int digits) {
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment pose: unknown method '",
-                    m, "'");
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment pose: unknown method '", m, "'");
   }
   auto say = [&](const std::string& line) {
     if (o.note) o.note(line);
@@ -291,7 +341,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   // Summary per form, over all pairs and per class.
   std::vector<std::string> classes = {"all"};
   for (const PoseShape& s : shapes)
-    if (std::find(classes.begin(), classes.end(), s.class_name) == classes.end()) classes.push_back(s.class_name);
+    if (std::find(classes.begin(), classes.end(), s.class_name) == classes.end())
+      classes.push_back(s.class_name);
   if (classes.size() == 2) classes.pop_back();  // one class: "all" says it
   std::map<std::string, std::string> class_of;
   for (const PoseShape& s : shapes) class_of[s.name] = s.class_name;
@@ -330,16 +381,19 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   std::ostringstream pairs_csv, shapes_csv, summary_csv, md;
   pairs_csv << "config,a,b,class,form,rms,input_rms,samples\n";
   for (const PosePairRow& r : result.pairs)
-    pairs_csv << label << "," << r.a << "," << r.b << "," << r.class_name << "," << r.form << "," << num(r.rms)
-              << "," << num(r.input_rms) << "," << r.samples << "\n";
-  shapes_csv << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
-                "torn_vertices\n";
+    pairs_csv << label << "," << r.a << "," << r.b << "," << r.class_name << "," << r.form << ","
+              << num(r.rms) << "," << num(r.input_rms) << "," << r.samples << "\n";
+  shapes_csv
+      << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
+         "torn_vertices\n";
   for (const PoseShapeRow& r : result.shapes)
     shapes_csv << label << "," << r.shape << "," << r.form << "," << num(r.mean_abs_stretch) << ","
-               << num(r.p99_stretch) << "," << num(r.max_stretch) << "," << (r.stress >= 0 ? num(r.stress) : "")
-               << "," << r.iterations << "," << num(r.seconds, 4) << "," << r.torn_edges << "\n";
-  summary_csv << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
-                 "max_stretch,median_geodesic_stress\n";
+               << num(r.p99_stretch) << "," << num(r.max_stretch) << ","
+               << (r.stress >= 0 ? num(r.stress) : "") << "," << r.iterations << "," << num(r.seconds, 4)
+               << "," << r.torn_edges << "\n";
+  summary_csv
+      << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
+         "max_stretch,median_geodesic_stress\n";
   for (const PoseSummaryRow& r : result.summary)
     summary_csv << label << "," << r.form << "," << r.class_name << "," << r.pairs << "," << num(r.median_rms)
                 << "," << num(r.mean_rms) << "," << num(r.median_input_rms) << "," << num(r.removed) << ","
@@ -348,12 +402,15 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   md << "# Pose invariance (" << label << ")\n\n"
      << "Data: `" << o.data << "`, " << shapes.size() << " shapes, " << pairs.size()
      << " pairs of poses, up to " << o.samples
-     << " ground-truth correspondences per pair. Pose RMS: RMS distance between corresponding points of the two "
-        "forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; removed = 1 − "
+     << " ground-truth correspondences per pair. Pose RMS: RMS distance between corresponding points of the "
+        "two "
+        "forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; removed "
+        "= 1 − "
         "form / input (medians over pairs). Stretch: edge length in the form / in the input, edges not torn; "
         "stress: against fast marching from "
      << o.stress_sources << " sources per shape (medians over shapes; max stretch: the worst edge).\n\n"
-     << "| form | class | pairs | pose RMS (median) | mean | input | removed | mean \\|stretch−1\\| | max stretch | "
+     << "| form | class | pairs | pose RMS (median) | mean | input | removed | mean \\|stretch−1\\| | max "
+        "stretch | "
         "geodesic stress |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const PoseSummaryRow& r : result.summary)
     md << "| " << r.form << " | " << r.class_name << " | " << r.pairs << " | " << pct(r.median_rms) << " | "

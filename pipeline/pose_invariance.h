@@ -5,7 +5,10 @@
 //   - a TOSCA-style folder (NAME.off + corres/NAME.vts, class = name without trailing digits): every pair of
 //     poses of a class; sample s is vertex vts_A[s] of A and vts_B[s] of B (evenly thinned to `samples`);
 //   - a TOPKIDS-style folder (kid00.off + kidNN.off + kidNN_ref.txt: "vertex of kidNN, vertex of kid00",
-//     1-based): every kidNN against kid00, over the listed vertices.
+//     1-based): every kidNN against kid00, over the listed vertices;
+//   - any other dataset (a folder without corres/, or a manifest.csv; core/dataset.h) whose clean poses of a
+//     class share their faces, as `cshapes generate dataset` writes them: every pair of clean poses of a
+//     class, vertex i against vertex i (a class whose poses do not share faces is refused).
 // Per pair and form (the two inputs themselves, and the canonical forms of each method):
 //   pose RMS = sqrt(mean_s ‖R·a_s + t − b_s‖²) / ((diag A + diag B) / 2)
 // after the best rigid fit of the samples (Kabsch; reflections allowed, since MDS forms are defined only up to
@@ -31,7 +34,7 @@
 namespace cshapes {
 
 struct PoseInvarianceOptions {
-  std::string data;  // TOSCA-style or TOPKIDS-style folder (see above)
+  std::string data;  // TOSCA-style or TOPKIDS-style folder, or a shared-connectivity dataset (see above)
   std::string out;   // output folder (its cache/ makes reruns resume)
   std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
   // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
 #include "core/rigid_transform.h"
@@ -22,7 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // Writes NAME.off and corres/NAME.vts (1-based: sample s is vertex order[s]).
-void write_pose(const std::string& dir, const std::string& name, const Mesh& m, const std::vector<int>& order) {
+void write_pose(const std::string& dir, const std::string& name, const Mesh& m,
+                const std::vector<int>& order) {
   write_mesh(dir + "/" + name + ".off", m);
   std::ostringstream vts;
   for (int v : order) vts << v + 1 << "\n";
@@ -172,6 +174,67 @@ TEST(PoseInvariance, TopkidsReferenceFileErrorsNameFileAndLine) {
   EXPECT_EQ(r.pairs[0].a, "kid01");
   EXPECT_EQ(r.pairs[0].b, "kid00");
   EXPECT_LT(r.pairs[0].rms, 1e-12);
+}
+
+TEST(PoseInvariance, DatasetWithSharedFacesPairsVertexIWithVertexI) {
+  // As `generate dataset` writes them: poses of a class share faces, so vertex i corresponds to vertex i.
+  const std::string dir = test::scratch_dir("pose_shared");
+  const Mesh a = torus(24, 12, 1.0, 0.35);
+  Mesh b = a;  // a rigid copy with a reflection: zero pose distance
+  b.V = random_rigid_transform(5, 3.0, true).apply(a.V);
+  Mesh c = a;  // scaled by s about the centroid: the known RMS of the first test
+  const double s = 1.5;
+  const Eigen::RowVector3d centroid = a.V.colwise().mean();
+  c.V = ((a.V.rowwise() - centroid) * s).rowwise() + centroid;
+  Mesh glued = a;  // a noisy entry (different faces): left out, not refused
+  glued.F.conservativeResize(a.F.rows() - 1, 3);
+  write_mesh(dir + "/ring_a.off", a);
+  write_mesh(dir + "/ring_b.off", b);
+  write_mesh(dir + "/ring_c.off", c);
+  write_mesh(dir + "/ring_noisy.off", glued);
+  write_mesh(dir + "/ball_a.off", icosphere(2));
+  std::vector<DatasetEntry> entries = {{dir + "/ring_a.off", "ring_a", "ring", 0, false},
+                                       {dir + "/ring_b.off", "ring_b", "ring", 1, false},
+                                       {dir + "/ring_c.off", "ring_c", "ring", 2, false},
+                                       {dir + "/ring_noisy.off", "ring_noisy", "ring", 3, true},
+                                       {dir + "/ball_a.off", "ball_a", "ball", 0, false}};
+  write_manifest(dir + "/manifest.csv", entries);
+
+  PoseInvarianceOptions o;
+  o.data = dir + "/manifest.csv";
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.samples = 0;
+  o.stress_sources = 0;
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  EXPECT_EQ(r.pairs.size(), 6u);  // ring a-b, a-c, b-c; input and cmds each; no ball pair, no noisy one
+  for (const PosePairRow& p : r.pairs) {
+    EXPECT_NE(p.a, "ring_noisy");
+    EXPECT_NE(p.b, "ring_noisy");
+    EXPECT_EQ(p.samples, a.num_vertices());
+  }
+  EXPECT_LT(pair_row(r, "ring_b", "input").rms, 1e-9);
+  EXPECT_LT(pair_row(r, "ring_b", "cmds").rms, 1e-6);
+  const double spread = std::sqrt((a.V.rowwise() - centroid).rowwise().squaredNorm().mean());
+  const double expected = (s - 1) * spread / ((1 + s) / 2 * bbox_diagonal(a.V));
+  for (const PosePairRow& p : r.pairs)
+    if (p.a == "ring_a" && p.b == "ring_c" && p.form == "input")
+      EXPECT_NEAR(p.rms, expected, 1e-9 * expected);
+  // The folder itself (no corres/, no kid00.off) is read through its manifest the same way.
+  o.data = dir;
+  EXPECT_EQ(run_pose_invariance(o).pairs.size(), 6u);
+
+  // Two clean poses of a class with different faces: refused, naming both files.
+  entries[3].noisy = false;
+  write_manifest(dir + "/manifest.csv", entries);
+  try {
+    run_pose_invariance(o);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("ring_noisy.off"), std::string::npos) << what;
+    EXPECT_NE(what.find("do not share their faces"), std::string::npos) << what;
+  }
 }
 
 }  // namespace
