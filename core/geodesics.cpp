@@ -195,11 +195,35 @@ Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::
   return dist;
 }
 
+std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method) {
+  if (method != GeodesicMethod::Exact || mesh.num_faces() == 0) return "";
+  double length_sum = 0;
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      length_sum += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
+  const double h = length_sum / (3.0 * static_cast<double>(mesh.num_faces()));
+  Index degenerate = 0, first = -1;
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    if (!(0.5 * (b - a).cross(c - a).norm() >= kExactMinFaceArea * h * h)) {
+      if (first < 0) first = f;
+      ++degenerate;
+    }
+  }
+  if (degenerate == 0) return "";
+  return detail::concat("exact geodesics (CGAL's Surface_mesh_shortest_path) need faces of positive area; ",
+                        degenerate, " face(s) have (nearly) zero area, the first face ", first, " (vertices ",
+                        mesh.F(first, 0), ", ", mesh.F(first, 1), ", ", mesh.F(first, 2),
+                        "); use --method heat or fmm, or repair the mesh (without --strict, cshapes drops "
+                        "zero-area faces)");
+}
+
 namespace {
 
 Eigen::VectorXd unchecked_geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
                                              const GeodesicOptions& options) {
   CSHAPES_REQUIRE(!sources.empty(), "geodesics: no source vertex given");
+  if (std::string refusal = geodesic_method_refusal(mesh, options.method); !refusal.empty()) fail(refusal);
   for (int s : sources)
     CSHAPES_REQUIRE(s >= 0 && s < mesh.num_vertices(), "geodesics: source vertex ", s, " out of range 0..",
                     mesh.num_vertices() - 1);
@@ -267,6 +291,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
            comp.sizes[comp.largest()], " of ", n,
            " vertices), so some distances are infinite; keep the largest component (--largest-component)");
   }
+  if (std::string refusal = geodesic_method_refusal(mesh, options.method); !refusal.empty()) fail(refusal);
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");
   const double bound = distance_bound(mesh);
   DistanceMatrix D(n, n);

@@ -55,6 +55,14 @@ struct GeodesicOptions {
   ProgressFn progress;                  // all-pairs only: called as sources finish
 };
 
+// Why `method` refuses `mesh` up front, "" when it accepts it. Only exact refuses a mesh: CGAL's
+// Surface_mesh_shortest_path unfolds faces through their angles and returns NaN across a face whose area is
+// (nearly) zero, so a face with area below kExactMinFaceArea × (mean edge length)² is refused, naming it
+// (the heat methods, fast marching and graph accept it: ours works on mollified lengths). Every geodesic
+// function below calls this first and throws the reason.
+constexpr double kExactMinFaceArea = 1e-10;
+std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method);
+
 // Distances from the nearest of `sources` to every vertex (n values); +infinity where unreachable.
 Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
                                    const GeodesicOptions& options = {});

@@ -273,9 +273,14 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
                   options.time_factor);
   CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
   Impl& im = *impl_;
+  // Both modes work on mollified lengths (core/intrinsic_delaunay.h): every triangle, the input's and the
+  // flipped ones, has a positive area bounded away from zero, so the Laplacian, the mass matrix and the
+  // gradient below are defined on any mesh, degenerate faces included.
   IntrinsicTriangulation T =
       options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
   flips_ = T.flips;
+  skipped_flips_ = T.skipped_flips;
+  mollification_ = T.mollification;
   im.F = T.F;
   im.mesh = mesh;
   im.g.resize(6 * m);
@@ -292,8 +297,10 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     const double x2 = (l01 * l01 + l20 * l20 - l12 * l12) / (2 * l01);
     const double y2 = std::sqrt(std::max(0.0, l20 * l20 - x2 * x2));
     const double area = 0.5 * l01 * y2;
+    // Cannot fail after the mollification (every margin is positive); kept as the precondition's check.
     CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1],
-                    ", ", v[2], ") has zero area; the heat method needs non-degenerate triangles");
+                    ", ", v[2], ") of the intrinsic triangulation has zero area (edge lengths ", l01, ", ", l12,
+                    ", ", l20, "); please report the mesh");
     const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
     Eigen::Vector2d rc[3];
     double rho = 0;

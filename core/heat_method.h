@@ -23,7 +23,9 @@
 // Measured at 5,000 vertices (TOSCA cat0), one thread: 0.12 ms per source against 1.3 ms for CGAL.
 //
 // Conventions: distances in the mesh's units; vertices in components without a source are +infinity, isolated
-// vertices too. Mesh: triangles without degenerate faces (zero area makes the gradient undefined).
+// vertices too. Mesh: any triangles, degenerate ones included: both modes work on edge lengths mollified so
+// that every triangle holds its inequalities by 1e-6 of the mean edge (core/intrinsic_delaunay.h), and the
+// intrinsic Delaunay flips keep that margin, so every triangle the method uses has a positive area.
 // Far from the source: u decays like exp(-d/√t) (faster on irregular triangles: a tube with split faces lost
 // its heat at ~220 mean edge lengths), and a plain heat method breaks down where u underflows: the gradient
 // of a zero u is undefined (NaN in CGAL's Heat_method_3; a plateau of wrong, finite distances in ours before
@@ -85,6 +87,11 @@ class HeatMethod {
   Index intrinsic_flips() const {
     return flips_;
   }  // edges flipped to reach the intrinsic Delaunay triangulation
+  // Non-Delaunay edges left unflipped because their flip would have made a degenerate triangle.
+  Index skipped_flips() const { return skipped_flips_; }
+  // The length added to every edge so that no triangle is degenerate (0 on a mesh without nearly degenerate
+  // triangles; core/intrinsic_delaunay.h).
+  double mollification() const { return mollification_; }
   Index num_vertices() const { return num_vertices_; }
   // Source sets so far whose heat underflowed somewhere, their far distances continued by fast marching.
   Index fast_marching_continuations() const;
@@ -97,6 +104,8 @@ class HeatMethod {
   Index num_vertices_ = 0;
   double time_step_ = 0;
   Index flips_ = 0;
+  Index skipped_flips_ = 0;
+  double mollification_ = 0;
   HeatMethodOptions options_;
 };
 
