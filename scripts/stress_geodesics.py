@@ -46,13 +46,14 @@ def main():
     results_file = os.path.join(args.out, "results.jsonl")
     command = [args.binary, "stress", "--count", str(args.count), "--seed", str(args.seed), "--first",
                str(args.first), "--min-vertices", str(args.min_vertices), "--max-vertices",
-               str(args.max_vertices), "--out", results_file, "--save-failures",
-               os.path.join(args.out, "failures")]
+               str(args.max_vertices), "--save-failures", os.path.join(args.out, "failures")]
     if args.tosca:
         command += ["--tosca", args.tosca]
     command += args.extra.split()
     start = time.time()
-    status = subprocess.call(command)
+    # One JSON line per mesh as it finishes (kept when the run is stopped part-way).
+    with open(results_file, "w") as results:
+        status = subprocess.call(command, stdout=results)
     elapsed = time.time() - start
     if status != 0:
         sys.exit(f"stress_geodesics.py: `{' '.join(command)}` exited with {status}")
