@@ -94,6 +94,11 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
       result.geodesics.push_back(o);
       continue;
     }
+    if (method == "exact" && mesh.num_vertices() > options.exact_max_vertices) {  // too slow to run here
+      o.ran = false;
+      result.geodesics.push_back(o);
+      continue;
+    }
     const auto t = WallClock::now();
     try {
       double error_sum = 0, error_max = 0;

@@ -32,7 +32,7 @@ namespace cshapes {
 struct GeodesicStressOptions {
   std::vector<std::string> geodesic_methods = {"heat", "heat-direct", "heat-cgal", "fmm", "exact", "graph"};
   int sources = 3;                   // source vertices per mesh (drawn from the case's seed)
-  Index exact_max_vertices = 6000;   // reference: exact geodesics up to this size, fast marching above
+  Index exact_max_vertices = 6000;   // exact geodesics (the reference) up to this size, fast marching above
   bool canon = true;                 // run the three canonical forms
   Index canon_max_vertices = 4000;   // ... on meshes up to this size
   bool icp = true;                   // run ICP against a moved copy

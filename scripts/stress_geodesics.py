@@ -76,7 +76,7 @@ def main():
             if m not in methods:
                 methods.append(m)
     for m in methods:
-        outcomes = [r["geodesics"][m] for r in rows if m in r.get("geodesics", {})]
+        outcomes = [r["geodesics"][m] for r in rows if m in r.get("geodesics", {}) and r["geodesics"][m]["ran"]]
         errors = [o["mean_error"] for o in outcomes if "mean_error" in o]
         maxima = [o["max_error"] for o in outcomes if "max_error" in o]
         failures = sum(o["failed"] for o in outcomes)
