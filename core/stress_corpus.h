@@ -5,10 +5,10 @@
 // generator seeded by (s, i) alone, so any case can be rebuilt from the two numbers a stress run prints.
 //
 // Kinds cycle with i (i mod kinds), so any kStressKinds consecutive cases hold every kind. Sizes are drawn
-// log-uniformly in [min_vertices, max_vertices] (the base shapes are remeshed to that size; kinds that add
-// vertices add a few percent). Meshes are closed unless the kind says otherwise, manifold, in one component
+// log-uniformly in [min_vertices, max_vertices] (a base shape is remeshed isotropically to a size below its
+// own, refined by subdivision and edge splits to a size above it; kinds that add vertices add a few percent). Meshes are closed unless the kind says otherwise, manifold, in one component
 // (handles and boundaries keep that), and may hold zero-area faces (kind near-degenerate) — no other defect.
-// Cost: one CGAL remesh per case (about 0.1 s per 1,000 vertices) plus O(n) for the perturbation.
+// Cost: one CGAL remesh or one refinement per case plus O(n) for the perturbation.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,7 @@
 namespace cshapes {
 
 enum class StressKind {
-  Remesh,          // a generated or TOSCA shape, isotropically remeshed: the well-behaved baseline
+  Remesh,          // a generated or TOSCA shape remeshed (smaller) or refined (larger): the baseline
   Jitter,          // a remesh whose vertices moved by up to 45% of the local edge length
   Flips,           // random edge flips of a remesh: needles, caps, valence-3/4 vertices, obtuse fans
   Splits,          // faces split at points near a corner, edges split near an end: valence 3/4, slivers
