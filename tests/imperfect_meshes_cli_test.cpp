@@ -129,10 +129,13 @@ TEST(ImperfectMeshesCli, DistmatGoesThroughImperfectMeshesAndSkipsUnusableOnes) 
                            "--coulomb-max-iterations 40 -o '" +
                            dir + "/d.csv'";
   test::CliResult r = test::run_cli(base + " --json");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(r.exit_code, 3) << r.err;  // a partial result: a file was left out
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["shapes"], 3);
   ASSERT_EQ(j["skipped"].size(), 1u);
+  ASSERT_EQ(j["failures"].size(), 1u);
+  EXPECT_NE(j["failures"][0]["path"].get<std::string>().find("ball3.off"), std::string::npos);
+  EXPECT_TRUE(j["failures"][0]["left_out"].get<bool>());
   EXPECT_NE(r.err.find("ball3.off"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("duplicate faces dropped 1"), std::string::npos) << r.err;
   r = test::run_cli(base + " --strict");
