@@ -58,8 +58,18 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
     say(options, options.name + ": " + text);
     if (fallback) *fallback = text;
     go.method = *next;
-    if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
-    return all_pairs_geodesics(mesh, go);
+    try {
+      if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
+      return all_pairs_geodesics(mesh, go);
+    } catch (const IoError&) {
+      throw;
+    } catch (const FileError&) {
+      throw;
+    } catch (const Error& next_error) {
+      // Both failed: say so, the first method's reason included.
+      fail(to_string(options.geodesics.method), " geodesics failed (", error.what(), "), and so did ",
+           to_string(*next), " (", next_error.what(), ")");
+    }
   }
 }
 
