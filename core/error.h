@@ -20,6 +20,12 @@ class FileError : public Error {
   explicit FileError(const std::string& message) : Error(message) {}
 };
 
+// A failed read or write of the run's own files (cache entries, outputs): the run's failure, never one
+// shape's, so drivers that leave a failing shape out rethrow it (pipeline/shape_failures.h).
+struct IoError : Error {
+  using Error::Error;
+};
+
 namespace detail {
 template <typename... Args>
 std::string concat(const Args&... args) {

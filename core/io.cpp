@@ -211,7 +211,59 @@ MeshFile parse_by_format(const std::string& bytes, const std::string& format, co
        "', expected .off, .ply, .obj, .stl, .vert/.tri or .xyz");
 }
 
+// Rows with non-finite coordinates that the file marks invalid (PLY "valid" = 0; parse_ply lets no other
+// through) are left out: of the mesh, with every face on them, and of the scalars and colours.
+void drop_invalid_rows(MeshFile& file) {
+  const Index n = file.mesh.num_vertices();
+  const VertexScalar* valid = nullptr;
+  for (const VertexScalar& s : file.scalars)
+    if (s.name == "valid" && s.values.size() == n) valid = &s;
+  if (!valid) return;
+  std::vector<Index> kept;
+  std::vector<int> new_index(static_cast<size_t>(n), -1);
+  for (Index i = 0; i < n; ++i)
+    if (file.mesh.V.row(i).allFinite() || valid->values[i] != 0) {
+      new_index[static_cast<size_t>(i)] = static_cast<int>(kept.size());
+      kept.push_back(i);
+    }
+  if (static_cast<Index>(kept.size()) == n) return;
+  const Index m = static_cast<Index>(kept.size());
+  Mesh mesh;
+  mesh.V.resize(m, 3);
+  for (Index k = 0; k < m; ++k) mesh.V.row(k) = file.mesh.V.row(kept[static_cast<size_t>(k)]);
+  std::vector<Eigen::Vector3i> faces;
+  for (Index f = 0; f < file.mesh.num_faces(); ++f) {
+    Eigen::Vector3i face;
+    bool on_valid = true;
+    for (int c = 0; c < 3; ++c) {
+      const int v = file.mesh.F(f, c);
+      on_valid = on_valid && v >= 0 && v < n && new_index[static_cast<size_t>(v)] >= 0;
+      face[c] = on_valid ? new_index[static_cast<size_t>(v)] : -1;
+    }
+    if (on_valid)
+      faces.push_back(face);
+    else
+      ++file.invalid_faces;
+  }
+  mesh.F.resize(static_cast<Index>(faces.size()), 3);
+  for (size_t f = 0; f < faces.size(); ++f) mesh.F.row(static_cast<Index>(f)) = faces[f].transpose();
+  for (VertexScalar& s : file.scalars) {
+    Eigen::VectorXd values(m);
+    for (Index k = 0; k < m; ++k) values[k] = s.values[kept[static_cast<size_t>(k)]];
+    s.values = std::move(values);
+  }
+  if (file.colors.rows() == n) {
+    Colors colors(m, 3);
+    for (Index k = 0; k < m; ++k) colors.row(k) = file.colors.row(kept[static_cast<size_t>(k)]);
+    file.colors = std::move(colors);
+  }
+  file.invalid_vertices = n - m;
+  file.file_vertex = std::move(kept);
+  file.mesh = std::move(mesh);
+}
+
 MeshFile finish(MeshFile file, const std::string& name, const ReadOptions& options) {
+  drop_invalid_rows(file);
   check_mesh_arrays(file.mesh, name);
   if (options.validate) validate_mesh(file.mesh, name);
   return file;
@@ -300,7 +352,7 @@ void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& o
   for (const VertexScalar& s : options.scalars)
     if (s.name == "valid" && s.values.size() == mesh.num_vertices()) valid = &s;
   if (ext == "ply" && valid) {
-    Mesh finite_rows;
+    Mesh finite_rows;  // what check_mesh_arrays may see: the invalid rows' NaN replaced
     finite_rows.F = mesh.F;
     finite_rows.V = mesh.V;
     for (Index i = 0; i < mesh.num_vertices(); ++i)

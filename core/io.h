@@ -26,7 +26,8 @@
 namespace cshapes {
 
 // Reading is lenient, describing is exact: a reader refuses only what is malformed (syntax, counts, indices
-// out of range, NaN/Inf coordinates, truncation, an empty file), and accepts everything a mesh file can
+// out of range, NaN/Inf coordinates — but for PLY rows marked valid = 0, see MeshFile —, truncation, an empty
+// file), and accepts everything a mesh file can
 // legally hold: non-manifold edges and vertices, isolated vertices, duplicate and degenerate faces, several
 // components, boundaries. core/mesh_defects.h describes those; core/mesh_repair.h repairs them for a method.
 struct ReadOptions {
@@ -34,7 +35,8 @@ struct ReadOptions {
   bool validate = false;
 };
 
-// Reads a mesh or point cloud. Throws cshapes::Error naming the file (and line or element) on any problem.
+// Reads a mesh or point cloud (its valid vertices: see MeshFile; read_mesh_file tells how many were left
+// out). Throws cshapes::Error naming the file (and line or element) on any problem.
 Mesh read_mesh(const std::string& path, const ReadOptions& options = {});
 
 // What every mesh the library takes must satisfy, files and arrays alike: at least one vertex, finite
@@ -66,7 +68,7 @@ struct WriteOptions {
 
 // Writes by extension (.off, .ply, .obj, .xyz). Written to a temporary file and renamed: never partial.
 // Coordinates must be finite, except in PLY rows whose "valid" scalar is 0 (vertices a method dropped: their
-// NaN is written as nan; such a file is an output, and reading it back refuses the NaN by its element).
+// NaN is written as nan; reading such a file back leaves those rows out, see MeshFile).
 // Coordinates are written with 17 significant digits (ASCII) or as doubles (binary PLY): reading the file
 // back gives exactly the same V. PLY scalars are written as double properties, colours as uchar.
 void write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options = {});
@@ -76,10 +78,19 @@ std::string file_extension(const std::string& path);
 
 // What a file holds beyond the mesh: PLY vertex properties other than x, y, z (in file order) and colours
 // (uchar red, green, blue; rows = vertices, or empty). Other formats give none.
+//
+// Invalid vertices: a PLY vertex row with NaN/Inf coordinates is read only when its "valid" property is 0 —
+// how canonical forms mark the vertices a repair dropped (write_mesh; `cshapes canon`, `experiment paper`'s
+// canon/*/*.ply). Such rows are left out of `mesh` (and of `scalars` and `colors`), with every face that
+// uses one of them; `invalid_vertices` and `invalid_faces` count them and `file_vertex` maps the vertices
+// kept to their rows in the file. A non-finite row without valid = 0 is refused, as in every other format.
 struct MeshFile {
   Mesh mesh;
   std::vector<VertexScalar> scalars;
   Colors colors;
+  Index invalid_vertices = 0;      // rows left out (NaN/Inf coordinates, valid = 0)
+  Index invalid_faces = 0;         // faces left out because they use such a row
+  std::vector<Index> file_vertex;  // mesh vertex k is row file_vertex[k] of the file; empty: the identity
 };
 
 // read_mesh, keeping PLY's per-vertex scalars and colours.

@@ -355,16 +355,21 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
     }
     if (min_size == 0) continue;
 
+    // A vertex row may hold NaN/Inf coordinates only when its "valid" property is 0 (a canonical form's
+    // dropped vertex, as write_mesh writes it); the check waits for the row's end, where valid is known.
+    const int valid = is_vertex ? find_property(element, "valid", false) : -1;
     for (long long i = 0; i < element.count; ++i) {
       double xyz[3] = {0, 0, 0};
+      const char* non_finite = nullptr;  // the first non-finite coordinate's name
+      double valid_value = 1;
       for (size_t k = 0; k < element.properties.size(); ++k) {
         const PlyProperty& p = element.properties[k];
         const int kk = static_cast<int>(k);
         if (!p.is_list) {
           double v = reader.value(p.type, element.name, i, p.name);
+          if (kk == valid) valid_value = v;
           if (kk == x || kk == y || kk == z) {
-            if (!std::isfinite(v))
-              fail(reader.where(element.name, i), " has a non-finite ", p.name, " coordinate (NaN or Inf)");
+            if (!std::isfinite(v) && !non_finite) non_finite = p.name.c_str();
             xyz[kk == x ? 0 : kk == y ? 1 : 2] = v;
           } else if (kk == red || kk == green || kk == blue) {
             file.colors(i, kk == red ? 0 : kk == green ? 1 : 2) = static_cast<unsigned char>(v);
@@ -395,6 +400,9 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
         }
         builder.add_polygon(polygon);
       }
+      if (non_finite && valid_value != 0)
+        fail(reader.where(element.name, i), " has a non-finite ", non_finite, " coordinate (NaN or Inf)",
+             valid >= 0 ? "" : " and no 'valid' property = 0 marking it");
       if (is_vertex) builder.add_vertex(xyz[0], xyz[1], xyz[2]);
     }
   }

@@ -36,7 +36,16 @@ int run() {
   // Canonical forms keep their input's faces, which need not pass mesh validation: only points matter here.
   ReadOptions lenient;
   lenient.validate = false;
-  Mesh a = read_mesh(args.source, lenient), b = read_mesh(args.target, lenient);
+  // Rows marked invalid (NaN, valid = 0: vertices a canonical form's repair dropped) are left out by the
+  // reader: the alignment uses the valid vertices only.
+  const MeshFile file_a = read_mesh_file(args.source, lenient), file_b = read_mesh_file(args.target, lenient);
+  const Mesh& a = file_a.mesh;
+  const Mesh& b = file_b.mesh;
+  for (const MeshFile* f : {&file_a, &file_b})
+    if (f->invalid_vertices > 0)
+      warn((f == &file_a ? args.source : args.target) + ": " + std::to_string(f->invalid_vertices) +
+           " invalid vertices (NaN rows, valid = 0) ignored; aligned on the " +
+           std::to_string(f->mesh.num_vertices()) + " valid ones");
   IcpOptions options;
   options.allow_reflections = !args.no_reflections;
   options.symmetric = !args.one_way;
@@ -68,6 +77,8 @@ int run() {
   j["starts"] = r.start_transforms.size();
   j["best_start"] = r.best_start;
   j["converged"] = r.converged;
+  if (file_a.invalid_vertices + file_b.invalid_vertices > 0)
+    j["invalid_vertices"] = {{"source", file_a.invalid_vertices}, {"target", file_b.invalid_vertices}};
   j["stop_reason"] = r.stop_reason;
   j["seconds"] = r.seconds;
   if (args.json) {

@@ -1,4 +1,6 @@
 // cshapes convert IN OUT: between mesh formats (by extension), keeping PLY per-vertex scalars and colours.
+// A PLY's invalid vertices (NaN rows with valid = 0, as canonical forms write dropped vertices) are dropped
+// with the faces on them, and said.
 #include "core/io.h"
 #include "experiments/command.h"
 
@@ -20,6 +22,10 @@ int run() {
   write_options.binary = args.binary;
   write_options.scalars = file.scalars;
   write_options.colors = file.colors;
+  // Rows a canonical form marks invalid (NaN, valid = 0) are not written: the output holds the valid part.
+  if (file.invalid_vertices > 0)
+    warn(std::to_string(file.invalid_vertices) + " invalid vertices (NaN rows, valid = 0) of " + args.input +
+         " dropped, with the " + std::to_string(file.invalid_faces) + " faces on them");
   write_mesh(args.output, file.mesh, write_options);
   note("wrote " + args.output + " (" + std::to_string(file.mesh.num_vertices()) + " vertices, " +
        std::to_string(file.mesh.num_faces()) + " triangles)");

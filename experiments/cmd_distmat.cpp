@@ -66,7 +66,8 @@ int run() {
                            {"ranks", comm.size()},
                            {"seconds", pd.seconds},
                            {"cache", o.cache_dir},
-                           {"skipped", result.skipped}};
+                           {"skipped", result.skipped},
+                           {"failures", shape_failures_json(result.failures)}};
     if (result.two_stage.k > 0) {
       summary["two_stage"] = {{"k", result.two_stage.k}, {"pairs_aligned", result.two_stage.pairs_aligned}};
       if (result.two_stage.recall >= 0) {
@@ -77,7 +78,7 @@ int run() {
     std::cout << summary.dump(2) << std::endl;
   }
   note("wrote " + args.output);
-  return 0;
+  return exit_code_for(result.failures);
 }
 
 const bool registered = register_command(
@@ -98,8 +99,11 @@ const bool registered = register_command(
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
        app.add_flag("--largest-component", args.largest_component,
                     "keep each input's largest component (the default repair; kept for old scripts)");
-       app.add_flag("--strict", args.strict,
-                    "refuse a mesh the method would have to repair instead of repairing it");
+       app.add_flag(
+           "--strict", args.strict,
+           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh the method would have to repair");
+       app.footer(kPartialResultHelp);
        app.add_flag("--json", args.json, "print a JSON summary");
        app.add_option(
               "--two-stage-k", args.two_stage_k,

@@ -83,7 +83,8 @@ int run() {
                      {"pairs_computed", r.pairs_computed},
                      {"pairs_cached", r.pairs_cached},
                      {"figure", r.figure},
-                     {"seconds", r.seconds}};
+                     {"seconds", r.seconds},
+                     {"failures", shape_failures_json(r.failures)}};
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf(
@@ -93,7 +94,7 @@ int run() {
         r.poses, o.levels.size(), r.seconds, r.canonical_forms_computed, r.canonical_forms_cached,
         r.pairs_computed, r.pairs_cached, o.out.c_str());
   }
-  return 0;
+  return exit_code_for(r.failures);
 }
 
 const bool registered = register_command(
@@ -119,7 +120,12 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(0, 20));
        app.add_flag("--no-figure", args.no_figure, "do not draw noise.png");
-       app.add_flag("--json", args.json, "print the summary as JSON");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },
      run});

@@ -72,7 +72,8 @@ int run() {
                    {"canonical_forms_computed", s.canonical_forms_computed},
                    {"canonical_forms_cached", s.canonical_forms_cached},
                    {"pairs_computed", s.pairs_computed},
-                   {"pairs_cached", s.pairs_cached}};
+                   {"pairs_cached", s.pairs_cached},
+                   {"failures", shape_failures_json(s.failures)}};
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
   } else {
@@ -82,7 +83,7 @@ int run() {
         s.shapes, s.seconds, s.canonical_forms_computed, s.canonical_forms_cached, s.pairs_computed,
         s.pairs_cached, o.out.c_str());
   }
-  return 0;
+  return exit_code_for(s.failures);
 }
 
 const bool registered = register_command(
@@ -111,10 +112,10 @@ const bool registered = register_command(
        app.add_flag(
            "--largest-component", o.largest_component,
            "keep each input's largest connected component (the default repair; kept for old scripts)");
-       app.add_flag(
-           "--strict", o.canon.strict,
-           "refuse a mesh a method would have to repair (non-manifold for MDS, several components, ...) "
-           "instead of repairing it");
+       app.add_flag("--strict", o.canon.strict,
+                    "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
+                    "3), with no geodesic fallback; and refuse a mesh a method would have to repair "
+                    "(non-manifold for MDS, several components, ...) instead of repairing it");
        app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
            ->capture_default_str()
            ->check(integer_in(1, 1000));
@@ -132,7 +133,8 @@ const bool registered = register_command(
                       "ground-truth samples per pair for the point-map error (0: skip)")
            ->capture_default_str()
            ->check(integer_in(0, 100000000));
-       app.add_flag("--json", args.json, "print the summary as JSON");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },
      run});

@@ -29,7 +29,7 @@ int run() {
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = run_pose_invariance(o);
   std::cout << r.markdown;
-  return 0;
+  return exit_code_for(r.failures);
 }
 
 const bool registered = register_command(
@@ -57,6 +57,11 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(0, 100000));
        app.add_option("--label", o.label, "name of this configuration in the CSV rows and the table");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },
      run});

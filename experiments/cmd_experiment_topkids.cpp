@@ -53,12 +53,13 @@ int run() {
                      {"canonical_forms_cached", r.forms_cached},
                      {"scorings_computed", r.scorings_computed},
                      {"scorings_cached", r.scorings_cached},
-                     {"figure", r.figure}};
+                     {"figure", r.figure},
+                     {"failures", shape_failures_json(r.failures)}};
     for (const TopkidsSummary& s : r.summaries)
       j["summary"][s.method] = {
           {"mean_error", s.mean_error}, {"under_0.1", s.under_0_1}, {"under_0.25", s.under_0_25}};
     std::cout << j.dump(2) << std::endl;
-    return 0;
+    return exit_code_for(r.failures);
   }
   std::printf("experiment topkids: %zu poses in %.1f s (%ld canonical forms computed, %ld cached)\n",
               r.poses.size(), r.seconds, r.forms_computed, r.forms_cached);
@@ -66,7 +67,7 @@ int run() {
   for (const TopkidsSummary& s : r.summaries)
     std::printf("%-10s %10.4f %8.3f %8.3f\n", s.method.c_str(), s.mean_error, s.under_0_1, s.under_0_25);
   std::printf("report: %s/report.md\n", o.out.c_str());
-  return 0;
+  return exit_code_for(r.failures);
 }
 
 const bool registered = register_command(
@@ -100,11 +101,14 @@ const bool registered = register_command(
        app.add_flag("--icp-axis-swaps", o.icp.try_axis_swaps,
                     "ICP also starts from the principal-axis poses with two axes exchanged (12 more starts; "
                     "default off, as in the retrieval)");
-       app.add_flag("--strict", o.canon.strict,
-                    "refuse a mesh a method would have to repair (kid00's non-manifold edge, ...) instead of "
-                    "repairing it");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first pose that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair (kid00's "
+           "non-manifold edge, ...)");
        app.add_flag("--no-figure", args.no_figure, "do not draw topkids.png");
-       app.add_flag("--json", args.json, "print the summary as JSON");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },
      run});

@@ -20,17 +20,29 @@ struct InfoArgs {
 int run() {
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& path : args.paths) {
-    Mesh mesh = read_mesh(path);  // lenient: only malformed files are refused
+    // Lenient: only malformed files are refused. Rows a canonical form marks invalid (NaN, valid = 0) are
+    // left out by the reader, and said.
+    const MeshFile file = read_mesh_file(path);
+    const Mesh& mesh = file.mesh;
     MeshInfo info = mesh_info(mesh);
     MeshDefects defects = mesh_defects(mesh);
     nlohmann::json j = {{"file", path}};
     j.update(mesh_info_json(info));
     j["defects"] = mesh_defects_json(defects);
+    if (file.invalid_vertices > 0) {
+      j["invalid_vertices"] = file.invalid_vertices;
+      j["invalid_faces"] = file.invalid_faces;
+    }
     if (args.json) {
       all.push_back(j);
       continue;
     }
     std::printf("%s\n", path.c_str());
+    if (file.invalid_vertices > 0)
+      std::printf(
+          "  %ld invalid vertices (NaN rows, valid = 0) ignored, with the %ld faces on them; the "
+          "counts below are of the valid part\n",
+          static_cast<long>(file.invalid_vertices), static_cast<long>(file.invalid_faces));
     std::printf("  vertices              %ld\n", static_cast<long>(info.vertices));
     std::printf("  faces                 %ld\n", static_cast<long>(info.faces));
     std::printf("  edges                 %ld\n", static_cast<long>(info.edges));

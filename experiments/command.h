@@ -20,6 +20,7 @@
 #include "core/mesh.h"
 #include "core/progress.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes::cli {
 
@@ -65,9 +66,16 @@ bool canon_option_given(const std::string& name);
 enum ExitCode : int {
   kExitOk = 0,
   kExitDataError = 1,  // an input that cannot be read or is invalid, a computation that fails, out of memory
-  kExitUsage = 2,  // the command line: unknown command or option, bad value, an option that does not apply,
-                   // an output path that cannot be written
+  kExitUsage = 2,    // the command line: unknown command or option, bad value, an option that does not apply,
+                     // an output path that cannot be written
+  kExitPartial = 3,  // experiments and distmat: the run finished but left shapes out (each named on stderr,
+                     // in the report and the JSON); --strict stops at the first instead (exit code 1)
 };
+// The help epilogue of the commands that can end with kExitPartial.
+extern const char* const kPartialResultHelp;
+// The end of such a run: one warning line per record (shapes left out, geodesic fallbacks), then
+// kExitPartial when a shape was left out, else kExitOk.
+int exit_code_for(const std::vector<ShapeFailure>& failures);
 // A mistake on the command line (exit code kExitUsage). Commands throw it for what the parser cannot see.
 class UsageError : public Error {
  public:

@@ -126,6 +126,22 @@ void warn(const std::string& line) {
   std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": warning: " << line << std::endl;
 }
 
+const char* const kPartialResultHelp =
+    "Exit codes: 0 success; 1 a failure of the data or the computation that ended the run; 2 the command "
+    "line; 3 a partial result: the run finished, but a shape whose file could not be used or whose "
+    "canonical form failed (by any method) was left out, named on stderr, in the report and the JSON "
+    "(a heat geodesics failure falls back to fast marching and keeps the shape). --strict stops at the "
+    "first failing shape instead (exit code 1).";
+
+int exit_code_for(const std::vector<ShapeFailure>& failures) {
+  for (const ShapeFailure& f : failures) warn(describe(f));
+  const int left_out = count_left_out(failures);
+  if (left_out == 0) return kExitOk;
+  warn(std::to_string(left_out) + (left_out == 1 ? " shape was" : " shapes were") +
+       " left out: a partial result (exit code " + std::to_string(kExitPartial) + ")");
+  return kExitPartial;
+}
+
 namespace {
 
 // Parses a whole string as a number: "12", "-3", "1e-3"; false for "", "abc", "12abc".

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -19,10 +20,62 @@ Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn) {
   return mesh.is_point_cloud() ? knn_graph(mesh.V, knn) : mesh_edges(mesh.F);
 }
 
-DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& options) {
+std::function<void(GeodesicMethod, const std::string&)>& geodesics_test_hook() {
+  static std::function<void(GeodesicMethod, const std::string&)> hook;
+  return hook;
+}
+
+void say(const CanonicalFormOptions& options, const std::string& line) {
+  if (options.note) options.note(line);
+}
+
+// The methods a failing geodesic method falls back to, in order: the heat methods to fast marching.
+std::optional<GeodesicMethod> geodesic_fallback_method(GeodesicMethod method) {
+  if (method == GeodesicMethod::Heat || method == GeodesicMethod::HeatCgal)
+    return GeodesicMethod::FastMarching;
+  return std::nullopt;
+}
+
+// All pairs on a surface. A method that fails on this mesh (a cshapes::Error, not the run's own I/O) falls
+// back to the next one (heat → fast marching) unless options.strict; *fallback then says which failed and
+// why.
+DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                 std::string* fallback) {
   GeodesicOptions go = options.geodesics;
   if (!go.progress) go.progress = options.progress;
-  if (!mesh.is_point_cloud()) return all_pairs_geodesics(mesh, go);
+  try {
+    if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
+    return all_pairs_geodesics(mesh, go);
+  } catch (const IoError&) {
+    throw;
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& error) {
+    const std::optional<GeodesicMethod> next = geodesic_fallback_method(go.method);
+    if (options.strict || !next) throw;
+    const std::string text =
+        to_string(go.method) + " geodesics failed (" + error.what() + "); " + to_string(*next) + " instead";
+    say(options, options.name + ": " + text);
+    if (fallback) *fallback = text;
+    go.method = *next;
+    try {
+      if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
+      return all_pairs_geodesics(mesh, go);
+    } catch (const IoError&) {
+      throw;
+    } catch (const FileError&) {
+      throw;
+    } catch (const Error& next_error) {
+      // Both failed: say so, the first method's reason included.
+      fail(to_string(options.geodesics.method), " geodesics failed (", error.what(), "), and so did ",
+           to_string(*next), " (", next_error.what(), ")");
+    }
+  }
+}
+
+DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& options,
+                               std::string* fallback = nullptr) {
+  if (!mesh.is_point_cloud()) return surface_geodesics(mesh, options, fallback);
   // A point cloud has no surface: graph distances on its kNN graph (as Isomap does).
   Edges E = knn_graph(mesh.V, options.knn);
   Components comp = connected_components(mesh.num_vertices(), E);
@@ -37,10 +90,6 @@ DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& opt
   for (Index s = 0; s < n; ++s) D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
   symmetrize_distances(D);
   return D;
-}
-
-void say(const CanonicalFormOptions& options, const std::string& line) {
-  if (options.note) options.note(line);
 }
 
 CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options) {
@@ -145,13 +194,14 @@ ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFor
 }
 
 CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given,
-                       double given_seconds) {
+                       double given_seconds, const std::string& given_fallback) {
   CanonicalForm form;
   form.precompute_seconds = given_seconds;
+  form.geodesics_fallback = given ? given_fallback : "";
   DistanceMatrix computed;
   if (!given) {
     auto start = WallClock::now();
-    computed = geodesic_matrix(mesh, options);
+    computed = geodesic_matrix(mesh, options, &form.geodesics_fallback);
     form.precompute_seconds = seconds_since(start);
     given = &computed;
   }
@@ -159,8 +209,9 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, co
                   " rows for a mesh of ", mesh.num_vertices(), " vertices");
   auto start = WallClock::now();
   nlohmann::json summary = nlohmann::json::object();
-  if (options.geodesics.method == GeodesicMethod::Heat ||
-      options.geodesics.method == GeodesicMethod::HeatCgal) {
+  if (!form.geodesics_fallback.empty()) summary["geodesics_fallback"] = form.geodesics_fallback;
+  if (form.geodesics_fallback.empty() && (options.geodesics.method == GeodesicMethod::Heat ||
+                                          options.geodesics.method == GeodesicMethod::HeatCgal)) {
     const std::string warning = heat_method_warning(mesh);
     if (!warning.empty()) {
       summary["warning"] = warning;
@@ -218,6 +269,7 @@ nlohmann::json to_json(const CanonicalForm& f) {
   j["history_rows"] = f.history_rows;
   j["summary"] = f.summary_json;
   j["valid"] = std::vector<double>(f.valid.data(), f.valid.data() + f.valid.size());
+  if (!f.geodesics_fallback.empty()) j["geodesics_fallback"] = f.geodesics_fallback;
   return j;
 }
 
@@ -242,6 +294,7 @@ CanonicalForm form_from_json(const nlohmann::json& j) {
                   "cache entry: inconsistent valid flags");
   f.valid = valid.empty() ? Eigen::VectorXd::Ones(n)
                           : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(valid.data(), n));
+  f.geodesics_fallback = j.value("geodesics_fallback", std::string());
   return f;
 }
 
@@ -306,8 +359,12 @@ DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const Repaire
   return sub;
 }
 
+void set_geodesics_test_hook(std::function<void(GeodesicMethod, const std::string&)> hook) {
+  geodesics_test_hook() = std::move(hook);
+}
+
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
-                             double D_seconds) {
+                             double D_seconds, const std::string& D_fallback) {
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
   if (options.method != "coulomb" && !D && !options.distances_file.empty()) {
@@ -317,8 +374,9 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
     D = &from_file;
     D_seconds = seconds_since(start);
   }
-  CanonicalForm form = options.method == "coulomb" ? coulomb_form(repaired.mesh, options)
-                                                   : mds_form(repaired.mesh, options, D, D_seconds);
+  CanonicalForm form = options.method == "coulomb"
+                           ? coulomb_form(repaired.mesh, options)
+                           : mds_form(repaired.mesh, options, D, D_seconds, D_fallback);
   // Back to the input's vertices (a copy when nothing was repaired).
   const Index n = mesh.num_vertices();
   form.X = to_input_vertices(form.X, repaired.vertex_map, n);
@@ -382,7 +440,8 @@ std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOption
 
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const CanonicalFormOptions& options, bool* was_cached,
-                                    const DistanceMatrix* D, double D_seconds) {
+                                    const DistanceMatrix* D, double D_seconds,
+                                    const std::string& D_fallback) {
   const std::string key = canonical_form_cache_key(mesh, options);
   if (std::optional<nlohmann::json> hit = cache.get_json(key)) {
     // The repair (cheap) is redone for its report under this call's name, and so that --strict refuses.
@@ -394,7 +453,7 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
     return form;
   }
   if (was_cached) *was_cached = false;
-  CanonicalForm form = canonical_form(mesh, options, D, D_seconds);
+  CanonicalForm form = canonical_form(mesh, options, D, D_seconds, D_fallback);
   cache.put_json(key, to_json(form));
   return form;
 }
@@ -415,12 +474,13 @@ std::vector<CanonicalFormOptions> options_per_method(const CanonicalFormOptions&
 }
 
 std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
-                                               const std::vector<CanonicalFormOptions>& options) {
+                                               const std::vector<CanonicalFormOptions>& options, size_t* at) {
   std::vector<CachedForm> result(options.size());
   // The shared matrix and the options it was computed for (heat/FMM settings and the repair).
   DistanceMatrix D;
   const CanonicalFormOptions* D_for = nullptr;
   double D_seconds = 0;
+  std::string D_fallback;  // the geodesic method that failed for D, and why; "" when none did
   auto same_geodesics = [](const CanonicalFormOptions& a, const CanonicalFormOptions& b) {
     return a.geodesics.method == b.geodesics.method && a.geodesics.heat_mode == b.geodesics.heat_mode &&
            a.geodesics.heat_time_factor == b.geodesics.heat_time_factor && a.strict == b.strict &&
@@ -429,16 +489,19 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
   for (size_t k = 0; k < options.size(); ++k) {
     const CanonicalFormOptions& co = options[k];
     CachedForm& out = result[k];
+    if (at) *at = k;
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
     const bool mds = co.method != "coulomb" && co.distances_file.empty();
     if (mds && !(D_for && same_geodesics(*D_for, co)) && !std::filesystem::exists(cache.entry_path(out.key))) {
-      D = geodesic_matrix(repair_for_canonical_form(mesh, co).mesh, co);
+      D_fallback.clear();
+      D = geodesic_matrix(repair_for_canonical_form(mesh, co).mesh, co, &D_fallback);
       D_seconds = seconds_since(start);
       D_for = &co;
     }
     const bool use_D = mds && D_for && same_geodesics(*D_for, co);
-    out.form = cached_canonical_form(cache, mesh, co, &out.cached, use_D ? &D : nullptr, D_seconds);
+    out.form = cached_canonical_form(cache, mesh, co, &out.cached, use_D ? &D : nullptr, D_seconds,
+                                     use_D ? D_fallback : std::string());
     out.seconds = seconds_since(start);
   }
   return result;

@@ -86,16 +86,24 @@ struct CanonicalForm {
   std::vector<std::vector<double>> history_rows;
   // Method-specific summary as JSON text: coulomb {vertices, edges, torn_edges, iterations, converged,
   // stop_reason, energy, mean/max_violation, ...}; cmds {classical_mds}; smacof {classical_mds, smacof};
-  // all {form_quality} (pipeline/form_quality_json.h), and {warning} when the heat method is too coarse.
+  // all {form_quality} (pipeline/form_quality_json.h), {warning} when the heat method is too coarse, and
+  // {geodesics_fallback} when it fell back.
   std::string summary_json;
+  // MDS: "" when the geodesics were computed by the method asked for; otherwise which method failed on this
+  // mesh, its message and the method used instead ("heat geodesics failed (...); fmm instead"). Unless
+  // strict, a heat method (heat, heat-cgal) that throws falls back to fast marching; the form is cached
+  // under the options asked for (the heat method would fail the same way again).
+  std::string geodesics_fallback;
 };
 
 // Computes the canonical form. D: optional precomputed all-pairs distances for MDS between the vertices of
 // repair_for_canonical_form(mesh, options).mesh (the mesh itself when it needs no repair), reused instead
 // of computing geodesics (e.g. one matrix shared by cmds and smacof); D_seconds: what computing it took,
 // reported as the form's precompute_seconds.
+// D_fallback: D's geodesics_fallback (what cached_canonical_forms's shared matrix fell back from).
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options,
-                             const DistanceMatrix* D = nullptr, double D_seconds = 0);
+                             const DistanceMatrix* D = nullptr, double D_seconds = 0,
+                             const std::string& D_fallback = {});
 
 // Forms of a distance matrix alone (no mesh: no repair, no form quality), described as canonical_form
 // describes its MDS forms (summary {classical_mds} or {smacof}, SMACOF's history): the Python module's
@@ -112,7 +120,8 @@ std::string mesh_content_key(const Mesh& mesh);
 // The cache key of that form.
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const CanonicalFormOptions& options, bool* was_cached = nullptr,
-                                    const DistanceMatrix* D = nullptr, double D_seconds = 0);
+                                    const DistanceMatrix* D = nullptr, double D_seconds = 0,
+                                    const std::string& D_fallback = {});
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options);
 
 // One mesh's canonical forms by several methods (options[k].method each), through the cache. MDS methods with
@@ -130,7 +139,13 @@ struct CachedForm {
 std::vector<CanonicalFormOptions> options_per_method(const CanonicalFormOptions& base,
                                                      const std::vector<std::string>& methods,
                                                      const std::string& name);
+// at (when non-null): the index of the method being computed, so when this throws, the one that failed.
 std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mesh& mesh,
-                                               const std::vector<CanonicalFormOptions>& options);
+                                               const std::vector<CanonicalFormOptions>& options,
+                                               size_t* at = nullptr);
+
+// Tests only: called with the geodesic method and the mesh's name before every all-pairs geodesic matrix of
+// an MDS form (the fallback's too); it may throw cshapes::Error to make a method fail. Empty: none (default).
+void set_geodesics_test_hook(std::function<void(GeodesicMethod, const std::string&)> hook);
 
 }  // namespace cshapes

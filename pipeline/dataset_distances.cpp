@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "core/dataset.h"
 #include "core/error.h"
@@ -10,6 +11,7 @@
 #include "eval/distance_csv.h"
 #include "matching/shape_distance.h"
 #include "pipeline/distributed.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -70,23 +72,29 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   for (size_t i = 0; i < data.entries.size(); ++i) {
     const DatasetEntry& e = data.entries[i];
     co.name = e.path;
-    bool cached = false;
-    CanonicalForm form;
     Mesh mesh;
+    std::optional<std::vector<CachedForm>> computed;
+    const size_t failures_before = result.failures.size();
     try {
       mesh = read_mesh(e.path);
-      form = cached_canonical_form(cache, mesh, co, &cached);
     } catch (const Error& error) {
       if (co.strict) throw;
-      say(std::string("skipped: ") + error.what());
+      result.failures.push_back(read_failure(e.name, e.path, error));
+    }
+    if (result.failures.size() == failures_before)
+      computed = shape_canonical_forms(cache, mesh, {co}, e.name, result.failures);
+    for (size_t k = failures_before; k < result.failures.size(); ++k) say(describe(result.failures[k]));
+    if (!computed) {
       result.skipped.push_back(e.path);
-      result.skipped_reasons.push_back(error.what());
+      result.skipped_reasons.push_back(result.failures.back().reason);
       continue;
     }
-    if (!form.repair_text.empty()) say(form.repair_text);
+    CachedForm& form = computed->front();
+    if (!form.form.repair_text.empty()) say(form.form.repair_text);
+    const bool cached = form.cached;
     (cached ? result.forms_cached : result.forms_computed)++;
-    forms.push_back(std::move(form.X));
-    keys.push_back(canonical_form_cache_key(mesh, co));
+    forms.push_back(std::move(form.form.X));
+    keys.push_back(form.key);
     result.names.push_back(e.name);
     result.classes.push_back(e.class_name);
     say("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +

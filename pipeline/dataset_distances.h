@@ -17,8 +17,9 @@
 // reported: the fraction of each shape's true k nearest that its candidates held.
 //
 // Each shape is repaired for the method (pipeline/canonical_forms.h) or, with canon.strict, refused (the
-// error is thrown). A file no method can use (unreadable, too few vertices after repair) is skipped with its
-// reason unless strict; at least two usable shapes are needed.
+// error is thrown). A file no method can use (unreadable, too few vertices after repair) or a shape whose
+// form fails is skipped with its reason (`failures`, pipeline/shape_failures.h) unless strict; at least two
+// usable shapes are needed.
 #pragma once
 
 #include <functional>
@@ -29,6 +30,7 @@
 #include "eval/pairwise_distances.h"
 #include "matching/shape_descriptor.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -57,6 +59,9 @@ struct DatasetDistances {
   std::vector<std::string> classes;  // their classes
   std::vector<std::string> skipped;  // files skipped (not under strict)
   std::vector<std::string> skipped_reasons;
+  // Every file skipped (stage "read") or shape whose form failed (left out), and geodesic fallbacks (kept):
+  // pipeline/shape_failures.h. Empty when nothing failed.
+  std::vector<ShapeFailure> failures;
   long forms_computed = 0, forms_cached = 0;  // over all ranks
   PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse (rank 0)
   TwoStageSummary two_stage;

@@ -23,6 +23,7 @@
 #include "eval/pairwise_distances.h"
 #include "matching/shape_distance.h"
 #include "pipeline/paper_report.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -119,7 +120,8 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
 }
 
 // Clean poses per class, in the data's order; a file that cannot be read is skipped with its reason.
-std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std::string>& skipped) {
+std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std::string>& skipped,
+                               std::vector<ShapeFailure>& failures) {
   const Dataset data = read_dataset(o.data);
   std::vector<Pose> poses;
   for (const std::string& cls : data.classes) {
@@ -135,8 +137,10 @@ std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std:
         p.mesh = read_mesh(e.path);
         CSHAPES_REQUIRE(p.mesh.num_faces() > 0, e.path, ": a point cloud (gluing needs faces)");
       } catch (const Error& error) {
+        if (o.canon.strict) throw;
         say(o, std::string("skipped: ") + error.what());
         skipped.push_back(error.what());
+        failures.push_back(read_failure(e.name, e.path, error));
         continue;
       }
       p.chi = mesh_info(p.mesh).euler_characteristic;
@@ -228,6 +232,7 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
         "RMS after the best rigid fit (reflections allowed), in % of the clean form's bbox diagonal.\n";
   for (const std::string& s : skipped) md << "- Skipped: " << s << "\n";
   md << "\n";
+  md << shape_failures_markdown(r.failures);
 
   md << "## Results\n\n";
   md << "| method | glues | poses | queries | mAP Hausdorff | same poses clean | mAP Chamfer | mAP RMSE | NN "
@@ -361,13 +366,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   // 1. Clean poses, and every glued version (χ checked).
   say(o, "== poses from " + o.data);
   std::vector<std::string> skipped;
-  const std::vector<Pose> poses = select_poses(o, skipped);
-  result.poses = static_cast<int>(poses.size());
-  {
-    std::set<std::string> classes;
-    for (const Pose& p : poses) classes.insert(p.class_name);
-    result.classes = static_cast<int>(classes.size());
-  }
+  std::vector<Pose> poses = select_poses(o, skipped, result.failures);
   std::vector<Variant> variants;                  // clean poses first (index = pose), then glued versions
   std::map<std::pair<int, int>, int> variant_of;  // (pose, level) -> index in variants, when usable
   for (size_t p = 0; p < poses.size(); ++p) {
@@ -398,20 +397,71 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   // 2. Canonical forms of every variant by every method (cached); MDS methods share one geodesic matrix.
   say(o, "== canonical forms (" + std::to_string(variants.size()) + " shapes × " +
              std::to_string(o.methods.size()) + " methods)");
+  // A variant whose form fails by any method is left out; a clean pose's failure leaves out the pose with
+  // every glued version of it (pipeline/shape_failures.h).
   std::map<std::string, std::vector<Points>> forms;
   std::map<std::string, std::vector<std::string>> form_keys;
+  std::vector<char> failed(variants.size(), 0);
   for (size_t i = 0; i < variants.size(); ++i) {
     const Variant& v = variants[i];
-    std::vector<CachedForm> computed =
-        cached_canonical_forms(form_cache, v.mesh, options_per_method(o.canon, o.methods, v.name));
+    const size_t failures_before = result.failures.size();
+    const std::string path = v.level == 0 ? poses[static_cast<size_t>(v.pose)].path
+                                          : (fs::path(o.out) / "shapes" / (v.name + ".off")).string();
+    std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
+        form_cache, v.mesh, options_per_method(o.canon, o.methods, path), v.name, result.failures);
+    for (size_t k = failures_before; k < result.failures.size(); ++k)
+      say(o, "  " + describe(result.failures[k]));
+    failed[i] = !computed;
     for (size_t k = 0; k < o.methods.size(); ++k) {
-      (computed[k].cached ? result.canonical_forms_cached : result.canonical_forms_computed)++;
-      forms[o.methods[k]].push_back(std::move(computed[k].form.X));
-      form_keys[o.methods[k]].push_back(computed[k].key);
+      if (computed)
+        (*computed)[k].cached ? ++result.canonical_forms_cached : ++result.canonical_forms_computed;
+      forms[o.methods[k]].push_back(computed ? std::move((*computed)[k].form.X) : Points());
+      form_keys[o.methods[k]].push_back(computed ? (*computed)[k].key : std::string());
     }
     if (o.progress)
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(variants.size()));
   }
+  if (std::find(failed.begin(), failed.end(), 1) != failed.end()) {
+    // Renumber: poses whose clean form failed go, with their variants; then variants whose form failed.
+    std::vector<int> new_pose(poses.size(), -1);
+    std::vector<Pose> kept_poses;
+    for (size_t p = 0; p < poses.size(); ++p)
+      if (!failed[p]) {
+        new_pose[p] = static_cast<int>(kept_poses.size());
+        kept_poses.push_back(std::move(poses[p]));
+      } else {
+        for (const Variant& v : variants)
+          if (v.pose == static_cast<int>(p) && v.level > 0)
+            say(o, "  " + v.name + " left out with its clean pose");
+      }
+    std::vector<Variant> kept;
+    std::map<std::string, std::vector<Points>> kept_forms;
+    std::map<std::string, std::vector<std::string>> kept_keys;
+    variant_of.clear();
+    // In order: the clean poses kept come first, so a clean variant's index is still its pose's.
+    for (size_t i = 0; i < variants.size(); ++i) {
+      Variant& v = variants[i];
+      if (failed[i] || new_pose[static_cast<size_t>(v.pose)] < 0) continue;
+      v.pose = new_pose[static_cast<size_t>(v.pose)];
+      if (v.level > 0 || levels.front() == 0) variant_of[{v.pose, v.level}] = static_cast<int>(kept.size());
+      for (const std::string& m : o.methods) {
+        kept_forms[m].push_back(std::move(forms[m][i]));
+        kept_keys[m].push_back(std::move(form_keys[m][i]));
+      }
+      kept.push_back(std::move(v));
+    }
+    poses = std::move(kept_poses);
+    variants = std::move(kept);
+    forms = std::move(kept_forms);
+    form_keys = std::move(kept_keys);
+  }
+  result.poses = static_cast<int>(poses.size());
+  {
+    std::set<std::string> classes;
+    for (const Pose& p : poses) classes.insert(p.class_name);
+    result.classes = static_cast<int>(classes.size());
+  }
+  CSHAPES_REQUIRE(!poses.empty(), o.data, ": every clean pose was left out (see above)");
 
   // 3. ICP distances: every query (a variant) against every clean pose but its own.
   std::vector<std::pair<int, int>> pairs;
@@ -570,6 +620,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     j["pose_variation"] = pose_variation;
     j["queries"] = per_query;
     j["form_rms"] = form_rms_json;
+    if (!result.failures.empty()) j["failures"] = shape_failures_json(result.failures);
     write_file_atomically((fs::path(o.out) / "noise.json").string(),
                           [&](std::ostream& out) { out << j.dump(2) << '\n'; });
   }

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -103,6 +104,10 @@ struct NoiseExperimentResult {
   bool figure = false;      // noise.png was drawn
   std::string figure_note;  // why not, when not
   double seconds = 0;
+  // Poses that could not be read and shapes (clean poses or glued versions) whose form failed by some method,
+  // left out by every method (a clean pose with its glued versions); geodesic fallbacks (kept). In report.md
+  // and noise.json when not empty (pipeline/shape_failures.h).
+  std::vector<ShapeFailure> failures;
 };
 
 NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options);

@@ -27,6 +27,7 @@
 #include "pipeline/distributed.h"
 #include "pipeline/paper_figures.h"
 #include "pipeline/paper_report.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -248,10 +249,13 @@ struct MethodForms {
 };
 
 // only: when non-null, the shapes to canonize (the others are left empty); write_files: the forms' PLY files
-// under out/canon and progress on o.progress (rank 0's full pass).
+// under out/canon and progress on o.progress (rank 0's full pass). A shape whose form fails by any method
+// (pipeline/shape_failures.h) has failed[i] set, its record in `failures` and no forms; under --strict the
+// error ends the run.
 std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes,
                                                 const PaperExperimentOptions& o, const DiskCache& cache,
-                                                PaperExperimentSummary& summary,
+                                                PaperExperimentSummary& summary, std::vector<char>& failed,
+                                                std::vector<ShapeFailure>& failures,
                                                 const std::vector<char>* only = nullptr,
                                                 bool write_files = true) {
   std::map<std::string, MethodForms> result;
@@ -259,6 +263,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     result[m].forms.resize(shapes.size());
     result[m].keys.resize(shapes.size());
   }
+  failed.assign(shapes.size(), 0);
   const auto start = WallClock::now();
   for (size_t i = 0; i < shapes.size(); ++i) {
     if (only && !(*only)[i]) continue;
@@ -266,12 +271,19 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     // One geodesic matrix serves both MDS methods (on the mesh repaired for them).
     std::vector<CanonicalFormOptions> per_method;
     for (const std::string& m : o.methods) per_method.push_back(method_options(o, m, s.source_path));
-    std::vector<CachedForm> computed = cached_canonical_forms(cache, s.mesh, per_method);
+    const size_t failures_before = failures.size();
+    std::optional<std::vector<CachedForm>> computed =
+        shape_canonical_forms(cache, s.mesh, per_method, s.name, failures);
+    for (size_t k = failures_before; k < failures.size(); ++k) say(o, "  " + describe(failures[k]));
+    if (!computed) {
+      failed[i] = 1;
+      continue;
+    }
     for (size_t k = 0; k < o.methods.size(); ++k) {
       const std::string& m = o.methods[k];
-      CanonicalForm f = std::move(computed[k].form);
-      (computed[k].cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
-      result[m].keys[i] = computed[k].key;
+      CanonicalForm f = std::move((*computed)[k].form);
+      ((*computed)[k].cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
+      result[m].keys[i] = (*computed)[k].key;
       if (!write_files) {
         result[m].forms[i] = std::move(f);
         continue;
@@ -320,6 +332,35 @@ struct ExperimentRun {
   PaperReport report;
   PaperExperimentSummary summary;
 };
+
+// Leaves the shapes whose forms failed out of the run (failed[i], from canonize_all), by every method. A
+// noisy shape glued here from a pose left out keeps its place in retrieval but loses its reference (no noise
+// measurement, no figure cell).
+void drop_failed_shapes(ExperimentRun& run, const std::vector<char>& failed) {
+  if (std::find(failed.begin(), failed.end(), 1) == failed.end()) return;
+  std::set<std::string> dropped;
+  std::vector<Shape> kept;
+  std::map<std::string, MethodForms> forms;
+  for (size_t i = 0; i < run.shapes.size(); ++i) {
+    if (failed[i]) {
+      dropped.insert(run.shapes[i].name);
+      continue;
+    }
+    for (auto& [m, mf] : run.forms) {
+      forms[m].forms.push_back(std::move(mf.forms[i]));
+      forms[m].keys.push_back(std::move(mf.keys[i]));
+    }
+    kept.push_back(std::move(run.shapes[i]));
+  }
+  for (Shape& s : kept)
+    if (dropped.count(s.source_name)) {
+      say(run.o,
+          "  " + s.name + ": its clean pose " + s.source_name + " was left out; no noise measurement for it");
+      s.source_name.clear();
+    }
+  run.shapes = std::move(kept);
+  run.forms = std::move(forms);
+}
 
 // 3. Distances between canonical forms (ICP, cached), retrieval measures under each distance kind:
 // distances/*.csv (Hausdorff), distances/{chamfer,rmse}/*.csv, metrics.json.
@@ -401,6 +442,7 @@ void retrieval_stage(ExperimentRun& run) {
   }
   if (!run.comm.is_root()) return;
   metrics["class_names"] = run.class_names;
+  if (!run.summary.failures.empty()) metrics["failures"] = shape_failures_json(run.summary.failures);
   write_file_atomically((fs::path(o.out) / "metrics.json").string(),
                         [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
   report.stage_seconds["distances and retrieval"] = seconds_since(t);
@@ -639,6 +681,40 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   if (comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, true);
   comm.barrier();
   if (!comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, false);
+  for (const PaperReport::Skipped& k : report.skipped)
+    summary.failures.push_back(read_failure(fs::path(k.file).stem().string(), k.file, Error(k.reason)));
+
+  // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
+  // expected cost); then every rank reads them all, and rank 0 writes them out. A shape whose form fails by
+  // any method is left out by every method (each rank meets the same failure in the full pass).
+  say(o, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
+             (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
+  auto t = WallClock::now();
+  long computed_by_ranks = 0;
+  std::vector<char> failed;
+  if (comm.size() > 1) {
+    std::vector<long> vertices;
+    for (const Shape& s : run.shapes) vertices.push_back(static_cast<long>(s.mesh.num_vertices()));
+    const std::vector<int> owner = canonical_form_owners(vertices, o.methods, comm.size());
+    std::vector<char> mine(run.shapes.size(), 0);
+    for (size_t i = 0; i < run.shapes.size(); ++i) mine[i] = owner[i] == comm.rank();
+    PaperExperimentOptions quiet = o;
+    quiet.progress = {};
+    quiet.note = {};
+    PaperExperimentSummary share;
+    std::vector<ShapeFailure> said_in_the_full_pass;
+    canonize_all(run.shapes, quiet, form_cache, share, failed, said_in_the_full_pass, &mine, false);
+    computed_by_ranks = comm.sum(share.canonical_forms_computed);
+  }
+  run.forms =
+      canonize_all(run.shapes, o, form_cache, summary, failed, summary.failures, nullptr, comm.is_root());
+  // The forms the ranks computed were read from the cache in the full pass: count them as computed.
+  summary.canonical_forms_computed += computed_by_ranks;
+  summary.canonical_forms_cached -= computed_by_ranks;
+  drop_failed_shapes(run, failed);
+  report.summary.failures = summary.failures;  // the figures choose among the shapes kept
+  report.stage_seconds["canonical forms"] = seconds_since(t);
+
   const std::vector<Shape>& shapes = run.shapes;
   std::vector<int>& retrieval = run.retrieval;
   for (size_t i = 0; i < shapes.size(); ++i)
@@ -664,32 +740,10 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
       if (!text.empty()) row.repairs[m] = text;
     report.shapes.push_back(row);
   }
-
-  // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
-  // expected cost); then every rank reads them all, and rank 0 writes them out.
-  say(o, "== canonical forms (" + std::to_string(shapes.size()) + " shapes" +
-             (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
-  auto t = WallClock::now();
-  long computed_by_ranks = 0;
-  if (comm.size() > 1) {
-    std::vector<long> vertices;
-    for (const Shape& s : shapes) vertices.push_back(static_cast<long>(s.mesh.num_vertices()));
-    const std::vector<int> owner = canonical_form_owners(vertices, o.methods, comm.size());
-    std::vector<char> mine(shapes.size(), 0);
-    for (size_t i = 0; i < shapes.size(); ++i) mine[i] = owner[i] == comm.rank();
-    PaperExperimentOptions quiet = o;
-    quiet.progress = {};
-    quiet.note = {};
-    PaperExperimentSummary share;
-    canonize_all(shapes, quiet, form_cache, share, &mine, false);
-    computed_by_ranks = comm.sum(share.canonical_forms_computed);
-  }
-  run.forms = canonize_all(shapes, o, form_cache, summary, nullptr, comm.is_root());
-  // The forms the ranks computed were read from the cache in the full pass: count them as computed.
-  summary.canonical_forms_computed += computed_by_ranks;
-  summary.canonical_forms_cached -= computed_by_ranks;
+  CSHAPES_REQUIRE(retrieval.size() >= 2, o.data, ": ", retrieval.size(),
+                  " shapes left in the retrieval set after ", count_left_out(summary.failures),
+                  " were left out; the experiment needs at least 2");
   const std::map<std::string, MethodForms>& forms = run.forms;
-  report.stage_seconds["canonical forms"] = seconds_since(t);
   for (const auto& [m, mf] : forms) {
     PaperReport::MethodCost cost;
     for (int i : retrieval) {

@@ -8,7 +8,9 @@
 // (pipeline/timing_table.h); report.md. Imperfect meshes are read as they are and repaired per method, said
 // per shape in notes and report.md; a file no method can use (unreadable, too few vertices) is skipped with
 // its reason. Everything is written under options.out; every expensive intermediate is cached in out/cache,
-// so a run that is killed resumes where it stopped.
+// so a run that is killed resumes where it stopped. A shape whose canonical form fails by any method is left
+// out by every method, named with its reason in summary.failures, report.md and metrics.json (unless
+// canon.strict: then the error ends the run); the run goes on with the others.
 //
 // Distributed (options.communicator with R > 1 ranks, pipeline/distributed.h): the two expensive stages are
 // split over the ranks — canonical forms by expected cost (vertex counts, longest first), the ICP pairs of
@@ -23,6 +25,7 @@
 
 #include "core/communicator.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -62,6 +65,10 @@ struct PaperExperimentSummary {
   int shapes = 0;
   long canonical_forms_computed = 0, canonical_forms_cached = 0;  // over all ranks
   long pairs_computed = 0, pairs_cached = 0;                      // over all ranks
+  // Files that could not be used (stage "read") and shapes whose canonical form failed by some method, each
+  // left out by every method; and geodesic fallbacks (the shape kept). Empty when nothing failed (rank 0's
+  // account; pipeline/shape_failures.h).
+  std::vector<ShapeFailure> failures;
 };
 
 PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& options);

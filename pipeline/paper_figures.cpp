@@ -1,5 +1,6 @@
 #include "pipeline/paper_figures.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -47,11 +48,16 @@ struct FigureShape {
   std::string name;
   Mesh mesh;
 };
-FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache) {
+// left_out: shapes the experiment left out (pipeline/shape_failures.h), never chosen.
+FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache,
+                         const std::vector<ShapeFailure>& left_out) {
   Dataset data = read_dataset(o.data);
   const DatasetEntry* chosen = nullptr;
   for (const DatasetEntry& e : data.entries) {
     if (e.noisy) continue;
+    if (std::any_of(left_out.begin(), left_out.end(),
+                    [&](const ShapeFailure& f) { return f.left_out() && f.path == e.path; }))
+      continue;
     if (!chosen) chosen = &e;
     if (e.class_name == "victoria" || e.class_name == "female" || e.class_name == "woman") {
       chosen = &e;
@@ -129,7 +135,7 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
 
   const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
   if (!has_coulomb) return;
-  FigureShape fs_shape = figure_shape(o, misc_cache);
+  FigureShape fs_shape = figure_shape(o, misc_cache, report.summary.failures);
   report.figure_shape = fs_shape.name + (o.figure_vertices > 0 ? " remeshed to " : " at its ") +
                         std::to_string(fs_shape.mesh.num_vertices()) + " vertices";
 

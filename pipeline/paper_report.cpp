@@ -107,7 +107,7 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
 
   // Data quality: what was imperfect, what each method had repaired, what could not be used.
   {
-    bool any = !r.skipped.empty();
+    bool any = false;
     for (const auto& s : r.shapes) any = any || s.defects != "none" || !s.repairs.empty();
     if (any) {
       md << "## Data quality and repairs\n\nMeshes are read as they are; each method repairs what it needs "
@@ -124,9 +124,10 @@ void write_report(const PaperExperimentOptions& o, const PaperReport& r) {
           repairs += (repairs.empty() ? "" : "<br>") + method_title(m) + ": " + text;
         md << "| " << s.name << " | " << s.defects << " | " << (repairs.empty() ? "none" : repairs) << " |\n";
       }
-      for (const auto& s : r.skipped) md << "\nSkipped `" << s.file << "`: " << s.reason << "\n";
       md << "\n";
     }
+    // Files that could not be used and shapes whose forms failed (pipeline/shape_failures.h).
+    md << shape_failures_markdown(r.summary.failures);
   }
 
   md << "## Cost of the canonical forms\n\nMean per shape of the retrieval set, as computed (cached forms "

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -287,8 +288,20 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   std::map<std::string, std::vector<Points>> X;
   PoseInvarianceResult result;
   for (const std::string& f : forms) X[f].resize(shapes.size());
+  std::vector<char> failed(shapes.size(), 0);
   for (size_t i = 0; i < shapes.size(); ++i) {
     const PoseShape& s = shapes[i];
+    // A shape whose form fails by any method is left out, with every pair it is in.
+    const size_t failures_before = result.failures.size();
+    std::optional<std::vector<CachedForm>> computed_forms = shape_canonical_forms(
+        cache, s.mesh, options_per_method(o.canon, o.methods, s.path), s.name, result.failures);
+    for (size_t k = failures_before; k < result.failures.size(); ++k)
+      say("  " + describe(result.failures[k]));
+    if (!computed_forms) {
+      failed[i] = 1;
+      continue;
+    }
+    std::vector<CachedForm>& computed = *computed_forms;
     X["input"][i] = s.mesh.V;
     const StressReference ref = stress_reference(s, o.stress_sources);
     PoseShapeRow in_row;
@@ -296,8 +309,6 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
     in_row.form = "input";
     in_row.stress = geodesic_stress(s.mesh.V, ref);
     result.shapes.push_back(in_row);
-    std::vector<CachedForm> computed =
-        cached_canonical_forms(cache, s.mesh, options_per_method(o.canon, o.methods, s.path));
     for (size_t k = 0; k < o.methods.size(); ++k) {
       const std::string& m = o.methods[k];
       CanonicalForm& form = computed[k].form;
@@ -319,6 +330,7 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   }
 
   for (const PosePair& p : pairs) {
+    if (failed[p.a] || failed[p.b]) continue;
     const std::vector<size_t> keep = thin(p.va.size(), o.samples);
     const double input_rms = pose_rms(X["input"][p.a], X["input"][p.b], p, keep);
     for (const std::string& f : forms) {
@@ -340,9 +352,9 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
 
   // Summary per form, over all pairs and per class.
   std::vector<std::string> classes = {"all"};
-  for (const PoseShape& s : shapes)
-    if (std::find(classes.begin(), classes.end(), s.class_name) == classes.end())
-      classes.push_back(s.class_name);
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (!failed[i] && std::find(classes.begin(), classes.end(), shapes[i].class_name) == classes.end())
+      classes.push_back(shapes[i].class_name);
   if (classes.size() == 2) classes.pop_back();  // one class: "all" says it
   std::map<std::string, std::string> class_of;
   for (const PoseShape& s : shapes) class_of[s.name] = s.class_name;
@@ -400,8 +412,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
                 << num(r.mean_abs_stretch) << "," << num(r.max_stretch) << ","
                 << (r.stress >= 0 ? num(r.stress) : "") << "\n";
   md << "# Pose invariance (" << label << ")\n\n"
-     << "Data: `" << o.data << "`, " << shapes.size() << " shapes, " << pairs.size()
-     << " pairs of poses, up to " << o.samples
+     << "Data: `" << o.data << "`, " << shapes.size() - count_left_out(result.failures) << " shapes, "
+     << result.pairs.size() / forms.size() << " pairs of poses, up to " << o.samples
      << " ground-truth correspondences per pair. Pose RMS: RMS distance between corresponding points of the "
         "two "
         "forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; removed "
@@ -417,6 +429,7 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
        << pct(r.mean_rms) << " | " << pct(r.median_input_rms) << " | " << fixed(100 * r.removed, 0) << "% | "
        << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
        << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(r.stress, 3) << " |\n";
+  if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);
   result.markdown = md.str();
   fs::create_directories(o.out);
   write_text((fs::path(o.out) / "pose_pairs.csv").string(), pairs_csv.str());

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -75,6 +76,9 @@ struct PoseInvarianceResult {
   std::vector<PoseShapeRow> shapes;
   std::vector<PoseSummaryRow> summary;
   std::string markdown;  // OUT/pose.md
+  // Shapes whose canonical form failed by some method, left out with every pair they are in, and geodesic
+  // fallbacks (kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
+  std::vector<ShapeFailure> failures;
 };
 
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& options);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -18,6 +19,7 @@
 #include "core/timing.h"
 #include "eval/cache.h"
 #include "eval/correspondence_error.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -214,11 +216,18 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
 
   // Canonical forms (cached); the two MDS methods share one geodesic matrix per shape.
-  auto forms_of = [&](const Mesh& mesh, const std::string& path) {
+  // A pose whose form fails by any method is left out (pipeline/shape_failures.h): nullopt.
+  using Forms = std::pair<std::map<std::string, CanonicalForm>, std::map<std::string, std::string>>;
+  auto forms_of = [&](const Mesh& mesh, const std::string& path) -> std::optional<Forms> {
     std::map<std::string, CanonicalForm> forms;
     std::map<std::string, std::string> keys;
-    std::vector<CachedForm> computed =
-        cached_canonical_forms(form_cache, mesh, options_per_method(o.canon, o.methods, path));
+    const size_t failures_before = r.failures.size();
+    std::optional<std::vector<CachedForm>> result =
+        shape_canonical_forms(form_cache, mesh, options_per_method(o.canon, o.methods, path),
+                              fs::path(path).stem().string(), r.failures);
+    for (size_t k = failures_before; k < r.failures.size(); ++k) say(o, "  " + describe(r.failures[k]));
+    if (!result) return std::nullopt;
+    std::vector<CachedForm>& computed = *result;
     for (size_t k = 0; k < o.methods.size(); ++k) {
       const std::string& m = o.methods[k];
       const bool was_cached = computed[k].cached;
@@ -229,11 +238,14 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
                             was_cached ? "cached" : "computed in " + fixed(computed[k].seconds, 1) + " s",
                             forms[m].repair_text.empty() ? "" : "; " + forms[m].repair_text));
     }
-    return std::make_pair(std::move(forms), std::move(keys));
+    return Forms(std::move(forms), std::move(keys));
   };
 
   say(o, "== reference " + o.reference + " (" + std::to_string(reference.num_vertices()) + " vertices)");
-  auto [reference_forms, reference_keys] = forms_of(reference, reference_path);
+  std::optional<Forms> reference_result = forms_of(reference, reference_path);
+  // Every pose is measured against the reference: without its forms there is nothing to measure.
+  if (!reference_result) fail("experiment topkids: ", describe(r.failures.back()));
+  auto& [reference_forms, reference_keys] = *reference_result;
   for (const std::string& m : o.methods) r.reference_repair[m] = reference_forms[m].repair_text;
   std::map<std::string, double> reference_form_diagonal;
   for (const std::string& m : o.methods)
@@ -241,13 +253,19 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   reference_form_diagonal[kInputs] = bbox_diagonal(reference.V);
   const std::string reference_key = mesh_content_key(reference);
 
+  std::set<std::string> left_out;                                    // poses whose forms failed
   std::map<std::string, std::vector<Eigen::VectorXd>> pooled;        // per method: each pose's errors
   std::map<std::string, std::vector<Eigen::VectorXd>> pooled_whole;  // the same, flip forgiven per map
   for (size_t pi = 0; pi < poses.size(); ++pi) {
     const Pose& p = poses[pi];
     const auto pose_start = WallClock::now();
     say(o, "== " + p.name + " (" + std::to_string(p.mesh.num_vertices()) + " vertices)");
-    auto [forms, keys] = forms_of(p.mesh, p.mesh_path);
+    std::optional<Forms> pose_forms = forms_of(p.mesh, p.mesh_path);
+    if (!pose_forms) {
+      left_out.insert(p.name);
+      continue;
+    }
+    auto& [forms, keys] = *pose_forms;
 
     std::ostringstream key;
     key.precision(17);
@@ -348,6 +366,11 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
     if (o.progress) o.progress("topkids", static_cast<double>(pi + 1), static_cast<double>(poses.size()));
   }
 
+  r.poses.erase(std::remove_if(r.poses.begin(), r.poses.end(),
+                               [&](const std::string& name) { return left_out.count(name) > 0; }),
+                r.poses.end());
+  CSHAPES_REQUIRE(!r.poses.empty(), "experiment topkids: every pose was left out (see above)");
+
   // Pooled curves.
   r.thresholds = Eigen::VectorXd::LinSpaced(o.curve_points, 0.0, o.max_threshold);
   auto concatenate = [](const std::vector<Eigen::VectorXd>& parts) {
@@ -442,6 +465,7 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
          {"forms_computed", r.forms_computed},
          {"forms_cached", r.forms_cached},
          {"thresholds", vector_of(r.thresholds)}};
+  if (!r.failures.empty()) j["failures"] = shape_failures_json(r.failures);
   json summaries = json::array();
   for (const TopkidsSummary& s : r.summaries)
     summaries.push_back({{"method", s.method},
@@ -540,6 +564,7 @@ void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r
       s << "No figure (" << r.figure_problem
         << "); draw it with `scripts/python.sh experiments/plots/topkids_figure.py " << o.out
         << "` from `curves.csv`.\n\n";
+    s << shape_failures_markdown(r.failures);
     s << "## Per pose: mean error (fraction ≤ 0.25), flip forgiven per vertex | per whole map\n\n| pose |";
     for (const std::string& m : r.methods) s << " " << label(m) << " | whole map |";
     s << "\n| --- |";

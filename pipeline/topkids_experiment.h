@@ -46,6 +46,7 @@
 #include "core/progress.h"
 #include "matching/icp.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -120,6 +121,9 @@ struct TopkidsExperimentResult {
   std::string figure_problem;  // why it was not drawn
   long forms_computed = 0, forms_cached = 0, scorings_computed = 0, scorings_cached = 0;
   double seconds = 0;
+  // Query poses whose canonical form failed by some method, left out (not in `poses`), and geodesic
+  // fallbacks (kept): pipeline/shape_failures.h. The reference's failure ends the run.
+  std::vector<ShapeFailure> failures;
 };
 
 // The query poses of a folder: every NAME_ref.txt whose NAME is not the reference, in name order. Throws when

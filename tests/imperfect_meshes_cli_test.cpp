@@ -88,8 +88,8 @@ TEST(ImperfectMeshesCli, CanonKeepsTheInputVertexCountAndStrictRefuses) {
     EXPECT_EQ(summary["input_vertices"], two.num_vertices());
     EXPECT_EQ(summary["kept_input_vertices"], 162);
     EXPECT_EQ(summary["repaired_vertices"], 162);
-    // The PLY has the input's 204 vertices; the small sphere's are NaN with valid = 0. Reading it back
-    // refuses the NaN by element, so look at the text.
+    // The PLY has the input's 204 vertices; the small sphere's are NaN with valid = 0, which reading it back
+    // leaves out.
     const std::string text = [&] {
       std::ifstream in(out);
       return std::string(std::istreambuf_iterator<char>(in), {});
@@ -97,6 +97,9 @@ TEST(ImperfectMeshesCli, CanonKeepsTheInputVertexCountAndStrictRefuses) {
     EXPECT_NE(text.find("element vertex 204"), std::string::npos);
     EXPECT_NE(text.find("property double valid"), std::string::npos);
     EXPECT_NE(text.find("nan"), std::string::npos);
+    const MeshFile back = read_mesh_file(out);
+    EXPECT_EQ(back.invalid_vertices, 42);
+    EXPECT_EQ(back.mesh.num_vertices(), 162);
 
     r = test::run_cli("canon '" + dir + "/two.off' -o '" + dir + "/strict.ply' --method " + method +
                       " --strict");
@@ -129,10 +132,13 @@ TEST(ImperfectMeshesCli, DistmatGoesThroughImperfectMeshesAndSkipsUnusableOnes) 
                            "--coulomb-max-iterations 40 -o '" +
                            dir + "/d.csv'";
   test::CliResult r = test::run_cli(base + " --json");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(r.exit_code, 3) << r.err;  // a partial result: a file was left out
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["shapes"], 3);
   ASSERT_EQ(j["skipped"].size(), 1u);
+  ASSERT_EQ(j["failures"].size(), 1u);
+  EXPECT_NE(j["failures"][0]["path"].get<std::string>().find("ball3.off"), std::string::npos);
+  EXPECT_TRUE(j["failures"][0]["left_out"].get<bool>());
   EXPECT_NE(r.err.find("ball3.off"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("duplicate faces dropped 1"), std::string::npos) << r.err;
   r = test::run_cli(base + " --strict");

@@ -230,6 +230,74 @@ TEST(IoRead, BinaryFormatsNameTheElement) {
   fs::remove_all(dir);
 }
 
+TEST(IoRead, PlyRowsMarkedInvalidAreLeftOutWithTheirFaces) {
+  // A canonical form with dropped vertices: NaN rows with valid = 0 (what write_mesh writes for them).
+  const std::string dir = test::scratch_dir("io");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Mesh form = icosphere(1);  // 42 vertices, 80 faces
+  const Index n = form.num_vertices();
+  Eigen::VectorXd valid = Eigen::VectorXd::Ones(n), torn = Eigen::VectorXd::Zero(n);
+  for (Index i : {3, 17, 40}) {
+    form.V.row(i).setConstant(nan);
+    valid[i] = 0;
+  }
+  torn[41] = 1;
+  Index faces_on_invalid = 0;
+  for (Index f = 0; f < form.num_faces(); ++f)
+    faces_on_invalid += (valid[form.F(f, 0)] == 0 || valid[form.F(f, 1)] == 0 || valid[form.F(f, 2)] == 0);
+  ASSERT_GT(faces_on_invalid, 0);
+  for (bool binary : {false, true}) {
+    SCOPED_TRACE(binary ? "binary" : "ascii");
+    const std::string path = dir + (binary ? "/form_b.ply" : "/form_a.ply");
+    WriteOptions wo;
+    wo.binary = binary;
+    wo.scalars = {{"valid", valid}, {"torn", torn}};
+    write_mesh(path, form, wo);
+    const MeshFile file = read_mesh_file(path);
+    EXPECT_EQ(file.invalid_vertices, 3);
+    EXPECT_EQ(file.invalid_faces, faces_on_invalid);
+    ASSERT_EQ(file.mesh.num_vertices(), n - 3);
+    EXPECT_EQ(file.mesh.num_faces(), form.num_faces() - faces_on_invalid);
+    EXPECT_TRUE(file.mesh.V.allFinite());
+    ASSERT_EQ(file.file_vertex.size(), static_cast<size_t>(n - 3));
+    for (Index k = 0; k < file.mesh.num_vertices(); ++k) {
+      const Index row = file.file_vertex[static_cast<size_t>(k)];
+      EXPECT_EQ(file.mesh.V.row(k), form.V.row(row)) << k;
+    }
+    // Faces keep their vertices, renumbered.
+    for (Index f = 0; f < file.mesh.num_faces(); ++f)
+      for (int c = 0; c < 3; ++c) EXPECT_TRUE(file.mesh.V.row(file.mesh.F(f, c)).allFinite());
+    // Scalars follow their rows: torn is 1 on the last vertex kept (row 41).
+    ASSERT_EQ(file.scalars.size(), 2u);
+    EXPECT_EQ(file.scalars[1].name, "torn");
+    ASSERT_EQ(file.scalars[1].values.size(), n - 3);
+    EXPECT_EQ(file.scalars[1].values[n - 4], 1);
+    EXPECT_EQ(file.scalars[1].values.sum(), 1);
+    EXPECT_EQ(read_mesh(path).num_vertices(), n - 3);  // read_mesh: the valid vertices
+  }
+  // NaN on a row the file does not mark invalid is refused, as before: valid = 1, or no valid property.
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+      "property double valid\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string path = write_bytes(dir + "/marked.ply", header +
+                                                                "0 0 0 1\n1 0 0 1\nnan nan nan 1\n0 1 0 1\n"
+                                                                "3 0 1 3\n");
+  expect_refused(path, {"vertex 2", "non-finite x"});
+  write_bytes(path, header + "0 0 0 1\n1 0 0 1\nnan nan nan 0\n0 1 0 1\n3 0 1 3\n");
+  const MeshFile ok = read_mesh_file(path);
+  EXPECT_EQ(ok.invalid_vertices, 1);
+  EXPECT_EQ(ok.invalid_faces, 0);
+  EXPECT_EQ(ok.mesh.F.row(0), Eigen::RowVector3i(0, 1, 2));  // vertex 3 is now 2
+  // valid = 0 on a finite row marks nothing to leave out: the row is kept as read.
+  write_bytes(path, header + "0 0 0 1\n1 0 0 0\n1 1 0 1\n0 1 0 1\n3 0 1 3\n");
+  EXPECT_EQ(read_mesh_file(path).invalid_vertices, 0);
+  EXPECT_EQ(read_mesh(path).num_vertices(), 4);
+  // Every row invalid: nothing left to read.
+  write_bytes(path, header + "nan 0 0 0\nnan 0 0 0\nnan 0 0 0\nnan 0 0 0\n3 0 1 3\n");
+  expect_refused(path, {"empty mesh"});
+  fs::remove_all(dir);
+}
+
 TEST(IoRead, AsciiPlyPolygonsAndLineNumbers) {
   std::string dir = test::scratch_dir("io");
   std::string header =

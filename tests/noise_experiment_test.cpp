@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/synthetic.h"
 #include "eval/distance_csv.h"
 #include "pipeline/noise_experiment.h"
 #include "test_support.h"
@@ -196,6 +197,42 @@ TEST(NoiseExperimentCli, ALevelNoPoseOffersIsReportedNotInvented) {
   if (j["figure"].get<bool>()) {
     EXPECT_TRUE(fs::exists(out + "/noise.png"));
   }
+}
+
+TEST(NoiseExperimentCli, APoseEveryMethodFailsOnIsLeftOutWithItsGluedVersions) {
+  // A third pose of the first class that every method fails on (scaled to 1e150, one vertex at 1e300: its
+  // geodesics and Coulomb edge lengths leave the floating-point range), added to the manifest.
+  const std::string dir = small_dataset("noise-unusable");
+  Mesh broken = icosphere(2);
+  broken.V *= 1e150;
+  broken.V.row(0).setConstant(1e300);
+  write_mesh(dir + "/data/broken9.off", broken);
+  const auto manifest = read_csv_rows(dir + "/data/manifest.csv");
+  std::string line;
+  for (size_t k = 0; k < manifest[0].size(); ++k)
+    line += (k ? "," : "") + (manifest[0][k] == "file"    ? std::string("broken9.off")
+                              : manifest[0][k] == "pose"  ? std::string("9")
+                              : manifest[0][k] == "noisy" ? std::string("0")
+                                                          : manifest[1][k]);
+  std::ofstream(dir + "/data/manifest.csv", std::ios::app) << line << "\n";
+  const std::string command = "experiment noise --data '" + dir +
+                              "/data' --methods coulomb,cmds --levels 0,1 --coulomb-max-iterations 60 --json";
+  test::CliResult r = test::run_cli(command + " --out '" + dir + "/out'");
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("broken9 left out"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out.empty() ? "{}" : r.out);
+  EXPECT_EQ(j["poses"], 6);
+  int left_out = 0;
+  for (const auto& f : j["failures"]) left_out += f["left_out"].get<bool>() && f["name"] == "broken9";
+  EXPECT_EQ(left_out, 1) << j["failures"].dump(2);
+  const nlohmann::json noise = nlohmann::json::parse(read_file(dir + "/out/noise.json"));
+  EXPECT_TRUE(noise.contains("failures"));
+  for (const auto& [level, by_pose] : noise["form_rms"]["coulomb"].items())
+    EXPECT_FALSE(by_pose.contains("broken9")) << level;
+  EXPECT_NE(read_file(dir + "/out/report.md").find("| broken9 |"), std::string::npos);
+  // --strict stops at it.
+  r = test::run_cli("-q " + command + " --strict --out '" + dir + "/strict'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
 }
 
 TEST(NoiseExperimentCli, RefusesBadLevels) {

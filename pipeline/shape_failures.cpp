@@ -1,0 +1,100 @@
+#include "pipeline/shape_failures.h"
+
+#include <sstream>
+
+#include "core/error.h"
+
+namespace cshapes {
+
+std::string describe(const ShapeFailure& f) {
+  if (!f.left_out()) return f.name + ": " + f.method + ": " + f.fallback + " (kept)";
+  if (f.stage == "read") return f.name + " left out: " + f.path + " cannot be used: " + f.reason;
+  return f.name + " left out: the " + f.method + " canonical form failed: " + f.reason;
+}
+
+int count_left_out(const std::vector<ShapeFailure>& failures) {
+  int n = 0;
+  for (const ShapeFailure& f : failures) n += f.left_out();
+  return n;
+}
+
+nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ShapeFailure& f : failures)
+    out.push_back({{"name", f.name},
+                   {"path", f.path},
+                   {"method", f.method},
+                   {"stage", f.stage},
+                   {"reason", f.reason},
+                   {"left_out", f.left_out()},
+                   {"fallback", f.left_out() ? nlohmann::json(nullptr) : nlohmann::json(f.fallback)}});
+  return out;
+}
+
+namespace {
+// A table cell: one line, no column separators.
+std::string cell(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '|') c = c == '|' ? '/' : ' ';
+  return text;
+}
+}  // namespace
+
+std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures) {
+  if (failures.empty()) return "";
+  std::ostringstream md;
+  const int left_out = count_left_out(failures);
+  md << "## Shapes left out and fallbacks\n\n";
+  if (left_out > 0)
+    md << left_out << (left_out == 1 ? " shape was" : " shapes were")
+       << " left out of every measurement, by every method (so that the methods are compared on the same "
+          "shapes); the run went on with the others and ends with exit code 3 (partial result). `--strict` "
+          "stops at the first failure instead.\n\n";
+  if (static_cast<int>(failures.size()) > left_out)
+    md << "A geodesic method that failed on a shape fell back to the next (heat → fast marching); those "
+          "shapes "
+          "were kept.\n\n";
+  md << "| shape | file | method | stage | what happened |\n| --- | --- | --- | --- | --- |\n";
+  for (const ShapeFailure& f : failures)
+    md << "| " << cell(f.name) << " | `" << cell(f.path) << "` | " << (f.method.empty() ? "all" : f.method)
+       << " | " << f.stage << " | " << cell(f.left_out() ? "left out: " + f.reason : f.fallback) << " |\n";
+  md << "\n";
+  return md.str();
+}
+
+ShapeFailure read_failure(const std::string& name, const std::string& path, const Error& error) {
+  return {name, path, "", "read", error.what(), ""};
+}
+
+std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& cache, const Mesh& mesh,
+                                                             const std::vector<CanonicalFormOptions>& options,
+                                                             const std::string& name,
+                                                             std::vector<ShapeFailure>& failures) {
+  std::vector<CachedForm> forms;
+  size_t at = 0;  // the method being computed when an error is thrown
+  try {
+    forms = cached_canonical_forms(cache, mesh, options, &at);
+  } catch (const IoError&) {
+    throw;
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& error) {
+    bool strict = false;
+    for (const CanonicalFormOptions& o : options) strict = strict || o.strict;
+    if (strict) throw;
+    const std::string method = at < options.size() ? options[at].method : "";
+    failures.push_back(
+        {name, options.empty() ? name : options.front().name, method, "canonical form", error.what(), ""});
+    return std::nullopt;
+  }
+  for (size_t k = 0; k < forms.size(); ++k) {
+    const std::string& text = forms[k].form.geodesics_fallback;
+    if (text.empty()) continue;
+    bool recorded = false;
+    for (const ShapeFailure& f : failures) recorded = recorded || (f.name == name && f.fallback == text);
+    if (!recorded) failures.push_back({name, options[k].name, options[k].method, "geodesics", text, text});
+  }
+  return forms;
+}
+
+}  // namespace cshapes

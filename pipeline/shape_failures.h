@@ -1,0 +1,61 @@
+// Per-shape failures: one shape never ends an experiment. A shape whose file cannot be used, or whose
+// canonical form fails by any method, is left out of the run (by every method, so that methods are compared
+// on the same shapes) with its reason; a geodesic method that fails on a shape falls back to the next one
+// (heat → fast marching, pipeline/canonical_forms.h) and the shape stays. Every driver (`experiment paper`,
+// `noise`, `topkids`, `pose`, `distmat`) carries these records in its result; the CLI ends a run that left a
+// shape out with its own exit code (README, "The CLI"), and `--strict` (CanonicalFormOptions::strict) stops
+// at the first failure instead, as before.
+//
+// Never a shape's failure: IoError and FileError raised while computing forms (the run's own files: the
+// cache, the outputs) and anything that is not a cshapes::Error (out of memory, ...): those end the run.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/mesh.h"
+#include "eval/cache.h"
+#include "pipeline/canonical_forms.h"
+
+namespace cshapes {
+
+struct ShapeFailure {
+  std::string name;    // the shape (file stem, or the name of a shape made here)
+  std::string path;    // its file
+  std::string method;  // the method whose form failed or fell back; "" when the file itself failed
+  std::string stage;   // "read" (the file: unreadable, too few vertices, ...), "canonical form"
+  std::string reason;  // the error's message
+  std::string
+      fallback;  // "": the shape was left out; else the fallback that kept it (its geodesics_fallback)
+  bool left_out() const { return fallback.empty(); }
+};
+
+// One line: "NAME left out: the METHOD canonical form failed: REASON", "NAME left out: FILE cannot be used:
+// REASON" or "NAME: METHOD: heat geodesics failed (...); fmm instead".
+std::string describe(const ShapeFailure& failure);
+// How many records are of shapes left out (not fallbacks).
+int count_left_out(const std::vector<ShapeFailure>& failures);
+// As JSON: [{name, path, method, stage, reason, fallback}], fallback null for shapes left out.
+nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures);
+// report.md's section: "## Shapes left out and fallbacks", a table and a sentence on what it means; "" when
+// there is no record (a report of a run where nothing failed is unchanged).
+std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures);
+
+// The record of a file that cannot be used (stage "read"), for drivers that skip such files (under strict
+// they rethrow instead).
+ShapeFailure read_failure(const std::string& name, const std::string& path, const Error& error);
+
+// One shape's canonical forms by every method of `options` (cached_canonical_forms). A cshapes::Error from
+// any method is appended to `failures` as the shape's record and nullopt returned (the shape is left out by
+// every method); IoError, FileError and everything under options[k].strict are rethrown. Forms computed on
+// fallback geodesics are returned, each fallback appended to `failures` (once per shape and fallback text).
+// name: the shape's name in the records (options carry its path).
+std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& cache, const Mesh& mesh,
+                                                             const std::vector<CanonicalFormOptions>& options,
+                                                             const std::string& name,
+                                                             std::vector<ShapeFailure>& failures);
+
+}  // namespace cshapes

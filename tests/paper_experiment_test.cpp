@@ -1,0 +1,140 @@
+// pipeline/paper_experiment.h: no shape ends the experiment. On a small generated dataset with one shape that
+// every method fails on (a readable mesh whose numbers leave the floating-point range), the run completes with the others, names the shape with its reason in the summary,
+// report.md and metrics.json, and leaves it out of every method's matrices; --strict stops at it. A run
+// where nothing fails has no failures section.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
+#include "eval/distance_csv.h"
+#include "pipeline/paper_experiment.h"
+#include "test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Readable, one component, and every method's repair lets it through; but every method fails on it: scaled
+// to 1e150 its geodesics leave the floating-point range (heat: NaN, fast marching: inf), and one vertex at
+// 1e300 gives Coulomb edges of infinite length.
+Mesh unusable_mesh() {
+  Mesh m = icosphere(2);
+  m.V *= 1e150;
+  m.V.row(0).setConstant(1e300);
+  return m;
+}
+
+// 2 classes × 3 clean poses of 400 vertices (generate dataset), plus the unusable shape as a fourth pose of
+// the first class, in the manifest.
+std::string dataset_with_an_unusable_shape(const std::string& tag, bool with_unusable = true) {
+  const std::string dir = test::scratch_dir(tag);
+  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+                                    "/data' --classes 2 --poses 3 --noisy 0 --vertices 400");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (!with_unusable) return dir;
+  const std::string manifest = dir + "/data/manifest.csv";
+  std::istringstream in(read_file(manifest));
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  // The new line: the same columns as the header, in the class of the first line.
+  std::vector<std::string> columns, values;
+  for (std::stringstream h(header), v(first); h.good();) {
+    std::string c, x;
+    std::getline(h, c, ',');
+    std::getline(v, x, ',');
+    columns.push_back(c);
+    values.push_back(x);
+  }
+  std::string line;
+  for (size_t k = 0; k < columns.size(); ++k) {
+    const std::string value = columns[k] == "file"    ? "broken9.off"
+                              : columns[k] == "pose"  ? "9"
+                              : columns[k] == "noisy" ? "0"
+                                                      : values[k];
+    line += (k ? "," : "") + value;
+  }
+  write_mesh(dir + "/data/broken9.off", unusable_mesh());
+  std::ofstream(manifest, std::ios::app) << line << "\n";
+  return dir;
+}
+
+PaperExperimentOptions small_run(const std::string& dir, const std::string& out) {
+  PaperExperimentOptions o;
+  o.data = dir + "/data/manifest.csv";
+  o.out = dir + "/" + out;
+  o.methods = {"coulomb", "cmds"};
+  o.poses_per_class = 0;  // all
+  o.noisy_per_class = 0;
+  o.table1 = false;
+  o.figures = false;
+  o.correspondence_samples = 0;
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // as the CLI: the fallback to fast marching is tried
+  o.canon.coulomb.max_iterations = 60;
+  return o;
+}
+
+TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {
+  const std::string dir = dataset_with_an_unusable_shape("paper_unusable");
+  const PaperExperimentOptions o = small_run(dir, "out");
+  const PaperExperimentSummary s = run_paper_experiment(o);
+  EXPECT_EQ(s.shapes, 6);  // the 6 usable poses
+  ASSERT_EQ(count_left_out(s.failures), 1) << shape_failures_json(s.failures).dump(2);
+  const ShapeFailure* f = nullptr;
+  for (const ShapeFailure& x : s.failures)
+    if (x.left_out()) f = &x;
+  EXPECT_EQ(f->name, "broken9");
+  EXPECT_NE(f->path.find("broken9.off"), std::string::npos);
+  EXPECT_EQ(f->stage, "canonical form");
+  EXPECT_EQ(f->method, "coulomb");  // the first method; the shape is dropped for cmds as well
+  EXPECT_FALSE(f->reason.empty());
+
+  // Every method's matrix holds the same 6 shapes, without the unusable one.
+  for (const char* m : {"coulomb", "cmds"}) {
+    const NamedDistances D = read_distance_csv(o.out + "/distances/" + m + ".csv");
+    EXPECT_EQ(D.names.size(), 6u) << m;
+    EXPECT_EQ(std::find(D.names.begin(), D.names.end(), "broken9"), D.names.end()) << m;
+  }
+  EXPECT_EQ(read_file(o.out + "/labels.csv").find("broken9"), std::string::npos);
+  const std::string report = read_file(o.out + "/report.md");
+  EXPECT_NE(report.find("## Shapes left out and fallbacks"), std::string::npos) << report;
+  EXPECT_NE(report.find("| broken9 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("exit code 3"), std::string::npos) << report;
+  const nlohmann::json metrics = nlohmann::json::parse(read_file(o.out + "/metrics.json"));
+  ASSERT_TRUE(metrics.contains("failures"));
+  bool named = false;
+  for (const auto& x : metrics["failures"])
+    named = named || (x["name"] == "broken9" && x["left_out"] == true);
+  EXPECT_TRUE(named) << metrics["failures"].dump(2);
+
+  // --strict: the same shape stops the run.
+  PaperExperimentOptions strict = small_run(dir, "strict");
+  strict.canon.strict = true;
+  try {
+    run_paper_experiment(strict);
+    ADD_FAILURE() << "strict run completed";
+  } catch (const Error& e) {
+    EXPECT_EQ(dynamic_cast<const IoError*>(&e), nullptr);
+  }
+}
+
+TEST(PaperExperiment, NothingFailedMeansNoFailuresAnywhere) {
+  const std::string dir = dataset_with_an_unusable_shape("paper_clean", false);
+  const PaperExperimentOptions o = small_run(dir, "out");
+  const PaperExperimentSummary s = run_paper_experiment(o);
+  EXPECT_EQ(s.shapes, 6);
+  EXPECT_TRUE(s.failures.empty()) << shape_failures_json(s.failures).dump(2);
+  EXPECT_EQ(read_file(o.out + "/report.md").find("## Shapes left out"), std::string::npos);
+  EXPECT_FALSE(nlohmann::json::parse(read_file(o.out + "/metrics.json")).contains("failures"));
+}
+
+}  // namespace
+}  // namespace cshapes
