@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
+#include "eval/cache.h"
 #include "experiments/command.h"
 #include "pipeline/distributed.h"
 
@@ -417,6 +418,7 @@ int main(int argc, char** argv) {
   auto it = leaf.find(selected);
   if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
   set_threads(g_threads);
+  cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
   int code = 0;
   try {
     return it->second->run();
