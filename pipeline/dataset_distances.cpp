@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
@@ -42,6 +43,8 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
       bool cached = false;
       cached_canonical_form(cache, read_mesh(data.entries[i].path), co, &cached);
       if (!cached) ++computed;
+    } catch (const WriteError&) {
+      throw;  // the shared cache cannot be written: the run stops (the CLI ends every rank)
     } catch (const Error&) {
       // the main pass meets the same error and reports it (or stops, under strict)
     }
@@ -60,6 +63,8 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
                   ": a distributed run needs a cache folder (the ranks share their results through it)");
   CSHAPES_REQUIRE(options.two_stage_k >= 0, "two-stage k = ", options.two_stage_k, ", expected >= 0");
   const Dataset data = read_dataset(options.data);
+  // A cache that cannot take files (a file in its place, a read-only folder) stops the run before any work.
+  if (!options.cache_dir.empty() && comm.is_root()) check_output_directory(options.cache_dir);
   const std::filesystem::path cache_dir(options.cache_dir);
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
@@ -76,6 +81,8 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
     try {
       mesh = read_mesh(e.path);
       form = cached_canonical_form(cache, mesh, co, &cached);
+    } catch (const WriteError&) {
+      throw;  // the cache cannot be written: not this shape's fault, and every next shape would fail alike
     } catch (const Error& error) {
       if (co.strict) throw;
       say(std::string("skipped: ") + error.what());
