@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -219,15 +220,59 @@ void check_output_directory(const std::string& path) {
 }
 
 std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail_file(path, ": no such file");
-  if (fs::is_directory(path, ec)) fail_file(path, ": is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, ": cannot open for reading: ", std::strerror(errno));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) fail_file(path, ": read error");
-  return buffer.str();
+  // What the path is, decided before anything is opened: a FIFO would block, a device (/dev/zero) never
+  // ends, a folder is no file.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    const int error = errno;
+    if (error == ENOENT) fail_file(path, ": no such file");
+    if (error == ELOOP) fail_file(path, ": a loop of symbolic links, no file at the end");
+    fail_file(path, ": cannot read: ", std::strerror(error));
+  }
+  if (S_ISDIR(info.st_mode)) fail_file(path, ": is a directory, expected a file");
+  if (!S_ISREG(info.st_mode))
+    fail_file(path, ": is ",
+              S_ISFIFO(info.st_mode)   ? "a FIFO (named pipe)"
+              : S_ISCHR(info.st_mode)  ? "a character device"
+              : S_ISBLK(info.st_mode)  ? "a block device"
+              : S_ISSOCK(info.st_mode) ? "a socket"
+                                       : "not a regular file",
+              ", expected a regular file");
+  // O_NONBLOCK: should the path have become a FIFO since the check, opening it does not wait for a writer.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) fail_file(path, ": cannot open for reading: ", std::strerror(errno));
+  struct stat opened {};
+  if (::fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+    ::close(fd);
+    fail_file(path, ": changed while being opened, expected a regular file");
+  }
+  // At most the size the file had when opened: a file that keeps growing is read as it was.
+  std::string bytes(static_cast<size_t>(opened.st_size), '\0');
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t got = ::read(fd, &bytes[done], bytes.size() - done);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      const int error = errno;
+      ::close(fd);
+      fail_file(path, ": read error: ", std::strerror(error));
+    }
+    if (got == 0) break;  // shrank meanwhile
+    done += static_cast<size_t>(got);
+  }
+  ::close(fd);
+  bytes.resize(done);
+  return bytes;
+}
+
+bool starts_with_utf8_bom(std::string_view bytes) {
+  return bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF";
+}
+
+std::string read_text_file(const std::string& path) {
+  std::string text = read_file(path);
+  if (starts_with_utf8_bom(text)) text.erase(0, 3);
+  return text;
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& columns,

@@ -47,5 +47,9 @@ void check_output_directory(const std::string& path);
 // refused by name before it is opened, and a loop of links is named as such; at most the size the file had
 // when opened is read.
 std::string read_file(const std::string& path);
+// Whether bytes start with a UTF-8 byte-order mark (EF BB BF), which some editors put before text.
+bool starts_with_utf8_bom(std::string_view bytes);
+// read_file for a text format: a leading UTF-8 byte-order mark is dropped.
+std::string read_text_file(const std::string& path);
 
 }  // namespace cshapes

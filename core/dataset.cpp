@@ -64,7 +64,7 @@ Dataset read_manifest(const fs::path& manifest) {
   Dataset d;
   d.source = manifest.string();
   const std::string where = manifest.string();
-  std::stringstream text(read_file(where));
+  std::stringstream text(read_text_file(where));
   std::string line;
   int line_number = 0;
   std::vector<std::string> columns;

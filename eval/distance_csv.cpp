@@ -52,7 +52,7 @@ bool parse_number(const std::string& text, double& value) {
 }
 
 std::vector<std::vector<std::string>> read_rows(const std::string& path, std::vector<int>& line_numbers) {
-  std::istringstream in(read_file(path));
+  std::istringstream in(read_text_file(path));
   std::vector<std::vector<std::string>> rows;
   std::string line;
   int number = 0;

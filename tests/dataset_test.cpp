@@ -115,6 +115,16 @@ TEST(Dataset, AFileListedTwiceIsRefusedByName) {
   EXPECT_EQ(read_dataset(folder).entries.size(), 3u);
 }
 
+TEST(Dataset, AManifestWithAByteOrderMarkIsRead) {
+  // Issue 22: a UTF-8 BOM made the header's first column unknown (an invisible character in the message).
+  const std::string dir = test::scratch_dir("dataset_bom");
+  write_mesh(dir + "/a0.off", icosphere(0, 1.0));
+  test::write_text(dir + "/manifest.csv", "\xEF\xBB\xBF" "file,class\na0.off,a\n");
+  const Dataset d = read_dataset(dir + "/manifest.csv");
+  ASSERT_EQ(d.entries.size(), 1u);
+  EXPECT_EQ(d.entries[0].class_name, "a");
+}
+
 TEST(Dataset, Tosca5kFolderHasFourClassesOfSix) {
   CSHAPES_REQUIRE_DATA();
   Dataset d = read_dataset(test::data_dir() + "/tosca5k");
