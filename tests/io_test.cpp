@@ -397,6 +397,29 @@ TEST(IoRead, AUtf8ByteOrderMarkIsAccepted) {
   fs::remove_all(dir);
 }
 
+TEST(IoRead, PlyTriangleStripsAreRead) {
+  // Issue 22: PLY 'tristrips' were silently dropped (0 faces).
+  const std::string dir = test::scratch_dir("io-strips");
+  const std::string path =
+      write_bytes(dir + "/strip.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                  "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                  "end_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n1 2 0\n"
+                  "8 0 1 2 3 -1 2 3 4\n");
+  const Mesh m = read_mesh(path);
+  ASSERT_EQ(m.num_faces(), 3);
+  Faces expected(3, 3);
+  expected << 0, 1, 2, 2, 1, 3, 2, 3, 4;  // every second triangle of a strip reversed: one orientation
+  EXPECT_EQ(m.F, expected);
+  write_bytes(
+      path,
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "3 0 1 7\n");
+  expect_refused(path, {"tristrips 0", "vertex index 7"});
+  fs::remove_all(dir);
+}
+
 TEST(IoRead, ToscaVertTriPairFromEitherPath) {
   std::string dir = test::scratch_dir("io");
   Mesh mesh = test_mesh();
