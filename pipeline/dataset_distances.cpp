@@ -63,6 +63,15 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
                   ": a distributed run needs a cache folder (the ranks share their results through it)");
   CSHAPES_REQUIRE(options.two_stage_k >= 0, "two-stage k = ", options.two_stage_k, ", expected >= 0");
   const Dataset data = read_dataset(options.data);
+  // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
+  NamedDistances reference;
+  if (options.two_stage_k > 0 && !options.reference.empty() && comm.is_root())
+    reference = read_distance_csv(options.reference);
+  for (const DatasetEntry& e : reference.names.empty() ? std::vector<DatasetEntry>{} : data.entries)
+    CSHAPES_REQUIRE(
+        std::find(reference.names.begin(), reference.names.end(), e.name) != reference.names.end(),
+        options.reference, ": no shape '", e.name,
+        "' (the reference must be the exact matrix of the same dataset)");
   // A cache that cannot take files (a file in its place, a read-only folder) stops the run before any work.
   if (!options.cache_dir.empty() && comm.is_root()) check_output_directory(options.cache_dir);
   const std::filesystem::path cache_dir(options.cache_dir);
@@ -135,7 +144,6 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
       rank_unmeasured_last(*M, descriptor_distances);
     if (!options.reference.empty()) {
       // The reference's rows and columns in this run's order, matched by name.
-      const NamedDistances reference = read_distance_csv(options.reference);
       std::vector<Index> at;
       for (const std::string& name : result.names) {
         auto it = std::find(reference.names.begin(), reference.names.end(), name);
