@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
@@ -88,9 +89,17 @@ TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
   o.methods = {"cmds"};
   o.samples = 0;
   o.stress_sources = 4;
+  o.label = "a,b";  // issue 22: a label with a comma broke the CSVs' columns
   const PoseInvarianceResult r = run_pose_invariance(o);
   // Pairs ring0-ring1, ring0-ring2, ring1-ring2 (not ball0), each for the input and cmds.
   EXPECT_EQ(r.pairs.size(), 6u);
+  for (const char* csv : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv"}) {
+    std::istringstream lines(read_file(o.out + "/" + csv));
+    std::string header, first;
+    std::getline(lines, header);
+    std::getline(lines, first);
+    EXPECT_EQ(first.rfind("\"a,b\",", 0), 0u) << csv << ": " << first;
+  }
   const double diag = bbox_diagonal(a.V);
   EXPECT_LT(pair_row(r, "ring1", "input").rms, 1e-9);
   EXPECT_LT(pair_row(r, "ring1", "cmds").rms, 1e-6);  // classical MDS is blind to rigid motion and order
