@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -152,11 +153,23 @@ bool option_given(const std::string& option) {
   return found && found->count() > 0;
 }
 
+namespace {
+// Whether a progress line ("\r[coulomb]  42.0%") is on the screen unfinished: a message first ends it, so
+// that it starts a line of its own.
+std::atomic<bool> g_progress_open{false};
+void end_progress_line() {
+  if (g_progress_open.exchange(false)) std::cerr << '\n';
+}
+}  // namespace
+
 void note(const std::string& line) {
-  if (!g_quiet) std::cerr << line << std::endl;
+  if (g_quiet) return;
+  end_progress_line();
+  std::cerr << line << std::endl;
 }
 
 void warn(const std::string& line) {
+  end_progress_line();
   std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": warning: " << line << std::endl;
 }
 
@@ -301,6 +314,7 @@ ProgressFn progress_printer() {
       std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
     if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
     std::fflush(stderr);
+    g_progress_open = !finished;
   };
 }
 
@@ -386,6 +400,7 @@ void bound_the_spin(char** argv) {
 }
 
 int report(const std::string& what, int code) {
+  end_progress_line();
   std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": error: " << what << '\n';
   return code;
 }

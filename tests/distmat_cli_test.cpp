@@ -114,5 +114,19 @@ TEST(DistmatCli, ACacheFolderThatIsAFileIsRefusedFirst) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+TEST(DistmatCli, AnErrorAfterProgressStartsALineOfItsOwn) {
+  // Issue 22: without -q an error was glued to the progress line ("\r[coulomb] 0.0%cshapes canon: error:
+  // ...").
+  const std::string dir = tiny_dataset();
+  test::CliResult r = test::run_cli("distmat '" + dir + "/data' --cache '" + dir +
+                                    "/cache' --method cmds --geodesics graph --test-fail-after-pairs 1 -o '" +
+                                    dir + "/out.csv'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  ASSERT_NE(r.err.find("[distances]"), std::string::npos) << r.err;  // a progress line was shown
+  const size_t at = r.err.find("cshapes distmat: error: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_TRUE(at == 0 || r.err[at - 1] == '\n') << r.err;
+}
+
 }  // namespace
 }  // namespace cshapes
