@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -92,46 +93,58 @@ class DoubleCentredOp {
     centred_ = x.array() - x.mean();
     const double* v = centred_.data();
     // Symmetry: only the tiles above the diagonal are read, each entry credited to its row and its column,
-    // so a product streams half of D. Deterministic: tiles go to threads round-robin and the threads' sums
-    // are added in thread order, so equal inputs and thread counts give bit-identical products.
-    std::vector<Eigen::VectorXd> locals(static_cast<size_t>(omp_get_max_threads()));
-#pragma omp parallel num_threads(static_cast<int>(locals.size()))
-    {
-      Eigen::VectorXd& local = locals[static_cast<size_t>(omp_get_thread_num())];
-      local = Eigen::VectorXd::Zero(n);
-      alignas(64) double column_sums[kTile];
-#pragma omp for schedule(static, 1) nowait
-      for (size_t t = 0; t < tiles_.size(); ++t) {
-        const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
-        const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
-        std::fill(column_sums, column_sums + kTile, 0.0);
-        for (Index i = i0; i < i1; ++i) {
-          const Index ja = std::max(j0, i + 1);
-          if (ja >= j1) continue;
-          if (i + 2 < i1) {  // the row two ahead: each tile row is a separate short run of D
-            const char* next = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + std::max(j0, i + 3));
-            const char* end = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + j1);
-            for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
-          }
-          const Entry* column = D_.data() + i * n;  // column i = row i
-          const double vi = v[i];
-          double row = 0;
-          double* sums = column_sums - j0;
-#pragma omp simd reduction(+ : row)
-          for (Index j = ja; j < j1; ++j) {
-            const double d = static_cast<double>(column[j]);
-            const double a = d * d;
-            row += a * v[j];
-            sums[j] += a * vi;
-          }
-          local[i] += row;
+    // so a product streams half of D. Bit-identical for any thread count (as SMACOF and Coulomb are): each
+    // tile writes its row and column sums to slots of its own, and each block of the product adds its
+    // tiles' slots in one fixed order.
+    const Index blocks = (n + kTile - 1) / kTile;
+    tile_rows_.resize(tiles_.size() * kTile);
+    tile_columns_.resize(tiles_.size() * kTile);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t t = 0; t < tiles_.size(); ++t) {
+      const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
+      const Index j0 = tiles_[t].second * kTile, j1 = std::min(n, j0 + kTile);
+      double* row_sums = tile_rows_.data() + t * kTile;
+      double* column_sums = tile_columns_.data() + t * kTile;
+      std::fill(row_sums, row_sums + kTile, 0.0);
+      std::fill(column_sums, column_sums + kTile, 0.0);
+      for (Index i = i0; i < i1; ++i) {
+        const Index ja = std::max(j0, i + 1);
+        if (ja >= j1) continue;
+        if (i + 2 < i1) {  // the row two ahead: each tile row is a separate short run of D
+          const char* next = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + std::max(j0, i + 3));
+          const char* end = reinterpret_cast<const char*>(D_.data() + (i + 2) * n + j1);
+          for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
         }
-        for (Index j = j0; j < j1; ++j) local[j] += column_sums[j - j0];
+        const Entry* column = D_.data() + i * n;  // column i = row i
+        const double vi = v[i];
+        double row = 0;
+        double* sums = column_sums - j0;
+#pragma omp simd reduction(+ : row)
+        for (Index j = ja; j < j1; ++j) {
+          const double d = static_cast<double>(column[j]);
+          const double a = d * d;
+          row += a * v[j];
+          sums[j] += a * vi;
+        }
+        row_sums[i - i0] = row;
       }
     }
-    Eigen::VectorXd product = Eigen::VectorXd::Zero(n);
-    for (const Eigen::VectorXd& local : locals)
-      if (local.size()) product += local;
+    // Block b of the product: its row sums from tiles (b, b..), then its column sums from tiles (..b, b).
+    Eigen::VectorXd product(n);
+    auto tile_index = [](Index bi, Index bj) { return static_cast<size_t>(bj * (bj + 1) / 2 + bi); };
+#pragma omp parallel for schedule(static)
+    for (Index b = 0; b < blocks; ++b) {
+      const Index i0 = b * kTile, i1 = std::min(n, i0 + kTile);
+      for (Index i = i0; i < i1; ++i) product[i] = 0;
+      for (Index bj = b; bj < blocks; ++bj) {
+        const double* row_sums = tile_rows_.data() + tile_index(b, bj) * kTile;
+        for (Index i = i0; i < i1; ++i) product[i] += row_sums[i - i0];
+      }
+      for (Index bi = 0; bi <= b; ++bi) {
+        const double* column_sums = tile_columns_.data() + tile_index(bi, b) * kTile;
+        for (Index i = i0; i < i1; ++i) product[i] += column_sums[i - i0];
+      }
+    }
     for (Index i = 0; i < n; ++i) {  // the diagonal (zero for a proper distance matrix)
       const double d = static_cast<double>(D_(i, i));
       product[i] += d * d * v[i];
@@ -152,7 +165,39 @@ class DoubleCentredOp {
   const ProgressFn& progress_;
   mutable Eigen::VectorXd centred_;
   std::vector<std::pair<Index, Index>> tiles_;  // upper-triangle tiles (row block ≤ column block)
+  // Per tile, its rows' and its columns' sums of one product (kTile each): 2n²/kTile doubles in all.
+  mutable std::vector<double> tile_rows_, tile_columns_;
   mutable int products_ = 0;
+};
+
+// Eigen's own parallel products (Spectra's restarts multiply V, n×m, by m×m matrices) split the rows among
+// the threads, and a row's last bits depend on which micro-kernel of its thread's block computes it: while
+// any classical MDS runs, Eigen multiplies on one thread, so that the result is bit-identical for any thread
+// count. The expensive products (perform_op) use OpenMP directly and keep every thread. Nothing else in
+// cshapes sets Eigen's thread count: the last one out gives it back to OpenMP (0: follow
+// omp_get_max_threads).
+class SerialEigenProducts {
+ public:
+  SerialEigenProducts() {
+    std::lock_guard<std::mutex> lock(mutex());
+    if (users()++ == 0) Eigen::setNbThreads(1);
+  }
+  ~SerialEigenProducts() {
+    std::lock_guard<std::mutex> lock(mutex());
+    if (--users() == 0) Eigen::setNbThreads(0);
+  }
+  SerialEigenProducts(const SerialEigenProducts&) = delete;
+  SerialEigenProducts& operator=(const SerialEigenProducts&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static int& users() {
+    static int count = 0;
+    return count;
+  }
 };
 
 template <typename Scalar>
@@ -206,6 +251,7 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
     // Krylov space, far cheaper than a second run.
     const bool both_ends = options.most_negative_eigenvalue && n >= 8;
     const Index nev = both_ends ? 5 : 3;
+    const SerialEigenProducts serial_eigen_products;
     Spectra::SymEigsSolver<DoubleCentredOp<Scalar>> eigs(op, nev, std::max<Index>(ncv, 2 * nev + 1));
     eigs.init();
     eigs.compute(both_ends ? Spectra::SortRule::BothEnds : Spectra::SortRule::LargestAlge,

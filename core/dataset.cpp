@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -61,7 +64,7 @@ Dataset read_manifest(const fs::path& manifest) {
   Dataset d;
   d.source = manifest.string();
   const std::string where = manifest.string();
-  std::stringstream text(read_file(where));
+  std::stringstream text(read_text_file(where));
   std::string line;
   int line_number = 0;
   std::vector<std::string> columns;
@@ -139,7 +142,8 @@ std::string class_from_name(const std::string& stem) {
   while (end > 0 && std::isdigit(static_cast<unsigned char>(stem[end - 1]))) --end;
   if (end == 0) return stem;
   // A separator before the pose number is not part of the class ("horse_7" -> "horse").
-  while (end > 1 && (stem[end - 1] == '_' || stem[end - 1] == '-' || stem[end - 1] == '.' || stem[end - 1] == ' '))
+  while (end > 1 &&
+         (stem[end - 1] == '_' || stem[end - 1] == '-' || stem[end - 1] == '.' || stem[end - 1] == ' '))
     --end;
   return stem.substr(0, end);
 }
@@ -160,6 +164,42 @@ std::vector<int> Dataset::labels() const {
   return out;
 }
 
+namespace {
+
+// A file listed twice would be compared with itself (distance 0) and count as a retrieval hit: refused,
+// naming both entries, whether the two paths name one file (links and "./" included) or two files hold the
+// same bytes. Cost: one stat per file, and reading only the files whose size another file shares.
+void refuse_files_listed_twice(const Dataset& d) {
+  std::map<std::string, size_t> by_path;
+  std::map<std::uintmax_t, std::vector<size_t>> by_size;
+  for (size_t k = 0; k < d.entries.size(); ++k) {
+    const std::string& file = d.entries[k].path;
+    std::error_code ec;
+    const fs::path real = fs::weakly_canonical(file, ec);
+    const auto [it, inserted] = by_path.emplace(ec ? file : real.string(), k);
+    if (!inserted)
+      fail(d.source, ": ", d.entries[it->second].path, " and ", file,
+           " are the same file, listed twice (each shape must appear once)");
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (!ec) by_size[size].push_back(k);
+  }
+  for (const auto& [size, same_size] : by_size) {
+    if (same_size.size() < 2) continue;
+    std::map<size_t, std::vector<size_t>> by_hash;  // one file in memory at a time
+    for (size_t k : same_size) {
+      const std::string content = read_file(d.entries[k].path);
+      std::vector<size_t>& alike = by_hash[std::hash<std::string>{}(content)];
+      for (size_t other : alike)
+        if (read_file(d.entries[other].path) == content)
+          fail(d.source, ": ", d.entries[other].path, " and ", d.entries[k].path,
+               " have the same content, a shape listed twice (each shape must appear once)");
+      alike.push_back(k);
+    }
+  }
+}
+
+}  // namespace
+
 Dataset read_dataset(const std::string& path) {
   fs::path p(path);
   CSHAPES_REQUIRE(fs::exists(p), path,
@@ -175,6 +215,7 @@ Dataset read_dataset(const std::string& path) {
   for (const auto& e : d.entries)
     if (std::find(d.classes.begin(), d.classes.end(), e.class_name) == d.classes.end())
       d.classes.push_back(e.class_name);
+  refuse_files_listed_twice(d);
   return d;
 }
 

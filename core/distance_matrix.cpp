@@ -1,8 +1,15 @@
 #include "core/distance_matrix.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -13,27 +20,105 @@ namespace {
 constexpr char kMagic[8] = {'C', 'S', 'H', 'D', 'I', 'S', 'T', '1'};
 }
 
-double distance_matrix_bytes(Index n) { return 4.0 * static_cast<double>(n) * static_cast<double>(n); }
+double distance_matrix_bytes(Index n) {
+  return 4.0 * static_cast<double>(n) * static_cast<double>(n);
+}
+
+namespace {
+
+// A number read from a one-line file (a cgroup's memory.max, ...); false when absent or not a number ("max").
+bool read_number(const std::string& path, double& value) {
+  std::ifstream in(path);
+  std::string text;
+  if (!(in >> text) || text.empty() || !std::isdigit(static_cast<unsigned char>(text[0]))) return false;
+  value = std::strtod(text.c_str(), nullptr);
+  return true;
+}
+
+// What memory the process may still take, the smallest of what each rule allows, with the rule's name.
+struct MemoryRoom {
+  double bytes = -1;  // < 0: unknown
+  std::string rule;
+  void limit(double room, const std::string& name) {
+    if (room < 0) room = 0;
+    if (bytes < 0 || room < bytes) {
+      bytes = room;
+      rule = name;
+    }
+  }
+};
+
+MemoryRoom memory_room() {
+  MemoryRoom room;
+  // The machine: MemAvailable.
+  {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    double kib = 0;
+    while (meminfo >> key) {
+      if (key == "MemAvailable:") {
+        meminfo >> kib;
+        break;
+      }
+      meminfo.ignore(1 << 20, '\n');
+    }
+    if (kib > 0) room.limit(kib * 1024.0, "of memory is available");
+  }
+  // The process: its address-space limit (ulimit -v) less what it has mapped already.
+  struct rlimit as {};
+  if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    std::ifstream statm("/proc/self/statm");
+    double pages = 0;
+    statm >> pages;
+    room.limit(static_cast<double>(as.rlim_cur) - pages * static_cast<double>(::sysconf(_SC_PAGESIZE)),
+               "is available under the process's address-space limit (ulimit -v, RLIMIT_AS)");
+  }
+  // Its control group (a container's or a systemd unit's limit): cgroup v2 memory.max, v1
+  // memory.limit_in_bytes, less the group's usage; the group's folder and each one above it.
+  std::ifstream cgroups("/proc/self/cgroup");
+  for (std::string line; std::getline(cgroups, line);) {
+    const size_t first = line.find(':'), second = line.find(':', first + 1);
+    if (first == std::string::npos || second == std::string::npos) continue;
+    const std::string controllers = line.substr(first + 1, second - first - 1);
+    const bool v2 = line.compare(0, first, "0") == 0 && controllers.empty();
+    if (!v2 && controllers.find("memory") == std::string::npos) continue;
+    std::string group = line.substr(second + 1);
+    const std::vector<std::string> roots =
+        v2 ? std::vector<std::string>{"/sys/fs/cgroup", "/sys/fs/cgroup/unified"}
+           : std::vector<std::string>{"/sys/fs/cgroup/memory"};
+    const std::string max_file = v2 ? "/memory.max" : "/memory.limit_in_bytes";
+    const std::string used_file = v2 ? "/memory.current" : "/memory.usage_in_bytes";
+    while (true) {
+      for (const std::string& root : roots) {
+        double limit = 0, used = 0;
+        const std::string folder = root + (group == "/" ? "" : group);
+        // v1 reports "no limit" as a huge number: beyond 2^60 bytes it means none.
+        if (read_number(folder + max_file, limit) && limit < 1e18) {
+          if (!read_number(folder + used_file, used)) used = 0;
+          room.limit(limit - used,
+                     "is available under the control group's memory limit (" + folder + max_file + ")");
+        }
+      }
+      if (group.empty() || group == "/") break;
+      const size_t slash = group.find_last_of('/');
+      group = slash == 0 || slash == std::string::npos ? "/" : group.substr(0, slash);
+    }
+  }
+  return room;
+}
+
+}  // namespace
 
 void require_memory(double bytes, const std::string& what) {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  while (meminfo >> key) {
-    if (key == "MemAvailable:") {
-      meminfo >> kib;
-      break;
-    }
-    meminfo.ignore(1 << 20, '\n');
-  }
-  if (kib <= 0) return;  // unknown: let the allocation decide
-  double available = kib * 1024.0;
-  if (bytes > 0.9 * available)
-    fail(what, " needs ", bytes / 1e9, " GB but only ", available / 1e9, " GB of memory is available");
+  const MemoryRoom room = memory_room();
+  if (room.bytes < 0) return;  // unknown: let the allocation decide
+  if (bytes > 0.9 * room.bytes)
+    fail(what, " needs ", bytes / 1e9, " GB but only ", room.bytes / 1e9, " GB ", room.rule);
 }
 
 void write_distance_matrix(const std::string& path, const DistanceMatrix& D) {
-  CSHAPES_REQUIRE(D.rows() == D.cols(), path, ": distance matrix must be square, got ", D.rows(), "x", D.cols());
+  CSHAPES_REQUIRE(D.rows() == D.cols(), path, ": distance matrix must be square, got ", D.rows(), "x",
+                  D.cols());
   write_file_atomically(
       path,
       [&](std::ostream& out) {

@@ -22,7 +22,9 @@ DistanceMatrix read_distance_matrix(const std::string& path);
 
 // Bytes needed for an n×n float matrix.
 double distance_matrix_bytes(Index n);
-// Throws, with the figures, when `bytes` (for `what`) exceed the memory available now (MemAvailable).
+// Throws, with the figures and the rule that limits, when `bytes` (for `what`) exceed the memory this process
+// can still take: the machine's (MemAvailable), its address-space limit (RLIMIT_AS, `ulimit -v`) less what it
+// maps, and its control group's limit (cgroup v2 memory.max, v1 memory.limit_in_bytes) less the group's use.
 void require_memory(double bytes, const std::string& what);
 
 // What an invalid entry D(i, j) means, as a suffix for an error message: for an infinite entry, whether

@@ -26,6 +26,15 @@ struct IoError : Error {
   using Error::Error;
 };
 
+// An output or cache file that cannot be written: a full disk, a read-only file system, a folder that is a
+// file, a failed rename. Its message names the path and the system's reason (strerror). It is never a fault
+// of one shape: a loop that skips a failing shape and goes on must rethrow it, so that the run stops before
+// more work is lost:  catch (const WriteError&) { throw; }  before its  catch (const Error&).
+class WriteError : public FileError {
+ public:
+  explicit WriteError(const std::string& message) : FileError(message) {}
+};
+
 namespace detail {
 template <typename... Args>
 std::string concat(const Args&... args) {
@@ -47,10 +56,17 @@ template <typename... Args>
   throw FileError(detail::concat(args...));
 }
 
+// Throws cshapes::WriteError whose message is the concatenation of the arguments.
+template <typename... Args>
+[[noreturn]] void fail_write(const Args&... args) {
+  throw WriteError(detail::concat(args...));
+}
+
 }  // namespace cshapes
 
-// Checks a precondition in every build type (unlike assert): CSHAPES_REQUIRE(n > 0, "mesh ", name, " is empty").
-#define CSHAPES_REQUIRE(cond, ...)          \
-  do {                                      \
+// Checks a precondition in every build type (unlike assert):
+// CSHAPES_REQUIRE(n > 0, "mesh ", name, " is empty").
+#define CSHAPES_REQUIRE(cond, ...)             \
+  do {                                         \
     if (!(cond)) ::cshapes::fail(__VA_ARGS__); \
   } while (0)

@@ -13,7 +13,9 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <ostream>
 
 #include "core/atomic_file.h"
@@ -201,7 +203,20 @@ void write_xyz(std::ostream& out, const Mesh& mesh) {
   }
 }
 
-MeshFile parse_by_format(const std::string& bytes, const std::string& format, const std::string& name) {
+// Text with a leading UTF-8 byte-order mark (some editors write one) is read without it; a binary STL's
+// 80-byte header may start with any bytes, so there it is dropped only when the size does not say binary.
+std::string_view without_bom(std::string_view bytes, const std::string& format) {
+  if (!starts_with_utf8_bom(bytes)) return bytes;
+  if (format == "stl" && bytes.size() >= 84) {
+    uint32_t count = 0;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    if (84 + 50 * static_cast<uint64_t>(count) == bytes.size()) return bytes;
+  }
+  return bytes.substr(3);
+}
+
+MeshFile parse_by_format(const std::string& raw_bytes, const std::string& format, const std::string& name) {
+  const std::string_view bytes = without_bom(raw_bytes, format);
   if (format == "off") return parse_off(name, bytes);
   if (format == "ply") return parse_ply(name, bytes);
   if (format == "obj") return parse_obj(name, bytes);
@@ -317,7 +332,10 @@ Mesh read_mesh_from_memory(const std::string& bytes, const std::string& format, 
 Mesh read_vert_tri_from_memory(const std::string& vert_text, const std::string& tri_text,
                                const std::string& vert_name, const std::string& tri_name,
                                const ReadOptions& options) {
-  return finish(parse_vert_tri(vert_name, vert_text, tri_name, tri_text), vert_name, options).mesh;
+  return finish(parse_vert_tri(vert_name, without_bom(vert_text, "vert"), tri_name,
+                               without_bom(tri_text, "tri")),
+                vert_name, options)
+      .mesh;
 }
 
 MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
@@ -333,7 +351,9 @@ MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
     } catch (const Error& e) {
       fail(e.what(), " (TOSCA meshes are a .vert and a .tri file side by side)");
     }
-    return finish(parse_vert_tri(vert_path, vert_text, tri_path, tri_text), path, options);
+    return finish(
+        parse_vert_tri(vert_path, without_bom(vert_text, "vert"), tri_path, without_bom(tri_text, "tri")),
+        path, options);
   }
   // A missing file is reported as such before its format.
   std::string bytes = read_file(path);

@@ -1,9 +1,10 @@
 // PLY reader (ASCII, binary little and big endian, any element/property layout) and writer (ASCII or binary
 // little endian, with per-vertex scalar properties and uchar colours).
 //
-// The reader walks every element of the header in order, so elements other than vertex and face (edges,
-// materials, ...) are read and dropped, and any property layout works. Counts are checked against the bytes
-// left before anything is allocated.
+// The reader walks every element of the header in order, so elements other than vertex, face and tristrips
+// (triangle strips, as some scanners write them; -1 ends a strip) (edges, materials, ...) are read and
+// dropped, and any property layout works. Counts are checked against the bytes left before anything is
+// allocated.
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -291,6 +292,38 @@ int find_property(const PlyElement& element, const char* name, bool list) {
   return -1;
 }
 
+// One list of a 'tristrips' element: strips of vertex indices separated by -1; in a strip v0 v1 v2 v3 ...
+// triangle k is (v_k, v_k+1, v_k+2), every second one reversed so that all keep the strip's orientation.
+// Triangles with a repeated corner (the joins some writers use instead of -1) are left out.
+void read_triangle_strips(PlyValueReader& reader, const std::string& element, long long item,
+                          const PlyProperty& p, long long count, long long vertex_limit,
+                          MeshBuilder& builder) {
+  std::vector<int> strip;
+  auto flush = [&] {
+    for (size_t k = 0; k + 2 < strip.size(); ++k) {
+      const int a = strip[k], b = strip[k + 1], c = strip[k + 2];
+      if (a == b || b == c || a == c) continue;
+      if (k % 2 == 0)
+        builder.triangles.insert(builder.triangles.end(), {a, b, c});
+      else
+        builder.triangles.insert(builder.triangles.end(), {b, a, c});
+    }
+    strip.clear();
+  };
+  for (long long j = 0; j < count; ++j) {
+    const double index = reader.value(p.type, element, item, p.name);
+    if (index == -1) {
+      flush();
+      continue;
+    }
+    if (!(index >= 0 && index < static_cast<double>(vertex_limit) && index == std::floor(index)))
+      fail(reader.where(element, item), " has vertex index ", index, ", expected -1 (a strip's end) or 0..",
+           vertex_limit - 1);
+    strip.push_back(static_cast<int>(index));
+  }
+  flush();
+}
+
 }  // namespace
 
 MeshFile parse_ply(const std::string& name, std::string_view bytes) {
@@ -310,6 +343,7 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
       min_size += reader.ascii() ? 1 : type_size(p.is_list ? p.count_type : p.type);
     const bool is_vertex = element.name == "vertex";
     const bool is_face = element.name == "face";
+    const bool is_strips = element.name == "tristrips";  // triangle strips, -1 between strips
     if (min_size > 0 &&
         static_cast<unsigned long long>(element.count) > (reader.remaining_bytes() + 1) / min_size)
       fail(name, ":", element.header_line, ": element '", printable(element.name), "' declares ",
@@ -352,6 +386,10 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
       if (indices < 0) indices = find_property(element, "vertex_index", true);
       if (indices < 0 && element.count > 0)
         fail(name, ":", element.header_line, ": the face element has no 'vertex_indices' list property");
+    } else if (is_strips) {
+      indices = find_property(element, "vertex_indices", true);
+      if (indices < 0 && element.count > 0)
+        fail(name, ":", element.header_line, ": the tristrips element has no 'vertex_indices' list property");
     }
     if (min_size == 0) continue;
 
@@ -386,6 +424,10 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
         const long long n = static_cast<long long>(count);
         if (kk != indices) {
           for (long long j = 0; j < n; ++j) reader.value(p.type, element.name, i, p.name);
+          continue;
+        }
+        if (is_strips) {
+          read_triangle_strips(reader, element.name, i, p, n, have_vertices ? nv : INT_MAX, builder);
           continue;
         }
         if (n < 3) fail(reader.where(element.name, i), " has ", n, " vertex indices, expected at least 3");

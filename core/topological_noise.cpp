@@ -167,7 +167,8 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
 namespace {
 TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions& o) {
   CSHAPES_REQUIRE(o.glue_count >= 0, "noise: glue count must be >= 0, got ", o.glue_count);
-  CSHAPES_REQUIRE(o.min_ratio >= 1, "noise: min ratio must be >= 1, got ", o.min_ratio);
+  CSHAPES_REQUIRE(o.min_ratio >= kMinGlueRatioFloor, "noise: min ratio must be >= ", kMinGlueRatioFloor,
+                  ", got ", o.min_ratio);
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), "noise: the input has no faces");
   validate_mesh(mesh, "noise input");
   const MeshInfo info = mesh_info(mesh);

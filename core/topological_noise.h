@@ -1,6 +1,6 @@
-// Topological noise the paper's way (§3, Results): "adding faces to connect between almost-touching vertices with
-// large geodesic and small Euclidean distances". Each glue joins two surface spots by a short tube, adding
-// one handle.
+// Topological noise the paper's way (§3, Results): "adding faces to connect between almost-touching vertices
+// with large geodesic and small Euclidean distances". Each glue joins two surface spots by a short tube,
+// adding one handle.
 //
 // Which pairs qualify (a, b vertices of the input):
 //   |v_a - v_b| ≤ max_gap                                   (almost touching)
@@ -29,6 +29,10 @@
 
 namespace cshapes {
 
+// The smallest min_ratio accepted (a geodesic is never shorter than the straight line): the library's check
+// and `cshapes noise --min-ratio`'s both use it.
+constexpr double kMinGlueRatioFloor = 1.0;
+
 struct TopologicalNoiseOptions {
   int glue_count = 1;                  // K: tubes to add (each adds one handle)
   std::uint64_t seed = 0;              // picks among admissible pairs; same seed, same result
@@ -38,8 +42,8 @@ struct TopologicalNoiseOptions {
   double min_geodesic_fraction = 0.1;  // geodesic ≥ this × geodesic diameter
   double min_separation_fraction = 0.15;  // glued spots this × diameter apart (halved while too few places)
   double min_facing = 0.2;                // cosine: each vertex normal points this much towards the other end
-  int landmarks = 24;        // farthest-point landmarks for the diameter and geodesic lower bounds
-  int max_checks = 3000;     // geodesic evaluations before giving up on finding more pairs
+  int landmarks = 24;     // farthest-point landmarks for the diameter and geodesic lower bounds
+  int max_checks = 3000;  // geodesic evaluations before giving up on finding more pairs
   // How geodesic distances are computed: Dijkstra on the edges by default. The candidate search evaluates
   // up to max_checks sources and Dijkstra needs no set-up per source; it is an upper bound of the surface
   // distance (typically 5-10% longer), so min_ratio is met by the edge-path distance.

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -63,9 +67,34 @@ void compress(std::array<uint32_t, 8>& h, const unsigned char* block) {
   h[7] += k;
 }
 
-constexpr const char* kMagic = "CSHCACHE1 ";
+// Format 2 (current): "CSHCACHE2 <size> <sha256 of the value>\n" then the value. Format 1 (before
+// checksums): "CSHCACHE1 <size>\n" then the value; still read, unverified.
+constexpr const char* kMagic = "CSHCACHE2 ";
+constexpr const char* kMagicUnverified = "CSHCACHE1 ";
+
+std::mutex g_warning_mutex;
+std::function<void(const std::string&)> g_warning_sink;
+
+// The whole text as a decimal count; false for anything else.
+bool parse_size(const std::string& text, unsigned long long& size) {
+  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0]))) return false;
+  char* end = nullptr;
+  errno = 0;
+  size = std::strtoull(text.c_str(), &end, 10);
+  return end && *end == '\0' && errno == 0;
+}
 
 }  // namespace
+
+void cache_warning(const std::string& line) {
+  std::lock_guard<std::mutex> lock(g_warning_mutex);
+  if (g_warning_sink) g_warning_sink(line);
+}
+
+void set_cache_warning_sink(std::function<void(const std::string&)> sink) {
+  std::lock_guard<std::mutex> lock(g_warning_mutex);
+  g_warning_sink = std::move(sink);
+}
 
 std::string sha256_hex(const std::string& bytes) {
   // §5.3.3: the initial hash value.
@@ -109,22 +138,44 @@ std::string DiskCache::entry_path(const std::string& key) const {
 
 std::optional<std::string> DiskCache::get(const std::string& key) const {
   if (enabled()) {
-    std::ifstream in(entry_path(key), std::ios::binary);
+    const std::string path = entry_path(key);
+    std::ifstream in(path, std::ios::binary);
     if (in) {
       std::ostringstream buffer;
       buffer << in.rdbuf();
       std::string content = buffer.str();
-      // Header "CSHCACHE1 <size>\n": anything else (a foreign or damaged file) counts as missing.
-      const std::string magic = kMagic;
-      size_t newline = content.find('\n');
-      if (content.compare(0, magic.size(), magic) == 0 && newline != std::string::npos) {
-        std::string size_text = content.substr(magic.size(), newline - magic.size());
-        char* end = nullptr;
-        unsigned long long size = std::strtoull(size_text.c_str(), &end, 10);
-        if (end && *end == '\0' && !size_text.empty() && content.size() - newline - 1 == size) {
-          ++hits_;
-          return content.substr(newline + 1);
+      // Anything but a whole entry of a known format (a foreign, truncated or damaged file) is a miss.
+      const size_t newline = content.find('\n');
+      const std::string header = content.substr(0, newline == std::string::npos ? 0 : newline);
+      const std::string magic = kMagic, unverified = kMagicUnverified;
+      unsigned long long size = 0;
+      if (header.compare(0, magic.size(), magic) == 0) {
+        const std::string fields = header.substr(magic.size());
+        const size_t space = fields.find(' ');
+        const std::string checksum = space == std::string::npos ? "" : fields.substr(space + 1);
+        if (space != std::string::npos && parse_size(fields.substr(0, space), size) &&
+            content.size() - newline - 1 == size && checksum.size() == 64) {
+          std::string value = content.substr(newline + 1);
+          if (sha256_hex(value) == checksum) {
+            ++hits_;
+            return value;
+          }
+          // Bytes changed after they were written: never served. The entry goes, so that the recomputed
+          // value replaces it (and a content-named entry, which is not rewritten under its name, stops
+          // warning).
+          ++damaged_;
+          cache_warning("cache entry " + path +
+                        ": content does not match its checksum (changed on disk), recomputing it");
+          std::remove(path.c_str());
         }
+      } else if (header.compare(0, unverified.size(), unverified) == 0 &&
+                 parse_size(header.substr(unverified.size()), size) && content.size() - newline - 1 == size) {
+        if (!said_unverified_.exchange(true))
+          cache_warning("cache " + directory_ +
+                        ": reading entries written before checksums (cache format 1) unverified; delete the "
+                        "folder to recompute them");
+        ++hits_;
+        return content.substr(newline + 1);
       }
     }
   }
@@ -134,10 +185,11 @@ std::optional<std::string> DiskCache::get(const std::string& key) const {
 
 void DiskCache::put(const std::string& key, const std::string& value) const {
   if (!enabled()) return;
+  const std::string checksum = sha256_hex(value);
   write_file_atomically(
       entry_path(key),
       [&](std::ostream& out) {
-        out << kMagic << value.size() << '\n';
+        out << kMagic << value.size() << ' ' << checksum << '\n';
         out.write(value.data(), static_cast<std::streamsize>(value.size()));
       },
       true);

@@ -10,9 +10,16 @@
 // readable by any CBOR tool); get/put move the raw bytes.
 //
 // Layout: DIR/ab/abcdef….bin, one file per entry (the first two hex digits fan out the directory), each
-// "CSHCACHE1 <size>\n" followed by the value. Entries are written to a temporary file and renamed, so an
-// entry exists completely or not at all: a process killed mid-write leaves at most a stray "*.tmp.*" file,
-// which is ignored. An entry whose header does not match its size is treated as missing and rewritten.
+// "CSHCACHE2 <size> <SHA-256 of the value>\n" followed by the value. Entries are written to a temporary file
+// and renamed, so an entry exists completely or not at all: a process killed mid-write leaves at most a stray
+// "*.tmp.*" file, which is ignored. An entry whose header does not match its size is treated as missing and
+// rewritten. Every read verifies the checksum: an entry whose bytes changed after they were written is never
+// served; it is removed, counted (damaged()), reported through the warning sink naming the entry's file, and
+// the caller recomputes it. Entries of format 1 ("CSHCACHE1 <size>\n", before checksums) are still read,
+// unverified, said once per DiskCache through the sink.
+//
+// A write that fails (full disk, read-only folder, a cache folder that is a file) throws cshapes::WriteError
+// (core/error.h) with the path and the system's reason: callers that skip a failing item must rethrow it.
 // Safe for concurrent readers and writers (threads or processes): the last rename wins, with equal content.
 #pragma once
 
@@ -42,6 +49,12 @@ std::string file_content_hash(const std::string& path);
 // A key from several parts, each length-prefixed so that ("ab", "c") and ("a", "bc") differ.
 std::string cache_key(const std::vector<std::string>& parts);
 
+// Where the caches' warnings go (a damaged entry, entries of an older format), for every DiskCache of the
+// process; none by default. The CLI and the Python module print them. Thread-safe.
+void set_cache_warning_sink(std::function<void(const std::string&)> sink);
+// Sends one line to that sink (for the caches built on DiskCache, e.g. the pair packs).
+void cache_warning(const std::string& line);
+
 class DiskCache {
  public:
   // directory: where entries live (created on first write). Empty: a disabled cache, every get() a miss
@@ -55,7 +68,8 @@ class DiskCache {
 
   // The value stored under key, counting a hit; or nothing, counting a miss.
   std::optional<std::string> get(const std::string& key) const;
-  // Stores atomically (temp file + rename). Throws on I/O failure.
+  // Stores atomically (temp file + rename), with the value's checksum. Throws cshapes::WriteError on I/O
+  // failure.
   void put(const std::string& key, const std::string& value) const;
   // get(), or compute() then put(): compute runs only on a miss.
   std::string get_or_compute(const std::string& key, const std::function<std::string()>& compute) const;
@@ -75,11 +89,15 @@ class DiskCache {
 
   long hits() const { return hits_; }
   long misses() const { return misses_; }
+  // Entries whose checksum did not match their content (each removed and reported).
+  long damaged() const { return damaged_; }
 
  private:
   std::string directory_;
   mutable std::atomic<long> hits_{0};
   mutable std::atomic<long> misses_{0};
+  mutable std::atomic<long> damaged_{0};
+  mutable std::atomic<bool> said_unverified_{false};
 };
 
 }  // namespace cshapes

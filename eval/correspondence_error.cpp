@@ -19,7 +19,7 @@
 namespace cshapes {
 
 std::vector<int> read_vts(const std::string& path, Index num_vertices) {
-  std::istringstream in(read_file(path));
+  std::istringstream in(read_text_file(path));
   std::vector<int> indices;
   std::string line;
   int number = 0;
@@ -120,7 +120,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
 }
 
 CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_vertices, Index b_vertices) {
-  std::istringstream in(read_file(path));
+  std::istringstream in(read_text_file(path));
   CorrespondencePairs pairs;
   std::map<long, int> line_of;  // vertex of A -> the line that listed it
   std::string line;

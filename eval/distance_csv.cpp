@@ -1,6 +1,8 @@
 #include "eval/distance_csv.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -50,7 +52,7 @@ bool parse_number(const std::string& text, double& value) {
 }
 
 std::vector<std::vector<std::string>> read_rows(const std::string& path, std::vector<int>& line_numbers) {
-  std::istringstream in(read_file(path));
+  std::istringstream in(read_text_file(path));
   std::vector<std::vector<std::string>> rows;
   std::string line;
   int number = 0;
@@ -167,9 +169,14 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
     return classes;
   }
   std::map<std::string, std::string> by_name;
+  std::map<std::string, size_t> row_of;  // where each name got its class
   for (size_t i = 0; i < rows.size(); ++i) {
     CSHAPES_REQUIRE(rows[i].size() == 2, path, ":", line_of[i], ": expected 'name,class', found ",
                     rows[i].size(), " fields");
+    const auto [first, inserted] = row_of.emplace(rows[i][0], i);
+    CSHAPES_REQUIRE(inserted || rows[first->second][1] == rows[i][1], path, ":", line_of[i], ": shape '",
+                    rows[i][0], "' has class '", rows[i][1], "' here and '", rows[first->second][1],
+                    "' on line ", line_of[first->second]);
     by_name[rows[i][0]] = rows[i][1];
     by_name.emplace(stem(rows[i][0]), rows[i][1]);
   }
@@ -180,6 +187,60 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
     classes.push_back(it->second);
   }
   return classes;
+}
+
+const char* const kDistanceMatrixRules =
+    "refused: two shapes of one name, a NaN or a negative distance; warned: an asymmetric matrix (each query "
+    "ranks its own row, as given) and a non-zero diagonal (unused: a query is never ranked against itself)";
+
+std::vector<std::string> check_distance_matrix(const NamedDistances& input, const std::string& source) {
+  const Eigen::MatrixXd& D = input.D;
+  const Index n = D.rows();
+  CSHAPES_REQUIRE(D.cols() == n && static_cast<Index>(input.names.size()) == n, source, ": ", n, "x",
+                  D.cols(), " matrix with ", input.names.size(), " names");
+  std::map<std::string, size_t> first_of;
+  for (size_t i = 0; i < input.names.size(); ++i) {
+    const auto [it, inserted] = first_of.emplace(input.names[i], i);
+    CSHAPES_REQUIRE(inserted, source, ": shape name '", input.names[i], "' appears twice (rows ",
+                    it->second + 1, " and ", i + 1, "): each shape must appear once");
+  }
+  double largest = 0;
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j) {
+      const double d = D(i, j);
+      CSHAPES_REQUIRE(!std::isnan(d), source, ": distance from '", input.names[i], "' to '", input.names[j],
+                      "' is NaN");
+      CSHAPES_REQUIRE(d >= 0, source, ": distance from '", input.names[i], "' to '", input.names[j], "' is ",
+                      d, ", expected >= 0");
+      if (std::isfinite(d)) largest = std::max(largest, d);
+    }
+  std::vector<std::string> warnings;
+  const double tolerance = 1e-9 * largest;
+  long asymmetric = 0, diagonal = 0;
+  Index worst_i = 0, worst_j = 0, worst_k = 0;
+  double worst = 0, worst_diagonal = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (D(i, i) > tolerance) {
+      ++diagonal;
+      if (D(i, i) > worst_diagonal) worst_diagonal = D(i, i), worst_k = i;
+    }
+    for (Index j = i + 1; j < n; ++j) {
+      const double gap = D(i, j) == D(j, i) ? 0 : std::abs(D(i, j) - D(j, i));
+      if (!(gap > tolerance)) continue;
+      ++asymmetric;
+      if (!(gap <= worst)) worst = gap, worst_i = i, worst_j = j;
+    }
+  }
+  auto name = [&](Index i) { return "'" + input.names[static_cast<size_t>(i)] + "'"; };
+  if (asymmetric > 0)
+    warnings.push_back(detail::concat(source, ": not symmetric: ", asymmetric, " pairs differ, most ",
+                                      name(worst_i), " and ", name(worst_j), " (", D(worst_i, worst_j),
+                                      " vs ", D(worst_j, worst_i), "); each query ranks its own row"));
+  if (diagonal > 0)
+    warnings.push_back(detail::concat(source, ": ", diagonal, " non-zero diagonal entries, largest ",
+                                      name(worst_k), " (", worst_diagonal,
+                                      "); unused: a query is never ranked against itself"));
+  return warnings;
 }
 
 }  // namespace cshapes

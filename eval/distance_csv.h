@@ -28,13 +28,22 @@ NamedDistances read_distance_csv(const std::string& path);
 void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
                         const Eigen::MatrixXd& D);
 
+// What a distance matrix must be before retrieval is measured on it, by rule (the text below is also
+// `cshapes evaluate --help`'s). Refused (throws cshapes::Error naming the file and the shapes): two shapes
+// of one name, a NaN or a negative distance. Warned (one line each, returned): an asymmetric matrix (beyond
+// 1e-9 of its largest finite entry; each query ranks its own row, as given) and a non-zero diagonal (a query
+// is never ranked against itself, so its diagonal entry is unused).
+extern const char* const kDistanceMatrixRules;
+std::vector<std::string> check_distance_matrix(const NamedDistances& input, const std::string& source);
+
 // The class of a shape from its name, by the datasets' rule (core/dataset.h class_from_name) after
 // dropping any directory and extension: "cat0" → "cat", "dir/victoria10.off" → "victoria".
 std::string class_of_shape_name(const std::string& name);
 
 // Classes from a labels file for the given shape names. Accepted:
 //   "name,class" lines (an optional header "name,class"), matched by name (as given, or without directory
-//   and extension), every shape needing a line; or one class per line, in the matrix's order.
+//   and extension), every shape needing a line; or one class per line, in the matrix's order. A name given
+//   twice with two classes is refused, naming both lines.
 std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names);
 
 }  // namespace cshapes

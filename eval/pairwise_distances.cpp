@@ -90,7 +90,19 @@ void write_pack(const DiskCache& packs, const std::vector<PackRecord>& records,
 template <typename Found>
 void read_packs(const DiskCache& packs, const std::string& option_key, Found found) {
   for (const std::string& name : packs.keys()) {
-    std::optional<nlohmann::json> pack = packs.get_json(name);
+    // A pack is named by its content's SHA-256: a second check, which also covers packs written before the
+    // cache entries carried checksums.
+    const std::optional<std::string> bytes = packs.get(name);
+    if (!bytes) continue;
+    if (sha256_hex(*bytes) != name) {
+      cache_warning("cache entry " + packs.entry_path(name) +
+                    ": content does not match its name (changed on disk), its pairs are recomputed");
+      std::remove(packs.entry_path(name).c_str());
+      continue;
+    }
+    const nlohmann::json decoded = nlohmann::json::from_cbor(*bytes, true, false);
+    const std::optional<nlohmann::json> pack =
+        decoded.is_discarded() ? std::nullopt : std::optional<nlohmann::json>(decoded);
     if (!pack || !pack->is_object() || pack->value("format", "") != kPackFormat ||
         pack->value("icp", "") != option_key)
       continue;

@@ -33,6 +33,9 @@ int run() {
   if (!args.history.empty()) require_output_path(args.history, {"csv"});
 
   const Mesh input = read_mesh(args.input);
+  if (option_given("--knn") && input.num_faces() > 0)
+    usage_fail("--knn applies to point clouds (no faces) only; ", args.input, " has ", input.num_faces(),
+               " faces");
   // The method's requirements, repaired unless --strict; a point cloud (no faces) passes unchanged: the
   // method builds its own neighbourhood graph (and refuses a disconnected one).
   const RepairedMesh repaired = repair_for_canonical_form(input, options);

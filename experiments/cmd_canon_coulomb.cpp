@@ -128,6 +128,10 @@ void validate() {
     usage_fail("--l1-floor applies to --projection l1 only");
   if (canon_option_given("--momentum") && options.scheme != CoulombScheme::Momentum)
     usage_fail("--momentum applies to --scheme momentum only");
+  if (options.tear_fraction == 0)
+    for (const char* tearing : {"--tear-after", "--tear-times", "--tear-interval", "--tear-guard"})
+      if (canon_option_given(tearing))
+        usage_fail(tearing, " applies only when tearing (--tear-fraction > 0)");
 }
 
 void configure(CanonicalFormOptions& o, bool /*single_mesh*/) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "eval/distance_csv.h"
 #include "eval/retrieval_report.h"
 #include "experiments/command.h"
 
@@ -19,6 +20,7 @@ struct EvaluateArgs {
 int run() {
   require_output_directory(args.output);
   const NamedDistances input = read_distance_csv(args.matrix);
+  for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
   std::vector<std::string> classes;
   if (args.labels.empty()) {
     for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
@@ -48,11 +50,13 @@ const bool registered = register_command(
      "Retrieval measures of a distance matrix: mAP, nearest neighbour, tiers, E-measure, DCG, PR curve",
      [](CLI::App& app) {
        app.add_option("MATRIX", args.matrix,
-                      "distance matrix CSV (header row of shape names, or plain numbers)")
+                      std::string("distance matrix CSV (header row of shape names, or plain numbers); ") +
+                          kDistanceMatrixRules)
            ->required();
        app.add_option(
            "--labels", args.labels,
-           "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat)");
+           "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat); a "
+           "name given two classes is refused");
        app.add_option("-o,--output", args.output, "output directory")->required();
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")

@@ -22,9 +22,9 @@ struct StudyArgs {
 int run() {
   CoulombParamsOptions o;
   o.data = args.data;
-  o.shapes = split_list(args.shapes);
-  o.partners = split_list(args.partners);
-  if (args.configs != "all") o.configs = split_list(args.configs);
+  o.shapes = list_option("--shapes", args.shapes);
+  o.partners = list_option("--partners", args.partners);
+  if (args.configs != "all") o.configs = list_option("--configs", args.configs);
   o.bridges = args.bridges;
   o.max_iterations = args.max_iterations;
   o.note = note;

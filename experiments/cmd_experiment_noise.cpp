@@ -1,5 +1,6 @@
 // cshapes experiment noise --data DIR --out OUT: retrieval and canonical forms against the number of glues
 // (pipeline/noise_experiment.h).
+#include <climits>
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -21,14 +22,14 @@ struct NoiseArgs {
 
 int run() {
   NoiseExperimentOptions o = args.options;
-  o.methods = split_list(args.methods);
+  o.methods = list_option("--methods", args.methods);
   if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
   for (const std::string& m : o.methods)
     if (m != "coulomb" && m != "cmds" && m != "smacof")
       usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
   o.levels.clear();
   std::set<int> seen;
-  for (const std::string& item : split_list(args.levels)) {
+  for (const std::string& item : list_option("--levels", args.levels)) {
     int level = -1;
     size_t used = 0;
     try {
@@ -42,16 +43,7 @@ int run() {
     o.levels.push_back(level);
   }
   if (o.levels.empty()) usage_fail("--levels: give at least one glue count (e.g. 0,1,2,4,8)");
-  if (args.poses == "all") {
-    o.poses_per_class = 0;
-  } else {
-    try {
-      o.poses_per_class = std::stoi(args.poses);
-    } catch (const std::exception&) {
-      usage_fail("--poses-per-class: expected a number or 'all', got '", args.poses, "'");
-    }
-    if (o.poses_per_class < 1) usage_fail("--poses-per-class must be at least 1 (or 'all')");
-  }
+  o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   check_canon_method_options(o.methods, false);  // one command line for every method: warn
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)

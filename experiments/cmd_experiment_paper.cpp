@@ -1,6 +1,7 @@
 // cshapes experiment paper --data DIR --out OUT: the paper's experiment end to end (paper_experiment.h).
 // Under `mpirun -np R` the canonical forms and the ICP pairs are split over the ranks; rank 0 alone prints
 // and writes the outputs.
+#include <climits>
 #include <cstdio>
 #include <iostream>
 
@@ -22,33 +23,14 @@ struct PaperArgs {
 
 int run() {
   PaperExperimentOptions o = args.options;
-  o.methods = split_list(args.methods);
+  o.methods = list_option("--methods", args.methods);
   if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
   for (const std::string& m : o.methods)
     if (m != "coulomb" && m != "cmds" && m != "smacof")
       usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
-  if (args.poses == "all") {
-    o.poses_per_class = 0;
-  } else {
-    try {
-      o.poses_per_class = std::stoi(args.poses);
-    } catch (const std::exception&) {
-      usage_fail("--poses-per-class: expected a number or 'all', got '", args.poses, "'");
-    }
-    if (o.poses_per_class < 1) usage_fail("--poses-per-class must be at least 1 (or 'all')");
-  }
-  if (args.noisy == "all") {
-    o.noisy_per_class = PaperExperimentOptions::kNoisyEveryPose;
-  } else {
-    size_t used = 0;
-    try {
-      o.noisy_per_class = std::stoi(args.noisy, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != args.noisy.size() || o.noisy_per_class < 0 || o.noisy_per_class > 1000)
-      usage_fail("--noisy-per-class: expected a number from 0 to 1000 or 'all', got '", args.noisy, "'");
-  }
+  o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
+  o.noisy_per_class = integer_or_word("--noisy-per-class", args.noisy, 0, 1000, "all",
+                                      PaperExperimentOptions::kNoisyEveryPose);
   if (o.figure_vertices != 0 && o.figure_vertices < 4)
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
   const Communicator& comm = world_communicator();

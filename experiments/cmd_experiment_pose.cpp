@@ -16,12 +16,12 @@ struct PoseArgs {
 
 int run() {
   PoseInvarianceOptions o = args.options;
-  o.methods = split_list(args.methods);
+  o.methods = list_option("--methods", args.methods);
   if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
   for (const std::string& m : o.methods)
     if (m != "coulomb" && m != "cmds" && m != "smacof")
       usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
-  o.shapes = split_list(args.shapes);
+  o.shapes = list_option("--shapes", args.shapes);
   check_canon_method_options(o.methods, false);
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper

@@ -22,12 +22,12 @@ struct TopkidsArgs {
 
 int run() {
   TopkidsExperimentOptions o = args.options;
-  o.methods = split_list(args.methods);
+  o.methods = list_option("--methods", args.methods);
   if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
   for (const std::string& m : o.methods)
     if (m != "coulomb" && m != "cmds" && m != "smacof")
       usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
-  o.poses = split_list(args.poses);
+  o.poses = list_option("--poses", args.poses);
   try {
     o.scoring_geodesics.method = parse_geodesic_method(args.scoring_geodesics);
   } catch (const Error& e) {

@@ -94,7 +94,7 @@ const bool registered = register_command(
            ->check(number_above(0));
        app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")
            ->capture_default_str()
-           ->check(number_at_least(0));
+           ->check(number_at_least(kMinGlueRatioFloor));
        app.add_option("--min-fraction", args.min_fraction, "geodesic must be >= this x geodesic diameter")
            ->capture_default_str()
            ->check(number_in(0, 1));

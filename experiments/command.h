@@ -114,5 +114,15 @@ void warn(const std::string& line);
 
 // "a,b,,c" -> {"a", "b", "c"}: a comma-separated option value, empty items dropped.
 std::vector<std::string> split_list(const std::string& text);
+// A comma-separated option's items, strictly: an empty item ("1,,2", a trailing comma) is refused, and so is
+// an empty value when the option was given (`--shapes ''` is not "all": leave the option out for its
+// default). Throws UsageError naming the option.
+std::vector<std::string> list_option(const std::string& option, const std::string& text);
+// Whether the running command's option (e.g. "--knn") was given on the command line.
+bool option_given(const std::string& option);
+// An integer option that also takes the word `word` (e.g. "all"), parsed strictly ("2abc", "2.7", "1e400"
+// refused): returns word_value for the word, else the integer, which must lie in [minimum, maximum].
+int integer_or_word(const std::string& option, const std::string& text, long long minimum, long long maximum,
+                    const std::string& word, int word_value);
 
 }  // namespace cshapes::cli

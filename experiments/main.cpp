@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -23,6 +24,7 @@
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
+#include "eval/cache.h"
 #include "experiments/command.h"
 #include "pipeline/distributed.h"
 
@@ -118,11 +120,56 @@ std::vector<std::string> split_list(const std::string& text) {
   return parts;
 }
 
+std::vector<std::string> list_option(const std::string& option, const std::string& text) {
+  if (text.empty()) {
+    if (option_given(option))
+      usage_fail(option, ": empty list; give at least one item, or leave the option out for its default");
+    return {};
+  }
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item.empty()) usage_fail(option, ": empty item in '", text, "'");
+    parts.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return parts;
+}
+
+namespace {
+CLI::App* g_selected = nullptr;  // the command that runs, after a successful parse
+}  // namespace
+
+bool option_given(const std::string& option) {
+  if (!g_selected) return false;
+  const CLI::Option* found = g_selected->get_option_no_throw(option);
+  if (!found)
+    for (CLI::App* group : g_selected->get_subcommands([](CLI::App* a) { return a->get_name().empty(); }))
+      if ((found = group->get_option_no_throw(option))) break;
+  return found && found->count() > 0;
+}
+
+namespace {
+// Whether a progress line ("\r[coulomb]  42.0%") is on the screen unfinished: a message first ends it, so
+// that it starts a line of its own.
+std::atomic<bool> g_progress_open{false};
+void end_progress_line() {
+  if (g_progress_open.exchange(false)) std::cerr << '\n';
+}
+}  // namespace
+
 void note(const std::string& line) {
-  if (!g_quiet) std::cerr << line << std::endl;
+  if (g_quiet) return;
+  end_progress_line();
+  std::cerr << line << std::endl;
 }
 
 void warn(const std::string& line) {
+  end_progress_line();
   std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": warning: " << line << std::endl;
 }
 
@@ -189,6 +236,16 @@ CLI::Validator integer_in(long long minimum, long long maximum) {
 }
 CLI::Validator integer_at_least(long long minimum) {
   return integer_in(minimum, LLONG_MAX);
+}
+
+int integer_or_word(const std::string& option, const std::string& text, long long minimum, long long maximum,
+                    const std::string& word, int word_value) {
+  if (text == word) return word_value;
+  long long value = 0;
+  if (!parse_integer(text, value) || value < minimum || value > maximum)
+    usage_fail(option, ": expected ", integer_range(minimum, maximum), " or '", word, "', got ",
+               in_quotes(text));
+  return static_cast<int>(value);
 }
 
 namespace {
@@ -273,6 +330,7 @@ ProgressFn progress_printer() {
       std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
     if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
     std::fflush(stderr);
+    g_progress_open = !finished;
   };
 }
 
@@ -358,6 +416,7 @@ void bound_the_spin(char** argv) {
 }
 
 int report(const std::string& what, int code) {
+  end_progress_line();
   std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": error: " << what << '\n';
   return code;
 }
@@ -430,9 +489,11 @@ int main(int argc, char** argv) {
     selected = selected->get_subcommands().front();
     g_command += (g_command.empty() ? "" : " ") + selected->get_name();
   }
+  g_selected = selected;
   auto it = leaf.find(selected);
   if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
   set_threads(g_threads);
+  cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
   int code = 0;
   try {
     return it->second->run();

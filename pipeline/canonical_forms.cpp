@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <typeinfo>
 
 #include "core/error.h"
 #include "core/heat_method.h"
@@ -173,7 +174,8 @@ void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
 
 nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
   return {{"normalized_stress", sr.normalized_stress},
-          {"initial_normalized_stress", sr.stress_history.empty() ? sr.normalized_stress : sr.stress_history.front()},
+          {"initial_normalized_stress",
+           sr.stress_history.empty() ? sr.normalized_stress : sr.stress_history.front()},
           {"iterations", sr.iterations},
           {"stop_reason", sr.stop_reason},
           {"acceleration", to_string(so.acceleration)},
@@ -363,8 +365,20 @@ void set_geodesics_test_hook(std::function<void(GeodesicMethod, const std::strin
   geodesics_test_hook() = std::move(hook);
 }
 
-CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
-                             double D_seconds, const std::string& D_fallback) {
+namespace {
+
+CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
+                                double D_seconds, const std::string& D_fallback) {
+  // Points all in one place have no shape to canonize (every method would return them as they are, "ok").
+  CSHAPES_REQUIRE(
+      mesh.num_vertices() == 0 || (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff() > 0,
+      options.name, ": all ", mesh.num_vertices(),
+      " points coincide (a degenerate point set): nothing to canonize");
+  // The n×n matrix of the MDS methods is checked against the memory before anything else is done.
+  if (options.method != "coulomb" && !D)
+    require_memory(distance_matrix_bytes(mesh.num_vertices()),
+                   detail::concat(options.name, ": ", options.method, "'s all-pairs distances on ",
+                                  mesh.num_vertices(), " vertices"));
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
   if (options.method != "coulomb" && !D && !options.distances_file.empty()) {
@@ -387,6 +401,21 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
   return form;
 }
 
+}  // namespace
+
+CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
+                             double D_seconds, const std::string& D_fallback) {
+  try {
+    return canonical_form_of(mesh, options, D, D_seconds, D_fallback);
+  } catch (const Error& error) {
+    // Every error names the mesh it is about ("non-finite Coulomb gradient" alone does not): a plain Error
+    // whose message does not start with the name gets it in front; other types pass unchanged.
+    const std::string message = error.what();
+    if (typeid(error) != typeid(Error) || message.rfind(options.name, 0) == 0) throw;
+    throw Error(options.name + ": " + message);
+  }
+}
+
 std::string canonical_form_key(const CanonicalFormOptions& o) {
   // Every option that changes the result, by name. A field added to an options struct must be added here.
   std::ostringstream k;
@@ -395,15 +424,15 @@ std::string canonical_form_key(const CanonicalFormOptions& o) {
   if (o.method == "coulomb") {
     const CoulombCanonOptions& c = o.coulomb;
     k << ";scheme=" << to_string(c.scheme) << ";step_rule=" << to_string(c.step_rule)
-      << ";step_gradient=" << to_string(c.step_gradient) << ";step_factor=" << c.step_factor << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps
-      << ";k=" << c.projection.steps << ";norm=" << static_cast<int>(c.projection.norm)
-      << ";l1_floor=" << c.projection.l1_floor << ";dilation=" << c.projection.dilation
-      << ";tear=" << c.tear_fraction << "," << c.tear_after << "," << c.tear_times << "," << c.tear_interval
-      << ";tear_guard=" << to_string(c.tear_guard) << ";max_it=" << c.max_iterations
-      << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance << ";momentum=" << c.momentum
-      << ";rigid=" << c.remove_rigid_motion << ";summation=" << static_cast<int>(c.energy.summation)
-      << ";accuracy=" << c.energy.accuracy << ";floor=" << c.energy.min_distance
-      << ";result_accuracy=" << c.result_accuracy;
+      << ";step_gradient=" << to_string(c.step_gradient) << ";step_factor=" << c.step_factor
+      << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps << ";k=" << c.projection.steps
+      << ";norm=" << static_cast<int>(c.projection.norm) << ";l1_floor=" << c.projection.l1_floor
+      << ";dilation=" << c.projection.dilation << ";tear=" << c.tear_fraction << "," << c.tear_after << ","
+      << c.tear_times << "," << c.tear_interval << ";tear_guard=" << to_string(c.tear_guard)
+      << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
+      << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
+      << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy
+      << ";floor=" << c.energy.min_distance << ";result_accuracy=" << c.result_accuracy;
   } else {
     k << ";geodesics=" << to_string(o.geodesics.method)
       << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
@@ -493,7 +522,8 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
     const bool mds = co.method != "coulomb" && co.distances_file.empty();
-    if (mds && !(D_for && same_geodesics(*D_for, co)) && !std::filesystem::exists(cache.entry_path(out.key))) {
+    if (mds && !(D_for && same_geodesics(*D_for, co)) &&
+        !std::filesystem::exists(cache.entry_path(out.key))) {
       D_fallback.clear();
       D = geodesic_matrix(repair_for_canonical_form(mesh, co).mesh, co, &D_fallback);
       D_seconds = seconds_since(start);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
@@ -44,6 +45,8 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
       bool cached = false;
       cached_canonical_form(cache, read_mesh(data.entries[i].path), co, &cached);
       if (!cached) ++computed;
+    } catch (const WriteError&) {
+      throw;  // the shared cache cannot be written: the run stops (the CLI ends every rank)
     } catch (const Error&) {
       // the main pass meets the same error and reports it (or stops, under strict)
     }
@@ -62,6 +65,17 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
                   ": a distributed run needs a cache folder (the ranks share their results through it)");
   CSHAPES_REQUIRE(options.two_stage_k >= 0, "two-stage k = ", options.two_stage_k, ", expected >= 0");
   const Dataset data = read_dataset(options.data);
+  // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
+  NamedDistances reference;
+  if (options.two_stage_k > 0 && !options.reference.empty() && comm.is_root())
+    reference = read_distance_csv(options.reference);
+  for (const DatasetEntry& e : reference.names.empty() ? std::vector<DatasetEntry>{} : data.entries)
+    CSHAPES_REQUIRE(
+        std::find(reference.names.begin(), reference.names.end(), e.name) != reference.names.end(),
+        options.reference, ": no shape '", e.name,
+        "' (the reference must be the exact matrix of the same dataset)");
+  // A cache that cannot take files (a file in its place, a read-only folder) stops the run before any work.
+  if (!options.cache_dir.empty() && comm.is_root()) check_output_directory(options.cache_dir);
   const std::filesystem::path cache_dir(options.cache_dir);
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
@@ -136,7 +150,6 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
       rank_unmeasured_last(*M, descriptor_distances);
     if (!options.reference.empty()) {
       // The reference's rows and columns in this run's order, matched by name.
-      const NamedDistances reference = read_distance_csv(options.reference);
       std::vector<Index> at;
       for (const std::string& name : result.names) {
         auto it = std::find(reference.names.begin(), reference.names.end(), name);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/csv.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/geodesics.h"
@@ -391,26 +392,28 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   // Files.
   const std::string label = o.label.empty() ? "default" : o.label;
   std::ostringstream pairs_csv, shapes_csv, summary_csv, md;
+  // Text fields quoted where they must be: a label "a,b" stays one column.
   pairs_csv << "config,a,b,class,form,rms,input_rms,samples\n";
   for (const PosePairRow& r : result.pairs)
-    pairs_csv << label << "," << r.a << "," << r.b << "," << r.class_name << "," << r.form << ","
-              << num(r.rms) << "," << num(r.input_rms) << "," << r.samples << "\n";
+    pairs_csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
+              << csv_field(r.class_name) << "," << csv_field(r.form) << "," << num(r.rms) << ","
+              << num(r.input_rms) << "," << r.samples << "\n";
   shapes_csv
       << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
          "torn_vertices\n";
   for (const PoseShapeRow& r : result.shapes)
-    shapes_csv << label << "," << r.shape << "," << r.form << "," << num(r.mean_abs_stretch) << ","
-               << num(r.p99_stretch) << "," << num(r.max_stretch) << ","
+    shapes_csv << csv_field(label) << "," << csv_field(r.shape) << "," << csv_field(r.form) << ","
+               << num(r.mean_abs_stretch) << "," << num(r.p99_stretch) << "," << num(r.max_stretch) << ","
                << (r.stress >= 0 ? num(r.stress) : "") << "," << r.iterations << "," << num(r.seconds, 4)
                << "," << r.torn_edges << "\n";
   summary_csv
       << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
          "max_stretch,median_geodesic_stress\n";
   for (const PoseSummaryRow& r : result.summary)
-    summary_csv << label << "," << r.form << "," << r.class_name << "," << r.pairs << "," << num(r.median_rms)
-                << "," << num(r.mean_rms) << "," << num(r.median_input_rms) << "," << num(r.removed) << ","
-                << num(r.mean_abs_stretch) << "," << num(r.max_stretch) << ","
-                << (r.stress >= 0 ? num(r.stress) : "") << "\n";
+    summary_csv << csv_field(label) << "," << csv_field(r.form) << "," << csv_field(r.class_name) << ","
+                << r.pairs << "," << num(r.median_rms) << "," << num(r.mean_rms) << ","
+                << num(r.median_input_rms) << "," << num(r.removed) << "," << num(r.mean_abs_stretch) << ","
+                << num(r.max_stretch) << "," << (r.stress >= 0 ? num(r.stress) : "") << "\n";
   md << "# Pose invariance (" << label << ")\n\n"
      << "Data: `" << o.data << "`, " << shapes.size() - count_left_out(result.failures) << " shapes, "
      << result.pairs.size() / forms.size() << " pairs of poses, up to " << o.samples

@@ -13,6 +13,7 @@
 #include "pipeline/mesh_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/interrupt.h"
 #include "python/kwargs.h"
 
 namespace cshapes::python {
@@ -21,22 +22,29 @@ namespace {
 
 // What every function here returns; arrays are owned by numpy.
 struct PyCanonicalForm {
-  py::object X;          // (n, 3) float64, the input's vertex order (NaN rows where valid is 0)
-  py::object valid;      // (n,) float64: 1 for vertices in the form, 0 for vertices a repair dropped
-  py::object torn;       // (n,) float64 (coulomb: 1 for vertices of torn edges) or None
-  py::dict history;      // column name → (iterations,) float64
+  py::object X;      // (n, 3) float64, the input's vertex order (NaN rows where valid is 0)
+  py::object valid;  // (n,) float64: 1 for vertices in the form, 0 for vertices a repair dropped
+  py::object torn;   // (n,) float64 (coulomb: 1 for vertices of torn edges) or None
+  py::dict history;  // column name → (iterations,) float64
   int iterations = 0;
-  py::object summary;    // dict: what `cshapes canon --json` prints for the method
-  double seconds = 0;    // wall time: geodesics or graph set-up plus the solve
+  py::object summary;  // dict: what `cshapes canon --json` prints for the method
+  double seconds = 0;  // wall time: geodesics or graph set-up plus the solve
 };
 
-const std::vector<std::string> kCoulombOptions = {
-    "scheme",      "step_rule",     "step_gradient", "step_factor",  "fixed_step",  "coulomb_steps",
-    "projection_steps", "projection", "l1_floor",   "dilation",    "tear_fraction",
-    "tear_after",  "tear_times",    "tear_interval", "tear_guard", "coulomb_max_iterations",
-    "coulomb_window", "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy", "knn"};
+const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule",
+                                                  "step_gradient",    "step_factor",
+                                                  "fixed_step",       "coulomb_steps",
+                                                  "projection_steps", "projection",
+                                                  "l1_floor",         "dilation",
+                                                  "tear_fraction",    "tear_after",
+                                                  "tear_times",       "tear_interval",
+                                                  "tear_guard",       "coulomb_max_iterations",
+                                                  "coulomb_window",   "coulomb_tolerance",
+                                                  "momentum",         "coulomb_summation",
+                                                  "coulomb_accuracy", "knn"};
 const std::vector<std::string> kMdsOptions = {"geodesics"};
-const std::vector<std::string> kSmacofOptions = {"iters", "tolerance", "init", "accelerate", "window", "weights"};
+const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
+                                                 "accelerate", "window",    "weights"};
 
 // The `coulomb options` group of `cshapes canon`, read from keywords; the library checks the ranges.
 void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
@@ -46,23 +54,23 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   c.step_gradient = parse_step_gradient(k.text("step_gradient", to_string(c.step_gradient)));
   c.step_factor = k.number("step_factor", c.step_factor);
   c.fixed_step = k.number("fixed_step", c.fixed_step);
-  c.coulomb_steps = static_cast<int>(k.integer("coulomb_steps", c.coulomb_steps));
-  c.projection.steps = static_cast<int>(k.integer("projection_steps", c.projection.steps));
+  c.coulomb_steps = k.int32("coulomb_steps", c.coulomb_steps);
+  c.projection.steps = k.int32("projection_steps", c.projection.steps);
   c.projection.norm = parse_projection_norm(k.text("projection", to_string(c.projection.norm)));
   c.projection.l1_floor = k.number("l1_floor", c.projection.l1_floor);
   c.projection.dilation = k.number("dilation", c.projection.dilation);
   c.tear_fraction = k.number("tear_fraction", c.tear_fraction);
-  c.tear_after = static_cast<int>(k.integer("tear_after", c.tear_after));
-  c.tear_times = static_cast<int>(k.integer("tear_times", c.tear_times));
-  c.tear_interval = static_cast<int>(k.integer("tear_interval", c.tear_interval));
+  c.tear_after = k.int32("tear_after", c.tear_after);
+  c.tear_times = k.int32("tear_times", c.tear_times);
+  c.tear_interval = k.int32("tear_interval", c.tear_interval);
   c.tear_guard = parse_tear_guard(k.text("tear_guard", to_string(c.tear_guard)));
-  c.max_iterations = static_cast<int>(k.integer("coulomb_max_iterations", c.max_iterations));
-  c.stop_window = static_cast<int>(k.integer("coulomb_window", c.stop_window));
+  c.max_iterations = k.int32("coulomb_max_iterations", c.max_iterations);
+  c.stop_window = k.int32("coulomb_window", c.stop_window);
   c.stop_tolerance = k.number("coulomb_tolerance", c.stop_tolerance);
   c.momentum = k.number("momentum", c.momentum);
   c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
   c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy);
-  o.knn.k = static_cast<int>(k.integer("knn", o.knn.k));
+  o.knn.k = k.int32("knn", o.knn.k);
   // As the CLI: an option only another setting reads is refused rather than ignored.
   if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
     fail("fixed_step applies to step_rule='fixed' only");
@@ -74,10 +82,10 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
 
 // SMACOF's solver options (both smacof() and canonical_form()).
 void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
-  s.max_iterations = static_cast<int>(k.integer("iters", s.max_iterations));
+  s.max_iterations = k.int32("iters", s.max_iterations);
   s.tolerance = k.number("tolerance", s.tolerance);
   s.acceleration = parse_smacof_acceleration(k.text("accelerate", to_string(s.acceleration)));
-  s.extrapolation_window = static_cast<int>(k.integer("window", s.extrapolation_window));
+  s.extrapolation_window = k.int32("window", s.extrapolation_window);
   if (k.given("window") && s.acceleration == SmacofAcceleration::None)
     fail("window applies to accelerate='rre' or 'mpe' only");
 }
@@ -87,8 +95,8 @@ void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
   read_smacof_solver_options(k, o.smacof);
   o.smacof_init = k.text("init", o.smacof_init);
   o.smacof_weights = k.text("weights", o.smacof_weights);
-  CSHAPES_REQUIRE(o.smacof_init == "cmds" || o.smacof_init == "mesh", "init: expected 'cmds' or 'mesh', got '",
-                  o.smacof_init, "'");
+  CSHAPES_REQUIRE(o.smacof_init == "cmds" || o.smacof_init == "mesh",
+                  "init: expected 'cmds' or 'mesh', got '", o.smacof_init, "'");
   CSHAPES_REQUIRE(o.smacof_weights == "uniform" || o.smacof_weights == "area",
                   "weights: expected 'uniform' or 'area', got '", o.smacof_weights, "'");
 }
@@ -111,7 +119,8 @@ PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) 
   out.torn = form.torn.size() ? py::object(to_numpy(form.torn)) : py::object(py::none());
   for (size_t c = 0; c < form.history_columns.size(); ++c) {
     Eigen::VectorXd column(static_cast<Index>(form.history_rows.size()));
-    for (size_t r = 0; r < form.history_rows.size(); ++r) column[static_cast<Index>(r)] = form.history_rows[r][c];
+    for (size_t r = 0; r < form.history_rows.size(); ++r)
+      column[static_cast<Index>(r)] = form.history_rows[r][c];
     out.history[form.history_columns[c].c_str()] = to_numpy(column);
   }
   out.iterations = form.iterations;
@@ -137,6 +146,10 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
+  // Ctrl-C is heard at each iteration of the methods; the geodesics report from inside OpenMP loops, where
+  // no exception may pass: they keep a silent callback (an empty one would be replaced by this one).
+  o.progress = stop_on_python_signals();
+  o.geodesics.progress = [](const std::string&, double, double) {};
   CanonicalForm form;
   {
     Computing computing;
@@ -146,13 +159,17 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
 }
 
 PyCanonicalForm classical_mds_py(const py::object& D_in, int dim) {
-  CSHAPES_REQUIRE(dim >= 1 && dim <= 3, "classical_mds(): dim: expected 1, 2 or 3 (the embedding is 3-D; "
-                  "lower dimensions are its leading axes), got ", dim);
+  CSHAPES_REQUIRE(dim >= 1 && dim <= 3,
+                  "classical_mds(): dim: expected 1, 2 or 3 (the embedding is 3-D; "
+                  "lower dimensions are its leading axes), got ",
+                  dim);
   const Eigen::MatrixXd D = to_matrix(D_in, "D");
   ClassicalMdsResult r;
+  ClassicalMdsOptions options;
+  options.progress = stop_on_python_signals();
   {
     Computing computing;
-    r = classical_mds(D);
+    r = classical_mds(D, options);
   }
   PyCanonicalForm out = to_python(classical_mds_form(r), "cmds");
   out.X = to_numpy(Eigen::MatrixXd(r.X.leftCols(dim)));
@@ -173,6 +190,7 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
   if (!weights.is_none()) so.vertex_weights = to_vector(weights, "weights");
   const bool have_start = !X0_in.is_none();
   Points X0 = have_start ? to_points(X0_in, "X0") : Points();
+  so.progress = stop_on_python_signals();
   SmacofResult r;
   {
     Computing computing;
@@ -197,16 +215,18 @@ std::string coulomb_doc() {
     << "  projection ['" << to_string(c.projection.norm) << "'] l2 | l1, l1_floor [" << c.projection.l1_floor
     << "] (l1), dilation [" << c.projection.dilation << "]\n"
     << "  tear_fraction [" << c.tear_fraction << "], tear_after [" << c.tear_after << "], tear_times ["
-    << c.tear_times << "], tear_interval [" << c.tear_interval << "], tear_guard ['" << to_string(c.tear_guard)
-    << "'] connected | vertex\n"
+    << c.tear_times << "], tear_interval [" << c.tear_interval << "], tear_guard ['"
+    << to_string(c.tear_guard) << "'] connected | vertex\n"
     << "  coulomb_max_iterations [" << c.max_iterations << "], coulomb_window [" << c.stop_window
     << "], coulomb_tolerance [" << c.stop_tolerance << "]\n"
     << "  momentum [" << c.momentum << "] (scheme='momentum')\n"
     << "  coulomb_summation ['" << to_string(c.energy.summation) << "'] auto | direct | direct-float | fast, "
     << "coulomb_accuracy [" << c.energy.accuracy << "]\n"
-    << "  knn [" << o.knn.k << "] (point clouds), strict [False] (refuse a mesh that needs repair)\n\n"
+    << "  knn [" << o.knn.k
+    << "] (point clouds), strict [False] (refuse a mesh that needs repair)\n\n"
        "Returns a CanonicalForm: X (n, 3) in the input's vertex order and units, torn (n,) 1 at vertices of "
-       "torn edges, history {energy, mean_violation, ...} per iteration, iterations, summary (dict), seconds.\n"
+       "torn edges, history {energy, mean_violation, ...} per iteration, iterations, summary (dict), "
+       "seconds.\n"
        "A mesh with several components or other defects is repaired for the method first (summary['repair'] "
        "says what); dropped vertices are NaN rows with valid = 0. The GIL is released while it runs.";
   return d.str();

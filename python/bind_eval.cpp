@@ -29,7 +29,7 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   o.icp = read_icp_options(k);
   const py::object cache = k.object("cache");
   o.cache_dir = cache.is_none() ? "" : to_path(cache, "cache");
-  o.threads = static_cast<int>(k.integer("threads", 0));
+  o.threads = k.int32("threads", 0);
   k.done();
   CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
                   "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");
@@ -42,8 +42,8 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   return to_numpy(metric == "hausdorff" ? r.hausdorff : metric == "chamfer" ? r.chamfer : r.rmse);
 }
 
-py::object retrieval_measures_py(const py::object& D_in, const py::sequence& labels, const py::object& names_in,
-                                 int min_class_size) {
+py::object retrieval_measures_py(const py::object& D_in, const py::sequence& labels,
+                                 const py::object& names_in, int min_class_size) {
   NamedDistances input;
   input.D = to_matrix(D_in, "D");
   const Index n = input.D.rows();
@@ -55,8 +55,9 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
     for (Index i = 0; i < n; ++i) input.names.push_back(std::to_string(i));
   } else {
     for (py::handle name : names_in) input.names.push_back(py::str(name).cast<std::string>());
-    CSHAPES_REQUIRE(static_cast<Index>(input.names.size()) == n, "retrieval_measures(): names: ",
-                    input.names.size(), " names for a ", n, "x", n, " matrix");
+    CSHAPES_REQUIRE(static_cast<Index>(input.names.size()) == n,
+                    "retrieval_measures(): names: ", input.names.size(), " names for a ", n, "x", n,
+                    " matrix");
   }
   for (Index i = 0; i < n; ++i)
     for (Index j = 0; j < n; ++j)

@@ -18,7 +18,9 @@ namespace cshapes::python {
 
 namespace {
 
-py::tuple mesh_tuple(const Mesh& mesh) { return py::make_tuple(to_numpy(mesh.V), to_numpy(mesh.F)); }
+py::tuple mesh_tuple(const Mesh& mesh) {
+  return py::make_tuple(to_numpy(mesh.V), to_numpy(mesh.F));
+}
 
 py::object read_mesh_py(const py::object& path_in, bool fields) {
   const std::string path = to_path(path_in, "path");
@@ -85,6 +87,8 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
       CSHAPES_REQUIRE(s == std::floor(s), "sources: expected vertex indices, got ", s);
       rows.push_back(static_cast<int>(s));
     }
+    CSHAPES_REQUIRE(!rows.empty(),
+                    "geodesics(): sources: an empty list; give vertex indices, or None for all pairs");
   }
   MeshGeodesics prepared;
   Eigen::MatrixXd D_rows;
@@ -111,18 +115,19 @@ py::object add_topological_noise_py(const py::object& V, const py::object& F, co
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, "add_topological_noise");
   TopologicalNoiseOptions o;
-  o.glue_count = static_cast<int>(k.integer("glue", o.glue_count));
-  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed)));
+  o.glue_count = k.int32("glue", o.glue_count);
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
   o.max_gap = k.number("max_gap", o.max_gap);
   o.gap_edge_lengths = k.number("gap_edges", o.gap_edge_lengths);
   o.min_ratio = k.number("min_ratio", o.min_ratio);
   o.min_geodesic_fraction = k.number("min_fraction", o.min_geodesic_fraction);
   o.min_separation_fraction = k.number("separation", o.min_separation_fraction);
-  o.relax_steps = static_cast<int>(k.integer("relax", o.relax_steps));
+  o.relax_steps = k.int32("relax", o.relax_steps);
   o.geodesic.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesic.method)));
   const bool info = k.flag("return_info", false);
   k.done();
-  CSHAPES_REQUIRE(o.glue_count >= 0, "add_topological_noise(): glue: expected an integer >= 0, got ", o.glue_count);
+  CSHAPES_REQUIRE(o.glue_count >= 0, "add_topological_noise(): glue: expected an integer >= 0, got ",
+                  o.glue_count);
   TopologicalNoiseResult r;
   {
     Computing computing;
@@ -143,7 +148,7 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
     return mesh_tuple(swiss_roll(o));
   }
   if (kind == "icosphere") {
-    const int subdivisions = static_cast<int>(k.integer("subdivisions", 3));
+    const int subdivisions = k.int32("subdivisions", 3);
     const double radius = k.number("radius", 1.0);
     k.done();
     CSHAPES_REQUIRE(subdivisions >= 0 && subdivisions <= 8,
@@ -153,8 +158,8 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   if (kind == "articulated") {
     ArticulatedOptions o;
     const std::string class_name = k.text("class_", "biped");
-    o.poses = static_cast<int>(k.integer("poses", o.poses));
-    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0));
+    o.poses = k.int32("poses", o.poses);
+    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
     o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
     o.amplitude = k.number("amplitude", o.amplitude);
     k.done();
@@ -168,8 +173,8 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
     return poses;
   }
   if (kind == "hand") {
-    const auto seed = static_cast<std::uint64_t>(k.integer("seed", 0));
-    const int glues = static_cast<int>(k.integer("glue", 3));
+    const auto seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
+    const int glues = k.int32("glue", 3);
     k.done();
     GluedHand h;
     {
@@ -184,11 +189,11 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   }
   if (kind == "dataset") {
     ArticulatedDatasetOptions o;
-    o.classes = static_cast<int>(k.integer("classes", o.classes));
-    o.poses = static_cast<int>(k.integer("poses", o.poses));
-    o.noisy = static_cast<int>(k.integer("noisy", o.noisy));
-    o.glue_count = static_cast<int>(k.integer("glue", o.glue_count));
-    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0));
+    o.classes = k.int32("classes", o.classes);
+    o.poses = k.int32("poses", o.poses);
+    o.noisy = k.int32("noisy", o.noisy);
+    o.glue_count = k.int32("glue", o.glue_count);
+    o.seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
     o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
     k.done();
     std::vector<ArticulatedShape> shapes;
@@ -239,8 +244,8 @@ nonmanifold_edges, euler_characteristic, genus (-1 when undefined), bbox_diagona
 (mesh units), and defects: {summary, any, nonmanifold_edges: {count, examples}, nonmanifold_vertices,
 isolated_vertices, duplicate_faces, repeated_vertex_faces, zero_area_faces, zero_length_edges, components,
 component_sizes, boundary_edges, boundary_loops}.)");
-  m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(), py::kw_only(),
-        py::arg("method") = "heat", py::arg("heat_mode") = "idt", py::arg("strict") = false,
+  m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(),
+        py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = "idt", py::arg("strict") = false,
         R"(Geodesic distances on a triangle mesh, in mesh units.
 
 sources: None for all pairs ((n, n) float32, as the library stores them: n^2 * 4 bytes); a vertex index for

@@ -5,6 +5,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <climits>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,7 +20,13 @@ class Kwargs {
 
   bool given(const std::string& name) const { return kwargs_.contains(name.c_str()); }
   double number(const std::string& name, double fallback);
-  long long integer(const std::string& name, long long fallback);
+  // An integer keyword; one beyond [minimum, maximum] (2**70, or past a C int for int32) is refused naming
+  // the keyword (ValueError), never wrapped or left to pybind11's "Unable to cast".
+  long long integer(const std::string& name, long long fallback, long long minimum = LLONG_MIN,
+                    long long maximum = LLONG_MAX);
+  int int32(const std::string& name, int fallback) {
+    return static_cast<int>(integer(name, fallback, INT_MIN, INT_MAX));
+  }
   bool flag(const std::string& name, bool fallback);
   std::string text(const std::string& name, const std::string& fallback);
   // The object itself (None when absent); for arrays and other non-scalar options.

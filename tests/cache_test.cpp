@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "tests/test_support.h"
 
@@ -118,6 +121,111 @@ TEST(DiskCache, JsonValuesRoundTripExactlyAndOtherBytesAreMisses) {
   EXPECT_EQ(cache.get_or_compute_json(text, compute)["x"], 1.5);
   EXPECT_EQ(calls, 1);
   std::filesystem::remove_all(dir);
+}
+
+// The bytes of a cache entry's file.
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Changes the 8 bytes of the first CBOR float64 (major type 7, 0xfb) after `after` in the file, keeping its
+// size: what a flipped disk block or a hostile edit does to a cached number.
+void flip_first_double(const std::string& path, size_t after = 0) {
+  std::string bytes = file_bytes(path);
+  const size_t at = bytes.find('\xfb', after);
+  ASSERT_NE(at, std::string::npos) << path;
+  ASSERT_LE(at + 9, bytes.size());
+  for (size_t k = at + 1; k < at + 9; ++k) bytes[k] = static_cast<char>(bytes[k] ^ 0x5a);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// Collects what the caches report (set_cache_warning_sink) while in scope.
+struct CapturedWarnings {
+  std::vector<std::string> lines;
+  CapturedWarnings() {
+    set_cache_warning_sink([this](const std::string& line) { lines.push_back(line); });
+  }
+  ~CapturedWarnings() { set_cache_warning_sink({}); }
+};
+
+TEST(DiskCache, FlippedBytesInsideANumberAreNeverServed) {
+  // Issue 22: 8 bytes flipped inside a float64 of a cached form were served as valid.
+  const std::string dir = test::scratch_dir("cache-flipped");
+  const DiskCache cache(dir);
+  const std::string key = cache_key({"form"});
+  const std::vector<double> X = {1.0 / 3.0, 2.5, -7.25, 1e-3};
+  cache.put_json(key, nlohmann::json{{"X", X}});
+  const std::string path = cache.entry_path(key);
+  flip_first_double(path, file_bytes(path).find('\n'));
+  EXPECT_EQ(fs::file_size(path), file_bytes(path).size());  // size and header intact: only a number changed
+  CapturedWarnings warnings;
+  EXPECT_FALSE(cache.get_json(key).has_value());
+  EXPECT_EQ(cache.damaged(), 1);
+  ASSERT_EQ(warnings.lines.size(), 1u);
+  EXPECT_NE(warnings.lines[0].find(path), std::string::npos) << warnings.lines[0];
+  EXPECT_NE(warnings.lines[0].find("checksum"), std::string::npos) << warnings.lines[0];
+  EXPECT_FALSE(fs::exists(path));  // removed, so that the recomputed value takes its place
+  // Recomputed through get_or_compute_json: the true value again.
+  const nlohmann::json again = cache.get_or_compute_json(key, [&] { return nlohmann::json{{"X", X}}; });
+  EXPECT_EQ(again["X"].get<std::vector<double>>(), X);
+  EXPECT_EQ(cache.get_json(key).value()["X"].get<std::vector<double>>(), X);
+  fs::remove_all(dir);
+}
+
+TEST(DiskCache, EntriesOfFormatOneAreStillReadAndSaidOnce) {
+  const std::string dir = test::scratch_dir("cache-format1");
+  const DiskCache cache(dir);
+  const std::string a = cache_key({"a"}), b = cache_key({"b"});
+  test::write_text(cache.entry_path(a), "CSHCACHE1 5\nhello");
+  test::write_text(cache.entry_path(b), "CSHCACHE1 3\nabc");
+  CapturedWarnings warnings;
+  EXPECT_EQ(cache.get(a).value(), "hello");
+  EXPECT_EQ(cache.get(b).value(), "abc");
+  ASSERT_EQ(warnings.lines.size(), 1u);
+  EXPECT_NE(warnings.lines[0].find(dir), std::string::npos);
+  EXPECT_NE(warnings.lines[0].find("format 1"), std::string::npos);
+  // A new write is of the current format, with its checksum.
+  cache.put(a, "hello");
+  EXPECT_EQ(file_bytes(cache.entry_path(a)).rfind("CSHCACHE2 5 " + sha256_hex("hello") + "\nhello", 0), 0u);
+  fs::remove_all(dir);
+}
+
+TEST(DiskCache, FailedWriteIsAWriteErrorNamingTheEntryAndTheReason) {
+  // Issue 22: a cache that cannot be written must stop the run, not look like a failing shape.
+  const std::string dir = test::scratch_dir("cache-full");
+  const DiskCache cache(dir);
+  const std::string key = cache_key({"full"});
+  cache.put(cache_key({"before"}), "kept");
+  fail_file_writes_for_testing(1);  // the disk is full from the next file on
+  try {
+    cache.put(key, std::string(100000, 'x'));
+    ADD_FAILURE() << "no error";
+  } catch (const WriteError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(cache.entry_path(key)), std::string::npos) << message;
+    EXPECT_NE(message.find(std::strerror(ENOSPC)), std::string::npos) << message;
+  }
+  EXPECT_THROW(cache.put(cache_key({"next"}), "x"), WriteError);  // a full disk stays full
+  fail_file_writes_for_testing(0);
+  EXPECT_FALSE(fs::exists(cache.entry_path(key)));
+  for (const auto& e : fs::recursive_directory_iterator(dir))  // no temporary file left behind
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  EXPECT_EQ(cache.get(cache_key({"before"})).value(), "kept");
+  cache.put(key, "after");  // disarmed
+  EXPECT_EQ(cache.get(key).value(), "after");
+
+  // A cache folder that is a file: a WriteError naming the path, with the system's reason.
+  const std::string file = dir + "/a-file";
+  test::write_text(file, "x");
+  const DiskCache not_a_folder(file);
+  try {
+    not_a_folder.put(key, "x");
+    ADD_FAILURE() << "no error";
+  } catch (const WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
 }
 
 TEST(DiskCache, DisabledCacheComputesEveryTime) {

@@ -235,6 +235,78 @@ TEST(CliRefusals, AMissingFileReadsTheSameInEveryCommand) {
   for (const std::string& m : messages) EXPECT_EQ(m, messages.front());
 }
 
+TEST(CliRefusals, NumbersAndListsAreParsedStrictly) {
+  // Issue 22: `--poses-per-class 2abc`, `2.7` and `1e400` were taken as 2, 2 and 1; `--levels 1,,2` was
+  // accepted; `topkids --poses ''` and `pose --shapes ''` meant "all".
+  const Inputs& in = inputs();
+  const std::string out = q(in.dir + "/exp");
+  for (const std::string value : {"2abc", "2.7", "1e400", "0", "''"})
+    for (const std::string experiment : {"noise", "paper"})
+      expect_refusal(test::run_cli("experiment " + experiment + " --data " + q(in.dir) + " --out " + out +
+                                   " --poses-per-class " + value),
+                     kUsage, "experiment " + experiment, {"--poses-per-class", "or 'all'"});
+  expect_refusal(
+      test::run_cli("experiment paper --data " + q(in.dir) + " --out " + out + " --noisy-per-class 1e400"),
+      kUsage, "experiment paper", {"--noisy-per-class", "'1e400'"});
+  expect_refusal(test::run_cli("experiment noise --data " + q(in.dir) + " --out " + out + " --levels 1,,2"),
+                 kUsage, "experiment noise", {"--levels", "empty item"});
+  expect_refusal(test::run_cli("experiment topkids --data " + q(in.dir) + " --out " + out + " --poses ''"),
+                 kUsage, "experiment topkids", {"--poses", "empty list"});
+  expect_refusal(test::run_cli("experiment pose --data " + q(in.dir) + " --out " + out + " --shapes ''"),
+                 kUsage, "experiment pose", {"--shapes", "empty list"});
+  expect_refusal(test::run_cli("experiment pose --data " + q(in.dir) + " --out " + out + " --shapes a,"),
+                 kUsage, "experiment pose", {"--shapes", "empty item"});
+}
+
+TEST(CliRefusals, HelpAndChecksAgreeAndOptionsThatDoNotApplyAreRefused) {
+  const Inputs& in = inputs();
+  // Issue 22: `noise --min-ratio 0.5` said "must be >= 1" after the help said ">= 0".
+  expect_refusal(test::run_cli("noise " + q(in.tetra) + " -o " + q(in.dir + "/n.off") + " --min-ratio 0.5"),
+                 kUsage, "noise", {"--min-ratio", ">= 1", "'0.5'"});
+  const test::CliResult help = test::run_cli("noise --help");
+  const size_t at = help.out.find("--min-ratio");
+  ASSERT_NE(at, std::string::npos) << help.out;
+  EXPECT_NE(help.out.substr(at, help.out.find('\n', at) - at).find(">= 1"), std::string::npos) << help.out;
+  // Issue 22: `canon --knn 5` on a triangle mesh and `--tear-after 5 --tear-fraction 0` were accepted.
+  expect_refusal(test::run_cli("canon " + q(in.tetra) + " -o " + q(in.dir + "/c.ply") + " --knn 5"), kUsage,
+                 "canon", {"--knn applies to point clouds", in.tetra});
+  expect_refusal(test::run_cli("canon " + q(in.tetra) + " -o " + q(in.dir + "/c.ply") +
+                               " --tear-after 5 --tear-fraction 0"),
+                 kUsage, "canon", {"--tear-after applies only when tearing"});
+}
+
+TEST(CliRefusals, TheReferenceIsReadBeforeAnyWork) {
+  // Issue 22: `distmat --reference missing.csv` failed only after all the work.
+  const std::string dir = test::scratch_dir("cli-reference");
+  write_mesh(dir + "/data/ball0.off", icosphere(1, 1.0));
+  write_mesh(dir + "/data/ball1.off", icosphere(1, 1.5));
+  const test::CliResult r = test::run_cli(
+      "distmat " + q(dir + "/data") + " -o " + q(dir + "/D.csv") + " --cache " + q(dir + "/cache") +
+      " --method cmds --two-stage-k 1 --reference " + q(dir + "/missing.csv"));
+  expect_refusal(r, kData, "distmat", {dir + "/missing.csv", "no such file"});  // one line: no shape note
+  EXPECT_FALSE(fs::exists(dir + "/cache/forms"));
+  fs::remove_all(dir);
+}
+
+TEST(CliRefusals, EvaluateChecksTheMatrixByItsStatedRules) {
+  // Issue 22: `evaluate` accepted asymmetric, negative and non-zero-diagonal matrices, duplicate names.
+  const std::string dir = test::scratch_dir("cli-evaluate");
+  test::write_text(dir + "/negative.csv", "a0,a1,b0\n0,1,2\n1,0,-3\n2,-3,0\n");
+  expect_refusal(test::run_cli("evaluate " + q(dir + "/negative.csv") + " -o " + q(dir + "/out1")), kData,
+                 "evaluate", {"negative.csv", "'a1' to 'b0'", ">= 0"});
+  test::write_text(dir + "/twice.csv", "a0,a1,a0\n0,1,2\n1,0,3\n2,3,0\n");
+  expect_refusal(test::run_cli("evaluate " + q(dir + "/twice.csv") + " -o " + q(dir + "/out2")), kData,
+                 "evaluate", {"'a0' appears twice"});
+  test::write_text(dir + "/asymmetric.csv", "a0,a1,b0,b1\n0,1,2,2\n1,0,3,2\n2,3.5,0,1\n2,2,1,0.5\n");
+  const test::CliResult r = test::run_cli("-q evaluate " + q(dir + "/asymmetric.csv") +
+                                          " --min-class-size 2 -o " + q(dir + "/out3"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + dir + "/asymmetric.csv: not symmetric"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("non-zero diagonal"), std::string::npos) << r.err;
+  EXPECT_NE(test::run_cli("evaluate --help").out.find("refused: two shapes of one name"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 TEST(CliErrors, InfoJsonOnCat0) {
   CSHAPES_REQUIRE_DATA();
   std::string cat = test::tosca5k("cat0");

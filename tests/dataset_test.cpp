@@ -34,8 +34,9 @@ TEST(Dataset, ClassAndPoseFromTheFileName) {
 
 TEST(Dataset, FolderIsSortedByClassThenNumericPose) {
   std::string dir = test::scratch_dir("dataset_folder");
-  Mesh m = icosphere(0);
-  for (const char* name : {"dog10", "dog2", "cat1", "cat0", "dog1"}) write_mesh(dir + "/" + name + ".off", m);
+  double radius = 1;  // distinct shapes: a file listed twice is refused
+  for (const char* name : {"dog10", "dog2", "cat1", "cat0", "dog1"})
+    write_mesh(dir + "/" + name + ".off", icosphere(0, radius++));
   test::write_text(dir + "/notes.txt", "not a mesh");
   Dataset d = read_dataset(dir);
   ASSERT_EQ(d.entries.size(), 5u);
@@ -49,12 +50,11 @@ TEST(Dataset, FolderIsSortedByClassThenNumericPose) {
 
 TEST(Dataset, ManifestRoundTripAndRelativePaths) {
   std::string dir = test::scratch_dir("dataset_manifest");
-  Mesh m = icosphere(0);
   std::vector<DatasetEntry> entries;
   for (int k = 0; k < 3; ++k) {
     DatasetEntry e;
     e.path = dir + "/shapes/hand" + std::to_string(k) + ".off";
-    write_mesh(e.path, m);
+    write_mesh(e.path, icosphere(0, 1.0 + k));
     e.class_name = "hand";
     e.pose = k;
     e.noisy = k == 2;
@@ -92,6 +92,37 @@ TEST(Dataset, ManifestErrorsAreRefusedByName) {
   EXPECT_EQ(d.entries[0].class_name, "a");
   EXPECT_EQ(d.entries[0].pose, 0);
   expect_error_mentioning(dir + "/nothing_here", "no such file or folder");
+}
+
+TEST(Dataset, AFileListedTwiceIsRefusedByName) {
+  // Issue 22: a dataset listing one file twice gave distance 0 between the copies, with no warning.
+  const std::string dir = test::scratch_dir("dataset_twice");
+  write_mesh(dir + "/a0.off", icosphere(0, 1.0));
+  write_mesh(dir + "/a1.off", icosphere(0, 2.0));
+  // By path, also spelled differently.
+  test::write_text(dir + "/twice.csv", "file,class\na0.off,a\na1.off,a\n./a0.off,a\n");
+  expect_error_mentioning(dir + "/twice.csv", "listed twice");
+  expect_error_mentioning(dir + "/twice.csv", "a0.off");
+  // By content: a copy under another name, in a folder as in a manifest.
+  const std::string folder = test::scratch_dir("dataset_copy");
+  write_mesh(folder + "/cat0.off", icosphere(0, 1.0));
+  write_mesh(folder + "/cat1.off", icosphere(0, 2.0));
+  write_mesh(folder + "/dog0.off", icosphere(0, 1.0));
+  expect_error_mentioning(folder, "same content");
+  expect_error_mentioning(folder, "cat0.off and " + folder + "/dog0.off");
+  // Files of equal size but different bytes are fine.
+  write_mesh(folder + "/dog0.off", icosphere(0, 3.0));
+  EXPECT_EQ(read_dataset(folder).entries.size(), 3u);
+}
+
+TEST(Dataset, AManifestWithAByteOrderMarkIsRead) {
+  // Issue 22: a UTF-8 BOM made the header's first column unknown (an invisible character in the message).
+  const std::string dir = test::scratch_dir("dataset_bom");
+  write_mesh(dir + "/a0.off", icosphere(0, 1.0));
+  test::write_text(dir + "/manifest.csv", "\xEF\xBB\xBF" "file,class\na0.off,a\n");
+  const Dataset d = read_dataset(dir + "/manifest.csv");
+  ASSERT_EQ(d.entries.size(), 1u);
+  EXPECT_EQ(d.entries[0].class_name, "a");
 }
 
 TEST(Dataset, Tosca5kFolderHasFourClassesOfSix) {

@@ -68,5 +68,71 @@ TEST(DistanceCsv, LabelsFile) {
   std::filesystem::remove_all(dir);
 }
 
+// The message of the Error f throws ("" when none).
+template <typename F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DistanceCsv, ConflictingLabelsAreRefusedNamingBothLines) {
+  // Issue 22: `evaluate` accepted a shape given two classes.
+  const std::string dir = test::scratch_dir("labels-conflict");
+  test::write_text(dir + "/conflict.csv", "name,class\ncat0,cat\ndog1,dog\ncat0,dog\n");
+  const std::string message = error_of([&] { read_labels_csv(dir + "/conflict.csv", {"cat0", "dog1"}); });
+  EXPECT_NE(message.find("conflict.csv:4"), std::string::npos) << message;
+  EXPECT_NE(message.find("'cat0'"), std::string::npos) << message;
+  EXPECT_NE(message.find("line 2"), std::string::npos) << message;
+  // The same class twice is no conflict.
+  test::write_text(dir + "/repeated.csv", "cat0,cat\ndog1,dog\ncat0,cat\n");
+  EXPECT_EQ(read_labels_csv(dir + "/repeated.csv", {"cat0", "dog1"}),
+            (std::vector<std::string>{"cat", "dog"}));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DistanceCsv, MatrixChecksRefuseOrWarnByRule) {
+  // Issue 22: `evaluate` accepted asymmetric, negative and non-zero-diagonal matrices and duplicate names.
+  NamedDistances m;
+  m.names = {"a0", "a1", "b0"};
+  m.D.resize(3, 3);
+  m.D << 0, 1, 2, 1, 0, 3, 2, 3, 0;
+  EXPECT_TRUE(check_distance_matrix(m, "m.csv").empty());
+
+  NamedDistances negative = m;
+  negative.D(0, 2) = -0.5;
+  std::string message = error_of([&] { check_distance_matrix(negative, "m.csv"); });
+  EXPECT_NE(message.find("m.csv"), std::string::npos) << message;
+  EXPECT_NE(message.find("'a0' to 'b0'"), std::string::npos) << message;
+  EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
+
+  NamedDistances twice = m;
+  twice.names[2] = "a0";
+  message = error_of([&] { check_distance_matrix(twice, "m.csv"); });
+  EXPECT_NE(message.find("'a0' appears twice"), std::string::npos) << message;
+
+  NamedDistances asymmetric = m;
+  asymmetric.D(1, 2) = 3.5;
+  std::vector<std::string> warnings = check_distance_matrix(asymmetric, "m.csv");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("not symmetric"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("'a1' and 'b0'"), std::string::npos) << warnings[0];
+
+  NamedDistances diagonal = m;
+  diagonal.D(2, 2) = 0.25;
+  warnings = check_distance_matrix(diagonal, "m.csv");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("diagonal"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("'b0'"), std::string::npos) << warnings[0];
+
+  // Rounding far below the largest entry is no asymmetry.
+  NamedDistances rounded = m;
+  rounded.D(0, 1) = 1 + 1e-14;
+  EXPECT_TRUE(check_distance_matrix(rounded, "m.csv").empty());
+}
+
 }  // namespace
 }  // namespace cshapes

@@ -3,7 +3,10 @@
 // options only `canon` can honour are refused by name.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -33,7 +36,8 @@ nlohmann::json run_json(const std::string& arguments) {
 
 TEST(DistmatCli, MethodOptionsReachTheComputation) {
   const std::string dir = tiny_dataset();
-  const std::string base = "-q distmat '" + dir + "/data' --cache '" + dir + "/cache' --method coulomb "
+  const std::string base = "-q distmat '" + dir + "/data' --cache '" + dir +
+                           "/cache' --method coulomb "
                            "--coulomb-max-iterations 40 --tear-fraction 0";
   nlohmann::json a = run_json(base + " -o '" + dir + "/a.csv'");
   EXPECT_EQ(a["pairs_computed"], 6);
@@ -74,6 +78,54 @@ TEST(DistmatCli, MdsOptionsAndCanonOnlyOptions) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << extra;
   }
+}
+
+TEST(DistmatCli, ACacheOnAFullDiskStopsWithThePathAndTheReason) {
+  // Issue 22: on a nearly full disk, shapes were "skipped" and a smaller matrix written with exit 0. Here a
+  // real full disk: a 12 KB tmpfs (root only; skipped where mounting is not allowed).
+  if (::geteuid() != 0) GTEST_SKIP() << "mounting a tmpfs needs root";
+  const std::string dir = tiny_dataset();
+  const std::string mount_point = dir + "/small-disk";
+  std::filesystem::create_directories(mount_point);
+  if (std::system(("mount -t tmpfs -o size=12k tmpfs '" + mount_point + "' 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  const std::string out = dir + "/full.csv";
+  test::CliResult r = test::run_cli("-q distmat '" + dir + "/data' --cache '" + mount_point +
+                                    "/cache' --method cmds --geodesics graph -o '" + out + "'");
+  std::system(("umount '" + mount_point + "'").c_str());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(mount_point + "/cache/"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("skipped"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(DistmatCli, ACacheFolderThatIsAFileIsRefusedFirst) {
+  const std::string dir = tiny_dataset();
+  test::write_text(dir + "/cache-file", "x");
+  const std::string out = dir + "/out.csv";
+  test::CliResult r = test::run_cli("distmat '" + dir + "/data' --cache '" + dir +
+                                    "/cache-file' --method cmds -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(dir + "/cache-file"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("sphere0"), std::string::npos) << r.err;  // before any shape
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(DistmatCli, AnErrorAfterProgressStartsALineOfItsOwn) {
+  // Issue 22: without -q an error was glued to the progress line ("\r[coulomb] 0.0%cshapes canon: error:
+  // ...").
+  const std::string dir = tiny_dataset();
+  test::CliResult r = test::run_cli("distmat '" + dir + "/data' --cache '" + dir +
+                                    "/cache' --method cmds --geodesics graph --test-fail-after-pairs 1 -o '" +
+                                    dir + "/out.csv'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  ASSERT_NE(r.err.find("[distances]"), std::string::npos) << r.err;  // a progress line was shown
+  const size_t at = r.err.find("cshapes distmat: error: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_TRUE(at == 0 || r.err[at - 1] == '\n') << r.err;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "core/io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdint>
@@ -415,6 +416,75 @@ TEST(IoRead, StlAsciiAndBinaryMergeCorners) {
   std::string ascii = ascii_stl(mesh);
   write_bytes(path, ascii.substr(0, ascii.size() / 2));
   expect_refused(path, {"truncated"});
+  fs::remove_all(dir);
+}
+
+TEST(IoRead, OnlyRegularFilesAreReadAndAStreamIsNeverFollowed) {
+  // Issue 22: `info /dev/zero` read until the kernel killed it, a FIFO blocked forever, a loop of symbolic
+  // links was "no such file".
+  const std::string dir = test::scratch_dir("io-special");
+  expect_refused("/dev/zero", {"/dev/zero", "character device", "regular file"});
+  const std::string fifo = dir + "/pipe.off";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_refused(fifo, {fifo, "FIFO"});
+  const std::string loop = dir + "/loop.off";
+  fs::create_symlink(dir + "/loop2.off", loop);
+  fs::create_symlink(loop, dir + "/loop2.off");
+  expect_refused(loop, {loop, "loop of symbolic links"});
+  expect_refused(dir + "/absent.off", {"no such file"});
+  // A link to a regular file is read through.
+  write_mesh(dir + "/real.off", icosphere(0));
+  fs::create_symlink(dir + "/real.off", dir + "/link.off");
+  EXPECT_EQ(read_mesh(dir + "/link.off").num_vertices(), 12);
+  fs::remove_all(dir);
+}
+
+TEST(IoRead, AUtf8ByteOrderMarkIsAccepted) {
+  // Issue 22: a BOM was refused by every text reader; an ASCII STL with one was read as binary with
+  // 1,702,130,277 triangles.
+  const std::string dir = test::scratch_dir("io-bom");
+  const std::string bom = "\xEF\xBB\xBF";
+  Mesh mesh = test_mesh();
+  mesh.V = mesh.V.cast<float>().cast<double>();
+  write_mesh(dir + "/m.off", mesh);
+  write_mesh(dir + "/m.obj", mesh);
+  write_mesh(dir + "/m.ply", mesh);
+  for (const char* ext : {"off", "obj", "ply"}) {
+    const std::string plain = read_file(dir + "/m." + ext);
+    const std::string path = write_bytes(dir + "/bom." + ext, bom + plain);
+    const Mesh back = read_mesh(path);
+    EXPECT_EQ(back.V, read_mesh(dir + "/m." + ext).V) << ext;
+    EXPECT_EQ(back.F, mesh.F) << ext;
+  }
+  expect_same_corners(mesh, read_mesh(write_bytes(dir + "/bom.stl", bom + ascii_stl(mesh))));
+  // A binary STL whose 80-byte header happens to start with those bytes stays binary.
+  std::string binary = binary_stl(mesh);
+  binary.replace(0, 3, bom);
+  expect_same_corners(mesh, read_mesh(write_bytes(dir + "/header.stl", binary)));
+  EXPECT_EQ(read_text_file(write_bytes(dir + "/t.txt", bom + "a,b\n")), "a,b\n");
+  fs::remove_all(dir);
+}
+
+TEST(IoRead, PlyTriangleStripsAreRead) {
+  // Issue 22: PLY 'tristrips' were silently dropped (0 faces).
+  const std::string dir = test::scratch_dir("io-strips");
+  const std::string path =
+      write_bytes(dir + "/strip.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                  "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                  "end_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n1 2 0\n"
+                  "8 0 1 2 3 -1 2 3 4\n");
+  const Mesh m = read_mesh(path);
+  ASSERT_EQ(m.num_faces(), 3);
+  Faces expected(3, 3);
+  expected << 0, 1, 2, 2, 1, 3, 2, 3, 4;  // every second triangle of a strip reversed: one orientation
+  EXPECT_EQ(m.F, expected);
+  write_bytes(
+      path,
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+      "3 0 1 7\n");
+  expect_refused(path, {"tristrips 0", "vertex index 7"});
   fs::remove_all(dir);
 }
 

@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
-
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "eval/cache.h"
 #include "matching/shape_distance.h"
@@ -189,6 +192,64 @@ TEST(PairwiseDistances, PacksHoldManyPairs) {
                                     return bad;
                                   }()),
                Error);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, FlippedBytesInAPackAreRecomputedNotServed) {
+  // Issue 22: 8 bytes flipped inside a float64 of a pair pack changed the distance matrix silently.
+  std::vector<Points> shapes = small_shapes();
+  shapes.resize(4);
+  const std::string dir = test::scratch_dir("pairwise-flipped");
+  const PairwiseDistanceResult first = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  const DiskCache packs(dir + "/packs");
+  ASSERT_EQ(packs.keys().size(), 1u);
+  const std::string path = packs.entry_path(packs.keys().front());
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The first float64 of the "hausdorff" column (CBOR 0xfb + 8 bytes).
+  const size_t at = bytes.find('\xfb', bytes.find("hausdorff"));
+  ASSERT_NE(at, std::string::npos);
+  for (size_t k = at + 1; k < at + 9; ++k) bytes[k] = static_cast<char>(bytes[k] ^ 0x21);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+
+  std::vector<std::string> warnings;
+  set_cache_warning_sink([&](const std::string& line) { warnings.push_back(line); });
+  const PairwiseDistanceResult again = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  set_cache_warning_sink({});
+  EXPECT_EQ(again.cached, 0);
+  EXPECT_EQ(again.computed, 6);
+  EXPECT_EQ(again.hausdorff, first.hausdorff);
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find(path), std::string::npos) << warnings[0];
+  // The recomputed pairs are cached again, under a sound pack.
+  EXPECT_EQ(pairwise_distances(shapes, {}, fast_options(dir, 1)).cached, 6);
+  fs::remove_all(dir);
+}
+
+TEST(PairwiseDistances, FailedPackWriteStopsTheRunAndEarlierPacksStay) {
+  // Issue 22: a failed pack write is an error (the disk's reason named), not a quiet loss; the packs written
+  // before it keep their pairs for the next run.
+  std::vector<Points> shapes = small_shapes();
+  const std::string dir = test::scratch_dir("pairwise-full");
+  PairwiseDistanceOptions o = fast_options(dir, 1);
+  o.pack_pairs = 2;
+  fail_file_writes_for_testing(3);  // packs 1 and 2 are written, the disk is full from the third
+  try {
+    pairwise_distances(shapes, {}, o);
+    ADD_FAILURE() << "no error";
+  } catch (const WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/packs/"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::strerror(ENOSPC)), std::string::npos) << e.what();
+  }
+  fail_file_writes_for_testing(0);
+  EXPECT_EQ(count_cached_pairs(dir), 4);
+  const PairwiseDistanceResult resumed = pairwise_distances(shapes, {}, fast_options(dir, 1));
+  EXPECT_EQ(resumed.cached, 4);
+  EXPECT_EQ(resumed.computed, 11);
+  EXPECT_EQ(resumed.hausdorff, pairwise_distances(shapes, {}, fast_options("", 1)).hausdorff);
   fs::remove_all(dir);
 }
 

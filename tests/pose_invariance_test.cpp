@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
@@ -88,9 +89,17 @@ TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
   o.methods = {"cmds"};
   o.samples = 0;
   o.stress_sources = 4;
+  o.label = "a,b";  // issue 22: a label with a comma broke the CSVs' columns
   const PoseInvarianceResult r = run_pose_invariance(o);
   // Pairs ring0-ring1, ring0-ring2, ring1-ring2 (not ball0), each for the input and cmds.
   EXPECT_EQ(r.pairs.size(), 6u);
+  for (const char* csv : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv"}) {
+    std::istringstream lines(read_file(o.out + "/" + csv));
+    std::string header, first;
+    std::getline(lines, header);
+    std::getline(lines, first);
+    EXPECT_EQ(first.rfind("\"a,b\",", 0), 0u) << csv << ": " << first;
+  }
   const double diag = bbox_diagonal(a.V);
   EXPECT_LT(pair_row(r, "ring1", "input").rms, 1e-9);
   EXPECT_LT(pair_row(r, "ring1", "cmds").rms, 1e-6);  // classical MDS is blind to rigid motion and order
@@ -116,10 +125,15 @@ TEST(PoseInvariance, GeodesicStressIsSmallOnAPlaneAndLargeOnARoll) {
   std::vector<int> flat_ids(flat.num_vertices()), roll_ids(roll.num_vertices());
   std::iota(flat_ids.begin(), flat_ids.end(), 0);
   std::iota(roll_ids.begin(), roll_ids.end(), 0);
+  // Each second pose moved aside (stress does not see it): a file listed twice is refused.
+  auto moved = [](Mesh m) {
+    m.V.col(0).array() += 5.0;
+    return m;
+  };
   write_pose(dir, "flat0", flat, flat_ids);
-  write_pose(dir, "flat1", flat, flat_ids);
+  write_pose(dir, "flat1", moved(flat), flat_ids);
   write_pose(dir, "roll0", roll, roll_ids);
-  write_pose(dir, "roll1", roll, roll_ids);
+  write_pose(dir, "roll1", moved(roll), roll_ids);
   PoseInvarianceOptions o;
   o.data = dir;
   o.out = dir + "/out";
@@ -144,8 +158,10 @@ TEST(PoseInvariance, GeodesicStressIsSmallOnAPlaneAndLargeOnARoll) {
 TEST(PoseInvariance, TopkidsReferenceFileErrorsNameFileAndLine) {
   const std::string dir = test::scratch_dir("pose_topkids");
   const Mesh m = icosphere(1);
+  Mesh moved = m;  // a rigid copy, not the same file: a file listed twice is refused
+  moved.V.col(0).array() += 3.0;
   write_mesh(dir + "/kid00.off", m);
-  write_mesh(dir + "/kid01.off", m);
+  write_mesh(dir + "/kid01.off", moved);
   test::write_text(dir + "/kid01_ref.txt", "1 1\n2 2\n3 x\n");
   PoseInvarianceOptions o;
   o.data = dir;
@@ -165,7 +181,7 @@ TEST(PoseInvariance, TopkidsReferenceFileErrorsNameFileAndLine) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("kid01_ref.txt:2"), std::string::npos) << e.what();
   }
-  // A good file: identical meshes with identity correspondences have zero pose distance.
+  // A good file: rigid copies with identity correspondences have zero pose distance.
   std::ostringstream ref;
   for (Index v = 0; v < m.num_vertices(); ++v) ref << v + 1 << " " << v + 1 << "\n";
   test::write_text(dir + "/kid01_ref.txt", ref.str());

@@ -1,5 +1,7 @@
 """Canonical forms from Python against the CLI on the same input (identical forms for identical options),
 option handling, and the GIL released while they run."""
+import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -81,6 +83,55 @@ def test_options_are_checked_by_name(shapes):
         cshapes.canonical_form(V, F, method="cmds", iters=3)
     with pytest.raises(ValueError, match="tear_fraction applies to method 'coulomb' only"):
         cshapes.canonical_form(V, F, method="smacof", tear_fraction=0.1)
+
+
+def test_integers_beyond_range_are_named_by_keyword(shapes):
+    # Issue 22: coulomb_max_iterations=2**70 gave "Unable to cast Python instance to C++ type".
+    V, F = cshapes.read_mesh(shapes[0])
+    with pytest.raises(ValueError, match=r"coulomb\(\): coulomb_max_iterations: 1180591620717411303424 is out of range"):
+        cshapes.coulomb(V, F, coulomb_max_iterations=2**70)
+    with pytest.raises(ValueError, match=r"coulomb_window: 4294967296 is out of range, expected an integer <= 2147483647"):
+        cshapes.coulomb(V, F, coulomb_window=2**32)
+
+
+def test_geodesics_refuse_an_empty_list_of_sources(shapes):
+    # Issue 22: sources=[] returned an empty float64 array instead of saying the list is empty.
+    V, F = cshapes.read_mesh(shapes[0])
+    with pytest.raises(ValueError, match="sources: an empty list"):
+        cshapes.geodesics(V, F, [])
+
+
+CTRL_C_CHILD = """
+import os, signal, sys, threading
+import cshapes
+V, F = cshapes.read_mesh(sys.argv[1])
+threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+try:
+    cshapes.{call}
+except KeyboardInterrupt:
+    sys.exit(3)
+sys.exit(0)
+"""
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        "coulomb(V, F, coulomb_max_iterations=2**31 - 1, coulomb_tolerance=0, tear_fraction=0)",
+        "canonical_form(V, F, method='smacof', geodesics='graph', iters=2**31 - 1, tolerance=0)",
+    ],
+)
+def test_ctrl_c_stops_a_long_call(shapes, call):
+    # Issue 22: Ctrl-C during cshapes.coulomb was honoured only when the call returned (469 s in the probe).
+    # The calls below would run for days; the child hears Ctrl-C half a second in. The timeout only guards
+    # against the hang the bug was: it is no measurement.
+    result = subprocess.run(
+        [sys.executable, "-c", CTRL_C_CHILD.replace("{call}", call), str(shapes[0])],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 3, result.stderr
 
 
 def test_a_mesh_with_two_pieces_is_repaired_and_keeps_its_vertex_count():
