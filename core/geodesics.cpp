@@ -196,7 +196,7 @@ Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::
 }
 
 std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method) {
-  if (method != GeodesicMethod::Exact || mesh.num_faces() == 0) return "";
+  if ((method != GeodesicMethod::Exact && method != GeodesicMethod::HeatCgal) || mesh.num_faces() == 0) return "";
   double length_sum = 0;
   for (Index f = 0; f < mesh.num_faces(); ++f)
     for (int k = 0; k < 3; ++k)
@@ -211,7 +211,9 @@ std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method) {
     }
   }
   if (degenerate == 0) return "";
-  return detail::concat("exact geodesics (CGAL's Surface_mesh_shortest_path) need faces of positive area; ",
+  return detail::concat(method == GeodesicMethod::Exact ? "exact geodesics (CGAL's Surface_mesh_shortest_path)"
+                                                        : "CGAL's heat method (Heat_method_3)",
+                        " need faces of positive area; ",
                         degenerate, " face(s) have (nearly) zero area, the first face ", first, " (vertices ",
                         mesh.F(first, 0), ", ", mesh.F(first, 1), ", ", mesh.F(first, 2),
                         "); use --method heat or fmm, or repair the mesh (without --strict, cshapes drops "

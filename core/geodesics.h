@@ -55,11 +55,12 @@ struct GeodesicOptions {
   ProgressFn progress;                  // all-pairs only: called as sources finish
 };
 
-// Why `method` refuses `mesh` up front, "" when it accepts it. Only exact refuses a mesh: CGAL's
-// Surface_mesh_shortest_path unfolds faces through their angles and returns NaN across a face whose area is
-// (nearly) zero, so a face with area below kExactMinFaceArea × (mean edge length)² is refused, naming it
-// (the heat methods, fast marching and graph accept it: ours works on mollified lengths). Every geodesic
-// function below calls this first and throws the reason.
+// Why `method` refuses `mesh` up front, "" when it accepts it. Only CGAL's methods refuse a mesh, one with a
+// face of area below kExactMinFaceArea × (mean edge length)², naming it: exact (Surface_mesh_shortest_path
+// unfolds faces through their angles and returns NaN across such a face) and heat-cgal (Heat_method_3
+// requires non-degenerate faces; its intrinsic Delaunay flips never ended on two such meshes of the stress
+// corpus). Our heat method, fast marching and graph accept it (ours works on mollified lengths). Every
+// geodesic function below calls this first and throws the reason.
 constexpr double kExactMinFaceArea = 1e-10;
 std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method);
 

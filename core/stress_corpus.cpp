@@ -363,7 +363,9 @@ Mesh make_stress_mesh(const StressCase& c, const StressCorpusOptions& options) {
     co.segments = 3 + static_cast<int>(rng.index(6));
     co.bend = rng.uniform() < 0.5 ? rng.uniform(0.5, 3.0) : 0.0;
     Mesh tube = capsule(co);
-    return rng.uniform() < 0.5 ? split_faces(tube, 2, rng.uniform(0.7, 0.95), rng.uniform(0.01, 0.1)) : tube;
+    if (rng.uniform() >= 0.5) return tube;
+    const double w0 = rng.uniform(0.7, 0.95), w1 = rng.uniform(0.1, 0.9) * (1 - w0);  // w2 > 0 too
+    return split_faces(tube, 2, w0, w1);
   }
   if (c.base == "grid") {
     const int nx = 3 + static_cast<int>(std::sqrt(static_cast<double>(c.base_vertices)) * rng.uniform(0.5, 2));

@@ -6,7 +6,8 @@
 //
 // Kinds cycle with i (i mod kinds), so any kStressKinds consecutive cases hold every kind. Sizes are drawn
 // log-uniformly in [min_vertices, max_vertices] (a base shape is remeshed isotropically to a size below its
-// own, refined by subdivision and edge splits to a size above it; kinds that add vertices add a few percent). Meshes are closed unless the kind says otherwise, manifold, in one component
+// own, refined by subdivision and edge splits to a size above it; the splits kind adds up to twice as many
+// vertices again). Meshes are closed unless the kind says otherwise, manifold, in one component
 // (handles and boundaries keep that), and may hold zero-area faces (kind near-degenerate) — no other defect.
 // Cost: one CGAL remesh or one refinement per case plus O(n) for the perturbation.
 #pragma once

@@ -89,8 +89,9 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
     StressOutcome o;
     o.what = method;
     o.ran = true;
-    if (method == "exact" && exact_refuses) {  // refused up front, by its stated precondition: no failure
-      o.refused = geodesic_method_refusal(mesh, GeodesicMethod::Exact);
+    // Refused up front by its stated precondition (geodesic_method_refusal): recorded, not a failure.
+    o.refused = geodesic_method_refusal(mesh, geodesic_options_for(method).method);
+    if (!o.refused.empty()) {
       result.geodesics.push_back(o);
       continue;
     }

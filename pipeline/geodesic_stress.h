@@ -11,7 +11,7 @@
 //              error exceeds its tolerance (geodesic_tolerance) on a mesh the method accepts as fine: meshes
 //              for which heat_method_warning speaks (too coarse) are exempt from the heat methods' tolerance,
 //              not from the finiteness check. A method that refuses the mesh up front by its stated
-//              precondition (geodesic_method_refusal: exact on zero-area faces) is recorded as refused, not
+//              precondition (geodesic_method_refusal: exact and heat-cgal on zero-area faces) is recorded as refused, not
 //              failed, and the reference is then fast marching.
 //   canon      Coulomb, classical MDS and SMACOF (pipeline/canonical_forms.h, defaults; MDS on fast marching)
 //              up to canon_max_vertices vertices: fails when it throws or a valid vertex is not finite; the

@@ -88,6 +88,8 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
       }
       value =
           json{{"F", faces_to_json(r.mesh.F)}, {"glued", vertices}, {"relax_steps_used", r.relax_steps_used}};
+    } catch (const WriteError&) {
+      throw;  // the run's own files: never one shape's failure
     } catch (const Error& e) {
       value = json{{"error", e.what()}};
     }
@@ -136,6 +138,8 @@ std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std:
       try {
         p.mesh = read_mesh(e.path);
         CSHAPES_REQUIRE(p.mesh.num_faces() > 0, e.path, ": a point cloud (gluing needs faces)");
+      } catch (const WriteError&) {
+        throw;  // the run's own files: never one shape's failure
       } catch (const Error& error) {
         if (o.canon.strict) throw;
         say(o, std::string("skipped: ") + error.what());

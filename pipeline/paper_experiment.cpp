@@ -145,6 +145,8 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
       s.in_retrieval = in_retrieval;
       try {
         load_and_check(s, e.path, o);
+      } catch (const WriteError&) {
+        throw;  // the run's own files: never one shape's failure
       } catch (const Error& error) {
         if (o.canon.strict) throw;
         say(o, std::string("skipped: ") + error.what());
@@ -209,6 +211,8 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         const bool loaded = it != shapes.end();
         try {
           source = loaded ? *it : load(src, false);
+        } catch (const WriteError&) {
+          throw;  // the run's own files: never one shape's failure
         } catch (const Error& e) {
           continue;  // already said and listed as skipped
         }
@@ -216,6 +220,8 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         Shape s;
         try {
           s = make_noisy(source, o, noise_cache, glued_count++);
+        } catch (const WriteError&) {
+          throw;  // the run's own files: never one shape's failure
         } catch (const Error& e) {
           say(o, std::string("  skipped: ") + e.what());
           continue;
