@@ -102,7 +102,7 @@ Mesh drop_unreferenced(const Mesh& mesh) {
   return out;
 }
 
-// Faces of the largest component (through shared edges... vertices suffice here), vertices renumbered.
+// The faces of the largest component (connected through shared vertices), vertices renumbered.
 Mesh largest_component(const Mesh& mesh) {
   Components comp = connected_components(mesh.num_vertices(), mesh_edges(mesh.F));
   if (comp.count <= 1) return drop_unreferenced(mesh);
