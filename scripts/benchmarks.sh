@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reruns every benchmark behind the README's table and writes one JSON file per row into OUT
+# Reruns every benchmark behind docs/benchmarks.md's table and writes one JSON file per row into OUT
 # (default: results/benchmarks). Each benchmark measures its reference in the same run.
 #   scripts/benchmarks.sh [OUT] [--data DIR]     (DIR: tosca5k, default ../shared/data/tosca5k)
 # Takes about a minute on 2 cores (remeshing included); run it on an otherwise idle machine.

@@ -2,7 +2,7 @@
 """Two threads against one on a machine with a core kept busy: `cshapes canon MESH --method coulomb` timed with
 --threads 1 and --threads 2, interleaved (A, B, A, B, ...) while a busy loop (`yes > /dev/null`) runs beside
 them, so that any other load on the machine weighs on both alike. Prints JSON: median seconds of each, the
-median of the per-pair ratios threads2 / threads1 (the figure to judge: README asks for <= 1.3), and the load
+median of the per-pair ratios threads2 / threads1 (the figure to judge: docs/benchmarks.md asks for <= 1.3), and the load
 average before the run.
 
   scripts/busy_canon.py [--mesh M] [--repeats N] [--idle] [--env NAME=VALUE ...] [--cshapes build/cshapes]

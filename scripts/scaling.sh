@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's scaling table: `distmat` (exact mode, Coulomb) on N generated shapes of 1,000 vertices with
+# The scaling table of docs/scale-out.md: `distmat` (exact mode, Coulomb) on N generated shapes of 1,000 vertices with
 # R = 1 process (all cores as threads) and R = 2 MPI ranks (the cores split between them), each from an empty
 # cache, then the two-stage mode (--two-stage-k K, recall against the exact matrix). One JSON line per run:
 # wall seconds (canonical forms, pairs, I/O), the pair stage's seconds and pairs per second, and whether the

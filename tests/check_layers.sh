@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The layer order (README, "The pipeline"): each folder includes only from itself and the layers below it.
+# The layer order (docs/design.md, "The pipeline"): each folder includes only from itself and the layers below it.
 # Prints every include that breaks it and exits 1; registered with CTest as Layering.IncludesFollowTheOrder.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
