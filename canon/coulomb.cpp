@@ -18,7 +18,9 @@ CoulombScheme parse_coulomb_scheme(const std::string& name) {
   fail("unknown Coulomb scheme '", name, "'; known: paper, momentum");
 }
 
-std::string to_string(CoulombScheme scheme) { return scheme == CoulombScheme::Paper ? "paper" : "momentum"; }
+std::string to_string(CoulombScheme scheme) {
+  return scheme == CoulombScheme::Paper ? "paper" : "momentum";
+}
 
 CoulombStepRule parse_coulomb_step_rule(const std::string& name) {
   if (name == "max-edge") return CoulombStepRule::MaxEdge;
@@ -30,10 +32,14 @@ CoulombStepRule parse_coulomb_step_rule(const std::string& name) {
 
 std::string to_string(CoulombStepRule rule) {
   switch (rule) {
-    case CoulombStepRule::MaxEdge: return "max-edge";
-    case CoulombStepRule::MeanEdge: return "mean-edge";
-    case CoulombStepRule::MedianEdge: return "median-edge";
-    case CoulombStepRule::Fixed: return "fixed";
+    case CoulombStepRule::MaxEdge:
+      return "max-edge";
+    case CoulombStepRule::MeanEdge:
+      return "mean-edge";
+    case CoulombStepRule::MedianEdge:
+      return "median-edge";
+    case CoulombStepRule::Fixed:
+      return "fixed";
   }
   return "?";
 }
@@ -44,7 +50,9 @@ StepGradient parse_step_gradient(const std::string& name) {
   fail("unknown step gradient statistic '", name, "'; known: max, mean");
 }
 
-std::string to_string(StepGradient statistic) { return statistic == StepGradient::Max ? "max" : "mean"; }
+std::string to_string(StepGradient statistic) {
+  return statistic == StepGradient::Max ? "max" : "mean";
+}
 
 TearGuard parse_tear_guard(const std::string& name) {
   if (name == "vertex") return TearGuard::Vertex;
@@ -166,14 +174,19 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
 namespace {
 
 // max_i ‖g_i‖ with one square root (sqrt is monotone, so this is exactly the max of the row norms).
-double max_row_norm(const Points& G) { return std::sqrt(G.rowwise().squaredNorm().maxCoeff()); }
+double max_row_norm(const Points& G) {
+  return std::sqrt(G.rowwise().squaredNorm().maxCoeff());
+}
 
-double mean_row_norm(const Points& G) { return G.rowwise().norm().mean(); }
+double mean_row_norm(const Points& G) {
+  return G.rowwise().norm().mean();
+}
 
 double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
   if (rest.size() == 0) return 0;
   switch (rule) {
-    case CoulombStepRule::MaxEdge: return rest.maxCoeff();
+    case CoulombStepRule::MaxEdge:
+      return rest.maxCoeff();
     case CoulombStepRule::MedianEdge: {
       std::vector<double> v(rest.data(), rest.data() + rest.size());
       auto mid = v.begin() + v.size() / 2;
@@ -181,30 +194,33 @@ double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
       return *mid;
     }
     case CoulombStepRule::MeanEdge:
-    case CoulombStepRule::Fixed: return rest.mean();
+    case CoulombStepRule::Fixed:
+      return rest.mean();
   }
   return rest.mean();
 }
 
 void check_options(const CoulombCanonOptions& o) {
-  CSHAPES_REQUIRE(o.step_factor > 0, "coulomb: step_factor must be > 0, got ", o.step_factor);
-  CSHAPES_REQUIRE(o.fixed_step >= 0, "coulomb: fixed_step must be >= 0, got ", o.fixed_step);
-  CSHAPES_REQUIRE(o.coulomb_steps >= 1, "coulomb: coulomb_steps must be >= 1, got ", o.coulomb_steps);
-  CSHAPES_REQUIRE(o.tear_fraction >= 0 && o.tear_fraction < 1, "coulomb: tear_fraction must be in [0, 1), got ",
-                  o.tear_fraction);
-  CSHAPES_REQUIRE(o.tear_after >= 0, "coulomb: tear_after must be >= 0, got ", o.tear_after);
-  CSHAPES_REQUIRE(o.tear_times >= 0, "coulomb: tear_times must be >= 0, got ", o.tear_times);
-  CSHAPES_REQUIRE(o.tear_interval >= 1, "coulomb: tear_interval must be >= 1, got ", o.tear_interval);
-  CSHAPES_REQUIRE(o.max_iterations >= 0, "coulomb: max_iterations must be >= 0, got ", o.max_iterations);
-  CSHAPES_REQUIRE(o.stop_window >= 1, "coulomb: stop_window must be >= 1, got ", o.stop_window);
-  CSHAPES_REQUIRE(o.stop_tolerance >= 0, "coulomb: stop_tolerance must be >= 0, got ", o.stop_tolerance);
-  CSHAPES_REQUIRE(o.momentum >= 0 && o.momentum < 1, "coulomb: momentum must be in [0, 1), got ", o.momentum);
+  using namespace coulomb_limits;
+  check_limit(kStepFactor, o.step_factor, "coulomb");
+  check_limit(kFixedStep, o.fixed_step, "coulomb");
+  check_limit(kCoulombSteps, o.coulomb_steps, "coulomb");
+  check_limit(kTearFraction, o.tear_fraction, "coulomb");
+  check_limit(kTearAfter, o.tear_after, "coulomb");
+  check_limit(kTearTimes, o.tear_times, "coulomb");
+  check_limit(kTearInterval, o.tear_interval, "coulomb");
+  check_limit(kMaxIterations, o.max_iterations, "coulomb");
+  check_limit(kWindow, o.stop_window, "coulomb");
+  check_limit(kTolerance, o.stop_tolerance, "coulomb");
+  check_limit(kMomentum, o.momentum, "coulomb");
+  check_limit(kAccuracy, o.energy.accuracy, "coulomb");
   CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
 }  // namespace
 
-CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options,
+CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
+                                          const CoulombCanonOptions& options,
                                           const Eigen::VectorXd& rest_lengths) {
   const WallClock::time_point start = WallClock::now();
   auto elapsed = [&] { return seconds_since(start); };
@@ -217,7 +233,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   CoulombCanonResult result;
   Edges edges = E;
   Eigen::VectorXd rest = rest_lengths.size() ? rest_lengths : edge_lengths(X0, E);
-  CSHAPES_REQUIRE(rest.size() == E.rows(), "coulomb: ", rest.size(), " rest lengths for ", E.rows(), " edges");
+  CSHAPES_REQUIRE(rest.size() == E.rows(), "coulomb: ", rest.size(), " rest lengths for ", E.rows(),
+                  " edges");
   auto projection = std::make_unique<MetricProjection>(n, edges, rest, options.projection);
   const double scale = edge_scale(rest, options.step_rule);
   double fixed_c = options.fixed_step;
@@ -306,8 +323,10 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
         }
       }
       // eq. (4)
-      if (from_x) Y.noalias() = X - c * eval.gradient;
-      else Y -= c * eval.gradient;
+      if (from_x)
+        Y.noalias() = X - c * eval.gradient;
+      else
+        Y -= c * eval.gradient;
       record.step = c;
       record.max_move = c * gmax;
     }
@@ -315,8 +334,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
     RelativeViolation violation;
     projection->project(Y, &violation);
     if (!Y.allFinite())
-      fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme), ", step ",
-           record.step, "); try --scheme paper or a smaller --step-factor");
+      fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme),
+           ", step ", record.step, "); try --scheme paper or a smaller --step-factor");
     if (options.remove_rigid_motion) rigid_align_in_place(Y, X);
     bool restart = false;
     if (momentum) {
@@ -370,7 +389,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, cons
   result.edges = std::move(edges);
   result.rest_lengths = std::move(rest);
   result.torn_edges.resize(static_cast<Index>(torn_rows.size()), 2);
-  for (size_t k = 0; k < torn_rows.size(); ++k) result.torn_edges.row(static_cast<Index>(k)) = E.row(torn_rows[k]);
+  for (size_t k = 0; k < torn_rows.size(); ++k)
+    result.torn_edges.row(static_cast<Index>(k)) = E.row(torn_rows[k]);
   result.seconds = elapsed();
   return result;
 }

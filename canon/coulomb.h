@@ -1,16 +1,19 @@
-// Coulomb canonical forms (§2 of the paper): minimise the Coulomb energy of eq. (1) under the metric constraints
-// of eq. (2)/(3), by alternating gradient steps (eq. 4) with projections on the constraints (eq. 6 or 8–9), and
-// tearing the most violated edges (§2.2).
+// Coulomb canonical forms (§2 of the paper): minimise the Coulomb energy of eq. (1) under the metric
+// constraints of eq. (2)/(3), by alternating gradient steps (eq. 4) with projections on the constraints (eq.
+// 6 or 8–9), and tearing the most violated edges (§2.2).
 //
-// One outer iteration: m Coulomb steps X ← X − c ∇E(X) (eq. 4), then k projection sweeps (metric_projection.h).
-// The result is the fixed point of that map, and it is defined by the step rule and by k: the Coulomb step
-// inflates the shape by about c·‖∇E‖, the k sweeps pull it back, so the final violation grows with c/k
-// (the paper's Fig. 5). Acceleration (momentum, Anderson) reaches the same fixed point in fewer iterations.
+// One outer iteration: m Coulomb steps X ← X − c ∇E(X) (eq. 4), then k projection sweeps
+// (metric_projection.h). The result is the fixed point of that map, and it is defined by the step rule and by
+// k: the Coulomb step inflates the shape by about c·‖∇E‖, the k sweeps pull it back, so the final violation
+// grows with c/k (the paper's Fig. 5). Acceleration (momentum, Anderson) reaches the same fixed point in
+// fewer iterations.
 //
 // Works on any edge graph: mesh edges (mesh_edges(F)) or a kNN graph of a point cloud. The rest lengths d_ij
 // are the edge lengths of the input X0 unless given. Units: those of X0. Complexity per iteration:
 // m gradient evaluations (coulomb_energy.h: O(n²) direct, O(n log n) fast) + O(k·|E|) projection.
 #pragma once
+
+#include "core/option_limits.h"
 
 #include <string>
 #include <vector>
@@ -70,6 +73,23 @@ inline CoulombOptions coulomb_canon_summation() {
   return o;
 }
 
+// The limits of the options a user sets (core/option_limits.h: the library's check, the CLI's help and
+// parser and the Python keywords all read these), named as on the command line.
+namespace coulomb_limits {
+inline constexpr Limit kStepFactor = number_limit("step-factor", 0, kNoLimit, /*minimum_open=*/true);
+inline constexpr Limit kFixedStep = number_limit("fixed-step", 0);
+inline constexpr Limit kCoulombSteps = integer_limit("coulomb-steps", 1, 1e6);
+inline constexpr Limit kTearFraction = number_limit("tear-fraction", 0, 0.99);
+inline constexpr Limit kTearAfter = integer_limit("tear-after", 0, 1e8);
+inline constexpr Limit kTearTimes = integer_limit("tear-times", 0, 1e6);
+inline constexpr Limit kTearInterval = integer_limit("tear-interval", 1, 1e8);
+inline constexpr Limit kMaxIterations = integer_limit("coulomb-max-iterations", 0, 1e8);
+inline constexpr Limit kWindow = integer_limit("coulomb-window", 1, 1e8);
+inline constexpr Limit kTolerance = number_limit("coulomb-tolerance", 0);
+inline constexpr Limit kMomentum = number_limit("momentum", 0, 0.999);
+inline constexpr Limit kAccuracy = number_limit("coulomb-accuracy", 1e-12, 1);
+}  // namespace coulomb_limits
+
 struct CoulombCanonOptions {
   // Momentum by default: on cat0 (max-edge, k = 10, no tearing) it came within 0.5% of the fixed point's
   // energy in 74 iterations, the paper's scheme in 827; after 2,000 iterations both end at the same energy
@@ -86,8 +106,8 @@ struct CoulombCanonOptions {
   CoulombStepRule step_rule = CoulombStepRule::MeanEdge;
   double step_factor = 0.1;  // the paper's factor
   StepGradient step_gradient = StepGradient::Mean;
-  double fixed_step = 0;     // c for step_rule Fixed (units: length³/charge²); 0: frozen at the first iteration
-  int coulomb_steps = 1;     // m: Coulomb steps per outer iteration
+  double fixed_step = 0;  // c for step_rule Fixed (units: length³/charge²); 0: frozen at the first iteration
+  int coulomb_steps = 1;  // m: Coulomb steps per outer iteration
   // k (projection.steps), the norm (L2/L1), the L1 floor and the dilation constant of eq. (3).
   MetricProjectionOptions projection;
 
@@ -133,34 +153,34 @@ struct CoulombCanonOptions {
   // Fast summation's accuracy for the reported energy (CoulombCanonResult::energy, one evaluation), or the
   // iterations' accuracy if that is smaller.
   double result_accuracy = 1e-3;
-  ProgressFn progress;    // called with ("coulomb", iteration, max_iterations)
+  ProgressFn progress;  // called with ("coulomb", iteration, max_iterations)
 };
 
 struct CoulombIterationRecord {
-  int iteration = 0;          // 1-based outer iteration
-  double energy = 0;          // eq. (1) where the iteration evaluates its first gradient (momentum: the
-                              // extrapolated point); the exact energy of the result is CoulombCanonResult::energy
+  int iteration = 0;  // 1-based outer iteration
+  double energy = 0;  // eq. (1) where the iteration evaluates its first gradient (momentum: the
+                      // extrapolated point); the exact energy of the result is CoulombCanonResult::energy
   double mean_violation = 0;  // mean |r_ij − d_ij| / d_ij over the remaining edges, after the projection
   double max_violation = 0;   // max of the same
   double step = 0;            // c of eq. (4) (last Coulomb step of the iteration)
-  double max_move = 0;        // c · max_i ‖∇_i E‖: how far the fastest vertex moved in the Coulomb step
-  int torn_edges = 0;         // edges removed so far
-  double shape_change = -1;   // last measured windowed shape change (see stop_window), −1 before the first
-  double momentum = 0;        // β used (0: plain step or just restarted)
-  double seconds = 0;         // wall time since the start
+  double max_move = 0;       // c · max_i ‖∇_i E‖: how far the fastest vertex moved in the Coulomb step
+  int torn_edges = 0;        // edges removed so far
+  double shape_change = -1;  // last measured windowed shape change (see stop_window), −1 before the first
+  double momentum = 0;       // β used (0: plain step or just restarted)
+  double seconds = 0;        // wall time since the start
 };
 
 struct CoulombCanonResult {
-  Points X;                     // n×3 canonical form, input vertex order
-  Edges edges;                  // the edges remaining after tearing
-  Eigen::VectorXd rest_lengths;  // their rest lengths
-  Edges torn_edges;             // the edges removed, in the order they were torn
+  Points X;                       // n×3 canonical form, input vertex order
+  Edges edges;                    // the edges remaining after tearing
+  Eigen::VectorXd rest_lengths;   // their rest lengths
+  Edges torn_edges;               // the edges removed, in the order they were torn
   Eigen::VectorXd torn_vertices;  // n values: 1 for a vertex of a torn edge, else 0
   std::vector<CoulombIterationRecord> history;
   int iterations = 0;
   bool converged = false;
-  std::string stop_reason;  // "converged" or "max_iterations"
-  double energy = 0;        // eq. (1) at X (fast summation at options.result_accuracy)
+  std::string stop_reason;    // "converged" or "max_iterations"
+  double energy = 0;          // eq. (1) at X (fast summation at options.result_accuracy)
   MetricViolation violation;  // over the remaining edges, at X
   // Stretch of the edges not torn relative to X0 (not to given rest lengths) and runaway vertices
   // (form_quality.h); quality.ok is false when a vertex ran away.
@@ -170,7 +190,8 @@ struct CoulombCanonResult {
 
 // X0: n×3 initial (and reference) shape; E: |E|×2 edges; rest_lengths: |E| values, or empty for the edge
 // lengths of X0. Throws cshapes::Error on bad input or when the iteration produces non-finite coordinates.
-CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E, const CoulombCanonOptions& options = {},
+CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
+                                          const CoulombCanonOptions& options = {},
                                           const Eigen::VectorXd& rest_lengths = {});
 
 // Selects the edges to tear: the `count` largest deviations |‖x_i − x_j‖ − d_ij|, skipping any edge the guard

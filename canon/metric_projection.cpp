@@ -18,7 +18,9 @@ ProjectionNorm parse_projection_norm(const std::string& name) {
   fail("unknown projection norm '", name, "'; known: l2, l1");
 }
 
-std::string to_string(ProjectionNorm norm) { return norm == ProjectionNorm::L2 ? "l2" : "l1"; }
+std::string to_string(ProjectionNorm norm) {
+  return norm == ProjectionNorm::L2 ? "l2" : "l1";
+}
 
 namespace {
 
@@ -43,22 +45,25 @@ MetricProjection::MetricProjection(Index num_vertices, const Edges& E, const Eig
   CSHAPES_REQUIRE(num_vertices >= 0, "metric projection: ", num_vertices, " vertices");
   CSHAPES_REQUIRE(rest_lengths.size() == E.rows(), "metric projection: ", rest_lengths.size(),
                   " rest lengths for ", E.rows(), " edges");
-  CSHAPES_REQUIRE(options.steps >= 0, "metric projection: steps must be >= 0, got ", options.steps);
-  CSHAPES_REQUIRE(options.dilation >= 1, "metric projection: dilation must be >= 1, got ", options.dilation);
-  CSHAPES_REQUIRE(options.l1_floor > 0, "metric projection: l1_floor must be > 0, got ", options.l1_floor);
+  check_limit(projection_limits::kSteps, options.steps, "metric projection");
+  check_limit(projection_limits::kDilation, options.dilation, "metric projection");
+  check_limit(projection_limits::kL1Floor, options.l1_floor, "metric projection");
   for (Index e = 0; e < E.rows(); ++e) {
     CSHAPES_REQUIRE(E(e, 0) >= 0 && E(e, 0) < n_ && E(e, 1) >= 0 && E(e, 1) < n_ && E(e, 0) != E(e, 1),
-                    "metric projection: edge ", e, " (", E(e, 0), ", ", E(e, 1), ") is not a pair of distinct "
-                    "vertices in [0, ", n_, ")");
-    CSHAPES_REQUIRE(std::isfinite(rest_lengths(e)) && rest_lengths(e) >= 0, "metric projection: rest length of edge ",
-                    e, " is ", rest_lengths(e), ", expected a finite value >= 0");
+                    "metric projection: edge ", e, " (", E(e, 0), ", ", E(e, 1),
+                    ") is not a pair of distinct "
+                    "vertices in [0, ",
+                    n_, ")");
+    CSHAPES_REQUIRE(std::isfinite(rest_lengths(e)) && rest_lengths(e) >= 0,
+                    "metric projection: rest length of edge ", e, " is ", rest_lengths(e),
+                    ", expected a finite value >= 0");
   }
-  // Zero rest lengths (duplicate points of a point cloud) are raised to a tiny fraction of the largest, so the
-  // relative floors and violations below stay finite.
+  // Zero rest lengths (duplicate points of a point cloud) are raised to a tiny fraction of the largest, so
+  // the relative floors and violations below stay finite.
   const double tiny = 1e-12 * (rest_lengths.size() ? std::max(rest_lengths.maxCoeff(), 1e-300) : 1.0);
 
-  // Internal vertex order: breadth-first over the graph, so that the neighbours of a vertex lie close to it in
-  // memory whatever the input order (remeshed or shuffled meshes have none: michael22738's neighbours are
+  // Internal vertex order: breadth-first over the graph, so that the neighbours of a vertex lie close to it
+  // in memory whatever the input order (remeshed or shuffled meshes have none: michael22738's neighbours are
   // ~8,000 indices apart). The sweep's arithmetic does not depend on it, only its speed.
   const Index m = E.rows();
   const Adjacency adj = adjacency(n_, E);
@@ -113,7 +118,9 @@ MetricProjection::MetricProjection(Index num_vertices, const Edges& E, const Eig
   }
 }
 
-void MetricProjection::sweep(Points& X) const { sweeps(X, 1, nullptr); }
+void MetricProjection::sweep(Points& X) const {
+  sweeps(X, 1, nullptr);
+}
 
 void MetricProjection::project(Points& X, RelativeViolation* violation) const {
   sweeps(X, options_.steps, violation);
@@ -244,7 +251,8 @@ void MetricProjection::vertex_pass(const double* positions, double* out, Index f
     } else if constexpr (L1) {  // eq. (8); the fourth lane becomes 1 again
       result = _mm256_div_pd(sum, _mm256_permute4x64_pd(sum, 0xFF));
     } else {  // eq. (6): a multiplication by 1/v_i instead of a long division; the fourth lane set to 1
-      result = _mm256_blend_pd(_mm256_mul_pd(sum, _mm256_broadcast_sd(inverse_degree + i)), _mm256_set1_pd(1.0), 0x8);
+      result = _mm256_blend_pd(_mm256_mul_pd(sum, _mm256_broadcast_sd(inverse_degree + i)),
+                               _mm256_set1_pd(1.0), 0x8);
     }
     _mm256_store_pd(out + 4 * i, result);
 #else
@@ -343,18 +351,24 @@ void MetricProjection::sweeps(Points& X, int count, RelativeViolation* violation
       for (Index block = 0; block < edge_blocks; ++block) {
         const Index first = block * kEdgeBlock, last = std::min(m, first + kEdgeBlock);
         if (l1) {
-          if (dilation) edge_pass<true, true>(in, first, last);
-          else edge_pass<true, false>(in, first, last);
+          if (dilation)
+            edge_pass<true, true>(in, first, last);
+          else
+            edge_pass<true, false>(in, first, last);
         } else {
-          if (dilation) edge_pass<false, true>(in, first, last);
-          else edge_pass<false, false>(in, first, last);
+          if (dilation)
+            edge_pass<false, true>(in, first, last);
+          else
+            edge_pass<false, false>(in, first, last);
         }
       }
 #pragma omp for schedule(static)
       for (Index block = 0; block < vertex_blocks; ++block) {
         const Index first = block * kVertexBlock, last = std::min(n_, first + kVertexBlock);
-        if (l1) vertex_pass<true>(in, out, first, last);
-        else vertex_pass<false>(in, out, first, last);
+        if (l1)
+          vertex_pass<true>(in, out, first, last);
+        else
+          vertex_pass<false>(in, out, first, last);
       }
     }
     const double* result = buffers[count % 2];
@@ -363,14 +377,15 @@ void MetricProjection::sweeps(Points& X, int count, RelativeViolation* violation
 #pragma omp for schedule(static) nowait
     for (Index block = 0; block < violation_blocks; ++block) {
       const Index first = block * kViolationBlock, last = std::min(m, first + kViolationBlock);
-      violation_block(edge_a_.data(), edge_b_.data(), edge_rest_.data(), first, last,
-                      [&](int a, int b) {
-                        const double* pa = result + 4 * Index(a);
-                        const double* pb = result + 4 * Index(b);
-                        const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
-                        return dx * dx + dy * dy + dz * dz;
-                      },
-                      &block_sums_[block], &block_maxima_[block]);
+      violation_block(
+          edge_a_.data(), edge_b_.data(), edge_rest_.data(), first, last,
+          [&](int a, int b) {
+            const double* pa = result + 4 * Index(a);
+            const double* pb = result + 4 * Index(b);
+            const double dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2];
+            return dx * dx + dy * dy + dz * dz;
+          },
+          &block_sums_[block], &block_maxima_[block]);
     }
 #pragma omp for schedule(static)
     for (Index block = 0; block < vertex_blocks; ++block)
@@ -398,13 +413,14 @@ RelativeViolation MetricProjection::relative_violation(const Points& X) const {
 #pragma omp parallel for schedule(static) if (n_ >= kParallelMinVertices)
   for (Index block = 0; block < blocks; ++block) {
     const Index first = block * kViolationBlock, last = std::min(m, first + kViolationBlock);
-    violation_block(edge_a_.data(), edge_b_.data(), edge_rest_.data(), first, last,
-                    [&](int a, int b) {
-                      const Index ra = order[a], rb = order[b];
-                      const double dx = x[ra] - x[rb], dy = y[ra] - y[rb], dz = z[ra] - z[rb];
-                      return dx * dx + dy * dy + dz * dz;
-                    },
-                    &block_sums_[block], &block_maxima_[block]);
+    violation_block(
+        edge_a_.data(), edge_b_.data(), edge_rest_.data(), first, last,
+        [&](int a, int b) {
+          const Index ra = order[a], rb = order[b];
+          const double dx = x[ra] - x[rb], dy = y[ra] - y[rb], dz = z[ra] - z[rb];
+          return dx * dx + dy * dy + dz * dz;
+        },
+        &block_sums_[block], &block_maxima_[block]);
   }
   return combine_violation_blocks();
 }

@@ -1,9 +1,10 @@
-// Projection onto the metric constraints of §2.1–2.2: pulling edge lengths ‖x_i − x_j‖ back towards their rest
-// lengths d_ij, one Jacobi sweep at a time, on an arbitrary edge graph (mesh edges or a kNN graph).
+// Projection onto the metric constraints of §2.1–2.2: pulling edge lengths ‖x_i − x_j‖ back towards their
+// rest lengths d_ij, one Jacobi sweep at a time, on an arbitrary edge graph (mesh edges or a kNN graph).
 //
 //   L2 (eq. 6, Groginsky):  x_i ← (1/v_i) Σ_{j~i} ( x_j + t_ij (x_i − x_j)/‖x_i − x_j‖ )
 //   L1 (eq. 8–9):           x_i ← Σ_{j~i} w_ij ( x_j + t_ij (x_i − x_j)/‖x_i − x_j‖ ),
-//                           w_ij ∝ 1 / max(|‖x_i − x_j‖ − d_ij|, floor · d_ij), normalised over the edges of i
+//                           w_ij ∝ 1 / max(|‖x_i − x_j‖ − d_ij|, floor · d_ij), normalised over the edges of
+//                           i
 //
 // v_i is the degree of vertex i (the paper assumes it constant; we use each vertex's own). The target t_ij is
 // d_ij (eq. 2's equality constraints) or, with dilation c > 1, the length clamped into [d_ij/c, c·d_ij]
@@ -15,14 +16,17 @@
 // because the graph Laplacian is bounded by twice its degree matrix. The L1 sweep is the same step for the
 // reweighted residual (iteratively reweighted least squares) and carries no such guarantee for eq. (5).
 //
-// Known limitation (measured, see README): the averaged projection barely pulls back a uniformly dilated smooth
-// surface — the pulls of opposite neighbours cancel — so after Coulomb steps the violation never returns to 0.
+// Known limitation (measured, see README): the averaged projection barely pulls back a uniformly dilated
+// smooth surface — the pulls of opposite neighbours cancel — so after Coulomb steps the violation never
+// returns to 0.
 //
 // Coincident endpoints (‖x_i − x_j‖ below 1e-12 · d_ij) get a fixed direction (±e_x, opposite for i and j)
 // so they separate instead of producing NaN.
 //
 // Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 2,000 vertices).
 #pragma once
+
+#include "core/option_limits.h"
 
 #include <string>
 #include <vector>
@@ -40,9 +44,17 @@ enum class ProjectionNorm {
 ProjectionNorm parse_projection_norm(const std::string& name);  // "l2" | "l1"
 std::string to_string(ProjectionNorm norm);
 
+// The limits of the options a user sets (core/option_limits.h), named as on the command line.
+namespace projection_limits {
+inline constexpr Limit kSteps = integer_limit("projection-steps", 0, 1e6);
+inline constexpr Limit kL1Floor = number_limit("l1-floor", 0, kNoLimit, /*minimum_open=*/true);
+inline constexpr Limit kDilation = number_limit("dilation", 1);
+}  // namespace projection_limits
+
 struct MetricProjectionOptions {
-  ProjectionNorm norm = ProjectionNorm::L2;  // L2: the paper's default scheme; L1 for topological noise (§2.2)
-  int steps = 10;                            // k: Jacobi sweeps per call of project() (measured, see README)
+  ProjectionNorm norm =
+      ProjectionNorm::L2;  // L2: the paper's default scheme; L1 for topological noise (§2.2)
+  int steps = 10;          // k: Jacobi sweeps per call of project() (measured, see README)
   // L1 only: |r_ij − d_ij| is floored at l1_floor · d_ij before inverting. The paper's absolute 1e-16 lets
   // one barely-violated edge take all the weight of its vertex, which made the projection weaker (measured in
   // the prototype); a relative floor makes edges violated by less than it count equally (a Huber-like norm).
@@ -61,13 +73,13 @@ struct RelativeViolation {
 // A reusable projector for a fixed graph (set-up: O(|E| log |E|) to orient and sort the edges).
 //
 // A sweep runs in two vectorised passes (OpenMP-parallel from 2,000 vertices): (1) per edge (a, b), with
-// v = t_ab (x_a − x_b) / ‖x_a − x_b‖, the projections of both endpoints, x_b + v for a and x_a − v for b, times
-// their weight, written to a slot of each endpoint: each square root and division is done once per edge, not
-// once per endpoint; (2) per vertex, the sum over its slots, which lie contiguously, divided by Σ w_ij. The
-// vertices are renumbered internally in breadth-first order (memory locality); every vertex's sum is formed in
-// a fixed order (its neighbours by that numbering), so the result is bit-identical for identical inputs and
-// does not depend on the number of threads. Per sweep at 5,000 vertices (one thread): ≈ 0.05 ms, 2.7× faster
-// than the previous one-pass sweep over the adjacency.
+// v = t_ab (x_a − x_b) / ‖x_a − x_b‖, the projections of both endpoints, x_b + v for a and x_a − v for b,
+// times their weight, written to a slot of each endpoint: each square root and division is done once per
+// edge, not once per endpoint; (2) per vertex, the sum over its slots, which lie contiguously, divided by Σ
+// w_ij. The vertices are renumbered internally in breadth-first order (memory locality); every vertex's sum
+// is formed in a fixed order (its neighbours by that numbering), so the result is bit-identical for identical
+// inputs and does not depend on the number of threads. Per sweep at 5,000 vertices (one thread): ≈ 0.05
+// ms, 2.7× faster than the previous one-pass sweep over the adjacency.
 class MetricProjection {
  public:
   // n vertices; E |E|×2 edges (0-based, either orientation); rest_lengths |E| values d_ij ≥ 0 (zeros are
@@ -118,10 +130,10 @@ class MetricProjection {
 
 // How far X is from the rest lengths, over the edges E.
 struct MetricViolation {
-  double residual = 0;           // eq. (5): Σ (d_ij − r_ij)²
-  double l1 = 0;                 // eq. (7): Σ |d_ij − r_ij|
-  double mean_relative = 0;      // mean of |r_ij − d_ij| / d_ij
-  double max_relative = 0;       // max of |r_ij − d_ij| / d_ij
+  double residual = 0;             // eq. (5): Σ (d_ij − r_ij)²
+  double l1 = 0;                   // eq. (7): Σ |d_ij − r_ij|
+  double mean_relative = 0;        // mean of |r_ij − d_ij| / d_ij
+  double max_relative = 0;         // max of |r_ij − d_ij| / d_ij
   double median_length_ratio = 0;  // median of r_ij / d_ij (1 when lengths are kept; > 1 when inflated)
 };
 MetricViolation metric_violation(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths);

@@ -148,7 +148,7 @@ double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config
   const size_t threads = static_cast<size_t>(omp_get_max_threads());
   std::vector<std::vector<double>> locals(threads);
   std::vector<double> local_stresses(threads, 0.0);
-#pragma omp parallel num_threads(static_cast<int>(threads))
+#pragma omp parallel num_threads(static_cast <int>(threads))
   {
     const size_t me = static_cast<size_t>(omp_get_thread_num());
     std::vector<double>& local = locals[me];  // x, y, z of row j at 3j
@@ -379,9 +379,9 @@ SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptio
   CSHAPES_REQUIRE(X0.rows() == D.rows(), "SMACOF: initial configuration has ", X0.rows(), " points for a ",
                   D.rows(), "x", D.cols(), " distance matrix");
   CSHAPES_REQUIRE(X0.allFinite(), "SMACOF: initial configuration has non-finite coordinates");
-  CSHAPES_REQUIRE(options.max_iterations >= 0, "SMACOF: max_iterations must be ≥ 0");
-  CSHAPES_REQUIRE(options.extrapolation_window >= 2, "SMACOF: extrapolation_window must be at least 2, got ",
-                  options.extrapolation_window);
+  check_limit(smacof_limits::kIterations, options.max_iterations, "SMACOF");
+  check_limit(smacof_limits::kTolerance, options.tolerance, "SMACOF");
+  check_limit(smacof_limits::kWindow, options.extrapolation_window, "SMACOF");
   check_weights(options.vertex_weights, D.rows());
   const double energy = weighted_distance_energy(D, options.vertex_weights, "SMACOF");
 

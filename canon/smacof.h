@@ -29,6 +29,8 @@
 // (tolerance 1e-6) in 59 iterations; RRE reaches the same stress in 18, MPE in 17 (K = 6).
 #pragma once
 
+#include "core/option_limits.h"
+
 #include <string>
 #include <vector>
 
@@ -47,6 +49,13 @@ enum class SmacofAcceleration {
 // Parses "none", "rre", "mpe"; throws listing them otherwise.
 SmacofAcceleration parse_smacof_acceleration(const std::string& name);
 std::string to_string(SmacofAcceleration acceleration);
+
+// The limits of the options a user sets (core/option_limits.h), named as on the command line.
+namespace smacof_limits {
+inline constexpr Limit kIterations = integer_limit("iters", 0, 1e8);
+inline constexpr Limit kTolerance = number_limit("tolerance", 0);
+inline constexpr Limit kWindow = integer_limit("window", 2, 1000);
+}  // namespace smacof_limits
 
 struct SmacofOptions {
   int max_iterations =

@@ -340,7 +340,9 @@ IsometryError edge_length_change(const Mesh& rest, const Points& posed) {
 }
 
 ArticulatedClass generate_articulated(const std::string& class_name, const ArticulatedOptions& o) {
-  CSHAPES_REQUIRE(o.poses >= 0, "articulated: pose count must be >= 0, got ", o.poses);
+  check_limit(generate_limits::kPoses, o.poses, "articulated");
+  check_limit(generate_limits::kAmplitude, o.amplitude, "articulated");
+  check_limit(generate_limits::kVertices, static_cast<double>(o.rest.target_vertices), "articulated");
   ArticulatedClass c;
   c.skeleton = articulated_skeleton(class_name);
   c.rest = articulated_rest_mesh(c.skeleton, o.rest);
@@ -397,8 +399,12 @@ GluedHand generate_glued_hand(std::uint64_t seed, int glues) {
 
 std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetOptions& o) {
   const std::vector<std::string> names = articulated_classes();
-  CSHAPES_REQUIRE(o.classes >= 1 && o.classes <= static_cast<int>(names.size()),
-                  "dataset: classes must be in 1..", names.size(), ", got ", o.classes);
+  static_assert(generate_limits::kClasses.maximum == 4, "the limit of classes is the number of classes");
+  CSHAPES_REQUIRE(names.size() == 4, "dataset: ", names.size(), " articulated classes, the limit says 4");
+  check_limit(generate_limits::kClasses, o.classes, "dataset");
+  check_limit(generate_limits::kPoses, o.poses, "dataset");
+  check_limit(generate_limits::kNoisy, o.noisy, "dataset");
+  check_limit(generate_limits::kGlue, o.glue_count, "dataset");
   CSHAPES_REQUIRE(o.poses >= 0 && o.noisy >= 0 && o.poses + o.noisy >= 1, "dataset: needs at least one pose");
   std::vector<ArticulatedShape> shapes;
   for (int c = 0; c < o.classes; ++c) {

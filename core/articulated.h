@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/option_limits.h"
 
 namespace cshapes {
 
@@ -78,6 +79,16 @@ struct IsometryError {
   double max = 0;
 };
 IsometryError edge_length_change(const Mesh& rest, const Points& posed);
+
+// The limits of the options a user sets (`cshapes generate`, generate(); core/option_limits.h).
+namespace generate_limits {
+inline constexpr Limit kVertices = integer_limit("vertices", 4, 1e7);
+inline constexpr Limit kPoses = integer_limit("poses", 1, 1e5);
+inline constexpr Limit kAmplitude = number_limit("amplitude", 0, 1);
+inline constexpr Limit kClasses = integer_limit("classes", 1, 4);
+inline constexpr Limit kNoisy = integer_limit("noisy", 0, 1e5);
+inline constexpr Limit kGlue = integer_limit("glue", 0, 1000);
+}  // namespace generate_limits
 
 struct ArticulatedOptions {
   int poses = 5;           // poses to make

@@ -22,10 +22,9 @@ class ProgressCounter {
   ProgressCounter(const ProgressFn& fn, Index total) : fn_(fn), total_(total) {}
   void add(Index count = 1) {
     Index finished = done_ += count;
-    if (fn_ && (finished % 64 < count || finished == total_)) {
-#pragma omp critical(cshapes_progress)
-      fn_("geodesics", static_cast<double>(finished), static_cast<double>(total_));
-    }
+    if (fn_ && (finished % 64 < count || finished == total_))
+      report_progress_in_parallel(fn_, "geodesics", static_cast<double>(finished),
+                                  static_cast<double>(total_));
   }
 
  private:
@@ -196,7 +195,8 @@ Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::
 }
 
 std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method) {
-  if ((method != GeodesicMethod::Exact && method != GeodesicMethod::HeatCgal) || mesh.num_faces() == 0) return "";
+  if ((method != GeodesicMethod::Exact && method != GeodesicMethod::HeatCgal) || mesh.num_faces() == 0)
+    return "";
   double length_sum = 0;
   for (Index f = 0; f < mesh.num_faces(); ++f)
     for (int k = 0; k < 3; ++k)
@@ -204,20 +204,21 @@ std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method) {
   const double h = length_sum / (3.0 * static_cast<double>(mesh.num_faces()));
   Index degenerate = 0, first = -1;
   for (Index f = 0; f < mesh.num_faces(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
     if (!(0.5 * (b - a).cross(c - a).norm() >= kExactMinFaceArea * h * h)) {
       if (first < 0) first = f;
       ++degenerate;
     }
   }
   if (degenerate == 0) return "";
-  return detail::concat(method == GeodesicMethod::Exact ? "exact geodesics (CGAL's Surface_mesh_shortest_path)"
-                                                        : "CGAL's heat method (Heat_method_3)",
-                        " need faces of positive area; ",
-                        degenerate, " face(s) have (nearly) zero area, the first face ", first, " (vertices ",
-                        mesh.F(first, 0), ", ", mesh.F(first, 1), ", ", mesh.F(first, 2),
-                        "); use --method heat or fmm, or repair the mesh (without --strict, cshapes drops "
-                        "zero-area faces)");
+  return detail::concat(
+      method == GeodesicMethod::Exact ? "exact geodesics (CGAL's Surface_mesh_shortest_path)"
+                                      : "CGAL's heat method (Heat_method_3)",
+      " need faces of positive area; ", degenerate, " face(s) have (nearly) zero area, the first face ",
+      first, " (vertices ", mesh.F(first, 0), ", ", mesh.F(first, 1), ", ", mesh.F(first, 2),
+      "); use --method heat or fmm, or repair the mesh (without --strict, cshapes drops "
+      "zero-area faces)");
 }
 
 namespace {
@@ -302,6 +303,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
   if (uses_cgal_heat(options)) {
     // One CGAL solver (mesh copy + two factorisations) per thread; CGAL's objects are not thread-safe.
     std::exception_ptr error;
+    std::atomic<bool> failed{false};
 #pragma omp parallel
     {
       std::unique_ptr<CgalHeatMethod> solver;
@@ -313,7 +315,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
       }
 #pragma omp for schedule(dynamic, 8)
       for (Index s = 0; s < n; ++s) {
-        if (!solver) continue;
+        if (!solver || failed) continue;
         try {
           D.col(s) = solver->distances({static_cast<int>(s)}).cast<float>();
           require_finite(D.col(s), {}, {static_cast<int>(s)}, options.method, bound);
@@ -321,6 +323,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
         } catch (...) {
 #pragma omp critical(cshapes_geodesics_error)
           if (!error) error = std::current_exception();
+          failed = true;
         }
       }
     }

@@ -299,8 +299,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
     const double area = 0.5 * l01 * y2;
     // Cannot fail after the mollification (every margin is positive); kept as the precondition's check.
     CSHAPES_REQUIRE(area > 0 && std::isfinite(area), "heat method: face ", f, " (vertices ", v[0], ", ", v[1],
-                    ", ", v[2], ") of the intrinsic triangulation has zero area (edge lengths ", l01, ", ", l12,
-                    ", ", l20, "); please report the mesh");
+                    ", ", v[2], ") of the intrinsic triangulation has zero area (edge lengths ", l01, ", ",
+                    l12, ", ", l20, "); please report the mesh");
     const Eigen::Vector2d x[3] = {{0.0, 0.0}, {l01, 0.0}, {x2, y2}};
     Eigen::Vector2d rc[3];
     double rho = 0;
@@ -479,10 +479,8 @@ void HeatMethod::for_each_source(
           sink(begin + j, columns.col(j));
         }
         Index finished = done += k;
-        if (options_.progress) {
-#pragma omp critical(cshapes_progress)
-          options_.progress("heat method", static_cast<double>(finished), static_cast<double>(count));
-        }
+        report_progress_in_parallel(options_.progress, "heat method", static_cast<double>(finished),
+                                    static_cast<double>(count));
       } catch (...) {
 #pragma omp critical(cshapes_heat_error)
         if (!error) error = std::current_exception();

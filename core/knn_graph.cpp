@@ -32,7 +32,7 @@ using KdTree =
 }  // namespace
 
 Edges knn_graph(const Points& P, const KnnGraphOptions& options) {
-  CSHAPES_REQUIRE(options.k >= 1, "knn_graph: k = ", options.k, ", expected at least 1");
+  check_limit(kKnnLimit, options.k, "knn_graph");
   const Index n = P.rows();
   for (Index i = 0; i < n; ++i)
     CSHAPES_REQUIRE(P.row(i).allFinite(), "knn_graph: point ", i,

@@ -3,9 +3,14 @@
 // clouds too (the paper's "future work").
 #pragma once
 
+#include "core/option_limits.h"
+
 #include "core/types.h"
 
 namespace cshapes {
+
+// The limit of k as a user sets it (`--knn`, knn=; core/option_limits.h).
+inline constexpr Limit kKnnLimit = integer_limit("knn", 1, 1000);
 
 struct KnnGraphOptions {
   int k =

@@ -1,13 +1,30 @@
 // Progress reporting for long computations. The library never prints: long-running functions take an
 // optional callback in their options, and the CLI passes one that writes to stderr.
+//
+// A callback may also stop the computation by throwing (the Python module throws Cancelled on Ctrl-C): every
+// long loop is written so that an exception from its callback ends it cleanly, also inside OpenMP regions
+// (report_progress_in_parallel), and reaches the caller.
 #pragma once
 
 #include <functional>
 #include <string>
 
+#include "core/error.h"
+
 namespace cshapes {
 
 // stage: what is being done ("coulomb", "geodesics"); done / total: units of work finished so far.
 using ProgressFn = std::function<void(const std::string& stage, double done, double total)>;
+
+// What a progress callback throws to stop a computation at the user's request (Ctrl-C in Python).
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("stopped at the user's request") {}
+};
+
+// Calls fn (when set) from inside an OpenMP parallel region, one thread at a time. An exception it throws
+// leaves the critical section before it propagates (an exception must not cross one), so the loop's own
+// per-iteration catch takes it and rethrows it after the region.
+void report_progress_in_parallel(const ProgressFn& fn, const std::string& stage, double done, double total);
 
 }  // namespace cshapes

@@ -147,7 +147,13 @@ TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions
 }  // namespace
 
 TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const TopologicalNoiseOptions& options) {
-  CSHAPES_REQUIRE(options.relax_steps >= 0, "noise: relax steps must be >= 0, got ", options.relax_steps);
+  check_limit(noise_limits::kRelax, options.relax_steps, "noise");
+  check_limit(noise_limits::kGlue, options.glue_count, "noise");
+  check_limit(noise_limits::kMaxGap, options.max_gap, "noise");
+  check_limit(noise_limits::kGapEdges, options.gap_edge_lengths, "noise");
+  check_limit(noise_limits::kMinRatio, options.min_ratio, "noise");
+  check_limit(noise_limits::kMinFraction, options.min_geodesic_fraction, "noise");
+  check_limit(noise_limits::kSeparation, options.min_separation_fraction, "noise");
   TopologicalNoiseOptions o = options;
   for (int step = 0;; ++step) {
     try {
@@ -166,9 +172,6 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
 
 namespace {
 TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions& o) {
-  CSHAPES_REQUIRE(o.glue_count >= 0, "noise: glue count must be >= 0, got ", o.glue_count);
-  CSHAPES_REQUIRE(o.min_ratio >= kMinGlueRatioFloor, "noise: min ratio must be >= ", kMinGlueRatioFloor,
-                  ", got ", o.min_ratio);
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), "noise: the input has no faces");
   validate_mesh(mesh, "noise input");
   const MeshInfo info = mesh_info(mesh);

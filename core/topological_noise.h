@@ -26,12 +26,24 @@
 
 #include "core/geodesics.h"
 #include "core/mesh.h"
+#include "core/option_limits.h"
 
 namespace cshapes {
 
-// The smallest min_ratio accepted (a geodesic is never shorter than the straight line): the library's check
-// and `cshapes noise --min-ratio`'s both use it.
+// The smallest min_ratio accepted (a geodesic is never shorter than the straight line).
 constexpr double kMinGlueRatioFloor = 1.0;
+
+// The limits of the options a user sets (core/option_limits.h: the library's check, `cshapes noise` and
+// add_topological_noise() all read these), named as on the command line.
+namespace noise_limits {
+inline constexpr Limit kGlue = integer_limit("glue", 0, 10000);
+inline constexpr Limit kMaxGap = number_limit("max-gap", 0);
+inline constexpr Limit kGapEdges = number_limit("gap-edges", 0, kNoLimit, /*minimum_open=*/true);
+inline constexpr Limit kMinRatio = number_limit("min-ratio", kMinGlueRatioFloor);
+inline constexpr Limit kMinFraction = number_limit("min-fraction", 0, 1);
+inline constexpr Limit kSeparation = number_limit("separation", 0, 1);
+inline constexpr Limit kRelax = integer_limit("relax", 0, 100);
+}  // namespace noise_limits
 
 struct TopologicalNoiseOptions {
   int glue_count = 1;                  // K: tubes to add (each adds one handle)

@@ -301,11 +301,8 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
         }
       }
       write_pending(full);
-      if (options.progress) {
-#pragma omp critical(cshapes_pairwise_progress)
-        options.progress("distances", static_cast<double>(result.cached + done),
-                         static_cast<double>(result.cached + total_todo));
-      }
+      report_progress_in_parallel(options.progress, "distances", static_cast<double>(result.cached + done),
+                                  static_cast<double>(result.cached + total_todo));
       if (options.fail_after_computed >= 0 && done >= options.fail_after_computed) {
         // The hook simulates a kill after `done` stored pairs: store them now.
         std::vector<PackRecord> rest;

@@ -112,9 +112,9 @@ const bool registered = register_command(
        app.add_flag("--one-way", args.one_way, "match A to B only (default: both directions)");
        app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
        app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")
-           ->check(number_in(0, 0.9));
+           ->check(within(icp_limits::kTrim));
        app.add_option("--tolerance", args.tolerance, "stop when the RMSE changes by less than this fraction")
-           ->check(number_at_least(0));
+           ->check(within(icp_limits::kTolerance));
      },
      run});
 

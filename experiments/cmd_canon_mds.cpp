@@ -80,11 +80,11 @@ const bool smacof_registered = register_canon_method(
      [](CLI::Option_group& g) {
        g.add_option("--iters", args.iterations, "smacof: maximum iterations (passes over D)")
            ->capture_default_str()
-           ->check(integer_in(0, 100000000));
+           ->check(within(smacof_limits::kIterations));
        g.add_option("--tolerance", args.tolerance,
                     "smacof: stop when the relative stress decrease is below this")
            ->capture_default_str()
-           ->check(number_at_least(0));
+           ->check(within(smacof_limits::kTolerance));
        g.add_option("--init", args.init, "smacof: initial configuration: cmds (classical MDS) or mesh")
            ->capture_default_str()
            ->check(one_of({"cmds", "mesh"}));
@@ -93,7 +93,7 @@ const bool smacof_registered = register_canon_method(
            ->check(one_of({"none", "rre", "mpe"}));
        g.add_option("--window", args.window, "smacof: Guttman steps per extrapolation")
            ->capture_default_str()
-           ->check(integer_in(2, 1000));
+           ->check(within(smacof_limits::kWindow));
        g.add_option("--weights", args.weights,
                     "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
            ->capture_default_str()

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/topological_noise.h"
 #include "experiments/command.h"
 #include "pipeline/noise_experiment.h"
 
@@ -110,7 +111,7 @@ const bool registered = register_command(
        app.add_option("--relax-steps", o.relax_steps,
                       "where a pose offers too few spots: widen the gap (×1.5) up to this many times")
            ->capture_default_str()
-           ->check(integer_in(0, 20));
+           ->check(within(noise_limits::kRelax));
        app.add_flag("--no-figure", args.no_figure, "do not draw noise.png");
        app.add_flag(
            "--strict", o.canon.strict,

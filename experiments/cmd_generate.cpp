@@ -164,7 +164,7 @@ const bool registered_swissroll = register_command(
      [](CLI::App& app) {
        app.add_option("--vertices", swiss.vertices, "about this many vertices (nu x nv, aspect 5:1)")
            ->capture_default_str()
-           ->check(integer_in(4, 10000000));
+           ->check(within(generate_limits::kVertices));
        app.add_option("-o,--output", swiss.output, "output mesh")->capture_default_str();
      },
      run_swissroll});
@@ -178,14 +178,14 @@ const bool registered_articulated = register_command(
            ->check(one_of({"biped", "quadruped", "hand", "spider"}));
        app.add_option("--poses", art.poses, "number of poses")
            ->capture_default_str()
-           ->check(integer_in(1, 100000));
+           ->check(within(generate_limits::kPoses));
        app.add_option("--seed", art.seed, "random seed")->capture_default_str();
        app.add_option("--vertices", art.vertices, "vertices of the rest mesh")
            ->capture_default_str()
-           ->check(integer_in(4, 10000000));
+           ->check(within(generate_limits::kVertices));
        app.add_option("--amplitude", art.amplitude, "fraction of the joint ranges used (0..1)")
            ->capture_default_str()
-           ->check(number_in(0, 1));
+           ->check(within(generate_limits::kAmplitude));
        app.add_option("-o,--output", art.output, "output folder")->capture_default_str();
        app.add_flag("--json", art.json, "print the summary as JSON");
      },
@@ -198,7 +198,7 @@ const bool registered_hand = register_command(
        app.add_option("--seed", hand.seed, "random seed of the gluing")->capture_default_str();
        app.add_option("--glue", hand.glues, "number of glues")
            ->capture_default_str()
-           ->check(integer_in(0, 1000));
+           ->check(within(generate_limits::kGlue));
        app.add_option("-o,--output", hand.output, "output folder")->capture_default_str();
      },
      run_hand});
@@ -210,20 +210,20 @@ const bool registered_dataset = register_command(
        app.add_option("-o,--output", data.output, "output folder")->required();
        app.add_option("--classes", data.classes, "number of classes (1..4)")
            ->capture_default_str()
-           ->check(integer_in(1, 4));
+           ->check(within(generate_limits::kClasses));
        app.add_option("--poses", data.poses, "clean poses per class")
            ->capture_default_str()
-           ->check(integer_in(1, 100000));
+           ->check(within(generate_limits::kPoses));
        app.add_option("--noisy", data.noisy, "noisy (glued) poses per class")
            ->capture_default_str()
-           ->check(integer_in(0, 100000));
+           ->check(within(generate_limits::kNoisy));
        app.add_option("--glue", data.glue, "glues per noisy pose")
            ->capture_default_str()
-           ->check(integer_in(0, 1000));
+           ->check(within(generate_limits::kGlue));
        app.add_option("--seed", data.seed, "random seed")->capture_default_str();
        app.add_option("--vertices", data.vertices, "vertices per shape")
            ->capture_default_str()
-           ->check(integer_in(4, 10000000));
+           ->check(within(generate_limits::kVertices));
        app.add_flag("--json", data.json, "print a per-shape summary as JSON");
      },
      run_dataset});

@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/mesh.h"
+#include "core/option_limits.h"
 #include "core/progress.h"
 #include "pipeline/canonical_forms.h"
 #include "pipeline/shape_failures.h"
@@ -95,6 +96,9 @@ CLI::Validator number_at_least(double minimum);            // >= minimum
 CLI::Validator number_above(double minimum);               // > minimum
 CLI::Validator number_in(double minimum, double maximum);  // [minimum, maximum]
 CLI::Validator one_of(const std::vector<std::string>& names);
+// The library's limit of an option (core/option_limits.h): the help shows it, the parser applies it, in the
+// library's own words, so the CLI, the Python module and the library agree.
+CLI::Validator within(const Limit& limit);
 
 // Refuses (UsageError) an output path that cannot be written, before any work: see check_output_path in
 // core/atomic_file.h. mesh: the extensions write_mesh knows.

@@ -274,6 +274,21 @@ CLI::Validator number_in(double minimum, double maximum) {
   return number_check(minimum, maximum, false,
                       "in [" + format_number(minimum) + ", " + format_number(maximum) + "]");
 }
+CLI::Validator within(const Limit& limit) {
+  return CLI::Validator(
+      [limit](std::string& text) -> std::string {
+        bool ok = false;
+        if (limit.kind == Limit::Integer) {
+          long long value = 0;
+          ok = parse_integer(text, value) && limit.holds(static_cast<double>(value));
+        } else {
+          double value = 0;
+          ok = parse_number(text, value) && std::isfinite(value) && limit.holds(value);
+        }
+        return ok ? std::string() : "expected " + limit.describe() + ", got " + in_quotes(text);
+      },
+      limit.brief());
+}
 CLI::Validator one_of(const std::vector<std::string>& names) {
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;

@@ -103,8 +103,8 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
 namespace {
 
 void check_options(const IcpOptions& o) {
-  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9,
-                  "ICP trim_fraction must be in [0, 0.9], got ", o.trim_fraction);
+  check_limit(icp_limits::kTrim, o.trim_fraction, "ICP");
+  check_limit(icp_limits::kTolerance, o.relative_tolerance, "ICP");
   CSHAPES_REQUIRE(o.max_iterations >= 1, "ICP max_iterations must be >= 1");
   CSHAPES_REQUIRE(o.screening_iterations >= 0, "ICP screening_iterations must be >= 0");
   CSHAPES_REQUIRE(o.finalists >= 1, "ICP finalists must be >= 1");

@@ -36,6 +36,8 @@
 // in the 3 passes on all points.
 #pragma once
 
+#include "core/option_limits.h"
+
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -50,6 +52,13 @@ namespace cshapes {
 
 // RigidTransform, random_rigid_transform and best_rigid_transform (the closed-form Kabsch/Umeyama fit) live
 // in core/rigid_transform.h, included here for the callers of icp().
+
+// The limits of the options a user sets (core/option_limits.h), named as on the command line (`cshapes
+// align`).
+namespace icp_limits {
+inline constexpr Limit kTrim = number_limit("trim", 0, 0.9);
+inline constexpr Limit kTolerance = number_limit("tolerance", 0);
+}  // namespace icp_limits
 
 struct IcpOptions {
   // Starting poses (see the method above).

@@ -46,31 +46,31 @@ const std::vector<std::string> kMdsOptions = {"geodesics"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
 
-// The `coulomb options` group of `cshapes canon`, read from keywords; the library checks the ranges.
+// The `coulomb options` group of `cshapes canon`, read from keywords, each checked against its library limit.
 void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   CoulombCanonOptions& c = o.coulomb;
   c.scheme = parse_coulomb_scheme(k.text("scheme", to_string(c.scheme)));
   c.step_rule = parse_coulomb_step_rule(k.text("step_rule", to_string(c.step_rule)));
   c.step_gradient = parse_step_gradient(k.text("step_gradient", to_string(c.step_gradient)));
-  c.step_factor = k.number("step_factor", c.step_factor);
-  c.fixed_step = k.number("fixed_step", c.fixed_step);
-  c.coulomb_steps = k.int32("coulomb_steps", c.coulomb_steps);
-  c.projection.steps = k.int32("projection_steps", c.projection.steps);
+  c.step_factor = k.number("step_factor", c.step_factor, coulomb_limits::kStepFactor);
+  c.fixed_step = k.number("fixed_step", c.fixed_step, coulomb_limits::kFixedStep);
+  c.coulomb_steps = k.int32("coulomb_steps", c.coulomb_steps, coulomb_limits::kCoulombSteps);
+  c.projection.steps = k.int32("projection_steps", c.projection.steps, projection_limits::kSteps);
   c.projection.norm = parse_projection_norm(k.text("projection", to_string(c.projection.norm)));
-  c.projection.l1_floor = k.number("l1_floor", c.projection.l1_floor);
-  c.projection.dilation = k.number("dilation", c.projection.dilation);
-  c.tear_fraction = k.number("tear_fraction", c.tear_fraction);
-  c.tear_after = k.int32("tear_after", c.tear_after);
-  c.tear_times = k.int32("tear_times", c.tear_times);
-  c.tear_interval = k.int32("tear_interval", c.tear_interval);
+  c.projection.l1_floor = k.number("l1_floor", c.projection.l1_floor, projection_limits::kL1Floor);
+  c.projection.dilation = k.number("dilation", c.projection.dilation, projection_limits::kDilation);
+  c.tear_fraction = k.number("tear_fraction", c.tear_fraction, coulomb_limits::kTearFraction);
+  c.tear_after = k.int32("tear_after", c.tear_after, coulomb_limits::kTearAfter);
+  c.tear_times = k.int32("tear_times", c.tear_times, coulomb_limits::kTearTimes);
+  c.tear_interval = k.int32("tear_interval", c.tear_interval, coulomb_limits::kTearInterval);
   c.tear_guard = parse_tear_guard(k.text("tear_guard", to_string(c.tear_guard)));
-  c.max_iterations = k.int32("coulomb_max_iterations", c.max_iterations);
-  c.stop_window = k.int32("coulomb_window", c.stop_window);
-  c.stop_tolerance = k.number("coulomb_tolerance", c.stop_tolerance);
-  c.momentum = k.number("momentum", c.momentum);
+  c.max_iterations = k.int32("coulomb_max_iterations", c.max_iterations, coulomb_limits::kMaxIterations);
+  c.stop_window = k.int32("coulomb_window", c.stop_window, coulomb_limits::kWindow);
+  c.stop_tolerance = k.number("coulomb_tolerance", c.stop_tolerance, coulomb_limits::kTolerance);
+  c.momentum = k.number("momentum", c.momentum, coulomb_limits::kMomentum);
   c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
-  c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy);
-  o.knn.k = k.int32("knn", o.knn.k);
+  c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy, coulomb_limits::kAccuracy);
+  o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);
   // As the CLI: an option only another setting reads is refused rather than ignored.
   if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
     fail("fixed_step applies to step_rule='fixed' only");
@@ -82,10 +82,10 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
 
 // SMACOF's solver options (both smacof() and canonical_form()).
 void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
-  s.max_iterations = k.int32("iters", s.max_iterations);
-  s.tolerance = k.number("tolerance", s.tolerance);
+  s.max_iterations = k.int32("iters", s.max_iterations, smacof_limits::kIterations);
+  s.tolerance = k.number("tolerance", s.tolerance, smacof_limits::kTolerance);
   s.acceleration = parse_smacof_acceleration(k.text("accelerate", to_string(s.acceleration)));
-  s.extrapolation_window = k.int32("window", s.extrapolation_window);
+  s.extrapolation_window = k.int32("window", s.extrapolation_window, smacof_limits::kWindow);
   if (k.given("window") && s.acceleration == SmacofAcceleration::None)
     fail("window applies to accelerate='rre' or 'mpe' only");
 }
@@ -146,10 +146,9 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
-  // Ctrl-C is heard at each iteration of the methods; the geodesics report from inside OpenMP loops, where
-  // no exception may pass: they keep a silent callback (an empty one would be replaced by this one).
+  // Ctrl-C is heard at each iteration of the methods and every 64 sources of the geodesics
+  // (python/interrupt.h).
   o.progress = stop_on_python_signals();
-  o.geodesics.progress = [](const std::string&, double, double) {};
   CanonicalForm form;
   {
     Computing computing;

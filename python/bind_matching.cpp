@@ -74,24 +74,22 @@ IcpOptions read_icp_options(Kwargs& k) {
   o.allow_reflections = !k.flag("no_reflections", false);
   o.symmetric = !k.flag("one_way", false);
   o.try_axis_swaps = k.flag("axis_swaps", o.try_axis_swaps);
-  o.trim_fraction = k.number("trim", o.trim_fraction);
-  o.relative_tolerance = k.number("tolerance", o.relative_tolerance);
-  CSHAPES_REQUIRE(o.trim_fraction >= 0 && o.trim_fraction <= 0.9, "trim: expected a number in [0, 0.9], got ",
-                  o.trim_fraction);
-  CSHAPES_REQUIRE(o.relative_tolerance >= 0, "tolerance: expected a number >= 0, got ", o.relative_tolerance);
+  o.trim_fraction = k.number("trim", o.trim_fraction, icp_limits::kTrim);
+  o.relative_tolerance = k.number("tolerance", o.relative_tolerance, icp_limits::kTolerance);
   return o;
 }
 
 void bind_matching(py::module_& m) {
-  py::class_<PyAlignment>(m, "Alignment",
-                          "A rigid alignment of A onto B: B ≈ A @ R.T + t (R orthogonal; det -1 when reflection)")
+  py::class_<PyAlignment>(
+      m, "Alignment", "A rigid alignment of A onto B: B ≈ A @ R.T + t (R orthogonal; det -1 when reflection)")
       .def_readonly("R", &PyAlignment::R, "(3, 3) orthogonal matrix")
       .def_readonly("t", &PyAlignment::t, "(3,) translation")
       .def_readonly("transform", &PyAlignment::transform, "(4, 4) homogeneous matrix")
       .def_readonly("aligned", &PyAlignment::aligned, "(n, 3): A after the alignment")
       .def_readonly("reflection", &PyAlignment::reflection)
       .def_readonly("rmse", &PyAlignment::rmse, "RMS nearest-neighbour distance, both directions")
-      .def_readonly("hausdorff", &PyAlignment::hausdorff, "the paper's distance: the largest nearest-neighbour distance")
+      .def_readonly("hausdorff", &PyAlignment::hausdorff,
+                    "the paper's distance: the largest nearest-neighbour distance")
       .def_readonly("chamfer", &PyAlignment::chamfer, "mean nearest-neighbour distance, both directions")
       .def_readonly("icp_rmse", &PyAlignment::icp_rmse, "RMS of the pairs ICP kept at its last step")
       .def_readonly("correspondences", &PyAlignment::correspondences,
@@ -101,8 +99,8 @@ void bind_matching(py::module_& m) {
       .def_readonly("stop_reason", &PyAlignment::stop_reason)
       .def_readonly("seconds", &PyAlignment::seconds)
       .def("__repr__", [](const PyAlignment& a) {
-        return "<cshapes.Alignment: hausdorff " + std::to_string(a.hausdorff) + ", rmse " + std::to_string(a.rmse) +
-               (a.reflection ? ", a reflection>" : ">");
+        return "<cshapes.Alignment: hausdorff " + std::to_string(a.hausdorff) + ", rmse " +
+               std::to_string(a.rmse) + (a.reflection ? ", a reflection>" : ">");
       });
   m.def("icp", &icp_py, py::arg("A"), py::arg("B"),
         R"(Rigid ICP alignment of point set A (n, 3) onto B (k, 3), as `cshapes align` does it.

@@ -78,6 +78,7 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
   options.geodesics.method = parse_geodesic_method(method);
   options.geodesics.heat_mode = parse_cgal_heat_mode(heat_mode);
   options.strict = strict;
+  options.geodesics.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   std::vector<int> rows;
   const bool one = !sources.is_none() && py::hasattr(sources, "__index__");
   if (one) {
@@ -115,19 +116,18 @@ py::object add_topological_noise_py(const py::object& V, const py::object& F, co
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, "add_topological_noise");
   TopologicalNoiseOptions o;
-  o.glue_count = k.int32("glue", o.glue_count);
+  o.glue_count = k.int32("glue", o.glue_count, noise_limits::kGlue);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
-  o.max_gap = k.number("max_gap", o.max_gap);
-  o.gap_edge_lengths = k.number("gap_edges", o.gap_edge_lengths);
-  o.min_ratio = k.number("min_ratio", o.min_ratio);
-  o.min_geodesic_fraction = k.number("min_fraction", o.min_geodesic_fraction);
-  o.min_separation_fraction = k.number("separation", o.min_separation_fraction);
-  o.relax_steps = k.int32("relax", o.relax_steps);
+  o.max_gap = k.number("max_gap", o.max_gap, noise_limits::kMaxGap);
+  o.gap_edge_lengths = k.number("gap_edges", o.gap_edge_lengths, noise_limits::kGapEdges);
+  o.min_ratio = k.number("min_ratio", o.min_ratio, noise_limits::kMinRatio);
+  o.min_geodesic_fraction = k.number("min_fraction", o.min_geodesic_fraction, noise_limits::kMinFraction);
+  o.min_separation_fraction = k.number("separation", o.min_separation_fraction, noise_limits::kSeparation);
+  o.relax_steps = k.int32("relax", o.relax_steps, noise_limits::kRelax);
   o.geodesic.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesic.method)));
   const bool info = k.flag("return_info", false);
+  o.geodesic.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   k.done();
-  CSHAPES_REQUIRE(o.glue_count >= 0, "add_topological_noise(): glue: expected an integer >= 0, got ",
-                  o.glue_count);
   TopologicalNoiseResult r;
   {
     Computing computing;
@@ -141,15 +141,14 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   Kwargs k(kwargs, "generate");
   if (kind == "swissroll") {
     SwissRollOptions o;
-    const long n = static_cast<long>(k.integer("vertices", 561));
+    const long n = k.int32("vertices", 561, generate_limits::kVertices);
     k.done();
-    CSHAPES_REQUIRE(n >= 4, "generate('swissroll'): vertices: expected an integer >= 4, got ", n);
     std::tie(o.nu, o.nv) = swiss_roll_grid(n);
     return mesh_tuple(swiss_roll(o));
   }
   if (kind == "icosphere") {
     const int subdivisions = k.int32("subdivisions", 3);
-    const double radius = k.number("radius", 1.0);
+    const double radius = k.number("radius", 1.0, number_limit("radius", 0, kNoLimit, /*minimum_open=*/true));
     k.done();
     CSHAPES_REQUIRE(subdivisions >= 0 && subdivisions <= 8,
                     "generate('icosphere'): subdivisions: expected 0..8, got ", subdivisions);
@@ -158,10 +157,11 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   if (kind == "articulated") {
     ArticulatedOptions o;
     const std::string class_name = k.text("class_", "biped");
-    o.poses = k.int32("poses", o.poses);
+    o.poses = k.int32("poses", o.poses, generate_limits::kPoses);
     o.seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
-    o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
-    o.amplitude = k.number("amplitude", o.amplitude);
+    o.rest.target_vertices =
+        k.int32("vertices", static_cast<int>(o.rest.target_vertices), generate_limits::kVertices);
+    o.amplitude = k.number("amplitude", o.amplitude, generate_limits::kAmplitude);
     k.done();
     ArticulatedClass c;
     {
@@ -174,7 +174,7 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   }
   if (kind == "hand") {
     const auto seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
-    const int glues = k.int32("glue", 3);
+    const int glues = k.int32("glue", 3, generate_limits::kGlue);
     k.done();
     GluedHand h;
     {
@@ -189,12 +189,13 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
   }
   if (kind == "dataset") {
     ArticulatedDatasetOptions o;
-    o.classes = k.int32("classes", o.classes);
-    o.poses = k.int32("poses", o.poses);
-    o.noisy = k.int32("noisy", o.noisy);
-    o.glue_count = k.int32("glue", o.glue_count);
+    o.classes = k.int32("classes", o.classes, generate_limits::kClasses);
+    o.poses = k.int32("poses", o.poses, generate_limits::kPoses);
+    o.noisy = k.int32("noisy", o.noisy, generate_limits::kNoisy);
+    o.glue_count = k.int32("glue", o.glue_count, generate_limits::kGlue);
     o.seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
-    o.rest.target_vertices = k.integer("vertices", o.rest.target_vertices);
+    o.rest.target_vertices =
+        k.int32("vertices", static_cast<int>(o.rest.target_vertices), generate_limits::kVertices);
     k.done();
     std::vector<ArticulatedShape> shapes;
     {

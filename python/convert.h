@@ -15,6 +15,7 @@
 
 #include "core/distance_matrix.h"
 #include "core/mesh.h"
+#include "python/interrupt.h"
 
 namespace cshapes::python {
 
@@ -37,9 +38,11 @@ Eigen::VectorXd to_vector(const py::handle& array, const std::string& name);
 
 // The scope of a computation: the GIL released (other Python threads run, and other computations start) and
 // the module's thread count (set_num_threads) applied to this thread's OpenMP loops, fewer when other tasks
-// keep cores busy (core/threads.h, as in the CLI).
+// keep cores busy (core/threads.h, as in the CLI); Ctrl-C heard by the progress callbacks of
+// stop_on_python_signals (python/interrupt.h).
 struct Computing {
   Computing();
+  InterruptScope interrupt;
   py::gil_scoped_release release;
 };
 // set_num_threads(n): 0 restores the default (OpenMP's at import). threads(): the count calls use.

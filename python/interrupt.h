@@ -1,19 +1,26 @@
-// Ctrl-C in long calls: the library runs without the GIL (Computing), so Python's SIGINT handler cannot run
-// until the call returns (a Coulomb form of 469 s heard Ctrl-C at its end). The library reports progress
-// often (each Coulomb or SMACOF iteration, each Lanczos product); this progress callback
-// takes the GIL there for a moment and lets Python run its signal handlers. KeyboardInterrupt (or whatever a
-// handler raises) then stops the computation and reaches the caller.
-//
-// Only for loops that call progress outside OpenMP constructs (Coulomb, SMACOF, classical MDS): an exception
-// must not leave a parallel region or a critical section (the geodesics' and the pairwise distances' reports
-// are inside them). Called from another thread than the caller's, it does nothing.
+// Ctrl-C in long calls. The library runs without the GIL (Computing), so Python's own SIGINT handler can act
+// only when the call returns (a Coulomb form of 469 s heard Ctrl-C at its end). So while a call computes,
+// an InterruptScope (part of Computing) puts a SIGINT handler in front of Python's: it raises a flag and
+// passes the signal on to Python's handler. The progress callback every long call gets
+// (stop_on_python_signals) throws Cancelled when the flag is up, from whichever thread reports; the
+// library's loops end cleanly on it, OpenMP regions included (core/progress.h), and the module's exception
+// translator raises KeyboardInterrupt (running Python's handler first, so a handler the user installed is
+// honoured). When SIGINT is ignored or left to its default in Python, nothing is installed.
 #pragma once
 
 #include "core/progress.h"
 
 namespace cshapes::python {
 
-// A ProgressFn that raises Python's pending signal (py::error_already_set) on the calling thread.
+class InterruptScope {
+ public:
+  InterruptScope();
+  ~InterruptScope();
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+
+// A ProgressFn that throws Cancelled once Ctrl-C has been pressed during the current call (any thread).
 ProgressFn stop_on_python_signals();
 
 }  // namespace cshapes::python

@@ -1,5 +1,6 @@
 #include "python/kwargs.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -38,6 +39,33 @@ long long Kwargs::integer(const std::string& name, long long fallback, long long
     fail(function_, "(): ", name, ": ", py::repr(index).cast<std::string>(),
          " is out of range, expected an integer ", below ? ">= " : "<= ", below ? minimum : maximum);
   return index.cast<long long>();
+}
+
+double Kwargs::number(const std::string& name, double fallback, const Limit& limit) {
+  const double value = number(name, fallback);
+  if (given(name) && !limit.holds(value))
+    fail(function_, "(): ", name, ": expected ", limit.describe(), ", got ", format_limit_number(value));
+  return value;
+}
+
+int Kwargs::int32(const std::string& name, int fallback, const Limit& limit) {
+  py::object value = take(name);
+  if (value.is_none()) return fallback;
+  if (py::isinstance<py::bool_>(value) || !py::hasattr(value, "__index__"))
+    fail(function_, "(): ", name, ": expected ", limit.describe(), ", got ",
+         py::repr(value).cast<std::string>());
+  const py::object index = value.attr("__index__")();
+  // Compared as Python integers (2**70 too): refused in the limit's words, never wrapped or cast first.
+  const long long minimum =
+      std::isfinite(limit.minimum) ? static_cast<long long>(std::ceil(limit.minimum)) : INT_MIN;
+  const long long maximum =
+      std::isfinite(limit.maximum) ? static_cast<long long>(std::floor(limit.maximum)) : INT_MAX;
+  const bool inside = index >= py::int_(std::max<long long>(minimum, INT_MIN)) &&
+                      index <= py::int_(std::min<long long>(maximum, INT_MAX));
+  if (!inside)
+    fail(function_, "(): ", name, ": expected ", limit.describe(), ", got ",
+         py::repr(index).cast<std::string>());
+  return index.cast<int>();
 }
 
 bool Kwargs::flag(const std::string& name, bool fallback) {

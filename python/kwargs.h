@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/option_limits.h"
+
 namespace cshapes::python {
 
 namespace py = pybind11;
@@ -27,6 +29,10 @@ class Kwargs {
   int int32(const std::string& name, int fallback) {
     return static_cast<int>(integer(name, fallback, INT_MIN, INT_MAX));
   }
+  // A keyword with a library limit (core/option_limits.h): refused naming the keyword, in the limit's words
+  // ("coulomb(): coulomb_max_iterations: expected an integer 0..100000000, got -5").
+  double number(const std::string& name, double fallback, const Limit& limit);
+  int int32(const std::string& name, int fallback, const Limit& limit);
   bool flag(const std::string& name, bool fallback);
   std::string text(const std::string& name, const std::string& fallback);
   // The object itself (None when absent); for arrays and other non-scalar options.

@@ -1,7 +1,9 @@
-// The extension behind `import cshapes` (python/__init__.py loads it as cshapes._cshapes): the library from Python, numpy in and numpy out. A skin over the same library calls as
-// the CLI (pipeline/, eval/, matching/, canon/, core/): no pipeline logic of its own. Errors raise
-// ValueError (cshapes::Error) or OSError (cshapes::FileError) with the CLI's messages.
+// The extension behind `import cshapes` (python/__init__.py loads it as cshapes._cshapes): the library from
+// Python, numpy in and numpy out. A skin over the same library calls as the CLI (pipeline/, eval/, matching/,
+// canon/, core/): no pipeline logic of its own. Errors raise ValueError (cshapes::Error) or OSError
+// (cshapes::FileError) with the CLI's messages.
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -19,6 +21,9 @@ CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations r
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const cshapes::Cancelled&) {
+      // Ctrl-C (python/interrupt.h): Python's handler runs now (KeyboardInterrupt, or the user's own).
+      if (PyErr_CheckSignals() == 0) PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const cshapes::FileError& e) {
       PyErr_SetString(PyExc_OSError, e.what());
     } catch (const cshapes::Error& e) {
@@ -26,11 +31,15 @@ CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations r
     }
   });
   m.def(
-      "set_num_threads", [](int n) {
-        if (n < 0) throw py::value_error("set_num_threads(): expected an integer >= 0, got " + std::to_string(n));
+      "set_num_threads",
+      [](int n) {
+        if (n < 0)
+          throw py::value_error("set_num_threads(): expected an integer >= 0, got " + std::to_string(n));
         cshapes::python::set_threads(n);
       },
-      py::arg("n"), "OpenMP threads of every later call, from any Python thread; 0: the default (OMP_NUM_THREADS or all cores).");
+      py::arg("n"),
+      "OpenMP threads of every later call, from any Python thread; 0: the default (OMP_NUM_THREADS or all "
+      "cores).");
   m.def("get_num_threads", &cshapes::python::threads, "OpenMP threads later calls use.");
   cshapes::python::bind_mesh(m);
   cshapes::python::bind_canon(m);
