@@ -24,11 +24,16 @@ TEST(GeodesicStress, SeededSampleHasNoFailure) {
     EXPECT_FALSE(r.failed()) << j.dump(1);
     ASSERT_EQ(r.geodesics.size(), options.geodesic_methods.size());
     for (const StressOutcome& o : r.geodesics) {
-
-      if (o.refused.empty() && o.ran) EXPECT_GE(o.mean_error, 0.0) << o.what;
+      if (o.refused.empty() && o.ran) {
+        EXPECT_GE(o.mean_error, 0.0) << o.what;
+      }
       // Only CGAL's methods refuse, and only meshes with zero-area faces.
-      if (!o.refused.empty()) EXPECT_TRUE(o.what == "exact" || o.what == "heat-cgal") << o.what;
-      if (c.kind == StressKind::NearDegenerate && o.what == "exact") EXPECT_FALSE(o.refused.empty());
+      if (!o.refused.empty()) {
+        EXPECT_TRUE(o.what == "exact" || o.what == "heat-cgal") << o.what;
+      }
+      if (c.kind == StressKind::NearDegenerate && o.what == "exact") {
+        EXPECT_FALSE(o.refused.empty());
+      }
     }
     std::printf("%s: %lld vertices, heat %.2f%%, fmm %.2f%%, %.1f s\n", c.describe().c_str(),
                 static_cast<long long>(r.vertices), 100 * r.geodesics[0].mean_error,

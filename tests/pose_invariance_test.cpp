@@ -234,8 +234,9 @@ TEST(PoseInvariance, DatasetWithSharedFacesPairsVertexIWithVertexI) {
   const double spread = std::sqrt((a.V.rowwise() - centroid).rowwise().squaredNorm().mean());
   const double expected = (s - 1) * spread / ((1 + s) / 2 * bbox_diagonal(a.V));
   for (const PosePairRow& p : r.pairs)
-    if (p.a == "ring_a" && p.b == "ring_c" && p.form == "input")
+    if (p.a == "ring_a" && p.b == "ring_c" && p.form == "input") {
       EXPECT_NEAR(p.rms, expected, 1e-9 * expected);
+    }
   // The folder itself (no corres/, no kid00.off) is read through its manifest the same way.
   o.data = dir;
   EXPECT_EQ(run_pose_invariance(o).pairs.size(), 6u);

@@ -132,7 +132,7 @@ TEST(ShapeFailures, TheFirstMethodThatFailsIsNamed) {
                                      options_per_method(base, {"coulomb", "cmds"}, "b.off"), "b", failures));
   ASSERT_EQ(failures.size(), 1u);
   EXPECT_EQ(failures[0].method, "coulomb");
-  EXPECT_NE(failures[0].reason.find("step_factor"), std::string::npos) << failures[0].reason;
+  EXPECT_NE(failures[0].reason.find("step-factor must be a number > 0"), std::string::npos) << failures[0].reason;
   // Under strict the error itself comes out.
   base.strict = true;
   EXPECT_THROW(shape_canonical_forms(DiskCache(""), icosphere(1),
