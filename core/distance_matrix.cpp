@@ -73,9 +73,21 @@ MemoryRoom memory_room() {
     room.limit(static_cast<double>(as.rlim_cur) - pages * static_cast<double>(::sysconf(_SC_PAGESIZE)),
                "is available under the process's address-space limit (ulimit -v, RLIMIT_AS)");
   }
-  // Its control group (a container's or a systemd unit's limit): cgroup v2 memory.max, v1
-  // memory.limit_in_bytes, less the group's usage; the group's folder and each one above it.
-  std::ifstream cgroups("/proc/self/cgroup");
+  // Its control group (a container's or a systemd unit's limit).
+  std::string rule;
+  const double group_room = control_group_memory_room("/proc/self/cgroup", "/sys/fs/cgroup", &rule);
+  if (group_room >= 0) room.limit(group_room, rule);
+  return room;
+}
+
+}  // namespace
+
+// cgroup v2 memory.max, v1 memory.limit_in_bytes, less the group's usage; the group's folder and each one
+// above it.
+double control_group_memory_room(const std::string& proc_cgroup, const std::string& cgroup_root,
+                                 std::string* rule) {
+  MemoryRoom room;
+  std::ifstream cgroups(proc_cgroup);
   for (std::string line; std::getline(cgroups, line);) {
     const size_t first = line.find(':'), second = line.find(':', first + 1);
     if (first == std::string::npos || second == std::string::npos) continue;
@@ -84,8 +96,8 @@ MemoryRoom memory_room() {
     if (!v2 && controllers.find("memory") == std::string::npos) continue;
     std::string group = line.substr(second + 1);
     const std::vector<std::string> roots =
-        v2 ? std::vector<std::string>{"/sys/fs/cgroup", "/sys/fs/cgroup/unified"}
-           : std::vector<std::string>{"/sys/fs/cgroup/memory"};
+        v2 ? std::vector<std::string>{cgroup_root, cgroup_root + "/unified"}
+           : std::vector<std::string>{cgroup_root + "/memory"};
     const std::string max_file = v2 ? "/memory.max" : "/memory.limit_in_bytes";
     const std::string used_file = v2 ? "/memory.current" : "/memory.usage_in_bytes";
     while (true) {
@@ -104,10 +116,9 @@ MemoryRoom memory_room() {
       group = slash == 0 || slash == std::string::npos ? "/" : group.substr(0, slash);
     }
   }
-  return room;
+  if (rule) *rule = room.rule;
+  return room.bytes;
 }
-
-}  // namespace
 
 void require_memory(double bytes, const std::string& what) {
   const MemoryRoom room = memory_room();

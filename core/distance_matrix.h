@@ -26,6 +26,11 @@ double distance_matrix_bytes(Index n);
 // can still take: the machine's (MemAvailable), its address-space limit (RLIMIT_AS, `ulimit -v`) less what it
 // maps, and its control group's limit (cgroup v2 memory.max, v1 memory.limit_in_bytes) less the group's use.
 void require_memory(double bytes, const std::string& what);
+// The control-group part of require_memory, on the files given (require_memory reads /proc/self/cgroup and
+// /sys/fs/cgroup; tests give a fake tree): the least room in bytes over the process's groups and each group
+// above them, limit less use (< 0: no limit found), and in `rule` the file that sets it.
+double control_group_memory_room(const std::string& proc_cgroup, const std::string& cgroup_root,
+                                 std::string* rule = nullptr);
 
 // What an invalid entry D(i, j) means, as a suffix for an error message: for an infinite entry, whether
 // the two points are connected through a third point at finite distance from both (then the distance

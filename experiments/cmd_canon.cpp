@@ -21,7 +21,7 @@ struct CanonArgs {
 
 int run() {
   // Everything the command line decides is checked before any work.
-  check_canon_method_options({args.method}, true);
+  check_canon_method_options({args.method});
   CanonicalFormOptions options;
   options.method = args.method;
   configure_canonical_form(options, true);

@@ -25,7 +25,7 @@ int run() {
   // The command line first: nothing is read or computed before it passes.
   const Communicator& comm = world_communicator();
   const bool root = comm.is_root();
-  if (root) check_canon_method_options({args.method}, false);  // the same options serve a loop over methods
+  check_canon_method_options({args.method});  // every rank: each must stop
   require_output_path(args.output, {"csv"});
   if (!args.reference.empty() && args.two_stage_k == 0)
     throw UsageError("--reference: applies to the two-stage mode only (--two-stage-k)");

@@ -45,7 +45,7 @@ int run() {
   }
   if (o.levels.empty()) usage_fail("--levels: give at least one glue count (e.g. 0,1,2,4,8)");
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
-  check_canon_method_options(o.methods, false);  // one command line for every method: warn
+  check_canon_method_options(o.methods);
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)
   configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`

@@ -34,8 +34,7 @@ int run() {
   if (o.figure_vertices != 0 && o.figure_vertices < 4)
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
   const Communicator& comm = world_communicator();
-  if (comm.is_root())
-    check_canon_method_options(o.methods, false);  // one command line for every method: warn
+  if (comm.is_root()) check_canon_method_options(o.methods);
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`

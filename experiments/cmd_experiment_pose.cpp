@@ -22,7 +22,7 @@ int run() {
     if (m != "coulomb" && m != "cmds" && m != "smacof")
       usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
   o.shapes = list_option("--shapes", args.shapes);
-  check_canon_method_options(o.methods, false);
+  check_canon_method_options(o.methods);
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper
   configure_canonical_form(o.canon);

@@ -33,7 +33,7 @@ int run() {
   } catch (const Error& e) {
     usage_fail("--scoring-geodesics: ", e.what());
   }
-  check_canon_method_options(o.methods, false);  // one command line for every method: warn
+  check_canon_method_options(o.methods);
   require_output_directory(o.out);
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README); --geodesics overrides
   configure_canonical_form(o.canon);

@@ -55,10 +55,11 @@ const std::vector<CanonMethod>& canon_methods();
 void add_canon_method_options(CLI::App& app);
 // Applies every method's parsed options to `options` (after a successful parse of such a command).
 void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = false);
-// After a parse: the method options given on the command line that none of `methods` reads. refuse: throws
-// UsageError naming the first ("--scheme applies to --method coulomb only"), as `canon` does; otherwise one
-// warning line listing them (distmat, experiment paper: one command line shared across methods).
-void check_canon_method_options(const std::vector<std::string>& methods, bool refuse);
+// After a parse: a method option given on the command line that none of `methods` reads is refused
+// (UsageError naming it: "--scheme applies to --method coulomb only") before any work, on every command that
+// takes method options (canon, distmat, the experiments). An option that one of several methods reads is
+// fine.
+void check_canon_method_options(const std::vector<std::string>& methods);
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
 

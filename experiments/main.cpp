@@ -75,8 +75,9 @@ bool canon_option_given(const std::string& name) {
   return false;
 }
 
-void check_canon_method_options(const std::vector<std::string>& methods, bool refuse) {
-  std::vector<std::string> unused;
+void check_canon_method_options(const std::vector<std::string>& methods) {
+  std::string given;
+  for (const std::string& m : methods) given += (given.empty() ? "" : ",") + m;
   for (const auto& [index, group] : registry().canon_groups) {
     const CanonMethod& m = canon_methods()[index];
     std::vector<std::string> readers{m.name};
@@ -89,15 +90,11 @@ void check_canon_method_options(const std::vector<std::string>& methods, bool re
       scope += (k == 0 ? "" : k + 1 == readers.size() ? " or " : ", ") + readers[k];
     for (const CLI::Option* option : group->get_options()) {
       if (option->count() == 0) continue;
-      if (refuse) usage_fail(option->get_name(), " applies to --method ", scope, " only");
-      unused.push_back(option->get_name() + " (" + scope + ")");
+      if (methods.size() == 1) usage_fail(option->get_name(), " applies to --method ", scope, " only");
+      usage_fail(option->get_name(), " applies to method ", scope, " only, and no method run here (", given,
+                 ") is one");
     }
   }
-  if (unused.empty()) return;
-  std::string list, given;
-  for (const std::string& u : unused) list += (list.empty() ? "" : ", ") + u;
-  for (const std::string& m : methods) given += (given.empty() ? "" : ",") + m;
-  warn(list + " ignored: no method run here (" + given + ") reads " + (unused.size() == 1 ? "it" : "them"));
 }
 
 void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {

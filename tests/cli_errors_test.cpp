@@ -179,16 +179,11 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
                  {"--window applies to --accelerate rre or mpe only"});
   expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o d.bin --method fmm --heat-mode direct"),
                  kUsage, "geodesics", {"--heat-mode applies to --method heat or heat-cgal only"});
-  // distmat shares one command line across methods: a warning line, then it goes on (here to a missing
-  // folder).
+  // distmat too, before it reads anything (here a missing folder it never gets to).
   const std::string missing = in.dir + "/no-such-dataset";
-  test::CliResult r = test::run_cli("-q distmat " + q(missing) + " -o " + q(in.dir + "/D.csv") +
-                                    " --method coulomb --accelerate rre");
-  EXPECT_EQ(r.exit_code, kData) << r.err;
-  EXPECT_EQ(r.err.rfind("cshapes distmat: warning: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("--accelerate (smacof)"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("cshapes distmat: error: "), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+  expect_refusal(test::run_cli("-q distmat " + q(missing) + " -o " + q(in.dir + "/D.csv") +
+                               " --method coulomb --accelerate rre"),
+                 kUsage, "distmat", {"--accelerate applies to --method smacof only"});
 }
 
 TEST(CliRefusals, OutputPathsAreCheckedBeforeAnyWork) {
@@ -273,6 +268,14 @@ TEST(CliRefusals, HelpAndChecksAgreeAndOptionsThatDoNotApplyAreRefused) {
   expect_refusal(test::run_cli("canon " + q(in.tetra) + " -o " + q(in.dir + "/c.ply") +
                                " --tear-after 5 --tear-fraction 0"),
                  kUsage, "canon", {"--tear-after applies only when tearing"});
+  // ... on every command: distmat and the experiments warned and went on ("ignored: no method run here").
+  expect_refusal(test::run_cli("distmat " + q(in.dir) + " -o " + q(in.dir + "/D.csv") +
+                               " --method cmds --tear-fraction 0.1"),
+                 kUsage, "distmat", {"--tear-fraction applies to --method coulomb only"});
+  expect_refusal(test::run_cli("experiment paper --data " + q(in.dir) + " --out " + q(in.dir + "/p") +
+                               " --methods cmds,smacof --scheme paper"),
+                 kUsage, "experiment paper", {"--scheme applies to method coulomb only", "(cmds,smacof)"});
+  EXPECT_FALSE(fs::exists(in.dir + "/p"));
 }
 
 TEST(CliRefusals, TheReferenceIsReadBeforeAnyWork) {

@@ -5,10 +5,12 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "core/error.h"
+#include "tests/test_support.h"
 
 namespace cshapes {
 namespace {
@@ -42,6 +44,36 @@ TEST(RequireMemory, TheProcessAddressSpaceLimitCounts) {
   EXPECT_EQ(message.rfind("a 2 GB matrix needs 2 GB", 0), 0u) << message;
   EXPECT_NE(message.find("ulimit -v"), std::string::npos) << message;
   EXPECT_NO_THROW(require_memory(1e6, "a small matrix"));
+}
+
+TEST(RequireMemory, TheControlGroupLimitCounts) {
+  // Issue 22: under a cgroup limit the check passed (only MemAvailable was read). A fake /proc/self/cgroup
+  // and cgroup tree: the group's own limit less its use, a lower limit on a parent group, v1 and v2, "max".
+  const std::string dir = test::scratch_dir("cgroup");
+  auto put = [&](const std::string& file, const std::string& text) {
+    std::filesystem::create_directories(std::filesystem::path(dir + file).parent_path());
+    test::write_text(dir + file, text);
+  };
+  put("/v2/proc", "0::/jobs/run\n");
+  put("/v2/root/jobs/run/memory.max", "1000000000\n");
+  put("/v2/root/jobs/run/memory.current", "400000000\n");
+  put("/v2/root/jobs/memory.max", "max\n");
+  std::string rule;
+  EXPECT_DOUBLE_EQ(control_group_memory_room(dir + "/v2/proc", dir + "/v2/root", &rule), 6e8);
+  EXPECT_EQ(rule,
+            "is available under the control group's memory limit (" + dir + "/v2/root/jobs/run/memory.max)");
+  put("/v2/root/jobs/memory.max", "500000000\n");  // the parent's limit is lower, its use unknown
+  EXPECT_DOUBLE_EQ(control_group_memory_room(dir + "/v2/proc", dir + "/v2/root", &rule), 5e8);
+  EXPECT_NE(rule.find("/v2/root/jobs/memory.max"), std::string::npos) << rule;
+  put("/v1/proc", "9:cpu:/x\n4:memory:/a/b\n0::/\n");
+  put("/v1/root/memory/a/b/memory.limit_in_bytes", "2000000000\n");
+  put("/v1/root/memory/a/b/memory.usage_in_bytes", "500000000\n");
+  put("/v1/root/memory/memory.limit_in_bytes", "9223372036854771712\n");  // v1's "no limit"
+  EXPECT_DOUBLE_EQ(control_group_memory_room(dir + "/v1/proc", dir + "/v1/root", &rule), 1.5e9);
+  put("/none/proc", "0::/\n");
+  put("/none/root/memory.max", "max\n");
+  EXPECT_LT(control_group_memory_room(dir + "/none/proc", dir + "/none/root"), 0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RequireMemory, AskingForMoreThanTheMachineHasIsRefused) {
