@@ -5,6 +5,8 @@
 #include "tests/test_support.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <random>
 
 #include "core/fast_marching.h"
@@ -225,8 +227,7 @@ TEST(HeatMethod, WarnsOnCoarseMeshesOnly) {
 // (case 66, splits). Both came from flips of an edge whose two faces share a second edge (a vertex of degree
 // 2): the half-edge pairing was rebuilt by slot and corrupted. Every distance must now be finite and close to
 // the exact geodesics, from every vertex (all pairs) and against CGAL's exact distances from a few sources.
-void expect_heat_matches_exact(const std::string& file) {
-  const Mesh m = read_mesh(std::string(CSHAPES_SOURCE_DIR) + "/tests/regressions/" + file);
+void expect_heat_matches_exact_on(const Mesh& m, const std::string& file) {
   SCOPED_TRACE(file);
   const DistanceMatrix D = all_pairs_geodesics(m);  // heat; throws on any non-finite distance
   EXPECT_TRUE(D.allFinite());
@@ -238,6 +239,22 @@ void expect_heat_matches_exact(const std::string& file) {
     ASSERT_TRUE(d.allFinite()) << "source " << source;
     EXPECT_LT(mean_relative_error(d, exact, 3 * h), 0.05) << "source " << source;
   }
+}
+
+void expect_heat_matches_exact(const std::string& file) {
+  expect_heat_matches_exact_on(read_mesh(std::string(CSHAPES_SOURCE_DIR) + "/tests/regressions/" + file),
+                               file);
+}
+
+// The centaur mesh, written by its generator at test time (deterministic, Python's standard library only).
+Mesh centaur_fan_mesh() {
+  const std::string dir = test::scratch_dir("centaur-fan"), path = dir + "/centaur_fan.off";
+  const std::string command = "python3 '" + std::string(CSHAPES_SOURCE_DIR) +
+                              "/tests/regressions/make_centaur_fan_failing.py' '" + path + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  Mesh m = read_mesh(path);
+  std::filesystem::remove_all(dir);
+  return m;
 }
 
 TEST(HeatMethod, Issue21InfiniteDistancesToAVertex) {
@@ -255,8 +272,9 @@ TEST(HeatMethod, Issue21ZeroAreaIntrinsicFace) {
 // 1 is inf"): the flips left w0 with degree 2 and then corrupted the pairing, as on the centaur. Now every
 // distance is finite and close to the exact geodesics, and the fan's own vertices are reached from afar.
 TEST(HeatMethod, Issue21CentaurValenceFourVertex) {
-  expect_heat_matches_exact("centaur_fan_before_fix.off");
-  const Mesh m = read_mesh(std::string(CSHAPES_SOURCE_DIR) + "/tests/regressions/centaur_fan_before_fix.off");
+  const Mesh m = centaur_fan_mesh();
+  ASSERT_EQ(m.num_vertices(), 1432);
+  expect_heat_matches_exact_on(m, "centaur fan");
   HeatMethod heat(m);
   const int pole = static_cast<int>(m.num_vertices() - 1);
   const Eigen::VectorXd d = heat.distances({pole}), exact = exact_geodesics(m, {pole});

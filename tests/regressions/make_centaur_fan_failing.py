@@ -28,7 +28,7 @@ What happens (old code, replayed flip by flip): the rim edge w3-w0 (facing 103 d
 then the spoke v-w2 flips to w1-w3 (v: degree 3), then the rim edge w0-w1 (facing the 131-degree angle at v)
 flips to a second edge v-x: w0 is left with degree 2, its two faces sharing both of its edges. The next flip,
 of v-w0 (its two faces share the second edge w0-x), rebuilt the twin pairing by slot and corrupted it; one
-more flip on the corrupted pairing removed w0 from every face, so w0 gets no heat and its distance is inf. Old binary (/work/stress1000/cshapes-before), any source, e.g.
+more flip on the corrupted pairing removed w0 from every face, so w0 gets no heat and its distance is inf. Old binary (built with core/intrinsic_delaunay.cpp and core/heat_method.cpp of 0a200eb^), any source, e.g.
     cshapes geodesics centaur_fan_before_fix.off --source 0 --csv
     cshapes geodesics: error: geodesics (heat): the distance from vertex 0 to vertex 1 is inf although they
     are connected; the heat method failed numerically on this mesh; use --method fmm or exact, and please
