@@ -266,7 +266,7 @@ TEST(HeatMethod, Issue21ZeroAreaIntrinsicFace) {
 }
 
 // The centaur vertex of issue 21 rebuilt from its four faces' angles and edge lengths, inside a closed
-// genus-0 mesh (tests/regressions/make_centaur_fan_failing.py writes centaur_fan_before_fix.off; its header
+// genus-0 mesh (tests/regressions/make_centaur_fan_failing.py writes it at test time; its header
 // has the flip sequence): a valence-4 cone point of 328 degrees with a 131-degree angle. Before the fix,
 // every distance to and from the fan's neighbour w0 (vertex 1) was inf ("the distance from vertex 0 to vertex
 // 1 is inf"): the flips left w0 with degree 2 and then corrupted the pairing, as on the centaur. Now every
