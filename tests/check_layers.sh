@@ -10,7 +10,8 @@ declare -A allowed=(
   [eval]="core matching eval"
   [pipeline]="core canon matching eval pipeline"
   [experiments]="core canon matching eval pipeline experiments"
-  [python]="core canon matching eval pipeline python"
+  [cli]="core canon matching eval pipeline experiments cli"
+  [python]="core canon matching eval pipeline experiments python"
 )
 bad=0
 for layer in "${!allowed[@]}"; do
@@ -23,5 +24,5 @@ for layer in "${!allowed[@]}"; do
     fi
   done < <(grep -rnE '^#include "[a-z_]+/' "$root/$layer" --include='*.h' --include='*.cpp' || true)
 done
-[[ $bad == 0 ]] && echo "layering: every include follows core -> canon, matching -> eval -> pipeline -> experiments, python"
+[[ $bad == 0 ]] && echo "layering: every include follows core -> canon, matching -> eval -> pipeline -> experiments -> cli, python"
 exit $bad

@@ -1,6 +1,6 @@
-// The Coulomb parameter study as a library call (pipeline/coulomb_params.h): configurations by name, the
+// The Coulomb parameter study as a library call (experiments/coulomb_params.h): configurations by name, the
 // bridges it glues and whether the canonization tore them, and the files it writes.
-#include "pipeline/coulomb_params.h"
+#include "experiments/coulomb_params.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "pipeline/geodesic_stress.h"
+#include "experiments/geodesic_stress.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@ namespace {
 
 // A seeded sample of the stress corpus (scripts/stress_geodesics.py runs any number): one mesh of every
 // kind at 200-1,200 vertices through every geodesic method against exact geodesics, the canonical forms on
-// the smaller ones, and ICP. Every check of pipeline/geodesic_stress.h must hold on every mesh.
+// the smaller ones, and ICP. Every check of experiments/geodesic_stress.h must hold on every mesh.
 TEST(GeodesicStress, SeededSampleHasNoFailure) {
   StressCorpusOptions corpus;
   corpus.min_vertices = 200;

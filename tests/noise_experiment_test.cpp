@@ -1,4 +1,4 @@
-// `cshapes experiment noise` (pipeline/noise_experiment.h) on a small generated dataset: the outputs'
+// `cshapes experiment noise` (experiments/noise_experiment.h) on a small generated dataset: the outputs'
 // structure, χ recorded and checked for every glued mesh, level 0 equal to the clean forms (form distance 0),
 // mAP in [0, 1], and a rerun that computes nothing. Also the known answers of average_precision and
 // glue_seed, and `experiment paper --noisy-per-class all` with its retrieval under Hausdorff, Chamfer and
@@ -17,7 +17,7 @@
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
-#include "pipeline/noise_experiment.h"
+#include "experiments/noise_experiment.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,4 +1,4 @@
-// pipeline/paper_experiment.h: no shape ends the experiment. On a small generated dataset with one shape that
+// experiments/paper_experiment.h: no shape ends the experiment. On a small generated dataset with one shape that
 // every method fails on (a readable mesh whose numbers leave the floating-point range), the run completes with the others, names the shape with its reason in the summary,
 // report.md and metrics.json, and leaves it out of every method's matrices; --strict stops at it. A run
 // where nothing fails has no failures section.
@@ -14,7 +14,7 @@
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
-#include "pipeline/paper_experiment.h"
+#include "experiments/paper_experiment.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,6 +1,6 @@
-// The pose-invariance measure (pipeline/pose_invariance.h): known answers on generated shapes with known
+// The pose-invariance measure (experiments/pose_invariance.h): known answers on generated shapes with known
 // correspondences, and the TOPKIDS correspondence reader's errors.
-#include "pipeline/pose_invariance.h"
+#include "experiments/pose_invariance.h"
 
 #include <gtest/gtest.h>
 

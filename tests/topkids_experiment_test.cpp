@@ -1,4 +1,4 @@
-#include "pipeline/topkids_experiment.h"
+#include "experiments/topkids_experiment.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,122 @@
+// cshapes align A B [--json] [--no-reflections] [-o aligned.ply]: rigid ICP alignment of A onto B and the
+// shape distances after it (matching/icp.h, matching/shape_distance.h).
+#include <cstdio>
+#include <iostream>
+
+#include "core/io.h"
+#include "cli/command.h"
+#include "matching/icp.h"
+#include "matching/shape_distance.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct AlignArgs {
+  std::string source, target, output;
+  bool json = false;
+  bool no_reflections = false;
+  bool one_way = false;
+  bool axis_swaps = false;
+  double trim = 0;
+  double tolerance = IcpOptions{}.relative_tolerance;
+} args;
+
+nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Index i = 0; i < M.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Index j = 0; j < M.cols(); ++j) row.push_back(M(i, j));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+int run() {
+  if (!args.output.empty()) require_mesh_output_path(args.output);
+  // Canonical forms keep their input's faces, which need not pass mesh validation: only points matter here.
+  ReadOptions lenient;
+  lenient.validate = false;
+  // Rows marked invalid (NaN, valid = 0: vertices a canonical form's repair dropped) are left out by the
+  // reader: the alignment uses the valid vertices only.
+  const MeshFile file_a = read_mesh_file(args.source, lenient), file_b = read_mesh_file(args.target, lenient);
+  const Mesh& a = file_a.mesh;
+  const Mesh& b = file_b.mesh;
+  for (const MeshFile* f : {&file_a, &file_b})
+    if (f->invalid_vertices > 0)
+      warn((f == &file_a ? args.source : args.target) + ": " + std::to_string(f->invalid_vertices) +
+           " invalid vertices (NaN rows, valid = 0) ignored; aligned on the " +
+           std::to_string(f->mesh.num_vertices()) + " valid ones");
+  IcpOptions options;
+  options.allow_reflections = !args.no_reflections;
+  options.symmetric = !args.one_way;
+  options.try_axis_swaps = args.axis_swaps;
+  options.trim_fraction = args.trim;
+  options.relative_tolerance = args.tolerance;
+  IcpResult r;
+  ShapeDistance d = aligned_shape_distance(a.V, b.V, options, &r);
+  if (!args.output.empty()) {
+    write_mesh(args.output, Mesh{r.transform.apply(a.V), a.F});
+    note("wrote " + args.output);
+  }
+  nlohmann::json j;
+  j["source"] = args.source;
+  j["target"] = args.target;
+  j["transform"] = matrix_json(r.transform.matrix());
+  j["rotation"] = matrix_json(r.transform.rotation);
+  j["translation"] = {r.transform.translation[0], r.transform.translation[1], r.transform.translation[2]};
+  j["reflection"] = r.transform.is_reflection();
+  j["hausdorff"] = d.hausdorff;
+  j["chamfer"] = d.chamfer;
+  j["rmse"] = d.rmse;
+  j["directed_source_to_target"] = d.directed_ab;
+  j["directed_target_to_source"] = d.directed_ba;
+  j["icp_rmse"] = r.rmse;
+  j["inlier_fraction"] = r.inlier_fraction;
+  j["iterations"] = r.iterations;
+  j["total_iterations"] = r.total_iterations;
+  j["starts"] = r.start_transforms.size();
+  j["best_start"] = r.best_start;
+  j["converged"] = r.converged;
+  if (file_a.invalid_vertices + file_b.invalid_vertices > 0)
+    j["invalid_vertices"] = {{"source", file_a.invalid_vertices}, {"target", file_b.invalid_vertices}};
+  j["stop_reason"] = r.stop_reason;
+  j["seconds"] = r.seconds;
+  if (args.json) {
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  const Eigen::Matrix4d M = r.transform.matrix();
+  std::printf("%s -> %s\n", args.source.c_str(), args.target.c_str());
+  std::printf("  transform (x -> R x + t)%s\n", r.transform.is_reflection() ? ", a reflection" : "");
+  for (int i = 0; i < 4; ++i)
+    std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
+  std::printf("  hausdorff  %.6g\n  chamfer    %.6g\n  rmse       %.6g\n", d.hausdorff, d.chamfer, d.rmse);
+  std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3f s\n", r.iterations,
+              r.total_iterations, r.start_transforms.size(), r.stop_reason.c_str(), r.seconds);
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"align"},
+     "Rigidly align shape A onto shape B (ICP) and print the transform and the Hausdorff, Chamfer and RMS "
+     "distances",
+     [](CLI::App& app) {
+       app.add_option("A", args.source, "source mesh or point cloud (moved)")->required();
+       app.add_option("B", args.target, "target mesh or point cloud")->required();
+       app.add_option("-o,--output", args.output, "write A after alignment (with A's faces)");
+       app.add_flag("--json", args.json, "print JSON");
+       app.add_flag(
+           "--no-reflections", args.no_reflections,
+           "rotations only (by default mirror images are tried too: MDS embeddings are defined only up to "
+           "reflection)");
+       app.add_flag("--one-way", args.one_way, "match A to B only (default: both directions)");
+       app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
+       app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")
+           ->check(within(icp_limits::kTrim));
+       app.add_option("--tolerance", args.tolerance, "stop when the RMSE changes by less than this fraction")
+           ->check(within(icp_limits::kTolerance));
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,98 @@
+// cshapes canon MESH -o OUT --method M: a canonical form by any registered method (see command.h), computed
+// by the drivers library (pipeline/canonical_forms.h) as `distmat` and `experiment paper` compute theirs.
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/io.h"
+#include "cli/command.h"
+#include "pipeline/canonical_forms.h"
+#include "pipeline/mesh_report.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct CanonArgs {
+  std::string input, output, history, method = "coulomb";
+  bool largest_component = false;
+  bool strict = false;
+  bool json = false;
+} args;
+
+int run() {
+  // Everything the command line decides is checked before any work.
+  check_canon_method_options({args.method});
+  CanonicalFormOptions options;
+  options.method = args.method;
+  configure_canonical_form(options, true);
+  options.name = args.input;
+  options.strict = args.strict;
+  options.progress = progress_printer();
+  options.note = note;
+  require_mesh_output_path(args.output);
+  if (!args.history.empty()) require_output_path(args.history, {"csv"});
+
+  const Mesh input = read_mesh(args.input);
+  if (option_given("--knn") && input.num_faces() > 0)
+    usage_fail("--knn applies to point clouds (no faces) only; ", args.input, " has ", input.num_faces(),
+               " faces");
+  // The method's requirements, repaired unless --strict; a point cloud (no faces) passes unchanged: the
+  // method builds its own neighbourhood graph (and refuses a disconnected one).
+  const RepairedMesh repaired = repair_for_canonical_form(input, options);
+  const bool dropped_some = valid_input_vertices(repaired.vertex_map, input.num_vertices()).minCoeff() == 0;
+  CSHAPES_REQUIRE(!dropped_some || file_extension(args.output) == "ply", args.output, ": the repair dropped ",
+                  "vertices (", repaired.text,
+                  "); write .ply, which keeps the input's vertex count with NaN rows ",
+                  "and a per-vertex 'valid' flag, or pass --strict to refuse the mesh");
+  if (repaired.changed()) note(repaired.text);
+
+  const CanonicalForm form = canonical_form(input, options);
+  // The input's vertex count and order, with the input's faces: dropped vertices are NaN rows with
+  // valid = 0 (PLY); a split vertex takes its first copy's position.
+  WriteOptions wo;
+  if (form.torn.size()) wo.scalars.push_back({"torn", form.torn});
+  if (dropped_some) wo.scalars.push_back({"valid", form.valid});
+  write_mesh(args.output, Mesh{form.X, input.F}, wo);
+  if (!args.history.empty() && !form.history_columns.empty())
+    write_csv(args.history, form.history_columns, form.history_rows);
+
+  nlohmann::json summary = canonical_form_summary(form, args.method);
+  summary["repaired_vertices"] = repaired.mesh.num_vertices();
+  summary["input"] = args.input;
+  summary["output"] = args.output;
+  if (args.json) std::cout << summary.dump(2) << std::endl;
+  note("wrote " + args.output);
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"canon"},
+     "Compute a canonical form (Coulomb shape, classical MDS or SMACOF), written with the input's faces "
+     "and vertex order",
+     [](CLI::App& app) {
+       app.add_option("MESH", args.input, "input mesh")->required();
+       app.add_option("-o,--output", args.output, "output mesh (.ply keeps per-vertex flags such as 'torn')")
+           ->required();
+       std::string names;
+       std::vector<std::string> known;
+       for (const CanonMethod& m : canon_methods()) {
+         names += "\n  " + m.name + ": " + m.summary;
+         known.push_back(m.name);
+       }
+       app.add_option("--method", args.method, "canonization method:" + names)
+           ->capture_default_str()
+           ->check(one_of(known));
+       app.add_option("--history", args.history, "write the per-iteration history as CSV");
+       app.add_flag("--largest-component", args.largest_component,
+                    "keep the largest connected component (the default repair; kept for old scripts)");
+       app.add_flag(
+           "--strict", args.strict,
+           "refuse a mesh the method would have to repair (non-manifold for MDS, several components, "
+           "duplicate faces, ...) instead of repairing it");
+       app.add_flag("--json", args.json, "print a JSON summary on stdout");
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

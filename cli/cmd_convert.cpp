@@ -1,0 +1,50 @@
+// cshapes convert IN OUT: between mesh formats (by extension), keeping PLY per-vertex scalars and colours.
+// A PLY's invalid vertices (NaN rows with valid = 0, as canonical forms write dropped vertices) are dropped
+// with the faces on them, and said.
+#include "core/io.h"
+#include "cli/command.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct ConvertArgs {
+  std::string input, output;
+  bool binary = false;
+  bool no_validate = false;
+} args;
+
+int run() {
+  require_mesh_output_path(args.output);
+  ReadOptions read_options;
+  read_options.validate = !args.no_validate;
+  MeshFile file = read_mesh_file(args.input, read_options);
+  WriteOptions write_options;
+  write_options.binary = args.binary;
+  write_options.scalars = file.scalars;
+  write_options.colors = file.colors;
+  // Rows a canonical form marks invalid (NaN, valid = 0) are not written: the output holds the valid part.
+  if (file.invalid_vertices > 0)
+    warn(std::to_string(file.invalid_vertices) + " invalid vertices (NaN rows, valid = 0) of " + args.input +
+         " dropped, with the " + std::to_string(file.invalid_faces) + " faces on them");
+  write_mesh(args.output, file.mesh, write_options);
+  note("wrote " + args.output + " (" + std::to_string(file.mesh.num_vertices()) + " vertices, " +
+       std::to_string(file.mesh.num_faces()) + " triangles)");
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"convert"},
+     "Convert a mesh between formats (OFF, PLY, OBJ, STL, TOSCA .vert/.tri, XYZ in; OFF, PLY, OBJ, XYZ out)",
+     [](CLI::App& app) {
+       app.add_option("IN", args.input, "input mesh or point cloud (.off .ply .obj .stl .vert/.tri .xyz)")
+           ->required();
+       app.add_option("OUT", args.output, "output file; its extension picks the format (.off .ply .obj .xyz)")
+           ->required();
+       app.add_flag("--binary", args.binary, "PLY output: binary little endian instead of ASCII");
+       app.add_flag("--no-validate", args.no_validate,
+                    "convert meshes that fail validation (degenerate faces, non-manifold edges, ...)");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,71 @@
+// cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix, written by
+// eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv).
+#include <cstdio>
+#include <iostream>
+
+#include "eval/distance_csv.h"
+#include "eval/retrieval_report.h"
+#include "cli/command.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct EvaluateArgs {
+  std::string matrix, labels, output;
+  int min_class_size = RetrievalOptions{}.min_class_size;
+  int e_depth = RetrievalOptions{}.e_measure_depth;
+  bool json = false;
+} args;
+
+int run() {
+  require_output_directory(args.output);
+  const NamedDistances input = read_distance_csv(args.matrix);
+  for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
+  std::vector<std::string> classes;
+  if (args.labels.empty()) {
+    for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
+  } else {
+    classes = read_labels_csv(args.labels, input.names);
+  }
+  RetrievalOptions options;
+  options.min_class_size = args.min_class_size;
+  options.e_measure_depth = args.e_depth;
+  const RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
+  write_retrieval_report(args.output, input, report);
+  const RetrievalResult& r = report.result;
+  if (args.json) {
+    std::cout << report.metrics.dump(2) << std::endl;
+  } else {
+    std::printf("%zu shapes, %zu classes, %zu queries (%d skipped)\n", input.names.size(),
+                report.class_names.size(), r.queries.size(), r.skipped);
+    std::printf("  mAP %.4f   NN %.4f   FT %.4f   ST %.4f   E %.4f   DCG %.4f\n", r.mean.ap, r.mean.nn,
+                r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
+  }
+  note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"evaluate"},
+     "Retrieval measures of a distance matrix: mAP, nearest neighbour, tiers, E-measure, DCG, PR curve",
+     [](CLI::App& app) {
+       app.add_option("MATRIX", args.matrix,
+                      std::string("distance matrix CSV (header row of shape names, or plain numbers); ") +
+                          kDistanceMatrixRules)
+           ->required();
+       app.add_option(
+           "--labels", args.labels,
+           "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat); a "
+           "name given two classes is refused");
+       app.add_option("-o,--output", args.output, "output directory")->required();
+       app.add_option("--min-class-size", args.min_class_size,
+                      "classes with fewer shapes are not used as queries")
+           ->check(integer_at_least(1));
+       app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
+           ->check(integer_at_least(1));
+       app.add_flag("--json", args.json, "print metrics.json to stdout");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

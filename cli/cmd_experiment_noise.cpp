@@ -1,0 +1,126 @@
+// cshapes experiment noise --data DIR --out OUT: retrieval and canonical forms against the number of glues
+// (experiments/noise_experiment.h).
+#include <climits>
+#include <cstdio>
+#include <iostream>
+#include <set>
+
+#include "core/error.h"
+#include "core/topological_noise.h"
+#include "cli/command.h"
+#include "experiments/noise_experiment.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct NoiseArgs {
+  NoiseExperimentOptions options;
+  std::string methods = "coulomb,cmds,smacof";
+  std::string levels = "0,1,2,4,8";
+  std::string poses = "all";
+  bool no_figure = false, json = false;
+} args;
+
+int run() {
+  NoiseExperimentOptions o = args.options;
+  o.methods = list_option("--methods", args.methods);
+  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
+  for (const std::string& m : o.methods)
+    if (m != "coulomb" && m != "cmds" && m != "smacof")
+      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.levels.clear();
+  std::set<int> seen;
+  for (const std::string& item : list_option("--levels", args.levels)) {
+    int level = -1;
+    size_t used = 0;
+    try {
+      level = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || level < 0 || level > 1000)
+      usage_fail("--levels: expected glue counts from 0 to 1000, got '", item, "'");
+    if (!seen.insert(level).second) usage_fail("--levels: ", level, " is given twice");
+    o.levels.push_back(level);
+  }
+  if (o.levels.empty()) usage_fail("--levels: give at least one glue count (e.g. 0,1,2,4,8)");
+  o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
+  check_canon_method_options(o.methods);
+  require_output_directory(o.out);
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)
+  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  o.figure = !args.no_figure;
+  o.progress = progress_printer();
+  o.note = [](const std::string& line) { note(line); };
+  NoiseExperimentResult r = run_noise_experiment(o);
+  if (r.chi_mismatches > 0)
+    warn(std::to_string(r.chi_mismatches) +
+         " glued meshes had an unexpected Euler characteristic and were "
+         "left out (report.md lists them)");
+  if (r.glue_failures > 0)
+    warn(std::to_string(r.glue_failures) +
+         " (pose, level) pairs could not be glued and were left out "
+         "(report.md lists them)");
+  if (args.json) {
+    nlohmann::json j{{"out", o.out},
+                     {"poses", r.poses},
+                     {"classes", r.classes},
+                     {"glued", r.glues.size()},
+                     {"chi_mismatches", r.chi_mismatches},
+                     {"glue_failures", r.glue_failures},
+                     {"glued_computed", r.glued_computed},
+                     {"glued_cached", r.glued_cached},
+                     {"canonical_forms_computed", r.canonical_forms_computed},
+                     {"canonical_forms_cached", r.canonical_forms_cached},
+                     {"pairs_computed", r.pairs_computed},
+                     {"pairs_cached", r.pairs_cached},
+                     {"figure", r.figure},
+                     {"seconds", r.seconds},
+                     {"failures", shape_failures_json(r.failures)}};
+    std::cout << j.dump(2) << std::endl;
+  } else {
+    std::printf(
+        "experiment noise: %d poses × %zu levels in %.1f s (%ld canonical forms computed, %ld cached; %ld "
+        "ICP "
+        "pairs computed, %ld cached); report: %s/report.md\n",
+        r.poses, o.levels.size(), r.seconds, r.canonical_forms_computed, r.canonical_forms_cached,
+        r.pairs_computed, r.pairs_cached, o.out.c_str());
+  }
+  return exit_code_for(r.failures);
+}
+
+const bool registered = register_command(
+    {{"experiment", "noise"},
+     "Topological noise: every clean pose glued at 0, 1, 2, 4, 8 spots; per method and level, mAP of noisy "
+     "queries among clean shapes and the noisy-vs-clean form distance (cached: reruns resume)",
+     [](CLI::App& app) {
+       NoiseExperimentOptions& o = args.options;
+       app.add_option("--data", o.data,
+                      "folder of meshes (class = name without trailing digits) or manifest.csv")
+           ->required();
+       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
+       app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
+           ->capture_default_str();
+       app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")
+           ->capture_default_str();
+       app.add_option("--seed", o.seed, "base seed of the glues (each pose and level derives its own)")
+           ->capture_default_str();
+       app.add_option("--relax-steps", o.relax_steps,
+                      "where a pose offers too few spots: widen the gap (×1.5) up to this many times")
+           ->capture_default_str()
+           ->check(within(noise_limits::kRelax));
+       app.add_flag("--no-figure", args.no_figure, "do not draw noise.png");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,124 @@
+// cshapes experiment paper --data DIR --out OUT: the paper's experiment end to end (paper_experiment.h).
+// Under `mpirun -np R` the canonical forms and the ICP pairs are split over the ranks; rank 0 alone prints
+// and writes the outputs.
+#include <climits>
+#include <cstdio>
+#include <iostream>
+
+#include "core/error.h"
+#include "cli/command.h"
+#include "pipeline/distributed.h"
+#include "experiments/paper_experiment.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct PaperArgs {
+  PaperExperimentOptions options;
+  std::string methods = "coulomb,cmds,smacof";
+  std::string poses = "4";
+  std::string noisy = "1";
+  bool no_table1 = false, no_figures = false, json = false;
+} args;
+
+int run() {
+  PaperExperimentOptions o = args.options;
+  o.methods = list_option("--methods", args.methods);
+  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
+  for (const std::string& m : o.methods)
+    if (m != "coulomb" && m != "cmds" && m != "smacof")
+      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
+  o.noisy_per_class = integer_or_word("--noisy-per-class", args.noisy, 0, 1000, "all",
+                                      PaperExperimentOptions::kNoisyEveryPose);
+  if (o.figure_vertices != 0 && o.figure_vertices < 4)
+    usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
+  const Communicator& comm = world_communicator();
+  if (comm.is_root()) check_canon_method_options(o.methods);
+  require_output_directory(o.out);
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
+  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  o.table1 = !args.no_table1;
+  o.figures = !args.no_figures;
+  if (comm.is_root()) {  // one voice: the other ranks work silently
+    o.progress = progress_printer();
+    o.note = [](const std::string& line) { note(line); };
+  }
+  o.communicator = &comm;
+  PaperExperimentSummary s = run_paper_experiment(o);
+  if (!comm.is_root()) return 0;
+  nlohmann::json j{{"out", o.out},
+                   {"shapes", s.shapes},
+                   {"seconds", s.seconds},
+                   {"canonical_forms_computed", s.canonical_forms_computed},
+                   {"canonical_forms_cached", s.canonical_forms_cached},
+                   {"pairs_computed", s.pairs_computed},
+                   {"pairs_cached", s.pairs_cached},
+                   {"failures", shape_failures_json(s.failures)}};
+  if (args.json) {
+    std::cout << j.dump(2) << std::endl;
+  } else {
+    std::printf(
+        "experiment paper: %d shapes in %.1f s (%ld canonical forms computed, %ld cached; %ld ICP pairs "
+        "computed, %ld cached); report: %s/report.md\n",
+        s.shapes, s.seconds, s.canonical_forms_computed, s.canonical_forms_cached, s.pairs_computed,
+        s.pairs_cached, o.out.c_str());
+  }
+  return exit_code_for(s.failures);
+}
+
+const bool registered = register_command(
+    {{"experiment", "paper"},
+     "The paper's experiment: canonical forms by every method, ICP distances, retrieval measures, the effect "
+     "of topological noise, data for Figures 2-8, Table 1 and report.md (cached: reruns resume)",
+     [](CLI::App& app) {
+       PaperExperimentOptions& o = args.options;
+       app.add_option("--data", o.data,
+                      "folder of meshes (class = name without trailing digits) or manifest.csv")
+           ->required();
+       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
+       app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
+           ->capture_default_str();
+       app.add_option(
+              "--noisy-per-class", args.noisy,
+              "topologically noisy shapes per class (the data's, else glued here from another pose), or "
+              "'all': the data's and a glued version of every clean pose of the class")
+           ->capture_default_str();
+       app.add_option("--glue", o.glue, "glues per noisy shape made here")
+           ->capture_default_str()
+           ->check(integer_in(1, 1000));
+       app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
+       app.add_flag(
+           "--largest-component", o.largest_component,
+           "keep each input's largest connected component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", o.canon.strict,
+                    "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
+                    "3), with no geodesic fallback; and refuse a mesh a method would have to repair "
+                    "(non-manifold for MDS, several components, ...) instead of repairing it");
+       app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
+           ->capture_default_str()
+           ->check(integer_in(1, 1000));
+       app.add_flag("--no-table1", args.no_table1,
+                    "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
+       app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       app.add_option("--figure-vertices", o.figure_vertices,
+                      "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
+           ->capture_default_str()
+           ->check(integer_in(0, 10000000));
+       app.add_option("--fig5-iterations", o.fig5_iterations, "Figure 5: outer iterations per curve")
+           ->capture_default_str()
+           ->check(integer_in(1, 100000000));
+       app.add_option("--correspondence-samples", o.correspondence_samples,
+                      "ground-truth samples per pair for the point-map error (0: skip)")
+           ->capture_default_str()
+           ->check(integer_in(0, 100000000));
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

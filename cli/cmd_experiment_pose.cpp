@@ -1,0 +1,70 @@
+// cshapes experiment pose --data DIR --out OUT: pose invariance of each method's canonical forms against
+// ground-truth correspondences, and their metric faithfulness (experiments/pose_invariance.h).
+#include <iostream>
+
+#include "cli/command.h"
+#include "experiments/pose_invariance.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct PoseArgs {
+  PoseInvarianceOptions options;
+  std::string methods = "coulomb,cmds,smacof";
+  std::string shapes;
+} args;
+
+int run() {
+  PoseInvarianceOptions o = args.options;
+  o.methods = list_option("--methods", args.methods);
+  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
+  for (const std::string& m : o.methods)
+    if (m != "coulomb" && m != "cmds" && m != "smacof")
+      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.shapes = list_option("--shapes", args.shapes);
+  check_canon_method_options(o.methods);
+  require_output_directory(o.out);
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper
+  configure_canonical_form(o.canon);
+  o.note = [](const std::string& line) { note(line); };
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  std::cout << r.markdown;
+  return exit_code_for(r.failures);
+}
+
+const bool registered = register_command(
+    {{"experiment", "pose"},
+     "Pose invariance of the canonical forms against ground-truth correspondences (TOSCA corres/*.vts, "
+     "TOPKIDS *_ref.txt, or poses sharing their faces as `generate dataset` writes them), and their edge "
+     "stretch and geodesic stress (cached: reruns resume)",
+     [](CLI::App& app) {
+       PoseInvarianceOptions& o = args.options;
+       app.add_option(
+              "--data", o.data,
+              "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
+              "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
+              "clean poses of a class share their faces (vertex i against vertex i)")
+           ->required();
+       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
+       app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
+       app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")
+           ->capture_default_str()
+           ->check(integer_in(0, 100000000));
+       app.add_option("--stress-sources", o.stress_sources,
+                      "fast-marching sources per shape for the geodesic stress (0: skip)")
+           ->capture_default_str()
+           ->check(integer_in(0, 100000));
+       app.add_option("--label", o.label, "name of this configuration in the CSV rows and the table");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       app.footer(kPartialResultHelp);
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,114 @@
+// cshapes experiment topkids --data DIR --out OUT: point maps between poses with real topological noise
+// (SHREC'16 TOPKIDS), per canonization method and for the inputs, scored against ground truth
+// (experiments/topkids_experiment.h). The figure is drawn by experiments/plots/topkids_figure.py.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "core/error.h"
+#include "cli/command.h"
+#include "experiments/topkids_experiment.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct TopkidsArgs {
+  TopkidsExperimentOptions options;
+  std::string methods = "coulomb,cmds,smacof";
+  std::string poses;  // empty: all
+  std::string scoring_geodesics = "fmm";
+  bool no_figure = false, json = false;
+} args;
+
+int run() {
+  TopkidsExperimentOptions o = args.options;
+  o.methods = list_option("--methods", args.methods);
+  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
+  for (const std::string& m : o.methods)
+    if (m != "coulomb" && m != "cmds" && m != "smacof")
+      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.poses = list_option("--poses", args.poses);
+  try {
+    o.scoring_geodesics.method = parse_geodesic_method(args.scoring_geodesics);
+  } catch (const Error& e) {
+    usage_fail("--scoring-geodesics: ", e.what());
+  }
+  check_canon_method_options(o.methods);
+  require_output_directory(o.out);
+  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README); --geodesics overrides
+  configure_canonical_form(o.canon);
+  o.figure = !args.no_figure;
+  o.progress = progress_printer();
+  o.note = [](const std::string& line) { note(line); };
+  TopkidsExperimentResult r = run_topkids_experiment(o);
+  if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
+  if (args.json) {
+    nlohmann::json j{{"out", o.out},
+                     {"poses", r.poses.size()},
+                     {"seconds", r.seconds},
+                     {"canonical_forms_computed", r.forms_computed},
+                     {"canonical_forms_cached", r.forms_cached},
+                     {"scorings_computed", r.scorings_computed},
+                     {"scorings_cached", r.scorings_cached},
+                     {"figure", r.figure},
+                     {"failures", shape_failures_json(r.failures)}};
+    for (const TopkidsSummary& s : r.summaries)
+      j["summary"][s.method] = {
+          {"mean_error", s.mean_error}, {"under_0.1", s.under_0_1}, {"under_0.25", s.under_0_25}};
+    std::cout << j.dump(2) << std::endl;
+    return exit_code_for(r.failures);
+  }
+  std::printf("experiment topkids: %zu poses in %.1f s (%ld canonical forms computed, %ld cached)\n",
+              r.poses.size(), r.seconds, r.forms_computed, r.forms_cached);
+  std::printf("%-10s %10s %8s %8s\n", "method", "mean error", "<= 0.1", "<= 0.25");
+  for (const TopkidsSummary& s : r.summaries)
+    std::printf("%-10s %10.4f %8.3f %8.3f\n", s.method.c_str(), s.mean_error, s.under_0_1, s.under_0_25);
+  std::printf("report: %s/report.md\n", o.out.c_str());
+  return exit_code_for(r.failures);
+}
+
+const bool registered = register_command(
+    {{"experiment", "topkids"},
+     "Point maps under real topological noise (SHREC'16 TOPKIDS): each pose's canonical form aligned by ICP "
+     "to "
+     "the reference's, errors by the benchmark's protocol, per method and for the inputs; curves, table, "
+     "report.md (cached: reruns resume)",
+     [](CLI::App& app) {
+       TopkidsExperimentOptions& o = args.options;
+       app.add_option("--data", o.data,
+                      "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)")
+           ->required();
+       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       app.add_option("--reference", o.reference, "file stem of the reference pose")->capture_default_str();
+       app.add_option(
+           "--poses", args.poses,
+           "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
+       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
+           ->capture_default_str();
+       app.add_option("--samples", o.samples,
+                      "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)")
+           ->capture_default_str()
+           ->check(integer_in(0, 100000000));
+       app.add_option("--scoring-geodesics", args.scoring_geodesics,
+                      "geodesics on the reference for the errors: fmm, graph, heat, heat-cgal, exact")
+           ->capture_default_str();
+       app.add_option("--max-error", o.max_threshold, "largest error of the curves (units of sqrt(area))")
+           ->capture_default_str()
+           ->check(number_above(0.25));
+       app.add_flag("--icp-axis-swaps", o.icp.try_axis_swaps,
+                    "ICP also starts from the principal-axis poses with two axes exchanged (12 more starts; "
+                    "default off, as in the retrieval)");
+       app.add_flag(
+           "--strict", o.canon.strict,
+           "stop at the first pose that fails (exit code 1) instead of leaving it out (exit code 3), "
+           "with no geodesic fallback; and refuse a mesh a method would have to repair (kid00's "
+           "non-manifold edge, ...)");
+       app.add_flag("--no-figure", args.no_figure, "do not draw topkids.png");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,122 @@
+// cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
+// (binary format in core/distance_matrix.h), or with --source i --csv one row as CSV.
+#include <climits>
+#include <cstdio>
+#include <iostream>
+
+#include "core/error.h"
+#include "core/timing.h"
+#include "cli/command.h"
+#include "pipeline/mesh_geodesics.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct GeodesicsArgs {
+  std::string input, output, method = "heat", heat_mode = "idt";
+  int source = -1;
+  bool csv = false;
+  bool largest_component = false;
+  bool strict = false;
+  bool json = false;
+  CLI::Option* heat_mode_option = nullptr;
+} args;
+
+int run() {
+  GeodesicOptions options;
+  options.method = parse_geodesic_method(args.method);
+  options.heat_mode = parse_cgal_heat_mode(args.heat_mode);
+  // The command line is checked before any work.
+  const bool heat = options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal;
+  if (args.heat_mode_option->count() > 0 && !heat)
+    usage_fail("--heat-mode applies to --method heat or heat-cgal only");
+  if ((args.source >= 0) != args.csv)
+    usage_fail("--source i and --csv go together: one row of distances as CSV");
+  if (args.source < 0 && (args.output.empty() || args.output == "-"))
+    usage_fail("-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
+  if (!args.output.empty() && args.output != "-")
+    require_output_path(args.output, {args.csv ? "csv" : "bin"});
+  options.progress = progress_printer();
+  Mesh input = read_mesh(args.input);
+  // Repaired for geodesics unless --strict; the output is given at the input's vertices
+  // (pipeline/mesh_geodesics.h).
+  MeshGeodesicsOptions mo;
+  mo.geodesics = options;
+  mo.strict = args.strict;
+  mo.name = args.input;
+  const MeshGeodesics prepared = prepare_mesh_geodesics(input, mo);
+  const RepairedMesh& sub = prepared.repaired;
+  if (sub.changed())
+    note(sub.text + "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
+                    "nearest copy where one was split)");
+  const WallClock::time_point start = WallClock::now();
+  nlohmann::json summary = {{"input", args.input},
+                            {"vertices", input.num_vertices()},
+                            {"repaired_vertices", sub.mesh.num_vertices()},
+                            {"method", to_string(options.method)},
+                            {"output", args.output.empty() ? "-" : args.output}};
+  if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
+    summary["heat_mode"] = to_string(options.heat_mode);
+  if (!prepared.warning.empty()) {
+    note("warning: " + prepared.warning);
+    summary["warning"] = prepared.warning;
+  }
+
+  if (args.source >= 0) {
+    const Eigen::VectorXd d = geodesic_rows(input, prepared, {args.source}, mo).row(0).transpose();
+    std::vector<std::vector<double>> rows;
+    rows.reserve(d.size());
+    for (Index v = 0; v < d.size(); ++v) rows.push_back({static_cast<double>(v), d[v]});
+    if (args.output.empty() || args.output == "-") {
+      std::printf("vertex,distance\n");
+      for (const auto& row : rows) std::printf("%d,%.10g\n", static_cast<int>(row[0]), row[1]);
+    } else {
+      write_csv(args.output, {"vertex", "distance"}, rows);
+    }
+    summary["source"] = args.source;
+  } else {
+    const DistanceMatrix D = geodesic_all_pairs(input, prepared, mo);
+    summary["max_distance"] = D.array().isNaN().select(0.0f, D.array()).maxCoeff();  // NaN: dropped
+    write_distance_matrix(args.output, D);
+  }
+  summary["seconds"] = seconds_since(start);
+  if (args.json) std::cout << summary.dump(2) << std::endl;
+  if (!args.output.empty() && args.output != "-") note("wrote " + args.output);
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"geodesics"},
+     "Geodesic distances on a mesh: all pairs as a binary n×n float32 matrix, or one row as CSV",
+     [](CLI::App& app) {
+       app.add_option("MESH", args.input, "input triangle mesh")->required();
+       app.add_option("-o,--output", args.output,
+                      "output: D.bin (CSHDIST1 header, n, then n×n float32 row-major), or CSV with --source; "
+                      "'-' or omitted with --source: stdout");
+       app.add_option(
+              "--method", args.method,
+              "heat (ours: block solves, CHOLMOD), heat-cgal (CGAL Heat_method_3, one source at a time), "
+              "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
+              "edges)")
+           ->capture_default_str()
+           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       args.heat_mode_option =
+           app.add_option("--heat-mode", args.heat_mode,
+                          "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
+               ->capture_default_str()
+               ->check(one_of({"idt", "direct"}));
+       app.add_option("--source", args.source,
+                      "one source vertex (0-based, input numbering): one row, with --csv")
+           ->check(integer_in(0, INT_MAX));
+       app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
+       app.add_flag("--largest-component", args.largest_component,
+                    "keep the largest connected component (the default repair; kept for old scripts)");
+       app.add_flag("--strict", args.strict,
+                    "refuse a mesh that needs repair (non-manifold, several components, ...) instead of "
+                    "repairing it");
+       app.add_flag("--json", args.json, "print a JSON summary on stdout");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

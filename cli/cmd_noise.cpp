@@ -1,0 +1,119 @@
+// cshapes noise MESH -o OUT --glue K: topological noise by gluing almost-touching spots (see
+// core/topological_noise.h); writes the glued vertex pairs as JSON for red marking in renderings.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/topological_noise.h"
+#include "cli/command.h"
+#include "pipeline/mesh_report.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct NoiseArgs {
+  std::string input, output, pairs_json, geodesic_method = "graph";
+  int glue = 1;
+  int relax = 0;
+  std::uint64_t seed = 0;
+  double max_gap = 0, gap_edges = 6, min_ratio = 5, min_fraction = 0.1, separation = 0.15;
+  bool json = false;
+} args;
+
+int run() {
+  require_mesh_output_path(args.output);
+  if (!args.pairs_json.empty()) require_output_path(args.pairs_json, {"json"});
+  Mesh mesh = read_mesh(args.input);
+  TopologicalNoiseOptions o;
+  o.glue_count = args.glue;
+  o.seed = args.seed;
+  o.max_gap = args.max_gap;
+  o.gap_edge_lengths = args.gap_edges;
+  o.min_ratio = args.min_ratio;
+  o.min_geodesic_fraction = args.min_fraction;
+  o.min_separation_fraction = args.separation;
+  o.geodesic.method = parse_geodesic_method(args.geodesic_method);
+  o.relax_steps = args.relax;
+  TopologicalNoiseResult r = glue_topological_noise(mesh, o);
+  if (r.relax_steps_used > 0)
+    note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + std::to_string(r.max_gap) +
+         ", min ratio " + std::to_string(r.min_ratio));
+  write_mesh(args.output, r.mesh);
+  nlohmann::json j = topological_noise_json(r);
+  j["input"] = args.input;
+  j["output"] = args.output;
+  j["min_ratio"] = r.min_ratio;
+  if (!args.pairs_json.empty())
+    write_file_atomically(args.pairs_json, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  MeshInfo before = mesh_info(mesh), after = mesh_info(r.mesh);
+  if (args.json) {
+    j["euler_characteristic_in"] = before.euler_characteristic;
+    j["euler_characteristic"] = after.euler_characteristic;
+    j["components"] = after.components;
+    j["genus"] = after.genus;
+    j["candidates"] = r.candidates;
+    j["geodesic_checks"] = r.geodesic_checks;
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  std::printf("%s -> %s: %zu glue(s), euler characteristic %ld -> %ld, genus %ld -> %ld, %d component(s)\n",
+              args.input.c_str(), args.output.c_str(), r.pairs.size(), before.euler_characteristic,
+              after.euler_characteristic, before.genus, after.genus, after.components);
+  std::printf(
+      "  max gap %.4g, min ratio %.3g (mean edge %.4g), geodesic diameter %.4g, %ld candidate pairs, %d "
+      "geodesic checks\n",
+      r.max_gap, o.min_ratio, r.mean_edge_length, r.geodesic_diameter, static_cast<long>(r.candidates),
+      r.geodesic_checks);
+  for (const GluedPair& p : r.pairs)
+    std::printf("  glued %d - %d: euclidean %.4g, geodesic %.4g (ratio %.1f, %.0f%% of the diameter)\n", p.a,
+                p.b, p.euclidean, p.geodesic, p.geodesic / p.euclidean,
+                100 * p.geodesic / r.geodesic_diameter);
+  return 0;
+}
+
+const bool registered = register_command(
+    {{"noise"},
+     "Topological noise: glue K almost-touching spots (small Euclidean, large geodesic distance) by short "
+     "tubes",
+     [](CLI::App& app) {
+       app.add_option("MESH", args.input, "input mesh (one component, manifold)")->required();
+       app.add_option("-o,--output", args.output, "output mesh (same vertices, K handles more)")->required();
+       app.add_option("--glue", args.glue, "number of glues K (each adds a handle: chi drops by 2)")
+           ->capture_default_str()
+           ->check(within(noise_limits::kGlue));
+       app.add_option("--seed", args.seed, "random seed (picks among admissible pairs)")
+           ->capture_default_str();
+       app.add_option("--max-gap", args.max_gap,
+                      "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)")
+           ->check(within(noise_limits::kMaxGap));
+       app.add_option("--gap-edges", args.gap_edges, "default gap in mean edge lengths")
+           ->capture_default_str()
+           ->check(within(noise_limits::kGapEdges));
+       app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")
+           ->capture_default_str()
+           ->check(within(noise_limits::kMinRatio));
+       app.add_option("--min-fraction", args.min_fraction, "geodesic must be >= this x geodesic diameter")
+           ->capture_default_str()
+           ->check(within(noise_limits::kMinFraction));
+       app.add_option("--separation", args.separation,
+                      "glued spots this x diameter apart (halved when needed)")
+           ->capture_default_str()
+           ->check(within(noise_limits::kSeparation));
+       app.add_option(
+              "--relax", args.relax,
+              "when too few pairs qualify, up to this many times widen the gap 1.5x and lower the ratio 0.8x")
+           ->capture_default_str()
+           ->check(within(noise_limits::kRelax));
+       app.add_option("--geodesics", args.geodesic_method, "geodesic method")
+           ->capture_default_str()
+           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       app.add_option("--pairs-json", args.pairs_json, "write the glued vertex pairs and tube rims as JSON");
+       app.add_flag("--json", args.json, "print the summary as JSON");
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,524 @@
+// cshapes: the command-line entry point. All logic lives in the libraries; commands are registered by
+// experiments/cmd_*.cpp (see command.h).
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/threads.h"
+#include "core/timing.h"
+#include "eval/cache.h"
+#include "cli/command.h"
+#include "pipeline/distributed.h"
+
+namespace cshapes::cli {
+
+namespace {
+struct Registry {
+  std::vector<Command> commands;
+  std::vector<CanonMethod> canon;
+  // Every method option group added (one per method and command that takes them), with its method's index.
+  std::vector<std::pair<size_t, CLI::Option_group*>> canon_groups;
+};
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+bool g_quiet = false;
+int g_threads = 0;
+std::string g_command = "";  // "canon", "bench coulomb": the command in messages
+}  // namespace
+
+bool register_command(Command command) {
+  registry().commands.push_back(std::move(command));
+  return true;
+}
+bool register_canon_method(CanonMethod method) {
+  registry().canon.push_back(std::move(method));
+  return true;
+}
+const std::vector<CanonMethod>& canon_methods() {
+  return registry().canon;
+}
+
+void add_canon_method_options(CLI::App& app) {
+  for (size_t k = 0; k < canon_methods().size(); ++k) {
+    const CanonMethod& m = canon_methods()[k];
+    CLI::Option_group* group = app.add_option_group(m.name + " options");
+    if (m.add_options) m.add_options(*group);
+    registry().canon_groups.emplace_back(k, group);
+  }
+}
+
+bool canon_option_given(const std::string& name) {
+  for (const auto& [method, group] : registry().canon_groups) {
+    const CLI::Option* option = group->get_option_no_throw(name);
+    if (option && option->count() > 0) return true;
+  }
+  return false;
+}
+
+void check_canon_method_options(const std::vector<std::string>& methods) {
+  std::string given;
+  for (const std::string& m : methods) given += (given.empty() ? "" : ",") + m;
+  for (const auto& [index, group] : registry().canon_groups) {
+    const CanonMethod& m = canon_methods()[index];
+    std::vector<std::string> readers{m.name};
+    readers.insert(readers.end(), m.options_also_for.begin(), m.options_also_for.end());
+    bool used = false;
+    for (const std::string& r : readers) used = used || std::count(methods.begin(), methods.end(), r) > 0;
+    if (used) continue;
+    std::string scope;
+    for (size_t k = 0; k < readers.size(); ++k)
+      scope += (k == 0 ? "" : k + 1 == readers.size() ? " or " : ", ") + readers[k];
+    for (const CLI::Option* option : group->get_options()) {
+      if (option->count() == 0) continue;
+      if (methods.size() == 1) usage_fail(option->get_name(), " applies to --method ", scope, " only");
+      usage_fail(option->get_name(), " applies to method ", scope, " only, and no method run here (", given,
+                 ") is one");
+    }
+  }
+}
+
+void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {
+  for (const CanonMethod& m : canon_methods())
+    if (m.configure) m.configure(options, single_mesh);
+}
+
+bool quiet() {
+  return g_quiet;
+}
+int threads() {
+  return g_threads;
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');)
+    if (!part.empty()) parts.push_back(part);
+  return parts;
+}
+
+std::vector<std::string> list_option(const std::string& option, const std::string& text) {
+  if (text.empty()) {
+    if (option_given(option))
+      usage_fail(option, ": empty list; give at least one item, or leave the option out for its default");
+    return {};
+  }
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item.empty()) usage_fail(option, ": empty item in '", text, "'");
+    parts.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return parts;
+}
+
+namespace {
+CLI::App* g_selected = nullptr;  // the command that runs, after a successful parse
+}  // namespace
+
+bool option_given(const std::string& option) {
+  if (!g_selected) return false;
+  const CLI::Option* found = g_selected->get_option_no_throw(option);
+  if (!found)
+    for (CLI::App* group : g_selected->get_subcommands([](CLI::App* a) { return a->get_name().empty(); }))
+      if ((found = group->get_option_no_throw(option))) break;
+  return found && found->count() > 0;
+}
+
+namespace {
+// Whether a progress line ("\r[coulomb]  42.0%") is on the screen unfinished: a message first ends it, so
+// that it starts a line of its own.
+std::atomic<bool> g_progress_open{false};
+void end_progress_line() {
+  if (g_progress_open.exchange(false)) std::cerr << '\n';
+}
+}  // namespace
+
+void note(const std::string& line) {
+  if (g_quiet) return;
+  end_progress_line();
+  std::cerr << line << std::endl;
+}
+
+void warn(const std::string& line) {
+  end_progress_line();
+  std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": warning: " << line << std::endl;
+}
+
+const char* const kPartialResultHelp =
+    "Exit codes: 0 success; 1 a failure of the data or the computation that ended the run; 2 the command "
+    "line; 3 a partial result: the run finished, but a shape whose file could not be used or whose "
+    "canonical form failed (by any method) was left out, named on stderr, in the report and the JSON "
+    "(a heat geodesics failure falls back to fast marching and keeps the shape). --strict stops at the "
+    "first failing shape instead (exit code 1).";
+
+int exit_code_for(const std::vector<ShapeFailure>& failures) {
+  for (const ShapeFailure& f : failures) warn(describe(f));
+  const int left_out = count_left_out(failures);
+  if (left_out == 0) return kExitOk;
+  warn(std::to_string(left_out) + (left_out == 1 ? " shape was" : " shapes were") +
+       " left out: a partial result (exit code " + std::to_string(kExitPartial) + ")");
+  return kExitPartial;
+}
+
+namespace {
+
+// Parses a whole string as a number: "12", "-3", "1e-3"; false for "", "abc", "12abc".
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size() && !std::isnan(value);
+}
+bool parse_integer(const std::string& text, long long& value) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtoll(text.c_str(), &end, 10);
+  return end == text.c_str() + text.size() && errno == 0;
+}
+std::string in_quotes(const std::string& text) {
+  return "'" + text + "'";
+}
+std::string integer_range(long long minimum, long long maximum) {
+  if (minimum == LLONG_MIN && maximum == LLONG_MAX) return "an integer";
+  if (maximum == LLONG_MAX) return "an integer >= " + std::to_string(minimum);
+  return "an integer in " + std::to_string(minimum) + ".." + std::to_string(maximum);
+}
+std::string format_number(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+}  // namespace
+
+CLI::Validator integer_in(long long minimum, long long maximum) {
+  const std::string expected = integer_range(minimum, maximum);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long long value = 0;
+        if (!parse_integer(text, value) || value < minimum || value > maximum)
+          return "expected " + expected + ", got " + in_quotes(text);
+        return {};
+      },
+      maximum == LLONG_MAX ? ">= " + std::to_string(minimum)
+                           : std::to_string(minimum) + ".." + std::to_string(maximum));
+}
+CLI::Validator integer_at_least(long long minimum) {
+  return integer_in(minimum, LLONG_MAX);
+}
+
+int integer_or_word(const std::string& option, const std::string& text, long long minimum, long long maximum,
+                    const std::string& word, int word_value) {
+  if (text == word) return word_value;
+  long long value = 0;
+  if (!parse_integer(text, value) || value < minimum || value > maximum)
+    usage_fail(option, ": expected ", integer_range(minimum, maximum), " or '", word, "', got ",
+               in_quotes(text));
+  return static_cast<int>(value);
+}
+
+namespace {
+CLI::Validator number_check(double minimum, double maximum, bool open_below, const std::string& range) {
+  const std::string expected = range.empty() ? "a number" : "a number " + range;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        if (!parse_number(text, value) || !std::isfinite(value) || value < minimum || value > maximum ||
+            (open_below && value == minimum))
+          return "expected " + expected + ", got " + in_quotes(text);
+        return {};
+      },
+      range);
+}
+}  // namespace
+
+CLI::Validator number_at_least(double minimum) {
+  return number_check(minimum, HUGE_VAL, false, ">= " + format_number(minimum));
+}
+CLI::Validator number_above(double minimum) {
+  return number_check(minimum, HUGE_VAL, true, "> " + format_number(minimum));
+}
+CLI::Validator number_in(double minimum, double maximum) {
+  if (std::isinf(minimum) && std::isinf(maximum)) return number_check(minimum, maximum, false, "");
+  return number_check(minimum, maximum, false,
+                      "in [" + format_number(minimum) + ", " + format_number(maximum) + "]");
+}
+CLI::Validator within(const Limit& limit) {
+  return CLI::Validator(
+      [limit](std::string& text) -> std::string {
+        bool ok = false;
+        if (limit.kind == Limit::Integer) {
+          long long value = 0;
+          ok = parse_integer(text, value) && limit.holds(static_cast<double>(value));
+        } else {
+          double value = 0;
+          ok = parse_number(text, value) && std::isfinite(value) && limit.holds(value);
+        }
+        return ok ? std::string() : "expected " + limit.describe() + ", got " + in_quotes(text);
+      },
+      limit.brief());
+}
+CLI::Validator one_of(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return {};
+        return "expected one of " + list + ", got " + in_quotes(text);
+      },
+      "{" + list + "}");
+}
+
+void require_output_path(const std::string& path, const std::vector<std::string>& extensions) {
+  try {
+    check_output_path(path, extensions);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+void require_mesh_output_path(const std::string& path) {
+  require_output_path(path, {"off", "ply", "obj", "xyz"});  // what write_mesh writes (core/io.h)
+}
+void require_output_directory(const std::string& path) {
+  try {
+    check_output_directory(path);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+ProgressFn progress_printer() {
+  if (g_quiet) return {};
+  struct State {
+    WallClock::time_point start = WallClock::now(), last{};
+    std::string stage;
+  };
+  auto state = std::make_shared<State>();
+  return [state](const std::string& stage, double done, double total) {
+    auto now = WallClock::now();
+    if (stage != state->stage) {
+      state->stage = stage;
+      state->start = now;
+    }
+    bool finished = done >= total;
+    if (!finished && now - state->last < std::chrono::milliseconds(250)) return;
+    state->last = now;
+    double elapsed = std::chrono::duration<double>(now - state->start).count();
+    double fraction = total > 0 ? done / total : 1.0;
+    std::fprintf(stderr, "\r[%s] %5.1f%%", stage.c_str(), 100.0 * fraction);
+    if (fraction > 0.01 && !finished)
+      std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
+    if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
+    std::fflush(stderr);
+    g_progress_open = !finished;
+  };
+}
+
+namespace {
+
+void set_threads(int requested) {
+  const bool given = requested > 0;
+  // R ranks of an MPI run on one node share its cores: by default each takes its part.
+  if (!given && !std::getenv("OMP_NUM_THREADS"))
+    requested = std::max(1, omp_get_max_threads() / cshapes::ranks_on_this_node());
+  omp_set_num_threads(threads_for_computation(requested, 3, [given](const std::string& line) {
+    warn((given ? "--threads " : "OMP_NUM_THREADS=") + line);
+  }));
+}
+
+// The command named on the command line ("canon", "bench coulomb"), found without the parser (which may
+// have failed): the longest chain of command names among the arguments.
+std::string command_in_arguments(CLI::App& app, int argc, char** argv) {
+  CLI::App* level = &app;
+  std::string path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    CLI::App* sub = nullptr;
+    for (CLI::App* candidate : level->get_subcommands([](CLI::App*) { return true; }))
+      if (candidate->get_name() == word) sub = candidate;
+    if (!sub) {
+      if (level != &app) break;
+      continue;
+    }
+    path += (path.empty() ? "" : " ") + word;
+    level = sub;
+  }
+  return path;
+}
+
+// CLI11's message, on one line, with its conversion failures in the wording of our validators.
+std::string parse_error_message(const CLI::ParseError& error) {
+  std::string message = error.what();
+  for (char& c : message)
+    if (c == '\n') c = ' ';
+  const std::string value_prefix = "The value ", value_middle = " is not an allowed value for ";
+  const size_t middle = message.find(value_middle);
+  if (message.rfind(value_prefix, 0) == 0 && middle != std::string::npos)
+    return message.substr(middle + value_middle.size()) + ": " +
+           in_quotes(message.substr(value_prefix.size(), middle - value_prefix.size())) +
+           " is not a valid value (not a number, or out of range)";
+  const std::string convert_prefix = "Could not convert: ";
+  const size_t equals = message.find(" = ");
+  if (message.rfind(convert_prefix, 0) == 0 && equals != std::string::npos)
+    return message.substr(convert_prefix.size(), equals - convert_prefix.size()) + ": " +
+           in_quotes(message.substr(equals + 3)) + " is not a valid value";
+  return message;
+}
+
+// Every numeric option refuses what is not a number in one wording ("--iterations: expected an integer, got
+// 'abc'"), also those without a range check of their own (which run first and say the same).
+void check_numeric_options(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    std::string type = option->get_type_name();
+    type = type.substr(0, type.find(':'));
+    if (type == "INT")
+      option->check(integer_in(LLONG_MIN, LLONG_MAX).description(""));
+    else if (type == "UINT")
+      option->check(integer_at_least(0).description(""));
+    else if (type == "FLOAT")
+      option->check(number_in(-HUGE_VAL, HUGE_VAL).description(""));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_numeric_options(*sub);
+}
+
+// OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
+// they take the core from the thread that has work (README, "Threads"); a wait that only sleeps costs each
+// of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
+// (GOMP_SPINCOUNT=1000; scripts/busy_canon.py, README "Benchmarks"). libgomp reads its variables once, when
+// it loads, before main: so unless the user chose (OMP_WAIT_POLICY or GOMP_SPINCOUNT), the process runs
+// itself again with GOMP_SPINCOUNT set (once: the new process sees the variable). If exec fails, it goes on.
+void bound_the_spin(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
+  if (::setenv("GOMP_SPINCOUNT", kGompSpinCount, 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  ::unsetenv("GOMP_SPINCOUNT");
+}
+
+int report(const std::string& what, int code) {
+  end_progress_line();
+  std::cerr << "cshapes" << (g_command.empty() ? "" : " ") << g_command << ": error: " << what << '\n';
+  return code;
+}
+
+}  // namespace
+
+}  // namespace cshapes::cli
+
+int main(int argc, char** argv) {
+  using namespace cshapes::cli;
+  bound_the_spin(argv);
+  CLI::App app{
+      "cshapes " CSHAPES_VERSION
+      ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF), ICP matching "
+      "and shape-retrieval evaluation"};
+  app.require_subcommand(1);
+  app.fallthrough();
+  app.set_version_flag("--version", CSHAPES_VERSION);
+  app.add_option("--threads", g_threads,
+                 "OpenMP threads, at most 4 per core (default: all cores, shared among the MPI ranks of a "
+                 "node); fewer when other processes keep "
+                 "cores busy at the start (set CSHAPES_EXACT_THREADS=1 to keep N)")
+      ->check(integer_at_least(0));
+  app.add_flag("-q,--quiet", g_quiet, "no progress or notes on stderr");
+
+  // Build the command tree from the registered paths.
+  std::map<CLI::App*, const Command*> leaf;
+  for (const Command& cmd : registry().commands) {
+    CLI::App* parent = &app;
+    for (size_t k = 0; k < cmd.path.size(); ++k) {
+      CLI::App* sub = nullptr;
+      for (CLI::App* existing : parent->get_subcommands([](CLI::App*) { return true; }))
+        if (existing->get_name() == cmd.path[k]) sub = existing;
+      if (!sub) {
+        sub = parent->add_subcommand(cmd.path[k], k + 1 == cmd.path.size() ? cmd.summary : "");
+        sub->fallthrough();
+      }
+      if (k + 1 < cmd.path.size()) sub->require_subcommand(1);
+      parent = sub;
+    }
+    parent->description(cmd.summary);
+    if (cmd.add_options) cmd.add_options(*parent);
+    leaf[parent] = &cmd;
+  }
+  check_numeric_options(app);
+
+  g_command = command_in_arguments(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    if (g_command.empty())
+      for (int i = 1; i < argc; ++i)
+        if (argv[i][0] != '-' && !(i > 1 && std::string(argv[i - 1]) == "--threads"))
+          return report("unknown command '" + std::string(argv[i]) + "' (see cshapes --help)", kExitUsage);
+    // One line, like every other error (CLI11 would add a second "Run with --help" line), and one exit code.
+    return report(
+        parse_error_message(e) + " (see cshapes " + (g_command.empty() ? "" : g_command + " ") + "--help)",
+        kExitUsage);
+  }
+
+  CLI::App* selected = &app;
+  g_command.clear();
+  while (!selected->get_subcommands().empty()) {
+    selected = selected->get_subcommands().front();
+    g_command += (g_command.empty() ? "" : " ") + selected->get_name();
+  }
+  g_selected = selected;
+  auto it = leaf.find(selected);
+  if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
+  set_threads(g_threads);
+  cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
+  int code = 0;
+  try {
+    return it->second->run();
+  } catch (const UsageError& e) {
+    code = report(e.what(), kExitUsage);
+  } catch (const cshapes::Error& e) {
+    code = report(e.what(), kExitDataError);
+  } catch (const std::bad_alloc&) {
+    code = report("out of memory", kExitDataError);
+  } catch (const std::exception& e) {
+    code = report(e.what(), kExitDataError);
+  }
+  // Under mpirun the other ranks may be waiting for this one in a collective call: end them all.
+  cshapes::abort_all_ranks(code);
+  return code;
+}

@@ -1,0 +1,97 @@
+#include "experiments/figures.h"
+
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The file of the binary (executable or shared object) this function was linked into.
+fs::path this_binary() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&this_binary), &info) && info.dli_fname) {
+    std::error_code ec;
+    fs::path p = fs::canonical(info.dli_fname, ec);
+    if (!ec) return p;
+  }
+  std::error_code ec;
+  fs::path self = fs::canonical("/proc/self/exe", ec);
+  return ec ? fs::path() : self;
+}
+
+}  // namespace
+
+std::string plot_scripts_directory() {
+  if (const char* env = std::getenv("CSHAPES_PLOTS"); env && *env) return env;
+  const fs::path binary = this_binary();
+  if (binary.empty()) return "";
+  // build/cshapes, PREFIX/bin/cshapes, build/python/cshapes/_cshapes.so, site-packages/cshapes/_cshapes.so
+  const fs::path dir = binary.parent_path();
+  for (const fs::path& candidate :
+       {dir / "share/cshapes/plots", dir.parent_path() / "share/cshapes/plots",
+        dir.parent_path().parent_path() / "share/cshapes/plots", dir / "plots"}) {
+    std::error_code ec;
+    if (fs::is_directory(candidate, ec)) return candidate.string();
+  }
+  return "";
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string find_python(const std::string& imports) {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("CSHAPES_PYTHON"); env && *env) candidates.push_back(env);
+  candidates.push_back("/usr/bin/python3");
+  candidates.push_back("python3");
+  for (const std::string& c : candidates) {
+    if (c.find('/') != std::string::npos && !fs::exists(c)) continue;
+    const std::string command = shell_quote(c) + " -c " + shell_quote("import " + imports) + " >/dev/null 2>&1";
+    if (std::system(command.c_str()) == 0) return c;
+  }
+  return "";
+}
+
+std::string find_plot_python() { return find_python("matplotlib, numpy"); }
+
+FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
+                      const std::string& expected) {
+  FigureRun run;
+  const std::string dir = plot_scripts_directory();
+  const std::string path = dir.empty() ? std::string() : (fs::path(dir) / script).string();
+  std::string by_hand = "python3 " + (path.empty() ? script : path);
+  for (const std::string& a : args) by_hand += " " + shell_quote(a);
+  if (path.empty() || !fs::exists(path)) {
+    run.problem = "the figure script " + script +
+                  " was not found (looked beside the binary in share/cshapes/plots; set $CSHAPES_PLOTS)";
+    return run;
+  }
+  const std::string python = find_plot_python();
+  if (python.empty()) {
+    run.problem =
+        "no Python with matplotlib and numpy found ($CSHAPES_PYTHON, /usr/bin/python3, python3); run `" +
+        by_hand + "` once it is installed (Debian: python3-matplotlib)";
+    return run;
+  }
+  std::error_code ec;
+  fs::remove(expected, ec);
+  std::string command = shell_quote(python) + " " + shell_quote(path);
+  for (const std::string& a : args) command += " " + shell_quote(a);
+  command += " >/dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  run.drawn = status == 0 && fs::exists(expected);
+  if (!run.drawn)
+    run.problem = "`" + python + " " + path + "` failed (exit status " + std::to_string(status) +
+                  "); run it by hand to see why";
+  return run;
+}
+
+}  // namespace cshapes

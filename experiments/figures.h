@@ -1,0 +1,40 @@
+// Drawing the experiments' figures: the one place where cshapes starts Python.
+//
+// The figure scripts (experiments/plots/*.py) are installed beside the binaries: build/share/cshapes/plots in
+// the build tree, PREFIX/share/cshapes/plots once installed. They are found from the binary that holds this
+// code (the cshapes executable, or the Python module's shared object), so no source path is compiled in;
+// $CSHAPES_PLOTS names another folder. The interpreter is the first of $CSHAPES_PYTHON, /usr/bin/python3 and
+// python3 that imports matplotlib and numpy (Debian's python3-matplotlib installs for /usr/bin/python3,
+// while the python3 first on PATH may be another interpreter).
+//
+// Drawing is never part of a computation: drivers return data and write their CSV/JSON, and a figure is
+// drawn from those files afterwards. A figure that cannot be drawn is not an error: FigureRun says why.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cshapes {
+
+// The folder of the figure scripts; "" when none is found.
+std::string plot_scripts_directory();
+// The first of $CSHAPES_PYTHON, /usr/bin/python3 and python3 that imports every module of `imports`
+// ("matplotlib, numpy"); "" when none does. The one place cshapes looks for an interpreter (figures, and the
+// benchmarks' scikit-learn and Open3D anchors).
+std::string find_python(const std::string& imports);
+// The interpreter for the figures: find_python("matplotlib, numpy").
+std::string find_plot_python();
+// s in single quotes for /bin/sh (a quote inside becomes '\'').
+std::string shell_quote(const std::string& s);
+
+struct FigureRun {
+  bool drawn = false;
+  std::string problem;  // why not, when not drawn; names the script and how to run it by hand
+};
+// Runs `PYTHON SCRIPT ARGS...` (script: a file name in plot_scripts_directory(), e.g. "noise_figure.py"),
+// quietly; drawn when it exits 0 and `expected` (a file it writes) exists afterwards. `expected` is removed
+// first, so an old figure is never taken for a new one.
+FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
+                      const std::string& expected);
+
+}  // namespace cshapes

@@ -1,0 +1,623 @@
+#include "experiments/noise_experiment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/dataset.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/rigid_transform.h"
+#include "core/timing.h"
+#include "core/topological_noise.h"
+#include "experiments/figures.h"
+#include "eval/cache.h"
+#include "eval/pairwise_distances.h"
+#include "matching/shape_distance.h"
+#include "experiments/paper_report.h"
+#include "pipeline/shape_failures.h"
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const char* const kDistanceKinds[] = {"hausdorff", "chamfer", "rmse"};
+
+// value by format, or "—" when it is NaN (nothing measured).
+std::string fmt(const char* format, double value) {
+  if (std::isnan(value)) return "—";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, format, value);
+  return buffer;
+}
+
+void say(const NoiseExperimentOptions& o, const std::string& line) {
+  if (o.note) o.note(line);
+}
+
+// A clean pose and its versions.
+struct Pose {
+  std::string name, class_name, path;
+  Mesh mesh;
+  long chi = 0;
+};
+
+// One shape to canonize: a clean pose (level 0) or one of its glued versions.
+struct Variant {
+  int pose = 0;
+  int level = 0;
+  std::string name;  // the pose's name, or NAME_glueK
+  Mesh mesh;
+  std::vector<int> glued;  // vertices of glued pairs
+};
+
+// The glued version of a pose at one level, through the cache (failures are cached too, so a rerun glues
+// nothing). Fills `glue` (seed, χ check, error); returns the mesh when it can be used.
+std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperimentOptions& o,
+                              const DiskCache& cache, NoiseGlue& glue, std::vector<int>& glued,
+                              NoiseExperimentResult& result) {
+  TopologicalNoiseOptions no;
+  no.glue_count = level;
+  no.seed = glue.seed;
+  no.relax_steps = o.relax_steps;
+  const std::string key =
+      cache_key({"noise-experiment-glue-v1", mesh_content_key(pose.mesh), std::to_string(level),
+                 std::to_string(no.seed), std::to_string(no.relax_steps), to_string(no.geodesic.method)});
+  json value;
+  if (std::optional<json> hit = cache.get_json(key)) {
+    value = *hit;
+    ++result.glued_cached;
+  } else {
+    try {
+      TopologicalNoiseResult r = glue_topological_noise(pose.mesh, no);
+      std::vector<int> vertices;
+      for (const GluedPair& p : r.pairs) {
+        vertices.push_back(p.a);
+        vertices.push_back(p.b);
+      }
+      value =
+          json{{"F", faces_to_json(r.mesh.F)}, {"glued", vertices}, {"relax_steps_used", r.relax_steps_used}};
+    } catch (const WriteError&) {
+      throw;  // the run's own files: never one shape's failure
+    } catch (const Error& e) {
+      value = json{{"error", e.what()}};
+    }
+    cache.put_json(key, value);
+    ++result.glued_computed;
+  }
+  glue.chi_before = pose.chi;
+  glue.chi_expected = pose.chi - 2L * level;
+  if (value.contains("error")) {
+    glue.ok = false;
+    glue.error = "glue failed: " + value.at("error").get<std::string>();
+    ++result.glue_failures;
+    return std::nullopt;
+  }
+  Mesh m;
+  m.V = pose.mesh.V;
+  m.F = faces_from_json(value.at("F"));
+  glued = value.at("glued").get<std::vector<int>>();
+  glue.relax_steps_used = value.value("relax_steps_used", 0);
+  glue.chi_after = mesh_info(m).euler_characteristic;
+  if (glue.chi_after != glue.chi_expected) {
+    glue.ok = false;
+    glue.error =
+        detail::concat("Euler characteristic ", glue.chi_after, " after ", level, " glues, expected ",
+                       glue.chi_expected, " (", glue.chi_before, " − 2·", level, ")");
+    ++result.chi_mismatches;
+    return std::nullopt;
+  }
+  return m;
+}
+
+// Clean poses per class, in the data's order; a file that cannot be read is skipped with its reason.
+std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std::string>& skipped,
+                               std::vector<ShapeFailure>& failures) {
+  const Dataset data = read_dataset(o.data);
+  std::vector<Pose> poses;
+  for (const std::string& cls : data.classes) {
+    int taken = 0;
+    for (const DatasetEntry& e : data.entries) {
+      if (e.class_name != cls || e.noisy) continue;
+      if (o.poses_per_class > 0 && taken >= o.poses_per_class) break;
+      Pose p;
+      p.name = e.name;
+      p.class_name = cls;
+      p.path = e.path;
+      try {
+        p.mesh = read_mesh(e.path);
+        CSHAPES_REQUIRE(p.mesh.num_faces() > 0, e.path, ": a point cloud (gluing needs faces)");
+      } catch (const WriteError&) {
+        throw;  // the run's own files: never one shape's failure
+      } catch (const Error& error) {
+        if (o.canon.strict) throw;
+        say(o, std::string("skipped: ") + error.what());
+        skipped.push_back(error.what());
+        failures.push_back(read_failure(e.name, e.path, error));
+        continue;
+      }
+      p.chi = mesh_info(p.mesh).euler_characteristic;
+      poses.push_back(std::move(p));
+      ++taken;
+    }
+  }
+  CSHAPES_REQUIRE(!poses.empty(), o.data, ": no clean pose could be read");
+  return poses;
+}
+
+std::string percent(double fraction) {
+  return fmt("%.2f%%", 100 * fraction);
+}
+
+void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& r,
+                  const std::vector<Pose>& poses, const std::vector<std::string>& skipped,
+                  const std::map<std::string, double>& pose_variation) {
+  std::ostringstream md;
+  md << "# Topological noise: retrieval and canonical forms against the number of glues\n\n";
+  md << "Generated by `cshapes experiment noise` from `" << o.data << "` in " << fmt("%.0f", r.seconds)
+     << " s (" << r.canonical_forms_computed << " canonical forms computed, " << r.canonical_forms_cached
+     << " from the cache; " << r.pairs_computed << " ICP pairs computed, " << r.pairs_cached << " cached; "
+     << r.glued_computed << " glued meshes computed, " << r.glued_cached << " cached).\n\n";
+
+  md << "## How it was made\n\n";
+  md << "- Poses: " << r.poses << " clean poses in " << r.classes << " classes (";
+  for (size_t k = 0; k < poses.size(); ++k) md << (k ? ", " : "") << poses[k].name;
+  md << ")" << (o.poses_per_class > 0 ? ", at most " + std::to_string(o.poses_per_class) + " per class" : "")
+     << "; shapes the data marks noisy are not used.\n";
+  md << "- Noise: every pose glued at ";
+  for (size_t k = 0; k < o.levels.size(); ++k) md << (k ? ", " : "") << o.levels[k];
+  md << " spots (core/topological_noise.h, the glue of `experiment paper`: a short tube between two spots "
+        "close in space and far along the surface; up to "
+     << o.relax_steps
+     << " relaxations of the gap and ratio where a pose offers too few spots). Seed of pose P at level K: "
+        "SHA-256 of (`--seed` "
+     << o.seed
+     << ", P, K), so every pose and level is its own draw (noise.json lists them). Level 0 is the "
+        "clean pose. Glued meshes: `shapes/*_glueK.off`.\n";
+  md << "- χ check: each glue adds a handle, so χ must drop by 2 per glue. " << r.glues.size()
+     << " glued meshes, " << r.chi_mismatches << " with a χ mismatch, " << r.glue_failures
+     << " where the pose offered too few admissible spots; those are left out of every measurement";
+  if (r.chi_mismatches + r.glue_failures > 0) {
+    md << ":\n\n| pose | glues | χ before | χ after | expected | why left out |\n| --- | --- | --- | --- | "
+          "--- | "
+          "--- |\n";
+    for (const NoiseGlue& g : r.glues)
+      if (!g.ok)
+        md << "| " << g.shape << " | " << g.level << " | " << g.chi_before << " | "
+           << (g.error.rfind("glue failed", 0) == 0 ? std::string("—") : std::to_string(g.chi_after)) << " | "
+           << g.chi_expected << " | " << g.error << " |\n";
+    md << "\n";
+  } else {
+    md << " (none here).\n";
+  }
+  md << "- Methods: ";
+  for (size_t k = 0; k < o.methods.size(); ++k) md << (k ? ", " : "") << method_title(o.methods[k]);
+  md << "; MDS geodesics by `" << to_string(o.canon.geodesics.method)
+     << "`; Coulomb with the options of `canon` (defaults unless given).\n";
+  md << "- Retrieval: each glued pose is a query; the database is every clean pose but the query's own, "
+        "relevant = same class. Distance: ICP alignment of the canonical forms (reflections allowed), then "
+        "Hausdorff (the paper's), Chamfer or RMSE between nearest points. mAP and NN over the queries whose "
+        "class has another pose. Level 0 is clean leave-one-out retrieval.\n";
+  md << "- Form distance: the glued pose's canonical form against its clean pose's form at the same "
+        "vertices, "
+        "RMS after the best rigid fit (reflections allowed), in % of the clean form's bbox diagonal.\n";
+  for (const std::string& s : skipped) md << "- Skipped: " << s << "\n";
+  md << "\n";
+  md << shape_failures_markdown(r.failures);
+
+  md << "## Results\n\n";
+  md << "| method | glues | poses | queries | mAP Hausdorff | same poses clean | mAP Chamfer | mAP RMSE | NN "
+        "Hausdorff | form RMS median | form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | "
+        "--- | --- "
+        "| --- |\n";
+  for (const std::string& m : o.methods)
+    for (int level : o.levels) {
+      std::map<std::string, const NoiseRow*> by;
+      for (const NoiseRow& row : r.rows)
+        if (row.method == m && row.level == level) by[row.distance] = &row;
+      if (!by.count("hausdorff")) continue;
+      const NoiseRow& h = *by.at("hausdorff");
+      md << "| " << method_title(m) << " | " << level << " | " << h.form_poses << " | " << h.queries << " | "
+         << fmt("%.3f", h.map) << " | " << fmt("%.3f", h.map_clean_same_poses) << " | "
+         << fmt("%.3f", by.at("chamfer")->map) << " | " << fmt("%.3f", by.at("rmse")->map) << " | "
+         << fmt("%.3f", h.nn) << " | " << percent(h.form_rms_median) << " | " << percent(h.form_rms_mean)
+         << " |\n";
+    }
+  md << "\n`poses`: the poses measured at that level (glued as often, χ as expected); `queries`: those whose "
+        "class has another pose in the database; `same poses clean`: the Hausdorff mAP of the same queries "
+        "without glue (level 0), the baseline a level with fewer poses is to be read against.";
+  if (r.glue_failures + r.chi_mismatches > 0)
+    md << " **Not every pose could be glued at every level** (table above): a level with fewer poses is "
+          "measured on those poses only, a smaller and different set, so compare its numbers with the other "
+          "levels with care.";
+  md << "\n\nFor scale, the median ICP RMSE between the canonical forms of two clean poses of one class: ";
+  {
+    bool first = true;
+    for (const std::string& m : o.methods)
+      if (pose_variation.count(m)) {
+        md << (first ? "" : ", ") << method_title(m) << " " << percent(pose_variation.at(m));
+        first = false;
+      }
+    if (first) md << "— (no class has two poses)";
+  }
+  md << ".\n\n";
+  if (r.figure)
+    md << "![mAP and form distance against the number of glues](noise.png)\n\n";
+  else
+    md << "No figure: " << r.figure_note << "\n\n";
+
+  // What the numbers say about the paper's claim (Coulomb flat, MDS falling), when both kinds of method ran.
+  const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
+  if (has_coulomb && o.methods.size() > 1 && o.levels.size() > 1) {
+    auto find = [&](const std::string& m, int level) -> const NoiseRow* {
+      for (const NoiseRow& row : r.rows)
+        if (row.method == m && row.level == level && row.distance == "hausdorff") return &row;
+      return nullptr;
+    };
+    // The highest level that at least half of the poses reached with every method: above it a level is a
+    // handful of poses (on TOSCA, 8 glues fit one pose of 24), too few to read a trend from.
+    int top = -1;
+    for (int level : o.levels) {
+      bool enough = true;
+      for (const std::string& m : o.methods) {
+        const NoiseRow* row = find(m, level);
+        enough = enough && row && row->queries > 0 && 2 * row->form_poses >= r.poses;
+      }
+      if (enough && level > 0) top = level;
+    }
+    if (top > 0) {
+      md << "## Change from the clean poses to " << top << " glues\n\n"
+         << "The highest level that at least half of the poses reached; mAP against the same queries "
+            "without glue.\n\n| method | poses | mAP (Hausdorff), clean → glued | form RMS median |\n"
+         << "| --- | --- | --- | --- |\n";
+      for (const std::string& m : o.methods) {
+        const NoiseRow* b = find(m, top);
+        md << "| " << method_title(m) << " | " << b->form_poses << " | "
+           << fmt("%.3f", b->map_clean_same_poses) << " → " << fmt("%.3f", b->map) << " ("
+           << fmt("%+.3f", b->map - b->map_clean_same_poses) << ") | "
+           << "0 → " << percent(b->form_rms_median) << " |\n";
+      }
+      md << "\nThe paper's claim predicts a flat Coulomb curve and falling mAP / growing form distance for "
+            "MDS. With few queries per level a single retrieval moves mAP by 1/queries: read small "
+            "differences "
+            "as ties.\n\n";
+    }
+  }
+  md << "Data: `noise.csv` (one row per method, level and distance), `noise.json` (also every glued mesh's "
+        "seed and χ, and every query's average precision). Figure: `experiments/plots/noise_figure.py "
+        "OUT`.\n";
+  write_file_atomically((fs::path(o.out) / "report.md").string(),
+                        [&](std::ostream& out) { out << md.str(); });
+}
+
+}  // namespace
+
+std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level) {
+  const std::string hex =
+      sha256_hex(cache_key({"noise-glue", std::to_string(seed), shape, std::to_string(level)}));
+  return std::stoull(hex.substr(0, 16), nullptr, 16);
+}
+
+double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
+                         bool* nearest_relevant) {
+  CSHAPES_REQUIRE(distances.size() == relevant.size(), "average_precision: ", distances.size(),
+                  " distances but ", relevant.size(), " relevance flags");
+  std::vector<int> order(distances.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return distances[a] < distances[b]; });
+  double sum = 0;
+  int found = 0;
+  for (size_t rank = 1; rank <= order.size(); ++rank)
+    if (relevant[order[rank - 1]]) sum += static_cast<double>(++found) / static_cast<double>(rank);
+  if (nearest_relevant) *nearest_relevant = !order.empty() && relevant[order[0]];
+  return found ? sum / found : -1.0;
+}
+
+NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
+  const auto start = WallClock::now();
+  CSHAPES_REQUIRE(!o.out.empty(), "experiment noise: --out is required");
+  CSHAPES_REQUIRE(!o.methods.empty(), "experiment noise: no method given");
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
+  }
+  std::vector<int> levels = o.levels;
+  std::sort(levels.begin(), levels.end());
+  CSHAPES_REQUIRE(!levels.empty() && levels.front() >= 0, "experiment noise: levels must be ≥ 0");
+  CSHAPES_REQUIRE(std::adjacent_find(levels.begin(), levels.end()) == levels.end(),
+                  "experiment noise: a level is given twice");
+  NoiseExperimentOptions opt = o;
+  opt.levels = levels;
+  fs::create_directories(o.out);
+  const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
+  const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
+  NoiseExperimentResult result;
+
+  // 1. Clean poses, and every glued version (χ checked).
+  say(o, "== poses from " + o.data);
+  std::vector<std::string> skipped;
+  std::vector<Pose> poses = select_poses(o, skipped, result.failures);
+  std::vector<Variant> variants;                  // clean poses first (index = pose), then glued versions
+  std::map<std::pair<int, int>, int> variant_of;  // (pose, level) -> index in variants, when usable
+  for (size_t p = 0; p < poses.size(); ++p) {
+    variants.push_back({static_cast<int>(p), 0, poses[p].name, poses[p].mesh, {}});
+    if (levels.front() == 0) variant_of[{static_cast<int>(p), 0}] = static_cast<int>(p);
+  }
+  say(o, "== gluing " + std::to_string(poses.size()) + " poses");
+  for (size_t p = 0; p < poses.size(); ++p)
+    for (int level : levels) {
+      if (level == 0) continue;
+      NoiseGlue g;
+      g.shape = poses[p].name;
+      g.class_name = poses[p].class_name;
+      g.level = level;
+      g.seed = glue_seed(o.seed, poses[p].name, level);
+      std::vector<int> glued;
+      std::optional<Mesh> m = glue_pose(poses[p], level, o, misc_cache, g, glued, result);
+      if (!g.ok) say(o, "  " + g.shape + " at " + std::to_string(level) + " glues left out: " + g.error);
+      result.glues.push_back(g);
+      if (!m) continue;
+      Variant v{static_cast<int>(p), level, poses[p].name + "_glue" + std::to_string(level), std::move(*m),
+                std::move(glued)};
+      write_mesh((fs::path(o.out) / "shapes" / (v.name + ".off")).string(), v.mesh);
+      variant_of[{static_cast<int>(p), level}] = static_cast<int>(variants.size());
+      variants.push_back(std::move(v));
+    }
+
+  // 2. Canonical forms of every variant by every method (cached); MDS methods share one geodesic matrix.
+  say(o, "== canonical forms (" + std::to_string(variants.size()) + " shapes × " +
+             std::to_string(o.methods.size()) + " methods)");
+  // A variant whose form fails by any method is left out; a clean pose's failure leaves out the pose with
+  // every glued version of it (pipeline/shape_failures.h).
+  std::map<std::string, std::vector<Points>> forms;
+  std::map<std::string, std::vector<std::string>> form_keys;
+  std::vector<char> failed(variants.size(), 0);
+  for (size_t i = 0; i < variants.size(); ++i) {
+    const Variant& v = variants[i];
+    const size_t failures_before = result.failures.size();
+    const std::string path = v.level == 0 ? poses[static_cast<size_t>(v.pose)].path
+                                          : (fs::path(o.out) / "shapes" / (v.name + ".off")).string();
+    std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
+        form_cache, v.mesh, options_per_method(o.canon, o.methods, path), v.name, result.failures);
+    for (size_t k = failures_before; k < result.failures.size(); ++k)
+      say(o, "  " + describe(result.failures[k]));
+    failed[i] = !computed;
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      if (computed)
+        (*computed)[k].cached ? ++result.canonical_forms_cached : ++result.canonical_forms_computed;
+      forms[o.methods[k]].push_back(computed ? std::move((*computed)[k].form.X) : Points());
+      form_keys[o.methods[k]].push_back(computed ? (*computed)[k].key : std::string());
+    }
+    if (o.progress)
+      o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(variants.size()));
+  }
+  if (std::find(failed.begin(), failed.end(), 1) != failed.end()) {
+    // Renumber: poses whose clean form failed go, with their variants; then variants whose form failed.
+    std::vector<int> new_pose(poses.size(), -1);
+    std::vector<Pose> kept_poses;
+    for (size_t p = 0; p < poses.size(); ++p)
+      if (!failed[p]) {
+        new_pose[p] = static_cast<int>(kept_poses.size());
+        kept_poses.push_back(std::move(poses[p]));
+      } else {
+        for (const Variant& v : variants)
+          if (v.pose == static_cast<int>(p) && v.level > 0)
+            say(o, "  " + v.name + " left out with its clean pose");
+      }
+    std::vector<Variant> kept;
+    std::map<std::string, std::vector<Points>> kept_forms;
+    std::map<std::string, std::vector<std::string>> kept_keys;
+    variant_of.clear();
+    // In order: the clean poses kept come first, so a clean variant's index is still its pose's.
+    for (size_t i = 0; i < variants.size(); ++i) {
+      Variant& v = variants[i];
+      if (failed[i] || new_pose[static_cast<size_t>(v.pose)] < 0) continue;
+      v.pose = new_pose[static_cast<size_t>(v.pose)];
+      if (v.level > 0 || levels.front() == 0) variant_of[{v.pose, v.level}] = static_cast<int>(kept.size());
+      for (const std::string& m : o.methods) {
+        kept_forms[m].push_back(std::move(forms[m][i]));
+        kept_keys[m].push_back(std::move(form_keys[m][i]));
+      }
+      kept.push_back(std::move(v));
+    }
+    poses = std::move(kept_poses);
+    variants = std::move(kept);
+    forms = std::move(kept_forms);
+    form_keys = std::move(kept_keys);
+  }
+  result.poses = static_cast<int>(poses.size());
+  {
+    std::set<std::string> classes;
+    for (const Pose& p : poses) classes.insert(p.class_name);
+    result.classes = static_cast<int>(classes.size());
+  }
+  CSHAPES_REQUIRE(!poses.empty(), o.data, ": every clean pose was left out (see above)");
+
+  // 3. ICP distances: every query (a variant) against every clean pose but its own.
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& [pose_level, q] : variant_of)
+    for (size_t c = 0; c < poses.size(); ++c)
+      if (static_cast<int>(c) != pose_level.first) pairs.emplace_back(q, static_cast<int>(c));
+  json per_query = json::object(), form_rms_json = json::object();
+  std::map<std::string, double> pose_variation;
+  for (const std::string& m : o.methods) {
+    say(o, "== ICP distances, " + method_title(m));
+    PairwiseDistanceOptions po;
+    po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
+    po.progress = o.progress;
+    po.only_pairs = pairs;
+    PairwiseDistanceResult pd =
+        pairs.empty() ? PairwiseDistanceResult{} : pairwise_distances(forms[m], form_keys[m], po);
+    result.pairs_computed += pd.computed;
+    result.pairs_cached += pd.cached;
+    const std::map<std::string, const Eigen::MatrixXd*> matrices = {
+        {"hausdorff", &pd.hausdorff}, {"chamfer", &pd.chamfer}, {"rmse", &pd.rmse}};
+
+    // Pose variation for scale: clean poses of one class (level-0 pairs, when level 0 ran).
+    std::vector<double> within;
+    if (levels.front() == 0)
+      for (size_t a = 0; a < poses.size(); ++a)
+        for (size_t b = a + 1; b < poses.size(); ++b)
+          if (poses[a].class_name == poses[b].class_name)
+            within.push_back(pd.rmse(static_cast<Index>(a), static_cast<Index>(b)) /
+                             bbox_diagonal(finite_rows(forms[m][b])));
+    if (!within.empty()) pose_variation[m] = median(within);
+
+    // Level 0's average precision per (distance kind, pose): the clean baseline of the poses a level
+    // measures.
+    std::map<std::pair<std::string, size_t>, double> clean_ap;
+    for (int level : levels) {
+      // b) noisy vs clean forms, per pose.
+      std::vector<double> rms;
+      json rms_by_pose = json::object();
+      for (size_t p = 0; p < poses.size(); ++p) {
+        auto it = variant_of.find({static_cast<int>(p), level});
+        if (it == variant_of.end()) continue;
+        const Points& clean = forms[m][p];
+        const double value = aligned_rms(forms[m][static_cast<size_t>(it->second)], clean, true) /
+                             bbox_diagonal(finite_rows(clean));
+        rms.push_back(value);
+        rms_by_pose[poses[p].name] = value;
+      }
+      form_rms_json[m][std::to_string(level)] = rms_by_pose;
+      double rms_mean = 0;
+      for (double x : rms) rms_mean += x;
+      rms_mean =
+          rms.empty() ? std::numeric_limits<double>::quiet_NaN() : rms_mean / static_cast<double>(rms.size());
+      // a) retrieval of each query among the clean poses but its own.
+      for (const char* kind : kDistanceKinds) {
+        const Eigen::MatrixXd& M = *matrices.at(kind);
+        NoiseRow row;
+        row.method = m;
+        row.level = level;
+        row.distance = kind;
+        row.form_rms_median = rms.empty() ? std::numeric_limits<double>::quiet_NaN() : median(rms);
+        row.form_rms_mean = rms_mean;
+        row.form_poses = static_cast<int>(rms.size());
+        json queries = json::array();
+        for (size_t p = 0; p < poses.size(); ++p) {
+          auto it = variant_of.find({static_cast<int>(p), level});
+          if (it == variant_of.end()) continue;
+          std::vector<double> distances;
+          std::vector<char> relevant;
+          for (size_t c = 0; c < poses.size(); ++c) {
+            if (c == p) continue;
+            distances.push_back(M(it->second, static_cast<Index>(c)));
+            relevant.push_back(poses[c].class_name == poses[p].class_name);
+          }
+          bool nn = false;
+          const double ap = average_precision(distances, relevant, &nn);
+          if (ap < 0) continue;  // the only pose of its class: nothing to retrieve
+          if (level == 0) clean_ap[{kind, p}] = ap;
+          row.map += ap;
+          row.nn += nn;
+          ++row.queries;
+          if (clean_ap.count({kind, p})) {
+            row.map_clean_same_poses = std::isnan(row.map_clean_same_poses) ? 0 : row.map_clean_same_poses;
+            row.map_clean_same_poses += clean_ap.at({kind, p});
+          }
+          queries.push_back(
+              {{"query", variants[static_cast<size_t>(it->second)].name}, {"ap", ap}, {"nn", nn}});
+        }
+        if (row.queries > 0) {
+          row.map /= row.queries;
+          row.nn /= row.queries;
+          row.map_clean_same_poses /= row.queries;  // NaN without level 0
+        } else {  // no pose could be glued this often (or no class has two poses): nothing measured
+          row.map = row.nn = std::numeric_limits<double>::quiet_NaN();
+        }
+        per_query[m][std::to_string(level)][kind] = queries;
+        result.rows.push_back(row);
+      }
+    }
+  }
+
+  // 4. Outputs: noise.csv, noise.json, the figure, report.md.
+  write_file_atomically((fs::path(o.out) / "noise.csv").string(), [&](std::ostream& out) {
+    out.precision(10);
+    out << "method,level,distance,queries,map,nn,form_rms_median,form_rms_mean,form_poses,"
+           "map_clean_same_poses\n";
+    for (const NoiseRow& r : result.rows)
+      out << r.method << ',' << r.level << ',' << r.distance << ',' << r.queries << ',' << r.map << ','
+          << r.nn << ',' << r.form_rms_median << ',' << r.form_rms_mean << ',' << r.form_poses << ','
+          << r.map_clean_same_poses << '\n';
+  });
+  {
+    json j;
+    j["data"] = o.data;
+    j["methods"] = o.methods;
+    j["levels"] = levels;
+    j["seed"] = o.seed;
+    j["relax_steps"] = o.relax_steps;
+    j["distances"] = {"hausdorff", "chamfer", "rmse"};
+    for (const std::string& m : o.methods) {
+      CanonicalFormOptions co = o.canon;
+      co.method = m;
+      j["canonical_form_options"][m] = canonical_form_key(co);
+    }
+    j["poses"] = json::array();
+    for (const Pose& p : poses)
+      j["poses"].push_back({{"name", p.name},
+                            {"class", p.class_name},
+                            {"file", p.path},
+                            {"vertices", p.mesh.num_vertices()},
+                            {"chi", p.chi}});
+    j["glues"] = json::array();
+    for (const NoiseGlue& g : result.glues)
+      j["glues"].push_back({{"shape", g.shape},
+                            {"level", g.level},
+                            {"seed", g.seed},
+                            {"chi_before", g.chi_before},
+                            {"chi_after", g.chi_after},
+                            {"chi_expected", g.chi_expected},
+                            {"ok", g.ok},
+                            {"error", g.error},
+                            {"relax_steps_used", g.relax_steps_used}});
+    j["chi_mismatches"] = result.chi_mismatches;
+    j["glue_failures"] = result.glue_failures;
+    j["rows"] = json::array();
+    for (const NoiseRow& r : result.rows)
+      j["rows"].push_back({{"method", r.method},
+                           {"level", r.level},
+                           {"distance", r.distance},
+                           {"queries", r.queries},
+                           {"map", r.map},
+                           {"nn", r.nn},
+                           {"form_rms_median", r.form_rms_median},
+                           {"form_rms_mean", r.form_rms_mean},
+                           {"form_poses", r.form_poses},
+                           {"map_clean_same_poses", r.map_clean_same_poses}});
+    j["pose_variation"] = pose_variation;
+    j["queries"] = per_query;
+    j["form_rms"] = form_rms_json;
+    if (!result.failures.empty()) j["failures"] = shape_failures_json(result.failures);
+    write_file_atomically((fs::path(o.out) / "noise.json").string(),
+                          [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  }
+  if (!o.figure) {
+    result.figure_note = "not requested (`--no-figure`).";
+  } else {
+    const FigureRun drawn = draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise.png").string());
+    result.figure = drawn.drawn;
+    result.figure_note = drawn.problem.empty() ? "" : drawn.problem + ".";
+  }
+  if (!result.figure) say(o, "no figure: " + result.figure_note);
+  result.seconds = seconds_since(start);
+  write_report(opt, result, poses, skipped, pose_variation);
+  return result;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,123 @@
+// `cshapes experiment noise`: how each method's canonical forms and retrieval respond to growing topological
+// noise (issue 11, item 3; the paper's claim of §3 and Figs. 2, 7, 8: Coulomb shapes are "drastically less
+// sensitive to topological noise" than MDS canonical forms).
+//
+// Every clean pose of the data (per class: all, or the first poses_per_class that can be used) is glued at
+// each level K of `levels` (0, 1, 2, 4, 8 by default) with core/topological_noise.h — the glue of
+// `experiment paper`: short tubes between spots close in space and far along the surface. Each (pose, level)
+// has its own seed, derived from options.seed, the pose's name and K (glue_seed), so levels are independent
+// draws and adding a pose or a level changes no other glued mesh. Each glue adds one handle, so on the glued
+// mesh χ' = χ − 2K (the noise module's contract, checked here with mesh_info on every glued mesh: a mismatch
+// is reported and the mesh left out of every measurement). Level 0 is the clean pose itself.
+//
+// Per method (pipeline/canonical_forms.h, cached in out/cache/forms) and level:
+//   a) retrieval of noisy queries among clean shapes: the query is pose p glued at level K; the database is
+//      every clean pose except p itself (so the query's own clean twin never answers), relevant = same
+//      class; the distance between two shapes is the ICP shape distance of their canonical forms
+//      (eval/pairwise_distances.h, cached in out/cache/pairs) under each of Hausdorff (the paper's), Chamfer
+//      and RMSE (matching/shape_distance.h). Reported: mAP and the nearest-neighbour rate over queries, with
+//      the average precision of eval/retrieval.h ((1/R) Σ_k k / rank_k, ties by database order). Level 0 is
+//      the clean leave-one-out retrieval. A class with a single usable pose gives no query (nothing
+//      relevant).
+//   b) the noisy form against its own clean pose's form, at the same vertices: aligned_rms (core/
+//      rigid_transform.h: best rigid fit, reflections allowed) over the clean form's bbox diagonal; median
+//      and mean over poses. 0 at level 0 (the same mesh has the same cached form).
+//
+// Outputs under options.out: noise.csv (one row per method, level and distance kind), noise.json (the same
+// plus every glued mesh's seed and χ check and every per-query value), shapes/NAME_glueK.off (the glued
+// meshes), noise.png drawn by options.figure_script when an interpreter with matplotlib is found, and
+// report.md. Everything expensive is cached under out/cache (forms, pairs, glued meshes), so a killed run
+// resumes and a rerun computes nothing.
+//
+// Cost per method: one canonical form per (pose, level) — P·|levels| — and P·(P−1)/2 + P·(P−1)·(|levels|−1)
+// ICP pairs at most (P clean poses; only pairs within the database are aligned). tosca5k (24 poses, 5
+// levels): 120 forms and about 2,500 pairs per method.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
+
+namespace cshapes {
+
+struct NoiseExperimentOptions {
+  std::string data;  // folder of meshes or manifest.csv; shapes the data marks noisy are not used
+  std::string out;   // output folder (its cache/ makes reruns resume)
+  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<int> levels = {0, 1, 2, 4, 8};  // glues per noisy version (distinct, ≥ 0; 0: the clean pose)
+  std::uint64_t seed = 1;                     // base of every glue seed (glue_seed)
+  int poses_per_class = 0;                    // clean poses per class; ≤ 0: all
+  // Gluing: where a pose offers fewer admissible spots than K, widen the gap ×1.5 and lower the geodesic
+  // ratio ×0.8 up to this many times (TopologicalNoiseOptions::relax_steps; `experiment paper` uses 3).
+  int relax_steps = 3;
+  CanonicalFormOptions
+      canon;  // method options (canon.method is set per method; MDS geodesics: canon.geodesics)
+  // Draw noise.png (experiments/plots/noise_figure.py, by experiments/figures.h) after the data is written.
+  bool figure = true;
+  ProgressFn progress;                           // stages "canonical forms", "distances"
+  std::function<void(const std::string&)> note;  // one line of progress text
+};
+
+// One glued mesh: pose `shape` at `level` glues.
+struct NoiseGlue {
+  std::string shape, class_name;
+  int level = 0;
+  std::uint64_t seed = 0;
+  long chi_before = 0, chi_after = 0, chi_expected = 0;  // Euler characteristics; expected = before − 2·level
+  bool ok = true;     // glued and χ as expected; false: left out of the measurements (see error)
+  std::string error;  // why not ok: the glue failed (too few admissible spots) or χ mismatched
+  int relax_steps_used = 0;
+};
+
+// One method, level and distance kind.
+struct NoiseRow {
+  std::string method;
+  int level = 0;
+  std::string distance;  // hausdorff | chamfer | rmse
+  int queries = 0;       // noisy queries with at least one relevant shape in the database
+  double map = 0;        // mean average precision over those queries (NaN when there is none)
+  double nn = 0;         // fraction whose nearest database shape has their class
+  // Noisy-vs-clean canonical forms (the same for every distance kind): aligned_rms / clean form's bbox
+  // diagonal, over the glued poses of this level (form_poses; NaN when none could be glued this often).
+  double form_rms_median = 0, form_rms_mean = 0;
+  int form_poses = 0;
+  // The mAP of the same queries' clean poses (level 0, this distance): the baseline of exactly the poses
+  // this level measures, which is fewer than all when some poses offer too few spots. NaN without level 0.
+  double map_clean_same_poses = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct NoiseExperimentResult {
+  std::vector<NoiseRow> rows;    // methods × levels × {hausdorff, chamfer, rmse}, in that order
+  std::vector<NoiseGlue> glues;  // every (pose, level > 0), in pose then level order
+  int poses = 0, classes = 0;
+  int chi_mismatches = 0, glue_failures = 0;
+  long glued_computed = 0, glued_cached = 0;
+  long canonical_forms_computed = 0, canonical_forms_cached = 0;
+  long pairs_computed = 0, pairs_cached = 0;
+  bool figure = false;      // noise.png was drawn
+  std::string figure_note;  // why not, when not
+  double seconds = 0;
+  // Poses that could not be read and shapes (clean poses or glued versions) whose form failed by some method,
+  // left out by every method (a clean pose with its glued versions); geodesic fallbacks (kept). In report.md
+  // and noise.json when not empty (pipeline/shape_failures.h).
+  std::vector<ShapeFailure> failures;
+};
+
+NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options);
+
+// The seed of pose `shape` glued at `level`: the first 16 hex digits of SHA-256("noise-glue", seed, shape,
+// level) as an integer. Deterministic, and independent between poses and levels.
+std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level);
+
+// Average precision of one query: database distances and which entries are relevant (same length). Ranked by
+// increasing distance, ties by index (eval/retrieval.h's rule); (1/R) Σ_k k / rank_k. −1 when none is
+// relevant. *nearest_relevant (when non-null): whether the first result is relevant.
+double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
+                         bool* nearest_relevant = nullptr);
+
+}  // namespace cshapes

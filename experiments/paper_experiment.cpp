@@ -1,0 +1,788 @@
+#include "experiments/paper_experiment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/dataset.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/mesh_defects.h"
+#include "core/mesh_repair.h"
+#include "core/rigid_transform.h"
+#include "core/timing.h"
+#include "core/topological_noise.h"
+#include "eval/correspondence_error.h"
+#include "eval/distance_csv.h"
+#include "eval/pairwise_distances.h"
+#include "eval/retrieval.h"
+#include "matching/icp.h"
+#include "matching/shape_distance.h"
+#include "pipeline/distributed.h"
+#include "experiments/paper_figures.h"
+#include "experiments/paper_report.h"
+#include "pipeline/shape_failures.h"
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct Shape {
+  std::string name;  // file stem, or SOURCE_noisy for shapes glued here
+  std::string class_name;
+  std::string source_path;  // the file read, or the file written for shapes made here
+  std::string source_name;  // noisy shapes made here: the clean pose they were glued from
+  bool noisy = false;
+  bool in_retrieval = true;  // false: only a reference for the noise measurement
+  Mesh mesh;
+  std::vector<int> glued;                      // vertices of glued pairs (noisy shapes made here)
+  std::string vts;                             // ground-truth correspondence file, when it exists
+  std::string key;                             // mesh content key
+  std::string defects = "none";                // core/mesh_defects.h summary of the mesh as read
+  std::map<std::string, std::string> repairs;  // per method: what its repair did ("" when nothing)
+  bool untouched = true;  // no method repairs it and it is a manifold surface (geodesics on it as read)
+};
+
+// The method options of one method, named after the shape's file (for messages).
+CanonicalFormOptions method_options(const PaperExperimentOptions& o, const std::string& method,
+                                    const std::string& name) {
+  CanonicalFormOptions co = o.canon;
+  co.method = method;
+  co.name = name;
+  co.progress = {};
+  return co;
+}
+
+// Reads a mesh as it is (lenient) and works out, per method, what its repair will do (one line each on the
+// note channel). Throws when a method cannot use it (too few vertices left, or --strict and a repair is
+// needed); the caller skips the file then, or stops under --strict.
+void check_shape(Shape& s, const std::string& path, const PaperExperimentOptions& o) {
+  const MeshDefects defects = mesh_defects(s.mesh);
+  s.defects = defects.summary();
+  std::set<std::string> said;
+  for (const std::string& m : o.methods) {
+    RepairedMesh r = repair_for_canonical_form(s.mesh, method_options(o, m, path));
+    s.repairs[m] = r.text;
+    if (r.changed()) s.untouched = false;
+    if (r.changed() && said.insert(r.text).second) say(o, r.text);
+  }
+  if (!s.mesh.is_point_cloud() && repair_for(s.mesh, MeshRequirements::manifold_surface()).changed())
+    s.untouched = false;
+}
+
+void load_and_check(Shape& s, const std::string& path, const PaperExperimentOptions& o) {
+  s.mesh = read_mesh(path);
+  check_shape(s, path, o);
+}
+
+// The folder where corres/NAME.vts would be: the dataset folder, or the manifest's folder.
+std::string correspondence_folder(const std::string& data) {
+  fs::path p(data);
+  if (fs::is_regular_file(p)) p = p.parent_path();
+  return (p / "corres").string();
+}
+
+// Glued here: the noisy shape and its pairs, cached by the source's content and the options.
+Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const DiskCache& cache, int index) {
+  TopologicalNoiseOptions no;
+  no.glue_count = o.glue;
+  no.seed = o.seed + static_cast<std::uint64_t>(index);
+  no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
+  const std::string key =
+      cache_key({"noisy-v2", source.key, std::to_string(no.glue_count), std::to_string(no.seed),
+                 std::to_string(no.relax_steps), to_string(no.geodesic.method)});
+  Shape s;
+  s.name = source.name + "_noisy";
+  s.class_name = source.class_name;
+  s.source_name = source.name;
+  s.noisy = true;
+  s.mesh.V = source.mesh.V;
+  if (std::optional<json> hit = cache.get_json(key)) {
+    s.mesh.F = faces_from_json(hit->at("F"));
+    s.glued = hit->at("glued").get<std::vector<int>>();
+  } else {
+    TopologicalNoiseResult r = glue_topological_noise(source.mesh, no);
+    s.mesh = r.mesh;
+    for (const GluedPair& p : r.pairs) {
+      s.glued.push_back(p.a);
+      s.glued.push_back(p.b);
+    }
+    cache.put_json(key, json{{"F", faces_to_json(s.mesh.F)}, {"glued", s.glued}});
+  }
+  s.key = mesh_content_key(s.mesh);
+  return s;
+}
+
+// Clean poses (and the dataset's noisy shapes) per class, plus noisy shapes glued here.
+// write_files: the glued shapes' files under out/shapes (rank 0 only).
+std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
+                                 std::vector<PaperReport::Skipped>& skipped, bool write_files) {
+  Dataset data = read_dataset(o.data);
+  const std::string corres = correspondence_folder(o.data);
+  std::vector<Shape> shapes;
+  int glued_count = 0;
+  for (const std::string& cls : data.classes) {
+    std::vector<const DatasetEntry*> clean, noisy;
+    for (const DatasetEntry& e : data.entries)
+      if (e.class_name == cls) (e.noisy ? noisy : clean).push_back(&e);
+    // A shape no method can use (unreadable, too few vertices after repair) is skipped with its reason, and
+    // the next pose takes its place; under --strict a mesh needing repair stops the run instead.
+    auto try_load = [&](const DatasetEntry& e, bool in_retrieval) -> std::optional<Shape> {
+      Shape s;
+      s.name = e.name;
+      s.class_name = cls;
+      s.source_path = e.path;
+      s.noisy = e.noisy;
+      s.in_retrieval = in_retrieval;
+      try {
+        load_and_check(s, e.path, o);
+      } catch (const WriteError&) {
+        throw;  // the run's own files: never one shape's failure
+      } catch (const Error& error) {
+        if (o.canon.strict) throw;
+        say(o, std::string("skipped: ") + error.what());
+        skipped.push_back({e.path, error.what()});
+        return std::nullopt;
+      }
+      s.key = mesh_content_key(s.mesh);
+      std::string vts = corres + "/" + e.name + ".vts";
+      if (fs::exists(vts)) s.vts = vts;
+      return s;
+    };
+    const size_t want_clean = o.poses_per_class <= 0 ? clean.size() : static_cast<size_t>(o.poses_per_class);
+    size_t n_clean = 0;
+    for (size_t k = 0; k < clean.size() && n_clean < want_clean;) {
+      if (auto s = try_load(*clean[k], true)) {
+        shapes.push_back(std::move(*s));
+        ++n_clean;
+        ++k;
+      } else {
+        clean.erase(clean.begin() + static_cast<long>(k));
+      }
+    }
+    const bool every_pose = o.noisy_per_class == PaperExperimentOptions::kNoisyEveryPose;
+    const size_t want_noisy = every_pose ? noisy.size() : static_cast<size_t>(std::max(o.noisy_per_class, 0));
+    size_t from_data = 0;
+    for (size_t k = 0; k < noisy.size() && from_data < want_noisy; ++k)
+      if (auto s = try_load(*noisy[k], true)) {
+        shapes.push_back(std::move(*s));
+        ++from_data;
+      }
+    auto load = [&](const DatasetEntry& e, bool in_retrieval) {
+      std::optional<Shape> s = try_load(e, in_retrieval);
+      if (!s) fail(e.path, ": cannot be used (see above)");
+      return std::move(*s);
+    };
+    // Noisy shapes made here: from the poses not in the retrieval set if there are any (so the noisy shape is
+    // a pose of its own, as in the paper), else from the retrieval poses. Their clean source is kept as a
+    // reference for the noise measurement. With noisy shapes from the data, one more is glued from the first
+    // pose, for the measurement only.
+    // Every pose (kNoisyEveryPose): one glued version of each clean pose, whatever the data holds.
+    int to_make = every_pose ? static_cast<int>(clean.size())
+                             : std::max(o.noisy_per_class, 0) - static_cast<int>(from_data);
+    bool measurement_only = false;
+    if (to_make <= 0 && !clean.empty() && o.noisy_per_class > 0) {
+      to_make = 1;
+      measurement_only = true;
+    }
+    // Candidate sources in order: the spare poses, then the retrieval poses; a pose that offers too few
+    // almost-touching spots is skipped (said in a note) and the next one tried.
+    std::vector<size_t> candidates;
+    for (size_t k = n_clean; k < clean.size(); ++k) candidates.push_back(k);
+    for (size_t k = 0; k < n_clean; ++k) candidates.push_back(k);
+    size_t next_candidate = 0;
+    for (int k = 0; k < to_make; ++k) {
+      bool made = false;
+      while (!made && next_candidate < candidates.size()) {
+        const size_t c = candidates[next_candidate++];
+        const DatasetEntry& src = *clean[c];
+        Shape source;
+        auto it =
+            std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
+        const bool loaded = it != shapes.end();
+        try {
+          source = loaded ? *it : load(src, false);
+        } catch (const WriteError&) {
+          throw;  // the run's own files: never one shape's failure
+        } catch (const Error& e) {
+          continue;  // already said and listed as skipped
+        }
+        say(o, "gluing " + std::to_string(o.glue) + " spots of " + src.name);
+        Shape s;
+        try {
+          s = make_noisy(source, o, noise_cache, glued_count++);
+        } catch (const WriteError&) {
+          throw;  // the run's own files: never one shape's failure
+        } catch (const Error& e) {
+          say(o, std::string("  skipped: ") + e.what());
+          continue;
+        }
+        if (!loaded) shapes.push_back(source);  // kept as the reference of the noise measurement
+        s.in_retrieval = !measurement_only;
+        s.source_path = (fs::path(o.out) / "shapes" / (s.name + ".off")).string();
+        check_shape(s, s.source_path, o);
+        if (write_files) {
+          write_mesh(s.source_path, s.mesh);
+          write_file_atomically((fs::path(o.out) / "shapes" / (s.name + ".glued.json")).string(),
+                                [&](std::ostream& out) {
+                                  out << json{{"glued_vertices", s.glued}}.dump() << '\n';
+                                });
+        }
+        shapes.push_back(std::move(s));
+        made = true;
+      }
+      if (!made)
+        say(o, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
+    }
+  }
+  CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");
+  return shapes;
+}
+
+// Canonical forms of every shape by one method; MDS methods share one geodesic matrix per shape.
+struct MethodForms {
+  std::vector<CanonicalForm> forms;  // per shape
+  std::vector<std::string> keys;     // per shape: cache key of the form (content key for the pair cache)
+};
+
+// only: when non-null, the shapes to canonize (the others are left empty); write_files: the forms' PLY files
+// under out/canon and progress on o.progress (rank 0's full pass). A shape whose form fails by any method
+// (pipeline/shape_failures.h) has failed[i] set, its record in `failures` and no forms; under --strict the
+// error ends the run.
+std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes,
+                                                const PaperExperimentOptions& o, const DiskCache& cache,
+                                                PaperExperimentSummary& summary, std::vector<char>& failed,
+                                                std::vector<ShapeFailure>& failures,
+                                                const std::vector<char>* only = nullptr,
+                                                bool write_files = true) {
+  std::map<std::string, MethodForms> result;
+  for (const std::string& m : o.methods) {
+    result[m].forms.resize(shapes.size());
+    result[m].keys.resize(shapes.size());
+  }
+  failed.assign(shapes.size(), 0);
+  const auto start = WallClock::now();
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    if (only && !(*only)[i]) continue;
+    const Shape& s = shapes[i];
+    // One geodesic matrix serves both MDS methods (on the mesh repaired for them).
+    std::vector<CanonicalFormOptions> per_method;
+    for (const std::string& m : o.methods) per_method.push_back(method_options(o, m, s.source_path));
+    const size_t failures_before = failures.size();
+    std::optional<std::vector<CachedForm>> computed =
+        shape_canonical_forms(cache, s.mesh, per_method, s.name, failures);
+    for (size_t k = failures_before; k < failures.size(); ++k) say(o, "  " + describe(failures[k]));
+    if (!computed) {
+      failed[i] = 1;
+      continue;
+    }
+    for (size_t k = 0; k < o.methods.size(); ++k) {
+      const std::string& m = o.methods[k];
+      CanonicalForm f = std::move((*computed)[k].form);
+      ((*computed)[k].cached ? summary.canonical_forms_cached : summary.canonical_forms_computed)++;
+      result[m].keys[i] = (*computed)[k].key;
+      if (!write_files) {
+        result[m].forms[i] = std::move(f);
+        continue;
+      }
+      // Write the form for users and for the figures.
+      WriteOptions wo;
+      if (f.torn.size() == s.mesh.num_vertices()) wo.scalars.push_back({"torn", f.torn});
+      if (f.valid.size() == s.mesh.num_vertices() && f.valid.minCoeff() == 0)
+        wo.scalars.push_back({"valid", f.valid});
+      if (!s.glued.empty()) {
+        Eigen::VectorXd glued = Eigen::VectorXd::Zero(s.mesh.num_vertices());
+        for (int v : s.glued) glued[v] = 1;
+        wo.scalars.push_back({"glued", glued});
+      }
+      write_mesh((fs::path(o.out) / "canon" / m / (s.name + ".ply")).string(), Mesh{f.X, s.mesh.F}, wo);
+      result[m].forms[i] = std::move(f);
+    }
+    if (!write_files) continue;
+    if (o.progress)
+      o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
+    double elapsed = seconds_since(start);
+    say(o, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
+                          shapes.size(), ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)),
+                          " s left"));
+  }
+  return result;
+}
+
+// What the stages of the experiment share: the options, the shapes, their canonical forms and the report.
+struct ExperimentRun {
+  explicit ExperimentRun(const PaperExperimentOptions& options)
+      : o(options),
+        comm(options.communicator ? *options.communicator : single_process()),
+        form_cache((fs::path(options.out) / "cache" / "forms").string()),
+        misc_cache((fs::path(options.out) / "cache" / "misc").string()) {}
+
+  const PaperExperimentOptions& o;
+  const Communicator& comm;  // rank 0 writes every output
+  DiskCache form_cache, misc_cache;
+  std::vector<Shape> shapes;
+  std::vector<int> retrieval;               // indices of shapes in the retrieval set
+  std::vector<std::string> names, classes;  // of the retrieval set
+  std::vector<std::string> class_names;     // distinct classes, in label order
+  std::vector<int> labels;
+  std::map<std::string, MethodForms> forms;
+  PaperReport report;
+  PaperExperimentSummary summary;
+};
+
+// Leaves the shapes whose forms failed out of the run (failed[i], from canonize_all), by every method. A
+// noisy shape glued here from a pose left out keeps its place in retrieval but loses its reference (no noise
+// measurement, no figure cell).
+void drop_failed_shapes(ExperimentRun& run, const std::vector<char>& failed) {
+  if (std::find(failed.begin(), failed.end(), 1) == failed.end()) return;
+  std::set<std::string> dropped;
+  std::vector<Shape> kept;
+  std::map<std::string, MethodForms> forms;
+  for (size_t i = 0; i < run.shapes.size(); ++i) {
+    if (failed[i]) {
+      dropped.insert(run.shapes[i].name);
+      continue;
+    }
+    for (auto& [m, mf] : run.forms) {
+      forms[m].forms.push_back(std::move(mf.forms[i]));
+      forms[m].keys.push_back(std::move(mf.keys[i]));
+    }
+    kept.push_back(std::move(run.shapes[i]));
+  }
+  for (Shape& s : kept)
+    if (dropped.count(s.source_name)) {
+      say(run.o,
+          "  " + s.name + ": its clean pose " + s.source_name + " was left out; no noise measurement for it");
+      s.source_name.clear();
+    }
+  run.shapes = std::move(kept);
+  run.forms = std::move(forms);
+}
+
+// 3. Distances between canonical forms (ICP, cached), retrieval measures under each distance kind:
+// distances/*.csv (Hausdorff), distances/{chamfer,rmse}/*.csv, metrics.json.
+void retrieval_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
+  const std::vector<std::string>& names = run.names;
+  const std::vector<std::string>& classes = run.classes;
+  const std::vector<int>& labels = run.labels;
+  say(o, "== ICP distances between all pairs");
+  const auto t = WallClock::now();
+  json metrics;
+  metrics["shapes"] = names;
+  metrics["classes"] = classes;
+  for (const std::string& m : o.methods) {
+    std::vector<Points> X;
+    std::vector<std::string> keys;
+    for (int i : retrieval) {
+      X.push_back(forms[m].forms[i].X);
+      keys.push_back(forms[m].keys[i]);
+    }
+    PairwiseDistanceOptions po;
+    po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
+    po.progress = o.progress;
+    po.communicator = &run.comm;
+    PairwiseDistanceResult pd = pairwise_distances(X, keys, po);
+    run.summary.pairs_computed += pd.computed;
+    run.summary.pairs_cached += pd.cached;
+    if (!run.comm.is_root()) continue;  // the matrices are on rank 0
+    // The paper's distance (Hausdorff) in distances/METHOD.csv and metrics.json's top level, as before; all
+    // three kinds under "by_distance" (Chamfer and RMSE matrices in distances/chamfer/ and distances/rmse/).
+    write_distance_csv((fs::path(o.out) / "distances" / (m + ".csv")).string(), names, pd.hausdorff);
+    json jm;
+    for (const auto& [kind, D] : {std::pair<std::string, const Eigen::MatrixXd*>{"hausdorff", &pd.hausdorff},
+                                  {"chamfer", &pd.chamfer},
+                                  {"rmse", &pd.rmse}}) {
+      if (kind != "hausdorff")
+        write_distance_csv((fs::path(o.out) / "distances" / kind / (m + ".csv")).string(), names, *D);
+      RetrievalResult rr = evaluate_retrieval(*D, labels);
+      json jk{{"map", rr.mean.ap},
+              {"nn", rr.mean.nn},
+              {"ft", rr.mean.ft},
+              {"st", rr.mean.st},
+              {"e", rr.mean.e},
+              {"dcg", rr.mean.dcg},
+              {"pr", {{"recall", rr.pr.recall}, {"precision", rr.pr.precision}}}};
+      DistanceMatrixImage image = distance_matrix_image(*D, labels);
+      std::vector<std::vector<int>> confusion(image.confusion.rows());
+      for (Index r = 0; r < image.confusion.rows(); ++r)
+        for (Index c = 0; c < image.confusion.cols(); ++c) confusion[r].push_back(image.confusion(r, c));
+      jk["nn_confusion"] = confusion;
+      // Noisy shapes as queries: are they still retrieved with their class?
+      double noisy_nn = 0;
+      int noisy_queries = 0;
+      for (const QueryResult& q : rr.queries)
+        if (shapes[retrieval[q.query]].noisy) {
+          noisy_nn += q.scores.nn;
+          ++noisy_queries;
+        }
+      if (noisy_queries) jk["noisy_query_nn"] = noisy_nn / noisy_queries;
+      const PaperReport::Retrieval measures{rr.mean.ap,
+                                            rr.mean.nn,
+                                            rr.mean.ft,
+                                            rr.mean.st,
+                                            rr.mean.e,
+                                            rr.mean.dcg,
+                                            noisy_queries ? noisy_nn / noisy_queries : -1.0};
+      report.retrieval_by_distance[m][kind] = measures;
+      if (kind == "hausdorff") {
+        jm = jk;
+        report.retrieval[m] = measures;
+      }
+      jm["by_distance"][kind] = jk;
+    }
+    metrics["methods"][m] = jm;
+  }
+  if (!run.comm.is_root()) return;
+  metrics["class_names"] = run.class_names;
+  if (!run.summary.failures.empty()) metrics["failures"] = shape_failures_json(run.summary.failures);
+  write_file_atomically((fs::path(o.out) / "metrics.json").string(),
+                        [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });
+  report.stage_seconds["distances and retrieval"] = seconds_since(t);
+}
+
+// 4. Topological noise: each noisy shape against its clean source, per method; noise_effect.csv.
+void noise_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
+  say(o, "== effect of topological noise");
+  const auto t = WallClock::now();
+  {
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      const Shape& noisy = shapes[i];
+      if (noisy.source_name.empty()) continue;
+      size_t j = std::find_if(shapes.begin(), shapes.end(),
+                              [&](const Shape& s) { return s.name == noisy.source_name; }) -
+                 shapes.begin();
+      for (const std::string& m : o.methods) {
+        const Points& A = forms[m].forms[i].X;
+        const Points& B = forms[m].forms[j].X;
+        const double scale = bbox_diagonal(finite_rows(B));
+        ShapeDistance sd = aligned_shape_distance(A, B);
+        PaperReport::NoiseRow row{noisy.name, m, aligned_rms(A, B, true) / scale, sd.hausdorff / scale,
+                                  sd.rmse / scale};
+        report.noise.push_back(row);
+      }
+    }
+    // Pose variation, for scale: ICP RMS between clean poses of one class, relative to the bbox diagonal.
+    for (const std::string& m : o.methods) {
+      std::vector<double> within;
+      for (size_t a = 0; a < retrieval.size(); ++a)
+        for (size_t b = a + 1; b < retrieval.size(); ++b) {
+          const Shape& sa = shapes[retrieval[a]];
+          const Shape& sb = shapes[retrieval[b]];
+          if (sa.noisy || sb.noisy || sa.class_name != sb.class_name) continue;
+          const Points& B = forms[m].forms[retrieval[b]].X;
+          within.push_back(aligned_shape_distance(forms[m].forms[retrieval[a]].X, B).rmse /
+                           bbox_diagonal(finite_rows(B)));
+        }
+      report.pose_variation[m] = median(within);
+    }
+    write_file_atomically((fs::path(o.out) / "noise_effect.csv").string(), [&](std::ostream& out) {
+      out << "shape,method,vertexwise_rms,hausdorff,icp_rmse\n";
+      for (const auto& r : report.noise)
+        out << r.shape << ',' << r.method << ',' << r.vertexwise_rms << ',' << r.hausdorff << ','
+            << r.icp_rmse << '\n';
+    });
+  }
+  report.stage_seconds["noise effect"] = seconds_since(t);
+}
+
+// 5. Point maps induced by aligning canonical forms, against ground-truth correspondences (cached);
+// correspondence_error.csv.
+void point_map_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  const std::vector<int>& retrieval = run.retrieval;
+  std::map<std::string, MethodForms>& forms = run.forms;
+  PaperReport& report = run.report;
+  const DiskCache& misc_cache = run.misc_cache;
+  const auto t = WallClock::now();
+  if (o.correspondence_samples > 0) {
+    std::map<std::string, std::vector<Eigen::VectorXd>> curves;
+    Eigen::VectorXd thresholds;
+    int pairs = 0;
+    for (size_t b = 0; b < retrieval.size(); ++b) {
+      const Shape& sb = shapes[retrieval[b]];
+      // Point maps index the input's vertices: only shapes used as read (no repair) take part.
+      if (sb.vts.empty() || sb.noisy || !sb.untouched) continue;
+      std::vector<size_t> sources;
+      for (size_t a = 0; a < retrieval.size(); ++a) {
+        const Shape& sa = shapes[retrieval[a]];
+        if (a != b && !sa.vts.empty() && !sa.noisy && sa.untouched && sa.class_name == sb.class_name)
+          sources.push_back(a);
+      }
+      if (sources.empty()) continue;
+      if (pairs == 0) say(o, "== point-map errors against ground-truth correspondences");
+      // Each (pair, method) result is cached; B's geodesic matrix is computed only if one of them is missing.
+      const GeodesicOptions go = o.canon.geodesics;
+      std::optional<DistanceMatrix> G;
+      const std::string truth_b_key = file_content_hash(sb.vts);
+      std::vector<int> truth_b;
+      for (size_t a : sources) {
+        const Shape& sa = shapes[retrieval[a]];
+        const std::string truth_a_key = file_content_hash(sa.vts);
+        for (const std::string& m : o.methods) {
+          std::ostringstream key;
+          key.precision(17);
+          key << "point-map;" << forms[m].keys[retrieval[a]] << ";" << forms[m].keys[retrieval[b]]
+              << ";vts=" << truth_a_key << "," << truth_b_key << ";samples=" << o.correspondence_samples
+              << ";geodesics=" << to_string(go.method) << "," << static_cast<int>(go.heat_mode) << ","
+              << go.heat_time_factor << ";icp=" << to_key_string(IcpOptions{});
+          const std::string entry = cache_key({key.str(), "json"});
+          const json value = misc_cache.get_or_compute_json(entry, [&] {
+            if (!G) {
+              G = all_pairs_geodesics(sb.mesh, go);
+              truth_b = read_vts(sb.vts, sb.mesh.num_vertices());
+            }
+            std::vector<int> truth_a = read_vts(sa.vts, sa.mesh.num_vertices());
+            IcpResult align = icp(forms[m].forms[retrieval[a]].X, forms[m].forms[retrieval[b]].X);
+            CorrespondenceErrorOptions ce;
+            ce.max_samples = o.correspondence_samples;
+            CorrespondenceErrorResult r =
+                correspondence_error(sb.mesh, align.source_to_target, truth_a, truth_b, ce, &*G);
+            return json{
+                {"mean_error", r.mean_error},
+                {"thresholds",
+                 std::vector<double>(r.thresholds.data(), r.thresholds.data() + r.thresholds.size())},
+                {"fraction", std::vector<double>(r.fraction.data(), r.fraction.data() + r.fraction.size())}};
+          });
+          const double mean_error = value.at("mean_error").get<double>();
+          std::vector<double> tk = value.at("thresholds").get<std::vector<double>>();
+          std::vector<double> fk = value.at("fraction").get<std::vector<double>>();
+          CSHAPES_REQUIRE(!tk.empty() && tk.size() == fk.size(), misc_cache.entry_path(entry),
+                          ": a damaged point-map cache entry (delete it to recompute)");
+          curves[m].push_back(Eigen::Map<Eigen::VectorXd>(fk.data(), static_cast<Index>(fk.size())));
+          thresholds = Eigen::Map<Eigen::VectorXd>(tk.data(), static_cast<Index>(tk.size()));
+          report.correspondence_mean_error[m].push_back(mean_error);
+        }
+        ++pairs;
+      }
+    }
+    if (pairs > 0) {
+      write_file_atomically((fs::path(o.out) / "correspondence_error.csv").string(), [&](std::ostream& out) {
+        out << "method,error,fraction\n";
+        for (const auto& [m, list] : curves) {
+          Eigen::VectorXd mean = Eigen::VectorXd::Zero(thresholds.size());
+          for (const auto& c : list) mean += c;
+          mean /= static_cast<double>(list.size());
+          for (Index k = 0; k < thresholds.size(); ++k)
+            out << m << ',' << thresholds[k] << ',' << mean[k] << '\n';
+        }
+      });
+      report.correspondence_pairs = pairs;
+    }
+  }
+  report.stage_seconds["correspondence"] = seconds_since(t);
+}
+
+// 6. The figures' data (Figures 2-8), unless o.figures is off: figures.json and the meshes behind it.
+void figure_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const std::vector<Shape>& shapes = run.shapes;
+  PaperReport& report = run.report;
+  const DiskCache& misc_cache = run.misc_cache;
+  const DiskCache& form_cache = run.form_cache;
+  if (o.figures) {
+    say(o, "== data for the figures");
+    const auto t = WallClock::now();
+    write_figure_data(o, report, misc_cache, form_cache);
+    json grids = report.figure_grids;
+    // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
+    json fig6{
+        {"title",
+         "Fig. 6: shapes (top) and canonical forms; glued (shape, MDS) and torn (Coulomb) vertices red"}};
+    json fig4{
+        {"title", "Fig. 4: shapes with point-wise connectivity artifacts (top) and their coulombization"}};
+    std::vector<std::string> row_titles = {"shape"};
+    for (const std::string& m : o.methods) row_titles.push_back(method_title(m));
+    json cells = json::array();
+    for (size_t r = 0; r < row_titles.size(); ++r) cells.push_back(json::array());
+    json fig4_cells = json::array({json::array(), json::array()});
+    std::set<std::string> classes_shown;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      const Shape& noisy = shapes[i];
+      if (noisy.source_name.empty() || classes_shown.count(noisy.class_name)) continue;
+      classes_shown.insert(noisy.class_name);
+      json red{{"property", "glued"}};
+      cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.source_name + ".ply"}, {"title", noisy.source_name}});
+      cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      for (size_t k = 0; k < o.methods.size(); ++k) {
+        const std::string& m = o.methods[k];
+        json noisy_red = m == "coulomb" ? json{{"property", "torn"}} : red;
+        cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.source_name + ".ply"}});
+        cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.name + ".ply"}, {"red", noisy_red}});
+      }
+      fig4_cells[0].push_back(
+          {{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
+      if (std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end())
+        fig4_cells[1].push_back(
+            {{"mesh", "canon/coulomb/" + noisy.name + ".ply"}, {"red", {{"property", "torn"}}}});
+    }
+    // The inputs, as PLY with the glued flag, for the figure scripts.
+    for (const Shape& s : shapes) {
+      WriteOptions wo;
+      if (!s.glued.empty()) {
+        Eigen::VectorXd glued = Eigen::VectorXd::Zero(s.mesh.num_vertices());
+        for (int v : s.glued) glued[v] = 1;
+        wo.scalars.push_back({"glued", glued});
+      }
+      write_mesh((fs::path(o.out) / "canon" / "input" / (s.name + ".ply")).string(), s.mesh, wo);
+    }
+    fig6["rows"] = row_titles;
+    fig6["cells"] = cells;
+    fig4["rows"] = json::array({"shape", "Coulomb"});
+    fig4["cells"] = fig4_cells;
+    if (!classes_shown.empty()) {
+      grids["fig6_noisy_shapes"] = fig6;
+      grids["fig4_tearing"] = fig4;
+    }
+    write_file_atomically((fs::path(o.out) / "figures.json").string(),
+                          [&](std::ostream& out) { out << grids.dump(2) << '\n'; });
+    report.stage_seconds["figures"] = seconds_since(t);
+  }
+}
+
+}  // namespace
+
+PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
+  const auto start = WallClock::now();
+  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
+                    m, "'; known: coulomb, cmds, smacof");
+  }
+  fs::create_directories(o.out);
+  ExperimentRun run(o);
+  const DiskCache& form_cache = run.form_cache;
+  const DiskCache& misc_cache = run.misc_cache;
+  PaperExperimentSummary& summary = run.summary;
+  PaperReport& report = run.report;
+  report.options = &o;
+
+  const Communicator& comm = run.comm;
+
+  // 1. Shapes. Rank 0 first (it glues the noisy shapes into the cache and writes them out); then the others,
+  // which find the glued shapes in the cache.
+  say(o, "== shapes from " + o.data);
+  if (comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, true);
+  comm.barrier();
+  if (!comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, false);
+  for (const PaperReport::Skipped& k : report.skipped)
+    summary.failures.push_back(read_failure(fs::path(k.file).stem().string(), k.file, Error(k.reason)));
+
+  // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
+  // expected cost); then every rank reads them all, and rank 0 writes them out. A shape whose form fails by
+  // any method is left out by every method (each rank meets the same failure in the full pass).
+  say(o, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
+             (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
+  auto t = WallClock::now();
+  long computed_by_ranks = 0;
+  std::vector<char> failed;
+  if (comm.size() > 1) {
+    std::vector<long> vertices;
+    for (const Shape& s : run.shapes) vertices.push_back(static_cast<long>(s.mesh.num_vertices()));
+    const std::vector<int> owner = canonical_form_owners(vertices, o.methods, comm.size());
+    std::vector<char> mine(run.shapes.size(), 0);
+    for (size_t i = 0; i < run.shapes.size(); ++i) mine[i] = owner[i] == comm.rank();
+    PaperExperimentOptions quiet = o;
+    quiet.progress = {};
+    quiet.note = {};
+    PaperExperimentSummary share;
+    std::vector<ShapeFailure> said_in_the_full_pass;
+    canonize_all(run.shapes, quiet, form_cache, share, failed, said_in_the_full_pass, &mine, false);
+    computed_by_ranks = comm.sum(share.canonical_forms_computed);
+  }
+  run.forms =
+      canonize_all(run.shapes, o, form_cache, summary, failed, summary.failures, nullptr, comm.is_root());
+  // The forms the ranks computed were read from the cache in the full pass: count them as computed.
+  summary.canonical_forms_computed += computed_by_ranks;
+  summary.canonical_forms_cached -= computed_by_ranks;
+  drop_failed_shapes(run, failed);
+  report.summary.failures = summary.failures;  // the figures choose among the shapes kept
+  report.stage_seconds["canonical forms"] = seconds_since(t);
+
+  const std::vector<Shape>& shapes = run.shapes;
+  std::vector<int>& retrieval = run.retrieval;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (shapes[i].in_retrieval) retrieval.push_back(static_cast<int>(i));
+  summary.shapes = static_cast<int>(retrieval.size());
+  for (int i : retrieval) {
+    run.names.push_back(shapes[i].name);
+    run.classes.push_back(shapes[i].class_name);
+  }
+  run.labels = labels_from_classes(run.classes, &run.class_names);
+  if (comm.is_root()) {
+    write_file_atomically((fs::path(o.out) / "labels.csv").string(), [&](std::ostream& out) {
+      out << "shape,class,noisy,vertices,file\n";
+      for (int i : retrieval)
+        out << shapes[i].name << ',' << shapes[i].class_name << ',' << shapes[i].noisy << ','
+            << shapes[i].mesh.num_vertices() << ',' << shapes[i].source_path << '\n';
+    });
+  }
+  for (const Shape& s : shapes) {
+    PaperReport::ShapeRow row{s.name,        s.class_name, s.noisy, s.in_retrieval, s.mesh.num_vertices(),
+                              s.source_name, s.defects,    {}};
+    for (const auto& [m, text] : s.repairs)
+      if (!text.empty()) row.repairs[m] = text;
+    report.shapes.push_back(row);
+  }
+  CSHAPES_REQUIRE(retrieval.size() >= 2, o.data, ": ", retrieval.size(),
+                  " shapes left in the retrieval set after ", count_left_out(summary.failures),
+                  " were left out; the experiment needs at least 2");
+  const std::map<std::string, MethodForms>& forms = run.forms;
+  for (const auto& [m, mf] : forms) {
+    PaperReport::MethodCost cost;
+    for (int i : retrieval) {
+      cost.precompute.push_back(mf.forms[i].precompute_seconds);
+      cost.solve.push_back(mf.forms[i].solve_seconds);
+      cost.iterations.push_back(mf.forms[i].iterations);
+    }
+    report.cost[m] = cost;
+  }
+
+  // 3.-6. The measurements, each a stage of its own. Only the pairs of stage 3 are distributed: the other
+  // ranks are done after them.
+  retrieval_stage(run);
+  if (!comm.is_root()) {
+    summary.seconds = seconds_since(start);
+    return summary;
+  }
+  noise_stage(run);
+  point_map_stage(run);
+  figure_stage(run);
+
+  // 7. Table 1.
+  if (o.table1) {
+    say(o, "== Table 1 (timings)");
+    const auto t = WallClock::now();
+    measure_table1(o, report, misc_cache);
+    report.stage_seconds["table 1"] = seconds_since(t);
+  }
+
+  summary.seconds = seconds_since(start);
+  report.summary = summary;
+  write_report(o, report);
+  return summary;
+}
+
+}  // namespace cshapes

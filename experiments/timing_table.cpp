@@ -1,0 +1,67 @@
+#include "experiments/timing_table.h"
+
+#include <algorithm>
+
+#include "canon/coulomb.h"
+#include "canon/smacof.h"
+#include "core/error.h"
+#include "core/timing.h"
+
+namespace cshapes {
+
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy) {
+  CSHAPES_REQUIRE(repeats >= 1, "timing: repeats must be >= 1");
+  CoulombCanonOptions o;
+  o.scheme = CoulombScheme::Paper;  // Table 1: a single Coulomb step and a single projection step
+  o.step_rule = CoulombStepRule::MaxEdge;
+  o.coulomb_steps = 1;
+  o.projection.steps = 1;
+  o.tear_fraction = 0;
+  o.stop_tolerance = 0;
+  o.max_iterations = repeats + 1;  // the first iteration warms caches and threads up
+  if (accuracy > 0) o.energy.accuracy = accuracy;
+  const CoulombCanonResult r = coulomb_canonical_form(mesh.V, mesh_edges(mesh.F), o);
+  std::vector<double> per_iteration;
+  for (size_t k = 1; k < r.history.size(); ++k)
+    per_iteration.push_back(r.history[k].seconds - r.history[k - 1].seconds);
+  return median(per_iteration);
+}
+
+TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const TimingOptions& options) {
+  CSHAPES_REQUIRE(options.repeats >= 1, "timing: repeats must be >= 1");
+  TimingRow row;
+  row.shape = shape;
+  row.vertices = mesh.num_vertices();
+
+  std::vector<double> pre;
+  for (int r = 0; r < options.repeats; ++r) {
+    auto start = WallClock::now();
+    Edges E = mesh_edges(mesh.F);
+    Eigen::VectorXd d = edge_lengths(mesh.V, E);
+    pre.push_back(seconds_since(start));
+    if (d.size() == 0) fail(shape, ": no edges");
+  }
+  row.coulomb_precompute = median(pre);
+  row.coulomb_iteration = coulomb_iteration_seconds(mesh, options.repeats);
+
+  if (options.mds) {
+    auto start = WallClock::now();
+    DistanceMatrix D = all_pairs_geodesics(mesh, options.geodesics);
+    row.mds_precompute = seconds_since(start);
+    // Start from the mesh itself (centred): the pass costs the same from any start.
+    Points X = mesh.V.rowwise() - mesh.V.colwise().mean();
+    std::vector<double> passes;
+    for (int r = 0; r < options.repeats + 1; ++r) {
+      auto t = WallClock::now();
+      GuttmanTransform g = guttman_transform(D, X);
+      double s = seconds_since(t);
+      if (r > 0) passes.push_back(s);  // the first pass warms the caches
+      X = g.X_next;
+    }
+    row.mds_iteration = median(passes);
+    row.mds_measured = true;
+  }
+  return row;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,135 @@
+// `cshapes experiment topkids`: point maps between poses with REAL topological noise (SHREC'16 "Matching of
+// deformable shapes with topological noise", Lähner et al. 2016: shared/data/topkids), scored against ground
+// truth by the benchmark's protocol, per canonization method and for the inputs themselves.
+//
+// Data (a folder): the reference pose REFERENCE.off (kid00; any mesh format core/io.h reads), and per query
+// pose NAME.off with NAME_ref.txt (eval/correspondence_error.h read_correspondence_pairs: "a b" per line,
+// vertex a of NAME ↔ vertex b of the reference, 1-based) and optionally NAME_sym.txt (the same for the
+// left-right mirrored truth, for the vertices that have one). Query poses are every NAME_ref.txt of the
+// folder but the reference's, in name order, or options.poses.
+//
+// Per method (pipeline/canonical_forms.h: each mesh repaired for the method, the repair reported; forms
+// cached under out/cache/forms, so a killed run resumes): the canonical forms of the reference and of each
+// pose; the pose's form aligned onto the reference's by ICP (matching/icp.h with the retrieval's options:
+// principal-axis starts, reflections allowed, since canonical forms are defined up to one); the induced map
+// sends each vertex of the pose to the nearest vertex of the reference's aligned form
+// (IcpResult::source_to_target). The "inputs" row is the same ICP on the meshes as they are (no canonical
+// form): the floor a canonical form has to beat. Scoring (eval/correspondence_error.h
+// symmetric_correspondence_errors): for each ground-truth vertex v used (options.samples, evenly spaced over
+// NAME_ref.txt), the geodesic distance on the reference between map(v) and truth(v) over √area(reference),
+// the smaller of that and the distance to the mirrored truth where NAME_sym.txt has one (the benchmark
+// forgives a symmetric flip). Geodesics by fast marching on the reference repaired to a manifold: against
+// exact geodesics on kid00 (`cshapes geodesics --method exact`, sources 100 and 6000) 1.5-1.7% mean relative
+// error, 0.007 mean and 0.026 at most in units of √area; at an error of 0.25 about 0.004, below the curves'
+// step of 0.005. One scoring per pose serves every method; it is cached (out/cache/misc) by
+// the forms' keys, the truth files' contents and the options.
+//
+// The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported
+// beside.
+//
+// Outputs in out/: topkids.csv (one row per method and pose), curves.csv (cumulative error curve per method,
+// pooled over poses, flip forgiven per vertex and per map), topkids.json (everything, with the per-method
+// pooled summary), topkids.png (drawn by options.plot_script when given and a Python with matplotlib is
+// found; otherwise report.md says how) and report.md (the table, the figure, how it was made).
+//
+// Cost: the forms (Coulomb a few seconds per 12,000-vertex pose; MDS an all-pairs geodesic matrix, n² floats:
+// 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring
+// one fast-marching run per distinct true or mirrored vertex (≤ 2 × samples) on the reference.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/geodesics.h"
+#include "core/progress.h"
+#include "matching/icp.h"
+#include "pipeline/canonical_forms.h"
+#include "pipeline/shape_failures.h"
+
+namespace cshapes {
+
+struct TopkidsExperimentOptions {
+  std::string data;                 // the folder (see above)
+  std::string out;                  // output folder; out/cache makes reruns resume
+  std::string reference = "kid00";  // file stem of the reference pose
+  std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
+  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};  // empty: the inputs alone
+  int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
+  CanonicalFormOptions canon;  // method options (canon.method is set per method)
+  IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
+  // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
+  GeodesicOptions scoring_geodesics = [] {
+    GeodesicOptions g;
+    g.method = GeodesicMethod::FastMarching;
+    return g;
+  }();
+  double max_threshold = 0.5;  // curves: thresholds 0 .. max_threshold (units of √area of the reference)
+  int curve_points = 101;      // points of each curve
+  // Draw out/topkids.png from curves.csv (experiments/plots/topkids_figure.py, by experiments/figures.h).
+  bool figure = true;
+  ProgressFn progress;                           // stage "topkids" per pose
+  std::function<void(const std::string&)> note;  // one line of progress text (repairs, timings)
+};
+
+// One method (or "inputs") on one query pose.
+struct TopkidsRow {
+  std::string pose;
+  std::string method;        // "inputs", "coulomb", "cmds" or "smacof"
+  int samples = 0;           // ground-truth vertices scored
+  int unmapped = 0;          // of them, vertices with no image (dropped from the pose's form)
+  int symmetric_chosen = 0;  // of them, errors measured to the mirrored truth (a forgiven flip)
+  double mean_error = 0;     // over mapped samples, units of √area(reference)
+  double median_error = 0;
+  double under_0_1 = 0;   // fraction of samples with error ≤ 0.1
+  double under_0_25 = 0;  // ≤ 0.25
+  // The same with the flip forgiven for the whole map only (the better of truth and mirrored truth for all
+  // samples together, eval/correspondence_error.h): stricter, a map mixing the sides is not forgiven.
+  bool whole_map_mirrored = false;  // the mirrored truth was the better one
+  double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
+  bool reflected = false;        // the ICP alignment is a reflection (det R = −1)
+  double icp_rmse = 0;           // of the alignment, in the reference form's units
+  double icp_rmse_relative = 0;  // over the reference form's bounding-box diagonal
+  long torn_edges = -1;          // coulomb: edges of the pose's form torn; −1 for other methods
+  std::string repair;            // what the method's repair did to the pose ("" when nothing)
+};
+
+struct TopkidsSummary {  // one method, pooled over poses
+  std::string method;
+  int samples = 0;
+  double mean_error = 0, median_error = 0, under_0_1 = 0, under_0_25 = 0;
+  Eigen::VectorXd fraction;  // cumulative curve at TopkidsExperimentResult::thresholds
+  // Flip forgiven per map (TopkidsRow::whole_map_*), pooled likewise.
+  double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
+  Eigen::VectorXd whole_map_fraction;
+};
+
+struct TopkidsExperimentResult {
+  std::vector<std::string> poses;
+  std::vector<std::string> methods;  // "inputs" first, then the options' methods
+  std::vector<TopkidsRow> rows;      // per pose, per method in `methods` order
+  Eigen::VectorXd thresholds;
+  std::vector<TopkidsSummary> summaries;                // per method in `methods` order
+  std::map<std::string, std::string> reference_repair;  // per method: what its repair did to the reference
+  std::string scoring_repair;  // the repair of the reference for the scoring geodesics ("" when none)
+  double reference_sqrt_area = 0;
+  std::string figure;          // "topkids.png" when drawn, else ""
+  std::string figure_problem;  // why it was not drawn
+  long forms_computed = 0, forms_cached = 0, scorings_computed = 0, scorings_cached = 0;
+  double seconds = 0;
+  // Query poses whose canonical form failed by some method, left out (not in `poses`), and geodesic
+  // fallbacks (kept): pipeline/shape_failures.h. The reference's failure ends the run.
+  std::vector<ShapeFailure> failures;
+};
+
+// The query poses of a folder: every NAME_ref.txt whose NAME is not the reference, in name order. Throws when
+// the folder is missing or holds none.
+std::vector<std::string> topkids_poses(const std::string& data, const std::string& reference);
+
+// The mesh file of a pose: NAME.off (.ply .obj .stl .vert) in data; throws naming what was looked for.
+std::string topkids_mesh_path(const std::string& data, const std::string& name);
+
+TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& options);
+
+}  // namespace cshapes

@@ -1,0 +1,62 @@
+#include "pipeline/glued_meshes.h"
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "core/error.h"
+#include "pipeline/canonical_forms.h"
+
+namespace cshapes {
+
+using nlohmann::json;
+
+std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& o) {
+  std::ostringstream k;
+  k.precision(17);
+  k << "glue_count=" << o.glue_count << ";seed=" << o.seed << ";max_gap=" << o.max_gap
+    << ";gap_edge_lengths=" << o.gap_edge_lengths << ";min_ratio=" << o.min_ratio
+    << ";min_geodesic_fraction=" << o.min_geodesic_fraction
+    << ";min_separation_fraction=" << o.min_separation_fraction << ";min_facing=" << o.min_facing
+    << ";landmarks=" << o.landmarks << ";max_checks=" << o.max_checks
+    << ";geodesics=" << to_string(o.geodesic.method) << "," << static_cast<int>(o.geodesic.heat_mode) << ","
+    << o.geodesic.heat_time_factor << ";relax_steps=" << o.relax_steps;
+  return cache_key({"glued-mesh-v1", mesh_content_key(mesh), k.str()});
+}
+
+GluedMesh cached_glued_mesh(const DiskCache& cache, const Mesh& mesh, const TopologicalNoiseOptions& options) {
+  const std::string key = glued_mesh_key(mesh, options);
+  GluedMesh g;
+  json value;
+  if (std::optional<json> hit = cache.get_json(key)) {
+    value = *hit;
+    g.cached = true;
+  } else {
+    try {
+      TopologicalNoiseResult r = glue_topological_noise(mesh, options);
+      std::vector<int> vertices;
+      for (const GluedPair& p : r.pairs) {
+        vertices.push_back(p.a);
+        vertices.push_back(p.b);
+      }
+      value =
+          json{{"F", faces_to_json(r.mesh.F)}, {"glued", vertices}, {"relax_steps_used", r.relax_steps_used}};
+    } catch (const WriteError&) {
+      throw;
+    } catch (const Error& e) {
+      value = json{{"error", e.what()}};
+    }
+    cache.put_json(key, value);
+  }
+  if (value.contains("error")) {
+    g.error = value.at("error").get<std::string>();
+    return g;
+  }
+  g.mesh.V = mesh.V;
+  g.mesh.F = faces_from_json(value.at("F"));
+  g.glued = value.at("glued").get<std::vector<int>>();
+  g.relax_steps_used = value.value("relax_steps_used", 0);
+  return g;
+}
+
+}  // namespace cshapes
