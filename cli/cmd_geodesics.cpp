@@ -58,7 +58,7 @@ int run() {
   if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
     summary["heat_mode"] = to_string(options.heat_mode);
   if (!prepared.warning.empty()) {
-    note("warning: " + prepared.warning);
+    warn(prepared.warning);
     summary["warning"] = prepared.warning;
   }
 

@@ -160,6 +160,9 @@ void end_progress_line() {
 }  // namespace
 
 void note(const std::string& line) {
+  // A library's warning said on the note channel ("warning: …") is a warning: one prefix, shown with --quiet.
+  static const std::string kWarning = "warning: ";
+  if (line.rfind(kWarning, 0) == 0) return warn(line.substr(kWarning.size()));
   if (g_quiet) return;
   end_progress_line();
   std::cerr << line << std::endl;
@@ -321,28 +324,35 @@ void require_output_directory(const std::string& path) {
 
 ProgressFn progress_printer() {
   if (g_quiet) return {};
+  // On a terminal: one line rewritten in place ("\r"), at most 4 times a second. Into a file or a pipe (a
+  // log): plain lines, one every 10 s and one when a stage ends, so a log holds no "\r" fragments.
+  const bool terminal = isatty(fileno(stderr)) != 0;
   struct State {
     WallClock::time_point start = WallClock::now(), last{};
     std::string stage;
   };
   auto state = std::make_shared<State>();
-  return [state](const std::string& stage, double done, double total) {
+  return [state, terminal](const std::string& stage, double done, double total) {
     auto now = WallClock::now();
     if (stage != state->stage) {
       state->stage = stage;
       state->start = now;
+      state->last = now;
     }
-    bool finished = done >= total;
-    if (!finished && now - state->last < std::chrono::milliseconds(250)) return;
+    const bool finished = done >= total;
+    const auto interval = terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(10000);
+    if (!finished && now - state->last < interval) return;
     state->last = now;
-    double elapsed = std::chrono::duration<double>(now - state->start).count();
-    double fraction = total > 0 ? done / total : 1.0;
-    std::fprintf(stderr, "\r[%s] %5.1f%%", stage.c_str(), 100.0 * fraction);
-    if (fraction > 0.01 && !finished)
-      std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
-    if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
+    const double elapsed = std::chrono::duration<double>(now - state->start).count();
+    const double fraction = total > 0 ? done / total : 1.0;
+    std::fprintf(stderr, "%s[%s] %5.1f%%", terminal ? "\r" : "", stage.c_str(), 100.0 * fraction);
+    // An estimate only once it means something: after 3 s and 5% of the stage.
+    if (!finished && elapsed >= 3 && fraction >= 0.05)
+      std::fprintf(stderr, " (about %.0f s left)%s", elapsed * (1 / fraction - 1), terminal ? "   " : "");
+    if (finished) std::fprintf(stderr, " in %.2f s%s", elapsed, terminal ? "            " : "");
+    if (finished || !terminal) std::fprintf(stderr, "\n");
     std::fflush(stderr);
-    g_progress_open = !finished;
+    g_progress_open = terminal && !finished;
   };
 }
 
