@@ -424,6 +424,30 @@ void check_numeric_options(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_numeric_options(*sub);
 }
 
+// Every option's help shows its default: options that take a value and are not required get the value their
+// variable holds before parsing ("=0.1"), wherever a command forgot capture_default_str().
+void show_defaults(CLI::App& app) {
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_size() != 0 && !option->get_required() && option->get_default_str().empty())
+      option->capture_default_str();
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) show_defaults(*sub);
+}
+
+// The one-line descriptions of the commands that only group others (`cshapes bench`, ...).
+std::string group_description(const std::string& name) {
+  static const std::map<std::string, std::string> groups = {
+      {"bench",
+       "Benchmarks: each measures a part of cshapes against a reference in the same run and prints JSON "
+       "(docs/benchmarks.md)"},
+      {"experiment",
+       "Experiments: the paper's, the noise curve, TOPKIDS, pose invariance and the Coulomb parameter study, "
+       "each writing data, figures and report.md into --out (cached: reruns resume)"},
+      {"generate", "Shapes made here, deterministic for a seed: a swiss roll, articulated poses, the hand, a "
+                   "whole retrieval dataset"}};
+  auto it = groups.find(name);
+  return it == groups.end() ? std::string() : it->second;
+}
+
 // OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
 // they take the core from the thread that has work (README, "Threads"); a wait that only sleeps costs each
 // of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
@@ -473,7 +497,8 @@ int main(int argc, char** argv) {
       for (CLI::App* existing : parent->get_subcommands([](CLI::App*) { return true; }))
         if (existing->get_name() == cmd.path[k]) sub = existing;
       if (!sub) {
-        sub = parent->add_subcommand(cmd.path[k], k + 1 == cmd.path.size() ? cmd.summary : "");
+        sub = parent->add_subcommand(cmd.path[k],
+                                     k + 1 == cmd.path.size() ? cmd.summary : group_description(cmd.path[k]));
         sub->fallthrough();
       }
       if (k + 1 < cmd.path.size()) sub->require_subcommand(1);
@@ -484,6 +509,7 @@ int main(int argc, char** argv) {
     leaf[parent] = &cmd;
   }
   check_numeric_options(app);
+  show_defaults(app);
 
   g_command = command_in_arguments(app, argc, argv);
   try {
