@@ -34,7 +34,8 @@
 //                            per-method pooled summary)
 //   draw_topkids_figure      out/topkids.png from curves.csv and topkids.json (experiments/figures.h), its
 //                            outcome recorded in the result and topkids.json
-//   write_topkids_report     out/report.md (the table, the figure, how it was made) from the result alone
+//   write_topkids_report     out/report.md (the table, the figure, how it was made) from the result and
+//                            the options it was run with
 //
 // Cost: the forms (Coulomb a few seconds per 12,000-vertex pose; MDS an all-pairs geodesic matrix, n² floats:
 // 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring
