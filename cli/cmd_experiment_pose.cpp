@@ -28,7 +28,8 @@ int run() {
   configure_canonical_form(o.canon);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = run_pose_invariance(o);
-  std::cout << r.markdown;
+  write_pose_invariance_report(r, o, o.out);
+  std::cout << pose_invariance_markdown(r, o);
   return exit_code_for(r.failures);
 }
 

@@ -41,6 +41,8 @@ int run() {
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
   TopkidsExperimentResult r = run_topkids_experiment(o);
+  draw_topkids_figure(r, o);
+  write_topkids_report(r, o, o.out);
   if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
   if (args.json) {
     nlohmann::json j{{"out", o.out},

@@ -113,9 +113,7 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
     result.fraction[t] = static_cast<double>(within) / used;
   }
   result.mean_error = result.errors.mean();
-  result.median_error =
-      used % 2 ? sorted[static_cast<size_t>(used / 2)]
-               : 0.5 * (sorted[static_cast<size_t>(used / 2 - 1)] + sorted[static_cast<size_t>(used / 2)]);
+  result.median_error = error_median(result.errors);
   return result;
 }
 
@@ -170,16 +168,8 @@ void summarise_errors(CorrespondenceErrorResult& result, const CorrespondenceErr
     auto within = std::upper_bound(sorted.begin(), sorted.end(), result.thresholds[t]) - sorted.begin();
     result.fraction[t] = static_cast<double>(within) / static_cast<double>(used);
   }
-  double sum = 0;
-  Index finite = 0;
-  for (double e : sorted)
-    if (std::isfinite(e)) sum += e, ++finite;
-  result.mean_error =
-      finite > 0 ? sum / static_cast<double>(finite) : std::numeric_limits<double>::quiet_NaN();
-  const size_t h = static_cast<size_t>(used / 2);
-  result.median_error = used == 0  ? std::numeric_limits<double>::quiet_NaN()
-                        : used % 2 ? sorted[h]
-                                   : 0.5 * (sorted[h - 1] + sorted[h]);
+  result.mean_error = finite_mean(result.errors);
+  result.median_error = error_median(result.errors);
 }
 
 }  // namespace
@@ -314,6 +304,26 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     result.symmetric_chosen.push_back(mirrored);
   }
   return result;
+}
+
+double finite_mean(const Eigen::VectorXd& errors) {
+  double sum = 0;
+  Index finite = 0;
+  for (Index i = 0; i < errors.size(); ++i)
+    if (std::isfinite(errors[i])) sum += errors[i], ++finite;
+  return finite > 0 ? sum / static_cast<double>(finite) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double error_median(Eigen::VectorXd errors) {
+  if (errors.size() == 0) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(errors.data(), errors.data() + errors.size());
+  const Index h = errors.size() / 2;
+  return errors.size() % 2 ? errors[h] : 0.5 * (errors[h - 1] + errors[h]);
+}
+
+double fraction_within(const Eigen::VectorXd& errors, double threshold) {
+  if (errors.size() == 0) return 0;
+  return static_cast<double>((errors.array() <= threshold).count()) / static_cast<double>(errors.size());
 }
 
 }  // namespace cshapes

@@ -111,4 +111,13 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
     const CorrespondenceErrorOptions& options = {}, const std::string& b_name = "B");
 
+// Statistics of a vector of per-sample errors, +inf where a sample is unmapped (as in the results above).
+// The mean over the finite entries, in order; NaN when there is none.
+double finite_mean(const Eigen::VectorXd& errors);
+// The median over all entries (+inf counts): the middle value, or the mean of the two middle values for an
+// even count (so, unlike core/timing.h's median of repeats, not always one of the entries); NaN when empty.
+double error_median(Eigen::VectorXd errors);
+// The fraction of all entries ≤ threshold (an unmapped sample never is); 0 when empty.
+double fraction_within(const Eigen::VectorXd& errors, double threshold);
+
 }  // namespace cshapes

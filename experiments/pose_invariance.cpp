@@ -9,7 +9,6 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/dataset.h"
 #include "core/error.h"
@@ -19,6 +18,7 @@
 #include "core/rigid_transform.h"
 #include "core/timing.h"
 #include "eval/correspondence_error.h"
+#include "pipeline/experiment_kit.h"
 
 namespace cshapes {
 
@@ -241,11 +241,8 @@ double geodesic_stress(const Points& X, const StressReference& ref) {
   return den > 0 ? std::sqrt(num / den) : -1;
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  write_file_atomically(path, [&](std::ostream& out) { out << text; });
-}
-
-std::string num(double v, int precision = 6) {
+// A number in a CSV cell: 6 significant digits; empty when not finite.
+std::string csv_number(double v, int precision = 6) {
   if (!std::isfinite(v)) return "";
   std::ostringstream s;
   s.precision(precision);
@@ -253,193 +250,255 @@ std::string num(double v, int precision = 6) {
   return s.str();
 }
 
-std::string pct(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2f%%", 100 * v);
-  return b;
+// A geodesic stress for a report: NaN (shown "—") when not measured (−1).
+double measured_stress(double stress) {
+  return stress >= 0 ? stress : NAN;
 }
 
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v) || v < 0) return "—";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
+// ---- Measurement ------------------------------------------------------------------------------------------
+
+// The forms the run measures: "input" (the meshes themselves), then the options' methods.
+std::vector<std::string> forms_of_run(const PoseInvarianceOptions& o) {
+  std::vector<std::string> forms = {"input"};
+  forms.insert(forms.end(), o.methods.begin(), o.methods.end());
+  return forms;
 }
 
-}  // namespace
-
-PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
+void check_methods(const PoseInvarianceOptions& o) {
   for (const std::string& m : o.methods) {
     const auto& known = canonical_form_methods();
     CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
                     "experiment pose: unknown method '", m, "'");
   }
-  auto say = [&](const std::string& line) {
-    if (o.note) o.note(line);
-  };
-  std::vector<PoseShape> shapes;
-  std::vector<PosePair> pairs;
-  discover(o, shapes, pairs);
-  say(detail::concat("experiment pose: ", shapes.size(), " shapes, ", pairs.size(), " pairs of poses"));
+}
 
-  const DiskCache cache((fs::path(o.out) / "cache" / "forms").string());
-  std::vector<std::string> forms = {"input"};
-  forms.insert(forms.end(), o.methods.begin(), o.methods.end());
-  // X[form][shape]
-  std::map<std::string, std::vector<Points>> X;
-  PoseInvarianceResult result;
-  for (const std::string& f : forms) X[f].resize(shapes.size());
-  std::vector<char> failed(shapes.size(), 0);
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    const PoseShape& s = shapes[i];
-    // A shape whose form fails by any method is left out, with every pair it is in.
-    const size_t failures_before = result.failures.size();
-    std::optional<std::vector<CachedForm>> computed_forms = shape_canonical_forms(
-        cache, s.mesh, options_per_method(o.canon, o.methods, s.path), s.name, result.failures);
-    for (size_t k = failures_before; k < result.failures.size(); ++k)
-      say("  " + describe(result.failures[k]));
-    if (!computed_forms) {
-      failed[i] = 1;
-      continue;
-    }
-    std::vector<CachedForm>& computed = *computed_forms;
-    X["input"][i] = s.mesh.V;
-    const StressReference ref = stress_reference(s, o.stress_sources);
-    PoseShapeRow in_row;
-    in_row.shape = s.name;
-    in_row.form = "input";
-    in_row.stress = geodesic_stress(s.mesh.V, ref);
-    result.shapes.push_back(in_row);
-    for (size_t k = 0; k < o.methods.size(); ++k) {
-      const std::string& m = o.methods[k];
-      CanonicalForm& form = computed[k].form;
-      const bool cached = computed[k].cached;
-      PoseShapeRow row;
-      row.shape = s.name;
-      row.form = m;
-      stretch_stats(s.mesh, form.X, form.torn, row);
-      row.stress = geodesic_stress(form.X, ref);
-      row.iterations = form.iterations;
-      row.seconds = form.precompute_seconds + form.solve_seconds;
-      if (form.torn.size()) row.torn_edges = static_cast<int>(form.torn.sum());  // torn vertices
-      say(detail::concat("  ", s.name, " ", m, cached ? " (cached)" : "", ": ", form.iterations,
-                         " iterations, ", fixed(row.seconds, 2), " s, mean |stretch-1| ",
-                         fixed(row.mean_abs_stretch, 3), ", stress ", fixed(row.stress, 3)));
-      result.shapes.push_back(row);
-      X[m][i] = std::move(form.X);
-    }
+// The points of every form of every shape: X[form][shape index] (empty for a shape left out).
+using FormPoints = std::map<std::string, std::vector<Points>>;
+
+// One shape's row for one method's form: stretch, stress against `reference`, cost; said in a note.
+PoseShapeRow form_row(const PoseShape& s, const std::string& method, const CachedForm& computed,
+                      const StressReference& reference, const NoteFn& note) {
+  const CanonicalForm& form = computed.form;
+  PoseShapeRow row;
+  row.shape = s.name;
+  row.form = method;
+  stretch_stats(s.mesh, form.X, form.torn, row);
+  row.stress = geodesic_stress(form.X, reference);
+  row.iterations = form.iterations;
+  row.seconds = form.precompute_seconds + form.solve_seconds;
+  if (form.torn.size()) row.torn_edges = static_cast<int>(form.torn.sum());  // torn vertices
+  say(note,
+      detail::concat("  ", s.name, " ", method, computed.cached ? " (cached)" : "", ": ", form.iterations,
+                     " iterations, ", fixed(row.seconds, 2), " s, mean |stretch-1| ",
+                     fixed(row.mean_abs_stretch, 3), ", stress ", fixed(measured_stress(row.stress), 3)));
+  return row;
+}
+
+// Shape i: its forms by every method (cached), its rows of result.shapes (the input's first), its points in
+// X. false when a form failed: the shape is left out (its record in result.failures).
+bool measure_shape(const PoseShape& s, size_t i, const DiskCache& cache, const PoseInvarianceOptions& o,
+                   FormPoints& X, PoseInvarianceResult& result) {
+  const size_t failures_before = result.failures.size();
+  std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
+      cache, s.mesh, options_per_method(o.canon, o.methods, s.path), s.name, result.failures);
+  for (size_t k = failures_before; k < result.failures.size(); ++k)
+    say(o.note, "  " + describe(result.failures[k]));
+  if (!computed) return false;
+  X["input"][i] = s.mesh.V;
+  const StressReference reference = stress_reference(s, o.stress_sources);
+  PoseShapeRow input_row;
+  input_row.shape = s.name;
+  input_row.form = "input";
+  input_row.stress = geodesic_stress(s.mesh.V, reference);
+  result.shapes.push_back(input_row);
+  for (size_t k = 0; k < o.methods.size(); ++k) {
+    result.shapes.push_back(form_row(s, o.methods[k], (*computed)[k], reference, o.note));
+    X[o.methods[k]][i] = std::move((*computed)[k].form.X);
   }
+  return true;
+}
 
+// Every pair of two measured shapes: one row per form, said in a note.
+void measure_pairs(const std::vector<PoseShape>& shapes, const std::vector<PosePair>& pairs,
+                   const std::vector<char>& failed, const FormPoints& X, const PoseInvarianceOptions& o,
+                   PoseInvarianceResult& result) {
+  const std::vector<std::string> forms = forms_of_run(o);
   for (const PosePair& p : pairs) {
     if (failed[p.a] || failed[p.b]) continue;
     const std::vector<size_t> keep = thin(p.va.size(), o.samples);
-    const double input_rms = pose_rms(X["input"][p.a], X["input"][p.b], p, keep);
+    const double input_rms = pose_rms(X.at("input")[p.a], X.at("input")[p.b], p, keep);
+    std::string line = "  " + shapes[p.a].name + "-" + shapes[p.b].name + ":";
     for (const std::string& f : forms) {
       PosePairRow row;
       row.a = shapes[p.a].name;
       row.b = shapes[p.b].name;
       row.class_name = shapes[p.a].class_name;
       row.form = f;
-      row.rms = f == "input" ? input_rms : pose_rms(X[f][p.a], X[f][p.b], p, keep);
+      row.rms = f == "input" ? input_rms : pose_rms(X.at(f)[p.a], X.at(f)[p.b], p, keep);
       row.input_rms = input_rms;
       row.samples = static_cast<int>(keep.size());
       result.pairs.push_back(row);
+      line += " " + f + " " + percent(row.rms);
     }
-    std::string line = "  " + shapes[p.a].name + "-" + shapes[p.b].name + ":";
-    for (size_t k = result.pairs.size() - forms.size(); k < result.pairs.size(); ++k)
-      line += " " + result.pairs[k].form + " " + pct(result.pairs[k].rms);
-    say(line);
+    say(o.note, line);
   }
+}
 
-  // Summary per form, over all pairs and per class.
+// ---- Summary ----------------------------------------------------------------------------------------------
+
+// "all", then each class of a measured shape in shape order; "all" alone when there is one class.
+std::vector<std::string> summary_classes(const std::vector<PoseShape>& shapes,
+                                         const std::vector<char>& failed) {
   std::vector<std::string> classes = {"all"};
   for (size_t i = 0; i < shapes.size(); ++i)
     if (!failed[i] && std::find(classes.begin(), classes.end(), shapes[i].class_name) == classes.end())
       classes.push_back(shapes[i].class_name);
   if (classes.size() == 2) classes.pop_back();  // one class: "all" says it
-  std::map<std::string, std::string> class_of;
-  for (const PoseShape& s : shapes) class_of[s.name] = s.class_name;
-  for (const std::string& f : forms)
-    for (const std::string& c : classes) {
-      PoseSummaryRow row;
-      row.form = f;
-      row.class_name = c;
-      std::vector<double> rms, input;
-      for (const PosePairRow& p : result.pairs)
-        if (p.form == f && (c == "all" || p.class_name == c)) {
-          rms.push_back(p.rms);
-          input.push_back(p.input_rms);
-        }
-      row.pairs = static_cast<int>(rms.size());
-      row.median_rms = median(rms);
-      row.median_input_rms = median(input);
-      double sum = 0;
-      for (double v : rms) sum += v;
-      row.mean_rms = rms.empty() ? NAN : sum / rms.size();
-      row.removed = 1 - row.median_rms / row.median_input_rms;
-      std::vector<double> st, stress;
-      for (const PoseShapeRow& s : result.shapes)
-        if (s.form == f && (c == "all" || class_of[s.shape] == c)) {
-          st.push_back(s.mean_abs_stretch);
-          row.max_stretch = std::max(row.max_stretch, s.max_stretch);
-          if (s.stress >= 0) stress.push_back(s.stress);
-        }
-      row.mean_abs_stretch = median(st);
-      row.stress = stress.empty() ? -1 : median(stress);
-      result.summary.push_back(row);
-    }
+  return classes;
+}
 
-  // Files.
-  const std::string label = o.label.empty() ? "default" : o.label;
-  std::ostringstream pairs_csv, shapes_csv, summary_csv, md;
-  // Text fields quoted where they must be: a label "a,b" stays one column.
-  pairs_csv << "config,a,b,class,form,rms,input_rms,samples\n";
+// One form over the pairs and shapes of one class ("all": every class). class_of: shape name → class.
+PoseSummaryRow summary_row(const std::string& form, const std::string& class_name,
+                           const PoseInvarianceResult& result,
+                           const std::map<std::string, std::string>& class_of) {
+  PoseSummaryRow row;
+  row.form = form;
+  row.class_name = class_name;
+  std::vector<double> rms, input;
+  for (const PosePairRow& p : result.pairs)
+    if (p.form == form && (class_name == "all" || p.class_name == class_name)) {
+      rms.push_back(p.rms);
+      input.push_back(p.input_rms);
+    }
+  row.pairs = static_cast<int>(rms.size());
+  row.median_rms = median(rms);
+  row.median_input_rms = median(input);
+  double sum = 0;
+  for (double v : rms) sum += v;
+  row.mean_rms = rms.empty() ? NAN : sum / rms.size();
+  row.removed = 1 - row.median_rms / row.median_input_rms;
+  std::vector<double> stretch, stress;
+  for (const PoseShapeRow& s : result.shapes)
+    if (s.form == form && (class_name == "all" || class_of.at(s.shape) == class_name)) {
+      stretch.push_back(s.mean_abs_stretch);
+      row.max_stretch = std::max(row.max_stretch, s.max_stretch);
+      if (s.stress >= 0) stress.push_back(s.stress);
+    }
+  row.mean_abs_stretch = median(stretch);
+  row.stress = stress.empty() ? -1 : median(stress);
+  return row;
+}
+
+// ---- Data files -------------------------------------------------------------------------------------------
+
+// Text fields quoted where they must be: a label "a,b" stays one column.
+void write_pairs_csv(const ExperimentFolder& folder, const std::string& label,
+                     const PoseInvarianceResult& result) {
+  std::ostringstream csv;
+  csv << "config,a,b,class,form,rms,input_rms,samples\n";
   for (const PosePairRow& r : result.pairs)
-    pairs_csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
-              << csv_field(r.class_name) << "," << csv_field(r.form) << "," << num(r.rms) << ","
-              << num(r.input_rms) << "," << r.samples << "\n";
-  shapes_csv
-      << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
+    csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
+        << csv_field(r.class_name) << "," << csv_field(r.form) << "," << csv_number(r.rms) << ","
+        << csv_number(r.input_rms) << "," << r.samples << "\n";
+  folder.write_text("pose_pairs.csv", csv.str());
+}
+
+void write_shapes_csv(const ExperimentFolder& folder, const std::string& label,
+                      const PoseInvarianceResult& result) {
+  std::ostringstream csv;
+  csv << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
          "torn_vertices\n";
   for (const PoseShapeRow& r : result.shapes)
-    shapes_csv << csv_field(label) << "," << csv_field(r.shape) << "," << csv_field(r.form) << ","
-               << num(r.mean_abs_stretch) << "," << num(r.p99_stretch) << "," << num(r.max_stretch) << ","
-               << (r.stress >= 0 ? num(r.stress) : "") << "," << r.iterations << "," << num(r.seconds, 4)
-               << "," << r.torn_edges << "\n";
-  summary_csv
-      << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
+    csv << csv_field(label) << "," << csv_field(r.shape) << "," << csv_field(r.form) << ","
+        << csv_number(r.mean_abs_stretch) << "," << csv_number(r.p99_stretch) << ","
+        << csv_number(r.max_stretch) << "," << (r.stress >= 0 ? csv_number(r.stress) : "") << ","
+        << r.iterations << "," << csv_number(r.seconds, 4) << "," << r.torn_edges << "\n";
+  folder.write_text("pose_shapes.csv", csv.str());
+}
+
+void write_summary_csv(const ExperimentFolder& folder, const std::string& label,
+                       const PoseInvarianceResult& result) {
+  std::ostringstream csv;
+  csv << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
          "max_stretch,median_geodesic_stress\n";
   for (const PoseSummaryRow& r : result.summary)
-    summary_csv << csv_field(label) << "," << csv_field(r.form) << "," << csv_field(r.class_name) << ","
-                << r.pairs << "," << num(r.median_rms) << "," << num(r.mean_rms) << ","
-                << num(r.median_input_rms) << "," << num(r.removed) << "," << num(r.mean_abs_stretch) << ","
-                << num(r.max_stretch) << "," << (r.stress >= 0 ? num(r.stress) : "") << "\n";
-  md << "# Pose invariance (" << label << ")\n\n"
-     << "Data: `" << o.data << "`, " << shapes.size() - count_left_out(result.failures) << " shapes, "
-     << result.pairs.size() / forms.size() << " pairs of poses, up to " << o.samples
+    csv << csv_field(label) << "," << csv_field(r.form) << "," << csv_field(r.class_name) << "," << r.pairs
+        << "," << csv_number(r.median_rms) << "," << csv_number(r.mean_rms) << ","
+        << csv_number(r.median_input_rms) << "," << csv_number(r.removed) << ","
+        << csv_number(r.mean_abs_stretch) << "," << csv_number(r.max_stretch) << ","
+        << (r.stress >= 0 ? csv_number(r.stress) : "") << "\n";
+  folder.write_text("pose_summary.csv", csv.str());
+}
+
+std::string label_of(const PoseInvarianceOptions& o) {
+  return o.label.empty() ? "default" : o.label;
+}
+
+size_t count_form(const std::vector<PosePairRow>& rows, const std::string& form) {
+  return static_cast<size_t>(
+      std::count_if(rows.begin(), rows.end(), [&](const PosePairRow& r) { return r.form == form; }));
+}
+size_t count_form(const std::vector<PoseShapeRow>& rows, const std::string& form) {
+  return static_cast<size_t>(
+      std::count_if(rows.begin(), rows.end(), [&](const PoseShapeRow& r) { return r.form == form; }));
+}
+
+}  // namespace
+
+PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
+  check_methods(o);
+  std::vector<PoseShape> shapes;
+  std::vector<PosePair> pairs;
+  discover(o, shapes, pairs);
+  say(o.note,
+      detail::concat("experiment pose: ", shapes.size(), " shapes, ", pairs.size(), " pairs of poses"));
+
+  const ExperimentFolder folder(o.out);
+  const DiskCache cache = folder.cache("forms");
+  PoseInvarianceResult result;
+  FormPoints X;
+  for (const std::string& f : forms_of_run(o)) X[f].resize(shapes.size());
+  std::vector<char> failed(shapes.size(), 0);
+  for (size_t i = 0; i < shapes.size(); ++i) failed[i] = !measure_shape(shapes[i], i, cache, o, X, result);
+  measure_pairs(shapes, pairs, failed, X, o, result);
+
+  std::map<std::string, std::string> class_of;
+  for (const PoseShape& s : shapes) class_of[s.name] = s.class_name;
+  for (const std::string& f : forms_of_run(o))
+    for (const std::string& c : summary_classes(shapes, failed))
+      result.summary.push_back(summary_row(f, c, result, class_of));
+
+  write_pairs_csv(folder, label_of(o), result);
+  write_shapes_csv(folder, label_of(o), result);
+  write_summary_csv(folder, label_of(o), result);
+  return result;
+}
+
+std::string pose_invariance_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
+  std::ostringstream md;
+  md << "# Pose invariance (" << label_of(o) << ")\n\n"
+     << "Data: `" << o.data << "`, " << count_form(result.shapes, "input") << " shapes, "
+     << count_form(result.pairs, "input") << " pairs of poses, up to " << o.samples
      << " ground-truth correspondences per pair. Pose RMS: RMS distance between corresponding points of the "
-        "two "
-        "forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; removed "
-        "= 1 − "
-        "form / input (medians over pairs). Stretch: edge length in the form / in the input, edges not torn; "
-        "stress: against fast marching from "
+        "two forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; "
+        "removed = 1 − form / input (medians over pairs). Stretch: edge length in the form / in the input, "
+        "edges not torn; stress: against fast marching from "
      << o.stress_sources << " sources per shape (medians over shapes; max stretch: the worst edge).\n\n"
      << "| form | class | pairs | pose RMS (median) | mean | input | removed | mean \\|stretch−1\\| | max "
-        "stretch | "
-        "geodesic stress |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+        "stretch | geodesic stress |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const PoseSummaryRow& r : result.summary)
-    md << "| " << r.form << " | " << r.class_name << " | " << r.pairs << " | " << pct(r.median_rms) << " | "
-       << pct(r.mean_rms) << " | " << pct(r.median_input_rms) << " | " << fixed(100 * r.removed, 0) << "% | "
-       << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
-       << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(r.stress, 3) << " |\n";
+    md << "| " << r.form << " | " << r.class_name << " | " << r.pairs << " | " << percent(r.median_rms)
+       << " | " << percent(r.mean_rms) << " | " << percent(r.median_input_rms) << " | "
+       << percent(r.removed, 0) << " | " << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
+       << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(measured_stress(r.stress), 3)
+       << " |\n";
   if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);
-  result.markdown = md.str();
-  fs::create_directories(o.out);
-  write_text((fs::path(o.out) / "pose_pairs.csv").string(), pairs_csv.str());
-  write_text((fs::path(o.out) / "pose_shapes.csv").string(), shapes_csv.str());
-  write_text((fs::path(o.out) / "pose_summary.csv").string(), summary_csv.str());
-  write_text((fs::path(o.out) / "pose.md").string(), result.markdown);
-  return result;
+  return md.str();
+}
+
+void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
+                                  const std::string& folder) {
+  ExperimentFolder(folder).write_text("pose.md", pose_invariance_markdown(result, options));
 }
 
 }  // namespace cshapes

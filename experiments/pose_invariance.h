@@ -20,9 +20,10 @@
 // (the normalised stress MDS minimises, measured the same way for every method).
 //
 // Canonical forms are cached under OUT/cache (a rerun, or a second run with other Coulomb options, computes
-// only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): OUT/pose_pairs.csv
-// (one row per pair and form), OUT/pose_shapes.csv (one row per shape and form), OUT/pose_summary.csv and
-// OUT/pose.md (per form: medians over pairs, overall and per class).
+// only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): run_pose_invariance
+// writes the data, OUT/pose_pairs.csv (one row per pair and form), OUT/pose_shapes.csv (one row per shape and
+// form) and OUT/pose_summary.csv (per form: medians over pairs, overall and per class);
+// write_pose_invariance_report writes OUT/pose.md (the summary as a table) from the result.
 #pragma once
 
 #include <functional>
@@ -74,13 +75,24 @@ struct PoseSummaryRow {
 struct PoseInvarianceResult {
   std::vector<PosePairRow> pairs;
   std::vector<PoseShapeRow> shapes;
-  std::vector<PoseSummaryRow> summary;
-  std::string markdown;  // OUT/pose.md
+  std::vector<PoseSummaryRow> summary;  // per form ("input" first, then the methods), "all" and per class
   // Shapes whose canonical form failed by some method, left out with every pair they are in, and geodesic
   // fallbacks (kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
   std::vector<ShapeFailure> failures;
 };
 
+// The measurement (see above): discovers the shapes and pairs (throws on a malformed folder or
+// correspondence file, naming it), computes or reads from OUT/cache every form, and writes the three CSV
+// files into options.out. No report.
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& options);
+
+// pose.md's text from the result and the options it was run with (label, data, samples, stress sources): the
+// summary table (pose RMS as percentages of the diagonal, "—" for a value not measured) and the shapes left
+// out. The shapes and pairs it counts are those of the result (shapes left out are not).
+std::string pose_invariance_markdown(const PoseInvarianceResult& result,
+                                     const PoseInvarianceOptions& options);
+// Writes it to folder/pose.md.
+void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
+                                  const std::string& folder);
 
 }  // namespace cshapes

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -12,14 +10,13 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
-#include "core/mesh_repair.h"
 #include "core/timing.h"
-#include "experiments/figures.h"
 #include "eval/cache.h"
 #include "eval/correspondence_error.h"
+#include "experiments/figures.h"
+#include "pipeline/experiment_kit.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -32,9 +29,7 @@ namespace {
 constexpr const char* kInputs = "inputs";
 const std::vector<std::string> kMeshExtensions = {"off", "ply", "obj", "stl", "vert"};
 
-void say(const TopkidsExperimentOptions& o, const std::string& line) {
-  if (o.note) o.note(line);
-}
+// ---- Point maps -------------------------------------------------------------------------------------------
 
 // A map from every vertex of a source point set to the nearest vertex of a target set after ICP, over the
 // finite rows of each (a canonical form has NaN rows where its repair dropped a vertex: those get −1).
@@ -69,13 +64,6 @@ PointMap align_and_map(const Points& source, const Points& target, const IcpOpti
   return pm;
 }
 
-std::string fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(decimals) << value;
-  return s.str();
-}
-
 // Errors in a cache entry: JSON has no infinity, so an unmapped sample is stored as −1.
 json errors_to_json(const Eigen::VectorXd& e) {
   std::vector<double> v(static_cast<size_t>(e.size()));
@@ -90,24 +78,7 @@ Eigen::VectorXd errors_from_json(const json& j) {
   return e;
 }
 
-// Fraction of entries ≤ t, mean over finite entries, median of all (an unmapped sample is +inf).
-double fraction_within(const Eigen::VectorXd& e, double t) {
-  if (e.size() == 0) return 0;
-  return static_cast<double>((e.array() <= t).count()) / static_cast<double>(e.size());
-}
-double finite_mean(const Eigen::VectorXd& e) {
-  double sum = 0;
-  Index n = 0;
-  for (Index i = 0; i < e.size(); ++i)
-    if (std::isfinite(e[i])) sum += e[i], ++n;
-  return n ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
-}
-double median(Eigen::VectorXd e) {
-  if (e.size() == 0) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(e.data(), e.data() + e.size());
-  const Index h = e.size() / 2;
-  return e.size() % 2 ? e[h] : 0.5 * (e[h - 1] + e[h]);
-}
+// ---- Inputs -----------------------------------------------------------------------------------------------
 
 struct Pose {
   std::string name;
@@ -115,7 +86,396 @@ struct Pose {
   Mesh mesh;
 };
 
-void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r);
+// Everything the run reads, read and checked before any work.
+struct TopkidsInputs {
+  std::string reference_path;
+  Mesh reference;
+  std::vector<Pose> poses;
+};
+
+void check_options(const TopkidsExperimentOptions& o) {
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment topkids: unknown method '", m, "'");
+  }
+  CSHAPES_REQUIRE(o.max_threshold > 0.25 && o.curve_points >= 2,
+                  "experiment topkids: the curve must reach past 0.25 with at least 2 points");
+}
+
+Pose read_pose(const TopkidsExperimentOptions& o, const std::string& name, const Mesh& reference) {
+  CSHAPES_REQUIRE(name != o.reference, "experiment topkids: pose ", name, " is the reference");
+  Pose p;
+  p.name = name;
+  p.ref_path = (fs::path(o.data) / (name + "_ref.txt")).string();
+  CSHAPES_REQUIRE(fs::is_regular_file(p.ref_path), p.ref_path, ": not found (pose ", name,
+                  " needs its ground truth)");
+  p.mesh_path = topkids_mesh_path(o.data, name);
+  const std::string sym = (fs::path(o.data) / (name + "_sym.txt")).string();
+  if (fs::is_regular_file(sym)) p.sym_path = sym;
+  p.mesh = read_mesh(p.mesh_path);
+  // Checked now (the scoring reads them again, from its cache or not).
+  read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.num_vertices());
+  if (!p.sym_path.empty())
+    read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
+  else
+    say(o.note, p.name + ": no " + name + "_sym.txt: symmetric flips are not forgiven for this pose");
+  return p;
+}
+
+TopkidsInputs read_inputs(const TopkidsExperimentOptions& o, const std::vector<std::string>& poses) {
+  TopkidsInputs in;
+  in.reference_path = topkids_mesh_path(o.data, o.reference);
+  in.reference = read_mesh(in.reference_path);
+  for (const std::string& name : poses) in.poses.push_back(read_pose(o, name, in.reference));
+  return in;
+}
+
+// ---- Canonical forms --------------------------------------------------------------------------------------
+
+// One shape's canonical forms by every method of the run, and their cache keys.
+struct MethodForms {
+  std::map<std::string, CanonicalForm> forms;
+  std::map<std::string, std::string> keys;
+};
+
+// The forms of one shape (the two MDS methods share one geodesic matrix), counted in r and said in a note
+// each. nullopt when the shape's form failed by some method: it is left out (pipeline/shape_failures.h), its
+// record appended to r.failures.
+std::optional<MethodForms> forms_of(const Mesh& mesh, const std::string& path, const DiskCache& form_cache,
+                                    const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
+  const std::string name = fs::path(path).stem().string();
+  const size_t failures_before = r.failures.size();
+  std::optional<std::vector<CachedForm>> computed =
+      shape_canonical_forms(form_cache, mesh, options_per_method(o.canon, o.methods, path), name, r.failures);
+  for (size_t k = failures_before; k < r.failures.size(); ++k) say(o.note, "  " + describe(r.failures[k]));
+  if (!computed) return std::nullopt;
+  MethodForms result;
+  for (size_t k = 0; k < o.methods.size(); ++k) {
+    const std::string& m = o.methods[k];
+    CachedForm& form = (*computed)[k];
+    (form.cached ? r.forms_cached : r.forms_computed)++;
+    say(o.note, detail::concat("  ", name, " ", m, ": ",
+                               form.cached ? "cached" : "computed in " + fixed(form.seconds, 1) + " s",
+                               form.form.repair_text.empty() ? "" : "; " + form.form.repair_text));
+    result.keys[m] = form.key;
+    result.forms[m] = std::move(form.form);
+  }
+  return result;
+}
+
+// The reference pose, its forms, and the scales every pose's rows are measured in.
+struct Reference {
+  const Mesh& mesh;
+  const std::string& path;
+  MethodForms forms;
+  std::map<std::string, double> form_diagonal;  // per method and "inputs": the form's bounding-box diagonal
+  std::string content_key;                      // mesh_content_key
+};
+
+Reference reference_forms(const TopkidsInputs& in, const DiskCache& form_cache,
+                          const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
+  say(o.note,
+      "== reference " + o.reference + " (" + std::to_string(in.reference.num_vertices()) + " vertices)");
+  std::optional<MethodForms> forms = forms_of(in.reference, in.reference_path, form_cache, o, r);
+  // Every pose is measured against the reference: without its forms there is nothing to measure.
+  if (!forms) fail("experiment topkids: ", describe(r.failures.back()));
+  Reference ref{in.reference, in.reference_path, std::move(*forms), {}, mesh_content_key(in.reference)};
+  for (const std::string& m : o.methods) {
+    r.reference_repair[m] = ref.forms.forms[m].repair_text;
+    ref.form_diagonal[m] = finite_bbox_diagonal(ref.forms.forms[m].X);
+  }
+  ref.form_diagonal[kInputs] = bbox_diagonal(in.reference.V);
+  return ref;
+}
+
+// ---- Scoring ----------------------------------------------------------------------------------------------
+
+// The cache entry of one pose's scoring: the forms' keys, the truth files' contents and every option.
+std::string scoring_entry(const TopkidsExperimentOptions& o, const Reference& reference, const Pose& p,
+                          const MethodForms& forms) {
+  std::ostringstream key;
+  key.precision(17);
+  key << "topkids-score;v2;reference=" << reference.content_key << ";pose=" << mesh_content_key(p.mesh)
+      << ";ref=" << file_content_hash(p.ref_path)
+      << ";sym=" << (p.sym_path.empty() ? "" : file_content_hash(p.sym_path)) << ";samples=" << o.samples
+      << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
+      << static_cast<int>(o.scoring_geodesics.heat_mode) << "," << o.scoring_geodesics.heat_time_factor
+      << ";icp=" << to_key_string(o.icp) << ";curve=" << o.max_threshold << "," << o.curve_points;
+  for (const std::string& m : o.methods)
+    key << ";" << m << "=" << reference.forms.keys.at(m) << "," << forms.keys.at(m);
+  return cache_key({key.str(), "json"});
+}
+
+// Per ground-truth vertex of the pose: its mirrored truth on the reference, −1 where there is none; empty
+// when the pose has no _sym.txt.
+std::vector<int> mirrored_truth(const Pose& p, const CorrespondencePairs& truth, const Mesh& reference) {
+  std::vector<int> symmetric;
+  if (p.sym_path.empty()) return symmetric;
+  const CorrespondencePairs sym =
+      read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
+  std::vector<int> mirror_of(static_cast<size_t>(p.mesh.num_vertices()), -1);
+  for (size_t k = 0; k < sym.from.size(); ++k) mirror_of[static_cast<size_t>(sym.from[k])] = sym.to[k];
+  for (int a : truth.from) symmetric.push_back(mirror_of[static_cast<size_t>(a)]);
+  return symmetric;
+}
+
+// One pose scored: the inputs and each method's form aligned onto the reference's by ICP, the induced maps
+// scored by the SHREC'16 protocol. The cache entry's JSON: {scoring_repair, skipped_samples, sqrt_area,
+// methods: {METHOD: {errors, unmapped, symmetric_chosen, direct_errors, mirrored_errors, reflected, rmse}}}.
+json score_pose(const TopkidsExperimentOptions& o, const std::vector<std::string>& methods,
+                const Reference& reference, const Pose& p, const MethodForms& forms) {
+  const CorrespondencePairs truth =
+      read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.mesh.num_vertices());
+  const std::vector<int> symmetric = mirrored_truth(p, truth, reference.mesh);
+  std::vector<PointMap> maps;
+  maps.push_back(align_and_map(p.mesh.V, reference.mesh.V, o.icp));
+  for (const std::string& m : o.methods)
+    maps.push_back(align_and_map(forms.forms.at(m).X, reference.forms.forms.at(m).X, o.icp));
+  std::vector<Eigen::VectorXi> map_list;
+  for (const PointMap& pm : maps) map_list.push_back(pm.map);
+  CorrespondenceErrorOptions ce;
+  ce.max_samples = o.samples;
+  ce.max_threshold = o.max_threshold;
+  ce.curve_points = o.curve_points;
+  ce.geodesics = o.scoring_geodesics;
+  const SymmetricCorrespondenceErrorResult s = symmetric_correspondence_errors(
+      reference.mesh, map_list, truth.from, truth.to, symmetric, ce, reference.path);
+  json j{{"scoring_repair", s.repair_text},
+         {"skipped_samples", s.skipped_samples},
+         {"sqrt_area", s.maps[0].normaliser},
+         {"methods", json::object()}};
+  for (size_t i = 0; i < methods.size(); ++i)
+    j["methods"][methods[i]] = {{"errors", errors_to_json(s.maps[i].errors)},
+                                {"unmapped", s.unmapped[i]},
+                                {"symmetric_chosen", s.symmetric_chosen[i]},
+                                {"direct_errors", errors_to_json(s.direct_errors[i])},
+                                {"mirrored_errors", errors_to_json(s.mirrored_errors[i])},
+                                {"reflected", maps[i].reflected},
+                                {"rmse", maps[i].rmse}};
+  return j;
+}
+
+// Per method: each measured pose's errors, in pose order, for the pooled summaries.
+struct PooledErrors {
+  std::map<std::string, std::vector<Eigen::VectorXd>> per_vertex;  // flip forgiven per vertex
+  std::map<std::string, std::vector<Eigen::VectorXd>> whole_map;   // flip forgiven per whole map
+};
+
+// One method's row of one pose from its scoring (jm: the method's entry of score_pose's JSON); its errors
+// are added to `pooled`.
+TopkidsRow pose_row(const json& jm, const std::string& pose, const std::string& m, const MethodForms& forms,
+                    const Reference& reference, PooledErrors& pooled) {
+  TopkidsRow row;
+  row.pose = pose;
+  row.method = m;
+  const Eigen::VectorXd e = errors_from_json(jm.at("errors"));
+  row.samples = static_cast<int>(e.size());
+  row.unmapped = jm.at("unmapped").get<int>();
+  row.symmetric_chosen = jm.at("symmetric_chosen").get<int>();
+  row.mean_error = finite_mean(e);
+  row.median_error = error_median(e);
+  row.under_0_1 = fraction_within(e, 0.1);
+  row.under_0_25 = fraction_within(e, 0.25);
+  const Eigen::VectorXd direct = errors_from_json(jm.at("direct_errors"));
+  const Eigen::VectorXd mirrored = errors_from_json(jm.at("mirrored_errors"));
+  row.whole_map_mirrored = finite_mean(mirrored) < finite_mean(direct);
+  const Eigen::VectorXd& whole = row.whole_map_mirrored ? mirrored : direct;
+  row.whole_map_mean_error = finite_mean(whole);
+  row.whole_map_under_0_1 = fraction_within(whole, 0.1);
+  row.whole_map_under_0_25 = fraction_within(whole, 0.25);
+  row.reflected = jm.at("reflected").get<bool>();
+  row.icp_rmse = jm.at("rmse").get<double>();
+  row.icp_rmse_relative = row.icp_rmse / reference.form_diagonal.at(m);
+  if (m != kInputs) {
+    row.repair = forms.forms.at(m).repair_text;
+    const json summary = json::parse(forms.forms.at(m).summary_json);
+    if (summary.contains("torn_edges")) row.torn_edges = summary["torn_edges"].get<long>();
+  }
+  pooled.whole_map[m].push_back(whole);
+  pooled.per_vertex[m].push_back(e);
+  return row;
+}
+
+// One query pose: its forms, its scoring (cached in misc_cache), its rows appended to r. false when the pose
+// is left out (its form failed by some method).
+bool measure_pose(const Pose& p, const Reference& reference, const DiskCache& form_cache,
+                  const DiskCache& misc_cache, const TopkidsExperimentOptions& o, TopkidsExperimentResult& r,
+                  PooledErrors& pooled) {
+  const auto pose_start = WallClock::now();
+  say(o.note, "== " + p.name + " (" + std::to_string(p.mesh.num_vertices()) + " vertices)");
+  const std::optional<MethodForms> forms = forms_of(p.mesh, p.mesh_path, form_cache, o, r);
+  if (!forms) return false;
+  const std::string entry = scoring_entry(o, reference, p, *forms);
+  bool computed = false;
+  const json scored = misc_cache.get_or_compute_json(entry, [&] {
+    computed = true;
+    return score_pose(o, r.methods, reference, p, *forms);
+  });
+  (computed ? r.scorings_computed : r.scorings_cached)++;
+  std::ostringstream line;
+  line << "  " << p.name << " done" << (computed ? "" : " (scoring cached)") << " in "
+       << fixed(seconds_since(pose_start), 1) << " s; mean error";
+  try {
+    r.scoring_repair = scored.at("scoring_repair").get<std::string>();
+    r.reference_sqrt_area = scored.at("sqrt_area").get<double>();
+    for (const std::string& m : r.methods) {
+      r.rows.push_back(pose_row(scored.at("methods").at(m), p.name, m, *forms, reference, pooled));
+      line << " " << m << " " << fixed(r.rows.back().mean_error, 3);
+    }
+  } catch (const json::exception& e) {
+    fail(misc_cache.entry_path(entry), ": a damaged scoring cache entry (", e.what(),
+         "; delete it to recompute)");
+  }
+  say(o.note, line.str());
+  return true;
+}
+
+// ---- Pooled summaries -------------------------------------------------------------------------------------
+
+Eigen::VectorXd concatenate(const std::vector<Eigen::VectorXd>& parts) {
+  Index total = 0;
+  for (const Eigen::VectorXd& e : parts) total += e.size();
+  Eigen::VectorXd all(total);
+  Index at = 0;
+  for (const Eigen::VectorXd& e : parts) all.segment(at, e.size()) = e, at += e.size();
+  return all;
+}
+
+// The fraction of errors within each threshold.
+Eigen::VectorXd cumulative_curve(const Eigen::VectorXd& errors, const Eigen::VectorXd& thresholds) {
+  Eigen::VectorXd f(thresholds.size());
+  for (Index t = 0; t < thresholds.size(); ++t) f[t] = fraction_within(errors, thresholds[t]);
+  return f;
+}
+
+std::vector<Eigen::VectorXd> parts_of(const std::map<std::string, std::vector<Eigen::VectorXd>>& pooled,
+                                      const std::string& method) {
+  auto it = pooled.find(method);
+  return it == pooled.end() ? std::vector<Eigen::VectorXd>{} : it->second;
+}
+
+TopkidsSummary summarise(const std::string& method, const PooledErrors& pooled,
+                         const Eigen::VectorXd& thresholds) {
+  const Eigen::VectorXd all = concatenate(parts_of(pooled.per_vertex, method));
+  const Eigen::VectorXd whole = concatenate(parts_of(pooled.whole_map, method));
+  TopkidsSummary s;
+  s.method = method;
+  s.samples = static_cast<int>(all.size());
+  s.mean_error = finite_mean(all);
+  s.median_error = error_median(all);
+  s.under_0_1 = fraction_within(all, 0.1);
+  s.under_0_25 = fraction_within(all, 0.25);
+  s.fraction = cumulative_curve(all, thresholds);
+  s.whole_map_mean_error = finite_mean(whole);
+  s.whole_map_under_0_1 = fraction_within(whole, 0.1);
+  s.whole_map_under_0_25 = fraction_within(whole, 0.25);
+  s.whole_map_fraction = cumulative_curve(whole, thresholds);
+  return s;
+}
+
+// ---- Data files -------------------------------------------------------------------------------------------
+
+void write_rows_csv(const ExperimentFolder& folder, const TopkidsExperimentResult& r) {
+  folder.write("topkids.csv", [&](std::ostream& s) {
+    s << "pose,method,samples,mean_error,median_error,under_0.1,under_0.25,unmapped,symmetric_chosen,"
+         "whole_map_mirrored,whole_map_mean_error,whole_map_under_0.1,whole_map_under_0.25,reflected,"
+         "icp_rmse,icp_rmse_relative,torn_edges,repair\n";
+    s.precision(6);
+    for (const TopkidsRow& row : r.rows) {
+      std::string repair = row.repair;
+      std::replace(repair.begin(), repair.end(), '"', '\'');
+      s << row.pose << ',' << row.method << ',' << row.samples << ',' << row.mean_error << ','
+        << row.median_error << ',' << row.under_0_1 << ',' << row.under_0_25 << ',' << row.unmapped << ','
+        << row.symmetric_chosen << ',' << (row.whole_map_mirrored ? 1 : 0) << ',' << row.whole_map_mean_error
+        << ',' << row.whole_map_under_0_1 << ',' << row.whole_map_under_0_25 << ',' << (row.reflected ? 1 : 0)
+        << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ',' << row.torn_edges << ",\"" << repair
+        << "\"\n";
+    }
+  });
+}
+
+void write_curves_csv(const ExperimentFolder& folder, const TopkidsExperimentResult& r) {
+  folder.write("curves.csv", [&](std::ostream& s) {
+    s << "method,forgiven,error,fraction\n";
+    s.precision(6);
+    for (const TopkidsSummary& sm : r.summaries)
+      for (Index t = 0; t < r.thresholds.size(); ++t)
+        s << sm.method << ",vertex," << r.thresholds[t] << ',' << sm.fraction[t] << '\n';
+    for (const TopkidsSummary& sm : r.summaries)
+      for (Index t = 0; t < r.thresholds.size(); ++t)
+        s << sm.method << ",map," << r.thresholds[t] << ',' << sm.whole_map_fraction[t] << '\n';
+  });
+}
+
+json finite_or_null(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+std::vector<double> vector_of(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+json summary_json(const TopkidsSummary& s) {
+  return {{"method", s.method},
+          {"samples", s.samples},
+          {"mean_error", finite_or_null(s.mean_error)},
+          {"median_error", finite_or_null(s.median_error)},
+          {"under_0.1", s.under_0_1},
+          {"under_0.25", s.under_0_25},
+          {"fraction", vector_of(s.fraction)},
+          {"whole_map_mean_error", finite_or_null(s.whole_map_mean_error)},
+          {"whole_map_under_0.1", s.whole_map_under_0_1},
+          {"whole_map_under_0.25", s.whole_map_under_0_25},
+          {"whole_map_fraction", vector_of(s.whole_map_fraction)}};
+}
+
+json row_json(const TopkidsRow& row) {
+  return {{"pose", row.pose},
+          {"method", row.method},
+          {"samples", row.samples},
+          {"mean_error", finite_or_null(row.mean_error)},
+          {"median_error", finite_or_null(row.median_error)},
+          {"under_0.1", row.under_0_1},
+          {"under_0.25", row.under_0_25},
+          {"unmapped", row.unmapped},
+          {"symmetric_chosen", row.symmetric_chosen},
+          {"whole_map_mirrored", row.whole_map_mirrored},
+          {"whole_map_mean_error", finite_or_null(row.whole_map_mean_error)},
+          {"whole_map_under_0.1", row.whole_map_under_0_1},
+          {"whole_map_under_0.25", row.whole_map_under_0_25},
+          {"reflected", row.reflected},
+          {"icp_rmse", row.icp_rmse},
+          {"icp_rmse_relative", row.icp_rmse_relative},
+          {"torn_edges", row.torn_edges},
+          {"repair", row.repair}};
+}
+
+// topkids.json: everything, with the figure's outcome as far as it is known (the figure script reads this
+// file for its legend and title, so it is written before the figure is drawn and again after).
+void write_topkids_json(const ExperimentFolder& folder, const TopkidsExperimentResult& r,
+                        const TopkidsExperimentOptions& o) {
+  json j{{"data", o.data},
+         {"reference", o.reference},
+         {"poses", r.poses},
+         {"methods", r.methods},
+         {"samples_per_pose", o.samples},
+         {"scoring_geodesics", to_string(o.scoring_geodesics.method)},
+         {"icp", to_key_string(o.icp)},
+         {"reference_sqrt_area", r.reference_sqrt_area},
+         {"reference_repair", r.reference_repair},
+         {"scoring_repair", r.scoring_repair},
+         {"forms_computed", r.forms_computed},
+         {"forms_cached", r.forms_cached},
+         {"thresholds", vector_of(r.thresholds)},
+         {"summary", json::array()},
+         {"rows", json::array()},
+         {"figure", r.figure},
+         {"figure_problem", r.figure_problem}};
+  if (!r.failures.empty()) j["failures"] = shape_failures_json(r.failures);
+  for (const TopkidsSummary& s : r.summaries) j["summary"].push_back(summary_json(s));
+  for (const TopkidsRow& row : r.rows) j["rows"].push_back(row_json(row));
+  folder.write_json("topkids.json", j);
+}
 
 }  // namespace
 
@@ -147,238 +507,54 @@ std::string topkids_mesh_path(const std::string& data, const std::string& name) 
 
 TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o) {
   const auto start = WallClock::now();
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment topkids: unknown method '", m, "'");
-  }
-  CSHAPES_REQUIRE(o.max_threshold > 0.25 && o.curve_points >= 2,
-                  "experiment topkids: the curve must reach past 0.25 with at least 2 points");
-
+  check_options(o);
   TopkidsExperimentResult r;
   r.poses = o.poses.empty() ? topkids_poses(o.data, o.reference) : o.poses;
   r.methods = {kInputs};
   r.methods.insert(r.methods.end(), o.methods.begin(), o.methods.end());
+  const TopkidsInputs inputs = read_inputs(o, r.poses);
 
-  // Read everything first, so a missing or malformed file stops the run before any work.
-  const std::string reference_path = topkids_mesh_path(o.data, o.reference);
-  const Mesh reference = read_mesh(reference_path);
-  std::vector<Pose> poses;
-  for (const std::string& name : r.poses) {
-    CSHAPES_REQUIRE(name != o.reference, "experiment topkids: pose ", name, " is the reference");
-    Pose p;
-    p.name = name;
-    p.ref_path = (fs::path(o.data) / (name + "_ref.txt")).string();
-    CSHAPES_REQUIRE(fs::is_regular_file(p.ref_path), p.ref_path, ": not found (pose ", name,
-                    " needs its ground truth)");
-    p.mesh_path = topkids_mesh_path(o.data, name);
-    const std::string sym = (fs::path(o.data) / (name + "_sym.txt")).string();
-    if (fs::is_regular_file(sym)) p.sym_path = sym;
-    p.mesh = read_mesh(p.mesh_path);
-    // Checked now (the scoring reads them again, from its cache or not).
-    read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.num_vertices());
-    if (!p.sym_path.empty())
-      read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
-    else
-      say(o, p.name + ": no " + name + "_sym.txt: symmetric flips are not forgiven for this pose");
-    poses.push_back(std::move(p));
+  const ExperimentFolder folder(o.out);
+  const DiskCache form_cache = folder.cache("forms"), misc_cache = folder.cache("misc");
+  const Reference reference = reference_forms(inputs, form_cache, o, r);
+  PooledErrors pooled;
+  std::set<std::string> left_out;  // poses whose forms failed
+  for (size_t pi = 0; pi < inputs.poses.size(); ++pi) {
+    const Pose& p = inputs.poses[pi];
+    if (!measure_pose(p, reference, form_cache, misc_cache, o, r, pooled)) left_out.insert(p.name);
+    if (o.progress)
+      o.progress("topkids", static_cast<double>(pi + 1), static_cast<double>(inputs.poses.size()));
   }
-  fs::create_directories(o.out);
-  const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
-  const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
-
-  // Canonical forms (cached); the two MDS methods share one geodesic matrix per shape.
-  // A pose whose form fails by any method is left out (pipeline/shape_failures.h): nullopt.
-  using Forms = std::pair<std::map<std::string, CanonicalForm>, std::map<std::string, std::string>>;
-  auto forms_of = [&](const Mesh& mesh, const std::string& path) -> std::optional<Forms> {
-    std::map<std::string, CanonicalForm> forms;
-    std::map<std::string, std::string> keys;
-    const size_t failures_before = r.failures.size();
-    std::optional<std::vector<CachedForm>> result =
-        shape_canonical_forms(form_cache, mesh, options_per_method(o.canon, o.methods, path),
-                              fs::path(path).stem().string(), r.failures);
-    for (size_t k = failures_before; k < r.failures.size(); ++k) say(o, "  " + describe(r.failures[k]));
-    if (!result) return std::nullopt;
-    std::vector<CachedForm>& computed = *result;
-    for (size_t k = 0; k < o.methods.size(); ++k) {
-      const std::string& m = o.methods[k];
-      const bool was_cached = computed[k].cached;
-      keys[m] = computed[k].key;
-      forms[m] = std::move(computed[k].form);
-      (was_cached ? r.forms_cached : r.forms_computed)++;
-      say(o, detail::concat("  ", fs::path(path).stem().string(), " ", m, ": ",
-                            was_cached ? "cached" : "computed in " + fixed(computed[k].seconds, 1) + " s",
-                            forms[m].repair_text.empty() ? "" : "; " + forms[m].repair_text));
-    }
-    return Forms(std::move(forms), std::move(keys));
-  };
-
-  say(o, "== reference " + o.reference + " (" + std::to_string(reference.num_vertices()) + " vertices)");
-  std::optional<Forms> reference_result = forms_of(reference, reference_path);
-  // Every pose is measured against the reference: without its forms there is nothing to measure.
-  if (!reference_result) fail("experiment topkids: ", describe(r.failures.back()));
-  auto& [reference_forms, reference_keys] = *reference_result;
-  for (const std::string& m : o.methods) r.reference_repair[m] = reference_forms[m].repair_text;
-  std::map<std::string, double> reference_form_diagonal;
-  for (const std::string& m : o.methods)
-    reference_form_diagonal[m] = finite_bbox_diagonal(reference_forms[m].X);
-  reference_form_diagonal[kInputs] = bbox_diagonal(reference.V);
-  const std::string reference_key = mesh_content_key(reference);
-
-  std::set<std::string> left_out;                                    // poses whose forms failed
-  std::map<std::string, std::vector<Eigen::VectorXd>> pooled;        // per method: each pose's errors
-  std::map<std::string, std::vector<Eigen::VectorXd>> pooled_whole;  // the same, flip forgiven per map
-  for (size_t pi = 0; pi < poses.size(); ++pi) {
-    const Pose& p = poses[pi];
-    const auto pose_start = WallClock::now();
-    say(o, "== " + p.name + " (" + std::to_string(p.mesh.num_vertices()) + " vertices)");
-    std::optional<Forms> pose_forms = forms_of(p.mesh, p.mesh_path);
-    if (!pose_forms) {
-      left_out.insert(p.name);
-      continue;
-    }
-    auto& [forms, keys] = *pose_forms;
-
-    std::ostringstream key;
-    key.precision(17);
-    key << "topkids-score;v2;reference=" << reference_key << ";pose=" << mesh_content_key(p.mesh)
-        << ";ref=" << file_content_hash(p.ref_path)
-        << ";sym=" << (p.sym_path.empty() ? "" : file_content_hash(p.sym_path)) << ";samples=" << o.samples
-        << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
-        << static_cast<int>(o.scoring_geodesics.heat_mode) << "," << o.scoring_geodesics.heat_time_factor
-        << ";icp=" << to_key_string(o.icp) << ";curve=" << o.max_threshold << "," << o.curve_points;
-    for (const std::string& m : o.methods) key << ";" << m << "=" << reference_keys[m] << "," << keys[m];
-    const std::string entry = cache_key({key.str(), "json"});
-    bool computed = false;
-    const json scored = misc_cache.get_or_compute_json(entry, [&] {
-      computed = true;
-      const CorrespondencePairs truth =
-          read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.num_vertices());
-      std::vector<int> symmetric;
-      if (!p.sym_path.empty()) {
-        const CorrespondencePairs sym =
-            read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
-        std::vector<int> mirror_of(static_cast<size_t>(p.mesh.num_vertices()), -1);
-        for (size_t k = 0; k < sym.from.size(); ++k) mirror_of[static_cast<size_t>(sym.from[k])] = sym.to[k];
-        for (int a : truth.from) symmetric.push_back(mirror_of[static_cast<size_t>(a)]);
-      }
-      std::vector<PointMap> maps;
-      maps.push_back(align_and_map(p.mesh.V, reference.V, o.icp));
-      for (const std::string& m : o.methods)
-        maps.push_back(align_and_map(forms[m].X, reference_forms[m].X, o.icp));
-      std::vector<Eigen::VectorXi> map_list;
-      for (const PointMap& pm : maps) map_list.push_back(pm.map);
-      CorrespondenceErrorOptions ce;
-      ce.max_samples = o.samples;
-      ce.max_threshold = o.max_threshold;
-      ce.curve_points = o.curve_points;
-      ce.geodesics = o.scoring_geodesics;
-      const SymmetricCorrespondenceErrorResult s = symmetric_correspondence_errors(
-          reference, map_list, truth.from, truth.to, symmetric, ce, reference_path);
-      json j{{"scoring_repair", s.repair_text},
-             {"skipped_samples", s.skipped_samples},
-             {"sqrt_area", s.maps[0].normaliser},
-             {"methods", json::object()}};
-      for (size_t i = 0; i < r.methods.size(); ++i)
-        j["methods"][r.methods[i]] = {{"errors", errors_to_json(s.maps[i].errors)},
-                                      {"unmapped", s.unmapped[i]},
-                                      {"symmetric_chosen", s.symmetric_chosen[i]},
-                                      {"direct_errors", errors_to_json(s.direct_errors[i])},
-                                      {"mirrored_errors", errors_to_json(s.mirrored_errors[i])},
-                                      {"reflected", maps[i].reflected},
-                                      {"rmse", maps[i].rmse}};
-      return j;
-    });
-    (computed ? r.scorings_computed : r.scorings_cached)++;
-    try {
-      r.scoring_repair = scored.at("scoring_repair").get<std::string>();
-      r.reference_sqrt_area = scored.at("sqrt_area").get<double>();
-      for (const std::string& m : r.methods) {
-        const json& jm = scored.at("methods").at(m);
-        TopkidsRow row;
-        row.pose = p.name;
-        row.method = m;
-        const Eigen::VectorXd e = errors_from_json(jm.at("errors"));
-        row.samples = static_cast<int>(e.size());
-        row.unmapped = jm.at("unmapped").get<int>();
-        row.symmetric_chosen = jm.at("symmetric_chosen").get<int>();
-        row.mean_error = finite_mean(e);
-        row.median_error = median(e);
-        row.under_0_1 = fraction_within(e, 0.1);
-        row.under_0_25 = fraction_within(e, 0.25);
-        const Eigen::VectorXd direct = errors_from_json(jm.at("direct_errors"));
-        const Eigen::VectorXd mirrored = errors_from_json(jm.at("mirrored_errors"));
-        row.whole_map_mirrored = finite_mean(mirrored) < finite_mean(direct);
-        const Eigen::VectorXd& whole = row.whole_map_mirrored ? mirrored : direct;
-        row.whole_map_mean_error = finite_mean(whole);
-        row.whole_map_under_0_1 = fraction_within(whole, 0.1);
-        row.whole_map_under_0_25 = fraction_within(whole, 0.25);
-        pooled_whole[m].push_back(whole);
-        row.reflected = jm.at("reflected").get<bool>();
-        row.icp_rmse = jm.at("rmse").get<double>();
-        row.icp_rmse_relative = row.icp_rmse / reference_form_diagonal[m];
-        if (m != kInputs) {
-          row.repair = forms[m].repair_text;
-          const json summary = json::parse(forms[m].summary_json);
-          if (summary.contains("torn_edges")) row.torn_edges = summary["torn_edges"].get<long>();
-        }
-        r.rows.push_back(row);
-        pooled[m].push_back(e);
-      }
-    } catch (const json::exception& e) {
-      fail(misc_cache.entry_path(entry), ": a damaged scoring cache entry (", e.what(),
-           "; delete it to recompute)");
-    }
-    std::ostringstream line;
-    line << "  " << p.name << " done" << (computed ? "" : " (scoring cached)") << " in "
-         << fixed(seconds_since(pose_start), 1) << " s; mean error";
-    for (const TopkidsRow& row : r.rows)
-      if (row.pose == p.name) line << " " << row.method << " " << fixed(row.mean_error, 3);
-    say(o, line.str());
-    if (o.progress) o.progress("topkids", static_cast<double>(pi + 1), static_cast<double>(poses.size()));
-  }
-
   r.poses.erase(std::remove_if(r.poses.begin(), r.poses.end(),
                                [&](const std::string& name) { return left_out.count(name) > 0; }),
                 r.poses.end());
   CSHAPES_REQUIRE(!r.poses.empty(), "experiment topkids: every pose was left out (see above)");
 
-  // Pooled curves.
   r.thresholds = Eigen::VectorXd::LinSpaced(o.curve_points, 0.0, o.max_threshold);
-  auto concatenate = [](const std::vector<Eigen::VectorXd>& parts) {
-    Index total = 0;
-    for (const Eigen::VectorXd& e : parts) total += e.size();
-    Eigen::VectorXd all(total);
-    Index at = 0;
-    for (const Eigen::VectorXd& e : parts) all.segment(at, e.size()) = e, at += e.size();
-    return all;
-  };
-  auto curve = [&](const Eigen::VectorXd& all) {
-    Eigen::VectorXd f(r.thresholds.size());
-    for (Index t = 0; t < r.thresholds.size(); ++t) f[t] = fraction_within(all, r.thresholds[t]);
-    return f;
-  };
-  for (const std::string& m : r.methods) {
-    const Eigen::VectorXd all = concatenate(pooled[m]), whole = concatenate(pooled_whole[m]);
-    TopkidsSummary s;
-    s.method = m;
-    s.samples = static_cast<int>(all.size());
-    s.mean_error = finite_mean(all);
-    s.median_error = median(all);
-    s.under_0_1 = fraction_within(all, 0.1);
-    s.under_0_25 = fraction_within(all, 0.25);
-    s.fraction = curve(all);
-    s.whole_map_mean_error = finite_mean(whole);
-    s.whole_map_under_0_1 = fraction_within(whole, 0.1);
-    s.whole_map_under_0_25 = fraction_within(whole, 0.25);
-    s.whole_map_fraction = curve(whole);
-    r.summaries.push_back(s);
-  }
+  for (const std::string& m : r.methods) r.summaries.push_back(summarise(m, pooled, r.thresholds));
 
-  write_outputs(o, r);
+  write_rows_csv(folder, r);
+  write_curves_csv(folder, r);
+  write_topkids_json(folder, r, o);
   r.seconds = seconds_since(start);
   return r;
 }
+
+void draw_topkids_figure(TopkidsExperimentResult& r, const TopkidsExperimentOptions& o) {
+  const ExperimentFolder folder(o.out);
+  if (o.figure) {
+    const FigureRun drawn = draw_figure("topkids_figure.py", {o.out}, folder.path("topkids.png"));
+    r.figure = drawn.drawn ? "topkids.png" : "";
+    r.figure_problem = drawn.problem;
+  } else {
+    r.figure = "";
+    r.figure_problem = "not requested (--no-figure)";
+  }
+  write_topkids_json(folder, r, o);
+}
+
+// ---- report.md
+// ----------------------------------------------------------------------------------------------
 
 namespace {
 
@@ -390,202 +566,126 @@ std::string label(const std::string& m) {
   return m;
 }
 
-void write_outputs(const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
-  const fs::path out(o.out);
-  write_file_atomically((out / "topkids.csv").string(), [&](std::ostream& s) {
-    s << "pose,method,samples,mean_error,median_error,under_0.1,under_0.25,unmapped,symmetric_chosen,"
-         "whole_map_mirrored,whole_map_mean_error,whole_map_under_0.1,whole_map_under_0.25,reflected,icp_"
-         "rmse,"
-         "icp_rmse_relative,torn_edges,repair\n";
-    s.precision(6);
-    for (const TopkidsRow& row : r.rows) {
-      std::string repair = row.repair;
-      std::replace(repair.begin(), repair.end(), '"', '\'');
-      s << row.pose << ',' << row.method << ',' << row.samples << ',' << row.mean_error << ','
-        << row.median_error << ',' << row.under_0_1 << ',' << row.under_0_25 << ',' << row.unmapped << ','
-        << row.symmetric_chosen << ',' << (row.whole_map_mirrored ? 1 : 0) << ',' << row.whole_map_mean_error
-        << ',' << row.whole_map_under_0_1 << ',' << row.whole_map_under_0_25 << ',' << (row.reflected ? 1 : 0)
-        << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ',' << row.torn_edges << ",\"" << repair
-        << "\"\n";
-    }
-  });
-  write_file_atomically((out / "curves.csv").string(), [&](std::ostream& s) {
-    s << "method,forgiven,error,fraction\n";
-    s.precision(6);
-    for (const TopkidsSummary& sm : r.summaries)
-      for (Index t = 0; t < r.thresholds.size(); ++t)
-        s << sm.method << ",vertex," << r.thresholds[t] << ',' << sm.fraction[t] << '\n';
-    for (const TopkidsSummary& sm : r.summaries)
-      for (Index t = 0; t < r.thresholds.size(); ++t)
-        s << sm.method << ",map," << r.thresholds[t] << ',' << sm.whole_map_fraction[t] << '\n';
-  });
+// The data, the alignment and the error protocol.
+void write_method(std::ostream& s, const TopkidsExperimentResult& r, const TopkidsExperimentOptions& o) {
+  s << "# TOPKIDS: point maps under real topological noise\n\n";
+  s << "Data: `" << o.data
+    << "` (SHREC'16 \"Matching of deformable shapes with topological noise\", Lähner et al. 2016, low "
+       "resolution). Reference `"
+    << o.reference << "`; " << r.poses.size() << " query poses (";
+  for (size_t i = 0; i < r.poses.size(); ++i) s << (i ? ", " : "") << r.poses[i];
+  s << "). Each pose's canonical form was aligned onto the reference's by ICP ("
+    << (o.icp.try_axis_swaps ? "principal-axis starts and their axis swaps"
+                             : "the retrieval's options: principal-axis starts")
+    << (o.icp.allow_reflections ? ", reflections allowed" : ", no reflections")
+    << "; all options in `topkids.json`); every vertex of the pose goes to the nearest vertex of the "
+       "reference's aligned form. *inputs*: the same ICP on the meshes themselves, no canonical form.\n\n";
+  s << "Error (SHREC'16 protocol): geodesic distance on the reference between the mapped and the true "
+       "vertex, over √area of the reference ("
+    << fixed(r.reference_sqrt_area, 2)
+    << "); where the pose's `_sym.txt` gives a mirrored truth the smaller of the two distances counts, "
+       "vertex "
+       "by vertex (a left-right flip is forgiven). "
+    << (o.samples > 0
+            ? std::to_string(o.samples) + " ground-truth vertices per pose, evenly spaced over `NAME_ref.txt`"
+            : std::string("every ground-truth vertex"))
+    << "; geodesics by " << to_string(o.scoring_geodesics.method)
+    << " on the reference (fast marching against exact geodesics on kid00, from 2 sources: 1.5–1.7% "
+       "mean relative error, i.e. a mean 0.007 and at most 0.026 in units of √area over all distances, "
+       "about 0.004 at an error of 0.25). Mean error over mapped vertices; fractions over all scored "
+       "vertices.\n\n"
+       "The per-vertex minimum also rewards maps that mix the sides: a map unrelated to the truth has about "
+       "half its vertices nearer the mirrored truth. The *whole map* columns forgive the flip only for a map "
+       "as a whole (the better of truth and mirrored truth for all its vertices together, as Kim, Lipman & "
+       "Funkhouser 2011 score symmetric shapes): the stricter reading.\n\n";
+}
 
-  auto finite_or_null = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  auto vector_of = [](const Eigen::VectorXd& v) {
-    return std::vector<double>(v.data(), v.data() + v.size());
-  };
-  json j{{"data", o.data},
-         {"reference", o.reference},
-         {"poses", r.poses},
-         {"methods", r.methods},
-         {"samples_per_pose", o.samples},
-         {"scoring_geodesics", to_string(o.scoring_geodesics.method)},
-         {"icp", to_key_string(o.icp)},
-         {"reference_sqrt_area", r.reference_sqrt_area},
-         {"reference_repair", r.reference_repair},
-         {"scoring_repair", r.scoring_repair},
-         {"forms_computed", r.forms_computed},
-         {"forms_cached", r.forms_cached},
-         {"thresholds", vector_of(r.thresholds)}};
-  if (!r.failures.empty()) j["failures"] = shape_failures_json(r.failures);
-  json summaries = json::array();
-  for (const TopkidsSummary& s : r.summaries)
-    summaries.push_back({{"method", s.method},
-                         {"samples", s.samples},
-                         {"mean_error", finite_or_null(s.mean_error)},
-                         {"median_error", finite_or_null(s.median_error)},
-                         {"under_0.1", s.under_0_1},
-                         {"under_0.25", s.under_0_25},
-                         {"fraction", vector_of(s.fraction)},
-                         {"whole_map_mean_error", finite_or_null(s.whole_map_mean_error)},
-                         {"whole_map_under_0.1", s.whole_map_under_0_1},
-                         {"whole_map_under_0.25", s.whole_map_under_0_25},
-                         {"whole_map_fraction", vector_of(s.whole_map_fraction)}});
-  j["summary"] = summaries;
-  json rows = json::array();
-  for (const TopkidsRow& row : r.rows)
-    rows.push_back({{"pose", row.pose},
-                    {"method", row.method},
-                    {"samples", row.samples},
-                    {"mean_error", finite_or_null(row.mean_error)},
-                    {"median_error", finite_or_null(row.median_error)},
-                    {"under_0.1", row.under_0_1},
-                    {"under_0.25", row.under_0_25},
-                    {"unmapped", row.unmapped},
-                    {"symmetric_chosen", row.symmetric_chosen},
-                    {"whole_map_mirrored", row.whole_map_mirrored},
-                    {"whole_map_mean_error", finite_or_null(row.whole_map_mean_error)},
-                    {"whole_map_under_0.1", row.whole_map_under_0_1},
-                    {"whole_map_under_0.25", row.whole_map_under_0_25},
-                    {"reflected", row.reflected},
-                    {"icp_rmse", row.icp_rmse},
-                    {"icp_rmse_relative", row.icp_rmse_relative},
-                    {"torn_edges", row.torn_edges},
-                    {"repair", row.repair}});
-  j["rows"] = rows;
-  // The figure script reads topkids.json (legend, title): written before it, and again with the outcome.
-  auto write_json = [&] {
-    j["figure"] = r.figure;
-    j["figure_problem"] = r.figure_problem;
-    write_file_atomically((out / "topkids.json").string(), [&](std::ostream& s) { s << j.dump(2) << '\n'; });
-  };
-  write_json();
-  if (o.figure) {
-    const FigureRun drawn = draw_figure("topkids_figure.py", {o.out}, (fs::path(o.out) / "topkids.png").string());
-    r.figure = drawn.drawn ? "topkids.png" : "";
-    r.figure_problem = drawn.problem;
-  } else {
-    r.figure_problem = "not requested (--no-figure)";
+void write_pooled_table(std::ostream& s, const TopkidsExperimentResult& r) {
+  s << "## Pooled over poses\n\n| method | samples | mean error | median error | ≤ 0.1 | ≤ 0.25 | "
+       "whole map: mean error | ≤ 0.1 | ≤ 0.25 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const TopkidsSummary& sm : r.summaries)
+    s << "| " << label(sm.method) << " | " << sm.samples << " | " << fixed(sm.mean_error, 3) << " | "
+      << fixed(sm.median_error, 3) << " | " << fixed(sm.under_0_1, 3) << " | " << fixed(sm.under_0_25, 3)
+      << " | " << fixed(sm.whole_map_mean_error, 3) << " | " << fixed(sm.whole_map_under_0_1, 3) << " | "
+      << fixed(sm.whole_map_under_0_25, 3) << " |\n";
+  s << "\n";
+}
+
+void write_figure(std::ostream& s, const TopkidsExperimentResult& r, const std::string& folder) {
+  if (!r.figure.empty())
+    s << "![cumulative error curves](topkids.png)\n\nCumulative error curves (fraction of ground-truth "
+         "vertices mapped within each error), pooled over the poses: left the flip forgiven per vertex, "
+         "right "
+         "per whole map; data in `curves.csv`.\n\n";
+  else
+    s << "No figure (" << r.figure_problem
+      << "); draw it with `scripts/python.sh experiments/plots/topkids_figure.py " << folder
+      << "` from `curves.csv`.\n\n";
+}
+
+void write_pose_table(std::ostream& s, const TopkidsExperimentResult& r) {
+  s << "## Per pose: mean error (fraction ≤ 0.25), flip forgiven per vertex | per whole map\n\n| pose |";
+  for (const std::string& m : r.methods) s << " " << label(m) << " | whole map |";
+  s << "\n| --- |";
+  for (size_t i = 0; i < r.methods.size(); ++i) s << " --- | --- |";
+  s << "\n";
+  for (const std::string& pose : r.poses) {
+    s << "| " << pose << " |";
+    for (const std::string& m : r.methods)
+      for (const TopkidsRow& row : r.rows)
+        if (row.pose == pose && row.method == m)
+          s << " " << fixed(row.mean_error, 3) << " (" << fixed(row.under_0_25, 2) << ") | "
+            << fixed(row.whole_map_mean_error, 3) << " (" << fixed(row.whole_map_under_0_25, 2) << ")"
+            << (row.whole_map_mirrored ? " M" : "") << (row.reflected ? " R" : "") << " |";
+    s << "\n";
   }
-  write_json();
+  s << "\nM: the whole map is scored against the mirrored truth (it is nearer). R: the ICP alignment is a "
+       "reflection. `topkids.csv` has per pose and method: median, unmapped vertices, vertices scored "
+       "against "
+       "the mirrored truth, ICP RMSE, torn edges (Coulomb) and repairs.\n\n";
+}
 
-  write_file_atomically((out / "report.md").string(), [&](std::ostream& s) {
-    s << "# TOPKIDS: point maps under real topological noise\n\n";
-    s << "Data: `" << o.data
-      << "` (SHREC'16 \"Matching of deformable shapes with topological noise\", Lähner et al. 2016, low "
-         "resolution). Reference `"
-      << o.reference << "`; " << r.poses.size() << " query poses (";
-    for (size_t i = 0; i < r.poses.size(); ++i) s << (i ? ", " : "") << r.poses[i];
-    s << "). Each pose's canonical form was aligned onto the reference's by ICP ("
-      << (o.icp.try_axis_swaps ? "principal-axis starts and their axis swaps"
-                               : "the retrieval's options: principal-axis starts")
-      << (o.icp.allow_reflections ? ", reflections allowed" : ", no reflections")
-      << "; all options in `topkids.json`); every vertex of the pose goes to the nearest vertex of the "
-         "reference's aligned form. *inputs*: "
-         "the same ICP on the meshes themselves, no canonical form.\n\n";
-    s << "Error (SHREC'16 protocol): geodesic distance on the reference between the mapped and the true "
-         "vertex, over √area of the reference ("
-      << fixed(r.reference_sqrt_area, 2)
-      << "); where the pose's `_sym.txt` gives a mirrored truth the smaller of the two distances counts, "
-         "vertex "
-         "by vertex (a left-right flip is forgiven). "
-      << (o.samples > 0 ? std::to_string(o.samples) +
-                              " ground-truth vertices per pose, evenly spaced over `NAME_ref.txt`"
-                        : std::string("every ground-truth vertex"))
-      << "; geodesics by " << to_string(o.scoring_geodesics.method)
-      << " on the reference (fast marching against exact geodesics on kid00, from 2 sources: 1.5–1.7% "
-         "mean relative error, i.e. a mean 0.007 and at most 0.026 in units of √area over all distances, "
-         "about 0.004 at an error of 0.25). Mean error over mapped vertices; fractions over all scored "
-         "vertices.\n\n"
-         "The per-vertex minimum also rewards maps that mix the sides: a map unrelated to the truth has "
-         "about "
-         "half its vertices nearer the mirrored truth. The *whole map* columns forgive the flip only for a "
-         "map "
-         "as a whole (the better of truth and mirrored truth for all its vertices together, as Kim, Lipman & "
-         "Funkhouser 2011 score symmetric shapes): the stricter reading.\n\n";
-    s << "## Pooled over poses\n\n| method | samples | mean error | median error | ≤ 0.1 | ≤ 0.25 | "
-         "whole map: mean error | ≤ 0.1 | ≤ 0.25 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- "
-         "|\n";
-    for (const TopkidsSummary& sm : r.summaries)
-      s << "| " << label(sm.method) << " | " << sm.samples << " | " << fixed(sm.mean_error, 3) << " | "
-        << fixed(sm.median_error, 3) << " | " << fixed(sm.under_0_1, 3) << " | " << fixed(sm.under_0_25, 3)
-        << " | " << fixed(sm.whole_map_mean_error, 3) << " | " << fixed(sm.whole_map_under_0_1, 3) << " | "
-        << fixed(sm.whole_map_under_0_25, 3) << " |\n";
-    s << "\n";
-    if (!r.figure.empty())
-      s << "![cumulative error curves](topkids.png)\n\nCumulative error curves (fraction of ground-truth "
-           "vertices mapped within each error), pooled over the poses: left the flip forgiven per vertex, "
-           "right "
-           "per whole map; data in `curves.csv`.\n\n";
-    else
-      s << "No figure (" << r.figure_problem
-        << "); draw it with `scripts/python.sh experiments/plots/topkids_figure.py " << o.out
-        << "` from `curves.csv`.\n\n";
-    s << shape_failures_markdown(r.failures);
-    s << "## Per pose: mean error (fraction ≤ 0.25), flip forgiven per vertex | per whole map\n\n| pose |";
-    for (const std::string& m : r.methods) s << " " << label(m) << " | whole map |";
-    s << "\n| --- |";
-    for (size_t i = 0; i < r.methods.size(); ++i) s << " --- | --- |";
-    s << "\n";
-    for (const std::string& pose : r.poses) {
-      s << "| " << pose << " |";
-      for (const std::string& m : r.methods)
-        for (const TopkidsRow& row : r.rows)
-          if (row.pose == pose && row.method == m)
-            s << " " << fixed(row.mean_error, 3) << " (" << fixed(row.under_0_25, 2) << ") | "
-              << fixed(row.whole_map_mean_error, 3) << " (" << fixed(row.whole_map_under_0_25, 2) << ")"
-              << (row.whole_map_mirrored ? " M" : "") << (row.reflected ? " R" : "") << " |";
+void write_repairs(std::ostream& s, const TopkidsExperimentResult& r) {
+  s << "## Repairs and tearing\n\n";
+  bool any = false;
+  for (const auto& [m, text] : r.reference_repair)
+    if (!text.empty()) s << "- " << label(m) << ", reference: " << text << "\n", any = true;
+  if (!r.scoring_repair.empty()) s << "- scoring geodesics: " << r.scoring_repair << "\n", any = true;
+  std::set<std::string> said;
+  for (const TopkidsRow& row : r.rows)
+    if (!row.repair.empty() && said.insert(row.repair).second)
+      s << "- " << label(row.method) << ": " << row.repair << "\n", any = true;
+  if (!any) s << "- no mesh needed a repair\n";
+  for (const TopkidsRow& row : r.rows)
+    if (row.torn_edges >= 0 && !said.count("torn " + row.method)) {
+      said.insert("torn " + row.method);
+      s << "- " << label(row.method) << " torn edges per pose:";
+      for (const TopkidsRow& q : r.rows)
+        if (q.method == row.method) s << " " << q.pose << " " << q.torn_edges;
       s << "\n";
     }
-    s << "\nM: the whole map is scored against the mirrored truth (it is nearer). R: the ICP alignment is a "
-         "reflection. `topkids.csv` has per pose and method: median, unmapped vertices, vertices scored "
-         "against "
-         "the mirrored truth, ICP RMSE, torn edges (Coulomb) and repairs.\n\n";
-    s << "## Repairs and tearing\n\n";
-    bool any = false;
-    for (const auto& [m, text] : r.reference_repair)
-      if (!text.empty()) s << "- " << label(m) << ", reference: " << text << "\n", any = true;
-    if (!r.scoring_repair.empty()) s << "- scoring geodesics: " << r.scoring_repair << "\n", any = true;
-    std::set<std::string> said;
-    for (const TopkidsRow& row : r.rows)
-      if (!row.repair.empty() && said.insert(row.repair).second)
-        s << "- " << label(row.method) << ": " << row.repair << "\n", any = true;
-    if (!any) s << "- no mesh needed a repair\n";
-    for (const TopkidsRow& row : r.rows)
-      if (row.torn_edges >= 0 && !said.count("torn " + row.method)) {
-        said.insert("torn " + row.method);
-        s << "- " << label(row.method) << " torn edges per pose:";
-        for (const TopkidsRow& q : r.rows)
-          if (q.method == row.method) s << " " << q.pose << " " << q.torn_edges;
-        s << "\n";
-      }
-    s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << o.out << " --methods ";
-    for (size_t i = 0; i < o.methods.size(); ++i) s << (i ? "," : "") << o.methods[i];
-    s << " --samples " << o.samples << (o.icp.try_axis_swaps ? " --icp-axis-swaps" : "")
-      << "` (canonical forms and scorings are cached in `cache/`).\n";
-  });
+}
+
+void write_reproduce(std::ostream& s, const TopkidsExperimentOptions& o, const std::string& folder) {
+  s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << folder << " --methods ";
+  for (size_t i = 0; i < o.methods.size(); ++i) s << (i ? "," : "") << o.methods[i];
+  s << " --samples " << o.samples << (o.icp.try_axis_swaps ? " --icp-axis-swaps" : "")
+    << "` (canonical forms and scorings are cached in `cache/`).\n";
 }
 
 }  // namespace
+
+void write_topkids_report(const TopkidsExperimentResult& r, const TopkidsExperimentOptions& o,
+                          const std::string& folder) {
+  std::ostringstream s;
+  write_method(s, r, o);
+  write_pooled_table(s, r);
+  write_figure(s, r, folder);
+  s << shape_failures_markdown(r.failures);
+  write_pose_table(s, r);
+  write_repairs(s, r);
+  write_reproduce(s, o, folder);
+  ExperimentFolder(folder).write_text("report.md", s.str());
+}
 
 }  // namespace cshapes

@@ -27,10 +27,15 @@
 // The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported
 // beside.
 //
-// Outputs in out/: topkids.csv (one row per method and pose), curves.csv (cumulative error curve per method,
-// pooled over poses, flip forgiven per vertex and per map), topkids.json (everything, with the per-method
-// pooled summary), topkids.png (drawn by options.plot_script when given and a Python with matplotlib is
-// found; otherwise report.md says how) and report.md (the table, the figure, how it was made).
+// Three steps, as `cshapes experiment topkids` runs them:
+//   run_topkids_experiment   the measurement; writes the data files into out/: topkids.csv (one row per
+//                            method and pose), curves.csv (cumulative error curve per method, pooled over
+//                            poses, flip forgiven per vertex and per map), topkids.json (everything, with the
+//                            per-method pooled summary)
+//   draw_topkids_figure      out/topkids.png from curves.csv and topkids.json (experiments/figures.h), its
+//                            outcome recorded in the result and topkids.json
+//   write_topkids_report     out/report.md (the table, the figure, how it was made) from the result and
+//                            the options it was run with
 //
 // Cost: the forms (Coulomb a few seconds per 12,000-vertex pose; MDS an all-pairs geodesic matrix, n² floats:
 // 576 MB at 12,000 vertices, and SMACOF's O(n²) iterations, minutes per pose); ICP ~0.1 s per pair; scoring
@@ -67,7 +72,8 @@ struct TopkidsExperimentOptions {
   }();
   double max_threshold = 0.5;  // curves: thresholds 0 .. max_threshold (units of √area of the reference)
   int curve_points = 101;      // points of each curve
-  // Draw out/topkids.png from curves.csv (experiments/plots/topkids_figure.py, by experiments/figures.h).
+  // draw_topkids_figure draws out/topkids.png (experiments/plots/topkids_figure.py); false: it records
+  // "not requested (--no-figure)" instead.
   bool figure = true;
   ProgressFn progress;                           // stage "topkids" per pose
   std::function<void(const std::string&)> note;  // one line of progress text (repairs, timings)
@@ -114,8 +120,8 @@ struct TopkidsExperimentResult {
   std::map<std::string, std::string> reference_repair;  // per method: what its repair did to the reference
   std::string scoring_repair;  // the repair of the reference for the scoring geodesics ("" when none)
   double reference_sqrt_area = 0;
-  std::string figure;          // "topkids.png" when drawn, else ""
-  std::string figure_problem;  // why it was not drawn
+  std::string figure;          // "topkids.png" when draw_topkids_figure drew it, else ""
+  std::string figure_problem;  // why it was not drawn (set by draw_topkids_figure)
   long forms_computed = 0, forms_cached = 0, scorings_computed = 0, scorings_cached = 0;
   double seconds = 0;
   // Query poses whose canonical form failed by some method, left out (not in `poses`), and geodesic
@@ -130,6 +136,21 @@ std::vector<std::string> topkids_poses(const std::string& data, const std::strin
 // The mesh file of a pose: NAME.off (.ply .obj .stl .vert) in data; throws naming what was looked for.
 std::string topkids_mesh_path(const std::string& data, const std::string& name);
 
+// The measurement (see above): reads every input first (a missing or malformed file stops the run before any
+// work), computes or reads from out/cache the forms and scorings, and writes topkids.csv, curves.csv and
+// topkids.json into options.out. No figure, no report.md. Throws when the reference's form fails or every
+// pose is left out.
 TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& options);
+
+// Draws options.out/topkids.png from the data files run_topkids_experiment wrote, when options.figure, and
+// records the outcome (result.figure, result.figure_problem) in the result and in topkids.json. A figure that
+// cannot be drawn is not an error: figure_problem says why.
+void draw_topkids_figure(TopkidsExperimentResult& result, const TopkidsExperimentOptions& options);
+
+// Writes folder/report.md from the result and the options it was run with (data, reference, samples, ICP and
+// scoring options, methods): the pooled table, the figure (or why there is none), the per-pose table, the
+// shapes left out, repairs and tearing, the command that reproduces it. "—" for a value not measured.
+void write_topkids_report(const TopkidsExperimentResult& result, const TopkidsExperimentOptions& options,
+                          const std::string& folder);
 
 }  // namespace cshapes

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "core/error.h"
 #include "core/geodesics.h"
@@ -252,6 +253,28 @@ TEST(SymmetricCorrespondenceError, RepairsTheReferenceAndCountsItsAreaOnce) {
   EXPECT_NE(r.repair_text.find("b.off"), std::string::npos) << r.repair_text;
   EXPECT_NEAR(r.maps[0].normaliser, std::sqrt(120.0), 1e-9);
   EXPECT_EQ(r.maps[0].errors.maxCoeff(), 0.0);
+}
+
+TEST(CorrespondenceError, ErrorStatisticsKnownAnswers) {
+  const double inf = std::numeric_limits<double>::infinity();
+  // Unmapped samples (+inf) count in the median and the fractions, not in the mean.
+  Eigen::VectorXd e(5);
+  e << 0.3, inf, 0.1, 0.2, inf;
+  EXPECT_DOUBLE_EQ(finite_mean(e), 0.2);
+  EXPECT_EQ(error_median(e), 0.3);  // odd count: the middle of 0.1 0.2 0.3 inf inf
+  EXPECT_DOUBLE_EQ(fraction_within(e, 0.2), 0.4);
+  EXPECT_DOUBLE_EQ(fraction_within(e, 10.0), 0.6);
+  // Even count: the mean of the two middle values (core/timing.h's median of repeats takes the upper one).
+  Eigen::VectorXd even(4);
+  even << 0.4, 0.1, 0.2, 0.3;
+  EXPECT_DOUBLE_EQ(error_median(even), 0.25);
+  EXPECT_DOUBLE_EQ(error_median(Eigen::Vector4d(inf, 0.2, 0.4, 0.1)), 0.5 * (0.2 + 0.4));
+  EXPECT_EQ(error_median(Eigen::Vector4d(0.1, inf, 0.2, inf)), inf);  // half the samples unmapped
+  // Empty, or nothing mapped.
+  EXPECT_TRUE(std::isnan(finite_mean(Eigen::VectorXd())));
+  EXPECT_TRUE(std::isnan(error_median(Eigen::VectorXd())));
+  EXPECT_EQ(fraction_within(Eigen::VectorXd(), 1.0), 0.0);
+  EXPECT_TRUE(std::isnan(finite_mean(Eigen::VectorXd::Constant(3, inf))));
 }
 
 }  // namespace

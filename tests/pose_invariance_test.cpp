@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include "core/io.h"
 #include "core/rigid_transform.h"
 #include "core/synthetic.h"
+#include "pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -54,6 +56,18 @@ const PosePairRow& pair_row(const PoseInvarianceResult& r, const std::string& b,
     if (p.b == b && p.form == form) return p;
   throw Error("no pair row " + b + " " + form);
 }
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Clears the geodesics test hook whatever the test's outcome.
+struct HookGuard {
+  explicit HookGuard(std::function<void(GeodesicMethod, const std::string&)> hook) {
+    set_geodesics_test_hook(std::move(hook));
+  }
+  ~HookGuard() { set_geodesics_test_hook({}); }
+};
 
 TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
   const std::string dir = test::scratch_dir("pose_rigid");
@@ -112,8 +126,10 @@ TEST(PoseInvariance, RigidCopiesHaveZeroPoseDistanceAndScalingHasTheKnownOne) {
     if (row.form == "cmds" && row.class_name == "ring") {
       EXPECT_NEAR(row.removed, 1 - row.median_rms / row.median_input_rms, 1e-12);
     }
-  for (const char* f : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv", "pose.md"})
+  // The run writes its data; the report is write_pose_invariance_report's.
+  for (const char* f : {"pose_pairs.csv", "pose_shapes.csv", "pose_summary.csv"})
     EXPECT_TRUE(fs::exists(o.out + "/" + f)) << f;
+  EXPECT_FALSE(fs::exists(o.out + "/pose.md"));
 }
 
 TEST(PoseInvariance, GeodesicStressIsSmallOnAPlaneAndLargeOnARoll) {
@@ -252,6 +268,114 @@ TEST(PoseInvariance, DatasetWithSharedFacesPairsVertexIWithVertexI) {
     EXPECT_NE(what.find("ring_noisy.off"), std::string::npos) << what;
     EXPECT_NE(what.find("do not share their faces"), std::string::npos) << what;
   }
+}
+
+TEST(PoseInvariance, AShapeWhoseFormFailsIsLeftOutWithItsPairsAndNamed) {
+  const std::string dir = test::scratch_dir("pose_left_out");
+  const Mesh a = torus(24, 12, 1.0, 0.35);
+  std::vector<int> identity(a.num_vertices());
+  std::iota(identity.begin(), identity.end(), 0);
+  for (int k = 0; k < 3; ++k) {
+    Mesh moved = a;  // rigid copies, each another file
+    moved.V.col(0).array() += 3.0 * k;
+    write_pose(dir, "ring" + std::to_string(k), moved, identity);
+  }
+  PoseInvarianceOptions o;
+  o.data = dir;
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.stress_sources = 0;
+  HookGuard guard([](GeodesicMethod, const std::string& name) {
+    if (contains(name, "ring2")) fail(name, ": injected failure");
+  });
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  ASSERT_EQ(r.failures.size(), 1u);
+  EXPECT_EQ(r.failures[0].name, "ring2");
+  EXPECT_EQ(r.failures[0].method, "cmds");
+  EXPECT_TRUE(r.failures[0].left_out());
+  // ring0-ring1 alone, for the input and cmds; no shape row of ring2.
+  ASSERT_EQ(r.pairs.size(), 2u);
+  for (const PosePairRow& p : r.pairs) {
+    EXPECT_EQ(p.a, "ring0");
+    EXPECT_EQ(p.b, "ring1");
+    EXPECT_LT(p.rms, 1e-6) << p.form;
+  }
+  EXPECT_EQ(r.shapes.size(), 4u);
+  for (const PoseShapeRow& s : r.shapes) {
+    EXPECT_NE(s.shape, "ring2");
+    EXPECT_EQ(s.stress, -1) << "no stress sources: not measured";
+  }
+  ASSERT_EQ(r.summary.size(), 2u);  // input and cmds, one class: "all" only
+  EXPECT_EQ(r.summary[1].form, "cmds");
+  EXPECT_EQ(r.summary[1].class_name, "all");
+  EXPECT_EQ(r.summary[1].pairs, 1);
+}
+
+// A result as run_pose_invariance returns it, made by hand: two classes, one shape left out.
+PoseInvarianceResult hand_made_result() {
+  PoseInvarianceResult r;
+  auto pair = [](const std::string& a, const std::string& b, const std::string& form, double rms) {
+    return PosePairRow{a, b, a.substr(0, 3), form, rms, 0.2, 100};
+  };
+  r.pairs = {pair("cat0", "cat1", "input", 0.2), pair("cat0", "cat1", "coulomb", 0.05),
+             pair("dog0", "dog1", "input", 0.2), pair("dog0", "dog1", "coulomb", 0.3)};
+  for (const char* shape : {"cat0", "cat1", "dog0", "dog1"})
+    for (const char* form : {"input", "coulomb"}) {
+      PoseShapeRow row;
+      row.shape = shape;
+      row.form = form;
+      r.shapes.push_back(row);
+    }
+  auto summary = [](const std::string& form, const std::string& class_name, double median, double removed,
+                    double stress) {
+    PoseSummaryRow row;
+    row.form = form;
+    row.class_name = class_name;
+    row.pairs = 1;
+    row.median_rms = row.mean_rms = median;
+    row.median_input_rms = 0.2;
+    row.removed = removed;
+    row.mean_abs_stretch = 0.125;
+    row.max_stretch = 2.5;
+    row.stress = stress;
+    return row;
+  };
+  r.summary = {summary("input", "cat", 0.2, 0, 0.21), summary("coulomb", "cat", 0.05, 0.75, 0.3),
+               summary("coulomb", "dog", 0.3, -0.5, -1)};
+  r.summary[2].mean_rms = std::numeric_limits<double>::quiet_NaN();
+  r.failures.push_back({"dog2", "DATA/dog2.off", "coulomb", "canonical form", "it diverged", ""});
+  return r;
+}
+
+TEST(PoseInvariance, ReportSaysTheTableTheFailuresAndWhatWasNotMeasured) {
+  const std::string out = test::scratch_dir("pose_report");
+  PoseInvarianceOptions o;
+  o.data = "DATA";
+  o.samples = 100;
+  o.stress_sources = 8;
+  o.label = "tuned";
+  const PoseInvarianceResult r = hand_made_result();
+  write_pose_invariance_report(r, o, out);
+  const std::string report = read_file(out + "/pose.md");
+  EXPECT_EQ(report, pose_invariance_markdown(r, o));
+  EXPECT_TRUE(contains(report, "# Pose invariance (tuned)\n")) << report;
+  // Counted from the result: the shapes and pairs measured (dog2, left out, is not).
+  EXPECT_TRUE(contains(report, "Data: `DATA`, 4 shapes, 2 pairs of poses, up to 100 ground-truth")) << report;
+  EXPECT_TRUE(contains(report, "fast marching from 8 sources per shape")) << report;
+  // The input has no stretch ("—"); a stress not measured (−1) and a mean over no pair (NaN) are "—"; a
+  // form worse than the input removes a negative share.
+  EXPECT_TRUE(contains(report, "| input | cat | 1 | 20.00% | 20.00% | 20.00% | 0% | — | — | 0.210 |"))
+      << report;
+  EXPECT_TRUE(contains(report, "| coulomb | cat | 1 | 5.00% | 5.00% | 20.00% | 75% | 0.125 | 2.50 | 0.300 |"))
+      << report;
+  EXPECT_TRUE(contains(report, "| coulomb | dog | 1 | 30.00% | — | 20.00% | -50% | 0.125 | 2.50 | — |"))
+      << report;
+  EXPECT_FALSE(contains(report, "nan")) << report;
+  EXPECT_FALSE(contains(report, "-1.000")) << report;
+  EXPECT_TRUE(
+      contains(report, "| dog2 | `DATA/dog2.off` | coulomb | canonical form | left out: it diverged |"))
+      << report;
+  fs::remove_all(out);
 }
 
 }  // namespace

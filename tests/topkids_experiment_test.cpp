@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/articulated.h"
@@ -11,6 +14,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/rigid_transform.h"
+#include "pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -72,6 +76,18 @@ const TopkidsRow& row_of(const TopkidsExperimentResult& r, const std::string& po
   throw Error("no row " + pose + " " + method);
 }
 
+// Clears the geodesics test hook whatever the test's outcome.
+struct HookGuard {
+  explicit HookGuard(std::function<void(GeodesicMethod, const std::string&)> hook) {
+    set_geodesics_test_hook(std::move(hook));
+  }
+  ~HookGuard() { set_geodesics_test_hook({}); }
+};
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 TEST(TopkidsExperiment, IdenticalPairMapsWithoutErrorAndRerunsFromCache) {
   SyntheticKids k = make_kids("topkids_synthetic");
   const std::string out = k.dir + "/out";
@@ -116,11 +132,15 @@ TEST(TopkidsExperiment, IdenticalPairMapsWithoutErrorAndRerunsFromCache) {
   EXPECT_DOUBLE_EQ(r.thresholds[r.thresholds.size() - 1], 0.5);
   EXPECT_EQ(r.forms_computed, 3);
   EXPECT_EQ(r.scorings_computed, 2);
-  for (const char* file : {"topkids.csv", "curves.csv", "topkids.json", "report.md"})
+  // The run writes its data files only: no figure, no report.
+  for (const char* file : {"topkids.csv", "curves.csv", "topkids.json"})
     EXPECT_TRUE(fs::exists(fs::path(out) / file)) << file;
-  const std::string report = read_file(out + "/report.md");
-  EXPECT_NE(report.find("| Coulomb | 400 |"), std::string::npos) << report;
-  EXPECT_NE(report.find("No figure (no plot script given)"), std::string::npos);
+  for (const char* file : {"report.md", "topkids.png"})
+    EXPECT_FALSE(fs::exists(fs::path(out) / file)) << file;
+  const nlohmann::json j = nlohmann::json::parse(read_file(out + "/topkids.json"));
+  EXPECT_EQ(j.at("rows").size(), 4u);
+  EXPECT_EQ(j.at("figure"), "");
+  EXPECT_FALSE(j.contains("failures"));
 
   // A rerun computes nothing and writes the same table.
   const std::string csv = read_file(out + "/topkids.csv");
@@ -162,6 +182,179 @@ TEST(TopkidsExperiment, MissingOrMalformedFilesAreNamed) {
   fs::create_directories(o.data);
   EXPECT_EQ(message(), o.data + ": no query pose (no NAME_ref.txt besides nobody's)");
   fs::remove_all(k.dir);
+}
+
+TEST(TopkidsExperiment, APoseWhoseFormFailsIsLeftOutAndNamed) {
+  SyntheticKids k = make_kids("topkids_left_out");
+  TopkidsExperimentOptions o = options_for(k, k.dir + "/out");
+  o.methods = {"cmds"};
+  o.samples = 50;
+  // The geodesics of posed.off fail (no fallback from fast marching): posed is left out, moved is measured.
+  HookGuard guard([](GeodesicMethod, const std::string& name) {
+    if (contains(name, "posed")) fail(name, ": injected failure");
+  });
+  const TopkidsExperimentResult r = run_topkids_experiment(o);
+  EXPECT_EQ(r.poses, (std::vector<std::string>{"moved"}));
+  ASSERT_EQ(r.failures.size(), 1u);
+  EXPECT_EQ(r.failures[0].name, "posed");
+  EXPECT_EQ(r.failures[0].method, "cmds");
+  EXPECT_TRUE(r.failures[0].left_out());
+  EXPECT_TRUE(contains(r.failures[0].reason, "injected failure")) << r.failures[0].reason;
+  ASSERT_EQ(r.rows.size(), 2u);  // moved: inputs and cmds
+  for (const TopkidsRow& row : r.rows) EXPECT_EQ(row.pose, "moved");
+  for (const TopkidsSummary& s : r.summaries) EXPECT_EQ(s.samples, 50) << s.method;
+  const nlohmann::json j = nlohmann::json::parse(read_file(o.out + "/topkids.json"));
+  ASSERT_EQ(j.at("failures").size(), 1u);
+  EXPECT_EQ(j.at("failures")[0].at("name"), "posed");
+
+  // Without the reference's forms there is nothing to measure: the run stops, naming it (a new folder: the
+  // reference's form is cached in the first).
+  o.out = k.dir + "/out2";
+  HookGuard reference_fails([](GeodesicMethod, const std::string& name) {
+    if (contains(name, "ref.off")) fail(name, ": injected failure");
+  });
+  try {
+    run_topkids_experiment(o);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "ref left out: the cmds canonical form failed")) << e.what();
+  }
+  fs::remove_all(k.dir);
+}
+
+TEST(TopkidsExperiment, FigureOutcomeIsRecordedInTheResultAndTheJson) {
+  const std::string out = test::scratch_dir("topkids_figure");
+  TopkidsExperimentOptions o;
+  o.data = "DATA";
+  o.out = out;
+  TopkidsExperimentResult r;
+  r.poses = {"kid07"};
+  r.methods = {"inputs"};
+  r.thresholds = Eigen::VectorXd::LinSpaced(3, 0.0, 0.5);
+
+  o.figure = false;
+  draw_topkids_figure(r, o);
+  EXPECT_EQ(r.figure, "");
+  EXPECT_EQ(r.figure_problem, "not requested (--no-figure)");
+  nlohmann::json j = nlohmann::json::parse(read_file(out + "/topkids.json"));
+  EXPECT_EQ(j.at("figure_problem"), "not requested (--no-figure)");
+  EXPECT_EQ(j.at("data"), "DATA");
+
+  // Asked for, but its script is not where $CSHAPES_PLOTS says: not drawn, and why, never an error.
+  const std::string empty = test::scratch_dir("topkids_figure_no_scripts");
+  setenv("CSHAPES_PLOTS", empty.c_str(), 1);
+  o.figure = true;
+  draw_topkids_figure(r, o);
+  unsetenv("CSHAPES_PLOTS");
+  EXPECT_EQ(r.figure, "");
+  EXPECT_TRUE(contains(r.figure_problem, "topkids_figure.py was not found")) << r.figure_problem;
+  j = nlohmann::json::parse(read_file(out + "/topkids.json"));
+  EXPECT_EQ(j.at("figure_problem"), r.figure_problem);
+  EXPECT_FALSE(fs::exists(out + "/topkids.png"));
+  fs::remove_all(out);
+  fs::remove_all(empty);
+}
+
+// A result as run_topkids_experiment returns it, made by hand: two poses, the inputs and Coulomb, one pose
+// left out, the inputs' pooled mean not measured (every sample unmapped).
+TopkidsExperimentResult hand_made_result() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  TopkidsExperimentResult r;
+  r.poses = {"kid07", "kid08"};
+  r.methods = {"inputs", "coulomb"};
+  auto row = [](const std::string& pose, const std::string& method, double mean, double under, long torn) {
+    TopkidsRow x;
+    x.pose = pose;
+    x.method = method;
+    x.samples = 100;
+    x.mean_error = mean;
+    x.median_error = mean;
+    x.under_0_25 = under;
+    x.whole_map_mean_error = 2 * mean;
+    x.whole_map_under_0_25 = under / 2;
+    x.torn_edges = torn;
+    return x;
+  };
+  r.rows = {row("kid07", "inputs", 0.3, 0.5, -1), row("kid07", "coulomb", 0.1, 0.9, 3),
+            row("kid08", "inputs", 0.35, 0.4, -1), row("kid08", "coulomb", 0.12, 0.8, 5)};
+  r.rows[1].whole_map_mirrored = true;
+  r.rows[1].reflected = true;
+  r.rows[3].repair = "removed 2 duplicate faces";
+  TopkidsSummary inputs;
+  inputs.method = "inputs";
+  inputs.samples = 200;
+  inputs.mean_error = inputs.median_error = inputs.whole_map_mean_error = nan;
+  TopkidsSummary coulomb;
+  coulomb.method = "coulomb";
+  coulomb.samples = 200;
+  coulomb.mean_error = 0.11;
+  coulomb.median_error = 0.1;
+  coulomb.under_0_1 = 0.6;
+  coulomb.under_0_25 = 0.85;
+  coulomb.whole_map_mean_error = 0.22;
+  coulomb.whole_map_under_0_1 = 0.3;
+  coulomb.whole_map_under_0_25 = 0.425;
+  r.summaries = {inputs, coulomb};
+  r.reference_repair = {{"coulomb", "split 1 non-manifold edge"}};
+  r.reference_sqrt_area = 97.94;
+  r.figure_problem = "not requested (--no-figure)";
+  r.failures.push_back({"kid09", "DATA/kid09.off", "coulomb", "canonical form", "it diverged", ""});
+  return r;
+}
+
+TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
+  const std::string out = test::scratch_dir("topkids_report");
+  TopkidsExperimentOptions o;
+  o.data = "DATA";
+  o.out = out;
+  o.reference = "kid00";
+  o.methods = {"coulomb"};
+  o.samples = 100;
+  TopkidsExperimentResult r = hand_made_result();
+  write_topkids_report(r, o, out);
+  const std::string report = read_file(out + "/report.md");
+  EXPECT_TRUE(contains(report, "Reference `kid00`; 2 query poses (kid07, kid08)")) << report;
+  EXPECT_TRUE(contains(report, "over √area of the reference (97.94)")) << report;
+  EXPECT_TRUE(contains(report, "100 ground-truth vertices per pose")) << report;
+  // The pooled table: a row per method, "—" where nothing was measured.
+  EXPECT_TRUE(contains(report, "| Coulomb | 200 | 0.110 | 0.100 | 0.600 | 0.850 | 0.220 | 0.300 | 0.425 |"))
+      << report;
+  EXPECT_TRUE(
+      contains(report, "| inputs (no canonical form) | 200 | — | — | 0.000 | 0.000 | — | 0.000 | 0.000 |"))
+      << report;
+  EXPECT_FALSE(contains(report, "nan")) << report;
+  EXPECT_TRUE(contains(report,
+                       "No figure (not requested (--no-figure)); draw it with "
+                       "`scripts/python.sh experiments/plots/topkids_figure.py " +
+                           out + "`"))
+      << report;
+  // The pose left out, named with its method and reason.
+  EXPECT_TRUE(contains(report, "## Shapes left out and fallbacks")) << report;
+  EXPECT_TRUE(
+      contains(report, "| kid09 | `DATA/kid09.off` | coulomb | canonical form | left out: it diverged |"))
+      << report;
+  // Per pose: mean (≤ 0.25) per vertex | per whole map, M and R marks.
+  EXPECT_TRUE(contains(report, "| kid07 | 0.300 (0.50) | 0.600 (0.25) | 0.100 (0.90) | 0.200 (0.45) M R |"))
+      << report;
+  EXPECT_TRUE(contains(report, "| kid08 | 0.350 (0.40) | 0.700 (0.20) | 0.120 (0.80) | 0.240 (0.40) |"))
+      << report;
+  EXPECT_TRUE(contains(report, "- Coulomb, reference: split 1 non-manifold edge\n")) << report;
+  EXPECT_TRUE(contains(report, "- Coulomb: removed 2 duplicate faces\n")) << report;
+  EXPECT_TRUE(contains(report, "- Coulomb torn edges per pose: kid07 3 kid08 5\n")) << report;
+  EXPECT_TRUE(contains(
+      report, "`cshapes experiment topkids --data DATA --out " + out + " --methods coulomb --samples 100`"))
+      << report;
+
+  // Drawn: the figure instead of the hint; no failure section when nothing failed.
+  r.figure = "topkids.png";
+  r.figure_problem = "";
+  r.failures.clear();
+  write_topkids_report(r, o, out);
+  const std::string drawn = read_file(out + "/report.md");
+  EXPECT_TRUE(contains(drawn, "![cumulative error curves](topkids.png)")) << drawn;
+  EXPECT_FALSE(contains(drawn, "No figure")) << drawn;
+  EXPECT_FALSE(contains(drawn, "Shapes left out")) << drawn;
+  fs::remove_all(out);
 }
 
 TEST(TopkidsExperiment, CliRunsAndRefusesBadOptions) {
