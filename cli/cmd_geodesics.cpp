@@ -36,7 +36,8 @@ int run() {
   const std::string extension = to_stdout ? "" : std::filesystem::path(args.output).extension().string();
   if (extension == ".csv" || to_stdout) args.csv = true;
   if (args.csv && args.source < 0)
-    usage_fail("one row of distances as CSV needs --source i (all pairs are written to -o D.bin)");
+    usage_fail(to_stdout ? std::string("all-pairs distances need -o NAME.bin") : "-o " + args.output,
+               ": one row of distances as CSV needs --source i (all pairs are written to -o NAME.bin)");
   if (args.source >= 0 && extension == ".bin")
     usage_fail(
         "--source i writes one row as CSV: give -o NAME.csv (or no -o for stdout); -o D.bin takes all "

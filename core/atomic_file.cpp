@@ -209,6 +209,10 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     if (std::find(extensions.begin(), extensions.end(), ext.substr(1)) == extensions.end())
       fail(path, ": cannot write '", ext, "' files; expected ", known);
   }
+  // A file goes into a folder that exists (as cp and a compiler's -o do): a mistyped folder is not created.
+  if (target.has_parent_path() && !fs::is_directory(target.parent_path(), ec))
+    fail_write(path, ": the folder ", target.parent_path().string(),
+               fs::exists(target.parent_path(), ec) ? " is not a folder" : " does not exist (create it first)");
   check_folder_takes_files(path, target.parent_path());
 }
 

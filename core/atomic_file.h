@@ -35,9 +35,10 @@ void write_csv(const std::string& path, const std::vector<std::string>& columns,
 
 // Checks, before any work, that an output file can later be written at `path`: its lower-cased extension is
 // one of `extensions` (without the dot, e.g. {"off", "ply"}; empty: any), the path is not a folder, and its
-// folder exists and takes a new file, or can be created (a probe file is created and removed there, so the
-// answer holds for root and read-only mounts too; nothing else is left behind). Throws cshapes::Error naming
-// the path and what is wrong.
+// folder exists (a missing one is refused, never created: a mistyped path is not made) and takes a new file
+// (a probe file is created and removed there, so the answer holds for root and read-only mounts too; nothing
+// else is left behind). Throws cshapes::Error naming the path and what is wrong. Output folders of runs
+// (check_output_directory) are created when missing, with their parents.
 void check_output_path(const std::string& path, const std::vector<std::string>& extensions);
 // The same for an output folder: it is a writable folder, or can be created.
 void check_output_directory(const std::string& path);

@@ -50,6 +50,7 @@ TEST(CliErrors, BadOffFilesGiveOneLineNamingTheFile) {
 TEST(CliErrors, ConvertOfABadFileLeavesNoOutput) {
   std::string dir = test::scratch_dir("cli-errors");
   std::string bad = dir + "/bad.off", out = dir + "/out/converted.ply";
+  fs::create_directories(dir + "/out");  // an output file's folder must exist (CliOutput.AMissingFolder...)
   test::write_text(bad, "OFF\n4 4 6\n0 0 0\n1 0 0\n");
   expect_one_line_error(test::run_cli("convert '" + bad + "' '" + out + "'"), bad);
   EXPECT_FALSE(fs::exists(out));

@@ -3,6 +3,7 @@
 // under --quiet — including the library's warnings said on the note channel.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 
@@ -84,6 +85,16 @@ TEST(CliOutput, GeodesicsWritesTheFormItsOutputNames) {
       test::run_cli("-q geodesics '" + dir + "/sphere.off' -o '" + dir + "/all.csv'");
   EXPECT_EQ(all_as_csv.exit_code, 2);
   EXPECT_NE(all_as_csv.err.find("needs --source"), std::string::npos) << all_as_csv.err;
+}
+
+// An output file's folder must exist: a mistyped folder is refused before any work, never created.
+TEST(CliOutput, AMissingFolderOfAnOutputFileIsRefusedNotCreated) {
+  const std::string dir = test::scratch_dir("cli-missing-folder");
+  write_mesh(dir + "/sphere.off", icosphere(1));
+  const test::CliResult r = test::run_cli("-q canon '" + dir + "/sphere.off' -o '" + dir + "/nowhere/x.ply'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(dir + "/nowhere does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/nowhere"));
 }
 
 }  // namespace
