@@ -27,8 +27,7 @@ int run() {
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper
   configure_canonical_form(o.canon);
   o.note = [](const std::string& line) { note(line); };
-  const PoseInvarianceResult r = run_pose_invariance(o);
-  write_pose_invariance_report(r, o, o.out);
+  const PoseInvarianceResult r = pose_experiment(o);
   std::cout << pose_invariance_markdown(r, o);
   return exit_code_for(r.failures);
 }

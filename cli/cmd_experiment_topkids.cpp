@@ -40,9 +40,7 @@ int run() {
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
-  TopkidsExperimentResult r = run_topkids_experiment(o);
-  draw_topkids_figure(r, o);
-  write_topkids_report(r, o, o.out);
+  TopkidsExperimentResult r = topkids_experiment(o);
   if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
   if (args.json) {
     nlohmann::json j{{"out", o.out},

@@ -501,4 +501,10 @@ void write_pose_invariance_report(const PoseInvarianceResult& result, const Pose
   ExperimentFolder(folder).write_text("pose.md", pose_invariance_markdown(result, options));
 }
 
+PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options) {
+  PoseInvarianceResult result = run_pose_invariance(options);
+  write_pose_invariance_report(result, options, options.out);
+  return result;
+}
+
 }  // namespace cshapes

@@ -95,4 +95,8 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result,
 void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
                                   const std::string& folder);
 
+// The experiment as `cshapes experiment pose` runs it: run_pose_invariance, then write_pose_invariance_report
+// into options.out.
+PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options);
+
 }  // namespace cshapes

@@ -688,4 +688,11 @@ void write_topkids_report(const TopkidsExperimentResult& r, const TopkidsExperim
   ExperimentFolder(folder).write_text("report.md", s.str());
 }
 
+TopkidsExperimentResult topkids_experiment(const TopkidsExperimentOptions& options) {
+  TopkidsExperimentResult result = run_topkids_experiment(options);
+  draw_topkids_figure(result, options);
+  write_topkids_report(result, options, options.out);
+  return result;
+}
+
 }  // namespace cshapes

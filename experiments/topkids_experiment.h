@@ -153,4 +153,8 @@ void draw_topkids_figure(TopkidsExperimentResult& result, const TopkidsExperimen
 void write_topkids_report(const TopkidsExperimentResult& result, const TopkidsExperimentOptions& options,
                           const std::string& folder);
 
+// The experiment as `cshapes experiment topkids` runs it: run_topkids_experiment, draw_topkids_figure,
+// write_topkids_report into options.out.
+TopkidsExperimentResult topkids_experiment(const TopkidsExperimentOptions& options);
+
 }  // namespace cshapes
