@@ -18,9 +18,10 @@ int run() {
   if (json)
     std::cout << to_json(r).dump(2) << std::endl;
   else
-    std::printf("%s: %ld vertices, %.4g s per iteration (paper %.3g s): %.1fx; fast sum at 1e-3: %.4g s, %.1fx\n",
-                r.source.c_str(), static_cast<long>(r.vertices), r.seconds, r.paper_seconds,
-                r.speedup_vs_paper(), r.seconds_accuracy_1e3, r.speedup_vs_paper_accuracy_1e3());
+    std::printf(
+        "%s: %ld vertices, %.4g s per iteration (paper %.3g s): %.1fx; fast sum at 1e-3: %.4g s, %.1fx\n",
+        r.source.c_str(), static_cast<long>(r.vertices), r.seconds, r.paper_seconds, r.speedup_vs_paper(),
+        r.seconds_accuracy_1e3, r.speedup_vs_paper_accuracy_1e3());
   return 0;
 }
 
@@ -30,7 +31,8 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
        app.add_option("--n", options.n, "vertices of the generated torus")->capture_default_str();
-       app.add_option("--repeats", options.repeats, "iterations timed (median reported)")->capture_default_str();
+       app.add_option("--repeats", options.repeats, "iterations timed (median reported)")
+           ->capture_default_str();
        app.add_flag("--json", json, "print JSON");
      },
      run});

@@ -49,9 +49,10 @@ const bool registered = register_command(
            ->check(integer_at_least(1));
        app.add_flag("--json", json, "print JSON");
        app.add_flag("--no-open3d", no_open3d, "skip the Open3D comparison");
-       app.add_option("--python", options.python,
-                      "interpreter with Open3D (default: $CSHAPES_PYTHON, /usr/bin/python3 or python3, the first "
-                      "that imports it)");
+       app.add_option(
+           "--python", options.python,
+           "interpreter with Open3D (default: $CSHAPES_PYTHON, /usr/bin/python3 or python3, the first "
+           "that imports it)");
      },
      run});
 

@@ -1,7 +1,8 @@
 // cshapes bench smacof: seconds per SMACOF iteration on an n×n geodesic distance matrix, beside
-// scikit-learn's sklearn.manifold.smacof on the same matrix and start; also classical MDS time, peak memory and,
-// with --acceleration, the passes RRE and MPE need to reach the plain iteration's stress
-// (experiments/bench_smacof.h). Prints JSON with --json; the stages' figures go to stderr as they are measured.
+// scikit-learn's sklearn.manifold.smacof on the same matrix and start; also classical MDS time, peak memory
+// and, with --acceleration, the passes RRE and MPE need to reach the plain iteration's stress
+// (experiments/bench_smacof.h). Prints JSON with --json; the stages' figures go to stderr as they are
+// measured.
 #include <iostream>
 
 #include "cli/command.h"
@@ -40,9 +41,10 @@ const bool registered = register_command(
        app.add_option("--reference", reference, "auto (sklearn when it fits), sklearn or none")
            ->capture_default_str()
            ->check(one_of({"auto", "sklearn", "none"}));
-       app.add_option("--python", options.python,
-                      "interpreter with scikit-learn (default: $CSHAPES_PYTHON, /usr/bin/python3 or python3, the "
-                      "first that imports it)");
+       app.add_option(
+           "--python", options.python,
+           "interpreter with scikit-learn (default: $CSHAPES_PYTHON, /usr/bin/python3 or python3, the "
+           "first that imports it)");
        app.add_flag("--acceleration", options.acceleration,
                     "also count iterations of plain, RRE and MPE SMACOF to the same stress (from cmds)");
        app.add_option("--tolerance", options.tolerance, "--acceleration: plain SMACOF's stopping tolerance")

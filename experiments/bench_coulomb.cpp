@@ -43,7 +43,8 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
       X = mesh.V;
       result.distribution = "mesh-vertices:" + options.mesh;
     } else {
-      CSHAPES_REQUIRE(mesh.F.rows() > 0, "bench coulomb: ", options.mesh, " has no faces to sample points on");
+      CSHAPES_REQUIRE(mesh.F.rows() > 0, "bench coulomb: ", options.mesh,
+                      " has no faces to sample points on");
       X = sample_surface(mesh, options.n, rng);
       result.distribution = "mesh-surface:" + options.mesh;
     }
@@ -69,8 +70,8 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
   CoulombErrors errors;
   if (n <= options.full_direct_max) {
     CoulombEvaluation direct;
-    result.direct_seconds =
-        median_seconds(options.repeats, [&] { direct = coulomb_direct(X); }, result.direct_cpu_seconds);
+    result.direct_seconds = median_seconds(
+        options.repeats, [&] { direct = coulomb_direct(X); }, result.direct_cpu_seconds);
     result.direct_float_seconds = median_seconds(
         options.repeats, [&] { coulomb_direct_float(X); }, result.direct_float_cpu_seconds);
     result.direct_float_measured = true;
@@ -84,8 +85,8 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
       std::swap(all[t], all[t + std::uniform_int_distribution<Index>(0, n - 1 - t)(rng)]);
     const std::vector<Index> targets(all.begin(), all.begin() + result.error_targets);
     CoulombTargetSums exact;
-    const double sample_seconds =
-        median_seconds(1, [&] { exact = coulomb_direct_targets(X, targets); }, result.direct_cpu_seconds);
+    const double sample_seconds = median_seconds(
+        1, [&] { exact = coulomb_direct_targets(X, targets); }, result.direct_cpu_seconds);
     const double scale = double(n) / double(result.error_targets);
     result.direct_seconds = sample_seconds * scale;
     result.direct_cpu_seconds *= scale;

@@ -28,7 +28,8 @@ CoulombIterationBenchResult bench_coulomb_iteration(const CoulombIterationBenchO
     result.source = options.mesh;
   } else {
     CSHAPES_REQUIRE(options.n >= 16, "--n must be >= 16, got ", options.n);
-    // A torus of about n vertices: a closed surface with TOSCA's degree (6) and no special symmetry in the sum.
+    // A torus of about n vertices: a closed surface with TOSCA's degree (6) and no special symmetry in the
+    // sum.
     const int nv = std::max(4, static_cast<int>(std::lround(std::sqrt(options.n / 3.0))));
     const int nu = (options.n + nv - 1) / nv;
     mesh = torus(nu, nv, 1.0, 0.3);
@@ -57,9 +58,10 @@ nlohmann::json to_json(const CoulombIterationBenchResult& r) {
           {"seconds_per_iteration_accuracy_1e-3", r.seconds_accuracy_1e3},
           {"speedup_vs_paper_accuracy_1e-3", r.speedup_vs_paper_accuracy_1e3()},
           {"goal_speedup", 20.0},
-          {"note", "1 Coulomb step (coulomb_energy_gradient, summation auto; fast sum at the canonization's "
-                   "default accuracy 1e-2, and at 1e-3) + 1 L2 projection sweep; paper figure interpolated "
-                   "log-log from Table 1 (3505: 0.045 s, 22738: 0.21 s)"}};
+          {"note",
+           "1 Coulomb step (coulomb_energy_gradient, summation auto; fast sum at the canonization's "
+           "default accuracy 1e-2, and at 1e-3) + 1 L2 projection sweep; paper figure interpolated "
+           "log-log from Table 1 (3505: 0.045 s, 22738: 0.21 s)"}};
 }
 
 }  // namespace cshapes

@@ -56,7 +56,9 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
   return count ? sum / count : 0.0;
 }
 
-double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+double mean(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
 
 }  // namespace
 
@@ -120,7 +122,8 @@ GeodesicsBenchResult bench_geodesics(const GeodesicsBenchOptions& options) {
   }
   // Set-up once (one factorisation per thread, concurrently), then n sources at the sampled rate.
   const double scale = static_cast<double>(n) / anchor_sources.size();
-  result.anchor.method = "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread";
+  result.anchor.method =
+      "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread";
   result.anchor.seconds = setup_wall + loop_wall * scale;
   result.anchor.cpu_seconds = setup_cpu + loop_cpu * scale;
   result.anchor.sampled_sources = anchor_sources.size();

@@ -49,8 +49,9 @@ void measure_sklearn(const DistanceMatrix& D, const Points& X0, SmacofBenchResul
     return;
   }
   if (options.reference == SmacofBenchReference::Auto && n > 12000) {
-    result.reference_skipped = "scikit-learn needs about " + std::to_string(sklearn_bytes / 1e9) +
-                               " GB at this size (six n×n float64 arrays); run with --reference sklearn to force";
+    result.reference_skipped =
+        "scikit-learn needs about " + std::to_string(sklearn_bytes / 1e9) +
+        " GB at this size (six n×n float64 arrays); run with --reference sklearn to force";
     return;
   }
   AnchorScript script;
@@ -83,8 +84,9 @@ void measure_sklearn(const DistanceMatrix& D, const Points& X0, SmacofBenchResul
 }
 
 SmacofBenchRun summary(const SmacofResult& r) {
-  return {r.iterations, r.normalized_stress, r.stop_reason, r.extrapolations_accepted, r.extrapolations_rejected,
-          r.seconds};
+  return {
+      r.iterations, r.normalized_stress, r.stop_reason, r.extrapolations_accepted, r.extrapolations_rejected,
+      r.seconds};
 }
 
 // Plain SMACOF to its tolerance, then RRE and MPE to the stress plain reached.
@@ -178,7 +180,8 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
       for (Index j = 0; j < n; ++j)
         for (Index i = 0; i < j; ++i) energy += static_cast<double>(D(i, j)) * D(i, j);
       result.reference_stress_relative_difference =
-          std::abs(result.reference_stress - ours.stress_history[k] * energy) / (ours.stress_history[k] * energy);
+          std::abs(result.reference_stress - ours.stress_history[k] * energy) /
+          (ours.stress_history[k] * energy);
     }
     notes.say("scikit-learn: " + std::to_string(result.reference_seconds_per_iteration) +
               " s per iteration; cshapes is " + std::to_string(result.speedup_vs_reference()) + "x faster");
@@ -220,11 +223,12 @@ nlohmann::json to_json(const SmacofBenchResult& r) {
   json["cpu_seconds_per_iteration"] = r.cpu_seconds_per_iteration;
   json["normalized_stress_start"] = r.normalized_stress_start;
   json["normalized_stress_end"] = r.normalized_stress_end;
-  json["classical_mds"] = {{"seconds", r.cmds_seconds},
-                           {"matrix_products", r.cmds_matrix_products},
-                           {"eigenvalues", {r.cmds_eigenvalues[0], r.cmds_eigenvalues[1], r.cmds_eigenvalues[2]}},
-                           {"most_negative_eigenvalue", r.cmds_most_negative_eigenvalue},
-                           {"explained_energy", r.cmds_explained_energy}};
+  json["classical_mds"] = {
+      {"seconds", r.cmds_seconds},
+      {"matrix_products", r.cmds_matrix_products},
+      {"eigenvalues", {r.cmds_eigenvalues[0], r.cmds_eigenvalues[1], r.cmds_eigenvalues[2]}},
+      {"most_negative_eigenvalue", r.cmds_most_negative_eigenvalue},
+      {"explained_energy", r.cmds_explained_energy}};
   if (r.paper_seconds_per_iteration > 0) json["paper_seconds_per_iteration"] = r.paper_seconds_per_iteration;
   nlohmann::json& reference = json["reference"];
   reference["name"] = "sklearn.manifold.smacof";
@@ -241,7 +245,8 @@ nlohmann::json to_json(const SmacofBenchResult& r) {
       reference["stress_relative_difference"] = r.reference_stress_relative_difference;
     json["speedup_vs_reference"] = r.speedup_vs_reference();
     json["cpu_speedup_vs_reference"] = r.cpu_speedup_vs_reference();
-    single["speedup_vs_reference"] = r.reference_seconds_per_iteration / r.single_thread_seconds_per_iteration;
+    single["speedup_vs_reference"] =
+        r.reference_seconds_per_iteration / r.single_thread_seconds_per_iteration;
     single["cpu_speedup_vs_reference"] =
         r.reference_cpu_seconds_per_iteration / r.single_thread_cpu_seconds_per_iteration;
   } else {

@@ -14,8 +14,8 @@ namespace cshapes {
 
 // Peak resident memory of this process so far, in MB (2^20 bytes; getrusage's ru_maxrss).
 double peak_rss_mb();
-// The one-minute load average (/proc/loadavg's first field; 0 when unreadable): beside a wall time on a shared
-// machine, it says how many other runnable tasks shared the cores.
+// The one-minute load average (/proc/loadavg's first field; 0 when unreadable): beside a wall time on a
+// shared machine, it says how many other runnable tasks shared the cores.
 double load_average();
 
 // A shape of the shared TOSCA data: $CSHAPES_DATA/tosca5k/NAME.off, else ../shared/data/tosca5k/NAME.off
@@ -27,18 +27,19 @@ std::string shared_tosca5k_shape(const std::string& name);
 // write_inputs fills first and the script gets as sys.argv[1] (then `arguments`), and it prints its
 // measurement on stdout.
 struct AnchorScript {
-  std::string package;                   // what the anchor needs, for messages ("scikit-learn")
-  std::string imports;                   // modules the interpreter must import ("numpy, sklearn.manifold")
-  std::string python;                    // interpreter; "": find_python(imports) (experiments/figures.h)
-  std::string environment;               // assignments before the command ("OMP_NUM_THREADS=1"); may be ""
-  std::string source;                    // the script's Python source
-  std::vector<std::string> arguments;    // after the folder
+  std::string package;                 // what the anchor needs, for messages ("scikit-learn")
+  std::string imports;                 // modules the interpreter must import ("numpy, sklearn.manifold")
+  std::string python;                  // interpreter; "": find_python(imports) (experiments/figures.h)
+  std::string environment;             // assignments before the command ("OMP_NUM_THREADS=1"); may be ""
+  std::string source;                  // the script's Python source
+  std::vector<std::string> arguments;  // after the folder
   std::function<void(const std::string& folder)> write_inputs;  // may be empty
 };
 struct AnchorRun {
-  bool ran = false;     // the script exited 0 and printed something
-  std::string output;   // its stdout, when ran
-  std::string skipped;  // why not, when not ran: no interpreter, or the script's exit status and last error line
+  bool ran = false;    // the script exited 0 and printed something
+  std::string output;  // its stdout, when ran
+  std::string
+      skipped;  // why not, when not ran: no interpreter, or the script's exit status and last error line
 };
 AnchorRun run_python_anchor(const AnchorScript& script);
 
