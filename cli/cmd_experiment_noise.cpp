@@ -52,7 +52,7 @@ int run() {
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
-  NoiseExperimentResult r = run_noise_experiment(o);
+  NoiseExperimentResult r = noise_experiment(o);
   if (r.chi_mismatches > 0)
     warn(std::to_string(r.chi_mismatches) +
          " glued meshes had an unexpected Euler characteristic and were "

@@ -34,6 +34,13 @@ std::vector<int> rank_others(const Eigen::MatrixXd& D, int query) {
   return ranking;
 }
 
+// Average precision from the precisions at the ranks of the relevant results, in rank order (every relevant
+// result found, so their count is R): one summation order for every caller, so results agree to the bit.
+double mean_of_precisions(const std::vector<double>& precision_at_relevant) {
+  return std::accumulate(precision_at_relevant.begin(), precision_at_relevant.end(), 0.0) /
+         static_cast<double>(precision_at_relevant.size());
+}
+
 }  // namespace
 
 RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<int>& labels,
@@ -89,7 +96,7 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
     double ideal = 1;
     for (int i = 2; i <= relevant_total; ++i) ideal += 1.0 / std::log2(static_cast<double>(i));
     s.dcg = dcg / ideal;
-    s.ap = std::accumulate(precision_at_relevant.begin(), precision_at_relevant.end(), 0.0) / R;
+    s.ap = mean_of_precisions(precision_at_relevant);
 
     // Interpolated precision at each recall level: the best precision at recall ≥ the level.
     for (size_t l = 0; l < result.pr.recall.size(); ++l) {
@@ -123,6 +130,21 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
     s.nn /= k, s.ft /= k, s.st /= k, s.e /= k, s.dcg /= k, s.ap /= k;
   }
   return result;
+}
+
+double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
+                         bool* nearest_relevant) {
+  CSHAPES_REQUIRE(distances.size() == relevant.size(), "average_precision: ", distances.size(),
+                  " distances but ", relevant.size(), " relevance flags");
+  std::vector<int> order(distances.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return distances[a] < distances[b]; });
+  std::vector<double> precision_at_relevant;
+  for (size_t rank = 1; rank <= order.size(); ++rank)
+    if (relevant[order[rank - 1]])
+      precision_at_relevant.push_back(static_cast<double>(precision_at_relevant.size() + 1) / rank);
+  if (nearest_relevant) *nearest_relevant = !order.empty() && relevant[order[0]];
+  return precision_at_relevant.empty() ? -1.0 : mean_of_precisions(precision_at_relevant);
 }
 
 std::vector<int> labels_from_classes(const std::vector<std::string>& classes,

@@ -70,6 +70,13 @@ struct RetrievalResult {
 RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<int>& labels,
                                    const RetrievalOptions& options = {});
 
+// Average precision of one query against a database: the distances to its entries and which are relevant
+// (same length). Ranked by increasing distance, ties by index (the rule of evaluate_retrieval, whose ap is
+// this function of its rankings): (1/R) Σ_k k / rank_k over the R relevant entries. −1 when none is relevant.
+// *nearest_relevant (when non-null): whether the first result is relevant.
+double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
+                         bool* nearest_relevant = nullptr);
+
 // Class labels 0, 1, … from class names, numbered in order of first appearance; names_out (when non-null)
 // receives the distinct names in label order.
 std::vector<int> labels_from_classes(const std::vector<std::string>& classes,

@@ -32,12 +32,6 @@ GeodesicOptions geodesic_options_for(const std::string& method) {
   return g;
 }
 
-double median_of(std::vector<double> x) {
-  if (x.empty()) return 0;
-  std::nth_element(x.begin(), x.begin() + static_cast<long>(x.size() / 2), x.end());
-  return x[x.size() / 2];
-}
-
 }  // namespace
 
 double geodesic_tolerance(const std::string& method) {
@@ -72,9 +66,9 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
                             d = mesh.V.row(mesh.F(f, 2));
       areas[f] = 0.5 * (b - a).cross(d - a).norm();
     }
-    const double median = median_of(areas);
+    const double median_area = median(areas);
     result.min_face_area_ratio =
-        median > 0 ? *std::min_element(areas.begin(), areas.end()) / median : 0.0;
+        median_area > 0 ? *std::min_element(areas.begin(), areas.end()) / median_area : 0.0;
   }
   DeterministicRandom rng(c.seed * 1000003ULL + static_cast<std::uint64_t>(c.index));
   std::vector<int> sources;

@@ -20,6 +20,9 @@
 #include "core/timing.h"
 #include "core/topological_noise.h"
 #include "experiments/figures.h"
+#include "pipeline/experiment_kit.h"
+#include "pipeline/glued_meshes.h"
+#include "eval/retrieval.h"
 #include "eval/cache.h"
 #include "eval/pairwise_distances.h"
 #include "matching/shape_distance.h"
@@ -34,18 +37,6 @@ using nlohmann::json;
 namespace {
 
 const char* const kDistanceKinds[] = {"hausdorff", "chamfer", "rmse"};
-
-// value by format, or "—" when it is NaN (nothing measured).
-std::string fmt(const char* format, double value) {
-  if (std::isnan(value)) return "—";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
-void say(const NoiseExperimentOptions& o, const std::string& line) {
-  if (o.note) o.note(line);
-}
 
 // A clean pose and its versions.
 struct Pose {
@@ -63,8 +54,9 @@ struct Variant {
   std::vector<int> glued;  // vertices of glued pairs
 };
 
-// The glued version of a pose at one level, through the cache (failures are cached too, so a rerun glues
-// nothing). Fills `glue` (seed, χ check, error); returns the mesh when it can be used.
+// The glued version of a pose at one level, through the glued-mesh cache every experiment shares (failures
+// are cached too, so a rerun glues nothing). Fills `glue` (seed, χ check, error); returns the mesh when it can
+// be used.
 std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperimentOptions& o,
                               const DiskCache& cache, NoiseGlue& glue, std::vector<int>& glued,
                               NoiseExperimentResult& result) {
@@ -72,45 +64,19 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
   no.glue_count = level;
   no.seed = glue.seed;
   no.relax_steps = o.relax_steps;
-  const std::string key =
-      cache_key({"noise-experiment-glue-v1", mesh_content_key(pose.mesh), std::to_string(level),
-                 std::to_string(no.seed), std::to_string(no.relax_steps), to_string(no.geodesic.method)});
-  json value;
-  if (std::optional<json> hit = cache.get_json(key)) {
-    value = *hit;
-    ++result.glued_cached;
-  } else {
-    try {
-      TopologicalNoiseResult r = glue_topological_noise(pose.mesh, no);
-      std::vector<int> vertices;
-      for (const GluedPair& p : r.pairs) {
-        vertices.push_back(p.a);
-        vertices.push_back(p.b);
-      }
-      value =
-          json{{"F", faces_to_json(r.mesh.F)}, {"glued", vertices}, {"relax_steps_used", r.relax_steps_used}};
-    } catch (const WriteError&) {
-      throw;  // the run's own files: never one shape's failure
-    } catch (const Error& e) {
-      value = json{{"error", e.what()}};
-    }
-    cache.put_json(key, value);
-    ++result.glued_computed;
-  }
+  GluedMesh g = cached_glued_mesh(cache, pose.mesh, no);
+  ++(g.cached ? result.glued_cached : result.glued_computed);
   glue.chi_before = pose.chi;
   glue.chi_expected = pose.chi - 2L * level;
-  if (value.contains("error")) {
+  if (!g.ok()) {
     glue.ok = false;
-    glue.error = "glue failed: " + value.at("error").get<std::string>();
+    glue.error = "glue failed: " + g.error;
     ++result.glue_failures;
     return std::nullopt;
   }
-  Mesh m;
-  m.V = pose.mesh.V;
-  m.F = faces_from_json(value.at("F"));
-  glued = value.at("glued").get<std::vector<int>>();
-  glue.relax_steps_used = value.value("relax_steps_used", 0);
-  glue.chi_after = mesh_info(m).euler_characteristic;
+  glued = std::move(g.glued);
+  glue.relax_steps_used = g.relax_steps_used;
+  glue.chi_after = mesh_info(g.mesh).euler_characteristic;
   if (glue.chi_after != glue.chi_expected) {
     glue.ok = false;
     glue.error =
@@ -119,7 +85,7 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
     ++result.chi_mismatches;
     return std::nullopt;
   }
-  return m;
+  return std::move(g.mesh);
 }
 
 // Clean poses per class, in the data's order; a file that cannot be read is skipped with its reason.
@@ -143,7 +109,7 @@ std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std:
         throw;  // the run's own files: never one shape's failure
       } catch (const Error& error) {
         if (o.canon.strict) throw;
-        say(o, std::string("skipped: ") + error.what());
+        say(o.note, std::string("skipped: ") + error.what());
         skipped.push_back(error.what());
         failures.push_back(read_failure(e.name, e.path, error));
         continue;
@@ -157,20 +123,14 @@ std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std:
   return poses;
 }
 
-std::string percent(double fraction) {
-  return fmt("%.2f%%", 100 * fraction);
-}
+}  // namespace
 
-void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& r,
-                  const std::vector<Pose>& poses, const std::vector<std::string>& skipped,
-                  const std::map<std::string, double>& pose_variation) {
-  std::ostringstream md;
-  md << "# Topological noise: retrieval and canonical forms against the number of glues\n\n";
-  md << "Generated by `cshapes experiment noise` from `" << o.data << "` in " << fmt("%.0f", r.seconds)
-     << " s (" << r.canonical_forms_computed << " canonical forms computed, " << r.canonical_forms_cached
-     << " from the cache; " << r.pairs_computed << " ICP pairs computed, " << r.pairs_cached << " cached; "
-     << r.glued_computed << " glued meshes computed, " << r.glued_cached << " cached).\n\n";
+namespace {
 
+// "How it was made": the poses, the glue and its χ check, the methods, the retrieval protocol.
+void how_it_was_made(std::ostringstream& md, const NoiseExperimentResult& r) {
+  const NoiseExperimentOptions& o = r.options;
+  const std::vector<NoisePose>& poses = r.pose_list;
   md << "## How it was made\n\n";
   md << "- Poses: " << r.poses << " clean poses in " << r.classes << " classes (";
   for (size_t k = 0; k < poses.size(); ++k) md << (k ? ", " : "") << poses[k].name;
@@ -213,52 +173,15 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
   md << "- Form distance: the glued pose's canonical form against its clean pose's form at the same "
         "vertices, "
         "RMS after the best rigid fit (reflections allowed), in % of the clean form's bbox diagonal.\n";
-  for (const std::string& s : skipped) md << "- Skipped: " << s << "\n";
+  for (const std::string& s : r.skipped) md << "- Skipped: " << s << "\n";
   md << "\n";
   md << shape_failures_markdown(r.failures);
 
-  md << "## Results\n\n";
-  md << "| method | glues | poses | queries | mAP Hausdorff | same poses clean | mAP Chamfer | mAP RMSE | NN "
-        "Hausdorff | form RMS median | form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | "
-        "--- | --- "
-        "| --- |\n";
-  for (const std::string& m : o.methods)
-    for (int level : o.levels) {
-      std::map<std::string, const NoiseRow*> by;
-      for (const NoiseRow& row : r.rows)
-        if (row.method == m && row.level == level) by[row.distance] = &row;
-      if (!by.count("hausdorff")) continue;
-      const NoiseRow& h = *by.at("hausdorff");
-      md << "| " << method_title(m) << " | " << level << " | " << h.form_poses << " | " << h.queries << " | "
-         << fmt("%.3f", h.map) << " | " << fmt("%.3f", h.map_clean_same_poses) << " | "
-         << fmt("%.3f", by.at("chamfer")->map) << " | " << fmt("%.3f", by.at("rmse")->map) << " | "
-         << fmt("%.3f", h.nn) << " | " << percent(h.form_rms_median) << " | " << percent(h.form_rms_mean)
-         << " |\n";
-    }
-  md << "\n`poses`: the poses measured at that level (glued as often, χ as expected); `queries`: those whose "
-        "class has another pose in the database; `same poses clean`: the Hausdorff mAP of the same queries "
-        "without glue (level 0), the baseline a level with fewer poses is to be read against.";
-  if (r.glue_failures + r.chi_mismatches > 0)
-    md << " **Not every pose could be glued at every level** (table above): a level with fewer poses is "
-          "measured on those poses only, a smaller and different set, so compare its numbers with the other "
-          "levels with care.";
-  md << "\n\nFor scale, the median ICP RMSE between the canonical forms of two clean poses of one class: ";
-  {
-    bool first = true;
-    for (const std::string& m : o.methods)
-      if (pose_variation.count(m)) {
-        md << (first ? "" : ", ") << method_title(m) << " " << percent(pose_variation.at(m));
-        first = false;
-      }
-    if (first) md << "— (no class has two poses)";
-  }
-  md << ".\n\n";
-  if (r.figure)
-    md << "![mAP and form distance against the number of glues](noise.png)\n\n";
-  else
-    md << "No figure: " << r.figure_note << "\n\n";
+}
 
-  // What the numbers say about the paper's claim (Coulomb flat, MDS falling), when both kinds of method ran.
+// What the numbers say about the paper's claim (Coulomb flat, MDS falling), when both kinds of method ran.
+void change_to_the_highest_level(std::ostringstream& md, const NoiseExperimentResult& r) {
+  const NoiseExperimentOptions& o = r.options;
   const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
   if (has_coulomb && o.methods.size() > 1 && o.levels.size() > 1) {
     auto find = [&](const std::string& m, int level) -> const NoiseRow* {
@@ -285,8 +208,8 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
       for (const std::string& m : o.methods) {
         const NoiseRow* b = find(m, top);
         md << "| " << method_title(m) << " | " << b->form_poses << " | "
-           << fmt("%.3f", b->map_clean_same_poses) << " → " << fmt("%.3f", b->map) << " ("
-           << fmt("%+.3f", b->map - b->map_clean_same_poses) << ") | "
+           << format_number("%.3f", b->map_clean_same_poses) << " → " << format_number("%.3f", b->map) << " ("
+           << format_number("%+.3f", b->map - b->map_clean_same_poses) << ") | "
            << "0 → " << percent(b->form_rms_median) << " |\n";
       }
       md << "\nThe paper's claim predicts a flat Coulomb curve and falling mAP / growing form distance for "
@@ -295,14 +218,68 @@ void write_report(const NoiseExperimentOptions& o, const NoiseExperimentResult& 
             "as ties.\n\n";
     }
   }
-  md << "Data: `noise.csv` (one row per method, level and distance), `noise.json` (also every glued mesh's "
-        "seed and χ, and every query's average precision). Figure: `experiments/plots/noise_figure.py "
-        "OUT`.\n";
-  write_file_atomically((fs::path(o.out) / "report.md").string(),
-                        [&](std::ostream& out) { out << md.str(); });
 }
 
 }  // namespace
+
+void write_noise_report(const NoiseExperimentResult& r, const std::string& folder) {
+  const NoiseExperimentOptions& o = r.options;
+  const std::map<std::string, double>& pose_variation = r.pose_variation;
+  std::ostringstream md;
+  md << "# Topological noise: retrieval and canonical forms against the number of glues\n\n";
+  md << "Generated by `cshapes experiment noise` from `" << o.data << "` in " << format_number("%.0f", r.seconds)
+     << " s (" << r.canonical_forms_computed << " canonical forms computed, " << r.canonical_forms_cached
+     << " from the cache; " << r.pairs_computed << " ICP pairs computed, " << r.pairs_cached << " cached; "
+     << r.glued_computed << " glued meshes computed, " << r.glued_cached << " cached).\n\n";
+
+  how_it_was_made(md, r);
+  md << "## Results\n\n";
+  md << "| method | glues | poses | queries | mAP Hausdorff | same poses clean | mAP Chamfer | mAP RMSE | NN "
+        "Hausdorff | form RMS median | form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | "
+        "--- | --- "
+        "| --- |\n";
+  for (const std::string& m : o.methods)
+    for (int level : o.levels) {
+      std::map<std::string, const NoiseRow*> by;
+      for (const NoiseRow& row : r.rows)
+        if (row.method == m && row.level == level) by[row.distance] = &row;
+      if (!by.count("hausdorff")) continue;
+      const NoiseRow& h = *by.at("hausdorff");
+      md << "| " << method_title(m) << " | " << level << " | " << h.form_poses << " | " << h.queries << " | "
+         << format_number("%.3f", h.map) << " | " << format_number("%.3f", h.map_clean_same_poses) << " | "
+         << format_number("%.3f", by.at("chamfer")->map) << " | " << format_number("%.3f", by.at("rmse")->map) << " | "
+         << format_number("%.3f", h.nn) << " | " << percent(h.form_rms_median) << " | " << percent(h.form_rms_mean)
+         << " |\n";
+    }
+  md << "\n`poses`: the poses measured at that level (glued as often, χ as expected); `queries`: those whose "
+        "class has another pose in the database; `same poses clean`: the Hausdorff mAP of the same queries "
+        "without glue (level 0), the baseline a level with fewer poses is to be read against.";
+  if (r.glue_failures + r.chi_mismatches > 0)
+    md << " **Not every pose could be glued at every level** (table above): a level with fewer poses is "
+          "measured on those poses only, a smaller and different set, so compare its numbers with the other "
+          "levels with care.";
+  md << "\n\nFor scale, the median ICP RMSE between the canonical forms of two clean poses of one class: ";
+  {
+    bool first = true;
+    for (const std::string& m : o.methods)
+      if (pose_variation.count(m)) {
+        md << (first ? "" : ", ") << method_title(m) << " " << percent(pose_variation.at(m));
+        first = false;
+      }
+    if (first) md << "— (no class has two poses)";
+  }
+  md << ".\n\n";
+  if (r.figure)
+    md << "![mAP and form distance against the number of glues](noise.png)\n\n";
+  else
+    md << "No figure: " << r.figure_note << "\n\n";
+
+  change_to_the_highest_level(md, r);
+  md << "Data: `noise.csv` (one row per method, level and distance), `noise.json` (also every glued mesh's "
+        "seed and χ, and every query's average precision). Figure: `experiments/plots/noise_figure.py "
+        "OUT`.\n";
+  ExperimentFolder(folder).write_text("report.md", md.str());
+}
 
 std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level) {
   const std::string hex =
@@ -310,53 +287,38 @@ std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level)
   return std::stoull(hex.substr(0, 16), nullptr, 16);
 }
 
-double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
-                         bool* nearest_relevant) {
-  CSHAPES_REQUIRE(distances.size() == relevant.size(), "average_precision: ", distances.size(),
-                  " distances but ", relevant.size(), " relevance flags");
-  std::vector<int> order(distances.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return distances[a] < distances[b]; });
-  double sum = 0;
-  int found = 0;
-  for (size_t rank = 1; rank <= order.size(); ++rank)
-    if (relevant[order[rank - 1]]) sum += static_cast<double>(++found) / static_cast<double>(rank);
-  if (nearest_relevant) *nearest_relevant = !order.empty() && relevant[order[0]];
-  return found ? sum / found : -1.0;
-}
+namespace {
 
-NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
-  const auto start = WallClock::now();
-  CSHAPES_REQUIRE(!o.out.empty(), "experiment noise: --out is required");
-  CSHAPES_REQUIRE(!o.methods.empty(), "experiment noise: no method given");
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
-  }
-  std::vector<int> levels = o.levels;
-  std::sort(levels.begin(), levels.end());
-  CSHAPES_REQUIRE(!levels.empty() && levels.front() >= 0, "experiment noise: levels must be ≥ 0");
-  CSHAPES_REQUIRE(std::adjacent_find(levels.begin(), levels.end()) == levels.end(),
-                  "experiment noise: a level is given twice");
-  NoiseExperimentOptions opt = o;
-  opt.levels = levels;
-  fs::create_directories(o.out);
-  const DiskCache form_cache((fs::path(o.out) / "cache" / "forms").string());
-  const DiskCache misc_cache((fs::path(o.out) / "cache" / "misc").string());
-  NoiseExperimentResult result;
-
-  // 1. Clean poses, and every glued version (χ checked).
-  say(o, "== poses from " + o.data);
-  std::vector<std::string> skipped;
-  std::vector<Pose> poses = select_poses(o, skipped, result.failures);
+// What the steps of a run share: the options (levels sorted), the poses and their glued versions, the forms.
+struct NoiseRun {
+  explicit NoiseRun(const NoiseExperimentOptions& options)
+      : o(options), folder(options.out), form_cache(folder.cache("forms")), misc_cache(folder.cache("misc")) {}
+  const NoiseExperimentOptions& o;
+  ExperimentFolder folder;
+  DiskCache form_cache, misc_cache;
+  std::vector<Pose> poses;
   std::vector<Variant> variants;                  // clean poses first (index = pose), then glued versions
   std::map<std::pair<int, int>, int> variant_of;  // (pose, level) -> index in variants, when usable
+  std::map<std::string, std::vector<Points>> forms;            // per method, per variant
+  std::map<std::string, std::vector<std::string>> form_keys;  // per method, per variant: cache keys
+  NoiseExperimentResult result;
+};
+
+// 1. Every pose at every level: the clean pose (level 0) and its glued versions (χ checked), their meshes
+// written to out/shapes.
+void glue_every_pose(NoiseRun& run) {
+  const NoiseExperimentOptions& o = run.o;
+  const std::vector<int>& levels = o.levels;
+  NoiseExperimentResult& result = run.result;
+  std::vector<Pose>& poses = run.poses;
+  std::vector<Variant>& variants = run.variants;
+  std::map<std::pair<int, int>, int>& variant_of = run.variant_of;
+  const DiskCache& misc_cache = run.misc_cache;
   for (size_t p = 0; p < poses.size(); ++p) {
     variants.push_back({static_cast<int>(p), 0, poses[p].name, poses[p].mesh, {}});
     if (levels.front() == 0) variant_of[{static_cast<int>(p), 0}] = static_cast<int>(p);
   }
-  say(o, "== gluing " + std::to_string(poses.size()) + " poses");
+  say(o.note, "== gluing " + std::to_string(poses.size()) + " poses");
   for (size_t p = 0; p < poses.size(); ++p)
     for (int level : levels) {
       if (level == 0) continue;
@@ -367,33 +329,43 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
       g.seed = glue_seed(o.seed, poses[p].name, level);
       std::vector<int> glued;
       std::optional<Mesh> m = glue_pose(poses[p], level, o, misc_cache, g, glued, result);
-      if (!g.ok) say(o, "  " + g.shape + " at " + std::to_string(level) + " glues left out: " + g.error);
+      if (!g.ok) say(o.note, "  " + g.shape + " at " + std::to_string(level) + " glues left out: " + g.error);
       result.glues.push_back(g);
       if (!m) continue;
       Variant v{static_cast<int>(p), level, poses[p].name + "_glue" + std::to_string(level), std::move(*m),
                 std::move(glued)};
-      write_mesh((fs::path(o.out) / "shapes" / (v.name + ".off")).string(), v.mesh);
+      write_mesh(run.folder.path("shapes/" + v.name + ".off"), v.mesh);
       variant_of[{static_cast<int>(p), level}] = static_cast<int>(variants.size());
       variants.push_back(std::move(v));
     }
 
-  // 2. Canonical forms of every variant by every method (cached); MDS methods share one geodesic matrix.
-  say(o, "== canonical forms (" + std::to_string(variants.size()) + " shapes × " +
+}
+
+// 2. Canonical forms of every variant by every method (cached); MDS methods share one geodesic matrix. A
+// variant whose form fails by any method is left out; a clean pose's failure leaves out the pose with every
+// glued version of it (pipeline/shape_failures.h).
+void canonize_every_variant(NoiseRun& run) {
+  const NoiseExperimentOptions& o = run.o;
+  const std::vector<int>& levels = o.levels;
+  NoiseExperimentResult& result = run.result;
+  std::vector<Pose>& poses = run.poses;
+  std::vector<Variant>& variants = run.variants;
+  std::map<std::pair<int, int>, int>& variant_of = run.variant_of;
+  std::map<std::string, std::vector<Points>>& forms = run.forms;
+  std::map<std::string, std::vector<std::string>>& form_keys = run.form_keys;
+  const DiskCache& form_cache = run.form_cache;
+  say(o.note, "== canonical forms (" + std::to_string(variants.size()) + " shapes × " +
              std::to_string(o.methods.size()) + " methods)");
-  // A variant whose form fails by any method is left out; a clean pose's failure leaves out the pose with
-  // every glued version of it (pipeline/shape_failures.h).
-  std::map<std::string, std::vector<Points>> forms;
-  std::map<std::string, std::vector<std::string>> form_keys;
   std::vector<char> failed(variants.size(), 0);
   for (size_t i = 0; i < variants.size(); ++i) {
     const Variant& v = variants[i];
     const size_t failures_before = result.failures.size();
     const std::string path = v.level == 0 ? poses[static_cast<size_t>(v.pose)].path
-                                          : (fs::path(o.out) / "shapes" / (v.name + ".off")).string();
+                                          : run.folder.path("shapes/" + v.name + ".off");
     std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
         form_cache, v.mesh, options_per_method(o.canon, o.methods, path), v.name, result.failures);
     for (size_t k = failures_before; k < result.failures.size(); ++k)
-      say(o, "  " + describe(result.failures[k]));
+      say(o.note, "  " + describe(result.failures[k]));
     failed[i] = !computed;
     for (size_t k = 0; k < o.methods.size(); ++k) {
       if (computed)
@@ -415,7 +387,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
       } else {
         for (const Variant& v : variants)
           if (v.pose == static_cast<int>(p) && v.level > 0)
-            say(o, "  " + v.name + " left out with its clean pose");
+            say(o.note, "  " + v.name + " left out with its clean pose");
       }
     std::vector<Variant> kept;
     std::map<std::string, std::vector<Points>> kept_forms;
@@ -438,25 +410,30 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     forms = std::move(kept_forms);
     form_keys = std::move(kept_keys);
   }
-  result.poses = static_cast<int>(poses.size());
-  {
-    std::set<std::string> classes;
-    for (const Pose& p : poses) classes.insert(p.class_name);
-    result.classes = static_cast<int>(classes.size());
-  }
-  CSHAPES_REQUIRE(!poses.empty(), o.data, ": every clean pose was left out (see above)");
+}
 
-  // 3. ICP distances: every query (a variant) against every clean pose but its own.
+// 3. ICP distances (every query, a variant, against every clean pose but its own), then per method and level
+// the retrieval rows and the form distances.
+void measure(NoiseRun& run) {
+  const NoiseExperimentOptions& o = run.o;
+  const std::vector<int>& levels = o.levels;
+  NoiseExperimentResult& result = run.result;
+  std::vector<Pose>& poses = run.poses;
+  std::vector<Variant>& variants = run.variants;
+  std::map<std::pair<int, int>, int>& variant_of = run.variant_of;
+  std::map<std::string, std::vector<Points>>& forms = run.forms;
+  std::map<std::string, std::vector<std::string>>& form_keys = run.form_keys;
   std::vector<std::pair<int, int>> pairs;
   for (const auto& [pose_level, q] : variant_of)
     for (size_t c = 0; c < poses.size(); ++c)
       if (static_cast<int>(c) != pose_level.first) pairs.emplace_back(q, static_cast<int>(c));
-  json per_query = json::object(), form_rms_json = json::object();
-  std::map<std::string, double> pose_variation;
+  json& per_query = result.per_query;
+  json& form_rms_json = result.form_rms;
+  std::map<std::string, double>& pose_variation = result.pose_variation;
   for (const std::string& m : o.methods) {
-    say(o, "== ICP distances, " + method_title(m));
+    say(o.note, "== ICP distances, " + method_title(m));
     PairwiseDistanceOptions po;
-    po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
+    po.cache_dir = run.folder.cache_directory("pairs");
     po.progress = o.progress;
     po.only_pairs = pairs;
     PairwiseDistanceResult pd =
@@ -545,21 +522,66 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     }
   }
 
-  // 4. Outputs: noise.csv, noise.json, the figure, report.md.
-  write_file_atomically((fs::path(o.out) / "noise.csv").string(), [&](std::ostream& out) {
+}
+
+}  // namespace
+
+NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options) {
+  const auto start = WallClock::now();
+  CSHAPES_REQUIRE(!options.out.empty(), "experiment noise: --out is required");
+  CSHAPES_REQUIRE(!options.methods.empty(), "experiment noise: no method given");
+  for (const std::string& m : options.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
+                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
+  }
+  NoiseExperimentOptions o = options;
+  std::sort(o.levels.begin(), o.levels.end());
+  CSHAPES_REQUIRE(!o.levels.empty() && o.levels.front() >= 0, "experiment noise: levels must be ≥ 0");
+  CSHAPES_REQUIRE(std::adjacent_find(o.levels.begin(), o.levels.end()) == o.levels.end(),
+                  "experiment noise: a level is given twice");
+  NoiseRun run(o);
+  NoiseExperimentResult& result = run.result;
+  result.options = o;
+  result.options.progress = {};
+  result.options.note = {};
+
+  say(o.note, "== poses from " + o.data);
+  run.poses = select_poses(o, result.skipped, result.failures);
+  glue_every_pose(run);
+  canonize_every_variant(run);
+  result.poses = static_cast<int>(run.poses.size());
+  for (const Pose& p : run.poses)
+    result.pose_list.push_back({p.name, p.class_name, p.path, p.mesh.num_vertices(), p.chi});
+  {
+    std::set<std::string> classes;
+    for (const Pose& p : run.poses) classes.insert(p.class_name);
+    result.classes = static_cast<int>(classes.size());
+  }
+  CSHAPES_REQUIRE(!run.poses.empty(), o.data, ": every clean pose was left out (see above)");
+
+  measure(run);
+  result.seconds = seconds_since(start);
+  return std::move(result);
+}
+
+void write_noise_outputs(const NoiseExperimentResult& r, const std::string& out) {
+  const NoiseExperimentOptions& o = r.options;
+  const ExperimentFolder folder(out);
+  folder.write("noise.csv", [&](std::ostream& out) {
     out.precision(10);
     out << "method,level,distance,queries,map,nn,form_rms_median,form_rms_mean,form_poses,"
            "map_clean_same_poses\n";
-    for (const NoiseRow& r : result.rows)
-      out << r.method << ',' << r.level << ',' << r.distance << ',' << r.queries << ',' << r.map << ','
-          << r.nn << ',' << r.form_rms_median << ',' << r.form_rms_mean << ',' << r.form_poses << ','
-          << r.map_clean_same_poses << '\n';
+    for (const NoiseRow& row : r.rows)
+      out << row.method << ',' << row.level << ',' << row.distance << ',' << row.queries << ',' << row.map
+          << ',' << row.nn << ',' << row.form_rms_median << ',' << row.form_rms_mean << ',' << row.form_poses
+          << ',' << row.map_clean_same_poses << '\n';
   });
   {
     json j;
     j["data"] = o.data;
     j["methods"] = o.methods;
-    j["levels"] = levels;
+    j["levels"] = o.levels;
     j["seed"] = o.seed;
     j["relax_steps"] = o.relax_steps;
     j["distances"] = {"hausdorff", "chamfer", "rmse"};
@@ -569,14 +591,14 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
       j["canonical_form_options"][m] = canonical_form_key(co);
     }
     j["poses"] = json::array();
-    for (const Pose& p : poses)
+    for (const NoisePose& p : r.pose_list)
       j["poses"].push_back({{"name", p.name},
                             {"class", p.class_name},
-                            {"file", p.path},
-                            {"vertices", p.mesh.num_vertices()},
+                            {"file", p.file},
+                            {"vertices", p.vertices},
                             {"chi", p.chi}});
     j["glues"] = json::array();
-    for (const NoiseGlue& g : result.glues)
+    for (const NoiseGlue& g : r.glues)
       j["glues"].push_back({{"shape", g.shape},
                             {"level", g.level},
                             {"seed", g.seed},
@@ -586,27 +608,32 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
                             {"ok", g.ok},
                             {"error", g.error},
                             {"relax_steps_used", g.relax_steps_used}});
-    j["chi_mismatches"] = result.chi_mismatches;
-    j["glue_failures"] = result.glue_failures;
+    j["chi_mismatches"] = r.chi_mismatches;
+    j["glue_failures"] = r.glue_failures;
     j["rows"] = json::array();
-    for (const NoiseRow& r : result.rows)
-      j["rows"].push_back({{"method", r.method},
-                           {"level", r.level},
-                           {"distance", r.distance},
-                           {"queries", r.queries},
-                           {"map", r.map},
-                           {"nn", r.nn},
-                           {"form_rms_median", r.form_rms_median},
-                           {"form_rms_mean", r.form_rms_mean},
-                           {"form_poses", r.form_poses},
-                           {"map_clean_same_poses", r.map_clean_same_poses}});
-    j["pose_variation"] = pose_variation;
-    j["queries"] = per_query;
-    j["form_rms"] = form_rms_json;
-    if (!result.failures.empty()) j["failures"] = shape_failures_json(result.failures);
-    write_file_atomically((fs::path(o.out) / "noise.json").string(),
-                          [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+    for (const NoiseRow& row : r.rows)
+      j["rows"].push_back({{"method", row.method},
+                           {"level", row.level},
+                           {"distance", row.distance},
+                           {"queries", row.queries},
+                           {"map", row.map},
+                           {"nn", row.nn},
+                           {"form_rms_median", row.form_rms_median},
+                           {"form_rms_mean", row.form_rms_mean},
+                           {"form_poses", row.form_poses},
+                           {"map_clean_same_poses", row.map_clean_same_poses}});
+    j["pose_variation"] = r.pose_variation;
+    j["queries"] = r.per_query;
+    j["form_rms"] = r.form_rms;
+    if (!r.failures.empty()) j["failures"] = shape_failures_json(r.failures);
+    folder.write_json("noise.json", j);
   }
+}
+
+NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
+  const auto start = WallClock::now();
+  NoiseExperimentResult result = run_noise_experiment(o);
+  write_noise_outputs(result, o.out);
   if (!o.figure) {
     result.figure_note = "not requested (`--no-figure`).";
   } else {
@@ -614,9 +641,9 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
     result.figure = drawn.drawn;
     result.figure_note = drawn.problem.empty() ? "" : drawn.problem + ".";
   }
-  if (!result.figure) say(o, "no figure: " + result.figure_note);
+  if (!result.figure) say(o.note, "no figure: " + result.figure_note);
   result.seconds = seconds_since(start);
-  write_report(opt, result, poses, skipped, pose_variation);
+  write_noise_report(result, o.out);
   return result;
 }
 

@@ -37,6 +37,8 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -91,7 +93,16 @@ struct NoiseRow {
   double map_clean_same_poses = std::numeric_limits<double>::quiet_NaN();
 };
 
+// A clean pose of the run, as read.
+struct NoisePose {
+  std::string name, class_name, file;
+  Index vertices = 0;
+  long chi = 0;  // Euler characteristic
+};
+
 struct NoiseExperimentResult {
+  NoiseExperimentOptions options;  // what was run (levels sorted; no callbacks): the report says it
+  std::vector<NoisePose> pose_list;  // the clean poses measured, in the data's order
   std::vector<NoiseRow> rows;    // methods × levels × {hausdorff, chamfer, rmse}, in that order
   std::vector<NoiseGlue> glues;  // every (pose, level > 0), in pose then level order
   int poses = 0, classes = 0;
@@ -106,18 +117,27 @@ struct NoiseExperimentResult {
   // left out by every method (a clean pose with its glued versions); geodesic fallbacks (kept). In report.md
   // and noise.json when not empty (pipeline/shape_failures.h).
   std::vector<ShapeFailure> failures;
+  std::vector<std::string> skipped;              // files that could not be read, with the reason
+  std::map<std::string, double> pose_variation;  // per method: median ICP RMSE of two clean poses of a class
+  nlohmann::json per_query;  // method → level → distance → [{query, ap, nn}]
+  nlohmann::json form_rms;   // method → level → pose → form RMS
 };
 
+// The measurement: glued meshes (the shared glued-mesh cache, pipeline/glued_meshes.h; their files under
+// out/shapes), canonical forms and ICP pairs through out/cache, the rows. Writes nothing else; the result is
+// the data of every output below.
 NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options);
+// noise.csv (one row per method, level and distance) and noise.json (also every glue's seed and χ, every
+// query's average precision, every pose's form distance), from the result alone.
+void write_noise_outputs(const NoiseExperimentResult& result, const std::string& folder);
+// report.md from the result alone (result.figure says whether noise.png is there to show).
+void write_noise_report(const NoiseExperimentResult& result, const std::string& folder);
+// The experiment as `cshapes experiment noise` runs it: run_noise_experiment, write_noise_outputs, noise.png
+// (when options.figure; experiments/figures.h), write_noise_report. result.seconds counts all of it.
+NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& options);
 
 // The seed of pose `shape` glued at `level`: the first 16 hex digits of SHA-256("noise-glue", seed, shape,
 // level) as an integer. Deterministic, and independent between poses and levels.
 std::uint64_t glue_seed(std::uint64_t seed, const std::string& shape, int level);
-
-// Average precision of one query: database distances and which entries are relevant (same length). Ranked by
-// increasing distance, ties by index (eval/retrieval.h's rule); (1/R) Σ_k k / rank_k. −1 when none is
-// relevant. *nearest_relevant (when non-null): whether the first result is relevant.
-double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
-                         bool* nearest_relevant = nullptr);
 
 }  // namespace cshapes

@@ -27,6 +27,8 @@
 #include "pipeline/distributed.h"
 #include "experiments/paper_figures.h"
 #include "experiments/paper_report.h"
+#include "pipeline/experiment_kit.h"
+#include "pipeline/glued_meshes.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -73,7 +75,7 @@ void check_shape(Shape& s, const std::string& path, const PaperExperimentOptions
     RepairedMesh r = repair_for_canonical_form(s.mesh, method_options(o, m, path));
     s.repairs[m] = r.text;
     if (r.changed()) s.untouched = false;
-    if (r.changed() && said.insert(r.text).second) say(o, r.text);
+    if (r.changed() && said.insert(r.text).second) say(o.note, r.text);
   }
   if (!s.mesh.is_point_cloud() && repair_for(s.mesh, MeshRequirements::manifold_surface()).changed())
     s.untouched = false;
@@ -91,33 +93,22 @@ std::string correspondence_folder(const std::string& data) {
   return (p / "corres").string();
 }
 
-// Glued here: the noisy shape and its pairs, cached by the source's content and the options.
+// Glued here: the noisy shape and its pairs, through the glued-mesh cache every experiment shares. Throws
+// the glue's error when the pose offers too few spots (the caller tries the next pose).
 Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const DiskCache& cache, int index) {
   TopologicalNoiseOptions no;
   no.glue_count = o.glue;
   no.seed = o.seed + static_cast<std::uint64_t>(index);
   no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
-  const std::string key =
-      cache_key({"noisy-v2", source.key, std::to_string(no.glue_count), std::to_string(no.seed),
-                 std::to_string(no.relax_steps), to_string(no.geodesic.method)});
+  GluedMesh g = cached_glued_mesh(cache, source.mesh, no);
+  if (!g.ok()) throw Error(g.error);
   Shape s;
   s.name = source.name + "_noisy";
   s.class_name = source.class_name;
   s.source_name = source.name;
   s.noisy = true;
-  s.mesh.V = source.mesh.V;
-  if (std::optional<json> hit = cache.get_json(key)) {
-    s.mesh.F = faces_from_json(hit->at("F"));
-    s.glued = hit->at("glued").get<std::vector<int>>();
-  } else {
-    TopologicalNoiseResult r = glue_topological_noise(source.mesh, no);
-    s.mesh = r.mesh;
-    for (const GluedPair& p : r.pairs) {
-      s.glued.push_back(p.a);
-      s.glued.push_back(p.b);
-    }
-    cache.put_json(key, json{{"F", faces_to_json(s.mesh.F)}, {"glued", s.glued}});
-  }
+  s.mesh = std::move(g.mesh);
+  s.glued = std::move(g.glued);
   s.key = mesh_content_key(s.mesh);
   return s;
 }
@@ -149,7 +140,7 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         throw;  // the run's own files: never one shape's failure
       } catch (const Error& error) {
         if (o.canon.strict) throw;
-        say(o, std::string("skipped: ") + error.what());
+        say(o.note, std::string("skipped: ") + error.what());
         skipped.push_back({e.path, error.what()});
         return std::nullopt;
       }
@@ -216,14 +207,14 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         } catch (const Error& e) {
           continue;  // already said and listed as skipped
         }
-        say(o, "gluing " + std::to_string(o.glue) + " spots of " + src.name);
+        say(o.note, "gluing " + std::to_string(o.glue) + " spots of " + src.name);
         Shape s;
         try {
           s = make_noisy(source, o, noise_cache, glued_count++);
         } catch (const WriteError&) {
           throw;  // the run's own files: never one shape's failure
         } catch (const Error& e) {
-          say(o, std::string("  skipped: ") + e.what());
+          say(o.note, std::string("  skipped: ") + e.what());
           continue;
         }
         if (!loaded) shapes.push_back(source);  // kept as the reference of the noise measurement
@@ -241,7 +232,7 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         made = true;
       }
       if (!made)
-        say(o, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
+        say(o.note, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
     }
   }
   CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");
@@ -280,7 +271,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     const size_t failures_before = failures.size();
     std::optional<std::vector<CachedForm>> computed =
         shape_canonical_forms(cache, s.mesh, per_method, s.name, failures);
-    for (size_t k = failures_before; k < failures.size(); ++k) say(o, "  " + describe(failures[k]));
+    for (size_t k = failures_before; k < failures.size(); ++k) say(o.note, "  " + describe(failures[k]));
     if (!computed) {
       failed[i] = 1;
       continue;
@@ -311,7 +302,7 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
     if (o.progress)
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
     double elapsed = seconds_since(start);
-    say(o, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
+    say(o.note, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
                           shapes.size(), ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)),
                           " s left"));
   }
@@ -360,7 +351,7 @@ void drop_failed_shapes(ExperimentRun& run, const std::vector<char>& failed) {
   }
   for (Shape& s : kept)
     if (dropped.count(s.source_name)) {
-      say(run.o,
+      say(run.o.note,
           "  " + s.name + ": its clean pose " + s.source_name + " was left out; no noise measurement for it");
       s.source_name.clear();
     }
@@ -379,7 +370,7 @@ void retrieval_stage(ExperimentRun& run) {
   const std::vector<std::string>& names = run.names;
   const std::vector<std::string>& classes = run.classes;
   const std::vector<int>& labels = run.labels;
-  say(o, "== ICP distances between all pairs");
+  say(o.note, "== ICP distances between all pairs");
   const auto t = WallClock::now();
   json metrics;
   metrics["shapes"] = names;
@@ -461,7 +452,7 @@ void noise_stage(ExperimentRun& run) {
   const std::vector<int>& retrieval = run.retrieval;
   std::map<std::string, MethodForms>& forms = run.forms;
   PaperReport& report = run.report;
-  say(o, "== effect of topological noise");
+  say(o.note, "== effect of topological noise");
   const auto t = WallClock::now();
   {
     for (size_t i = 0; i < shapes.size(); ++i) {
@@ -529,7 +520,7 @@ void point_map_stage(ExperimentRun& run) {
           sources.push_back(a);
       }
       if (sources.empty()) continue;
-      if (pairs == 0) say(o, "== point-map errors against ground-truth correspondences");
+      if (pairs == 0) say(o.note, "== point-map errors against ground-truth correspondences");
       // Each (pair, method) result is cached; B's geodesic matrix is computed only if one of them is missing.
       const GeodesicOptions go = o.canon.geodesics;
       std::optional<DistanceMatrix> G;
@@ -600,7 +591,7 @@ void figure_stage(ExperimentRun& run) {
   const DiskCache& misc_cache = run.misc_cache;
   const DiskCache& form_cache = run.form_cache;
   if (o.figures) {
-    say(o, "== data for the figures");
+    say(o.note, "== data for the figures");
     const auto t = WallClock::now();
     write_figure_data(o, report, misc_cache, form_cache);
     json grids = report.figure_grids;
@@ -661,39 +652,30 @@ void figure_stage(ExperimentRun& run) {
   }
 }
 
-}  // namespace
-
-PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
-  const auto start = WallClock::now();
-  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
-                    m, "'; known: coulomb, cmds, smacof");
-  }
-  fs::create_directories(o.out);
-  ExperimentRun run(o);
-  const DiskCache& form_cache = run.form_cache;
-  const DiskCache& misc_cache = run.misc_cache;
+// 1. Shapes. Rank 0 first (it glues the noisy shapes into the cache and writes them out); then the others,
+// which find the glued shapes in the cache.
+void select_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const Communicator& comm = run.comm;
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
-  report.options = &o;
-
-  const Communicator& comm = run.comm;
-
-  // 1. Shapes. Rank 0 first (it glues the noisy shapes into the cache and writes them out); then the others,
-  // which find the glued shapes in the cache.
-  say(o, "== shapes from " + o.data);
-  if (comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, true);
+  say(o.note, "== shapes from " + o.data);
+  if (comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, true);
   comm.barrier();
-  if (!comm.is_root()) run.shapes = select_shapes(o, misc_cache, report.skipped, false);
+  if (!comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, false);
   for (const PaperReport::Skipped& k : report.skipped)
     summary.failures.push_back(read_failure(fs::path(k.file).stem().string(), k.file, Error(k.reason)));
+}
 
-  // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
-  // expected cost); then every rank reads them all, and rank 0 writes them out. A shape whose form fails by
-  // any method is left out by every method (each rank meets the same failure in the full pass).
-  say(o, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
+// 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by
+// expected cost); then every rank reads them all, and rank 0 writes them out. A shape whose form fails by
+// any method is left out by every method (each rank meets the same failure in the full pass).
+void canonical_form_stage(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const Communicator& comm = run.comm;
+  PaperExperimentSummary& summary = run.summary;
+  PaperReport& report = run.report;
+  say(o.note, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
              (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
   auto t = WallClock::now();
   long computed_by_ranks = 0;
@@ -709,18 +691,26 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     quiet.note = {};
     PaperExperimentSummary share;
     std::vector<ShapeFailure> said_in_the_full_pass;
-    canonize_all(run.shapes, quiet, form_cache, share, failed, said_in_the_full_pass, &mine, false);
+    canonize_all(run.shapes, quiet, run.form_cache, share, failed, said_in_the_full_pass, &mine, false);
     computed_by_ranks = comm.sum(share.canonical_forms_computed);
   }
   run.forms =
-      canonize_all(run.shapes, o, form_cache, summary, failed, summary.failures, nullptr, comm.is_root());
+      canonize_all(run.shapes, o, run.form_cache, summary, failed, summary.failures, nullptr, comm.is_root());
   // The forms the ranks computed were read from the cache in the full pass: count them as computed.
   summary.canonical_forms_computed += computed_by_ranks;
   summary.canonical_forms_cached -= computed_by_ranks;
   drop_failed_shapes(run, failed);
   report.summary.failures = summary.failures;  // the figures choose among the shapes kept
   report.stage_seconds["canonical forms"] = seconds_since(t);
+}
 
+// The retrieval set (the shapes kept that are queries), its labels (labels.csv), and what the report says of
+// every shape and of each method's cost.
+void retrieval_set(ExperimentRun& run) {
+  const PaperExperimentOptions& o = run.o;
+  const Communicator& comm = run.comm;
+  PaperExperimentSummary& summary = run.summary;
+  PaperReport& report = run.report;
   const std::vector<Shape>& shapes = run.shapes;
   std::vector<int>& retrieval = run.retrieval;
   for (size_t i = 0; i < shapes.size(); ++i)
@@ -759,6 +749,29 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
     }
     report.cost[m] = cost;
   }
+}
+
+}  // namespace
+
+PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
+  const auto start = WallClock::now();
+  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
+  for (const std::string& m : o.methods) {
+    const auto& known = canonical_form_methods();
+    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
+                    m, "'; known: coulomb, cmds, smacof");
+  }
+  ExperimentFolder folder(o.out);
+  ExperimentRun run(o);
+  PaperExperimentSummary& summary = run.summary;
+  PaperReport& report = run.report;
+  report.options = o;
+  const Communicator& comm = run.comm;
+
+  // 1.-2. The shapes and their canonical forms; the retrieval set.
+  select_stage(run);
+  canonical_form_stage(run);
+  retrieval_set(run);
 
   // 3.-6. The measurements, each a stage of its own. Only the pairs of stage 3 are distributed: the other
   // ranks are done after them.
@@ -773,15 +786,15 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   // 7. Table 1.
   if (o.table1) {
-    say(o, "== Table 1 (timings)");
+    say(o.note, "== Table 1 (timings)");
     const auto t = WallClock::now();
-    measure_table1(o, report, misc_cache);
+    measure_table1(o, report, run.misc_cache);
     report.stage_seconds["table 1"] = seconds_since(t);
   }
 
   summary.seconds = seconds_since(start);
   report.summary = summary;
-  write_report(o, report);
+  write_paper_report(report, o.out);
   return summary;
 }
 

@@ -1,5 +1,7 @@
 #include "experiments/paper_figures.h"
 
+#include "pipeline/experiment_kit.h"
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -72,13 +74,13 @@ FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache
 
 }  // namespace
 
-void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache,
-                       const DiskCache& form_cache) {
-  const fs::path dir = fs::path(o.out) / "figures";
+namespace {
 
-  // Figure 2: the hand with separated and glued fingers, canonical forms by every method, ICP overlay.
+// Figure 2: the hand with separated and glued fingers, canonical forms by every method, ICP overlay.
+void figure2_hand(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& form_cache,
+                  const fs::path& dir) {
   {
-    say(o, "  Fig. 2: the hand, separated and glued");
+    say(o.note, "  Fig. 2: the hand, separated and glued");
     GluedHand hand = generate_glued_hand(o.seed, 3);
     std::vector<int> glued;
     for (const auto& [a, b] : hand.glued_pairs) {
@@ -133,16 +135,14 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
         {"cells", cells}};
   }
 
-  const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
-  if (!has_coulomb) return;
-  FigureShape fs_shape = figure_shape(o, misc_cache, report.summary.failures);
-  report.figure_shape = fs_shape.name + (o.figure_vertices > 0 ? " remeshed to " : " at its ") +
-                        std::to_string(fs_shape.mesh.num_vertices()) + " vertices";
+}
 
-  // Figure 3: the paper's plain scheme after 300, 600, 900, 3000, 10000 iterations. One run, cut at the
-  // checkpoints: each piece continues from the previous one's shape, edges and rest lengths.
+// Figure 3: the paper's plain scheme after 300, 600, 900, 3000, 10000 iterations. One run, cut at the
+// checkpoints: each piece continues from the previous one's shape, edges and rest lengths.
+void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache,
+                        const FigureShape& fs_shape, const fs::path& dir) {
   {
-    say(o, "  Fig. 3: " + report.figure_shape + ", iterations up to " +
+    say(o.note, "  Fig. 3: " + report.figure_shape + ", iterations up to " +
                std::to_string(o.fig3_iterations.back()));
     const std::string key = cache_key({"fig3-v1", mesh_content_key(fs_shape.mesh),
                                        canonical_form_key(o.canon), json(o.fig3_iterations).dump()});
@@ -201,9 +201,13 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
         {"cells", json::array({row})}};
   }
 
-  // Figure 5: energy and mean violation per outer iteration for 1, 10 and 100 projection steps.
+}
+
+// Figure 5: energy and mean violation per outer iteration for 1, 10 and 100 projection steps.
+void figure5_convergence(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& form_cache,
+                         const FigureShape& fs_shape) {
   {
-    say(o, "  Fig. 5: convergence for 1, 10 and 100 projection steps");
+    say(o.note, "  Fig. 5: convergence for 1, 10 and 100 projection steps");
     std::vector<std::vector<double>> rows;
     for (int k : {1, 10, 100}) {
       CanonicalFormOptions co = o.canon;
@@ -225,6 +229,22 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
       for (const auto& r : rows) out << int(r[0]) << ',' << int(r[1]) << ',' << r[2] << ',' << r[3] << '\n';
     });
   }
+}
+
+}  // namespace
+
+void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache,
+                       const DiskCache& form_cache) {
+  const fs::path dir = fs::path(o.out) / "figures";
+  figure2_hand(o, report, form_cache, dir);
+  const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
+  if (!has_coulomb) return;
+  FigureShape fs_shape = figure_shape(o, misc_cache, report.summary.failures);
+  report.figure_shape = fs_shape.name + (o.figure_vertices > 0 ? " remeshed to " : " at its ") +
+                        std::to_string(fs_shape.mesh.num_vertices()) + " vertices";
+
+  figure3_iterations(o, report, misc_cache, fs_shape, dir);
+  figure5_convergence(o, report, form_cache, fs_shape);
 }
 
 void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache) {
@@ -262,7 +282,7 @@ void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const 
       mesh = swiss_roll();
     } else {
       Mesh input = repair_for(read_mesh(t.entry->path), MeshRequirements::manifold_surface()).mesh;
-      say(o, "  remeshing " + t.entry->name + " to " + std::to_string(t.vertices) + " vertices");
+      say(o.note, "  remeshing " + t.entry->name + " to " + std::to_string(t.vertices) + " vertices");
       mesh = remeshed(input, t.vertices, misc_cache);
       if (t.entry->name.rfind(t.label, 0) != 0) label = t.label + " (" + t.entry->name + ")";
     }
@@ -272,7 +292,7 @@ void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const 
       to.mds = false;
       report.table1_note += label + ": MDS skipped, its distance matrix does not fit in memory. ";
     }
-    say(o, "  timing " + label + " (" + std::to_string(mesh.num_vertices()) + " vertices)");
+    say(o.note, "  timing " + label + " (" + std::to_string(mesh.num_vertices()) + " vertices)");
     TimingRow row = time_canonical_forms(label, mesh, to);
     report.table1.push_back(row);
     to.mds = true;

@@ -14,7 +14,7 @@ namespace cshapes {
 
 // What the experiment measured, gathered for report.md.
 struct PaperReport {
-  const PaperExperimentOptions* options = nullptr;
+  PaperExperimentOptions options;  // what was run (its callbacks unused by the report)
   struct ShapeRow {
     std::string name, class_name;
     bool noisy = false, in_retrieval = true;
@@ -64,11 +64,10 @@ struct PaperReport {
   PaperExperimentSummary summary;
 };
 
-// report.md.
-void write_report(const PaperExperimentOptions& o, const PaperReport& report);
+// report.md in folder, from the report alone (each claim of the paper beside what was measured).
+void write_paper_report(const PaperReport& report, const std::string& folder);
 
-// Shared by the experiment's parts: one line on o.note (when set); a method's name as the paper writes it.
-void say(const PaperExperimentOptions& o, const std::string& line);
+// A method's name as the paper writes it.
 std::string method_title(const std::string& method);
 
 }  // namespace cshapes

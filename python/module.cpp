@@ -45,4 +45,5 @@ CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations r
   cshapes::python::bind_canon(m);
   cshapes::python::bind_matching(m);
   cshapes::python::bind_eval(m);
+  cshapes::python::bind_experiments(m);
 }

@@ -41,6 +41,41 @@ DatasetDistanceOptions fast_options(const std::string& dir) {
   return o;
 }
 
+// The matrix itself: every pair's distance is the ICP shape distance of the two canonical forms computed
+// alone (brute force, no cache), the matrix is symmetric with a zero diagonal, and a second run serves
+// every form and pair from the cache with the same numbers.
+TEST(DatasetDistances, EveryEntryIsThePairsOwnShapeDistance) {
+  const std::string dir = tiny_dataset("dataset-distances-known");
+  const DatasetDistanceOptions o = fast_options(dir);
+  const DatasetDistances d = dataset_distances(o);
+  ASSERT_EQ(d.names.size(), 4u);
+  EXPECT_EQ(d.classes, (std::vector<std::string>{"sphere", "sphere", "torus", "torus"}));
+  EXPECT_EQ(d.forms_computed, 4);
+  const Eigen::MatrixXd& H = d.distances.hausdorff;
+  ASSERT_EQ(H.rows(), 4);
+  std::vector<Points> forms;
+  for (const std::string& name : d.names) {
+    CanonicalFormOptions co = o.canon;
+    co.name = name;
+    forms.push_back(canonical_form(read_mesh(dir + "/data/" + name + ".off"), co).X);
+  }
+  PairwiseDistanceOptions po = o.pairs;
+  const PairwiseDistanceResult alone = pairwise_distances(forms, {}, po);
+  const double scale = H.maxCoeff();
+  ASSERT_GT(scale, 0);
+  for (Index i = 0; i < 4; ++i) {
+    EXPECT_EQ(H(i, i), 0);
+    for (Index j = 0; j < 4; ++j) {
+      EXPECT_EQ(H(i, j), H(j, i));
+      EXPECT_NEAR(H(i, j), alone.hausdorff(i, j), 1e-12 * scale) << i << ", " << j;
+    }
+  }
+  const DatasetDistances again = dataset_distances(o);
+  EXPECT_EQ(again.forms_computed, 0);
+  EXPECT_EQ(again.forms_cached, 4);
+  EXPECT_TRUE(again.distances.hausdorff == H);
+}
+
 TEST(DatasetDistances, AFullCacheStopsTheRunInsteadOfSkippingShapes) {
   // Issue 22: with the cache on a full disk, 28 of 30 shapes were "skipped" and a 2×2 matrix came out.
   const std::string dir = tiny_dataset("dataset-distances-full");

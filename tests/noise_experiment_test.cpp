@@ -1,12 +1,13 @@
 // `cshapes experiment noise` (experiments/noise_experiment.h) on a small generated dataset: the outputs'
 // structure, χ recorded and checked for every glued mesh, level 0 equal to the clean forms (form distance 0),
-// mAP in [0, 1], and a rerun that computes nothing. Also the known answers of average_precision and
-// glue_seed, and `experiment paper --noisy-per-class all` with its retrieval under Hausdorff, Chamfer and
-// RMSE.
+// mAP in [0, 1], and a rerun that computes nothing; the driver and its writers without the CLI. Also the
+// known answers of glue_seed, and `experiment paper --noisy-per-class all` with its retrieval under
+// Hausdorff, Chamfer and RMSE.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -18,6 +19,7 @@
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
 #include "experiments/noise_experiment.h"
+#include "pipeline/shape_failures.h"
 #include "test_support.h"
 
 namespace cshapes {
@@ -54,20 +56,6 @@ std::vector<std::vector<std::string>> read_csv_rows(const std::string& path) {
   return rows;
 }
 
-TEST(NoiseExperiment, AveragePrecisionKnownAnswers) {
-  // Ranked: index 1 (irrelevant), 2 (relevant, rank 2), 0 (relevant, rank 3): AP = (1/2 + 2/3) / 2.
-  bool nn = true;
-  EXPECT_NEAR(average_precision({3, 1, 2}, {1, 0, 1}, &nn), (0.5 + 2.0 / 3) / 2, 1e-15);
-  EXPECT_FALSE(nn);
-  EXPECT_DOUBLE_EQ(average_precision({1, 2, 3}, {1, 1, 0}, &nn), 1.0);
-  EXPECT_TRUE(nn);
-  // Ties go to the smaller index (eval/retrieval.h): the irrelevant index 0 comes first.
-  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {0, 1}, &nn), 0.5);
-  EXPECT_FALSE(nn);
-  EXPECT_EQ(average_precision({1, 2}, {0, 0}), -1.0);  // nothing relevant
-  EXPECT_THROW(average_precision({1, 2}, {0}), Error);
-}
-
 TEST(NoiseExperiment, GlueSeedsAreDeterministicAndDistinct) {
   EXPECT_EQ(glue_seed(1, "cat0", 2), glue_seed(1, "cat0", 2));
   std::set<std::uint64_t> seeds;
@@ -75,6 +63,98 @@ TEST(NoiseExperiment, GlueSeedsAreDeterministicAndDistinct) {
     for (const char* shape : {"cat0", "cat1", "dog0"})
       for (int level : {1, 2, 4, 8}) seeds.insert(glue_seed(base, shape, level));
   EXPECT_EQ(seeds.size(), 24u);
+}
+
+// The driver without the CLI: run_noise_experiment returns the data and writes no report; the writers make
+// noise.csv, noise.json and report.md from the result alone.
+TEST(NoiseExperiment, RunReturnsTheDataAndTheWritersUseItAlone) {
+  const std::string dir = test::scratch_dir("noise-library");
+  NoiseExperimentOptions o;
+  o.data = test::generated_dataset(dir, 2, 3, 400);
+  o.out = dir + "/out";
+  o.methods = {"coulomb"};
+  o.levels = {1, 0};  // sorted by the run
+  const NoiseExperimentResult r = run_noise_experiment(o);
+  EXPECT_EQ(r.options.levels, (std::vector<int>{0, 1}));
+  ASSERT_EQ(r.pose_list.size(), 6u);
+  EXPECT_EQ(r.poses, 6);
+  EXPECT_EQ(r.classes, 2);
+  ASSERT_EQ(r.glues.size(), 6u);  // every pose at level 1
+  for (const NoiseGlue& g : r.glues) EXPECT_EQ(g.chi_after, g.chi_before - 2) << g.shape << ": " << g.error;
+  ASSERT_EQ(r.rows.size(), 6u);  // 1 method × 2 levels × 3 distances
+  for (const NoiseRow& row : r.rows) {
+    EXPECT_EQ(row.queries, 6);
+    EXPECT_EQ(row.form_poses, 6);
+    if (row.level == 0) {
+      EXPECT_LT(row.form_rms_median, 1e-12) << "level 0 is the clean form itself";
+      EXPECT_DOUBLE_EQ(row.map_clean_same_poses, row.map);
+    }
+  }
+  EXPECT_TRUE(r.per_query.contains("coulomb"));
+  EXPECT_FALSE(fs::exists(o.out + "/noise.csv")) << "the run writes data files only through the writers";
+  EXPECT_FALSE(fs::exists(o.out + "/report.md"));
+
+  const std::string elsewhere = dir + "/written";
+  write_noise_outputs(r, elsewhere);
+  write_noise_report(r, elsewhere);
+  EXPECT_EQ(read_csv_rows(elsewhere + "/noise.csv").size(), 7u);
+  const nlohmann::json j = nlohmann::json::parse(read_file(elsewhere + "/noise.json"));
+  EXPECT_EQ(j["poses"].size(), 6u);
+  EXPECT_EQ(j["levels"], nlohmann::json::array({0, 1}));
+  const std::string report = read_file(elsewhere + "/report.md");
+  EXPECT_NE(report.find("| Coulomb | 1 | 6 | 6 |"), std::string::npos) << report;
+
+  // A second run computes nothing: glued meshes, forms and pairs come from the cache, to the same rows.
+  const NoiseExperimentResult again = run_noise_experiment(o);
+  EXPECT_EQ(again.glued_computed, 0);
+  EXPECT_EQ(again.canonical_forms_computed, 0);
+  EXPECT_EQ(again.pairs_computed, 0);
+  ASSERT_EQ(again.rows.size(), r.rows.size());
+  for (size_t k = 0; k < r.rows.size(); ++k) EXPECT_EQ(again.rows[k].map, r.rows[k].map);
+}
+
+// The report writer on a hand-made result: what is measured is in its table, what is not is "—", a glue
+// that failed and a shape left out are named, and a missing figure says why.
+TEST(NoiseExperiment, ReportWriterSaysWhatTheResultHolds) {
+  NoiseExperimentResult r;
+  r.options.data = "DATA";
+  r.options.methods = {"coulomb", "cmds"};
+  r.options.levels = {0, 4};
+  r.pose_list = {{"cat0", "cat", "cat0.off", 100, 2}, {"cat1", "cat", "cat1.off", 100, 2}};
+  r.poses = 2;
+  r.classes = 1;
+  NoiseGlue failed;
+  failed.shape = "cat1";
+  failed.level = 4;
+  failed.ok = false;
+  failed.error = "glue failed: too few admissible spots";
+  r.glues = {failed};
+  r.glue_failures = 1;
+  for (const std::string m : {"coulomb", "cmds"})
+    for (int level : {0, 4})
+      for (const char* kind : {"hausdorff", "chamfer", "rmse"}) {
+        NoiseRow row;
+        row.method = m;
+        row.level = level;
+        row.distance = kind;
+        row.queries = level == 0 ? 2 : 0;
+        row.map = level == 0 ? 0.75 : std::numeric_limits<double>::quiet_NaN();
+        row.nn = level == 0 ? 0.5 : std::numeric_limits<double>::quiet_NaN();
+        row.form_rms_median = level == 0 ? 0 : std::numeric_limits<double>::quiet_NaN();
+        row.form_rms_mean = row.form_rms_median;
+        r.rows.push_back(row);
+      }
+  r.failures.push_back(read_failure("dog0", "dog0.off", Error("dog0.off: not a mesh")));
+  r.figure_note = "no Python with matplotlib.";
+  const std::string dir = test::scratch_dir("noise-report");
+  write_noise_report(r, dir);
+  const std::string report = read_file(dir + "/report.md");
+  EXPECT_NE(report.find("| Coulomb | 0 | 0 | 2 | 0.750 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| classical MDS | 4 | 0 | 0 | — |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| cat1 | 4 |"), std::string::npos) << "the failed glue is listed";
+  EXPECT_NE(report.find("too few admissible spots"), std::string::npos);
+  EXPECT_NE(report.find("dog0"), std::string::npos) << "the shape left out is named";
+  EXPECT_NE(report.find("No figure: no Python with matplotlib."), std::string::npos);
 }
 
 TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {

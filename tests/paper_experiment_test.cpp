@@ -15,6 +15,8 @@
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
 #include "experiments/paper_experiment.h"
+#include "experiments/paper_report.h"
+#include "pipeline/shape_failures.h"
 #include "test_support.h"
 
 namespace cshapes {
@@ -134,6 +136,38 @@ TEST(PaperExperiment, NothingFailedMeansNoFailuresAnywhere) {
   EXPECT_TRUE(s.failures.empty()) << shape_failures_json(s.failures).dump(2);
   EXPECT_EQ(read_file(o.out + "/report.md").find("## Shapes left out"), std::string::npos);
   EXPECT_FALSE(nlohmann::json::parse(read_file(o.out + "/metrics.json")).contains("failures"));
+}
+
+// The report writer on a hand-made report, without a run: the retrieval table under every distance, "—" where
+// nothing was measured (no noisy query), the shape left out named with its reason, the options it states.
+TEST(PaperReport, WriterSaysWhatTheReportHolds) {
+  PaperReport r;
+  r.options.data = "DATA";
+  r.options.methods = {"coulomb", "cmds"};
+  r.shapes = {{"cat0", "cat", false, true, 100, "", "none", {}}, {"dog0", "dog", false, true, 100, "", "none", {}}};
+  for (const std::string m : {"coulomb", "cmds"}) {
+    PaperReport::Retrieval x{m == "coulomb" ? 0.75 : 0.5, 1, 0.5, 1, 0.25, 0.875, -1};
+    r.retrieval[m] = x;
+    for (const char* kind : {"hausdorff", "chamfer", "rmse"}) r.retrieval_by_distance[m][kind] = x;
+  }
+  r.summary.shapes = 2;
+  r.summary.failures.push_back(read_failure("bad3", "bad3.off", Error("bad3.off: line 4: expected 3 numbers")));
+  r.options.table1 = false;
+  r.options.figures = false;
+  const std::string dir = test::scratch_dir("paper-report");
+  write_paper_report(r, dir);
+  std::ifstream in(dir + "/report.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string report = text.str();
+  EXPECT_NE(report.find("| Coulomb | Hausdorff | 0.750 | 1.000 | 0.500 | 1.000 | 0.250 | 0.875 | — |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| classical MDS | RMSE | 0.500 |"), std::string::npos);
+  EXPECT_NE(report.find("Coulomb > classical MDS"), std::string::npos) << "the methods ordered by mAP";
+  EXPECT_NE(report.find("bad3"), std::string::npos) << "the shape left out is named";
+  EXPECT_NE(report.find("line 4: expected 3 numbers"), std::string::npos) << "with its reason";
+  EXPECT_NE(report.find("`DATA`"), std::string::npos);
 }
 
 }  // namespace

@@ -242,4 +242,19 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
 }
 
 }  // namespace
+// One query against a database (the noise experiment's queries): the rule of evaluate_retrieval.
+TEST(Retrieval, AveragePrecisionOfOneQueryKnownAnswers) {
+  // Ranked: index 1 (irrelevant), 2 (relevant, rank 2), 0 (relevant, rank 3): AP = (1/2 + 2/3) / 2.
+  bool nn = true;
+  EXPECT_NEAR(average_precision({3, 1, 2}, {1, 0, 1}, &nn), (0.5 + 2.0 / 3) / 2, 1e-15);
+  EXPECT_FALSE(nn);
+  EXPECT_DOUBLE_EQ(average_precision({1, 2, 3}, {1, 1, 0}, &nn), 1.0);
+  EXPECT_TRUE(nn);
+  // Ties go to the smaller index (eval/retrieval.h): the irrelevant index 0 comes first.
+  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {0, 1}, &nn), 0.5);
+  EXPECT_FALSE(nn);
+  EXPECT_EQ(average_precision({1, 2}, {0, 0}), -1.0);  // nothing relevant
+  EXPECT_THROW(average_precision({1, 2}, {0}), Error);
+}
+
 }  // namespace cshapes

@@ -14,6 +14,9 @@
 #include <sstream>
 #include <vector>
 
+#include "core/articulated.h"
+#include "core/dataset.h"
+
 namespace cshapes::test {
 
 namespace fs = std::filesystem;
@@ -104,6 +107,26 @@ void write_text(const std::string& path, const std::string& text) {
   fs::path p(path);
   if (p.has_parent_path()) fs::create_directories(p.parent_path());
   std::ofstream(path) << text;
+}
+
+std::string generated_dataset(const std::string& dir, int classes, int poses, long vertices) {
+  ArticulatedDatasetOptions o;
+  o.classes = classes;
+  o.poses = poses;
+  o.noisy = 0;
+  o.rest.target_vertices = vertices;
+  std::vector<DatasetEntry> entries;
+  for (const ArticulatedShape& s : make_articulated_dataset(o)) {
+    DatasetEntry e;
+    e.path = dir + "/" + s.name + ".off";
+    e.name = s.name;
+    e.class_name = s.class_name;
+    e.pose = s.pose;
+    write_off_fixed(e.path, s.mesh);
+    entries.push_back(e);
+  }
+  write_manifest(dir + "/manifest.csv", entries);
+  return dir + "/manifest.csv";
 }
 
 }  // namespace cshapes::test

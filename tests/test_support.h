@@ -38,6 +38,11 @@ Mesh obtuse_grid(int nx, int ny);
 // seen from outside; unchanged by any refinement that keeps the surface and its orientation.
 double signed_volume(const Mesh& m);
 
+// A generated articulated dataset written without the CLI (core/articulated.h): `classes` classes ×
+// `poses` clean poses of about `vertices` vertices each (no noisy poses), CLASSk.off and manifest.csv in dir;
+// returns the manifest's path. Deterministic (seed 0), as `cshapes generate dataset` writes it.
+std::string generated_dataset(const std::string& dir, int classes, int poses, long vertices);
+
 // Writes text to a file (creating parent directories).
 void write_text(const std::string& path, const std::string& text);
 

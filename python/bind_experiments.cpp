@@ -1,0 +1,79 @@
+// cshapes.experiment_paper: the paper's experiment (experiments/paper_experiment.h) from Python, with the
+// library's defaults, so a run from Python, from C++ and from `cshapes experiment paper` with the same options
+// writes the same files.
+#include <pybind11/stl.h>
+
+#include "experiments/paper_experiment.h"
+#include "pipeline/shape_failures.h"
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/interrupt.h"
+
+namespace cshapes::python {
+
+namespace py = pybind11;
+
+namespace {
+
+py::dict experiment_paper_py(const py::object& data, const py::object& out, const py::object& methods,
+                             int poses_per_class, int noisy_per_class, bool table1, bool figures,
+                             const py::kwargs& kwargs) {
+  PaperExperimentOptions o;
+  o.data = to_path(data, "data");
+  o.out = to_path(out, "out");
+  if (!methods.is_none()) {
+    o.methods.clear();
+    for (py::handle m : methods) o.methods.push_back(py::str(m).cast<std::string>());
+  }
+  CSHAPES_REQUIRE(poses_per_class >= 0, "experiment_paper(): poses_per_class: expected 0 (all) or more, got ",
+                  poses_per_class);
+  CSHAPES_REQUIRE(noisy_per_class >= -1, "experiment_paper(): noisy_per_class: expected -1 (every pose), 0 or more, got ",
+                  noisy_per_class);
+  o.poses_per_class = poses_per_class;
+  o.noisy_per_class = noisy_per_class;
+  o.table1 = table1;
+  o.figures = figures;
+  Kwargs k(kwargs, "experiment_paper");
+  o.glue = k.int32("glue", o.glue);
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
+  o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
+  o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
+  o.canon.strict = k.flag("strict", o.canon.strict);
+  if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  k.done();
+  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
+  PaperExperimentSummary s;
+  {
+    Computing computing;
+    s = run_paper_experiment(o);
+  }
+  py::dict result;
+  result["out"] = o.out;
+  result["shapes"] = s.shapes;
+  result["seconds"] = s.seconds;
+  result["canonical_forms_computed"] = s.canonical_forms_computed;
+  result["canonical_forms_cached"] = s.canonical_forms_cached;
+  result["pairs_computed"] = s.pairs_computed;
+  result["pairs_cached"] = s.pairs_cached;
+  result["failures"] = python::to_python(shape_failures_json(s.failures));
+  return result;
+}
+
+}  // namespace
+
+void bind_experiments(py::module_& m) {
+  m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
+        py::arg("table1") = true, py::arg("figures") = true,
+        R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
+
+data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
+folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof]; poses_per_class [4]
+(0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
+figures [True] computes the figures' data. Keywords: glue [2], seed [1], timing_repeats [5],
+correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat').
+Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
+(shapes, seconds, counts, failures). The same options give the same files as the CLI and C++.)");
+}
+
+}  // namespace cshapes::python

@@ -1,0 +1,31 @@
+"""Defaults in the library: cshapes.experiment_paper with its defaults writes what `cshapes experiment paper`
+writes, byte for byte (report.md, which states the run's time, and the caches aside). The C++ side of the same
+check is tests/experiment_identity_test.cpp."""
+from pathlib import Path
+
+import cshapes
+
+
+def _outputs(root: Path):
+    files = {}
+    for path in sorted(root.rglob("*")):
+        relative = path.relative_to(root).as_posix()
+        if not path.is_file() or relative == "report.md" or relative.startswith("cache/"):
+            continue
+        files[relative] = path.read_bytes().replace(str(root).encode(), b"OUT")
+    return files
+
+
+def test_python_and_cli_runs_of_the_paper_experiment_write_the_same_files(cli, tmp_path):
+    data = tmp_path / "data"
+    cli("generate", "dataset", "-o", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
+    cli("experiment", "paper", "--data", data / "manifest.csv", "--out", tmp_path / "cli", "--no-table1",
+        "--no-figures")
+    summary = cshapes.experiment_paper(str(data / "manifest.csv"), str(tmp_path / "py"), table1=False,
+                                       figures=False)
+    assert summary["shapes"] == 8 and not summary["failures"]
+    a, b = _outputs(tmp_path / "cli"), _outputs(tmp_path / "py")
+    assert len(a) > 10 and "metrics.json" in a and "distances/smacof.csv" in a
+    assert sorted(a) == sorted(b)
+    differing = [name for name in a if a[name] != b[name]]
+    assert differing == [], f"written differently by the CLI and Python: {differing}"
