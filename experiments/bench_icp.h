@@ -48,7 +48,7 @@ struct IcpBenchResult {
   bool reflection = false;  // the alignment found includes a reflection
   int iterations_all_points = 0, iterations_total = 0;
   double ours_ms_per_iteration = 0, ours_cpu_ms_per_iteration = 0;  // medians
-  // Open3D, when measured (open3d_skipped empty and options.open3d).
+  // Open3D's iteration, when measured; otherwise open3d_skipped says why.
   bool open3d_measured = false;
   std::string open3d_skipped;  // why not measured: "--no-open3d", no interpreter, or the script's failure
   std::string open3d_version;

@@ -73,7 +73,11 @@ void measure_sklearn(const DistanceMatrix& D, const Points& X0, SmacofBenchResul
     result.reference_skipped = run.skipped;
     return;
   }
-  const nlohmann::json reference = nlohmann::json::parse(run.output);
+  const nlohmann::json reference = nlohmann::json::parse(run.output, nullptr, /*allow_exceptions=*/false);
+  if (!reference.is_object() || !reference.contains("seconds_per_iteration")) {
+    result.reference_skipped = "unexpected output from the scikit-learn script: " + run.output;
+    return;
+  }
   result.reference_measured = true;
   result.reference_version = reference.at("version").get<std::string>();
   result.reference_seconds = reference.at("seconds").get<double>();

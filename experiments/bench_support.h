@@ -25,7 +25,8 @@ std::string shared_tosca5k_shape(const std::string& name);
 
 // A Python script that measures an anchor. It runs in a fresh temporary folder (removed afterwards), which
 // write_inputs fills first and the script gets as sys.argv[1] (then `arguments`), and it prints its
-// measurement on stdout.
+// measurement on stdout. Inputs that cannot be written (a full disk) are the run's error: write_inputs'
+// exception propagates.
 struct AnchorScript {
   std::string package;                 // what the anchor needs, for messages ("scikit-learn")
   std::string imports;                 // modules the interpreter must import ("numpy, sklearn.manifold")
