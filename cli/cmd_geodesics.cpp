@@ -1,12 +1,13 @@
 // cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
-// (binary format in core/distance_matrix.h), or with --source i --csv one row as CSV.
+// (binary format in core/distance_matrix.h), or with --source i one row as CSV (-o NAME.csv or stdout).
 #include <climits>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
+#include "cli/command.h"
 #include "core/error.h"
 #include "core/timing.h"
-#include "cli/command.h"
 #include "pipeline/mesh_geodesics.h"
 
 namespace cshapes::cli {
@@ -30,12 +31,17 @@ int run() {
   const bool heat = options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal;
   if (args.heat_mode_option->count() > 0 && !heat)
     usage_fail("--heat-mode applies to --method heat or heat-cgal only");
-  if ((args.source >= 0) != args.csv)
-    usage_fail("--source i and --csv go together: one row of distances as CSV");
-  if (args.source < 0 && (args.output.empty() || args.output == "-"))
-    usage_fail("-o D.bin is required for all-pairs distances (or --source i --csv for one row)");
-  if (!args.output.empty() && args.output != "-")
-    require_output_path(args.output, {args.csv ? "csv" : "bin"});
+  // The output's form follows -o: NAME.csv (or stdout) one row of --source, NAME.bin all pairs.
+  const bool to_stdout = args.output.empty() || args.output == "-";
+  const std::string extension = to_stdout ? "" : std::filesystem::path(args.output).extension().string();
+  if (extension == ".csv" || to_stdout) args.csv = true;
+  if (args.csv && args.source < 0)
+    usage_fail("one row of distances as CSV needs --source i (all pairs are written to -o D.bin)");
+  if (args.source >= 0 && extension == ".bin")
+    usage_fail(
+        "--source i writes one row as CSV: give -o NAME.csv (or no -o for stdout); -o D.bin takes all "
+        "pairs");
+  if (!to_stdout) require_output_path(args.output, {args.csv ? "csv" : "bin"});
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
   // Repaired for geodesics unless --strict; the output is given at the input's vertices
@@ -47,8 +53,9 @@ int run() {
   const MeshGeodesics prepared = prepare_mesh_geodesics(input, mo);
   const RepairedMesh& sub = prepared.repaired;
   if (sub.changed())
-    note(sub.text + "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
-                    "nearest copy where one was split)");
+    note(sub.text +
+         "; distances are given at the input's vertices (NaN where a vertex was dropped, the "
+         "nearest copy where one was split)");
   const WallClock::time_point start = WallClock::now();
   nlohmann::json summary = {{"input", args.input},
                             {"vertices", input.num_vertices()},
@@ -58,7 +65,7 @@ int run() {
   if (options.method == GeodesicMethod::Heat || options.method == GeodesicMethod::HeatCgal)
     summary["heat_mode"] = to_string(options.heat_mode);
   if (!prepared.warning.empty()) {
-    note("warning: " + prepared.warning);
+    warn(prepared.warning);
     summary["warning"] = prepared.warning;
   }
 
@@ -105,10 +112,13 @@ const bool registered = register_command(
                           "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
                ->capture_default_str()
                ->check(one_of({"idt", "direct"}));
-       app.add_option("--source", args.source,
-                      "one source vertex (0-based, input numbering): one row, with --csv")
+       app.add_option(
+              "--source", args.source,
+              "one source vertex (0-based, input numbering): one row of distances as CSV, to -o NAME.csv "
+              "or stdout")
            ->check(integer_in(0, INT_MAX));
-       app.add_flag("--csv", args.csv, "write the row of --source as CSV (vertex,distance)");
+       app.add_flag("--csv", args.csv,
+                    "CSV (vertex,distance) for the row of --source; implied by -o NAME.csv or no -o");
        app.add_flag("--largest-component", args.largest_component,
                     "keep the largest connected component (the default repair; kept for old scripts)");
        app.add_flag("--strict", args.strict,

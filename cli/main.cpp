@@ -160,6 +160,9 @@ void end_progress_line() {
 }  // namespace
 
 void note(const std::string& line) {
+  // A library's warning said on the note channel ("warning: …") is a warning: one prefix, shown with --quiet.
+  static const std::string kWarning = "warning: ";
+  if (line.rfind(kWarning, 0) == 0) return warn(line.substr(kWarning.size()));
   if (g_quiet) return;
   end_progress_line();
   std::cerr << line << std::endl;
@@ -321,28 +324,35 @@ void require_output_directory(const std::string& path) {
 
 ProgressFn progress_printer() {
   if (g_quiet) return {};
+  // On a terminal: one line rewritten in place ("\r"), at most 4 times a second. Into a file or a pipe (a
+  // log): plain lines, one every 10 s and one when a stage ends, so a log holds no "\r" fragments.
+  const bool terminal = isatty(fileno(stderr)) != 0;
   struct State {
     WallClock::time_point start = WallClock::now(), last{};
     std::string stage;
   };
   auto state = std::make_shared<State>();
-  return [state](const std::string& stage, double done, double total) {
+  return [state, terminal](const std::string& stage, double done, double total) {
     auto now = WallClock::now();
     if (stage != state->stage) {
       state->stage = stage;
       state->start = now;
+      state->last = now;
     }
-    bool finished = done >= total;
-    if (!finished && now - state->last < std::chrono::milliseconds(250)) return;
+    const bool finished = done >= total;
+    const auto interval = terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(10000);
+    if (!finished && now - state->last < interval) return;
     state->last = now;
-    double elapsed = std::chrono::duration<double>(now - state->start).count();
-    double fraction = total > 0 ? done / total : 1.0;
-    std::fprintf(stderr, "\r[%s] %5.1f%%", stage.c_str(), 100.0 * fraction);
-    if (fraction > 0.01 && !finished)
-      std::fprintf(stderr, " (about %.0f s left)   ", elapsed * (1 / fraction - 1));
-    if (finished) std::fprintf(stderr, " in %.2f s            \n", elapsed);
+    const double elapsed = std::chrono::duration<double>(now - state->start).count();
+    const double fraction = total > 0 ? done / total : 1.0;
+    std::fprintf(stderr, "%s[%s] %5.1f%%", terminal ? "\r" : "", stage.c_str(), 100.0 * fraction);
+    // An estimate only once it means something: after 3 s and 5% of the stage.
+    if (!finished && elapsed >= 3 && fraction >= 0.05)
+      std::fprintf(stderr, " (about %.0f s left)%s", elapsed * (1 / fraction - 1), terminal ? "   " : "");
+    if (finished) std::fprintf(stderr, " in %.2f s%s", elapsed, terminal ? "            " : "");
+    if (finished || !terminal) std::fprintf(stderr, "\n");
     std::fflush(stderr);
-    g_progress_open = !finished;
+    g_progress_open = terminal && !finished;
   };
 }
 
@@ -414,6 +424,30 @@ void check_numeric_options(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_numeric_options(*sub);
 }
 
+// Every option's help shows its default: options that take a value and are not required get the value their
+// variable holds before parsing ("=0.1"), wherever a command forgot capture_default_str().
+void show_defaults(CLI::App& app) {
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_size() != 0 && !option->get_required() && option->get_default_str().empty())
+      option->capture_default_str();
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) show_defaults(*sub);
+}
+
+// The one-line descriptions of the commands that only group others (`cshapes bench`, ...).
+std::string group_description(const std::string& name) {
+  static const std::map<std::string, std::string> groups = {
+      {"bench",
+       "Benchmarks: each measures a part of cshapes against a reference in the same run and prints JSON "
+       "(docs/benchmarks.md)"},
+      {"experiment",
+       "Experiments: the paper's, the noise curve, TOPKIDS, pose invariance and the Coulomb parameter study, "
+       "each writing data, figures and report.md into --out (cached: reruns resume)"},
+      {"generate", "Shapes made here, deterministic for a seed: a swiss roll, articulated poses, the hand, a "
+                   "whole retrieval dataset"}};
+  auto it = groups.find(name);
+  return it == groups.end() ? std::string() : it->second;
+}
+
 // OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
 // they take the core from the thread that has work (README, "Threads"); a wait that only sleeps costs each
 // of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
@@ -463,7 +497,8 @@ int main(int argc, char** argv) {
       for (CLI::App* existing : parent->get_subcommands([](CLI::App*) { return true; }))
         if (existing->get_name() == cmd.path[k]) sub = existing;
       if (!sub) {
-        sub = parent->add_subcommand(cmd.path[k], k + 1 == cmd.path.size() ? cmd.summary : "");
+        sub = parent->add_subcommand(cmd.path[k],
+                                     k + 1 == cmd.path.size() ? cmd.summary : group_description(cmd.path[k]));
         sub->fallthrough();
       }
       if (k + 1 < cmd.path.size()) sub->require_subcommand(1);
@@ -474,6 +509,7 @@ int main(int argc, char** argv) {
     leaf[parent] = &cmd;
   }
   check_numeric_options(app);
+  show_defaults(app);
 
   g_command = command_in_arguments(app, argc, argv);
   try {

@@ -32,9 +32,8 @@ std::string plot_scripts_directory() {
   if (binary.empty()) return "";
   // build/cshapes, PREFIX/bin/cshapes, build/python/cshapes/_cshapes.so, site-packages/cshapes/_cshapes.so
   const fs::path dir = binary.parent_path();
-  for (const fs::path& candidate :
-       {dir / "share/cshapes/plots", dir.parent_path() / "share/cshapes/plots",
-        dir.parent_path().parent_path() / "share/cshapes/plots", dir / "plots"}) {
+  for (const fs::path& candidate : {dir / "share/cshapes/plots", dir.parent_path() / "share/cshapes/plots",
+                                    dir.parent_path().parent_path() / "share/cshapes/plots", dir / "plots"}) {
     std::error_code ec;
     if (fs::is_directory(candidate, ec)) return candidate.string();
   }
@@ -54,13 +53,16 @@ std::string find_python(const std::string& imports) {
   candidates.push_back("python3");
   for (const std::string& c : candidates) {
     if (c.find('/') != std::string::npos && !fs::exists(c)) continue;
-    const std::string command = shell_quote(c) + " -c " + shell_quote("import " + imports) + " >/dev/null 2>&1";
+    const std::string command =
+        shell_quote(c) + " -c " + shell_quote("import " + imports) + " >/dev/null 2>&1";
     if (std::system(command.c_str()) == 0) return c;
   }
   return "";
 }
 
-std::string find_plot_python() { return find_python("matplotlib, numpy"); }
+std::string find_plot_python() {
+  return find_python("matplotlib, numpy");
+}
 
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
                       const std::string& expected) {

@@ -22,11 +22,11 @@
 #include "eval/distance_csv.h"
 #include "eval/pairwise_distances.h"
 #include "eval/retrieval.h"
+#include "experiments/paper_figures.h"
+#include "experiments/paper_report.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
 #include "pipeline/distributed.h"
-#include "experiments/paper_figures.h"
-#include "experiments/paper_report.h"
 #include "pipeline/experiment_kit.h"
 #include "pipeline/glued_meshes.h"
 #include "pipeline/shape_failures.h"
@@ -113,46 +113,59 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   return s;
 }
 
-// Clean poses (and the dataset's noisy shapes) per class, plus noisy shapes glued here.
-// write_files: the glued shapes' files under out/shapes (rank 0 only).
-std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
-                                 std::vector<PaperReport::Skipped>& skipped, bool write_files) {
-  Dataset data = read_dataset(o.data);
-  const std::string corres = correspondence_folder(o.data);
+// Choosing the shapes of the run: per class, the clean poses and the dataset's noisy shapes, and noisy shapes
+// glued here (through the shared glued-mesh cache). write_files: the glued shapes' files under out/shapes
+// (rank 0 only).
+struct ShapeSelection {
+  const PaperExperimentOptions& o;
+  const DiskCache& noise_cache;
+  std::vector<PaperReport::Skipped>& skipped;
+  bool write_files;
+  std::string corres;  // where corres/NAME.vts would be
   std::vector<Shape> shapes;
   int glued_count = 0;
-  for (const std::string& cls : data.classes) {
+
+  // A shape no method can use (unreadable, too few vertices after repair) is skipped with its reason, and
+  // the next pose takes its place; under --strict a mesh needing repair stops the run instead.
+  std::optional<Shape> try_load(const DatasetEntry& e, const std::string& cls, bool in_retrieval) {
+    Shape s;
+    s.name = e.name;
+    s.class_name = cls;
+    s.source_path = e.path;
+    s.noisy = e.noisy;
+    s.in_retrieval = in_retrieval;
+    try {
+      load_and_check(s, e.path, o);
+    } catch (const WriteError&) {
+      throw;  // the run's own files: never one shape's failure
+    } catch (const Error& error) {
+      if (o.canon.strict) throw;
+      say(o.note, std::string("skipped: ") + error.what());
+      skipped.push_back({e.path, error.what()});
+      return std::nullopt;
+    }
+    s.key = mesh_content_key(s.mesh);
+    std::string vts = corres + "/" + e.name + ".vts";
+    if (fs::exists(vts)) s.vts = vts;
+    return s;
+  }
+
+  Shape load(const DatasetEntry& e, const std::string& cls, bool in_retrieval) {
+    std::optional<Shape> s = try_load(e, cls, in_retrieval);
+    if (!s) fail(e.path, ": cannot be used (see above)");
+    return std::move(*s);
+  }
+
+  // One class: its clean poses (and the data's noisy shapes) in the retrieval set, then the noisy shapes
+  // glued here.
+  void select_class(const Dataset& data, const std::string& cls) {
     std::vector<const DatasetEntry*> clean, noisy;
     for (const DatasetEntry& e : data.entries)
       if (e.class_name == cls) (e.noisy ? noisy : clean).push_back(&e);
-    // A shape no method can use (unreadable, too few vertices after repair) is skipped with its reason, and
-    // the next pose takes its place; under --strict a mesh needing repair stops the run instead.
-    auto try_load = [&](const DatasetEntry& e, bool in_retrieval) -> std::optional<Shape> {
-      Shape s;
-      s.name = e.name;
-      s.class_name = cls;
-      s.source_path = e.path;
-      s.noisy = e.noisy;
-      s.in_retrieval = in_retrieval;
-      try {
-        load_and_check(s, e.path, o);
-      } catch (const WriteError&) {
-        throw;  // the run's own files: never one shape's failure
-      } catch (const Error& error) {
-        if (o.canon.strict) throw;
-        say(o.note, std::string("skipped: ") + error.what());
-        skipped.push_back({e.path, error.what()});
-        return std::nullopt;
-      }
-      s.key = mesh_content_key(s.mesh);
-      std::string vts = corres + "/" + e.name + ".vts";
-      if (fs::exists(vts)) s.vts = vts;
-      return s;
-    };
     const size_t want_clean = o.poses_per_class <= 0 ? clean.size() : static_cast<size_t>(o.poses_per_class);
     size_t n_clean = 0;
     for (size_t k = 0; k < clean.size() && n_clean < want_clean;) {
-      if (auto s = try_load(*clean[k], true)) {
+      if (auto s = try_load(*clean[k], cls, true)) {
         shapes.push_back(std::move(*s));
         ++n_clean;
         ++k;
@@ -164,15 +177,16 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
     const size_t want_noisy = every_pose ? noisy.size() : static_cast<size_t>(std::max(o.noisy_per_class, 0));
     size_t from_data = 0;
     for (size_t k = 0; k < noisy.size() && from_data < want_noisy; ++k)
-      if (auto s = try_load(*noisy[k], true)) {
+      if (auto s = try_load(*noisy[k], cls, true)) {
         shapes.push_back(std::move(*s));
         ++from_data;
       }
-    auto load = [&](const DatasetEntry& e, bool in_retrieval) {
-      std::optional<Shape> s = try_load(e, in_retrieval);
-      if (!s) fail(e.path, ": cannot be used (see above)");
-      return std::move(*s);
-    };
+    glue_noisy_shapes(cls, clean, n_clean, from_data);
+  }
+
+  void glue_noisy_shapes(const std::string& cls, const std::vector<const DatasetEntry*>& clean,
+                         size_t n_clean, size_t from_data) {
+    const bool every_pose = o.noisy_per_class == PaperExperimentOptions::kNoisyEveryPose;
     // Noisy shapes made here: from the poses not in the retrieval set if there are any (so the noisy shape is
     // a pose of its own, as in the paper), else from the retrieval poses. Their clean source is kept as a
     // reference for the noise measurement. With noisy shapes from the data, one more is glued from the first
@@ -201,7 +215,7 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
             std::find_if(shapes.begin(), shapes.end(), [&](const Shape& s) { return s.name == src.name; });
         const bool loaded = it != shapes.end();
         try {
-          source = loaded ? *it : load(src, false);
+          source = loaded ? *it : load(src, cls, false);
         } catch (const WriteError&) {
           throw;  // the run's own files: never one shape's failure
         } catch (const Error& e) {
@@ -232,11 +246,19 @@ std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCach
         made = true;
       }
       if (!made)
-        say(o.note, "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
+        say(o.note,
+            "class " + cls + ": no pose offers " + std::to_string(o.glue) + " glues; fewer noisy shapes");
     }
   }
-  CSHAPES_REQUIRE(!shapes.empty(), o.data, ": no shapes selected");
-  return shapes;
+};
+
+std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
+                                 std::vector<PaperReport::Skipped>& skipped, bool write_files) {
+  const Dataset data = read_dataset(o.data);
+  ShapeSelection selection{o, noise_cache, skipped, write_files, correspondence_folder(o.data), {}, 0};
+  for (const std::string& cls : data.classes) selection.select_class(data, cls);
+  CSHAPES_REQUIRE(!selection.shapes.empty(), o.data, ": no shapes selected");
+  return std::move(selection.shapes);
 }
 
 // Canonical forms of every shape by one method; MDS methods share one geodesic matrix per shape.
@@ -303,8 +325,8 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
     double elapsed = seconds_since(start);
     say(o.note, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
-                          shapes.size(), ", about ", std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)),
-                          " s left"));
+                               shapes.size(), ", about ",
+                               std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)), " s left"));
   }
   return result;
 }
@@ -676,7 +698,7 @@ void canonical_form_stage(ExperimentRun& run) {
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
   say(o.note, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
-             (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
+                  (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
   auto t = WallClock::now();
   long computed_by_ranks = 0;
   std::vector<char> failed;

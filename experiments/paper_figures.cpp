@@ -134,7 +134,6 @@ void figure2_hand(const PaperExperimentOptions& o, PaperReport& report, const Di
         {"rows", rows},
         {"cells", cells}};
   }
-
 }
 
 // Figure 3: the paper's plain scheme after 300, 600, 900, 3000, 10000 iterations. One run, cut at the
@@ -143,7 +142,7 @@ void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, co
                         const FigureShape& fs_shape, const fs::path& dir) {
   {
     say(o.note, "  Fig. 3: " + report.figure_shape + ", iterations up to " +
-               std::to_string(o.fig3_iterations.back()));
+                    std::to_string(o.fig3_iterations.back()));
     const std::string key = cache_key({"fig3-v1", mesh_content_key(fs_shape.mesh),
                                        canonical_form_key(o.canon), json(o.fig3_iterations).dump()});
     json cached;
@@ -200,7 +199,6 @@ void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, co
         {"title", "Fig. 3: coulombization (paper's scheme) of " + report.figure_shape},
         {"cells", json::array({row})}};
   }
-
 }
 
 // Figure 5: energy and mean violation per outer iteration for 1, 10 and 100 projection steps.

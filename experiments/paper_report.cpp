@@ -56,9 +56,9 @@ struct ReportText {
   const PaperReport& r;
   std::ostringstream md;
   bool has_coulomb = false;
-  std::vector<std::string> mds_methods;  // the methods run but Coulomb
-  std::vector<std::string> classes;      // of the retrieval set, in order of appearance
-  int clean = 0, noisy = 0;              // shapes of the retrieval set
+  std::vector<std::string> mds_methods;     // the methods run but Coulomb
+  std::vector<std::string> classes;         // of the retrieval set, in order of appearance
+  int clean = 0, noisy = 0;                 // shapes of the retrieval set
   std::map<std::string, double> noise_rms;  // per method: median RMS noisy vs clean (the noise section's)
 };
 
@@ -101,7 +101,6 @@ void header_and_setup(ReportText& t) {
   md << "- Distance between shapes: ICP alignment of the canonical forms (principal-axis starts, reflections "
         "allowed), then the maximum distance between corresponding points (symmetric Hausdorff), as in "
         "§3; retrieval is also reported under the Chamfer and RMSE distances of the same alignment.\n\n";
-
 }
 
 void data_quality(ReportText& t) {
@@ -131,7 +130,6 @@ void data_quality(ReportText& t) {
     // Files that could not be used and shapes whose forms failed (pipeline/shape_failures.h).
     md << shape_failures_markdown(r.summary.failures);
   }
-
 }
 
 void cost(ReportText& t) {
@@ -153,11 +151,10 @@ void cost(ReportText& t) {
       it += c.iterations[k];
     }
     const double n = std::max<double>(1, c.solve.size());
-    md << "| " << method_title(m) << " | " << format_number("%.2f", pre / n) << " | " << format_number("%.2f", solve / n) << " | "
-       << format_number("%.0f", it / n) << " |\n";
+    md << "| " << method_title(m) << " | " << format_number("%.2f", pre / n) << " | "
+       << format_number("%.2f", solve / n) << " | " << format_number("%.0f", it / n) << " |\n";
   }
   md << "\n";
-
 }
 
 void retrieval(ReportText& t) {
@@ -182,9 +179,10 @@ void retrieval(ReportText& t) {
       else if (std::string(kind) == "hausdorff")
         x = &r.retrieval.at(m);
       if (!x) continue;
-      md << "| " << method_title(m) << " | " << distance_title(kind) << " | " << format_number("%.3f", x->map) << " | "
-         << format_number("%.3f", x->nn) << " | " << format_number("%.3f", x->ft) << " | " << format_number("%.3f", x->st) << " | "
-         << format_number("%.3f", x->e) << " | " << format_number("%.3f", x->dcg) << " | "
+      md << "| " << method_title(m) << " | " << distance_title(kind) << " | " << format_number("%.3f", x->map)
+         << " | " << format_number("%.3f", x->nn) << " | " << format_number("%.3f", x->ft) << " | "
+         << format_number("%.3f", x->st) << " | " << format_number("%.3f", x->e) << " | "
+         << format_number("%.3f", x->dcg) << " | "
          << (x->noisy_query_nn >= 0 ? format_number("%.2f", x->noisy_query_nn) : "—") << " |\n";
     }
   }
@@ -225,7 +223,6 @@ void retrieval(ReportText& t) {
         "distance matrices: `distances/*.csv` (Hausdorff), `distances/chamfer/*.csv`, "
         "`distances/rmse/*.csv`.\n\n";
   md << "![Fig. 7](fig7_distance_matrices.png)\n\n![Fig. 8](fig8_pr.png)\n\n";
-
 }
 
 void topological_noise(ReportText& t) {
@@ -258,7 +255,6 @@ void topological_noise(ReportText& t) {
   }
   md << "\nPer shape: `noise_effect.csv`.\n\n";
   md << "![Fig. 2](fig2_hand.png)\n\n![Fig. 6](fig6_noisy_shapes.png)\n\n![Fig. 4](fig4_tearing.png)\n\n";
-
 }
 
 void convergence(ReportText& t) {
@@ -275,7 +271,6 @@ void convergence(ReportText& t) {
          << format_number("%.4f", c.final_violation) << " |\n";
     md << "\n![Fig. 3](fig3_iterations.png)\n\n![Fig. 5](fig5_convergence.png)\n\n";
   }
-
 }
 
 void point_maps(ReportText& t) {
@@ -300,7 +295,6 @@ void point_maps(ReportText& t) {
     }
     md << "\n![point maps](fig9_correspondence.png)\n\n";
   }
-
 }
 
 void table1(ReportText& t) {
@@ -318,7 +312,8 @@ void table1(ReportText& t) {
       const TimingRow& t = r.table1[k];
       const PaperTiming& p = kPaperTable1[std::min<size_t>(k, 2)];
       auto cell = [&](double ours, double paper, bool measured) {
-        return (measured ? format_number("%.3g", ours) : std::string("—")) + " (" + format_number("%.3g", paper) + ")";
+        return (measured ? format_number("%.3g", ours) : std::string("—")) + " (" +
+               format_number("%.3g", paper) + ")";
       };
       md << "| " << t.shape << " | " << t.vertices << " | "
          << cell(t.mds_precompute, p.mds_pre, t.mds_measured) << " | "
@@ -330,7 +325,6 @@ void table1(ReportText& t) {
     md << "\nThe cat and michael rows are the data's shapes remeshed to the paper's sizes "
           "(`table1.csv`).\n\n";
   }
-
 }
 
 void claims(ReportText& t) {
@@ -360,8 +354,8 @@ void claims(ReportText& t) {
     if (!best_mds.empty()) {
       double c = r.retrieval.at("coulomb").map, b = r.retrieval.at(best_mds).map;
       md << "| Retrieval with Coulomb shapes \"compares favorably\" to MDS canonical forms (Fig. 8) | mAP "
-         << format_number("%.3f", c) << " (Coulomb) vs " << format_number("%.3f", b) << " (" << method_title(best_mds)
-         << ", the better MDS) under the paper's Hausdorff distance";
+         << format_number("%.3f", c) << " (Coulomb) vs " << format_number("%.3f", b) << " ("
+         << method_title(best_mds) << ", the better MDS) under the paper's Hausdorff distance";
       std::string other_verdicts;
       if (r.retrieval_by_distance.count("coulomb"))
         for (const char* kind : {"chamfer", "rmse"}) {
@@ -369,8 +363,8 @@ void claims(ReportText& t) {
           if (best.empty() || !r.retrieval_by_distance.at("coulomb").count(kind)) continue;
           const double ck = r.retrieval_by_distance.at("coulomb").at(kind).map;
           const double bk = r.retrieval_by_distance.at(best).at(kind).map;
-          md << "; " << distance_title(kind) << " " << format_number("%.3f", ck) << " vs " << format_number("%.3f", bk) << " ("
-             << method_title(best) << ")";
+          md << "; " << distance_title(kind) << " " << format_number("%.3f", ck) << " vs "
+             << format_number("%.3f", bk) << " (" << method_title(best) << ")";
           other_verdicts += "; under " + distance_title(kind) + ": " + retrieval_verdict(ck, bk);
         }
       md << " | " << retrieval_verdict(c, b) << other_verdicts << " |\n";
@@ -391,9 +385,9 @@ void claims(ReportText& t) {
         const double pose = r.pose_variation.count("coulomb") ? r.pose_variation.at("coulomb") : 0;
         md << "| Topological noise is \"practically unnoticeable\" on Coulomb shapes, while MDS forms suffer "
               "\"severe global distortions\" (Fig. 2, 6) | median RMS change "
-           << format_number("%.2f%%", 100 * c) << " (Coulomb) vs " << format_number("%.2f%%", 100 * best_mds_noise) << "–"
-           << format_number("%.2f%%", 100 * worst_mds) << " (MDS); Coulomb pose variation " << format_number("%.2f%%", 100 * pose)
-           << " | "
+           << format_number("%.2f%%", 100 * c) << " (Coulomb) vs "
+           << format_number("%.2f%%", 100 * best_mds_noise) << "–" << format_number("%.2f%%", 100 * worst_mds)
+           << " (MDS); Coulomb pose variation " << format_number("%.2f%%", 100 * pose) << " | "
            << (c < 0.5 * best_mds_noise
                    ? (c < 0.5 * pose ? "holds" : "holds in part: less affected than MDS, but noticeable")
                : c < best_mds_noise ? "weakly: Coulomb is only somewhat less affected"
@@ -413,10 +407,10 @@ void claims(ReportText& t) {
     md << "| A Coulomb iteration is O(n log n) (FMM), a SMACOF iteration O(n²); Coulomb is much cheaper per "
           "iteration (Table 1) | at n = "
        << big.vertices << ": Coulomb " << format_number("%.3g s", big.coulomb_iteration) << ", SMACOF "
-       << format_number("%.3g s", big.mds_iteration) << " (" << format_number("%.0f", ratio) << "× more); growth from "
-       << mid.vertices << " to " << big.vertices << " vertices: n^" << format_number("%.2f", growth_c) << " vs n^"
-       << format_number("%.2f", growth_m) << " | " << (ratio > 1 && growth_c < growth_m ? "holds" : "does not hold")
-       << " |\n";
+       << format_number("%.3g s", big.mds_iteration) << " (" << format_number("%.0f", ratio)
+       << "× more); growth from " << mid.vertices << " to " << big.vertices << " vertices: n^"
+       << format_number("%.2f", growth_c) << " vs n^" << format_number("%.2f", growth_m) << " | "
+       << (ratio > 1 && growth_c < growth_m ? "holds" : "does not hold") << " |\n";
     md << "| Coulomb needs no all-pairs pre-computation (only edge lengths, O(n)) | pre-computation at n = "
        << big.vertices << ": " << format_number("%.3g s", big.coulomb_precompute) << " vs "
        << format_number("%.3g s", big.mds_precompute) << " for the geodesic matrix ("
@@ -438,9 +432,9 @@ void stage_times(ReportText& t) {
   const PaperReport& r = t.r;
   std::ostringstream& md = t.md;
   md << "\n## Time per stage\n\n| stage | seconds |\n| --- | --- |\n";
-  for (const auto& [stage, s] : r.stage_seconds) md << "| " << stage << " | " << format_number("%.1f", s) << " |\n";
+  for (const auto& [stage, s] : r.stage_seconds)
+    md << "| " << stage << " | " << format_number("%.1f", s) << " |\n";
   md << "| total | " << format_number("%.1f", r.summary.seconds) << " |\n";
-
 }
 }  // namespace
 

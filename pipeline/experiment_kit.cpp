@@ -17,14 +17,16 @@ ExperimentFolder::ExperimentFolder(std::string root) : root_(std::move(root)) {
   std::error_code ec;
   fs::create_directories(root_, ec);
   if (ec || !fs::is_directory(root_))
-    throw WriteError("cannot create the output folder " + root_ + ": " + (ec ? ec.message() : "not a folder"));
+    throw WriteError("cannot create the output folder " + root_ + ": " +
+                     (ec ? ec.message() : "not a folder"));
 }
 
 std::string ExperimentFolder::path(const std::string& relative) const {
   return (fs::path(root_) / relative).string();
 }
 
-void ExperimentFolder::write(const std::string& relative, const std::function<void(std::ostream&)>& write) const {
+void ExperimentFolder::write(const std::string& relative,
+                             const std::function<void(std::ostream&)>& write) const {
   write_file_atomically(path(relative), write);
 }
 
@@ -40,7 +42,9 @@ std::string ExperimentFolder::cache_directory(const std::string& name) const {
   return (fs::path(root_) / "cache" / name).string();
 }
 
-DiskCache ExperimentFolder::cache(const std::string& name) const { return DiskCache(cache_directory(name)); }
+DiskCache ExperimentFolder::cache(const std::string& name) const {
+  return DiskCache(cache_directory(name));
+}
 
 std::string format_number(const char* format, double value) {
   if (std::isnan(value)) return "—";

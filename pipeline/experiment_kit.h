@@ -1,13 +1,13 @@
-// The experiment kit: what every experiment driver (experiments/) is written with, so that a driver reads as a
-// page of library calls.
+// The experiment kit: what every experiment driver (experiments/) is written with, so that a driver reads as
+// a page of library calls.
 //
 //   ExperimentFolder  the output folder of a run: paths in it, atomic writes of text/JSON/CSV, its caches
 //   Notes             the progress and note channels a front end listens to (say(), progress())
 //   fixed, percent    numbers in reports, one wording for "not measured" ("—")
 //
 // With pipeline/canonical_forms.h (methods and their cached forms), pipeline/glued_meshes.h (the one glued-
-// mesh cache), pipeline/shape_failures.h (per-shape failures) and experiments/figures.h (drawing), this is all
-// an experiment needs besides its own measurement. Drivers follow one shape: `run_X(options) → XResult`
+// mesh cache), pipeline/shape_failures.h (per-shape failures) and experiments/figures.h (drawing), this is
+// all an experiment needs besides its own measurement. Drivers follow one shape: `run_X(options) → XResult`
 // returns data (and writes the data files a rerun or a figure needs), `write_X_report(result, folder)` writes
 // report.md from the result alone.
 #pragma once

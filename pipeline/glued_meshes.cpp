@@ -24,7 +24,8 @@ std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& o) {
   return cache_key({"glued-mesh-v1", mesh_content_key(mesh), k.str()});
 }
 
-GluedMesh cached_glued_mesh(const DiskCache& cache, const Mesh& mesh, const TopologicalNoiseOptions& options) {
+GluedMesh cached_glued_mesh(const DiskCache& cache, const Mesh& mesh,
+                            const TopologicalNoiseOptions& options) {
   const std::string key = glued_mesh_key(mesh, options);
   GluedMesh g;
   json value;

@@ -1,6 +1,6 @@
 // cshapes.experiment_paper: the paper's experiment (experiments/paper_experiment.h) from Python, with the
-// library's defaults, so a run from Python, from C++ and from `cshapes experiment paper` with the same options
-// writes the same files.
+// library's defaults, so a run from Python, from C++ and from `cshapes experiment paper` with the same
+// options writes the same files.
 #include <pybind11/stl.h>
 
 #include "experiments/paper_experiment.h"
@@ -27,7 +27,8 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   }
   CSHAPES_REQUIRE(poses_per_class >= 0, "experiment_paper(): poses_per_class: expected 0 (all) or more, got ",
                   poses_per_class);
-  CSHAPES_REQUIRE(noisy_per_class >= -1, "experiment_paper(): noisy_per_class: expected -1 (every pose), 0 or more, got ",
+  CSHAPES_REQUIRE(noisy_per_class >= -1,
+                  "experiment_paper(): noisy_per_class: expected -1 (every pose), 0 or more, got ",
                   noisy_per_class);
   o.poses_per_class = poses_per_class;
   o.noisy_per_class = noisy_per_class;

@@ -1,6 +1,6 @@
-// experiments/paper_figures.h without a run of the whole experiment: the data of Figures 2, 3 and 5 on a small
-// generated dataset (figure meshes, convergence.csv, the grids the plot script reads, the convergence rows of
-// the report), and its cache (a second call reads Figure 3's snapshots and Figure 5's forms back).
+// experiments/paper_figures.h without a run of the whole experiment: the data of Figures 2, 3 and 5 on a
+// small generated dataset (figure meshes, convergence.csv, the grids the plot script reads, the convergence
+// rows of the report), and its cache (a second call reads Figure 3's snapshots and Figure 5's forms back).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -64,7 +64,8 @@ TEST(PaperFigures, DataOfFigures2To5FromASmallDataset) {
   write_figure_data(o, again, misc, forms);
   EXPECT_EQ(misc.misses() + forms.misses(), misses_before);
   ASSERT_EQ(again.convergence.size(), 3u);
-  for (size_t k = 0; k < 3; ++k) EXPECT_EQ(again.convergence[k].final_energy, report.convergence[k].final_energy);
+  for (size_t k = 0; k < 3; ++k)
+    EXPECT_EQ(again.convergence[k].final_energy, report.convergence[k].final_energy);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds into build/, runs every test with CTest,
-# then the Python module's tests (pytest, tests/python) with the interpreter it was built for, then each mesh
+# then the Python module's tests (pytest, tests/python) with the interpreter it was built for, the documentation
+# site (mkdocs build --strict), then each mesh
 # reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with one
 # summary line "tests: N passed, N failed" (CTest tests, Python tests and fuzzers together).
 #   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 20, at most 30; 0 skips fuzzing)
@@ -41,6 +42,17 @@ else
   py_failed=1
 fi
 
+# The documentation site (mkdocs.yml, docs/): a page missing from the navigation, a broken link or image fails.
+docs_passed=0
+docs_failed=0
+if mkdocs build --strict -q -f "$root/mkdocs.yml" 2>&1 | tee "$log"; then
+  echo "docs: mkdocs build --strict passed (build/site)"
+  docs_passed=1
+else
+  echo "docs: mkdocs build --strict FAILED"
+  docs_failed=1
+fi
+
 fuzz_passed=0
 fuzz_failed=0
 if [[ -x tests/fuzz/run.sh ]]; then
@@ -51,7 +63,7 @@ if [[ -x tests/fuzz/run.sh ]]; then
   [[ $fuzz_status -ne 0 && $fuzz_failed -eq 0 ]] && fuzz_failed=1
 fi
 
-passed=$(( total - failed + py_passed + fuzz_passed ))
-failed=$(( failed + py_failed + fuzz_failed ))
+passed=$(( total - failed + py_passed + docs_passed + fuzz_passed ))
+failed=$(( failed + py_failed + docs_failed + fuzz_failed ))
 echo "tests: $passed passed, $failed failed"
 [[ $ctest_status -eq 0 && $failed -eq 0 ]]

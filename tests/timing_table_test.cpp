@@ -20,7 +20,8 @@ TEST(TimingTable, ARowHoldsEveryColumnMeasured) {
   EXPECT_EQ(row.shape, "sphere");
   EXPECT_EQ(row.vertices, mesh.num_vertices());
   EXPECT_TRUE(row.mds_measured);
-  for (double seconds : {row.mds_precompute, row.mds_iteration, row.coulomb_precompute, row.coulomb_iteration}) {
+  for (double seconds :
+       {row.mds_precompute, row.mds_iteration, row.coulomb_precompute, row.coulomb_iteration}) {
     EXPECT_TRUE(std::isfinite(seconds));
     EXPECT_GT(seconds, 0);
   }
