@@ -269,6 +269,18 @@ PointDistribution parse_point_distribution(const std::string& name) {
   fail("unknown point distribution '", name, "' (expected uniform, sphere or clustered)");
 }
 
+std::string to_string(PointDistribution distribution) {
+  switch (distribution) {
+    case PointDistribution::Uniform:
+      return "uniform";
+    case PointDistribution::Sphere:
+      return "sphere";
+    case PointDistribution::Clustered:
+      return "clustered";
+  }
+  return "?";
+}
+
 Points random_points(Index n, PointDistribution distribution, std::mt19937_64& rng) {
   CSHAPES_REQUIRE(n >= 0, "random_points: n must be >= 0, got ", n);
   Points X(n, 3);

@@ -92,6 +92,7 @@ DistanceMatrix swiss_roll_geodesic_distances(const SwissRollSample& sample);
 enum class PointDistribution { Uniform, Sphere, Clustered };
 // "uniform", "sphere", "clustered"; throws cshapes::Error naming the known ones otherwise.
 PointDistribution parse_point_distribution(const std::string& name);
+std::string to_string(PointDistribution distribution);  // the name parse_point_distribution takes
 // n points of the distribution, drawn from rng (which advances; the same rng state gives the same points).
 Points random_points(Index n, PointDistribution distribution, std::mt19937_64& rng);
 

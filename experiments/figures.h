@@ -1,4 +1,5 @@
-// Drawing the experiments' figures: the one place where cshapes starts Python.
+// Drawing the experiments' figures, and the one place where cshapes finds a Python interpreter and quotes
+// for the shell (the benchmarks' anchors use both: experiments/bench_support.h).
 //
 // The figure scripts (experiments/plots/*.py) are installed beside the binaries: build/share/cshapes/plots in
 // the build tree, PREFIX/share/cshapes/plots once installed. They are found from the binary that holds this

@@ -1,0 +1,139 @@
+#include "experiments/bench_coulomb.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+#include "canon/coulomb_energy.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/timing.h"
+
+namespace cshapes {
+
+namespace {
+
+// Median wall-clock seconds over the runs; cpu_seconds gets the median process CPU seconds.
+template <class F>
+double median_seconds(int repeats, F&& f, double& cpu_seconds) {
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < repeats; ++r) {
+    const Stopwatch stopwatch;
+    f();
+    wall.push_back(stopwatch.wall_seconds());
+    cpu.push_back(stopwatch.cpu_seconds());
+  }
+  cpu_seconds = median(cpu);
+  return median(wall);
+}
+
+}  // namespace
+
+CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
+  CSHAPES_REQUIRE(options.repeats >= 1, "bench coulomb: repeats must be >= 1, got ", options.repeats);
+  CoulombBenchResult result;
+  result.options = options;
+  std::mt19937_64 rng(options.seed);
+  Points X;
+  if (!options.mesh.empty()) {
+    const Mesh mesh = read_mesh(options.mesh);
+    if (options.n <= 0 || options.n == mesh.V.rows()) {
+      X = mesh.V;
+      result.distribution = "mesh-vertices:" + options.mesh;
+    } else {
+      CSHAPES_REQUIRE(mesh.F.rows() > 0, "bench coulomb: ", options.mesh,
+                      " has no faces to sample points on");
+      X = sample_surface(mesh, options.n, rng);
+      result.distribution = "mesh-surface:" + options.mesh;
+    }
+  } else {
+    CSHAPES_REQUIRE(options.n >= 2, "bench coulomb: --n must be at least 2 (or give --mesh)");
+    X = random_points(options.n, options.distribution, rng);
+    result.distribution = to_string(options.distribution);
+  }
+  const Index n = X.rows();
+  result.n = n;
+  result.threads = omp_get_max_threads();
+
+  CoulombFmmOptions fmm_options;
+  fmm_options.accuracy = options.accuracy;
+  fmm_options.order = options.order;
+  fmm_options.opening_angle = options.opening_angle;
+  fmm_options.leaf_size = options.leaf_size;
+  fmm_options.want_potentials = true;
+  CoulombEvaluation fast;
+  result.fast_seconds = median_seconds(
+      options.repeats, [&] { fast = coulomb_fmm(X, fmm_options, &result.stats); }, result.fast_cpu_seconds);
+
+  CoulombErrors errors;
+  if (n <= options.full_direct_max) {
+    CoulombEvaluation direct;
+    result.direct_seconds = median_seconds(
+        options.repeats, [&] { direct = coulomb_direct(X); }, result.direct_cpu_seconds);
+    result.direct_float_seconds = median_seconds(
+        options.repeats, [&] { coulomb_direct_float(X); }, result.direct_float_cpu_seconds);
+    result.direct_float_measured = true;
+    result.error_targets = n;
+    errors = coulomb_errors(fast, direct);
+  } else {
+    result.error_targets = std::min(options.sample, n);
+    std::vector<Index> all(n);
+    std::iota(all.begin(), all.end(), Index(0));
+    for (Index t = 0; t < result.error_targets; ++t)  // partial Fisher–Yates: distinct random targets
+      std::swap(all[t], all[t + std::uniform_int_distribution<Index>(0, n - 1 - t)(rng)]);
+    const std::vector<Index> targets(all.begin(), all.begin() + result.error_targets);
+    CoulombTargetSums exact;
+    const double sample_seconds = median_seconds(
+        1, [&] { exact = coulomb_direct_targets(X, targets); }, result.direct_cpu_seconds);
+    const double scale = double(n) / double(result.error_targets);
+    result.direct_seconds = sample_seconds * scale;
+    result.direct_cpu_seconds *= scale;
+    result.direct_extrapolated = true;
+    errors = coulomb_errors(fast, targets, exact);
+  }
+  result.gradient_rel_error = errors.gradient;
+  result.energy_rel_error = errors.energy;
+  return result;
+}
+
+nlohmann::json to_json(const CoulombBenchResult& r) {
+  const CoulombFmmStats& stats = r.stats;
+  nlohmann::json j = {{"n", r.n},
+                      {"distribution", r.distribution},
+                      {"direct_seconds", r.direct_seconds},
+                      {"direct_extrapolated", r.direct_extrapolated},
+                      {"fast_seconds", r.fast_seconds},
+                      {"direct_cpu_seconds", r.direct_cpu_seconds},
+                      {"fast_cpu_seconds", r.fast_cpu_seconds},
+                      {"speedup", r.speedup()},
+                      {"gradient_rel_error", r.gradient_rel_error},
+                      {"energy_rel_error", r.energy_rel_error},
+                      {"error_targets", r.error_targets},
+                      {"threads", r.threads},
+                      {"accuracy", r.options.accuracy},
+                      {"order", stats.order},
+                      {"opening_angle", stats.opening_angle},
+                      {"leaf_size", stats.leaf_size},
+                      {"repeats", r.options.repeats},
+                      {"cells", stats.cells},
+                      {"m2l_interactions", stats.m2l_interactions},
+                      {"p2p_interactions", stats.p2p_interactions},
+                      {"fast_phase_seconds",
+                       {{"tree", stats.seconds_tree},
+                        {"upward", stats.seconds_upward},
+                        {"traversal", stats.seconds_traversal},
+                        {"interactions", stats.seconds_interactions},
+                        {"m2l_thread_seconds", stats.seconds_m2l},
+                        {"p2p_thread_seconds", stats.seconds_p2p},
+                        {"downward", stats.seconds_downward}}}};
+  if (r.direct_float_measured) {
+    j["direct_float_seconds"] = r.direct_float_seconds;
+    j["direct_float_cpu_seconds"] = r.direct_float_cpu_seconds;
+    j["speedup_vs_direct_float"] = r.speedup_vs_direct_float();
+  }
+  return j;
+}
+
+}  // namespace cshapes
