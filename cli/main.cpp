@@ -325,7 +325,7 @@ void require_output_directory(const std::string& path) {
 ProgressFn progress_printer() {
   if (g_quiet) return {};
   // On a terminal: one line rewritten in place ("\r"), at most 4 times a second. Into a file or a pipe (a
-  // log): plain lines, one every 10 s and one when a stage ends, so a log holds no "\r" fragments.
+  // log): plain lines, when a stage starts, every 10 s and when it ends, so a log holds no "\r" fragments.
   const bool terminal = isatty(fileno(stderr)) != 0;
   struct State {
     WallClock::time_point start = WallClock::now(), last{};
@@ -334,14 +334,16 @@ ProgressFn progress_printer() {
   auto state = std::make_shared<State>();
   return [state, terminal](const std::string& stage, double done, double total) {
     auto now = WallClock::now();
+    bool first = false;
     if (stage != state->stage) {
       state->stage = stage;
       state->start = now;
       state->last = now;
+      first = true;
     }
     const bool finished = done >= total;
     const auto interval = terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(10000);
-    if (!finished && now - state->last < interval) return;
+    if (!finished && !first && now - state->last < interval) return;
     state->last = now;
     const double elapsed = std::chrono::duration<double>(now - state->start).count();
     const double fraction = total > 0 ? done / total : 1.0;
