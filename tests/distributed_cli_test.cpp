@@ -60,6 +60,7 @@ TEST(DistributedCli, DistmatOfTwoAndThreeRanksEqualsOneProcess) {
   std::string reference;
   for (int ranks : {0, 2, 3}) {
     const std::string out = dir + "/r" + std::to_string(ranks);
+    fs::create_directories(out);  // an output file's folder must exist
     const nlohmann::json j = run_json(ranks, "-q distmat '" + dir + "/data' -o '" + out + "/d.csv'");
     EXPECT_EQ(j["ranks"], std::max(ranks, 1));
     EXPECT_EQ(j["forms_computed"], 10);  // each form once, over all ranks
@@ -110,6 +111,8 @@ TEST(DistributedCli, TwoStageOfTwoRanksEqualsOneProcessAndReportsRecall) {
   const std::string data = "'" + dir + "/data'";
   run_json(0, "-q distmat " + data + " -o '" + dir + "/exact.csv'");
   const std::string two_stage = " --two-stage-k 3 --reference '" + dir + "/exact.csv'";
+  fs::create_directories(dir + "/a");  // an output file's folder must exist
+  fs::create_directories(dir + "/b");
   const nlohmann::json a = run_json(0, "-q distmat " + data + two_stage + " -o '" + dir + "/a/d.csv'");
   const nlohmann::json b = run_json(2, "-q distmat " + data + two_stage + " -o '" + dir + "/b/d.csv'");
   EXPECT_EQ(read_file(dir + "/a/d.csv"), read_file(dir + "/b/d.csv"));
