@@ -329,11 +329,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& o) {
   const auto start = WallClock::now();
   CSHAPES_REQUIRE(!o.out.empty(), "experiment noise: --out is required");
   CSHAPES_REQUIRE(!o.methods.empty(), "experiment noise: no method given");
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
-  }
+  require_canonical_form_methods(o.methods, "experiment noise");
   std::vector<int> levels = o.levels;
   std::sort(levels.begin(), levels.end());
   CSHAPES_REQUIRE(!levels.empty() && levels.front() >= 0, "experiment noise: levels must be ≥ 0");

@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -48,7 +48,7 @@ namespace cshapes {
 struct NoiseExperimentOptions {
   std::string data;  // folder of meshes or manifest.csv; shapes the data marks noisy are not used
   std::string out;   // output folder (its cache/ makes reruns resume)
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
   std::vector<int> levels = {0, 1, 2, 4, 8};  // glues per noisy version (distinct, ≥ 0; 0: the clean pose)
   std::uint64_t seed = 1;                     // base of every glue seed (glue_seed)
   int poses_per_class = 0;                    // clean poses per class; ≤ 0: all

@@ -50,10 +50,7 @@ void say(const PaperExperimentOptions& o, const std::string& line) {
 }
 
 std::string method_title(const std::string& method) {
-  return method == "coulomb"  ? "Coulomb"
-         : method == "cmds"   ? "classical MDS"
-         : method == "smacof" ? "SMACOF"
-                              : method;
+  return canonical_form_method_title(method);
 }
 
 void write_report(const PaperExperimentOptions& o, const PaperReport& r) {

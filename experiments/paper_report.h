@@ -67,7 +67,8 @@ struct PaperReport {
 // report.md.
 void write_report(const PaperExperimentOptions& o, const PaperReport& report);
 
-// Shared by the experiment's parts: one line on o.note (when set); a method's name as the paper writes it.
+// Shared by the experiment's parts: one line on o.note (when set); a method's name as the paper writes it
+// (its registered title, pipeline/canonical_form_methods.h).
 void say(const PaperExperimentOptions& o, const std::string& line);
 std::string method_title(const std::string& method);
 

@@ -269,11 +269,7 @@ std::string fixed(double v, int digits) {
 }  // namespace
 
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment pose: unknown method '", m, "'");
-  }
+  require_canonical_form_methods(o.methods, "experiment pose");
   auto say = [&](const std::string& line) {
     if (o.note) o.note(line);
   };

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -37,7 +37,7 @@ namespace cshapes {
 struct PoseInvarianceOptions {
   std::string data;  // TOSCA-style or TOPKIDS-style folder, or a shared-connectivity dataset (see above)
   std::string out;   // output folder (its cache/ makes reruns resume)
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
   // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.
   std::vector<std::string> shapes;
   int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
