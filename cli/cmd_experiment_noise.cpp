@@ -43,8 +43,7 @@ int run() {
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)
-  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };

@@ -32,8 +32,7 @@ int run() {
   const Communicator& comm = world_communicator();
   if (comm.is_root()) check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
-  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   if (comm.is_root()) {  // one voice: the other ranks work silently

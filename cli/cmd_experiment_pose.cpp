@@ -20,7 +20,6 @@ int run() {
   o.shapes = list_option("--shapes", args.shapes);
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper
   configure_canonical_form(o.canon);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = run_pose_invariance(o);

@@ -31,7 +31,6 @@ int run() {
   }
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README); --geodesics overrides
   configure_canonical_form(o.canon);
   o.figure = !args.no_figure;
   o.progress = progress_printer();

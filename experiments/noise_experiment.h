@@ -55,8 +55,8 @@ struct NoiseExperimentOptions {
   // Gluing: where a pose offers fewer admissible spots than K, widen the gap ×1.5 and lower the geodesic
   // ratio ×0.8 up to this many times (TopologicalNoiseOptions::relax_steps; `experiment paper` uses 3).
   int relax_steps = 3;
-  CanonicalFormOptions
-      canon;  // method options (canon.method is set per method; MDS geodesics: canon.geodesics)
+  // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   // Draw noise.png (experiments/plots/noise_figure.py, by experiments/figures.h) after the data is written.
   bool figure = true;
   ProgressFn progress;                           // stages "canonical forms", "distances"

@@ -43,7 +43,8 @@ struct PoseInvarianceOptions {
   int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
   int stress_sources = 16;   // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
   std::string label;         // a name for this run's configuration, written into every CSV row
-  CanonicalFormOptions canon;  // method options (the method field is set per method)
+  // Method options (the method field is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   std::function<void(const std::string&)> note;  // one line per shape and pair
 };
 

@@ -58,7 +58,8 @@ struct TopkidsExperimentOptions {
   // Every registered method by default; empty: the inputs alone.
   std::vector<std::string> methods = canonical_form_methods();
   int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
-  CanonicalFormOptions canon;  // method options (canon.method is set per method)
+  // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
   // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
   GeodesicOptions scoring_geodesics = [] {
