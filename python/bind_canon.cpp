@@ -261,6 +261,22 @@ distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact 
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
 Returns a CanonicalForm.)");
+  m.def(
+      "canonical_form_methods",
+      [] {
+        py::list methods;
+        for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+          py::dict d;
+          d["name"] = method.name;
+          d["title"] = method.title;
+          d["uses_geodesic_matrix"] = method.uses_geodesic_matrix;
+          methods.append(d);
+        }
+        return methods;
+      },
+      R"(The methods canonical_form() takes, in the library's order (pipeline/canonical_form_methods.h): a list
+of dicts {name, title, uses_geodesic_matrix}; name is what method= takes, title the method's name in figures
+and tables ('Coulomb', 'classical MDS', 'SMACOF').)");
   m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3,
         R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
 
