@@ -204,8 +204,7 @@ std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& t
                                        const IcpOptions& options);
 
 // Options as one canonical line ("icp;try_principal_axes=1;...": options_key, core/option_fields.h) for cache
-// keys: equal strings, equal results. The same text as before the options listed their fields, so the ICP
-// pair caches written then still hold.
+// keys: equal strings, equal results. The same text as the hand-written list it replaced.
 std::string to_key_string(const IcpOptions& options);
 
 }  // namespace cshapes
