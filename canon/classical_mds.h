@@ -22,6 +22,7 @@
 #pragma once
 
 #include "core/distance_matrix.h"
+#include "core/option_fields.h"
 #include "core/progress.h"
 #include "core/types.h"
 
@@ -36,6 +37,18 @@ struct ClassicalMdsOptions {
   bool most_negative_eigenvalue = true;
   Index dense_below = 200;  // fewer points: dense eigendecomposition of B (no products, no Lanczos)
   ProgressFn progress;      // stage "classical mds": called after each product B·v (total unknown: 0)
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: ClassicalMdsOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("lanczos_vectors", o.lanczos_vectors);
+    visit("tolerance", o.tolerance);
+    visit("max_restarts", o.max_restarts);
+    // Two more wanted eigenvalues: another Lanczos run, so other last bits of X.
+    visit("most_negative_eigenvalue", o.most_negative_eigenvalue);
+    visit("dense_below", o.dense_below);       // the dense and the Lanczos path differ in the last bits
+    visit("progress", o.progress, kNoEffect);  // reports, computes nothing
+  }
 };
 
 struct ClassicalMdsResult {

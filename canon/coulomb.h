@@ -21,6 +21,7 @@
 #include "canon/coulomb_energy.h"
 #include "canon/form_quality.h"
 #include "canon/metric_projection.h"
+#include "core/option_fields.h"
 #include "core/progress.h"
 #include "core/rigid_transform.h"
 
@@ -154,6 +155,31 @@ struct CoulombCanonOptions {
   // iterations' accuracy if that is smaller.
   double result_accuracy = 1e-3;
   ProgressFn progress;  // called with ("coulomb", iteration, max_iterations)
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombCanonOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("scheme", o.scheme);
+    visit("step_rule", o.step_rule);
+    visit("step_factor", o.step_factor);
+    visit("step_gradient", o.step_gradient);
+    visit("fixed_step", o.fixed_step);
+    visit("coulomb_steps", o.coulomb_steps);
+    visit("projection", o.projection);
+    visit("tear_fraction", o.tear_fraction);
+    visit("tear_after", o.tear_after);
+    visit("tear_times", o.tear_times);
+    visit("tear_interval", o.tear_interval);
+    visit("tear_guard", o.tear_guard);
+    visit("max_iterations", o.max_iterations);
+    visit("stop_window", o.stop_window);
+    visit("stop_tolerance", o.stop_tolerance);
+    visit("momentum", o.momentum);
+    visit("remove_rigid_motion", o.remove_rigid_motion);
+    visit("energy", o.energy);
+    visit("result_accuracy", o.result_accuracy);
+    visit("progress", o.progress, kNoEffect);  // reports, computes nothing
+  }
 };
 
 struct CoulombIterationRecord {

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_fields.h"
 #include "core/types.h"
 
 namespace cshapes {
@@ -41,6 +42,15 @@ struct CoulombOptions {
                            // (the energy's relative error is then ≈ 10× smaller); valid range 1e-2 … 3e-6
   double min_distance = 0;       // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
   bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("summation", o.summation);
+    visit("accuracy", o.accuracy);
+    visit("min_distance", o.min_distance);
+    visit("want_potentials", o.want_potentials);  // an output of its own; may take another summation path
+  }
 };
 
 // "auto", "direct", "direct-float", "fast" (the CLI's --coulomb-summation); throws listing them otherwise.

@@ -34,6 +34,7 @@
 #include <Eigen/Core>
 
 #include "core/mesh.h"
+#include "core/option_fields.h"
 
 namespace cshapes {
 
@@ -62,6 +63,15 @@ struct MetricProjectionOptions {
   // Dilation constant c ≥ 1 of eq. (3): 1 pulls every edge to d_ij; c > 1 pulls only edges outside
   // [d_ij/c, c·d_ij] to the nearer bound.
   double dilation = 1.0;
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: MetricProjectionOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("norm", o.norm);
+    visit("steps", o.steps);
+    visit("l1_floor", o.l1_floor);
+    visit("dilation", o.dilation);
+  }
 };
 
 // The mean and max of |r_ij − d_ij| / d_ij: what the Coulomb iteration records after every projection.

@@ -29,6 +29,7 @@
 // (tolerance 1e-6) in 59 iterations; RRE reaches the same stress in 18, MPE in 17 (K = 6).
 #pragma once
 
+#include "core/option_fields.h"
 #include "core/option_limits.h"
 
 #include <string>
@@ -68,6 +69,18 @@ struct SmacofOptions {
   int extrapolation_window = 6;    // Guttman steps combined per extrapolation (k in Rosman et al.), ≥ 1
   Eigen::VectorXd vertex_weights;  // n positive weights wᵢ (wᵢⱼ = wᵢwⱼ); empty: uniform
   ProgressFn progress;             // stage "smacof": (iterations done, max_iterations)
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: SmacofOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("max_iterations", o.max_iterations);
+    visit("tolerance", o.tolerance);
+    visit("target_stress", o.target_stress);
+    visit("acceleration", o.acceleration);
+    visit("extrapolation_window", o.extrapolation_window);
+    visit("vertex_weights", o.vertex_weights);  // by value: other weights of the same count, another form
+    visit("progress", o.progress, kNoEffect);   // reports, computes nothing
+  }
 };
 
 struct SmacofResult {

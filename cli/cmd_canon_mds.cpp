@@ -47,12 +47,12 @@ void configure_smacof(CanonicalFormOptions& o, bool single_mesh) {
   o.smacof.tolerance = args.tolerance;
   o.smacof.acceleration = parse_smacof_acceleration(args.accelerate);
   o.smacof.extrapolation_window = args.window;
-  o.smacof_init = args.init;
-  o.smacof_weights = args.weights;
-  if (args.init != "cmds" && !single_mesh)
+  o.smacof_init = parse_smacof_init(args.init);
+  o.smacof_weights = parse_smacof_weights(args.weights);
+  if (o.smacof_init != SmacofInit::ClassicalMds && !single_mesh)
     usage_fail("--init ", args.init,
                ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
-  if (args.weights != "uniform" && !single_mesh)
+  if (o.smacof_weights != SmacofWeights::Uniform && !single_mesh)
     usage_fail("--weights ", args.weights,
                ": only `cshapes canon` weights SMACOF by vertex areas; here weights are uniform");
 }
@@ -87,7 +87,7 @@ const bool smacof_registered = register_canon_method(
            ->check(within(smacof_limits::kTolerance));
        g.add_option("--init", args.init, "smacof: initial configuration: cmds (classical MDS) or mesh")
            ->capture_default_str()
-           ->check(one_of({"cmds", "mesh"}));
+           ->check(one_of(smacof_init_names()));
        g.add_option("--accelerate", args.accelerate, "smacof: vector extrapolation: none, rre or mpe")
            ->capture_default_str()
            ->check(one_of({"none", "rre", "mpe"}));
@@ -97,7 +97,7 @@ const bool smacof_registered = register_canon_method(
        g.add_option("--weights", args.weights,
                     "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
            ->capture_default_str()
-           ->check(one_of({"uniform", "area"}));
+           ->check(one_of(smacof_weights_names()));
      },
      configure_smacof,
      {},

@@ -8,6 +8,7 @@
 
 #include "eval/distance_csv.h"
 #include "cli/command.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/dataset_distances.h"
 #include "pipeline/distributed.h"
 
@@ -90,9 +91,9 @@ const bool registered = register_command(
            ->required();
        app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
        app.add_option("--method", args.method,
-                      "coulomb, cmds or smacof (options: the groups below, as in canon)")
+                      "one of " + canonical_form_method_list() + " (options: the groups below, as in canon)")
            ->capture_default_str()
-           ->check(one_of({"coulomb", "cmds", "smacof"}));
+           ->check(one_of(canonical_form_methods()));
        app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")
            ->capture_default_str()
            ->check(one_of({"hausdorff", "chamfer", "rmse"}));

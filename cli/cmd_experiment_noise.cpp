@@ -15,7 +15,7 @@ namespace {
 
 struct NoiseArgs {
   NoiseExperimentOptions options;
-  std::string methods = "coulomb,cmds,smacof";
+  std::string methods;  // add_methods_option: every registered method
   std::string levels = "0,1,2,4,8";
   std::string poses = "all";
   bool no_figure = false, json = false;
@@ -23,11 +23,7 @@ struct NoiseArgs {
 
 int run() {
   NoiseExperimentOptions o = args.options;
-  o.methods = list_option("--methods", args.methods);
-  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
-  for (const std::string& m : o.methods)
-    if (m != "coulomb" && m != "cmds" && m != "smacof")
-      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.methods = methods_option(args.methods);
   o.levels.clear();
   std::set<int> seen;
   for (const std::string& item : list_option("--levels", args.levels)) {
@@ -47,8 +43,7 @@ int run() {
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README: ours, ~1% from exact)
-  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
@@ -99,8 +94,7 @@ const bool registered = register_command(
                       "folder of meshes (class = name without trailing digits) or manifest.csv")
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
-           ->capture_default_str();
+       add_methods_option(app, args.methods);
        app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
            ->capture_default_str();
        app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")

@@ -15,7 +15,7 @@ namespace {
 
 struct PaperArgs {
   PaperExperimentOptions options;
-  std::string methods = "coulomb,cmds,smacof";
+  std::string methods;  // add_methods_option: every registered method
   std::string poses = "4";
   std::string noisy = "1";
   bool no_table1 = false, no_figures = false, json = false;
@@ -23,11 +23,7 @@ struct PaperArgs {
 
 int run() {
   PaperExperimentOptions o = args.options;
-  o.methods = list_option("--methods", args.methods);
-  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
-  for (const std::string& m : o.methods)
-    if (m != "coulomb" && m != "cmds" && m != "smacof")
-      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.methods = methods_option(args.methods);
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   o.noisy_per_class = integer_or_word("--noisy-per-class", args.noisy, 0, 1000, "all",
                                       PaperExperimentOptions::kNoisyEveryPose);
@@ -36,8 +32,7 @@ int run() {
   const Communicator& comm = world_communicator();
   if (comm.is_root()) check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
-  configure_canonical_form(o.canon);                // every method option given, as in `cshapes canon`
+  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   if (comm.is_root()) {  // one voice: the other ranks work silently
@@ -77,8 +72,7 @@ const bool registered = register_command(
                       "folder of meshes (class = name without trailing digits) or manifest.csv")
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
-           ->capture_default_str();
+       add_methods_option(app, args.methods);
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
            ->capture_default_str();
        app.add_option(

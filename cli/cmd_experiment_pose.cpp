@@ -10,21 +10,16 @@ namespace {
 
 struct PoseArgs {
   PoseInvarianceOptions options;
-  std::string methods = "coulomb,cmds,smacof";
+  std::string methods;  // add_methods_option: every registered method
   std::string shapes;
 } args;
 
 int run() {
   PoseInvarianceOptions o = args.options;
-  o.methods = list_option("--methods", args.methods);
-  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
-  for (const std::string& m : o.methods)
-    if (m != "coulomb" && m != "cmds" && m != "smacof")
-      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.methods = methods_option(args.methods);
   o.shapes = list_option("--shapes", args.shapes);
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as experiment paper
   configure_canonical_form(o.canon);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
@@ -46,8 +41,7 @@ const bool registered = register_command(
               "clean poses of a class share their faces (vertex i against vertex i)")
            ->required();
        app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
-           ->capture_default_str();
+       add_methods_option(app, args.methods);
        app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
        app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")
            ->capture_default_str()

@@ -14,7 +14,7 @@ namespace {
 
 struct TopkidsArgs {
   TopkidsExperimentOptions options;
-  std::string methods = "coulomb,cmds,smacof";
+  std::string methods;  // add_methods_option: every registered method
   std::string poses;  // empty: all
   std::string scoring_geodesics = "fmm";
   bool no_figure = false, json = false;
@@ -22,11 +22,7 @@ struct TopkidsArgs {
 
 int run() {
   TopkidsExperimentOptions o = args.options;
-  o.methods = list_option("--methods", args.methods);
-  if (o.methods.empty()) usage_fail("--methods: give at least one of coulomb, cmds, smacof");
-  for (const std::string& m : o.methods)
-    if (m != "coulomb" && m != "cmds" && m != "smacof")
-      usage_fail("--methods: expected coulomb, cmds or smacof, got '", m, "'");
+  o.methods = methods_option(args.methods);
   o.poses = list_option("--poses", args.poses);
   try {
     o.scoring_geodesics.method = parse_geodesic_method(args.scoring_geodesics);
@@ -35,7 +31,6 @@ int run() {
   }
   check_canon_method_options(o.methods);
   require_output_directory(o.out);
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // as `experiment paper` (README); --geodesics overrides
   configure_canonical_form(o.canon);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
@@ -83,8 +78,7 @@ const bool registered = register_command(
        app.add_option(
            "--poses", args.poses,
            "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
-       app.add_option("--methods", args.methods, "comma-separated: coulomb, cmds, smacof")
-           ->capture_default_str();
+       add_methods_option(app, args.methods);
        app.add_option("--samples", o.samples,
                       "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)")
            ->capture_default_str()

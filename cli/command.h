@@ -62,6 +62,12 @@ void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = 
 void check_canon_method_options(const std::vector<std::string>& methods);
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
+// The experiments' --methods: canonical-form methods (pipeline/canonical_form_methods.h), comma-separated;
+// every registered one by default ("coulomb,cmds,smacof"). The help and the default come from the registry.
+void add_methods_option(CLI::App& app, std::string& methods);
+// --methods' value: each item a registered method, at least one; UsageError naming an unknown one and the
+// known ones otherwise.
+std::vector<std::string> methods_option(const std::string& text);
 
 // Exit codes of every command (README, "The CLI"): every failure prints one line
 // "cshapes <command>: error: <what>" on stderr.

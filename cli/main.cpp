@@ -26,6 +26,7 @@
 #include "core/timing.h"
 #include "eval/cache.h"
 #include "cli/command.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/distributed.h"
 
 namespace cshapes::cli {
@@ -95,6 +96,23 @@ void check_canon_method_options(const std::vector<std::string>& methods) {
                  ") is one");
     }
   }
+}
+
+void add_methods_option(CLI::App& app, std::string& methods) {
+  methods = canonical_form_method_list(",");
+  app.add_option("--methods", methods, "comma-separated: " + canonical_form_method_list())
+      ->capture_default_str();
+}
+
+std::vector<std::string> methods_option(const std::string& text) {
+  const std::vector<std::string> methods = list_option("--methods", text);
+  if (methods.empty()) usage_fail("--methods: give at least one of ", canonical_form_method_list());
+  try {
+    require_canonical_form_methods(methods, "--methods");
+  } catch (const Error& error) {
+    throw UsageError(error.what());
+  }
+  return methods;
 }
 
 void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {

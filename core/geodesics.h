@@ -31,6 +31,7 @@
 #include "core/distance_matrix.h"
 #include "core/geodesics_cgal.h"
 #include "core/mesh.h"
+#include "core/option_fields.h"
 #include "core/progress.h"
 
 namespace cshapes {
@@ -53,6 +54,15 @@ struct GeodesicOptions {
       CgalHeatMode::IntrinsicDelaunay;  // heat and heat-cgal: Direct or IntrinsicDelaunay
   double heat_time_factor = 1.0;        // heat (ours): t = factor · h²
   ProgressFn progress;                  // all-pairs only: called as sources finish
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: GeodesicOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("method", o.method);
+    visit("heat_mode", o.heat_mode);
+    visit("heat_time_factor", o.heat_time_factor);
+    visit("progress", o.progress, kNoEffect);  // reports, computes nothing
+  }
 };
 
 // Why `method` refuses `mesh` up front, "" when it accepts it. Only CGAL's methods refuse a mesh, one with a

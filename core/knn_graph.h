@@ -3,6 +3,7 @@
 // clouds too (the paper's "future work").
 #pragma once
 
+#include "core/option_fields.h"
 #include "core/option_limits.h"
 
 #include "core/types.h"
@@ -15,6 +16,12 @@ inline constexpr Limit kKnnLimit = integer_limit("knn", 1, 1000);
 struct KnnGraphOptions {
   int k =
       8;  // neighbours per point (other points; a duplicate of a point counts as a neighbour at distance 0)
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: KnnGraphOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("k", o.k);
+  }
 };
 
 // Edges (i, j), i < j, sorted lexicographically and unique, with no self edges, joining every point to its k

@@ -26,6 +26,7 @@
 
 #include "core/geodesics.h"
 #include "core/mesh.h"
+#include "core/option_fields.h"
 #include "core/option_limits.h"
 
 namespace cshapes {
@@ -67,6 +68,23 @@ struct TopologicalNoiseOptions {
   // Where the shape offers fewer than K admissible pairs: retry up to this many times, each time widening the
   // gap ×1.5 and lowering min_ratio ×0.8 (not below 2). The result's max_gap and min_ratio say what was used.
   int relax_steps = 0;
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: TopologicalNoiseOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("glue_count", o.glue_count);
+    visit("seed", o.seed);
+    visit("max_gap", o.max_gap);
+    visit("gap_edge_lengths", o.gap_edge_lengths);
+    visit("min_ratio", o.min_ratio);
+    visit("min_geodesic_fraction", o.min_geodesic_fraction);
+    visit("min_separation_fraction", o.min_separation_fraction);
+    visit("min_facing", o.min_facing);
+    visit("landmarks", o.landmarks);
+    visit("max_checks", o.max_checks);
+    visit("geodesic", o.geodesic);
+    visit("relax_steps", o.relax_steps);
+  }
 };
 
 struct GluedPair {

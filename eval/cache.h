@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/sha256.h"
 
 namespace cshapes {
 
@@ -42,10 +43,7 @@ Faces faces_from_json(const nlohmann::json& j);  // throws on a malformed value
 nlohmann::json mesh_to_json(const Mesh& mesh);   // {"V": [...], "F": [...]}
 Mesh mesh_from_json(const nlohmann::json& j);    // throws on a malformed value
 
-// SHA-256 (FIPS 180-4) of `bytes`, as 64 lowercase hex digits.
-std::string sha256_hex(const std::string& bytes);
-// SHA-256 of a file's content; throws naming the file when it cannot be read.
-std::string file_content_hash(const std::string& path);
+// sha256_hex and file_content_hash: core/sha256.h.
 // A key from several parts, each length-prefixed so that ("ab", "c") and ("a", "bc") differ.
 std::string cache_key(const std::vector<std::string>& parts);
 

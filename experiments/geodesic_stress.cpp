@@ -132,7 +132,7 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
   }
 
   if (options.canon) {
-    for (const char* method : {"coulomb", "cmds", "smacof"}) {
+    for (const std::string& method : canonical_form_methods()) {
       StressOutcome o;
       o.what = method;
       o.ran = mesh.num_vertices() <= options.canon_max_vertices;

@@ -531,11 +531,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
   const auto start = WallClock::now();
   CSHAPES_REQUIRE(!options.out.empty(), "experiment noise: --out is required");
   CSHAPES_REQUIRE(!options.methods.empty(), "experiment noise: no method given");
-  for (const std::string& m : options.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment noise: unknown method '", m, "'; known: coulomb, cmds, smacof");
-  }
+  require_canonical_form_methods(options.methods, "experiment noise");
   NoiseExperimentOptions o = options;
   std::sort(o.levels.begin(), o.levels.end());
   CSHAPES_REQUIRE(!o.levels.empty() && o.levels.front() >= 0, "experiment noise: levels must be ≥ 0");

@@ -42,7 +42,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -50,15 +50,15 @@ namespace cshapes {
 struct NoiseExperimentOptions {
   std::string data;  // folder of meshes or manifest.csv; shapes the data marks noisy are not used
   std::string out;   // output folder (its cache/ makes reruns resume)
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
   std::vector<int> levels = {0, 1, 2, 4, 8};  // glues per noisy version (distinct, ≥ 0; 0: the clean pose)
   std::uint64_t seed = 1;                     // base of every glue seed (glue_seed)
   int poses_per_class = 0;                    // clean poses per class; ≤ 0: all
   // Gluing: where a pose offers fewer admissible spots than K, widen the gap ×1.5 and lower the geodesic
   // ratio ×0.8 up to this many times (TopologicalNoiseOptions::relax_steps; `experiment paper` uses 3).
   int relax_steps = 3;
-  CanonicalFormOptions
-      canon;  // method options (canon.method is set per method; MDS geodesics: canon.geodesics)
+  // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   // Draw noise.png (experiments/plots/noise_figure.py, by experiments/figures.h) after the data is written.
   bool figure = true;
   ProgressFn progress;                           // stages "canonical forms", "distances"

@@ -778,11 +778,7 @@ void retrieval_set(ExperimentRun& run) {
 PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   const auto start = WallClock::now();
   CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(), "experiment: unknown method '",
-                    m, "'; known: coulomb, cmds, smacof");
-  }
+  require_canonical_form_methods(o.methods, "experiment");
   ExperimentFolder folder(o.out);
   ExperimentRun run(o);
   PaperExperimentSummary& summary = run.summary;

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "core/communicator.h"
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -32,7 +32,7 @@ namespace cshapes {
 struct PaperExperimentOptions {
   std::string data;  // folder of meshes or manifest.csv
   std::string out;   // output folder
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
   int poses_per_class = 4;  // clean poses per class in the retrieval set (the paper's 4); ≤ 0: all
   // Topologically noisy shapes per class (the paper's 1): the data's noisy shapes first, then shapes glued
   // here from the poses not in the retrieval set, then from the retrieval poses. kNoisyEveryPose: every noisy
@@ -45,7 +45,8 @@ struct PaperExperimentOptions {
   // Meshes are repaired per method (pipeline/canonical_forms.h), the largest component kept by default;
   // canon.strict refuses a mesh that needs repair. Kept for old scripts: has no effect.
   bool largest_component = false;
-  CanonicalFormOptions canon;  // method options (geodesics for MDS: canon.geodesics)
+  // Method options (geodesics for MDS: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   bool table1 = true;          // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
   int timing_repeats = 5;      // Table 1: runs per median
   bool figures = true;         // compute the data of Figures 2, 3, 4, 5

@@ -42,10 +42,7 @@ std::string retrieval_verdict(double c, double b) {
 }  // namespace
 
 std::string method_title(const std::string& method) {
-  return method == "coulomb"  ? "Coulomb"
-         : method == "cmds"   ? "classical MDS"
-         : method == "smacof" ? "SMACOF"
-                              : method;
+  return canonical_form_method_title(method);
 }
 
 namespace {

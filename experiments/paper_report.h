@@ -67,7 +67,7 @@ struct PaperReport {
 // report.md in folder, from the report alone (each claim of the paper beside what was measured).
 void write_paper_report(const PaperReport& report, const std::string& folder);
 
-// A method's name as the paper writes it.
+// A method's name as the paper writes it (its registered title, pipeline/canonical_form_methods.h).
 std::string method_title(const std::string& method);
 
 }  // namespace cshapes

@@ -265,11 +265,7 @@ std::vector<std::string> forms_of_run(const PoseInvarianceOptions& o) {
 }
 
 void check_methods(const PoseInvarianceOptions& o) {
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment pose: unknown method '", m, "'");
-  }
+  require_canonical_form_methods(o.methods, "experiment pose");
 }
 
 // The points of every form of every shape: X[form][shape index] (empty for a shape left out).

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -38,13 +38,14 @@ namespace cshapes {
 struct PoseInvarianceOptions {
   std::string data;  // TOSCA-style or TOPKIDS-style folder, or a shared-connectivity dataset (see above)
   std::string out;   // output folder (its cache/ makes reruns resume)
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
   // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.
   std::vector<std::string> shapes;
   int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
   int stress_sources = 16;   // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
   std::string label;         // a name for this run's configuration, written into every CSV row
-  CanonicalFormOptions canon;  // method options (the method field is set per method)
+  // Method options (the method field is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   std::function<void(const std::string&)> note;  // one line per shape and pair
 };
 

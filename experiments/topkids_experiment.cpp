@@ -94,11 +94,7 @@ struct TopkidsInputs {
 };
 
 void check_options(const TopkidsExperimentOptions& o) {
-  for (const std::string& m : o.methods) {
-    const auto& known = canonical_form_methods();
-    CSHAPES_REQUIRE(std::find(known.begin(), known.end(), m) != known.end(),
-                    "experiment topkids: unknown method '", m, "'");
-  }
+  require_canonical_form_methods(o.methods, "experiment topkids");
   CSHAPES_REQUIRE(o.max_threshold > 0.25 && o.curve_points >= 2,
                   "experiment topkids: the curve must reach past 0.25 with at least 2 points");
 }
@@ -559,11 +555,8 @@ void draw_topkids_figure(TopkidsExperimentResult& r, const TopkidsExperimentOpti
 namespace {
 
 std::string label(const std::string& m) {
-  if (m == "coulomb") return "Coulomb";
-  if (m == "cmds") return "classical MDS";
-  if (m == "smacof") return "SMACOF";
   if (m == kInputs) return "inputs (no canonical form)";
-  return m;
+  return canonical_form_method_title(m);
 }
 
 // The data, the alignment and the error protocol.

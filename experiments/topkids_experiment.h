@@ -50,7 +50,7 @@
 #include "core/geodesics.h"
 #include "core/progress.h"
 #include "matching/icp.h"
-#include "pipeline/canonical_forms.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -60,9 +60,11 @@ struct TopkidsExperimentOptions {
   std::string out;                  // output folder; out/cache makes reruns resume
   std::string reference = "kid00";  // file stem of the reference pose
   std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
-  std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};  // empty: the inputs alone
+  // Every registered method by default; empty: the inputs alone.
+  std::vector<std::string> methods = canonical_form_methods();
   int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
-  CanonicalFormOptions canon;  // method options (canon.method is set per method)
+  // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
   // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
   GeodesicOptions scoring_geodesics = [] {

@@ -8,7 +8,6 @@
 #include <exception>
 #include <numeric>
 #include <random>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/morton.h"
@@ -458,18 +457,7 @@ IcpResult icp(const Points& source, const Points& target, const IcpOptions& opti
 }
 
 std::string to_key_string(const IcpOptions& o) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "icp;try_principal_axes=" << o.try_principal_axes << ";allow_reflections=" << o.allow_reflections
-      << ";try_axis_swaps=" << o.try_axis_swaps << ";try_identity=" << o.try_identity << ";pyramid=";
-  for (Index m : o.pyramid) out << m << ',';
-  out << ";screening_iterations=" << o.screening_iterations << ";finalists=" << o.finalists
-      << ";seed=" << o.seed << ";refine_on_all_points=" << o.refine_on_all_points
-      << ";max_iterations=" << o.max_iterations << ";relative_tolerance=" << o.relative_tolerance
-      << ";absolute_tolerance=" << o.absolute_tolerance << ";symmetric=" << o.symmetric
-      << ";trim_fraction=" << o.trim_fraction
-      << ";max_correspondence_distance=" << o.max_correspondence_distance;
-  return out.str();
+  return "icp;" + options_key(o);
 }
 
 }  // namespace cshapes

@@ -44,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_fields.h"
 #include "core/rigid_transform.h"
 #include "core/types.h"
 #include "matching/nearest_neighbors.h"
@@ -93,6 +94,29 @@ struct IcpOptions {
   // Run the starts on OpenMP threads (never inside a parallel region). Off by default: one alignment takes
   // ~12 ms, and on a loaded machine waiting threads cost more than they save; parallelise over pairs instead.
   bool parallel = false;
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: IcpOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("try_principal_axes", o.try_principal_axes);
+    visit("allow_reflections", o.allow_reflections);
+    visit("try_axis_swaps", o.try_axis_swaps);
+    visit("try_identity", o.try_identity);
+    visit("pyramid", o.pyramid);
+    visit("screening_iterations", o.screening_iterations);
+    visit("finalists", o.finalists);
+    visit("seed", o.seed);
+    visit("refine_on_all_points", o.refine_on_all_points);
+    visit("max_iterations", o.max_iterations);
+    visit("relative_tolerance", o.relative_tolerance);
+    visit("absolute_tolerance", o.absolute_tolerance);
+    visit("symmetric", o.symmetric);
+    visit("trim_fraction", o.trim_fraction);
+    visit("max_correspondence_distance", o.max_correspondence_distance);
+    // Each start is iterated on its own and the winner chosen in a fixed order (rmse, then index): the same
+    // result on one thread or many.
+    visit("parallel", o.parallel, kNoEffect);
+  }
 };
 
 // A point set prepared for ICP: centroid, principal axes, a KD-tree, and nested random subsamples of the
@@ -179,7 +203,8 @@ IcpResult icp(const Points& source, const Points& target, const IcpOptions& opti
 std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& target,
                                        const IcpOptions& options);
 
-// Options as one canonical line ("allow_reflections=1;...") for cache keys: equal strings, equal results.
+// Options as one canonical line ("icp;try_principal_axes=1;...": options_key, core/option_fields.h) for cache
+// keys: equal strings, equal results. The same text as the hand-written list it replaced.
 std::string to_key_string(const IcpOptions& options);
 
 }  // namespace cshapes

@@ -1,33 +1,26 @@
 #include "pipeline/canonical_forms.h"
 
-#include <cmath>
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 #include <typeinfo>
 
 #include "core/error.h"
-#include "core/heat_method.h"
 #include "core/timing.h"
-#include "pipeline/form_quality_json.h"
+#include "pipeline/canonical_form_methods.h"
 
 namespace cshapes {
 
-namespace {
-
-// The edges standing in for the mesh's: its triangle edges, or a kNN graph for a point cloud.
 Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn) {
   return mesh.is_point_cloud() ? knn_graph(mesh.V, knn) : mesh_edges(mesh.F);
 }
 
+namespace {
+
 std::function<void(GeodesicMethod, const std::string&)>& geodesics_test_hook() {
   static std::function<void(GeodesicMethod, const std::string&)> hook;
   return hook;
-}
-
-void say(const CanonicalFormOptions& options, const std::string& line) {
-  if (options.note) options.note(line);
 }
 
 // The methods a failing geodesic method falls back to, in order: the heat methods to fast marching.
@@ -74,8 +67,10 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
   }
 }
 
-DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& options,
-                               std::string* fallback = nullptr) {
+}  // namespace
+
+DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                        std::string* fallback) {
   if (!mesh.is_point_cloud()) return surface_geodesics(mesh, options, fallback);
   // A point cloud has no surface: graph distances on its kNN graph (as Isomap does).
   Edges E = knn_graph(mesh.V, options.knn);
@@ -93,169 +88,7 @@ DistanceMatrix geodesic_matrix(const Mesh& mesh, const CanonicalFormOptions& opt
   return D;
 }
 
-CanonicalForm coulomb_form(const Mesh& mesh, const CanonicalFormOptions& options) {
-  auto start = WallClock::now();
-  const Edges E = constraint_edges(mesh, options.knn);
-  if (mesh.is_point_cloud()) {
-    // A point cloud's kNN graph stands in for the mesh's edges; its parts would drift apart if it fell apart.
-    const Components components = connected_components(mesh.num_vertices(), E);
-    CSHAPES_REQUIRE(components.count == 1, options.name, ": the ", options.knn.k,
-                    "-nearest-neighbour graph has ", components.count,
-                    " components; its parts would drift apart: raise --knn");
-    say(options, options.name + ": point cloud, " + std::to_string(E.rows()) +
-                     " kNN edges (k = " + std::to_string(options.knn.k) + ")");
-  }
-  CanonicalForm form;
-  form.precompute_seconds = seconds_since(start);
-  CoulombCanonOptions co = options.coulomb;
-  if (!co.progress) co.progress = options.progress;
-  CoulombCanonResult r = coulomb_canonical_form(mesh.V, E, co);
-  form.X = r.X;
-  form.torn = r.torn_vertices;
-  form.iterations = r.iterations;
-  form.solve_seconds = r.seconds;
-  form.seconds_per_iteration = r.iterations ? r.seconds / r.iterations : 0;
-  form.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
-                          "max_move",  "torn_edges", "shape_change",   "momentum",      "seconds"};
-  for (const CoulombIterationRecord& h : r.history)
-    form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
-                                 h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
-  form.summary_json = nlohmann::json{{"vertices", mesh.num_vertices()},
-                                     {"edges", E.rows()},
-                                     {"torn_edges", r.torn_edges.rows()},
-                                     {"iterations", r.iterations},
-                                     {"converged", r.converged},
-                                     {"stop_reason", r.stop_reason},
-                                     {"energy", r.energy},
-                                     {"mean_violation", r.violation.mean_relative},
-                                     {"max_violation", r.violation.max_relative},
-                                     {"median_length_ratio", r.violation.median_length_ratio},
-                                     {"seconds", r.seconds},
-                                     {"scheme", to_string(co.scheme)},
-                                     {"step_rule", to_string(co.step_rule)},
-                                     {"step_gradient", to_string(co.step_gradient)},
-                                     {"projection", to_string(co.projection.norm)},
-                                     {"projection_steps", co.projection.steps},
-                                     {"form_quality", form_quality_json(r.quality)}}
-                          .dump();
-  say(options, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
-                   std::to_string(r.seconds) + " s; mean violation " +
-                   std::to_string(r.violation.mean_relative) + ", " + std::to_string(r.torn_edges.rows()) +
-                   " edges torn");
-  say(options, "coulomb: form quality " + r.quality.description);
-  return form;
-}
-
-nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
-  return {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
-          {"most_negative_eigenvalue", std::isfinite(r.most_negative_eigenvalue)
-                                           ? nlohmann::json(r.most_negative_eigenvalue)
-                                           : nlohmann::json(nullptr)},
-          {"trace", r.trace},
-          {"frobenius_squared", r.frobenius_squared},
-          {"explained_energy", r.explained_energy},
-          {"negative_mass_lower_bound", r.negative_mass_lower_bound},
-          {"negative_energy_upper_bound", r.negative_energy_upper_bound},
-          {"matrix_products", r.matrix_products},
-          {"seconds", r.seconds}};
-}
-
-// SMACOF's result as a form's X, iterations and history.
-void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
-  form.X = sr.X;
-  form.iterations = sr.iterations;
-  form.seconds_per_iteration = sr.seconds_per_iteration;
-  form.history_columns = {"iteration", "passes", "normalized_stress", "extrapolated"};
-  form.history_rows.clear();
-  for (size_t k = 0; k < sr.stress_history.size(); ++k)
-    form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
-                                 sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
-}
-
-nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
-  return {{"normalized_stress", sr.normalized_stress},
-          {"initial_normalized_stress",
-           sr.stress_history.empty() ? sr.normalized_stress : sr.stress_history.front()},
-          {"iterations", sr.iterations},
-          {"stop_reason", sr.stop_reason},
-          {"acceleration", to_string(so.acceleration)},
-          {"extrapolations_accepted", sr.extrapolations_accepted},
-          {"extrapolations_rejected", sr.extrapolations_rejected},
-          {"seconds", sr.seconds},
-          {"seconds_per_iteration", sr.seconds_per_iteration}};
-}
-
-ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
-  ClassicalMdsResult r = classical_mds(D, options.cmds);
-  say(options, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
-                   std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
-                   "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
-                   "% of the spectrum's energy; most negative " + "eigenvalue " +
-                   std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) + " s");
-  return r;
-}
-
-CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* given,
-                       double given_seconds, const std::string& given_fallback) {
-  CanonicalForm form;
-  form.precompute_seconds = given_seconds;
-  form.geodesics_fallback = given ? given_fallback : "";
-  DistanceMatrix computed;
-  if (!given) {
-    auto start = WallClock::now();
-    computed = geodesic_matrix(mesh, options, &form.geodesics_fallback);
-    form.precompute_seconds = seconds_since(start);
-    given = &computed;
-  }
-  CSHAPES_REQUIRE(given->rows() == mesh.num_vertices(), "MDS: distance matrix has ", given->rows(),
-                  " rows for a mesh of ", mesh.num_vertices(), " vertices");
-  auto start = WallClock::now();
-  nlohmann::json summary = nlohmann::json::object();
-  if (!form.geodesics_fallback.empty()) summary["geodesics_fallback"] = form.geodesics_fallback;
-  if (form.geodesics_fallback.empty() && (options.geodesics.method == GeodesicMethod::Heat ||
-                                          options.geodesics.method == GeodesicMethod::HeatCgal)) {
-    const std::string warning = heat_method_warning(mesh);
-    if (!warning.empty()) {
-      summary["warning"] = warning;
-      say(options, "warning: " + warning);
-    }
-  }
-  const Edges E = constraint_edges(mesh, options.knn);
-  Points X0;
-  if (options.method == "cmds" || options.smacof_init == "cmds") {
-    ClassicalMdsResult cm = run_classical_mds(*given, options);
-    summary["classical_mds"] = cmds_summary(cm);
-    X0 = std::move(cm.X);
-  } else {
-    CSHAPES_REQUIRE(options.smacof_init == "mesh", "smacof: unknown start '", options.smacof_init,
-                    "'; known: cmds, mesh");
-    X0 = mesh.V;
-  }
-  if (options.method == "cmds") {
-    form.X = std::move(X0);
-  } else {
-    SmacofOptions so = options.smacof;
-    if (!so.progress) so.progress = options.progress;
-    CSHAPES_REQUIRE(options.smacof_weights == "uniform" || options.smacof_weights == "area",
-                    "smacof: unknown weights '", options.smacof_weights, "'; known: uniform, area");
-    if (options.smacof_weights == "area") so.vertex_weights = vertex_area_weights(mesh);
-    SmacofResult sr = smacof(*given, X0, so);
-    say(options, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
-                     std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
-                     " iterations (" + sr.stop_reason + "), " + std::to_string(sr.seconds_per_iteration) +
-                     " s per iteration");
-    set_smacof_result(form, sr);
-    summary["smacof"] = smacof_summary(sr, so);
-    summary["smacof"]["init"] = options.smacof_init;
-    summary["smacof"]["weights"] = options.smacof_weights;
-  }
-  form.solve_seconds = seconds_since(start);
-  const FormQuality quality = form_quality(mesh.V, E, form.X);
-  say(options, "form quality " + quality.description);
-  summary["form_quality"] = form_quality_json(quality);
-  form.summary_json = summary.dump();
-  return form;
-}
+namespace {
 
 // A CanonicalForm as a cache value (eval/cache.h stores it as CBOR: compact and exact for doubles).
 nlohmann::json to_json(const CanonicalForm& f) {
@@ -302,43 +135,13 @@ CanonicalForm form_from_json(const nlohmann::json& j) {
 
 }  // namespace
 
-CanonicalForm classical_mds_form(const ClassicalMdsResult& r) {
-  CanonicalForm form;
-  form.X = r.X;
-  form.valid = Eigen::VectorXd::Ones(r.X.rows());
-  form.solve_seconds = r.seconds;
-  form.summary_json = nlohmann::json{{"classical_mds", cmds_summary(r)}}.dump();
-  return form;
-}
-
-CanonicalForm smacof_form(const SmacofResult& r, const SmacofOptions& options) {
-  CanonicalForm form;
-  set_smacof_result(form, r);
-  form.valid = Eigen::VectorXd::Ones(r.X.rows());
-  form.solve_seconds = r.seconds;
-  form.summary_json = nlohmann::json{{"smacof", smacof_summary(r, options)}}.dump();
-  return form;
-}
-
-const std::vector<std::string>& canonical_form_methods() {
-  static const std::vector<std::string> methods = {"coulomb", "cmds", "smacof"};
-  return methods;
-}
-
-MeshRequirements canonical_form_requirements(const std::string& method) {
-  if (method == "coulomb") return MeshRequirements::edge_graph();
-  if (method == "cmds" || method == "smacof") return MeshRequirements::manifold_surface();
-  fail("unknown canonization method '", method, "'; known: coulomb, cmds, smacof");
-}
-
 RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOptions& options) {
   RepairOptions ro;
   ro.strict = options.strict;
   ro.name = options.name;
-  ro.purpose = options.method == "coulomb"
-                   ? "Coulomb canonization (the largest component's edge graph)"
-                   : options.method + " (its geodesics need one manifold component without zero-area faces)";
-  return repair_for(mesh, canonical_form_requirements(options.method), ro);
+  const CanonicalFormMethod& method = canonical_form_method(options.method);
+  ro.purpose = method.repair_purpose;
+  return repair_for(mesh, method.requirements, ro);
 }
 
 DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
@@ -374,23 +177,23 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
       mesh.num_vertices() == 0 || (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff() > 0,
       options.name, ": all ", mesh.num_vertices(),
       " points coincide (a degenerate point set): nothing to canonize");
-  // The n×n matrix of the MDS methods is checked against the memory before anything else is done.
-  if (options.method != "coulomb" && !D)
+  const CanonicalFormMethod& method = canonical_form_method(options.method);
+  // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
+  if (method.uses_geodesic_matrix && !D)
     require_memory(distance_matrix_bytes(mesh.num_vertices()),
                    detail::concat(options.name, ": ", options.method, "'s all-pairs distances on ",
                                   mesh.num_vertices(), " vertices"));
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
-  if (options.method != "coulomb" && !D && !options.distances_file.empty()) {
+  if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
     const auto start = WallClock::now();
     from_file = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
                                            options.distances_file);
     D = &from_file;
     D_seconds = seconds_since(start);
   }
-  CanonicalForm form = options.method == "coulomb"
-                           ? coulomb_form(repaired.mesh, options)
-                           : mds_form(repaired.mesh, options, D, D_seconds, D_fallback);
+  CanonicalForm form =
+      method.compute(repaired.mesh, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
   // Back to the input's vertices (a copy when nothing was repaired).
   const Index n = mesh.num_vertices();
   form.X = to_input_vertices(form.X, repaired.vertex_map, n);
@@ -416,38 +219,12 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
   }
 }
 
-std::string canonical_form_key(const CanonicalFormOptions& o) {
-  // Every option that changes the result, by name. A field added to an options struct must be added here.
-  std::ostringstream k;
-  k.precision(17);
-  k << "method=" << o.method << ";knn=" << o.knn.k;
-  if (o.method == "coulomb") {
-    const CoulombCanonOptions& c = o.coulomb;
-    k << ";scheme=" << to_string(c.scheme) << ";step_rule=" << to_string(c.step_rule)
-      << ";step_gradient=" << to_string(c.step_gradient) << ";step_factor=" << c.step_factor
-      << ";fixed_step=" << c.fixed_step << ";m=" << c.coulomb_steps << ";k=" << c.projection.steps
-      << ";norm=" << static_cast<int>(c.projection.norm) << ";l1_floor=" << c.projection.l1_floor
-      << ";dilation=" << c.projection.dilation << ";tear=" << c.tear_fraction << "," << c.tear_after << ","
-      << c.tear_times << "," << c.tear_interval << ";tear_guard=" << to_string(c.tear_guard)
-      << ";max_it=" << c.max_iterations << ";window=" << c.stop_window << ";tol=" << c.stop_tolerance
-      << ";momentum=" << c.momentum << ";rigid=" << c.remove_rigid_motion
-      << ";summation=" << static_cast<int>(c.energy.summation) << ";accuracy=" << c.energy.accuracy
-      << ";floor=" << c.energy.min_distance << ";result_accuracy=" << c.result_accuracy;
-  } else {
-    k << ";geodesics=" << to_string(o.geodesics.method)
-      << ";heat_mode=" << static_cast<int>(o.geodesics.heat_mode)
-      << ";heat_t=" << o.geodesics.heat_time_factor << ";lanczos=" << o.cmds.lanczos_vectors
-      << ";eig_tol=" << o.cmds.tolerance;
-    if (o.method == "smacof")
-      k << ";iters=" << o.smacof.max_iterations << ";tol=" << o.smacof.tolerance
-        << ";target=" << o.smacof.target_stress << ";accel=" << to_string(o.smacof.acceleration)
-        << ";window=" << o.smacof.extrapolation_window << ";weights=" << o.smacof.vertex_weights.size();
-    // Added after the first caches were written: named only when not the default, so older keys still hold.
-    if (o.method == "smacof" && o.smacof_init != "cmds") k << ";init=" << o.smacof_init;
-    if (!o.distances_file.empty()) k << ";distances=" << file_content_hash(o.distances_file);
-    if (o.method == "smacof" && o.smacof_weights != "uniform") k << ";weight_rule=" << o.smacof_weights;
-  }
-  return k.str();
+std::string canonical_form_key(const CanonicalFormOptions& options) {
+  const CanonicalFormMethod& method = canonical_form_method(options.method);
+  const std::vector<std::string>& not_read = method.options_not_read;
+  return options_key(options, [&not_read](const char* field) {
+    return std::find(not_read.begin(), not_read.end(), field) == not_read.end();
+  });
 }
 
 std::string mesh_content_key(const Mesh& mesh) {
@@ -464,7 +241,10 @@ std::string mesh_content_key(const Mesh& mesh) {
 }
 
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
-  return cache_key({"canonical-form-v1", mesh_content_key(mesh), canonical_form_key(options)});
+  // v2: the key built from the options' field lists (core/option_fields.h): every field by value, SMACOF's
+  // vertex weights included (v1 counted them only). Entries of v1 are not found: their forms are computed
+  // again, once.
+  return cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(options)});
 }
 
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
@@ -521,11 +301,11 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
     if (at) *at = k;
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
-    const bool mds = co.method != "coulomb" && co.distances_file.empty();
+    const bool mds = canonical_form_method(co.method).uses_geodesic_matrix && co.distances_file.empty();
     if (mds && !(D_for && same_geodesics(*D_for, co)) &&
         !std::filesystem::exists(cache.entry_path(out.key))) {
       D_fallback.clear();
-      D = geodesic_matrix(repair_for_canonical_form(mesh, co).mesh, co, &D_fallback);
+      D = canonical_form_geodesics(repair_for_canonical_form(mesh, co).mesh, co, &D_fallback);
       D_seconds = seconds_since(start);
       D_for = &co;
     }

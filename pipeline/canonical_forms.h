@@ -1,4 +1,5 @@
-// Canonical forms of a mesh by any of the three methods, behind one call, and cached on disk.
+// Canonical forms of a mesh by any registered method (pipeline/canonical_form_methods.h), behind one call,
+// and cached on disk.
 //
 //   coulomb  §2 of the paper (canon/coulomb.h): edge lengths only, O(n log n) per iteration
 //   cmds     classical MDS (canon/classical_mds.h) of all-pairs geodesic distances
@@ -10,9 +11,9 @@
 // its defects. The result always has the input's vertex count and order: vertices the repair dropped are NaN
 // rows of X with valid = 0 (never a shorter result); a vertex split in two takes its first copy's position.
 // Point clouds (no faces) use a symmetric kNN graph for the Coulomb constraints and for graph geodesics. The
-// cache key is the mesh's content (coordinates and faces) plus every option that changes the result
-// (canonical_form_key), so a cached form is never stale and a killed run resumes without recomputing finished
-// shapes.
+// cache key is the mesh's content (coordinates and faces) plus every option that changes the result and that
+// the method reads (canonical_form_key, built from the options' own field lists), so a cached form is never
+// stale and a killed run resumes without recomputing finished shapes.
 #pragma once
 
 #include <functional>
@@ -26,12 +27,26 @@
 #include "core/knn_graph.h"
 #include "core/mesh.h"
 #include "core/mesh_repair.h"
+#include "core/option_fields.h"
 #include "eval/cache.h"
 
 namespace cshapes {
 
+// SMACOF's start: classical MDS of the same distances ("cmds"), or the input's coordinates ("mesh").
+enum class SmacofInit { ClassicalMds, Mesh };
+// SMACOF's pair weights: uniform ("uniform"), or w_i·w_j from vertex areas ("area", canon/smacof.h's
+// vertex_area_weights).
+enum class SmacofWeights { Uniform, Area };
+// The names above, in this order; parse_* throws cshapes::Error naming the known ones for any other name.
+const std::vector<std::string>& smacof_init_names();
+const std::vector<std::string>& smacof_weights_names();
+SmacofInit parse_smacof_init(const std::string& name);
+SmacofWeights parse_smacof_weights(const std::string& name);
+std::string to_string(SmacofInit init);
+std::string to_string(SmacofWeights weights);
+
 struct CanonicalFormOptions {
-  std::string method = "coulomb";  // coulomb | cmds | smacof
+  std::string method = "coulomb";  // a registered method's name: canonical_form_methods()
   CoulombCanonOptions coulomb;     // method coulomb (its defaults are the measured ones, see README)
   // MDS: the geodesics behind them. Fast marching, as the paper used [KS98].
   GeodesicOptions geodesics = [] {
@@ -41,10 +56,9 @@ struct CanonicalFormOptions {
   }();
   ClassicalMdsOptions cmds;  // method cmds, and the initialisation of smacof
   SmacofOptions smacof;      // method smacof
-  // SMACOF's start: "cmds" (classical MDS of the same distances) or "mesh" (the input's coordinates); its
-  // pair weights: "uniform" or "area" (w_i·w_j from vertex areas).
-  std::string smacof_init = "cmds";
-  std::string smacof_weights = "uniform";
+  SmacofInit smacof_init = SmacofInit::ClassicalMds;  // method smacof: its start
+  // Method smacof: its pair weights (Area replaces smacof.vertex_weights by the mesh's vertex areas).
+  SmacofWeights smacof_weights = SmacofWeights::Uniform;
   // cmds/smacof: read the all-pairs distances from this .bin (core/distance_matrix.h) instead of computing
   // geodesics; it has the input's or the repaired mesh's vertex count. For one mesh; empty: compute.
   std::string distances_file;
@@ -54,9 +68,30 @@ struct CanonicalFormOptions {
   std::function<void(const std::string&)> note;
   bool strict = false;  // refuse a mesh that needs repair (throws, naming the defects) instead of repairing
   std::string name = "mesh";  // the mesh's name (its path) in messages; not part of the result
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: CanonicalFormOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("method", o.method);
+    visit("coulomb", o.coulomb);
+    visit("geodesics", o.geodesics);
+    visit("cmds", o.cmds);
+    visit("smacof", o.smacof);
+    visit("smacof_init", o.smacof_init);
+    visit("smacof_weights", o.smacof_weights);
+    visit("distances_file", o.distances_file, kFileContent);  // its content is the input, not its name
+    visit("knn", o.knn);
+    visit("progress", o.progress, kNoEffect);  // reports, computes nothing
+    visit("note", o.note, kNoEffect);          // reports, computes nothing
+    // Refuses (a mesh that needs repair, a geodesic fallback) instead of computing something else: a form it
+    // lets through is the one computed without it.
+    visit("strict", o.strict, kNoEffect);
+    visit("name", o.name, kNoEffect);  // in messages only
+  }
 };
 
-// What a method needs of its mesh: coulomb the edge graph, cmds and smacof a manifold surface.
+// What a method needs of its mesh (its registration's requirements): coulomb the edge graph, cmds and smacof
+// a manifold surface. Throws naming the known methods for an unknown one.
 MeshRequirements canonical_form_requirements(const std::string& method);
 // The mesh a canonical form is computed on (repair_for with the method's requirements, options.name and
 // strict): the vertices of a precomputed distance matrix D are this mesh's.
@@ -68,7 +103,7 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
 DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
                                           const std::string& source);
 
-// Every method name canonical_form accepts.
+// Every method name canonical_form accepts, in registration order (pipeline/canonical_form_methods.h).
 const std::vector<std::string>& canonical_form_methods();
 
 struct CanonicalForm {
@@ -111,7 +146,10 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
 CanonicalForm classical_mds_form(const ClassicalMdsResult& result);
 CanonicalForm smacof_form(const SmacofResult& result, const SmacofOptions& options);
 
-// The part of the cache key that depends on the options: every field that changes the result.
+// The part of the cache key that depends on the options: options_key (core/option_fields.h) of every field
+// that changes the result, but for the fields the method does not read (CanonicalFormMethod::
+// options_not_read): "method=\"cmds\";geodesics.method=fmm;...". Throws for an unknown method, and naming
+// distances_file when it cannot be read.
 std::string canonical_form_key(const CanonicalFormOptions& options);
 // Content key of a mesh: SHA-256 of its coordinates and faces.
 std::string mesh_content_key(const Mesh& mesh);
@@ -124,10 +162,10 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const std::string& D_fallback = {});
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options);
 
-// One mesh's canonical forms by several methods (options[k].method each), through the cache. MDS methods with
-// the same geodesic options share one geodesic matrix, computed only when one of their forms is missing from
-// the cache (each form computed from it reports its cost as its pre-computation): what `experiment paper`,
-// `noise`, `topkids` and `pose` do for every shape.
+// One mesh's canonical forms by several methods (options[k].method each), through the cache. The methods that
+// use the all-pairs geodesic matrix (cmds, smacof) with the same geodesic options share one matrix, computed
+// only when one of their forms is missing from the cache (each form computed from it reports its cost as its
+// pre-computation): what `experiment paper`, `noise`, `topkids` and `pose` do for every shape.
 struct CachedForm {
   CanonicalForm form;
   std::string key;      // canonical_form_cache_key

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "pipeline/canonical_form_methods.h"
 
 #ifdef CSHAPES_HAVE_MPI
 #include <mpi.h>
@@ -132,7 +133,8 @@ int ranks_on_this_node() {
 double canonical_form_cost(long vertices, const std::vector<std::string>& methods) {
   const double n = static_cast<double>(std::max(vertices, 2L));
   double cost = 0;
-  for (const std::string& m : methods) cost += m == "coulomb" ? n * std::log(n) : n * n;
+  for (const std::string& m : methods)
+    cost += canonical_form_method(m).uses_geodesic_matrix ? n * n : n * std::log(n);
   return cost;
 }
 

@@ -37,7 +37,8 @@ void abort_all_ranks(int exit_code);
 int ranks_on_this_node();
 
 // The expected cost of canonizing a mesh of n vertices by each of `methods`, in arbitrary units comparable
-// between meshes: Coulomb n log n per iteration, the MDS methods n² (all-pairs geodesics).
+// between meshes: n² for a method that uses the all-pairs geodesic matrix (cmds, smacof), else n log n
+// (Coulomb, per iteration). Throws for an unknown method.
 double canonical_form_cost(long vertices, const std::vector<std::string>& methods);
 
 // Which rank canonizes which shape: longest-first greedy over canonical_form_cost (core/communicator.h).

@@ -2,7 +2,6 @@
 
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 
 #include "core/error.h"
 #include "pipeline/canonical_forms.h"
@@ -11,17 +10,10 @@ namespace cshapes {
 
 using nlohmann::json;
 
-std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& o) {
-  std::ostringstream k;
-  k.precision(17);
-  k << "glue_count=" << o.glue_count << ";seed=" << o.seed << ";max_gap=" << o.max_gap
-    << ";gap_edge_lengths=" << o.gap_edge_lengths << ";min_ratio=" << o.min_ratio
-    << ";min_geodesic_fraction=" << o.min_geodesic_fraction
-    << ";min_separation_fraction=" << o.min_separation_fraction << ";min_facing=" << o.min_facing
-    << ";landmarks=" << o.landmarks << ";max_checks=" << o.max_checks
-    << ";geodesics=" << to_string(o.geodesic.method) << "," << static_cast<int>(o.geodesic.heat_mode) << ","
-    << o.geodesic.heat_time_factor << ";relax_steps=" << o.relax_steps;
-  return cache_key({"glued-mesh-v1", mesh_content_key(mesh), k.str()});
+std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& options) {
+  // v2: the options' own field list (core/option_fields.h) names every field; entries of v1 (hand-written
+  // list) are not found and are glued again, once.
+  return cache_key({"glued-mesh-v2", mesh_content_key(mesh), options_key(options)});
 }
 
 GluedMesh cached_glued_mesh(const DiskCache& cache, const Mesh& mesh,

@@ -20,7 +20,8 @@ struct GluedMesh {
   bool ok() const { return error.empty(); }
 };
 
-// The key of a glued mesh: the input's content and every option of TopologicalNoiseOptions.
+// The key of a glued mesh: the input's content (mesh_content_key) and options_key of the options
+// (core/option_fields.h): every field of TopologicalNoiseOptions that changes the result.
 std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& options);
 
 // glue_topological_noise(mesh, options) through `cache` (a disabled cache computes every time). A glue that

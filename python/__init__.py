@@ -25,6 +25,7 @@ from ._cshapes import (  # noqa: E402
     CanonicalForm,
     add_topological_noise,
     canonical_form,
+    canonical_form_methods,
     classical_mds,
     coulomb,
     distance_matrix,

@@ -3,12 +3,12 @@
 // caller has (canon/classical_mds.h, canon/smacof.h). Option names and defaults are the CLI's.
 #include <pybind11/stl.h>
 
-#include <algorithm>
 #include <sstream>
 
 #include "canon/classical_mds.h"
 #include "canon/smacof.h"
 #include "core/error.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/canonical_forms.h"
 #include "pipeline/mesh_report.h"
 #include "python/bindings.h"
@@ -93,12 +93,8 @@ void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
 // canonical_form(method='smacof'): the solver's options, and its start and weights from the mesh.
 void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
   read_smacof_solver_options(k, o.smacof);
-  o.smacof_init = k.text("init", o.smacof_init);
-  o.smacof_weights = k.text("weights", o.smacof_weights);
-  CSHAPES_REQUIRE(o.smacof_init == "cmds" || o.smacof_init == "mesh",
-                  "init: expected 'cmds' or 'mesh', got '", o.smacof_init, "'");
-  CSHAPES_REQUIRE(o.smacof_weights == "uniform" || o.smacof_weights == "area",
-                  "weights: expected 'uniform' or 'area', got '", o.smacof_weights, "'");
+  o.smacof_init = parse_smacof_init(k.text("init", to_string(o.smacof_init)));
+  o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
 }
 
 // Refuses, by name, the options of another method (as `cshapes canon --method` does).
@@ -108,7 +104,7 @@ void refuse_other_methods(const Kwargs& k, const std::string& method) {
       if (k.given(name)) fail(name, " applies to method ", owner, " only, not '", method, "'");
   };
   if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
-  if (method == "coulomb") refuse(kMdsOptions, "'cmds' or 'smacof'");
+  if (!canonical_form_method(method).uses_geodesic_matrix) refuse(kMdsOptions, "'cmds' or 'smacof'");
   if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
 }
 
@@ -133,14 +129,12 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
                                   const py::kwargs& kwargs, const char* function) {
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, function);
-  const auto& methods = canonical_form_methods();
-  CSHAPES_REQUIRE(std::find(methods.begin(), methods.end(), method) != methods.end(), function,
-                  "(): unknown method '", method, "'; known: coulomb, cmds, smacof");
+  require_canonical_form_methods({method}, std::string(function) + "()");
   refuse_other_methods(k, method);
   CanonicalFormOptions o;
   o.method = method;
   if (method == "coulomb") read_coulomb_options(k, o);
-  if (method != "coulomb")
+  if (canonical_form_method(method).uses_geodesic_matrix)
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
   if (method == "smacof") read_smacof_options(k, o);
   o.strict = k.flag("strict", false);
@@ -267,6 +261,22 @@ distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact 
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
 Returns a CanonicalForm.)");
+  m.def(
+      "canonical_form_methods",
+      [] {
+        py::list methods;
+        for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+          py::dict d;
+          d["name"] = method.name;
+          d["title"] = method.title;
+          d["uses_geodesic_matrix"] = method.uses_geodesic_matrix;
+          methods.append(d);
+        }
+        return methods;
+      },
+      R"(The methods canonical_form() takes, in the library's order (pipeline/canonical_form_methods.h): a list
+of dicts {name, title, uses_geodesic_matrix}; name is what method= takes, title the method's name in figures
+and tables ('Coulomb', 'classical MDS', 'SMACOF').)");
   m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3,
         R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
 

@@ -226,15 +226,13 @@ TEST(CanonicalFormsFromADistanceFile, InputSizedMatrixIsRestrictedToTheRepairedV
   EXPECT_NE(canonical_form_key(o), canonical_form_key(in_memory));
 }
 
-// SMACOF's start and weights: defaults leave the cache key as it was; other choices change it and the form.
+// SMACOF's start and weights: other choices change the cache key and the form; names are parsed strictly.
 TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
   const Mesh mesh = icosphere(2);
   CanonicalFormOptions o = quick("smacof");
   const std::string default_key = canonical_form_key(o);
-  EXPECT_EQ(default_key.find("init="), std::string::npos);
-  EXPECT_EQ(default_key.find("weight_rule="), std::string::npos);
-  o.smacof_init = "mesh";
-  o.smacof_weights = "area";
+  o.smacof_init = SmacofInit::Mesh;
+  o.smacof_weights = SmacofWeights::Area;
   EXPECT_NE(canonical_form_key(o), default_key);
   const CanonicalForm f = canonical_form(mesh, o);
   const CanonicalForm g = canonical_form(mesh, quick("smacof"));
@@ -244,8 +242,17 @@ TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
   EXPECT_EQ(summary["smacof"]["init"], "mesh");
   EXPECT_EQ(summary["smacof"]["weights"], "area");
   EXPECT_FALSE(summary.contains("classical_mds"));  // started from the mesh: no classical MDS ran
-  o.smacof_init = "random";
-  EXPECT_THROW(canonical_form(mesh, o), Error);
+  for (const std::string& name : smacof_init_names()) EXPECT_EQ(to_string(parse_smacof_init(name)), name);
+  for (const std::string& name : smacof_weights_names())
+    EXPECT_EQ(to_string(parse_smacof_weights(name)), name);
+  try {
+    parse_smacof_init("random");
+    ADD_FAILURE() << "parse_smacof_init accepted 'random'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown 'random'; known: cmds, mesh"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parse_smacof_weights("areas"), Error);
 }
 
 }  // namespace

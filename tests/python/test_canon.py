@@ -85,6 +85,20 @@ def test_options_are_checked_by_name(shapes):
         cshapes.canonical_form(V, F, method="smacof", tear_fraction=0.1)
 
 
+def test_methods_are_the_library_registry(shapes):
+    methods = cshapes.canonical_form_methods()
+    assert [m["name"] for m in methods] == ["coulomb", "cmds", "smacof"]
+    assert [m["title"] for m in methods] == ["Coulomb", "classical MDS", "SMACOF"]
+    assert [m["uses_geodesic_matrix"] for m in methods] == [False, True, True]
+    V, F = cshapes.read_mesh(shapes[0])
+    with pytest.raises(ValueError, match="unknown canonization method 'pca'; known: coulomb, cmds, smacof"):
+        cshapes.canonical_form(V, F, method="pca")
+    with pytest.raises(ValueError, match="smacof init: unknown 'random'; known: cmds, mesh"):
+        cshapes.canonical_form(V, F, method="smacof", init="random")
+    with pytest.raises(ValueError, match="smacof weights: unknown 'areas'; known: uniform, area"):
+        cshapes.canonical_form(V, F, method="smacof", weights="areas")
+
+
 def test_integers_beyond_range_are_named_by_keyword(shapes):
     # Issue 22: coulomb_max_iterations=2**70 gave "Unable to cast Python instance to C++ type".
     V, F = cshapes.read_mesh(shapes[0])

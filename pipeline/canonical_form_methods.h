@@ -1,0 +1,98 @@
+// The canonical-form methods, each registered once with everything the rest of cshapes asks of a method: its
+// name (CanonicalFormOptions::method, `--method`, Python's method=), its title in figures and tables, what it
+// needs of its mesh, whether it embeds the all-pairs geodesic matrix, which options it does not read (left
+// out of its cache key), and its computation. canonical_form() (pipeline/canonical_forms.h) dispatches
+// through this list; the CLI, the Python module and the experiments take their method names from it.
+//
+//   name     title          file                         computes
+//   coulomb  Coulomb        pipeline/method_coulomb.cpp  §2 of the paper (canon/coulomb.h): edge lengths only
+//   cmds     classical MDS  pipeline/method_mds.cpp      classical MDS of all-pairs geodesic distances
+//   smacof   SMACOF         pipeline/method_mds.cpp      SMACOF of the same distances
+//
+// Adding a method is one file (pipeline/method_NAME.cpp defining NAME_method(), declared below) and one line
+// in canonical_form_method_registry() (canonical_form_methods.cpp); its CLI option group, if it has options,
+// registers in cli/ (cli/command.h: register_canon_method).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/distance_matrix.h"
+#include "core/mesh.h"
+#include "core/mesh_repair.h"
+#include "pipeline/canonical_forms.h"
+
+namespace cshapes {
+
+// The all-pairs distances a method that uses the geodesic matrix embeds, when its caller already has them
+// (read from options.distances_file, or one matrix shared by several methods: cached_canonical_forms).
+struct GivenDistances {
+  const DistanceMatrix* D = nullptr;  // n×n between the vertices of the mesh given to compute; null: compute
+  double seconds = 0;                 // what computing them took: the form's precompute_seconds
+  std::string fallback;               // their geodesics_fallback ("" when the method asked for was used)
+};
+
+struct CanonicalFormMethod {
+  std::string name;               // "coulomb": CanonicalFormOptions::method, `--method`, Python's method=
+  std::string title;              // "Coulomb": the one name of the method in figures, tables and reports
+  MeshRequirements requirements;  // what it needs of its mesh (core/mesh_repair.h)
+  // Why, in repair messages: "Coulomb canonization (the largest component's edge graph)".
+  std::string repair_purpose;
+  // Embeds the all-pairs geodesic matrix (options.geodesics, or options.distances_file): its memory is
+  // checked up front, and methods with the same geodesic options share one matrix.
+  bool uses_geodesic_matrix = false;
+  // The top-level CanonicalFormOptions fields the method does not read: left out of its cache key. Every
+  // other field enters it, so a field added to CanonicalFormOptions reaches every method's key until a method
+  // says it does not read it (at worst a cache miss, never a stale form).
+  std::vector<std::string> options_not_read;
+  // The form of `mesh` (already repaired for the method: repair_for_canonical_form), in its vertex order.
+  // given: the distances when the caller has them (methods that use the geodesic matrix; ignored otherwise).
+  // canonical_form() places the result back at the input's vertices.
+  CanonicalForm (*compute)(const Mesh& mesh, const CanonicalFormOptions& options,
+                           const GivenDistances& given) = nullptr;
+};
+
+// Every registered method, in registration order (coulomb, cmds, smacof): the order of help texts and of
+// the experiments' default method lists.
+const std::vector<CanonicalFormMethod>& canonical_form_method_registry();
+// The method registered under `name`, or null.
+const CanonicalFormMethod* find_canonical_form_method(const std::string& name);
+// The method registered under `name`; throws cshapes::Error "unknown canonization method 'x'; known:
+// coulomb, cmds, smacof" otherwise.
+const CanonicalFormMethod& canonical_form_method(const std::string& name);
+// The registered names joined by `separator`: "coulomb, cmds, smacof" (help texts, errors), "coulomb,cmds,
+// smacof" (an option's default).
+std::string canonical_form_method_list(const std::string& separator = ", ");
+// Checks a list of method names (an experiment's, a command line's): each must be registered. Throws
+// cshapes::Error "<context>: unknown canonization method 'x'; known: coulomb, cmds, smacof" at the first that
+// is not. An empty list passes (the callers that need a method say so themselves).
+void require_canonical_form_methods(const std::vector<std::string>& methods, const std::string& context);
+// A method's title ("classical MDS" for cmds); a name that is no method's (e.g. "inputs") as it is.
+std::string canonical_form_method_title(const std::string& name);
+
+// The canonical-form options every experiment (paper, noise, topkids, pose) starts from: the library's
+// defaults with our heat method for the MDS geodesics (9× the speed of CGAL's, about 1% from exact geodesics:
+// README), where a single canonical_form() call uses fast marching, as the paper did [KS98]. The CLI, C++ and
+// Python runs of an experiment start from these same options.
+CanonicalFormOptions experiment_canonical_form_options();
+
+// The registered methods (one file each; their only other mention is canonical_form_method_registry()).
+CanonicalFormMethod coulomb_method();  // pipeline/method_coulomb.cpp
+CanonicalFormMethod cmds_method();     // pipeline/method_mds.cpp
+CanonicalFormMethod smacof_method();   // pipeline/method_mds.cpp
+
+// For the method files: what several methods share.
+// The edges standing in for the mesh's: its triangle edges, or the kNN graph of a point cloud (no faces).
+Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn);
+// The all-pairs geodesic matrix of `mesh` (options.geodesics; a point cloud: graph distances on its kNN
+// graph, which must be connected). Unless options.strict, a heat method that fails on this mesh falls back to
+// fast marching; *fallback (when non-null) then says which failed and why. Refuses up front when the n×n
+// floats do not fit in the available memory.
+DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                        std::string* fallback = nullptr);
+// One line on options.note, when set.
+inline void say(const CanonicalFormOptions& options, const std::string& line) {
+  if (options.note) options.note(line);
+}
+
+}  // namespace cshapes

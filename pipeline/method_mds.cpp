@@ -1,0 +1,218 @@
+// Methods cmds and smacof (pipeline/canonical_form_methods.h): MDS canonical forms (Elad & Kimmel) of a
+// mesh's all-pairs geodesic distances, by classical MDS (canon/classical_mds.h) and SMACOF (canon/smacof.h).
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "canon/form_quality.h"
+#include "core/error.h"
+#include "core/heat_method.h"
+#include "core/timing.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/form_quality_json.h"
+
+namespace cshapes {
+
+namespace {
+
+nlohmann::json cmds_summary(const ClassicalMdsResult& r) {
+  return {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
+          {"most_negative_eigenvalue", std::isfinite(r.most_negative_eigenvalue)
+                                           ? nlohmann::json(r.most_negative_eigenvalue)
+                                           : nlohmann::json(nullptr)},
+          {"trace", r.trace},
+          {"frobenius_squared", r.frobenius_squared},
+          {"explained_energy", r.explained_energy},
+          {"negative_mass_lower_bound", r.negative_mass_lower_bound},
+          {"negative_energy_upper_bound", r.negative_energy_upper_bound},
+          {"matrix_products", r.matrix_products},
+          {"seconds", r.seconds}};
+}
+
+// SMACOF's result as a form's X, iterations and history.
+void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
+  form.X = sr.X;
+  form.iterations = sr.iterations;
+  form.seconds_per_iteration = sr.seconds_per_iteration;
+  form.history_columns = {"iteration", "passes", "normalized_stress", "extrapolated"};
+  form.history_rows.clear();
+  for (size_t k = 0; k < sr.stress_history.size(); ++k)
+    form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
+                                 sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
+}
+
+nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
+  return {{"normalized_stress", sr.normalized_stress},
+          {"initial_normalized_stress",
+           sr.stress_history.empty() ? sr.normalized_stress : sr.stress_history.front()},
+          {"iterations", sr.iterations},
+          {"stop_reason", sr.stop_reason},
+          {"acceleration", to_string(so.acceleration)},
+          {"extrapolations_accepted", sr.extrapolations_accepted},
+          {"extrapolations_rejected", sr.extrapolations_rejected},
+          {"seconds", sr.seconds},
+          {"seconds_per_iteration", sr.seconds_per_iteration}};
+}
+
+ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
+  ClassicalMdsResult r = classical_mds(D, options.cmds);
+  say(options, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
+                   std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
+                   "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
+                   "% of the spectrum's energy; most negative " + "eigenvalue " +
+                   std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) + " s");
+  return r;
+}
+
+// Both methods: the distances (given, or the geodesics computed here), classical MDS unless SMACOF starts
+// from the mesh, then (with_smacof) SMACOF.
+CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
+                       const GivenDistances& given_distances, bool with_smacof) {
+  const DistanceMatrix* given = given_distances.D;
+  CanonicalForm form;
+  form.precompute_seconds = given_distances.seconds;
+  form.geodesics_fallback = given ? given_distances.fallback : "";
+  DistanceMatrix computed;
+  if (!given) {
+    auto start = WallClock::now();
+    computed = canonical_form_geodesics(mesh, options, &form.geodesics_fallback);
+    form.precompute_seconds = seconds_since(start);
+    given = &computed;
+  }
+  CSHAPES_REQUIRE(given->rows() == mesh.num_vertices(), "MDS: distance matrix has ", given->rows(),
+                  " rows for a mesh of ", mesh.num_vertices(), " vertices");
+  auto start = WallClock::now();
+  nlohmann::json summary = nlohmann::json::object();
+  if (!form.geodesics_fallback.empty()) summary["geodesics_fallback"] = form.geodesics_fallback;
+  if (form.geodesics_fallback.empty() && (options.geodesics.method == GeodesicMethod::Heat ||
+                                          options.geodesics.method == GeodesicMethod::HeatCgal)) {
+    const std::string warning = heat_method_warning(mesh);
+    if (!warning.empty()) {
+      summary["warning"] = warning;
+      say(options, "warning: " + warning);
+    }
+  }
+  const Edges E = constraint_edges(mesh, options.knn);
+  Points X0;
+  if (!with_smacof || options.smacof_init == SmacofInit::ClassicalMds) {
+    ClassicalMdsResult cm = run_classical_mds(*given, options);
+    summary["classical_mds"] = cmds_summary(cm);
+    X0 = std::move(cm.X);
+  } else {
+    X0 = mesh.V;
+  }
+  if (!with_smacof) {
+    form.X = std::move(X0);
+  } else {
+    SmacofOptions so = options.smacof;
+    if (!so.progress) so.progress = options.progress;
+    if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
+    SmacofResult sr = smacof(*given, X0, so);
+    say(options, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
+                     std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
+                     " iterations (" + sr.stop_reason + "), " + std::to_string(sr.seconds_per_iteration) +
+                     " s per iteration");
+    set_smacof_result(form, sr);
+    summary["smacof"] = smacof_summary(sr, so);
+    summary["smacof"]["init"] = to_string(options.smacof_init);
+    summary["smacof"]["weights"] = to_string(options.smacof_weights);
+  }
+  form.solve_seconds = seconds_since(start);
+  const FormQuality quality = form_quality(mesh.V, E, form.X);
+  say(options, "form quality " + quality.description);
+  summary["form_quality"] = form_quality_json(quality);
+  form.summary_json = summary.dump();
+  return form;
+}
+
+// The enum value named `name` among `names` (in the enum's order); throws naming the known ones.
+template <class Enum>
+Enum parse_named(const std::string& name, const std::vector<std::string>& names, const char* what) {
+  for (size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return static_cast<Enum>(k);
+  std::string known;
+  for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+  fail(what, ": unknown '", name, "'; known: ", known);
+}
+
+const std::string& name_of(size_t index, const std::vector<std::string>& names) {
+  CSHAPES_REQUIRE(index < names.size(), "an enum value outside its names");
+  return names[index];
+}
+
+CanonicalForm cmds_compute(const Mesh& mesh, const CanonicalFormOptions& options,
+                           const GivenDistances& given) {
+  return mds_form(mesh, options, given, /*with_smacof=*/false);
+}
+
+CanonicalForm smacof_compute(const Mesh& mesh, const CanonicalFormOptions& options,
+                             const GivenDistances& given) {
+  return mds_form(mesh, options, given, /*with_smacof=*/true);
+}
+
+}  // namespace
+
+// Function-local statics: the CLI's option defaults may ask during static initialisation.
+const std::vector<std::string>& smacof_init_names() {
+  static const std::vector<std::string> names = {"cmds", "mesh"};  // SmacofInit's order
+  return names;
+}
+const std::vector<std::string>& smacof_weights_names() {
+  static const std::vector<std::string> names = {"uniform", "area"};  // SmacofWeights's order
+  return names;
+}
+SmacofInit parse_smacof_init(const std::string& name) {
+  return parse_named<SmacofInit>(name, smacof_init_names(), "smacof init");
+}
+SmacofWeights parse_smacof_weights(const std::string& name) {
+  return parse_named<SmacofWeights>(name, smacof_weights_names(), "smacof weights");
+}
+std::string to_string(SmacofInit init) {
+  return name_of(static_cast<size_t>(init), smacof_init_names());
+}
+std::string to_string(SmacofWeights weights) {
+  return name_of(static_cast<size_t>(weights), smacof_weights_names());
+}
+
+CanonicalForm classical_mds_form(const ClassicalMdsResult& r) {
+  CanonicalForm form;
+  form.X = r.X;
+  form.valid = Eigen::VectorXd::Ones(r.X.rows());
+  form.solve_seconds = r.seconds;
+  form.summary_json = nlohmann::json{{"classical_mds", cmds_summary(r)}}.dump();
+  return form;
+}
+
+CanonicalForm smacof_form(const SmacofResult& r, const SmacofOptions& options) {
+  CanonicalForm form;
+  set_smacof_result(form, r);
+  form.valid = Eigen::VectorXd::Ones(r.X.rows());
+  form.solve_seconds = r.seconds;
+  form.summary_json = nlohmann::json{{"smacof", smacof_summary(r, options)}}.dump();
+  return form;
+}
+
+CanonicalFormMethod cmds_method() {
+  CanonicalFormMethod m;
+  m.name = "cmds";
+  m.title = "classical MDS";
+  m.requirements = MeshRequirements::manifold_surface();
+  m.repair_purpose = "cmds (its geodesics need one manifold component without zero-area faces)";
+  m.uses_geodesic_matrix = true;
+  m.options_not_read = {"coulomb", "smacof", "smacof_init", "smacof_weights"};
+  m.compute = cmds_compute;
+  return m;
+}
+
+CanonicalFormMethod smacof_method() {
+  CanonicalFormMethod m;
+  m.name = "smacof";
+  m.title = "SMACOF";
+  m.requirements = MeshRequirements::manifold_surface();
+  m.repair_purpose = "smacof (its geodesics need one manifold component without zero-area faces)";
+  m.uses_geodesic_matrix = true;
+  m.options_not_read = {"coulomb"};  // it reads cmds: classical MDS is its start
+  m.compute = smacof_compute;
+  return m;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,353 @@
+// Cache keys built from the options' own field lists (core/option_fields.h): every options struct that enters
+// a key lists each of its members exactly once, and every listed field reaches the key of the options that
+// hold it — CanonicalFormOptions (canonical_form_key, per registered method), TopologicalNoiseOptions
+// (glued_mesh_key) and IcpOptions (to_key_string) — while the fields marked kNoEffect do not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "core/option_fields.h"
+#include "core/synthetic.h"
+#include "experiments/noise_experiment.h"
+#include "experiments/paper_experiment.h"
+#include "experiments/pose_invariance.h"
+#include "experiments/topkids_experiment.h"
+#include "matching/icp.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/glued_meshes.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+// ---- (a) A field list names every member: counted by aggregate initialisation ----
+
+// Converts to any member type, so T{AnyMember{}, ...} compiles with as many initialisers as T has members and
+// no more (a nested options struct takes one whole: the conversion makes brace elision unnecessary).
+struct AnyMember {
+  template <class T>
+  operator T() const;  // declared only: used in unevaluated contexts
+};
+
+template <class T, class... Initialisers>
+constexpr auto accepts(int) -> decltype(T{std::declval<Initialisers>()...}, true) {
+  return true;
+}
+template <class T, class... Initialisers>
+constexpr bool accepts(long) {
+  return false;
+}
+
+// The number of members of the aggregate T.
+template <class T, class... Initialisers>
+constexpr size_t member_count() {
+  if constexpr (sizeof...(Initialisers) > 64) {
+    return 0;  // not an aggregate we can count; the test fails on it
+  } else if constexpr (accepts<T, Initialisers..., AnyMember>(0)) {
+    return member_count<T, Initialisers..., AnyMember>();
+  } else {
+    return sizeof...(Initialisers);
+  }
+}
+
+// What a field list says of one object: each listed field's name, where it lies in the object and its size.
+struct ListedField {
+  std::string name;
+  size_t offset = 0, size = 0;
+};
+template <class T>
+std::vector<ListedField> listed_fields(T& object) {
+  std::vector<ListedField> fields;
+  const auto* base = reinterpret_cast<const char*>(&object);
+  T::for_each_field(object, [&](const char* name, auto& field, auto...) {
+    fields.push_back(
+        {name, static_cast<size_t>(reinterpret_cast<const char*>(&field) - base), sizeof(field)});
+  });
+  return fields;
+}
+
+// T's list names as many fields as T has members, each a different member of T (distinct names, disjoint
+// storage inside the object): so every member is listed exactly once.
+template <class T>
+void expect_every_member_listed(const char* type) {
+  static_assert(std::is_aggregate_v<T>, "an options struct stays an aggregate (its members are counted)");
+  static_assert(has_field_list<T>::value, "an options struct that enters a cache key lists its fields");
+  T object;
+  const std::vector<ListedField> fields = listed_fields(object);
+  EXPECT_EQ(fields.size(), member_count<T>()) << type << ": its for_each_field lists " << fields.size()
+                                              << " fields for " << member_count<T>() << " members";
+  std::set<std::string> names;
+  for (const ListedField& f : fields)
+    EXPECT_TRUE(names.insert(f.name).second) << type << ": " << f.name << " twice";
+  for (size_t a = 0; a < fields.size(); ++a) {
+    EXPECT_LE(fields[a].offset + fields[a].size, sizeof(T))
+        << type << "." << fields[a].name << " is no member";
+    for (size_t b = a + 1; b < fields.size(); ++b)
+      EXPECT_TRUE(fields[a].offset + fields[a].size <= fields[b].offset ||
+                  fields[b].offset + fields[b].size <= fields[a].offset)
+          << type << ": " << fields[a].name << " and " << fields[b].name << " are the same storage";
+  }
+}
+
+TEST(OptionsKey, EveryMemberIsListed) {
+  expect_every_member_listed<CoulombCanonOptions>("CoulombCanonOptions");
+  expect_every_member_listed<MetricProjectionOptions>("MetricProjectionOptions");
+  expect_every_member_listed<CoulombOptions>("CoulombOptions");
+  expect_every_member_listed<SmacofOptions>("SmacofOptions");
+  expect_every_member_listed<ClassicalMdsOptions>("ClassicalMdsOptions");
+  expect_every_member_listed<GeodesicOptions>("GeodesicOptions");
+  expect_every_member_listed<KnnGraphOptions>("KnnGraphOptions");
+  expect_every_member_listed<TopologicalNoiseOptions>("TopologicalNoiseOptions");
+  expect_every_member_listed<IcpOptions>("IcpOptions");
+  expect_every_member_listed<CanonicalFormOptions>("CanonicalFormOptions");
+}
+
+// The counting itself: a struct with a member its list leaves out is caught.
+struct TwoListedOfThree {
+  int a = 0;
+  double b = 0;
+  std::string c;
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("a", o.a);
+    visit("b", o.b);
+  }
+};
+TEST(OptionsKey, AnUnlistedMemberIsCounted) {
+  static_assert(member_count<TwoListedOfThree>() == 3);
+  static_assert(member_count<KnnGraphOptions>() == 1);
+  TwoListedOfThree object;
+  EXPECT_EQ(listed_fields(object).size(), 2u);
+}
+
+// ---- (b) Every listed field reaches its key ----
+
+// One field the walk below reached: its path ("coulomb.projection.steps"), its top-level name, and whether
+// its mark says it changes the result.
+struct Leaf {
+  std::string path, top;
+  bool changes_result = true;
+  bool file_content = false;
+};
+
+// Visits the leaves of a field list (nested option structs are walked into) in order, calling
+// at(leaf, field) for each.
+template <class Options, class At>
+void for_each_leaf(Options& options, At&& at, const std::string& prefix = "", const std::string& top = "") {
+  Options::for_each_field(options, [&](const char* name, auto& field, auto... effect) {
+    using Field = std::decay_t<decltype(field)>;
+    const std::string path = prefix + name;
+    const std::string top_name = top.empty() ? std::string(name) : top;
+    if constexpr (has_field_list<Field>::value) {
+      for_each_leaf(field, at, path + ".", top_name);
+    } else {
+      at(Leaf{path, top_name, changes_result<decltype(effect)...>, is_file_content<decltype(effect)...>},
+         field);
+    }
+  });
+}
+
+template <class T>
+struct is_vector : std::false_type {};
+template <class T, class A>
+struct is_vector<std::vector<T, A>> : std::true_type {};
+
+// Another value of the same type: numbers moved, a bool flipped, an enum to another valid value, a string
+// changed, a vector's element changed (same size), a callback set.
+template <class Field>
+void perturb(Field& field) {
+  if constexpr (std::is_same_v<Field, bool>) {
+    field = !field;
+  } else if constexpr (std::is_integral_v<Field>) {
+    field = static_cast<Field>(field + 1);
+  } else if constexpr (std::is_floating_point_v<Field>) {
+    field = std::isfinite(field) ? field + 0.5 + std::abs(field) : 1.0;
+  } else if constexpr (std::is_enum_v<Field>) {
+    // Every option enum has at least two values, numbered from 0: 0 and 1 are both valid.
+    const Field other = static_cast<Field>(static_cast<int>(field) == 0 ? 1 : 0);
+    EXPECT_NE(to_string(other), to_string(field));
+    field = other;
+  } else if constexpr (std::is_same_v<Field, std::string>) {
+    field += "-changed";
+  } else if constexpr (is_vector<Field>::value) {
+    ASSERT_FALSE(field.empty()) << "give the vector values first (populate)";
+    perturb(field[field.size() / 2]);
+  } else if constexpr (std::is_base_of_v<Eigen::EigenBase<Field>, Field>) {
+    ASSERT_GT(field.size(), 0) << "give the vector values first (populate)";
+    field[field.size() / 2] += 0.25;
+  } else {
+    field = [](auto&&...) {};  // a callback (kNoEffect)
+  }
+}
+
+// Values for what is empty by default, so a change "in value, same size" exists: vectors get values (SMACOF's
+// weights 300 of them, so their key is the SHA-256 branch), a kFileContent path a file.
+struct Populate {
+  std::string file;
+  template <class Field>
+  void operator()(const Leaf& leaf, Field& field) const {
+    if constexpr (is_vector<Field>::value) {
+      if (field.empty()) field = {3, 30, 300};
+    } else if constexpr (std::is_base_of_v<Eigen::EigenBase<Field>, Field>) {
+      if (field.size() == 0) field = Eigen::VectorXd::LinSpaced(300, 0.5, 2.0);
+    } else if constexpr (std::is_same_v<Field, std::string>) {
+      if (leaf.file_content) field = file;
+    }
+  }
+};
+
+// Perturbs each leaf of `base` in turn and checks key(perturbed) against key(base): different exactly when
+// expect_change(leaf). A kFileContent leaf is pointed at a file of other content (changes the key) and at a
+// copy of its file under another name (does not). Returns the leaves it visited.
+template <class Options, class Key, class ExpectChange>
+std::vector<std::string> expect_keys_follow_fields(const Options& base, const Key& key,
+                                                   const ExpectChange& expect_change, const std::string& what,
+                                                   const std::string& dir) {
+  const std::string base_key = key(base);
+  std::vector<std::string> visited;
+  Options walk = base;
+  size_t count = 0;
+  for_each_leaf(walk, [&](const Leaf&, auto&) { ++count; });
+  for (size_t k = 0; k < count; ++k) {
+    Options changed = base;
+    size_t index = 0;
+    Leaf which;
+    for_each_leaf(changed, [&](const Leaf& leaf, auto& field) {
+      if (index++ != k) return;
+      which = leaf;
+      using Field = std::decay_t<decltype(field)>;
+      if constexpr (std::is_same_v<Field, std::string>) {
+        if (leaf.file_content) {
+          // The same content under another name: the same key.
+          const std::string copy = dir + "/copy-of-" + std::to_string(k) + ".bin";
+          test::write_text(copy, "the distances");
+          field = copy;
+          EXPECT_EQ(key(changed), base_key) << what << ": " << leaf.path << " renamed, same content";
+          test::write_text(dir + "/other.bin", "other distances");
+          field = dir + "/other.bin";
+          return;
+        }
+        if (leaf.path == "method") {
+          for (const std::string& m : canonical_form_methods())
+            if (m != field) {
+              field = m;
+              return;
+            }
+        }
+      }
+      perturb(field);
+    });
+    visited.push_back(which.path);
+    const bool changed_key = key(changed) != base_key;
+    EXPECT_EQ(changed_key, expect_change(which))
+        << what << ": changing " << which.path
+        << (expect_change(which) ? " leaves the key unchanged (a stale cache entry would be served)"
+                                 : " changes the key, yet it is marked as not changing the result");
+  }
+  return visited;
+}
+
+TEST(OptionsKey, EveryFieldReachesTheCanonicalFormKey) {
+  const std::string dir = test::scratch_dir("options_key");
+  test::write_text(dir + "/D.bin", "the distances");
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    CanonicalFormOptions base;
+    base.method = method.name;
+    for_each_leaf(base, Populate{dir + "/D.bin"});
+    // The fields a method does not read are fields.
+    std::set<std::string> tops;
+    for_each_leaf(base, [&](const Leaf& leaf, auto&) { tops.insert(leaf.top); });
+    for (const std::string& name : method.options_not_read)
+      EXPECT_TRUE(tops.count(name)) << method.name << ": options_not_read names no field: " << name;
+    const auto reads = [&](const Leaf& leaf) {
+      return leaf.changes_result && std::find(method.options_not_read.begin(), method.options_not_read.end(),
+                                              leaf.top) == method.options_not_read.end();
+    };
+    const std::vector<std::string> visited = expect_keys_follow_fields(
+        base, [](const CanonicalFormOptions& o) { return canonical_form_key(o); }, reads,
+        "canonical_form_key(" + method.name + ")", dir);
+    // The walk reached the nested structs' fields (SMACOF's weights among them).
+    EXPECT_TRUE(std::count(visited.begin(), visited.end(), "smacof.vertex_weights"));
+    EXPECT_TRUE(std::count(visited.begin(), visited.end(), "coulomb.projection.steps"));
+    EXPECT_TRUE(std::count(visited.begin(), visited.end(), "geodesics.heat_time_factor"));
+  }
+}
+
+TEST(OptionsKey, EveryFieldReachesTheGluedMeshKey) {
+  const Mesh mesh = icosphere(1);
+  TopologicalNoiseOptions base;
+  for_each_leaf(base, Populate{});
+  const std::vector<std::string> visited = expect_keys_follow_fields(
+      base, [&](const TopologicalNoiseOptions& o) { return glued_mesh_key(mesh, o); },
+      [](const Leaf& leaf) { return leaf.changes_result; }, "glued_mesh_key", test::scratch_dir("glue_key"));
+  EXPECT_TRUE(std::count(visited.begin(), visited.end(), "geodesic.method"));
+}
+
+TEST(OptionsKey, EveryFieldReachesTheIcpKey) {
+  IcpOptions base;
+  for_each_leaf(base, Populate{});
+  expect_keys_follow_fields(
+      base, [](const IcpOptions& o) { return to_key_string(o); },
+      [](const Leaf& leaf) { return leaf.changes_result; }, "to_key_string(IcpOptions)",
+      test::scratch_dir("icp_key"));
+}
+
+// The case the count-only key missed: SMACOF weights of the same count, other values.
+TEST(OptionsKey, SmacofWeightsEnterByValue) {
+  CanonicalFormOptions a;
+  a.method = "smacof";
+  a.smacof.vertex_weights = Eigen::VectorXd::Ones(5000);
+  CanonicalFormOptions b = a;
+  b.smacof.vertex_weights[4321] = 1.0 + 1e-15;
+  EXPECT_NE(canonical_form_key(a), canonical_form_key(b));
+  EXPECT_LT(canonical_form_key(a).size(), 4000u);  // long vectors enter as their count and a SHA-256
+}
+
+// The text itself: names, 17 digits, enums by name, quoted strings, vectors by value.
+TEST(OptionsKey, TextNamesEveryValue) {
+  KnnGraphOptions knn;
+  knn.k = 12;
+  EXPECT_EQ(options_key(knn), "k=12");
+  GeodesicOptions g;
+  g.method = GeodesicMethod::FastMarching;
+  g.heat_time_factor = 0.1;
+  EXPECT_EQ(options_key(g),
+            "method=fmm;heat_mode=" + to_string(g.heat_mode) + ";heat_time_factor=0.10000000000000001");
+  CanonicalFormOptions o;
+  o.method = "coulomb";
+  o.name = "a\"b";  // kNoEffect: not in the key
+  const std::string key = canonical_form_key(o);
+  EXPECT_EQ(key.rfind("method=\"coulomb\";coulomb.scheme=", 0), 0u) << key;
+  EXPECT_EQ(key.find("geodesics."), std::string::npos) << "coulomb does not read the geodesics: " << key;
+  EXPECT_NE(key.find(";knn.k=8"), std::string::npos) << key;
+  IcpOptions icp;
+  EXPECT_NE(to_key_string(icp).find(";pyramid=100,1000,;"), std::string::npos);
+}
+
+// The experiments start from the library's experiment defaults (heat geodesics), whoever calls them: the CLI
+// no longer sets them, so a C++ or Python caller gets the CLI's numbers. Compared field by field, by key.
+TEST(OptionsKey, ExperimentsStartFromTheLibraryDefaults) {
+  const CanonicalFormOptions defaults = experiment_canonical_form_options();
+  const CanonicalFormOptions single_call;  // canonical_form() alone: fast marching, as the paper
+  const PaperExperimentOptions paper;
+  const NoiseExperimentOptions noise;
+  const TopkidsExperimentOptions topkids;
+  const PoseInvarianceOptions pose;
+  EXPECT_EQ(defaults.geodesics.method, GeodesicMethod::Heat);
+  EXPECT_NE(options_key(defaults), options_key(single_call));
+  EXPECT_EQ(options_key(paper.canon), options_key(defaults));
+  EXPECT_EQ(options_key(noise.canon), options_key(defaults));
+  EXPECT_EQ(options_key(topkids.canon), options_key(defaults));
+  EXPECT_EQ(options_key(pose.canon), options_key(defaults));
+  EXPECT_EQ(paper.methods, canonical_form_methods());
+}
+
+}  // namespace
+}  // namespace cshapes
