@@ -14,7 +14,6 @@ namespace {
 
 struct CanonArgs {
   std::string input, output, history, method = "coulomb";
-  bool largest_component = false;
   bool strict = false;
   bool json = false;
 } args;
@@ -83,8 +82,6 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(one_of(known));
        app.add_option("--history", args.history, "write the per-iteration history as CSV");
-       app.add_flag("--largest-component", args.largest_component,
-                    "keep the largest connected component (the default repair; kept for old scripts)");
        app.add_flag(
            "--strict", args.strict,
            "refuse a mesh the method would have to repair (non-manifold for MDS, several components, "

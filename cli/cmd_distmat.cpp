@@ -17,7 +17,7 @@ namespace {
 
 struct DistmatArgs {
   std::string data, output, method = "coulomb", cache, metric = "hausdorff", reference;
-  bool largest_component = false, strict = false, json = false;
+  bool strict = false, json = false;
   int two_stage_k = 0;
   long fail_after_pairs = -1;  // test hook (hidden option): fail after this many pairs on each rank
 } args;
@@ -33,7 +33,6 @@ int run() {
   DatasetDistanceOptions o;
   o.data = args.data;
   o.canon.method = args.method;
-  o.canon.geodesics.method = GeodesicMethod::Heat;  // ours: 9× CGAL's speed, about 1% from exact (README)
   configure_canonical_form(o.canon);                // every method option given on the command line
   o.canon.strict = args.strict;
   o.cache_dir = args.cache.empty()
@@ -98,8 +97,6 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(one_of({"hausdorff", "chamfer", "rmse"}));
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
-       app.add_flag("--largest-component", args.largest_component,
-                    "keep each input's largest component (the default repair; kept for old scripts)");
        app.add_flag(
            "--strict", args.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

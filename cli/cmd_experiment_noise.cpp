@@ -5,9 +5,9 @@
 #include <iostream>
 #include <set>
 
+#include "cli/command.h"
 #include "core/error.h"
 #include "core/topological_noise.h"
-#include "cli/command.h"
 #include "experiments/noise_experiment.h"
 
 namespace cshapes::cli {
@@ -41,9 +41,7 @@ int run() {
   }
   if (o.levels.empty()) usage_fail("--levels: give at least one glue count (e.g. 0,1,2,4,8)");
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
-  check_canon_method_options(o.methods);
-  require_output_directory(o.out);
-  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
+  prepare_experiment(o.methods, o.out, o.canon);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
@@ -90,10 +88,8 @@ const bool registered = register_command(
      "queries among clean shapes and the noisy-vs-clean form distance (cached: reruns resume)",
      [](CLI::App& app) {
        NoiseExperimentOptions& o = args.options;
-       app.add_option("--data", o.data,
-                      "folder of meshes (class = name without trailing digits) or manifest.csv")
-           ->required();
-       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       add_data_and_out_options(app, o.data, o.out,
+                                "folder of meshes (class = name without trailing digits) or manifest.csv");
        add_methods_option(app, args.methods);
        app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
            ->capture_default_str();

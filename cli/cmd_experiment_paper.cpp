@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "core/error.h"
 #include "cli/command.h"
-#include "pipeline/distributed.h"
+#include "core/error.h"
 #include "experiments/paper_experiment.h"
+#include "pipeline/distributed.h"
 
 namespace cshapes::cli {
 namespace {
@@ -30,9 +30,7 @@ int run() {
   if (o.figure_vertices != 0 && o.figure_vertices < 4)
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
   const Communicator& comm = world_communicator();
-  if (comm.is_root()) check_canon_method_options(o.methods);
-  require_output_directory(o.out);
-  configure_canonical_form(o.canon);  // every method option given, as in `cshapes canon`
+  prepare_experiment(o.methods, o.out, o.canon);
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   if (comm.is_root()) {  // one voice: the other ranks work silently
@@ -68,10 +66,8 @@ const bool registered = register_command(
      "of topological noise, data for Figures 2-8, Table 1 and report.md (cached: reruns resume)",
      [](CLI::App& app) {
        PaperExperimentOptions& o = args.options;
-       app.add_option("--data", o.data,
-                      "folder of meshes (class = name without trailing digits) or manifest.csv")
-           ->required();
-       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       add_data_and_out_options(app, o.data, o.out,
+                                "folder of meshes (class = name without trailing digits) or manifest.csv");
        add_methods_option(app, args.methods);
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
            ->capture_default_str();
@@ -84,9 +80,6 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(1, 1000));
        app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
-       app.add_flag(
-           "--largest-component", o.largest_component,
-           "keep each input's largest connected component (the default repair; kept for old scripts)");
        app.add_flag("--strict", o.canon.strict,
                     "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
                     "3), with no geodesic fallback; and refuse a mesh a method would have to repair "

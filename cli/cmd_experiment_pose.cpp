@@ -18,9 +18,7 @@ int run() {
   PoseInvarianceOptions o = args.options;
   o.methods = methods_option(args.methods);
   o.shapes = list_option("--shapes", args.shapes);
-  check_canon_method_options(o.methods);
-  require_output_directory(o.out);
-  configure_canonical_form(o.canon);
+  prepare_experiment(o.methods, o.out, o.canon);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
   std::cout << pose_invariance_markdown(r, o);
@@ -34,13 +32,11 @@ const bool registered = register_command(
      "stretch and geodesic stress (cached: reruns resume)",
      [](CLI::App& app) {
        PoseInvarianceOptions& o = args.options;
-       app.add_option(
-              "--data", o.data,
-              "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
-              "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
-              "clean poses of a class share their faces (vertex i against vertex i)")
-           ->required();
-       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       add_data_and_out_options(
+           app, o.data, o.out,
+           "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
+           "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
+           "clean poses of a class share their faces (vertex i against vertex i)");
        add_methods_option(app, args.methods);
        app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
        app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "core/error.h"
 #include "cli/command.h"
+#include "core/error.h"
 #include "experiments/topkids_experiment.h"
 
 namespace cshapes::cli {
@@ -15,7 +15,7 @@ namespace {
 struct TopkidsArgs {
   TopkidsExperimentOptions options;
   std::string methods;  // add_methods_option: every registered method
-  std::string poses;  // empty: all
+  std::string poses;    // empty: all
   std::string scoring_geodesics = "fmm";
   bool no_figure = false, json = false;
 } args;
@@ -29,9 +29,7 @@ int run() {
   } catch (const Error& e) {
     usage_fail("--scoring-geodesics: ", e.what());
   }
-  check_canon_method_options(o.methods);
-  require_output_directory(o.out);
-  configure_canonical_form(o.canon);
+  prepare_experiment(o.methods, o.out, o.canon);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
@@ -70,10 +68,9 @@ const bool registered = register_command(
      "report.md (cached: reruns resume)",
      [](CLI::App& app) {
        TopkidsExperimentOptions& o = args.options;
-       app.add_option("--data", o.data,
-                      "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)")
-           ->required();
-       app.add_option("--out", o.out, "output folder (its cache/ makes reruns resume)")->required();
+       add_data_and_out_options(
+           app, o.data, o.out,
+           "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)");
        app.add_option("--reference", o.reference, "file stem of the reference pose")->capture_default_str();
        app.add_option(
            "--poses", args.poses,

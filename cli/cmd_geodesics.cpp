@@ -17,7 +17,6 @@ struct GeodesicsArgs {
   std::string input, output, method = "heat", heat_mode = "idt";
   int source = -1;
   bool csv = false;
-  bool largest_component = false;
   bool strict = false;
   bool json = false;
   CLI::Option* heat_mode_option = nullptr;
@@ -120,8 +119,6 @@ const bool registered = register_command(
            ->check(integer_in(0, INT_MAX));
        app.add_flag("--csv", args.csv,
                     "CSV (vertex,distance) for the row of --source; implied by -o NAME.csv or no -o");
-       app.add_flag("--largest-component", args.largest_component,
-                    "keep the largest connected component (the default repair; kept for old scripts)");
        app.add_flag("--strict", args.strict,
                     "refuse a mesh that needs repair (non-manifold, several components, ...) instead of "
                     "repairing it");

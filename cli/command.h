@@ -60,6 +60,14 @@ void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = 
 // takes method options (canon, distmat, the experiments). An option that one of several methods reads is
 // fine.
 void check_canon_method_options(const std::vector<std::string>& methods);
+// What every experiment command does once its own options are parsed, before any work: the method options
+// given are checked against `methods` (check_canon_method_options), the output folder `out` is checked
+// (require_output_directory; created by the run when missing), and the method options given are applied to
+// `canon` (configure_canonical_form). On every rank of an MPI run, so that each stops on a bad command line.
+void prepare_experiment(const std::vector<std::string>& methods, const std::string& out,
+                        CanonicalFormOptions& canon);
+// --data and --out as every experiment takes them; data_help says what --data may be.
+void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, const std::string& data_help);
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
 // The experiments' --methods: canonical-form methods (pipeline/canonical_form_methods.h), comma-separated;

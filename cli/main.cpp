@@ -330,6 +330,18 @@ void require_output_path(const std::string& path, const std::vector<std::string>
 void require_mesh_output_path(const std::string& path) {
   require_output_path(path, {"off", "ply", "obj", "xyz"});  // what write_mesh writes (core/io.h)
 }
+void prepare_experiment(const std::vector<std::string>& methods, const std::string& out,
+                        CanonicalFormOptions& canon) {
+  check_canon_method_options(methods);
+  require_output_directory(out);
+  configure_canonical_form(canon);  // every method option given, as in `cshapes canon`
+}
+
+void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, const std::string& data_help) {
+  app.add_option("--data", data, data_help)->required();
+  app.add_option("--out", out, "output folder, created when missing (its cache/ makes reruns resume)")->required();
+}
+
 void require_output_directory(const std::string& path) {
   try {
     check_output_directory(path);

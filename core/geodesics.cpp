@@ -292,7 +292,8 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
     if (comp.count > 1)
       fail("all-pairs geodesics: the mesh has ", comp.count, " connected components (largest ",
            comp.sizes[comp.largest()], " of ", n,
-           " vertices), so some distances are infinite; keep the largest component (--largest-component)");
+           " vertices), so some distances are infinite; keep the largest component (core/mesh_repair.h; the CLI "
+           "does unless --strict)");
   }
   if (std::string refusal = geodesic_method_refusal(mesh, options.method); !refusal.empty()) fail(refusal);
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");

@@ -220,7 +220,7 @@ Submesh require_connected(const Mesh& mesh, const std::string& name, bool keep_l
   if (!keep_largest) {
     fail(name, ": the mesh has ", comp.count, " connected components (largest ", comp.sizes[largest], " of ",
          mesh.num_vertices(),
-         " vertices); this stage needs one: pass --largest-component to keep the largest");
+         " vertices); this stage needs one: keep the largest (core/mesh_repair.h; the CLI does unless --strict)");
   }
   Submesh sub = extract_component(mesh, comp, largest);
   if (note) {

@@ -42,9 +42,6 @@ struct PaperExperimentOptions {
   static constexpr int kNoisyEveryPose = -1;
   int glue = 2;            // glues per noisy shape made here
   std::uint64_t seed = 1;  // noise placement
-  // Meshes are repaired per method (pipeline/canonical_forms.h), the largest component kept by default;
-  // canon.strict refuses a mesh that needs repair. Kept for old scripts: has no effect.
-  bool largest_component = false;
   // Method options (geodesics for MDS: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
   bool table1 = true;          // measure Table 1 (remeshes to 3,505 and 22,738 vertices)

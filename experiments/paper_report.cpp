@@ -2,6 +2,7 @@
 // was measured here, with a plain verdict.
 #include "experiments/paper_report.h"
 
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/experiment_kit.h"
 
 #include <algorithm>
@@ -439,7 +440,7 @@ void write_paper_report(const PaperReport& r, const std::string& folder) {
   ReportText t(r);
   t.has_coulomb = r.retrieval.count("coulomb") > 0;
   for (const std::string& m : r.options.methods)
-    if (m != "coulomb") t.mds_methods.push_back(m);
+    if (canonical_form_method(m).uses_geodesic_matrix) t.mds_methods.push_back(m);
   for (const auto& s : r.shapes) {
     if (!s.in_retrieval) continue;
     (s.noisy ? t.noisy : t.clean)++;

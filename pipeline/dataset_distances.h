@@ -29,6 +29,7 @@
 #include "core/communicator.h"
 #include "eval/pairwise_distances.h"
 #include "matching/shape_descriptor.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/canonical_forms.h"
 #include "pipeline/shape_failures.h"
 
@@ -36,7 +37,9 @@ namespace cshapes {
 
 struct DatasetDistanceOptions {
   std::string data;            // folder of meshes (class = name without trailing digits) or manifest.csv
-  CanonicalFormOptions canon;  // the method and its options (canon.name is set per shape)
+  // The method and its options (canon.name is set per shape): by default the experiments' (heat geodesics for
+  // MDS, pipeline/canonical_form_methods.h), so `cshapes distmat` and a C++ caller start from the same options.
+  CanonicalFormOptions canon = experiment_canonical_form_options();
   std::string cache_dir;  // canonical forms under cache_dir/forms, pairs under cache_dir/pairs; empty: none
   PairwiseDistanceOptions pairs;                 // ICP options; cache_dir and progress are set here
   ProgressFn progress;                           // stage "distances"
