@@ -2,9 +2,9 @@
 // Output: the input's vertex order and faces; PLY carries a per-vertex `torn` flag (1: endpoint of a torn
 // edge).
 #include "canon/coulomb.h"
+#include "cli/command.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
-#include "cli/command.h"
 
 namespace cshapes::cli {
 namespace {
@@ -25,85 +25,63 @@ void add_options(CLI::Option_group& g) {
   g.add_option("--scheme", args.scheme,
                "paper: plain alternation of §2.1; momentum: Nesterov with restart (same "
                "fixed point, fewer iterations)")
-      ->capture_default_str()
       ->check(one_of({"paper", "momentum"}));
   g.add_option("--step-rule", args.step_rule,
                "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), "
                "mean-edge, median-edge; or fixed")
-      ->capture_default_str()
       ->check(one_of({"max-edge", "mean-edge", "median-edge", "fixed"}));
   g.add_option("--step-gradient", args.step_gradient,
                "the step rule's denominator: max (paper: the fastest vertex moves factor·L) or mean "
                "(a typical vertex does)")
-      ->capture_default_str()
       ->check(one_of({"max", "mean"}));
   g.add_option("--step-factor", o.step_factor, "the factor of the step rule (paper: 0.1)")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kStepFactor));
   g.add_option("--fixed-step", o.fixed_step,
                "c for --step-rule fixed; 0: the mean-edge c of the first iteration")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kFixedStep));
   g.add_option("--coulomb-steps", o.coulomb_steps, "m: Coulomb steps per outer iteration")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kCoulombSteps));
   g.add_option("--projection-steps", o.projection.steps, "k: projection sweeps per outer iteration")
-      ->capture_default_str()
       ->check(within(projection_limits::kSteps));
   g.add_option("--projection", args.norm, "l2: averaged projection (eq. 6); l1: weighted (eq. 8-9)")
-      ->capture_default_str()
       ->check(one_of({"l2", "l1"}));
   g.add_option("--l1-floor", o.projection.l1_floor, "L1 weights: |r-d| floored at this fraction of d")
-      ->capture_default_str()
       ->check(within(projection_limits::kL1Floor));
   g.add_option("--dilation", o.projection.dilation,
                "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact")
-      ->capture_default_str()
       ->check(within(projection_limits::kDilation));
   g.add_option("--tear-fraction", o.tear_fraction,
                "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kTearFraction));
   g.add_option("--tear-after", o.tear_after,
                "T: tear after this many iterations (or at convergence if earlier)")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kTearAfter));
   g.add_option("--tear-times", o.tear_times, "how many times to tear")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kTearTimes));
   g.add_option("--tear-interval", o.tear_interval, "iterations between repeated tears")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kTearInterval));
   g.add_option("--tear-guard", args.tear_guard,
                "edges tearing must keep: connected (two per vertex, no part cut "
                "off), vertex (one per vertex: pairs and patches may be cut off and drift away)")
-      ->capture_default_str()
       ->check(one_of({"connected", "vertex"}));
   g.add_option("--coulomb-max-iterations", o.max_iterations, "maximum outer iterations")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kMaxIterations));
   g.add_option("--coulomb-window", o.stop_window, "iterations between shape-change checks")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kWindow));
   g.add_option("--coulomb-tolerance", o.stop_tolerance,
                "converged when the aligned RMS shape change over a window is below this × bbox diagonal")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kTolerance));
   g.add_option("--momentum", o.momentum, "cap of Nesterov's momentum (scheme momentum)")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kMomentum));
   g.add_option("--coulomb-summation", args.summation, "Coulomb sum: auto, direct, direct-float, fast")
-      ->capture_default_str()
       ->check(one_of({"auto", "direct", "direct-float", "fast"}));
   g.add_option(
        "--coulomb-accuracy", o.energy.accuracy,
        "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
        "whichever is smaller)")
-      ->capture_default_str()
       ->check(within(coulomb_limits::kAccuracy));
   g.add_option("--knn", args.knn.k,
                "point clouds (no faces): neighbours per point of the symmetric kNN graph")
-      ->capture_default_str()
       ->check(within(kKnnLimit));
 }
 

@@ -457,7 +457,7 @@ void check_numeric_options(CLI::App& app) {
 }
 
 // Every option's help shows its default: options that take a value and are not required get the value their
-// variable holds before parsing ("=0.1"), wherever a command forgot capture_default_str().
+// variable holds before parsing ("=0.1"); a command need not call capture_default_str() itself.
 void show_defaults(CLI::App& app) {
   for (CLI::Option* option : app.get_options())
     if (option->get_type_size() != 0 && !option->get_required() && option->get_default_str().empty())
