@@ -37,29 +37,28 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
                                  std::string* fallback) {
   GeodesicOptions go = options.geodesics;
   if (!go.progress) go.progress = options.progress;
-  try {
+  auto all_pairs = [&](GeodesicMethod method) {
+    go.method = method;
     if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
     return all_pairs_geodesics(mesh, go);
-  } catch (const IoError&) {
-    throw;
-  } catch (const FileError&) {
-    throw;
+  };
+  // The run's own files and I/O failing are never the method's failure on this mesh.
+  auto the_runs_own = [](const Error& e) {
+    return dynamic_cast<const IoError*>(&e) != nullptr || dynamic_cast<const FileError*>(&e) != nullptr;
+  };
+  try {
+    return all_pairs(options.geodesics.method);
   } catch (const Error& error) {
-    const std::optional<GeodesicMethod> next = geodesic_fallback_method(go.method);
-    if (options.strict || !next) throw;
-    const std::string text =
-        to_string(go.method) + " geodesics failed (" + error.what() + "); " + to_string(*next) + " instead";
+    const std::optional<GeodesicMethod> next = geodesic_fallback_method(options.geodesics.method);
+    if (the_runs_own(error) || options.strict || !next) throw;
+    const std::string text = to_string(options.geodesics.method) + " geodesics failed (" + error.what() +
+                             "); " + to_string(*next) + " instead";
     say(options, options.name + ": " + text);
     if (fallback) *fallback = text;
-    go.method = *next;
     try {
-      if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
-      return all_pairs_geodesics(mesh, go);
-    } catch (const IoError&) {
-      throw;
-    } catch (const FileError&) {
-      throw;
+      return all_pairs(*next);
     } catch (const Error& next_error) {
+      if (the_runs_own(next_error)) throw;
       // Both failed: say so, the first method's reason included.
       fail(to_string(options.geodesics.method), " geodesics failed (", error.what(), "), and so did ",
            to_string(*next), " (", next_error.what(), ")");
