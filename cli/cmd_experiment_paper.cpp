@@ -38,7 +38,7 @@ int run() {
     o.note = [](const std::string& line) { note(line); };
   }
   o.communicator = &comm;
-  PaperExperimentSummary s = run_paper_experiment(o);
+  PaperExperimentSummary s = paper_experiment(o);
   if (!comm.is_root()) return 0;
   nlohmann::json j{{"out", o.out},
                    {"shapes", s.shapes},

@@ -775,7 +775,7 @@ void retrieval_set(ExperimentRun& run) {
 
 }  // namespace
 
-PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
+PaperReport run_paper_experiment(const PaperExperimentOptions& o) {
   const auto start = WallClock::now();
   CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
   require_canonical_form_methods(o.methods, "experiment");
@@ -796,7 +796,8 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
   retrieval_stage(run);
   if (!comm.is_root()) {
     summary.seconds = seconds_since(start);
-    return summary;
+    report.summary = summary;
+    return std::move(report);
   }
   noise_stage(run);
   point_map_stage(run);
@@ -812,8 +813,18 @@ PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& o) {
 
   summary.seconds = seconds_since(start);
   report.summary = summary;
-  write_paper_report(report, o.out);
-  return summary;
+  return std::move(report);
+}
+
+PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
+  const auto start = WallClock::now();
+  PaperReport report = run_paper_experiment(options);
+  const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  if (comm.is_root()) {
+    report.summary.seconds = seconds_since(start);
+    write_paper_report(report, options.out);
+  }
+  return report.summary;
 }
 
 }  // namespace cshapes

@@ -5,12 +5,12 @@
 // cached); ICP distances between all pairs (eval/pairwise_distances.h, cached); retrieval measures and PR
 // curves (eval/retrieval.h); the effect of topological noise on each method's canonical form; point-map
 // errors where ground-truth correspondences exist; the data behind Figures 2-8; Table 1
-// (experiments/timing_table.h); report.md. Imperfect meshes are read as they are and repaired per method, said
-// per shape in notes and report.md; a file no method can use (unreadable, too few vertices) is skipped with
-// its reason. Everything is written under options.out; every expensive intermediate is cached in out/cache,
-// so a run that is killed resumes where it stopped. A shape whose canonical form fails by any method is left
-// out by every method, named with its reason in summary.failures, report.md and metrics.json (unless
-// canon.strict: then the error ends the run); the run goes on with the others.
+// (experiments/timing_table.h); report.md. Imperfect meshes are read as they are and repaired per method,
+// said per shape in notes and report.md; a file no method can use (unreadable, too few vertices) is skipped
+// with its reason. Everything is written under options.out; every expensive intermediate is cached in
+// out/cache, so a run that is killed resumes where it stopped. A shape whose canonical form fails by any
+// method is left out by every method, named with its reason in summary.failures, report.md and metrics.json
+// (unless canon.strict: then the error ends the run); the run goes on with the others.
 //
 // Distributed (options.communicator with R > 1 ranks, pipeline/distributed.h): the two expensive stages are
 // split over the ranks — canonical forms by expected cost (vertex counts, longest first), the ICP pairs of
@@ -20,18 +20,21 @@
 #pragma once
 
 #include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "core/communicator.h"
+#include "experiments/timing_table.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
 struct PaperExperimentOptions {
-  std::string data;  // folder of meshes or manifest.csv
-  std::string out;   // output folder
+  std::string data;                                             // folder of meshes or manifest.csv
+  std::string out;                                              // output folder
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   int poses_per_class = 4;  // clean poses per class in the retrieval set (the paper's 4); ≤ 0: all
   // Topologically noisy shapes per class (the paper's 1): the data's noisy shapes first, then shapes glued
@@ -44,9 +47,9 @@ struct PaperExperimentOptions {
   std::uint64_t seed = 1;  // noise placement
   // Method options (geodesics for MDS: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
-  bool table1 = true;          // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
-  int timing_repeats = 5;      // Table 1: runs per median
-  bool figures = true;         // compute the data of Figures 2, 3, 4, 5
+  bool table1 = true;      // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
+  int timing_repeats = 5;  // Table 1: runs per median
+  bool figures = true;     // compute the data of Figures 2, 3, 4, 5
   // Figures 3 and 5: remesh their shape to this many vertices first; 0: the data's own resolution (tosca5k:
   // 5,000 vertices, about 23 s for both figures' 13,000 outer iterations).
   int figure_vertices = 0;
@@ -69,6 +72,67 @@ struct PaperExperimentSummary {
   std::vector<ShapeFailure> failures;
 };
 
-PaperExperimentSummary run_paper_experiment(const PaperExperimentOptions& options);
+// What the experiment measured, gathered for report.md.
+struct PaperReport {
+  PaperExperimentOptions options;  // what was run (its callbacks unused by the report)
+  struct ShapeRow {
+    std::string name, class_name;
+    bool noisy = false, in_retrieval = true;
+    Index vertices = 0;
+    std::string source;                          // noisy shapes glued here: their clean pose
+    std::string defects;                         // core/mesh_defects.h summary, "none" for a clean mesh
+    std::map<std::string, std::string> repairs;  // per method: what was repaired ("" or absent: nothing)
+  };
+  std::vector<ShapeRow> shapes;
+  struct Skipped {
+    std::string file, reason;
+  };
+  std::vector<Skipped> skipped;  // files of the data that could not be used, and why
+  struct Retrieval {
+    double map = 0, nn = 0, ft = 0, st = 0, e = 0, dcg = 0;
+    double noisy_query_nn = -1;  // nearest-neighbour rate of the noisy queries alone (−1: none)
+  };
+  std::map<std::string, Retrieval> retrieval;  // per method, under the paper's (Hausdorff) distance
+  // Per method, then per distance kind between canonical forms after ICP (hausdorff, chamfer, rmse:
+  // matching/shape_distance.h): a conclusion that depends on the choice of distance shows here.
+  std::map<std::string, std::map<std::string, Retrieval>> retrieval_by_distance;
+  struct MethodCost {
+    std::vector<double> precompute, solve;
+    std::vector<int> iterations;
+  };
+  std::map<std::string, MethodCost> cost;
+  struct NoiseRow {
+    std::string shape, method;
+    double vertexwise_rms = 0;  // same vertices, best rigid fit (reflection allowed), / bbox diagonal
+    double hausdorff = 0;       // after ICP, / bbox diagonal
+    double icp_rmse = 0;        // after ICP, / bbox diagonal
+  };
+  std::vector<NoiseRow> noise;
+  std::map<std::string, double> pose_variation;  // median ICP RMSE between clean poses of a class / diagonal
+  std::map<std::string, std::vector<double>> correspondence_mean_error;  // per pair, / √area
+  int correspondence_pairs = 0;
+  std::vector<TimingRow> table1;
+  std::string table1_note;
+  struct Convergence {
+    int projection_steps = 0;
+    double final_energy = 0, final_violation = 0;
+  };
+  std::vector<Convergence> convergence;
+  std::string figure_shape;                                // the shape of Figures 3 and 5
+  nlohmann::json figure_grids = nlohmann::json::object();  // Fig. 2, 3 mesh grids for paper_figures.py
+  std::map<std::string, double> stage_seconds;
+  PaperExperimentSummary summary;
+};
+
+// The measurement: the shapes, their canonical forms, ICP distances, retrieval, the noise effect, point maps,
+// the figures' data and Table 1, with their data files under options.out (canon/, distances/, metrics.json,
+// labels.csv, noise_effect.csv, correspondence_error.csv, figures.json, table1.csv, convergence.csv) and its
+// caches; returns what report.md says (report.summary: the counts and failures). Writes no report.md. On
+// ranks other than 0 of a distributed run, only report.summary's counts are filled.
+PaperReport run_paper_experiment(const PaperExperimentOptions& options);
+
+// The experiment as `cshapes experiment paper` (and cshapes.experiment_paper) runs it: run_paper_experiment,
+// then report.md (experiments/paper_report.h) on rank 0. Returns the summary.
+PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options);
 
 }  // namespace cshapes

@@ -46,7 +46,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   PaperExperimentSummary s;
   {
     Computing computing;
-    s = run_paper_experiment(o);
+    s = paper_experiment(o);
   }
   py::dict result;
   result["out"] = o.out;

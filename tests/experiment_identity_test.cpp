@@ -1,4 +1,4 @@
-// Defaults in the library: `cshapes experiment paper` and run_paper_experiment called from C++ with the
+// Defaults in the library: `cshapes experiment paper` and paper_experiment called from C++ with the
 // library's default options write the same files, byte for byte, on a small generated dataset (the Python
 // module's side of the same check is tests/python/test_experiment_identity.py). Before the experiments'
 // defaults moved into the library, the CLI chose heat geodesics and C++ got fast marching: the MDS forms,
@@ -49,7 +49,7 @@ TEST(ExperimentDefaults, CliAndCppRunsOfThePaperExperimentWriteTheSameFiles) {
   o.out = dir + "/cpp";
   o.table1 = false;
   o.figures = false;
-  run_paper_experiment(o);
+  paper_experiment(o);
 
   const std::map<std::string, std::string> a = outputs(dir + "/cli"), b = outputs(dir + "/cpp");
   ASSERT_GT(a.size(), 10u);

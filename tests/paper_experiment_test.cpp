@@ -87,7 +87,7 @@ PaperExperimentOptions small_run(const std::string& dir, const std::string& out)
 TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {
   const std::string dir = dataset_with_an_unusable_shape("paper_unusable");
   const PaperExperimentOptions o = small_run(dir, "out");
-  const PaperExperimentSummary s = run_paper_experiment(o);
+  const PaperExperimentSummary s = paper_experiment(o);
   EXPECT_EQ(s.shapes, 6);  // the 6 usable poses
   ASSERT_EQ(count_left_out(s.failures), 1) << shape_failures_json(s.failures).dump(2);
   const ShapeFailure* f = nullptr;
@@ -121,7 +121,7 @@ TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {
   PaperExperimentOptions strict = small_run(dir, "strict");
   strict.canon.strict = true;
   try {
-    run_paper_experiment(strict);
+    paper_experiment(strict);
     ADD_FAILURE() << "strict run completed";
   } catch (const Error& e) {
     EXPECT_EQ(dynamic_cast<const IoError*>(&e), nullptr);
@@ -131,11 +131,37 @@ TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {
 TEST(PaperExperiment, NothingFailedMeansNoFailuresAnywhere) {
   const std::string dir = dataset_with_an_unusable_shape("paper_clean", false);
   const PaperExperimentOptions o = small_run(dir, "out");
-  const PaperExperimentSummary s = run_paper_experiment(o);
+  const PaperExperimentSummary s = paper_experiment(o);
   EXPECT_EQ(s.shapes, 6);
   EXPECT_TRUE(s.failures.empty()) << shape_failures_json(s.failures).dump(2);
   EXPECT_EQ(read_file(o.out + "/report.md").find("## Shapes left out"), std::string::npos);
   EXPECT_FALSE(nlohmann::json::parse(read_file(o.out + "/metrics.json")).contains("failures"));
+}
+
+// The driver returns the report's data and writes its data files, never report.md: the writer does that
+// from the returned report alone.
+TEST(PaperExperiment, TheRunReturnsTheReportsDataAndTheWriterWritesIt) {
+  const std::string dir = test::scratch_dir("paper-run-data");
+  PaperExperimentOptions o;
+  o.data = test::generated_dataset(dir, 2, 3, 400);
+  o.out = dir + "/out";
+  o.methods = {"coulomb"};
+  o.table1 = false;
+  o.figures = false;
+  const PaperReport r = run_paper_experiment(o);
+  EXPECT_TRUE(fs::exists(o.out + "/metrics.json"));
+  EXPECT_TRUE(fs::exists(o.out + "/distances/coulomb.csv"));
+  EXPECT_FALSE(fs::exists(o.out + "/report.md")) << "the run writes data, not the report";
+  EXPECT_EQ(r.summary.shapes, 8);  // 2 classes × (3 poses + 1 glued here)
+  ASSERT_TRUE(r.retrieval.count("coulomb"));
+  EXPECT_GE(r.retrieval.at("coulomb").map, 0.0);
+  EXPECT_LE(r.retrieval.at("coulomb").map, 1.0);
+  EXPECT_EQ(r.noise.size(), 2u);  // each glued shape against its clean pose
+  write_paper_report(r, o.out);
+  std::ifstream in(o.out + "/report.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("| Coulomb | Hausdorff |"), std::string::npos);
 }
 
 // The report writer on a hand-made report, without a run: the retrieval table under every distance, "—" where
