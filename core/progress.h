@@ -15,6 +15,12 @@ namespace cshapes {
 
 // stage: what is being done ("coulomb", "geodesics"); done / total: units of work finished so far.
 using ProgressFn = std::function<void(const std::string& stage, double done, double total)>;
+// One line of text for a front end (a stage's result, a repair, a warning "warning: …"); may be empty.
+using NoteFn = std::function<void(const std::string&)>;
+// One line on a note channel, when there is one: the one way the library speaks.
+inline void say(const NoteFn& note, const std::string& line) {
+  if (note) note(line);
+}
 
 // What a progress callback throws to stop a computation at the user's request (Ctrl-C in Python).
 class Cancelled : public Error {

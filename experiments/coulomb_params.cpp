@@ -114,9 +114,6 @@ const std::vector<CoulombParamsConfig>& coulomb_params_configs() {
 }
 
 std::vector<CoulombParamsRow> run_coulomb_params(const CoulombParamsOptions& options) {
-  auto say = [&options](const std::string& line) {
-    if (options.note) options.note(line);
-  };
   std::vector<CoulombParamsConfig> configs;
   const std::vector<CoulombParamsConfig>& known = coulomb_params_configs();
   if (options.configs.empty()) configs = known;
@@ -156,8 +153,9 @@ std::vector<CoulombParamsRow> run_coulomb_params(const CoulombParamsOptions& opt
       for (Index k = 0; k < bridges.rows(); ++k)
         where << " (" << bridges(k, 0) << "," << bridges(k, 1) << ": "
               << (mesh.V.row(bridges(k, 0)) - mesh.V.row(bridges(k, 1))).norm() << ")";
-      say(shape + ": " + std::to_string(bridges.rows()) + " bridges glued between vertices (i,j: length)" +
-          where.str() + "; mean edge " + std::to_string(edge_lengths(mesh.V, clean).mean()));
+      say(options.note, shape + ": " + std::to_string(bridges.rows()) +
+                            " bridges glued between vertices (i,j: length)" + where.str() + "; mean edge " +
+                            std::to_string(edge_lengths(mesh.V, clean).mean()));
     }
     for (const CoulombParamsConfig& config : configs) {
       CoulombCanonOptions o;
@@ -187,10 +185,11 @@ std::vector<CoulombParamsRow> run_coulomb_params(const CoulombParamsOptions& opt
       }
       row.input_pose_rms = input_pose;
       rows.push_back(row);
-      say(shape + " / " + config.name + ": " + std::to_string(row.iterations) + " it, violation " +
-          format(row.mean_violation, 3) + ", bridges torn " + std::to_string(row.bridges_torn) + "/" +
-          std::to_string(row.bridges) + ", glued vs clean RMS " + format(row.glued_rms_to_clean, 3) +
-          ", pose RMS " + format(row.pose_rms, 3) + " (input " + format(input_pose, 3) + ")");
+      say(options.note, shape + " / " + config.name + ": " + std::to_string(row.iterations) +
+                            " it, violation " + format(row.mean_violation, 3) + ", bridges torn " +
+                            std::to_string(row.bridges_torn) + "/" + std::to_string(row.bridges) +
+                            ", glued vs clean RMS " + format(row.glued_rms_to_clean, 3) + ", pose RMS " +
+                            format(row.pose_rms, 3) + " (input " + format(input_pose, 3) + ")");
     }
   }
   return rows;

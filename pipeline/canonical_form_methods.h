@@ -90,9 +90,5 @@ Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn);
 // floats do not fit in the available memory.
 DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                         std::string* fallback = nullptr);
-// One line on options.note, when set.
-inline void say(const CanonicalFormOptions& options, const std::string& line) {
-  if (options.note) options.note(line);
-}
 
 }  // namespace cshapes

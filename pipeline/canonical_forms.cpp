@@ -53,7 +53,7 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
     if (the_runs_own(error) || options.strict || !next) throw;
     const std::string text = to_string(options.geodesics.method) + " geodesics failed (" + error.what() +
                              "); " + to_string(*next) + " instead";
-    say(options, options.name + ": " + text);
+    say(options.note, options.name + ": " + text);
     if (fallback) *fallback = text;
     try {
       return all_pairs(*next);
@@ -169,8 +169,8 @@ void set_geodesics_test_hook(std::function<void(GeodesicMethod, const std::strin
 
 namespace {
 
-CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
-                                double D_seconds, const std::string& D_fallback) {
+CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options,
+                                const DistanceMatrix* D, double D_seconds, const std::string& D_fallback) {
   // Points all in one place have no shape to canonize (every method would return them as they are, "ok").
   CSHAPES_REQUIRE(
       mesh.num_vertices() == 0 || (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff() > 0,

@@ -57,9 +57,6 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
 }  // namespace
 
 DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
-  auto say = [&options](const std::string& line) {
-    if (options.note) options.note(line);
-  };
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
   CSHAPES_REQUIRE(comm.size() == 1 || !options.cache_dir.empty(), options.data,
                   ": a distributed run needs a cache folder (the ranks share their results through it)");
@@ -97,22 +94,23 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
     }
     if (result.failures.size() == failures_before)
       computed = shape_canonical_forms(cache, mesh, {co}, e.name, result.failures);
-    for (size_t k = failures_before; k < result.failures.size(); ++k) say(describe(result.failures[k]));
+    for (size_t k = failures_before; k < result.failures.size(); ++k)
+      say(options.note, describe(result.failures[k]));
     if (!computed) {
       result.skipped.push_back(e.path);
       result.skipped_reasons.push_back(result.failures.back().reason);
       continue;
     }
     CachedForm& form = computed->front();
-    if (!form.form.repair_text.empty()) say(form.form.repair_text);
+    if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
     const bool cached = form.cached;
     (cached ? result.forms_cached : result.forms_computed)++;
     forms.push_back(std::move(form.form.X));
     keys.push_back(form.key);
     result.names.push_back(e.name);
     result.classes.push_back(e.class_name);
-    say("[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " + e.name +
-        (cached ? " (cached)" : ""));
+    say(options.note, "[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " +
+                          e.name + (cached ? " (cached)" : ""));
   }
   // The forms the ranks computed were read from the cache here: count them as computed.
   result.forms_computed += computed_by_ranks;

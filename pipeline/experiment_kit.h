@@ -22,8 +22,6 @@
 
 namespace cshapes {
 
-using NoteFn = std::function<void(const std::string&)>;
-
 // A run's two channels to a front end (the CLI prints them; the Python module and tests may listen or not).
 struct Notes {
   ProgressFn progress;  // (stage, done, total)
@@ -35,10 +33,6 @@ struct Notes {
     if (progress) progress(stage, done, total);
   }
 };
-// One line on a note channel, when there is one.
-inline void say(const NoteFn& note, const std::string& line) {
-  if (note) note(line);
-}
 
 // The output folder of an experiment run. Every file is written atomically (a temporary file renamed into
 // place, core/atomic_file.h): a run that is stopped leaves whole files or none, and a failed write throws

@@ -21,8 +21,8 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
     CSHAPES_REQUIRE(components.count == 1, options.name, ": the ", options.knn.k,
                     "-nearest-neighbour graph has ", components.count,
                     " components; its parts would drift apart: raise --knn");
-    say(options, options.name + ": point cloud, " + std::to_string(E.rows()) +
-                     " kNN edges (k = " + std::to_string(options.knn.k) + ")");
+    say(options.note, options.name + ": point cloud, " + std::to_string(E.rows()) +
+                          " kNN edges (k = " + std::to_string(options.knn.k) + ")");
   }
   CanonicalForm form;
   form.precompute_seconds = seconds_since(start);
@@ -57,11 +57,11 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"projection_steps", co.projection.steps},
                                      {"form_quality", form_quality_json(r.quality)}}
                           .dump();
-  say(options, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
-                   std::to_string(r.seconds) + " s; mean violation " +
-                   std::to_string(r.violation.mean_relative) + ", " + std::to_string(r.torn_edges.rows()) +
-                   " edges torn");
-  say(options, "coulomb: form quality " + r.quality.description);
+  say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
+                        std::to_string(r.seconds) + " s; mean violation " +
+                        std::to_string(r.violation.mean_relative) + ", " +
+                        std::to_string(r.torn_edges.rows()) + " edges torn");
+  say(options.note, "coulomb: form quality " + r.quality.description);
   return form;
 }
 

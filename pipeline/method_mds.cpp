@@ -55,11 +55,12 @@ nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
 
 ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
   ClassicalMdsResult r = classical_mds(D, options.cmds);
-  say(options, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
-                   std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
-                   "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
-                   "% of the spectrum's energy; most negative " + "eigenvalue " +
-                   std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) + " s");
+  say(options.note, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
+                        std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
+                        "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
+                        "% of the spectrum's energy; most negative " + "eigenvalue " +
+                        std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) +
+                        " s");
   return r;
 }
 
@@ -88,7 +89,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     const std::string warning = heat_method_warning(mesh);
     if (!warning.empty()) {
       summary["warning"] = warning;
-      say(options, "warning: " + warning);
+      say(options.note, "warning: " + warning);
     }
   }
   const Edges E = constraint_edges(mesh, options.knn);
@@ -107,10 +108,10 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     if (!so.progress) so.progress = options.progress;
     if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
     SmacofResult sr = smacof(*given, X0, so);
-    say(options, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
-                     std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
-                     " iterations (" + sr.stop_reason + "), " + std::to_string(sr.seconds_per_iteration) +
-                     " s per iteration");
+    say(options.note, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
+                          std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
+                          " iterations (" + sr.stop_reason + "), " +
+                          std::to_string(sr.seconds_per_iteration) + " s per iteration");
     set_smacof_result(form, sr);
     summary["smacof"] = smacof_summary(sr, so);
     summary["smacof"]["init"] = to_string(options.smacof_init);
@@ -118,7 +119,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
   }
   form.solve_seconds = seconds_since(start);
   const FormQuality quality = form_quality(mesh.V, E, form.X);
-  say(options, "form quality " + quality.description);
+  say(options.note, "form quality " + quality.description);
   summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
   return form;
