@@ -414,9 +414,9 @@ void canonize_every_variant(NoiseRun& run) {
   }
 }
 
-// 3. ICP distances (every query, a variant, against every clean pose but its own), then per method and level
-// the retrieval rows and the form distances.
-void measure(NoiseRun& run) {
+// Method m: the ICP distances of `pairs` (queries against clean poses), the pose variation, and per level the
+// form distances and the retrieval rows under each distance.
+void measure_method(NoiseRun& run, const std::string& m, const std::vector<std::pair<int, int>>& pairs) {
   const NoiseExperimentOptions& o = run.o;
   const std::vector<int>& levels = o.levels;
   NoiseExperimentResult& result = run.result;
@@ -425,104 +425,108 @@ void measure(NoiseRun& run) {
   std::map<std::pair<int, int>, int>& variant_of = run.variant_of;
   std::map<std::string, std::vector<Points>>& forms = run.forms;
   std::map<std::string, std::vector<std::string>>& form_keys = run.form_keys;
-  std::vector<std::pair<int, int>> pairs;
-  for (const auto& [pose_level, q] : variant_of)
-    for (size_t c = 0; c < poses.size(); ++c)
-      if (static_cast<int>(c) != pose_level.first) pairs.emplace_back(q, static_cast<int>(c));
   json& per_query = result.per_query;
   json& form_rms_json = result.form_rms;
   std::map<std::string, double>& pose_variation = result.pose_variation;
-  for (const std::string& m : o.methods) {
-    say(o.note, "== ICP distances, " + method_title(m));
-    PairwiseDistanceOptions po;
-    po.cache_dir = run.folder.cache_directory("pairs");
-    po.progress = o.progress;
-    po.only_pairs = pairs;
-    PairwiseDistanceResult pd =
-        pairs.empty() ? PairwiseDistanceResult{} : pairwise_distances(forms[m], form_keys[m], po);
-    result.pairs_computed += pd.computed;
-    result.pairs_cached += pd.cached;
-    const std::map<std::string, const Eigen::MatrixXd*> matrices = {
-        {"hausdorff", &pd.hausdorff}, {"chamfer", &pd.chamfer}, {"rmse", &pd.rmse}};
+  say(o.note, "== ICP distances, " + method_title(m));
+  PairwiseDistanceOptions po;
+  po.cache_dir = run.folder.cache_directory("pairs");
+  po.progress = o.progress;
+  po.only_pairs = pairs;
+  PairwiseDistanceResult pd =
+      pairs.empty() ? PairwiseDistanceResult{} : pairwise_distances(forms[m], form_keys[m], po);
+  result.pairs_computed += pd.computed;
+  result.pairs_cached += pd.cached;
+  const std::map<std::string, const Eigen::MatrixXd*> matrices = {
+      {"hausdorff", &pd.hausdorff}, {"chamfer", &pd.chamfer}, {"rmse", &pd.rmse}};
 
-    // Pose variation for scale: clean poses of one class (level-0 pairs, when level 0 ran).
-    std::vector<double> within;
-    if (levels.front() == 0)
-      for (size_t a = 0; a < poses.size(); ++a)
-        for (size_t b = a + 1; b < poses.size(); ++b)
-          if (poses[a].class_name == poses[b].class_name)
-            within.push_back(pd.rmse(static_cast<Index>(a), static_cast<Index>(b)) /
-                             bbox_diagonal(finite_rows(forms[m][b])));
-    if (!within.empty()) pose_variation[m] = median(within);
+  // Pose variation for scale: clean poses of one class (level-0 pairs, when level 0 ran).
+  std::vector<double> within;
+  if (levels.front() == 0)
+    for (size_t a = 0; a < poses.size(); ++a)
+      for (size_t b = a + 1; b < poses.size(); ++b)
+        if (poses[a].class_name == poses[b].class_name)
+          within.push_back(pd.rmse(static_cast<Index>(a), static_cast<Index>(b)) /
+                           bbox_diagonal(finite_rows(forms[m][b])));
+  if (!within.empty()) pose_variation[m] = median(within);
 
-    // Level 0's average precision per (distance kind, pose): the clean baseline of the poses a level
-    // measures.
-    std::map<std::pair<std::string, size_t>, double> clean_ap;
-    for (int level : levels) {
-      // b) noisy vs clean forms, per pose.
-      std::vector<double> rms;
-      json rms_by_pose = json::object();
+  // Level 0's average precision per (distance kind, pose): the clean baseline of the poses a level
+  // measures.
+  std::map<std::pair<std::string, size_t>, double> clean_ap;
+  for (int level : levels) {
+    // b) noisy vs clean forms, per pose.
+    std::vector<double> rms;
+    json rms_by_pose = json::object();
+    for (size_t p = 0; p < poses.size(); ++p) {
+      auto it = variant_of.find({static_cast<int>(p), level});
+      if (it == variant_of.end()) continue;
+      const Points& clean = forms[m][p];
+      const double value = aligned_rms(forms[m][static_cast<size_t>(it->second)], clean, true) /
+                           bbox_diagonal(finite_rows(clean));
+      rms.push_back(value);
+      rms_by_pose[poses[p].name] = value;
+    }
+    form_rms_json[m][std::to_string(level)] = rms_by_pose;
+    double rms_mean = 0;
+    for (double x : rms) rms_mean += x;
+    rms_mean =
+        rms.empty() ? std::numeric_limits<double>::quiet_NaN() : rms_mean / static_cast<double>(rms.size());
+    // a) retrieval of each query among the clean poses but its own.
+    for (const char* kind : kDistanceKinds) {
+      const Eigen::MatrixXd& M = *matrices.at(kind);
+      NoiseRow row;
+      row.method = m;
+      row.level = level;
+      row.distance = kind;
+      row.form_rms_median = rms.empty() ? std::numeric_limits<double>::quiet_NaN() : median(rms);
+      row.form_rms_mean = rms_mean;
+      row.form_poses = static_cast<int>(rms.size());
+      json queries = json::array();
       for (size_t p = 0; p < poses.size(); ++p) {
         auto it = variant_of.find({static_cast<int>(p), level});
         if (it == variant_of.end()) continue;
-        const Points& clean = forms[m][p];
-        const double value = aligned_rms(forms[m][static_cast<size_t>(it->second)], clean, true) /
-                             bbox_diagonal(finite_rows(clean));
-        rms.push_back(value);
-        rms_by_pose[poses[p].name] = value;
-      }
-      form_rms_json[m][std::to_string(level)] = rms_by_pose;
-      double rms_mean = 0;
-      for (double x : rms) rms_mean += x;
-      rms_mean =
-          rms.empty() ? std::numeric_limits<double>::quiet_NaN() : rms_mean / static_cast<double>(rms.size());
-      // a) retrieval of each query among the clean poses but its own.
-      for (const char* kind : kDistanceKinds) {
-        const Eigen::MatrixXd& M = *matrices.at(kind);
-        NoiseRow row;
-        row.method = m;
-        row.level = level;
-        row.distance = kind;
-        row.form_rms_median = rms.empty() ? std::numeric_limits<double>::quiet_NaN() : median(rms);
-        row.form_rms_mean = rms_mean;
-        row.form_poses = static_cast<int>(rms.size());
-        json queries = json::array();
-        for (size_t p = 0; p < poses.size(); ++p) {
-          auto it = variant_of.find({static_cast<int>(p), level});
-          if (it == variant_of.end()) continue;
-          std::vector<double> distances;
-          std::vector<char> relevant;
-          for (size_t c = 0; c < poses.size(); ++c) {
-            if (c == p) continue;
-            distances.push_back(M(it->second, static_cast<Index>(c)));
-            relevant.push_back(poses[c].class_name == poses[p].class_name);
-          }
-          bool nn = false;
-          const double ap = average_precision(distances, relevant, &nn);
-          if (ap < 0) continue;  // the only pose of its class: nothing to retrieve
-          if (level == 0) clean_ap[{kind, p}] = ap;
-          row.map += ap;
-          row.nn += nn;
-          ++row.queries;
-          if (clean_ap.count({kind, p})) {
-            row.map_clean_same_poses = std::isnan(row.map_clean_same_poses) ? 0 : row.map_clean_same_poses;
-            row.map_clean_same_poses += clean_ap.at({kind, p});
-          }
-          queries.push_back(
-              {{"query", variants[static_cast<size_t>(it->second)].name}, {"ap", ap}, {"nn", nn}});
+        std::vector<double> distances;
+        std::vector<char> relevant;
+        for (size_t c = 0; c < poses.size(); ++c) {
+          if (c == p) continue;
+          distances.push_back(M(it->second, static_cast<Index>(c)));
+          relevant.push_back(poses[c].class_name == poses[p].class_name);
         }
-        if (row.queries > 0) {
-          row.map /= row.queries;
-          row.nn /= row.queries;
-          row.map_clean_same_poses /= row.queries;  // NaN without level 0
-        } else {  // no pose could be glued this often (or no class has two poses): nothing measured
-          row.map = row.nn = std::numeric_limits<double>::quiet_NaN();
+        bool nn = false;
+        const double ap = average_precision(distances, relevant, &nn);
+        if (ap < 0) continue;  // the only pose of its class: nothing to retrieve
+        if (level == 0) clean_ap[{kind, p}] = ap;
+        row.map += ap;
+        row.nn += nn;
+        ++row.queries;
+        if (clean_ap.count({kind, p})) {
+          row.map_clean_same_poses = std::isnan(row.map_clean_same_poses) ? 0 : row.map_clean_same_poses;
+          row.map_clean_same_poses += clean_ap.at({kind, p});
         }
-        per_query[m][std::to_string(level)][kind] = queries;
-        result.rows.push_back(row);
+        queries.push_back(
+            {{"query", variants[static_cast<size_t>(it->second)].name}, {"ap", ap}, {"nn", nn}});
       }
+      if (row.queries > 0) {
+        row.map /= row.queries;
+        row.nn /= row.queries;
+        row.map_clean_same_poses /= row.queries;  // NaN without level 0
+      } else {  // no pose could be glued this often (or no class has two poses): nothing measured
+        row.map = row.nn = std::numeric_limits<double>::quiet_NaN();
+      }
+      per_query[m][std::to_string(level)][kind] = queries;
+      result.rows.push_back(row);
     }
   }
+}
+
+// 3. ICP distances (every query, a variant, against every clean pose but its own), then per method and level
+// the retrieval rows and the form distances.
+void measure(NoiseRun& run) {
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& [pose_level, q] : run.variant_of)
+    for (size_t c = 0; c < run.poses.size(); ++c)
+      if (static_cast<int>(c) != pose_level.first) pairs.emplace_back(q, static_cast<int>(c));
+  for (const std::string& m : run.o.methods) measure_method(run, m, pairs);
 }
 
 }  // namespace
