@@ -19,6 +19,7 @@ struct DistmatArgs {
   std::string data, output, method = "coulomb", cache, metric = "hausdorff", reference;
   bool strict = false, json = false;
   int two_stage_k = 0;
+  Index resample = 0;          // --resample N: remesh every shape to about N vertices first
   long fail_after_pairs = -1;  // test hook (hidden option): fail after this many pairs on each rank
 } args;
 
@@ -46,6 +47,7 @@ int run() {
   o.two_stage_k = args.two_stage_k;
   o.pairs.fail_after_computed = args.fail_after_pairs;
   o.reference = args.reference;
+  o.resample.vertices = args.resample;
   const DatasetDistances result = dataset_distances(o);
   if (!root) return 0;
   const PairwiseDistanceResult& pd = result.distances;
@@ -68,6 +70,11 @@ int run() {
                            {"cache", o.cache_dir},
                            {"skipped", result.skipped},
                            {"failures", shape_failures_json(result.failures)}};
+    if (args.resample > 0)
+      summary["resample"] = {{"vertices", args.resample},
+                             {"folder", result.resampling.folder},
+                             {"remeshes_computed", result.resampling.computed},
+                             {"remeshes_cached", result.resampling.cached}};
     if (result.two_stage.k > 0) {
       summary["two_stage"] = {{"k", result.two_stage.k}, {"pairs_aligned", result.two_stage.pairs_aligned}};
       if (result.two_stage.recall >= 0) {
@@ -86,7 +93,7 @@ const bool registered = register_command(
      "Distance matrix of a dataset: canonical forms (cached), ICP between all pairs, the paper's distance",
      [](CLI::App& app) {
        app.add_option("DATA", args.data,
-                      "folder of meshes (class = name without trailing digits) or manifest.csv")
+                      "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file")
            ->required();
        app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
        app.add_option("--method", args.method,
@@ -111,6 +118,7 @@ const bool registered = register_command(
            ->check(integer_at_least(0));
        app.add_option("--reference", args.reference,
                       "two-stage: the exact distance CSV of the same data, to report recall@K in --json");
+       add_resample_option(app, args.resample);
        // Hidden (no group): simulates a run killed after N computed pairs per rank, for the resume tests.
        app.add_option("--test-fail-after-pairs", args.fail_after_pairs)->group("");
        add_canon_method_options(app);

@@ -89,8 +89,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
        NoiseExperimentOptions& o = args.options;
        add_data_and_out_options(app, o.data, o.out,
-                                "folder of meshes (class = name without trailing digits) or manifest.csv");
+                                "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
        add_methods_option(app, args.methods);
+       add_resample_option(app, o.resample.vertices);
        app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
            ->capture_default_str();
        app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")

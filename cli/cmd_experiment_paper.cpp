@@ -67,8 +67,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
        PaperExperimentOptions& o = args.options;
        add_data_and_out_options(app, o.data, o.out,
-                                "folder of meshes (class = name without trailing digits) or manifest.csv");
+                                "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
        add_methods_option(app, args.methods);
+       add_resample_option(app, o.resample.vertices);
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
            ->capture_default_str();
        app.add_option(

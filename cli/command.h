@@ -68,6 +68,9 @@ void prepare_experiment(const std::vector<std::string>& methods, const std::stri
                         CanonicalFormOptions& canon);
 // --data and --out as every experiment takes them; data_help says what --data may be.
 void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, const std::string& data_help);
+// --resample N (pipeline/resampled_dataset.h): every shape of the dataset remeshed to about N vertices first
+// (cached by content); 0, the default: the shapes as they are. On every command that takes a dataset.
+void add_resample_option(CLI::App& app, Index& vertices);
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
 // The experiments' --methods: canonical-form methods (pipeline/canonical_form_methods.h), comma-separated;

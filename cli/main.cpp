@@ -342,6 +342,21 @@ void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out
   app.add_option("--out", out, "output folder, created when missing (its cache/ makes reruns resume)")->required();
 }
 
+void add_resample_option(CLI::App& app, Index& vertices) {
+  app.add_option("--resample", vertices,
+                 "remesh every shape to about N vertices first (CGAL isotropic remeshing, cached by content; "
+                 "the report gives each remesh's Hausdorff distance and smallest angle); 0: as they are")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            long long n = 0;
+            if (!parse_integer(text, n) || (n != 0 && (n < 4 || n > 100000000)))
+              return "expected 0 (off) or a vertex count from 4 to 100000000, got " + in_quotes(text);
+            return {};
+          },
+          "0 or 4..100000000"));
+}
+
 void require_output_directory(const std::string& path) {
   try {
     check_output_directory(path);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/classification.h"
 #include "core/error.h"
 #include "core/io.h"
 
@@ -135,6 +136,29 @@ Dataset read_manifest(const fs::path& manifest) {
   return d;
 }
 
+// A .cla file: its models' files by classification_model_file, in file order; pose = rank in the class.
+Dataset read_classification_dataset(const fs::path& cla) {
+  Dataset d;
+  d.source = cla.string();
+  const Classification c = read_classification(cla.string());
+  const std::string folder = cla.parent_path().empty() ? "." : cla.parent_path().string();
+  for (const ClassificationClass& cls : c.classes)
+    for (size_t k = 0; k < cls.models.size(); ++k) {
+      const std::string& id = cls.models[k];
+      DatasetEntry e;
+      e.path = classification_model_file(folder, id);
+      CSHAPES_REQUIRE(!e.path.empty(), d.source, ":", cls.model_lines[k], ": model '", id, "' of class '",
+                      cls.name, "': no file ", id, ".off (or .ply .obj .stl .vert, or m", id,
+                      ".off …) in ", folder);
+      e.name = fs::path(e.path).stem().string();
+      e.class_name = cls.name;
+      e.pose = static_cast<int>(k);
+      d.entries.push_back(e);
+    }
+  CSHAPES_REQUIRE(!d.entries.empty(), d.source, ": the classification lists no models");
+  return d;
+}
+
 }  // namespace
 
 std::string class_from_name(const std::string& stem) {
@@ -207,9 +231,11 @@ Dataset read_dataset(const std::string& path) {
   Dataset d;
   if (fs::is_directory(p)) {
     d = fs::is_regular_file(p / "manifest.csv") ? read_manifest(p / "manifest.csv") : read_folder(p);
+  } else if (file_extension(path) == "cla") {
+    d = read_classification_dataset(p);
   } else {
     CSHAPES_REQUIRE(file_extension(path) == "csv", path,
-                    ": expected a folder of meshes or a manifest .csv file");
+                    ": expected a folder of meshes, a manifest .csv or a classification .cla file");
     d = read_manifest(p);
   }
   for (const auto& e : d.entries)

@@ -12,6 +12,9 @@
 //   its class noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
 // Any other column, a missing required column, a missing file, or an unreadable value is refused with a
 // message naming the manifest, the line and the column or file. Manifest order is kept.
+// FILE.cla: a Princeton Shape Benchmark classification (core/classification.h), each model id mapped to the
+// file ID.off (.ply .obj .stl .vert) or mID.off … in the .cla's folder, the first that exists; classes as the
+// file says, file order kept, pose = rank within the class. A missing file is refused naming the .cla line.
 #pragma once
 
 #include <string>
@@ -37,7 +40,7 @@ struct Dataset {
   std::vector<int> labels() const;
 };
 
-// Reads a folder or a manifest.csv (by path). Throws cshapes::Error naming the problem.
+// Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem.
 Dataset read_dataset(const std::string& path);
 
 // The class of a file name: the stem without trailing digits and a separator before them ("michael12" ->

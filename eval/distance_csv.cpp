@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -145,6 +147,36 @@ void write_distance_csv(const std::string& path, const std::vector<std::string>&
       out << '\n';
     }
   });
+}
+
+void write_dissimilarity_text(const std::string& path, const Eigen::MatrixXd& D) {
+  CSHAPES_REQUIRE(D.rows() == D.cols(), path, ": a ", D.rows(), "x", D.cols(), " matrix is not square");
+  write_file_atomically(path, [&](std::ostream& out) {
+    char buffer[32];
+    for (Index i = 0; i < D.rows(); ++i) {
+      for (Index j = 0; j < D.cols(); ++j) {
+        std::snprintf(buffer, sizeof buffer, "%.9g", D(i, j));
+        out << (j ? " " : "") << buffer;
+      }
+      out << '\n';
+    }
+  });
+}
+
+void write_psb_matrix(const std::string& path, const Eigen::MatrixXd& D) {
+  CSHAPES_REQUIRE(D.rows() == D.cols(), path, ": a ", D.rows(), "x", D.cols(), " matrix is not square");
+  write_file_atomically(path, [&](std::ostream& out) {
+    for (Index i = 0; i < D.rows(); ++i)
+      for (Index j = 0; j < D.cols(); ++j) {
+        const float value = static_cast<float>(D(i, j));
+        std::uint32_t bits;
+        std::memcpy(&bits, &value, sizeof bits);
+        // Little-endian whatever the host's order: the file means the same everywhere.
+        const char bytes[4] = {static_cast<char>(bits & 0xff), static_cast<char>((bits >> 8) & 0xff),
+                               static_cast<char>((bits >> 16) & 0xff), static_cast<char>(bits >> 24)};
+        out.write(bytes, 4);
+      }
+  }, /*binary=*/true);
 }
 
 std::string class_of_shape_name(const std::string& name) {

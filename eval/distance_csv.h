@@ -28,6 +28,15 @@ NamedDistances read_distance_csv(const std::string& path);
 void write_distance_csv(const std::string& path, const std::vector<std::string>& names,
                         const Eigen::MatrixXd& D);
 
+// The forms the evaluation tools read, without names (rows and columns in the order of the collection's .cla
+// file, core/classification.h), each written atomically:
+//   text  N lines of N numbers (%.9g) separated by one space: the plain dissimilarity matrix that the SHREC
+//         non-rigid retrieval tracks' evaluation code reads (and read_distance_csv, as its "plain" format).
+//   PSB   N×N 32-bit IEEE floats, row-major (entry i·N + j is D(i, j)), little-endian, no header: the
+//         Princeton Shape Benchmark's .matrix, which its psbTable and psbPRCurve read with a .cla file.
+void write_dissimilarity_text(const std::string& path, const Eigen::MatrixXd& D);
+void write_psb_matrix(const std::string& path, const Eigen::MatrixXd& D);
+
 // What a distance matrix must be before retrieval is measured on it, by rule (the text below is also
 // `cshapes evaluate --help`'s). Refused (throws cshapes::Error naming the file and the shapes): two shapes
 // of one name, a NaN or a negative distance. Warned (one line each, returned): an asymmetric matrix (beyond

@@ -233,6 +233,7 @@ void write_noise_report(const NoiseExperimentResult& r, const std::string& folde
      << " glued meshes computed, " << r.glued_cached << " cached).\n\n";
 
   how_it_was_made(md, r);
+  if (r.resampled) md << "## Resampling\n\n" << resampling_markdown(r.resampling) << '\n';
   md << "## Results\n\n";
   md << "| method | glues | poses | queries | mAP Hausdorff | same poses clean | mAP Chamfer | mAP RMSE | NN "
         "Hausdorff | form RMS median | form RMS mean |\n| --- | --- | --- | --- | --- | --- | --- | --- | "
@@ -541,9 +542,19 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
   CSHAPES_REQUIRE(!o.levels.empty() && o.levels.front() >= 0, "experiment noise: levels must be ≥ 0");
   CSHAPES_REQUIRE(std::adjacent_find(o.levels.begin(), o.levels.end()) == o.levels.end(),
                   "experiment noise: a level is given twice");
+  // --resample: the run reads the remeshed collection; the report names the data given.
+  ResampledDataset resampled;
+  if (o.resample.vertices > 0) {
+    resampled = resample_dataset(o.data, o.resample, ExperimentFolder(o.out).path("resampled"),
+                                 ExperimentFolder(o.out).cache("remeshed"), nullptr, o.note);
+    o.data = resampled.data;
+  }
   NoiseRun run(o);
   NoiseExperimentResult& result = run.result;
   result.options = o;
+  result.options.data = options.data;
+  result.resampled = o.resample.vertices > 0;
+  result.resampling = resampled;
   result.options.progress = {};
   result.options.note = {};
 

@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "pipeline/canonical_form_methods.h"
+#include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -50,6 +51,9 @@ namespace cshapes {
 struct NoiseExperimentOptions {
   std::string data;  // folder of meshes or manifest.csv; shapes the data marks noisy are not used
   std::string out;   // output folder (its cache/ makes reruns resume)
+  // vertices > 0: every shape remeshed to about that many vertices first (pipeline/resampled_dataset.h,
+  // into out/resampled; the report's "Resampling" section).
+  ResampleOptions resample;
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   std::vector<int> levels = {0, 1, 2, 4, 8};  // glues per noisy version (distinct, ≥ 0; 0: the clean pose)
   std::uint64_t seed = 1;                     // base of every glue seed (glue_seed)
@@ -106,6 +110,8 @@ struct NoiseExperimentResult {
   std::vector<NoiseRow> rows;    // methods × levels × {hausdorff, chamfer, rmse}, in that order
   std::vector<NoiseGlue> glues;  // every (pose, level > 0), in pose then level order
   int poses = 0, classes = 0;
+  bool resampled = false;
+  ResampledDataset resampling;  // with options.resample: the remeshes and their measures
   int chi_mismatches = 0, glue_failures = 0;
   long glued_computed = 0, glued_cached = 0;
   long canonical_forms_computed = 0, canonical_forms_cached = 0;

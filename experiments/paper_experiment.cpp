@@ -775,15 +775,25 @@ void retrieval_set(ExperimentRun& run) {
 
 }  // namespace
 
-PaperReport run_paper_experiment(const PaperExperimentOptions& o) {
+PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
   const auto start = WallClock::now();
-  CSHAPES_REQUIRE(!o.out.empty(), "experiment: --out is required");
-  require_canonical_form_methods(o.methods, "experiment");
-  ExperimentFolder folder(o.out);
+  CSHAPES_REQUIRE(!given.out.empty(), "experiment: --out is required");
+  require_canonical_form_methods(given.methods, "experiment");
+  ExperimentFolder folder(given.out);
+  // --resample: the run reads the remeshed collection; the report names the data given.
+  PaperExperimentOptions o = given;
+  ResampledDataset resampled;
+  if (o.resample.vertices > 0) {
+    resampled = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),
+                                 o.communicator, o.note);
+    o.data = resampled.data;
+  }
   ExperimentRun run(o);
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
-  report.options = o;
+  report.options = given;
+  report.resampled = given.resample.vertices > 0;
+  report.resampling = resampled;
   const Communicator& comm = run.comm;
 
   // 1.-2. The shapes and their canonical forms; the retrieval set.

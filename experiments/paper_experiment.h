@@ -28,6 +28,7 @@
 #include "core/communicator.h"
 #include "experiments/timing_table.h"
 #include "pipeline/canonical_form_methods.h"
+#include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -35,6 +36,10 @@ namespace cshapes {
 struct PaperExperimentOptions {
   std::string data;                                             // folder of meshes or manifest.csv
   std::string out;                                              // output folder
+  // vertices > 0: every shape remeshed to about that many vertices first (pipeline/resampled_dataset.h,
+  // into out/resampled; the report's "Resampling" section). Ground-truth correspondences (corres/) do not
+  // survive a remesh: no point-map errors then.
+  ResampleOptions resample;
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   int poses_per_class = 4;  // clean poses per class in the retrieval set (the paper's 4); ≤ 0: all
   // Topologically noisy shapes per class (the paper's 1): the data's noisy shapes first, then shapes glued
@@ -122,6 +127,8 @@ struct PaperReport {
   nlohmann::json figure_grids = nlohmann::json::object();  // Fig. 2, 3 mesh grids for paper_figures.py
   std::map<std::string, double> stage_seconds;
   PaperExperimentSummary summary;
+  bool resampled = false;
+  ResampledDataset resampling;  // with options.resample: the remeshes and their measures
 };
 
 // The measurement: the shapes, their canonical forms, ICP distances, retrieval, the noise effect, point maps,

@@ -101,6 +101,10 @@ void header_and_setup(ReportText& t) {
         "§3; retrieval is also reported under the Chamfer and RMSE distances of the same alignment.\n\n";
 }
 
+void resampling(ReportText& t) {
+  if (t.r.resampled) t.md << "## Resampling\n\n" << resampling_markdown(t.r.resampling) << '\n';
+}
+
 void data_quality(ReportText& t) {
   const PaperReport& r = t.r;
   std::ostringstream& md = t.md;
@@ -447,7 +451,7 @@ void write_paper_report(const PaperReport& r, const std::string& folder) {
     if (std::find(t.classes.begin(), t.classes.end(), s.class_name) == t.classes.end())
       t.classes.push_back(s.class_name);
   }
-  for (void (*section)(ReportText&) : {header_and_setup, data_quality, cost, retrieval, topological_noise,
+  for (void (*section)(ReportText&) : {header_and_setup, resampling, data_quality, cost, retrieval, topological_noise,
                                        convergence, point_maps, table1, claims, stage_times})
     section(t);
   ExperimentFolder(folder).write_text("report.md", t.md.str());

@@ -61,7 +61,16 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   CSHAPES_REQUIRE(comm.size() == 1 || !options.cache_dir.empty(), options.data,
                   ": a distributed run needs a cache folder (the ranks share their results through it)");
   CSHAPES_REQUIRE(options.two_stage_k >= 0, "two-stage k = ", options.two_stage_k, ", expected >= 0");
-  const Dataset data = read_dataset(options.data);
+  CSHAPES_REQUIRE(options.resample.vertices == 0 || !options.cache_dir.empty(), options.data,
+                  ": resampling needs a cache folder (the remeshed shapes are written there)");
+  DatasetDistances result;
+  if (options.resample.vertices > 0)
+    result.resampling = resample_dataset(
+        options.data, options.resample,
+        (std::filesystem::path(options.cache_dir) / ("resampled-" + std::to_string(options.resample.vertices)))
+            .string(),
+        DiskCache((std::filesystem::path(options.cache_dir) / "remeshed").string()), &comm, options.note);
+  const Dataset data = read_dataset(options.resample.vertices > 0 ? result.resampling.data : options.data);
   // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
   NamedDistances reference;
   if (options.two_stage_k > 0 && !options.reference.empty() && comm.is_root())
@@ -76,7 +85,6 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   const std::filesystem::path cache_dir(options.cache_dir);
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
-  DatasetDistances result;
   const long computed_by_ranks = comm.size() > 1 ? canonize_share(data, cache, co, comm) : 0;
   std::vector<Points> forms;
   std::vector<std::string> keys;

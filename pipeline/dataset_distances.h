@@ -31,6 +31,7 @@
 #include "matching/shape_descriptor.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/canonical_forms.h"
+#include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -48,6 +49,10 @@ struct DatasetDistanceOptions {
   int two_stage_k = 0;                // > 0: align only each shape's k descriptor-nearest candidates
   ShapeDescriptorOptions descriptor;  // two-stage: the descriptor
   std::string reference;              // two-stage: the exact matrix's CSV, for recall@k; empty: none
+  // vertices > 0: every shape remeshed to about that size first (pipeline/resampled_dataset.h), into
+  // cache_dir/resampled-N (the meshes, manifest.csv, resample.csv), the remeshes cached in cache_dir/remeshed.
+  // Needs a cache folder.
+  ResampleOptions resample;
 };
 
 struct TwoStageSummary {
@@ -68,6 +73,7 @@ struct DatasetDistances {
   long forms_computed = 0, forms_cached = 0;  // over all ranks
   PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse (rank 0)
   TwoStageSummary two_stage;
+  ResampledDataset resampling;  // with options.resample: what was remeshed, and how well (else empty)
 };
 
 DatasetDistances dataset_distances(const DatasetDistanceOptions& options);

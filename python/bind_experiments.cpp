@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "experiments/paper_experiment.h"
+#include "experiments/retrieval_experiment.h"
 #include "pipeline/shape_failures.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -41,6 +42,10 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
   o.canon.strict = k.flag("strict", o.canon.strict);
   if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  o.resample.vertices = static_cast<Index>(k.integer("resample", 0, 0));
+  CSHAPES_REQUIRE(o.resample.vertices == 0 || o.resample.vertices >= 4,
+                  "experiment_paper(): resample: expected 0 (off) or at least 4 vertices, got ",
+                  o.resample.vertices);
   k.done();
   o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   PaperExperimentSummary s;
@@ -60,6 +65,51 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   return result;
 }
 
+py::dict experiment_retrieval_py(const py::object& data, const py::object& out, const py::object& methods,
+                                 long long resample, bool figures, const py::kwargs& kwargs) {
+  RetrievalExperimentOptions o;
+  o.data = to_path(data, "data");
+  o.out = to_path(out, "out");
+  if (!methods.is_none()) {
+    o.methods.clear();
+    for (py::handle m : methods) o.methods.push_back(py::str(m).cast<std::string>());
+  }
+  CSHAPES_REQUIRE(resample == 0 || (resample >= 4 && resample <= 100000000),
+                  "experiment_retrieval(): resample: expected 0 (off) or a vertex count from 4 to 100000000, got ",
+                  resample);
+  o.resample.vertices = static_cast<Index>(resample);
+  o.figures = figures;
+  Kwargs k(kwargs, "experiment_retrieval");
+  o.canon.strict = k.flag("strict", o.canon.strict);
+  if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
+  o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
+  k.done();
+  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
+  RetrievalExperimentResult r;
+  {
+    Computing computing;
+    r = retrieval_experiment(o);
+  }
+  py::dict measures;
+  for (const RetrievalMethodResult& m : r.methods) {
+    py::dict per;
+    for (const auto& [kind, report] : m.by_distance)
+      per[py::str(kind)] = python::to_python(retrieval_scores_json(report.result.mean));
+    measures[py::str(m.method)] = per;
+  }
+  py::dict result;
+  result["out"] = o.out;
+  result["shapes"] = r.shapes;
+  result["classes"] = r.class_names;
+  result["seconds"] = r.seconds;
+  result["resampled"] = r.resampled;
+  result["measures"] = measures;
+  result["figures"] = r.figures;
+  result["failures"] = python::to_python(shape_failures_json(r.failures));
+  return result;
+}
+
 }  // namespace
 
 void bind_experiments(py::module_& m) {
@@ -72,9 +122,21 @@ data: a folder of meshes (class = file name without trailing digits) or a manife
 folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
 figures [True] computes the figures' data. Keywords: glue [2], seed [1], timing_repeats [5],
-correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat').
+correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
+(remesh every shape to about this many vertices first, as the CLI's --resample).
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, failures). The same options give the same files as the CLI and C++.)");
+  m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("figures") = true,
+        R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.
+
+data: a folder of meshes, a manifest.csv or a Princeton .cla file; out: the output folder (its cache/ makes
+reruns resume). methods [all registered]; resample [0]: remesh every shape to about this many vertices first
+(cached by content; the report gives each remesh's Hausdorff distance and smallest angle); figures [True].
+Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3].
+Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
+returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
+figures, failures.)");
 }
 
 }  // namespace cshapes::python

@@ -258,3 +258,48 @@ TEST(Retrieval, AveragePrecisionOfOneQueryKnownAnswers) {
 }
 
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// Per-class measures (class_mean) of a hand-made matrix, each ranking chosen, every value worked out by
+// hand from the definitions (eval/retrieval.h): classes A = {0, 1, 2}, B = {3, 4, 5}, R = 2, K = 5.
+TEST(Retrieval, PerClassMeasuresMatchTheHandComputation) {
+  const std::vector<std::vector<int>> rankings = {
+      {1, 3, 2, 4, 5},  // a0: relevant at ranks 1, 3
+      {3, 4, 0, 2, 5},  // a1: 3, 4
+      {0, 1, 3, 4, 5},  // a2: 1, 2
+      {4, 5, 0, 1, 2},  // b0: 1, 2
+      {0, 3, 5, 1, 2},  // b1: 2, 3
+      {0, 1, 2, 3, 4},  // b2: 4, 5
+  };
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(6, 6);
+  for (int q = 0; q < 6; ++q)
+    for (int k = 0; k < 5; ++k) D(q, rankings[static_cast<size_t>(q)][static_cast<size_t>(k)]) = k + 1;
+  const RetrievalResult r = evaluate_retrieval(D, {0, 0, 0, 1, 1, 1});
+  const double l3 = 1 / std::log2(3.0), l5 = 1 / std::log2(5.0);
+  const double e = 2.0 * 2 / (5 + 2);  // every query has both relevant results among the first 5
+  // Class A: queries a0 (1, 3), a1 (3, 4), a2 (1, 2).
+  const RetrievalScores& a = r.class_mean[0];
+  EXPECT_NEAR(a.nn, 2.0 / 3, 1e-12);
+  EXPECT_NEAR(a.ft, (0.5 + 0 + 1) / 3, 1e-12);
+  EXPECT_NEAR(a.st, 1.0, 1e-12);
+  EXPECT_NEAR(a.e, e, 1e-12);
+  EXPECT_NEAR(a.dcg, ((1 + l3) / 2 + (l3 + 0.5) / 2 + 1) / 3, 1e-12);
+  EXPECT_NEAR(a.ap, ((1 + 2.0 / 3) / 2 + (1.0 / 3 + 2.0 / 4) / 2 + 1) / 3, 1e-12);
+  // Class B: queries b0 (1, 2), b1 (2, 3), b2 (4, 5).
+  const RetrievalScores& b = r.class_mean[1];
+  EXPECT_NEAR(b.nn, 1.0 / 3, 1e-12);
+  EXPECT_NEAR(b.ft, (1 + 0.5 + 0) / 3, 1e-12);
+  EXPECT_NEAR(b.st, (1 + 1 + 0.5) / 3, 1e-12);
+  EXPECT_NEAR(b.e, e, 1e-12);
+  EXPECT_NEAR(b.dcg, (1 + (1 + l3) / 2 + (0.5 + l5) / 2) / 3, 1e-12);
+  EXPECT_NEAR(b.ap, (1 + (0.5 + 2.0 / 3) / 2 + (0.25 + 0.4) / 2) / 3, 1e-12);
+  EXPECT_EQ(r.class_queries, (std::vector<int>{3, 3}));
+  // Equal classes: the micro average is the mean of the class means.
+  EXPECT_NEAR(r.mean.ap, (a.ap + b.ap) / 2, 1e-12);
+  EXPECT_NEAR(r.mean.dcg, (a.dcg + b.dcg) / 2, 1e-12);
+}
+
+}  // namespace
+}  // namespace cshapes

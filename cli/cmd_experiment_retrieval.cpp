@@ -1,0 +1,93 @@
+// cshapes experiment retrieval --data DIR|manifest.csv|FILE.cla --out OUT: a whole collection as a retrieval
+// benchmark, every shape a query, every method, three distances (experiments/retrieval_experiment.h). Under
+// `mpirun -np R` the forms and pairs are split over the ranks; rank 0 alone prints and writes the outputs.
+#include <cstdio>
+#include <iostream>
+
+#include "cli/command.h"
+#include "experiments/retrieval_experiment.h"
+#include "pipeline/distributed.h"
+
+namespace cshapes::cli {
+namespace {
+
+struct RetrievalArgs {
+  RetrievalExperimentOptions options;
+  std::string methods;  // add_methods_option: every registered method
+  bool no_figures = false, json = false;
+} args;
+
+int run() {
+  RetrievalExperimentOptions o = args.options;
+  o.methods = methods_option(args.methods);
+  const Communicator& comm = world_communicator();
+  prepare_experiment(o.methods, o.out, o.canon);
+  o.figures = !args.no_figures;
+  if (comm.is_root()) {  // one voice: the other ranks work silently
+    o.progress = progress_printer();
+    o.note = [](const std::string& line) { note(line); };
+  }
+  o.communicator = &comm;
+  const RetrievalExperimentResult r = retrieval_experiment(o);
+  if (!comm.is_root()) return 0;
+  nlohmann::json methods = nlohmann::json::object();
+  for (const RetrievalMethodResult& m : r.methods) {
+    nlohmann::json per = nlohmann::json::object();
+    for (const auto& [kind, report] : m.by_distance) per[kind] = retrieval_scores_json(report.result.mean);
+    methods[m.method] = per;
+  }
+  if (args.json) {
+    std::cout << nlohmann::json{{"out", o.out},
+                                {"shapes", r.shapes},
+                                {"classes", r.class_names.size()},
+                                {"seconds", r.seconds},
+                                {"resampled", r.resampled},
+                                {"methods", methods},
+                                {"figures", r.figures},
+                                {"failures", shape_failures_json(r.failures)}}
+                     .dump(2)
+              << std::endl;
+  } else {
+    std::printf("experiment retrieval: %d shapes in %zu classes, %.1f s; report: %s/report.md\n", r.shapes,
+                r.class_names.size(), r.seconds, o.out.c_str());
+    for (const RetrievalMethodResult& m : r.methods) {
+      const RetrievalScores& s = m.by_distance.at("hausdorff").result.mean;
+      std::printf("  %-14s mAP %.3f  NN %.3f  FT %.3f  ST %.3f  (Hausdorff)\n",
+                  canonical_form_method_title(m.method).c_str(), s.ap, s.nn, s.ft, s.st);
+    }
+  }
+  return exit_code_for(r.failures);
+}
+
+const bool registered = register_command(
+    {{"experiment", "retrieval"},
+     "A whole collection as a retrieval benchmark: every shape a query against all others, every method, "
+     "the three distances; measures overall and per class, PR curves, confusion, figures, report.md "
+     "(cached: reruns resume)",
+     [](CLI::App& app) {
+       RetrievalExperimentOptions& o = args.options;
+       add_data_and_out_options(
+           app, o.data, o.out,
+           "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla "
+           "file (model ID: ID.off or mID.off … in the .cla's folder)");
+       add_methods_option(app, args.methods);
+       add_resample_option(app, o.resample.vertices);
+       app.add_flag("--strict", o.canon.strict,
+                    "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
+                    "3), with no geodesic fallback; and refuse a mesh a method would have to repair");
+       app.add_option("--e-depth", o.retrieval.e_measure_depth, "results the E-measure looks at (psbTable: 32)")
+           ->capture_default_str()
+           ->check(integer_in(1, 1000000));
+       app.add_option("--min-class-size", o.retrieval.min_class_size,
+                      "classes with fewer shapes give no queries (their shapes are still results)")
+           ->capture_default_str()
+           ->check(integer_in(2, 1000000));
+       app.add_flag("--no-figures", args.no_figures, "do not draw the figures");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
+       app.footer(kPartialResultHelp);
+       add_canon_method_options(app);
+     },
+     run});
+
+}  // namespace
+}  // namespace cshapes::cli

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Draw the figures of `cshapes experiment retrieval` from the retrieval.json it wrote into OUT.
+
+  scripts/python.sh experiments/plots/retrieval_figures.py OUT [--pdf]
+
+OUT/figures/pr.png: the averaged, interpolated precision-recall curves, one panel per distance (Hausdorff,
+Chamfer, RMSE), one curve per method. OUT/figures/per_class.png: mAP of each class's queries under the
+Hausdorff distance, the methods side by side per class. OUT/figures/confusion.png: the nearest-neighbour
+confusion matrix of each method under the Hausdorff distance (rows: the query's class, as fractions of its
+queries).
+"""
+import argparse
+import json
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from figure_style import METHOD_STYLE, save  # noqa: E402
+
+DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
+
+
+def style(m, k):
+    """A method's label and colour: the registry's, else the method's title and a colour of the cycle."""
+    if m["method"] in METHOD_STYLE:
+        return METHOD_STYLE[m["method"]]
+    return m.get("title", m["method"]), f"C{k % 10}"
+
+
+def pr_figure(data, out, pdf):
+    distances = data["distances"]
+    fig, axes = plt.subplots(1, len(distances), figsize=(4.2 * len(distances), 4), squeeze=False)
+    for ax, kind in zip(axes[0], distances):
+        for k, m in enumerate(data["methods"]):
+            d = m["distances"].get(kind)
+            if not d:
+                continue
+            label, colour = style(m, k)
+            ax.plot(d["pr"]["recall"], d["pr"]["precision"], "-o", ms=3, color=colour,
+                    label=f"{label} (mAP {d['map']:.3f})")
+        ax.set_title(DISTANCE_TITLE.get(kind, kind))
+        ax.set_xlabel("recall")
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, 1.02)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower left")
+    axes[0][0].set_ylabel("precision (interpolated, mean over queries)")
+    fig.suptitle(f"Leave-one-out retrieval, {data['shapes']} shapes in {len(data['classes'])} classes")
+    save(fig, out, "pr", pdf)
+
+
+def per_class_figure(data, out, pdf):
+    classes = data["classes"]
+    methods = data["methods"]
+    width = 0.8 / max(1, len(methods))
+    fig, ax = plt.subplots(figsize=(max(6, 0.6 * len(classes) * max(1, len(methods)) + 2), 4))
+    x = np.arange(len(classes))
+    for k, m in enumerate(methods):
+        d = m["distances"].get("hausdorff")
+        if not d:
+            continue
+        per = d["classes"]
+        values = [per.get(c, {}).get("map", np.nan) for c in classes]
+        label, colour = style(m, k)
+        ax.bar(x + (k - (len(methods) - 1) / 2) * width, values, width, color=colour, label=label)
+    ax.set_xticks(x)
+    ax.set_xticklabels(classes, rotation=45 if len(classes) > 8 else 0, ha="right" if len(classes) > 8 else "center")
+    ax.set_ylabel("mAP of the class's queries")
+    ax.set_ylim(0, 1.05)
+    ax.set_title("Per-class mean average precision (Hausdorff distance)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, out, "per_class", pdf)
+
+
+def confusion_figure(data, out, pdf):
+    methods = [m for m in data["methods"] if "hausdorff" in m["distances"]]
+    if not methods:
+        return
+    n = len(methods)
+    fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 4.2), squeeze=False)
+    for ax, m in zip(axes[0], methods):
+        d = m["distances"]["hausdorff"]
+        names = d["class_names"]
+        counts = np.array(d["confusion"], dtype=float)
+        rows = counts.sum(axis=1, keepdims=True)
+        share = np.divide(counts, rows, out=np.zeros_like(counts), where=rows > 0)
+        ax.imshow(share, vmin=0, vmax=1, cmap="Blues")
+        for a in range(len(names)):
+            for b in range(len(names)):
+                if counts[a, b]:
+                    ax.text(b, a, f"{int(counts[a, b])}", ha="center", va="center", fontsize=7,
+                            color="white" if share[a, b] > 0.5 else "black")
+        ax.set_xticks(range(len(names)))
+        ax.set_yticks(range(len(names)))
+        ax.set_xticklabels(names, rotation=90, fontsize=7)
+        ax.set_yticklabels(names, fontsize=7)
+        ax.set_xlabel("class of the nearest neighbour")
+        ax.set_title(f"{style(m, 0)[0]}: NN {d['nn']:.3f}")
+    axes[0][0].set_ylabel("class of the query")
+    save(fig, out, "confusion", pdf)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out")
+    p.add_argument("--pdf", action="store_true")
+    args = p.parse_args()
+    with open(os.path.join(args.out, "retrieval.json")) as f:
+        data = json.load(f)
+    figures = os.path.join(args.out, "figures")
+    os.makedirs(figures, exist_ok=True)
+    per_class_figure(data, figures, args.pdf)
+    confusion_figure(data, figures, args.pdf)
+    pr_figure(data, figures, args.pdf)  # last: its file is the one the driver waits for
+
+
+if __name__ == "__main__":
+    main()

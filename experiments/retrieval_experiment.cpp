@@ -1,0 +1,194 @@
+#include "experiments/retrieval_experiment.h"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/classification.h"
+#include "core/dataset.h"
+#include "core/error.h"
+#include "core/timing.h"
+#include "eval/distance_csv.h"
+#include "experiments/figures.h"
+#include "pipeline/dataset_distances.h"
+#include "pipeline/experiment_kit.h"
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::vector<std::string>& retrieval_distances() {
+  static const std::vector<std::string> names = {"hausdorff", "chamfer", "rmse"};
+  return names;
+}
+
+namespace {
+
+const Eigen::MatrixXd& distance_matrix(const PairwiseDistanceResult& d, const std::string& name) {
+  return name == "hausdorff" ? d.hausdorff : name == "chamfer" ? d.chamfer : d.rmse;
+}
+
+// One method's matrices in every form and their measures, under each distance (rank 0).
+void write_method_files(const ExperimentFolder& folder, const RetrievalExperimentOptions& o,
+                        const DatasetDistances& dd, RetrievalMethodResult& m) {
+  write_classification(folder.path(m.method + "/classes.cla"), classification_from_labels(m.names, m.classes));
+  for (const std::string& kind : retrieval_distances()) {
+    const NamedDistances named{m.names, distance_matrix(dd.distances, kind)};
+    const std::string base = m.method + "/" + kind;
+    write_distance_csv(folder.path(base + ".csv"), named.names, named.D);
+    write_dissimilarity_text(folder.path(base + ".txt"), named.D);
+    write_psb_matrix(folder.path(base + ".matrix"), named.D);
+    RetrievalReport report = retrieval_report(named, m.classes, o.retrieval, folder.path(base + ".csv"));
+    write_retrieval_report(folder.path(base), named, report);
+    m.by_distance.emplace(kind, std::move(report));
+  }
+}
+
+json confusion_json(const Eigen::MatrixXi& confusion) {
+  json rows = json::array();
+  for (Index a = 0; a < confusion.rows(); ++a) {
+    std::vector<int> row(static_cast<size_t>(confusion.cols()));
+    for (Index b = 0; b < confusion.cols(); ++b) row[static_cast<size_t>(b)] = confusion(a, b);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// retrieval.json: every measure of the run (the figures' input).
+json result_json(const RetrievalExperimentResult& r) {
+  json methods = json::array();
+  for (const RetrievalMethodResult& m : r.methods) {
+    json distances = json::object();
+    for (const auto& [kind, report] : m.by_distance) {
+      json entry = report.metrics;
+      entry["class_names"] = report.class_names;
+      entry["confusion"] = confusion_json(report.image.confusion);
+      distances[kind] = entry;
+    }
+    methods.push_back({{"method", m.method},
+                       {"title", canonical_form_method_title(m.method)},
+                       {"shapes", m.names.size()},
+                       {"forms_computed", m.forms_computed},
+                       {"forms_cached", m.forms_cached},
+                       {"pairs_computed", m.pairs_computed},
+                       {"pairs_cached", m.pairs_cached},
+                       {"seconds", m.seconds},
+                       {"distances", distances}});
+  }
+  json j{{"data", r.options.data},
+         {"read", r.data},
+         {"shapes", r.shapes},
+         {"classes", r.class_names},
+         {"class_sizes", r.class_sizes},
+         {"distances", retrieval_distances()},
+         {"methods", methods},
+         {"failures", shape_failures_json(r.failures)},
+         {"seconds", r.seconds}};
+  if (r.resampled) {
+    json shapes = json::array();
+    for (const ResampledShape& s : r.resampling.shapes)
+      shapes.push_back({{"shape", s.name},
+                        {"input_vertices", s.input_vertices},
+                        {"vertices", s.vertices},
+                        {"remeshed", s.remeshed},
+                        {"hausdorff_over_diagonal", s.remeshed ? json(s.hausdorff) : json(nullptr)},
+                        {"min_angle_deg", s.remeshed ? json(s.min_angle) : json(nullptr)},
+                        {"note", s.note}});
+    j["resample"] = {{"vertices", r.resampling.options.vertices}, {"shapes", shapes}};
+  }
+  return j;
+}
+
+}  // namespace
+
+RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOptions& o) {
+  const auto start = WallClock::now();
+  const Communicator& comm = o.communicator ? *o.communicator : single_process();
+  CSHAPES_REQUIRE(!o.methods.empty(), "experiment retrieval: no method given");
+  require_canonical_form_methods(o.methods, "experiment retrieval");
+  const ExperimentFolder folder(o.out);
+  RetrievalExperimentResult r;
+  r.options = o;
+  r.options.progress = {};
+  r.options.note = {};
+  r.options.communicator = nullptr;
+  r.data = o.data;
+  if (o.resample.vertices > 0) {
+    r.resampling = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),
+                                    &comm, o.note);
+    r.resampled = true;
+    r.data = r.resampling.data;
+  }
+  const Dataset data = read_dataset(r.data);
+  r.shapes = static_cast<int>(data.entries.size());
+  r.class_names = data.classes;
+  r.class_sizes.assign(data.classes.size(), 0);
+  for (int label : data.labels()) ++r.class_sizes[static_cast<size_t>(label)];
+  std::vector<std::string> names, classes;
+  for (const DatasetEntry& e : data.entries) {
+    names.push_back(e.name);
+    classes.push_back(e.class_name);
+  }
+  if (comm.is_root()) write_classification(folder.path("classes.cla"), classification_from_labels(names, classes));
+  std::set<std::string> unreadable;  // said once, not once per method
+  for (const std::string& method : o.methods) {
+    say(o.note, "== " + canonical_form_method_title(method) + ": canonical forms and ICP distances");
+    const auto method_start = WallClock::now();
+    DatasetDistanceOptions dd;
+    dd.data = r.data;
+    dd.canon = o.canon;
+    dd.canon.method = method;
+    dd.cache_dir = folder.path("cache");
+    dd.progress = o.progress;
+    dd.note = o.note;
+    dd.communicator = &comm;
+    const DatasetDistances distances = dataset_distances(dd);
+    for (const ShapeFailure& f : distances.failures)
+      if (!f.method.empty() || unreadable.insert(f.path).second) r.failures.push_back(f);
+    RetrievalMethodResult m;
+    m.method = method;
+    m.names = distances.names;
+    m.classes = distances.classes;
+    m.forms_computed = distances.forms_computed;
+    m.forms_cached = distances.forms_cached;
+    m.pairs_computed = distances.distances.computed;
+    m.pairs_cached = distances.distances.cached;
+    if (comm.is_root()) write_method_files(folder, o, distances, m);
+    m.seconds = seconds_since(method_start);
+    r.methods.push_back(std::move(m));
+  }
+  r.seconds = seconds_since(start);
+  if (comm.is_root()) folder.write_json("retrieval.json", result_json(r));
+  return r;
+}
+
+void draw_retrieval_figures(RetrievalExperimentResult& r, const std::string& folder) {
+  const std::string figures = (fs::path(folder) / "figures").string();
+  const FigureRun drawn =
+      draw_figure("retrieval_figures.py", {folder}, (fs::path(figures) / "pr.png").string());
+  r.figures.clear();
+  if (!drawn.drawn) {
+    r.figures_note = drawn.problem;
+    return;
+  }
+  r.figures_note.clear();
+  for (const char* name : {"pr.png", "per_class.png", "confusion.png"})
+    if (fs::exists(fs::path(figures) / name)) r.figures.push_back(std::string("figures/") + name);
+}
+
+RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions& options) {
+  RetrievalExperimentResult r = run_retrieval_experiment(options);
+  const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  if (!comm.is_root()) return r;
+  if (options.figures) {
+    draw_retrieval_figures(r, options.out);
+    if (!r.figures_note.empty()) say(options.note, "no figures: " + r.figures_note);
+  } else {
+    r.figures_note = "not requested (--no-figures)";
+  }
+  write_retrieval_report(r, options.out);
+  return r;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,100 @@
+// `cshapes experiment retrieval`: a whole collection as a retrieval benchmark, every shape a query against all
+// the others (leave-one-out), by every canonical-form method and under each distance between forms.
+//
+// Per method: the canonical forms and the ICP distances between all pairs (pipeline/dataset_distances.h:
+// what `cshapes distmat` computes, cached in out/cache, split over the ranks of an MPI run), then under each
+// of the three distances after ICP (hausdorff: the paper's, chamfer, rmse; matching/shape_distance.h) the
+// Princeton measures overall and per class (NN, FT, ST, E, DCG, mAP: eval/retrieval.h), the averaged
+// precision–recall curve and the nearest-neighbour confusion matrix. The collection is a folder, a
+// manifest.csv or a Princeton .cla file (core/dataset.h); with resample.vertices > 0 every shape is remeshed
+// to that size first (pipeline/resampled_dataset.h, the remesh's Hausdorff distance and angles in the
+// report).
+//
+// Files under out/ (each written atomically; a killed run resumes from out/cache):
+//   classes.cla                      the collection's classes in its order (PSB format, core/classification.h)
+//   resampled/                       with resampling: the remeshed shapes, manifest.csv, resample.csv
+//   METHOD/classes.cla               the shapes of METHOD's matrices, in their order (fewer when one failed)
+//   METHOD/DISTANCE.csv              the matrix with shape names (`cshapes evaluate` reads it)
+//   METHOD/DISTANCE.txt, .matrix     the same for the evaluation tools: SHREC's plain text, the PSB's binary
+//                                    (eval/distance_csv.h), rows in METHOD/classes.cla's order
+//   METHOD/DISTANCE/                 metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv
+//                                    (eval/retrieval_report.h)
+//   retrieval.json                   every measure of the run, for the figures and other tools
+//   figures/pr.png, per_class.png, confusion.png   (experiments/plots/retrieval_figures.py; matplotlib)
+//   report.md                        write_retrieval_report
+//
+// A shape whose form fails by a method is left out of that method's matrices (named in the failures, the
+// report and retrieval.json), unless canon.strict. Distributed (options.communicator with R > 1 ranks): every
+// rank computes its share of the forms and pairs through out/cache (which every rank must see); rank 0
+// writes every file; the other ranks' results hold only the counts.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/communicator.h"
+#include "eval/retrieval_report.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/resampled_dataset.h"
+#include "pipeline/shape_failures.h"
+
+namespace cshapes {
+
+struct RetrievalExperimentOptions {
+  std::string data;  // folder of meshes, manifest.csv or FILE.cla
+  std::string out;   // output folder
+  std::vector<std::string> methods = canonical_form_methods();  // every registered method
+  // Method options: the experiments' (heat geodesics for MDS), as `cshapes distmat` and the other experiments.
+  CanonicalFormOptions canon = experiment_canonical_form_options();
+  ResampleOptions resample;  // vertices > 0: every shape remeshed to about that many vertices first
+  RetrievalOptions retrieval;  // the measures' conventions (eval/retrieval.h: psbTable's)
+  bool figures = true;         // draw the figures (when matplotlib is found)
+  ProgressFn progress;
+  NoteFn note;
+  const Communicator* communicator = nullptr;  // the ranks sharing the work; nullptr: this process
+};
+
+// The distances between canonical forms after ICP, in the order of the report: the paper's first.
+const std::vector<std::string>& retrieval_distances();
+
+struct RetrievalMethodResult {
+  std::string method;
+  std::vector<std::string> names, classes;              // the shapes of its matrices, in order
+  std::map<std::string, RetrievalReport> by_distance;  // per retrieval_distances() entry
+  long forms_computed = 0, forms_cached = 0, pairs_computed = 0, pairs_cached = 0;
+  double seconds = 0;
+};
+
+struct RetrievalExperimentResult {
+  RetrievalExperimentOptions options;  // what was run (its callbacks unused by the report)
+  std::string data;                    // what was read: options.data, or the resampled manifest
+  int shapes = 0;                      // in the collection
+  std::vector<std::string> class_names;  // the collection's classes, in order
+  std::vector<int> class_sizes;          // shapes per class
+  bool resampled = false;
+  ResampledDataset resampling;  // when resampled
+  std::vector<RetrievalMethodResult> methods;
+  std::vector<ShapeFailure> failures;  // every method's (pipeline/shape_failures.h)
+  std::vector<std::string> figures;    // drawn, relative to out
+  std::string figures_note;            // why not, when not drawn
+  double seconds = 0;
+};
+
+// The measurement and its data files (everything above but report.md). On ranks other than 0 of a distributed
+// run only the counts are filled.
+RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOptions& options);
+
+// Draws the figures from the data files in folder (experiments/plots/retrieval_figures.py); records what was
+// drawn, or why not, in result.
+void draw_retrieval_figures(RetrievalExperimentResult& result, const std::string& folder);
+
+// report.md in folder from the result alone: the overall table (method × distance), the per-class table of
+// each method, the confusion matrices, the resampling table, the failures, the files.
+void write_retrieval_report(const RetrievalExperimentResult& result, const std::string& folder);
+
+// The experiment as `cshapes experiment retrieval` (and cshapes.experiment_retrieval) runs it:
+// run_retrieval_experiment, then the figures and report.md on rank 0.
+RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions& options);
+
+}  // namespace cshapes

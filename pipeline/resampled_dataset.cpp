@@ -1,0 +1,263 @@
+#include "pipeline/resampled_dataset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numeric>
+#include <optional>
+
+#include "core/atomic_file.h"
+#include "core/dataset.h"
+#include "core/error.h"
+#include "core/io.h"
+#include "core/mesh_repair.h"
+#include "core/option_fields.h"
+#include "core/remesh.h"
+#include "pipeline/experiment_kit.h"
+
+namespace cshapes {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+double bbox_diagonal(const Mesh& mesh) {
+  return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+}
+
+// What remeshing needs (a manifold triangle mesh), and nothing more: every component is kept.
+MeshRequirements remesh_requirements() {
+  MeshRequirements r;
+  r.single_component = false;
+  r.manifold = true;
+  r.no_degenerate_faces = true;
+  return r;
+}
+
+// The remesh of one input and its measures, as cached: {V, F, input_vertices, hausdorff, min_angle_in,
+// min_angle, mean_min_angle, note} or, when it is kept as it is, {kept: reason, input_vertices, min_angle_in}.
+json compute_remesh(const Mesh& input, const ResampleOptions& options, const std::string& path) {
+  const AngleStats in = angle_stats(input);
+  json value{{"input_vertices", input.num_vertices()}, {"min_angle_in", in.min_angle}};
+  if (input.is_point_cloud()) {
+    value["kept"] = "a point cloud (no faces to remesh)";
+    return value;
+  }
+  RepairOptions ro;
+  ro.name = path;
+  ro.purpose = "remeshing (a manifold surface)";
+  const RepairedMesh repaired = repair_for(input, remesh_requirements(), ro);
+  RemeshOptions o;
+  o.target_vertices = options.vertices;
+  o.tolerance = options.tolerance;
+  try {
+    const RemeshResult r = remesh(repaired.mesh, o);
+    const AngleStats out = angle_stats(r.mesh);
+    value["V"] = points_to_json(r.mesh.V);
+    value["F"] = faces_to_json(r.mesh.F);
+    value["hausdorff"] = hausdorff_distance(input, r.mesh) / bbox_diagonal(input);
+    value["min_angle"] = out.min_angle;
+    value["mean_min_angle"] = out.mean_min_angle;
+    value["note"] = repaired.text;
+  } catch (const WriteError&) {
+    throw;
+  } catch (const Error& e) {
+    value["kept"] = std::string("cannot be remeshed: ") + e.what();
+  }
+  return value;
+}
+
+std::string remesh_key(const std::string& path, const ResampleOptions& options) {
+  return cache_key({"resampled-mesh-v1", file_content_hash(path), options_key(options)});
+}
+
+// The cached remesh of one file (computed on a miss); nothing when the file cannot be read (the reader
+// downstream says why).
+std::optional<json> cached_remesh(const DiskCache& cache, const std::string& path,
+                                  const ResampleOptions& options, bool* was_cached) {
+  std::string key;
+  try {
+    key = remesh_key(path, options);
+  } catch (const WriteError&) {
+    throw;
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  if (std::optional<json> hit = cache.get_json(key)) {
+    *was_cached = true;
+    return hit;
+  }
+  Mesh input;
+  try {
+    input = read_mesh(path);
+  } catch (const WriteError&) {
+    throw;
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  json value = compute_remesh(input, options, path);
+  cache.put_json(key, value);
+  *was_cached = false;
+  return value;
+}
+
+// Each rank remeshes its share into the cache, silently: the largest files first, dealt round-robin.
+void remesh_share(const Dataset& d, const ResampleOptions& options, const DiskCache& cache,
+                  const Communicator& comm) {
+  std::vector<size_t> order(d.entries.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::vector<std::uintmax_t> size(d.entries.size(), 0);
+  for (size_t i = 0; i < size.size(); ++i) {
+    std::error_code ec;
+    size[i] = fs::file_size(d.entries[i].path, ec);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return size[a] > size[b]; });
+  for (size_t k = static_cast<size_t>(comm.rank()); k < order.size(); k += static_cast<size_t>(comm.size())) {
+    bool cached = false;
+    cached_remesh(cache, d.entries[order[k]].path, options, &cached);
+  }
+}
+
+ResampledShape shape_record(const DatasetEntry& e, const json& value, const std::string& file) {
+  ResampledShape s;
+  s.name = e.name;
+  s.source = e.path;
+  s.file = file;
+  s.input_vertices = value.at("input_vertices").get<Index>();
+  s.min_angle_in = value.at("min_angle_in").get<double>();
+  if (value.contains("kept")) {
+    s.vertices = s.input_vertices;
+    s.note = "kept at its own resolution: " + value.at("kept").get<std::string>();
+    return s;
+  }
+  s.remeshed = true;
+  s.vertices = static_cast<Index>(value.at("V").size() / 3);
+  s.hausdorff = value.at("hausdorff").get<double>();
+  s.min_angle = value.at("min_angle").get<double>();
+  s.mean_min_angle = value.at("mean_min_angle").get<double>();
+  s.note = value.value("note", "");
+  return s;
+}
+
+void write_resample_csv(const std::string& path, const ResampledDataset& r) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "shape,source,input_vertices,vertices,hausdorff_over_diagonal,min_angle_in_deg,min_angle_deg,"
+           "mean_min_angle_deg,remeshed,cached,note\n";
+    out.precision(9);
+    for (const ResampledShape& s : r.shapes) {
+      std::string note = s.note;
+      std::replace(note.begin(), note.end(), ',', ';');
+      out << s.name << ',' << s.source << ',' << s.input_vertices << ',' << s.vertices << ',' << s.hausdorff
+          << ',' << s.min_angle_in << ',' << s.min_angle << ',' << s.mean_min_angle << ','
+          << (s.remeshed ? 1 : 0) << ',' << (s.cached ? 1 : 0) << ',' << note << '\n';
+    }
+  });
+}
+
+}  // namespace
+
+ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
+                                  const std::string& folder, const DiskCache& cache,
+                                  const Communicator* communicator, const NoteFn& note) {
+  CSHAPES_REQUIRE(options.vertices >= 4, "resample: expected at least 4 vertices, got ", options.vertices);
+  const Communicator& comm = communicator ? *communicator : single_process();
+  const Dataset d = read_dataset(data);
+  std::map<std::string, std::string> by_name;
+  for (const DatasetEntry& e : d.entries) {
+    const auto [it, fresh] = by_name.emplace(e.name, e.path);
+    CSHAPES_REQUIRE(fresh, data, ": two shapes named '", e.name, "' (", it->second, " and ", e.path,
+                    "): resampling writes one file per name");
+  }
+  if (comm.size() > 1) {
+    remesh_share(d, options, cache, comm);
+    comm.barrier();
+  }
+  ResampledDataset r;
+  r.options = options;
+  r.folder = folder;
+  r.data = (fs::path(folder) / "manifest.csv").string();
+  std::vector<DatasetEntry> entries;
+  say(note, "== resampling " + std::to_string(d.entries.size()) + " shapes to about " +
+                std::to_string(options.vertices) + " vertices (cached in " + cache.directory() + ")");
+  for (size_t i = 0; i < d.entries.size(); ++i) {
+    const DatasetEntry& e = d.entries[i];
+    bool cached = false;
+    std::optional<json> value = cached_remesh(cache, e.path, options, &cached);
+    DatasetEntry out = e;
+    if (!value) {  // unreadable: listed as it is, the reader downstream says why
+      out.path = fs::absolute(e.path).string();
+      entries.push_back(out);
+      continue;
+    }
+    const bool remeshed = !value->contains("kept");
+    out.path = remeshed ? (fs::path(folder) / (e.name + ".off")).string() : fs::absolute(e.path).string();
+    ResampledShape s = shape_record(e, *value, out.path);
+    s.cached = cached;
+    (cached ? r.cached : r.computed)++;
+    if (comm.is_root() && remeshed) write_mesh(out.path, Mesh{points_from_json(value->at("V")),
+                                                             faces_from_json(value->at("F"))});
+    char line[256];
+    std::snprintf(line, sizeof line, "  [%zu/%zu] %s: %ld -> %ld vertices, Hausdorff %.3f%% of the diagonal, "
+                  "smallest angle %.1f deg%s", i + 1, d.entries.size(), e.name.c_str(),
+                  static_cast<long>(s.input_vertices), static_cast<long>(s.vertices), 100 * s.hausdorff,
+                  s.min_angle, cached ? " (cached)" : "");
+    say(note, remeshed ? std::string(line) : "  " + e.name + ": " + s.note);
+    if (remeshed && !s.note.empty()) say(note, "    " + s.note);
+    r.shapes.push_back(std::move(s));
+    entries.push_back(out);
+  }
+  // The ranks computed their shares: count those as computed (they were read from the cache above).
+  if (comm.size() > 1) {
+    r.computed = comm.sum(comm.is_root() ? r.computed : 0L);
+    r.cached = static_cast<long>(r.shapes.size()) - r.computed;
+  }
+  if (comm.is_root()) {
+    write_manifest(r.data, entries);
+    write_resample_csv((fs::path(folder) / "resample.csv").string(), r);
+  }
+  comm.barrier();  // the folder is complete before any rank reads it
+  return r;
+}
+
+std::string resampling_markdown(const ResampledDataset& r) {
+  std::string text;
+  char line[512];
+  double worst_hausdorff = 0, smallest_angle = 180;
+  Index fewest = 0, most = 0;
+  int kept = 0;
+  for (const ResampledShape& s : r.shapes) {
+    if (!s.remeshed) {
+      ++kept;
+      continue;
+    }
+    worst_hausdorff = std::max(worst_hausdorff, s.hausdorff);
+    smallest_angle = std::min(smallest_angle, s.min_angle);
+    fewest = fewest == 0 ? s.input_vertices : std::min(fewest, s.input_vertices);
+    most = std::max(most, s.input_vertices);
+  }
+  std::snprintf(line, sizeof line,
+                "Every shape was remeshed to about %ld vertices first (CGAL isotropic remeshing, core/remesh.h; "
+                "inputs of %ld to %ld vertices; cached by content: %ld computed, %ld cached). Largest "
+                "Hausdorff distance to the input %.3f%% of its bounding-box diagonal (symmetric, sampled at "
+                "vertices, edge midpoints and face centroids); smallest triangle angle %.1f deg.%s\n\n",
+                static_cast<long>(r.options.vertices), static_cast<long>(fewest), static_cast<long>(most),
+                r.computed, r.cached, 100 * worst_hausdorff, smallest_angle,
+                kept ? (" " + std::to_string(kept) + " shape(s) kept at their own resolution (see the table).")
+                           .c_str()
+                     : "");
+  text += line;
+  text += "| shape | input vertices | vertices | Hausdorff / diagonal | smallest angle (in → out) | mean smallest "
+          "angle | note |\n|---|---:|---:|---:|---:|---:|---|\n";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const ResampledShape& s : r.shapes)
+    text += "| " + s.name + " | " + std::to_string(s.input_vertices) + " | " + std::to_string(s.vertices) +
+            " | " + percent(s.remeshed ? s.hausdorff : nan, 3) + " | " + fixed(s.min_angle_in, 1) + " → " +
+            fixed(s.remeshed ? s.min_angle : nan, 1) + " | " + fixed(s.remeshed ? s.mean_min_angle : nan, 1) +
+            " | " + s.note + " |\n";
+  return text;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,77 @@
+// A dataset at one resolution: every mesh remeshed to about N vertices (core/remesh.h, CGAL's isotropic
+// remeshing) before anything reads it, so that a collection of mixed resolutions runs as the paper's protocol
+// does (the `--resample N` of every command that takes a dataset; Python's resample=N).
+//
+// Each remesh is cached by content (the input file's SHA-256 and the options' key, eval/cache.h), so a rerun,
+// another experiment on the same collection, or another rank reuses it. What a remesh changed is measured and
+// kept with it: the symmetric Hausdorff distance between the input and the remeshed surface (sampled:
+// core/remesh.h hausdorff_distance projects every vertex, edge midpoint and face centroid of each onto the
+// other, a lower bound tight to about half an edge's sag), relative to the input's bounding-box diagonal, and
+// the smallest triangle angle before and after.
+//
+// Imperfect inputs: remeshing needs a manifold triangle mesh, so non-manifold vertices are split and
+// zero-area faces dropped first (core/mesh_repair.h; every component kept), said in the shape's note. A mesh
+// that still cannot be remeshed, or a point cloud, is kept at its own resolution with the reason in its
+// note; a file that cannot be read is listed as it is, so the reader downstream reports it as usual.
+//
+// Output folder: NAME.off per shape, manifest.csv (the input's classes, poses and noisy flags, in its
+// order: core/dataset.h) and resample.csv (the measures per shape). Distributed (R > 1 ranks): each rank
+// remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0 writes the folder; every
+// rank returns the same paths (the folder must be one that every rank sees).
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/communicator.h"
+#include "core/progress.h"
+#include "core/types.h"
+#include "eval/cache.h"
+
+namespace cshapes {
+
+struct ResampleOptions {
+  Index vertices = 0;       // vertices wanted per shape (about: within `tolerance`); 0: no resampling
+  double tolerance = 0.01;  // accepted relative deviation from `vertices` (core/remesh.h)
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("vertices", o.vertices);
+    visit("tolerance", o.tolerance);
+  }
+};
+
+struct ResampledShape {
+  std::string name;    // the dataset entry's name
+  std::string source;  // the file read
+  std::string file;    // the file written (the source itself when it could not be read)
+  Index input_vertices = 0, vertices = 0;
+  double hausdorff = std::numeric_limits<double>::quiet_NaN();  // / the input's bbox diagonal
+  double min_angle_in = std::numeric_limits<double>::quiet_NaN(), min_angle = min_angle_in;  // degrees
+  double mean_min_angle = min_angle_in;  // mean over faces of each face's smallest angle, degrees
+  bool remeshed = false;  // false: kept at its own resolution (see note)
+  bool cached = false;    // this remesh was read from the cache
+  std::string note;       // what was repaired first, or why it was not remeshed; "" when nothing to say
+};
+
+struct ResampledDataset {
+  ResampleOptions options;
+  std::string folder;
+  std::string data;  // folder/manifest.csv: what to read instead of the input
+  std::vector<ResampledShape> shapes;
+  long computed = 0, cached = 0;  // remeshes computed here (over all ranks) and read from the cache
+};
+
+// Remeshes every shape of `data` (a folder, manifest.csv or .cla: core/dataset.h) into `folder`, through
+// `cache`. options.vertices must be >= 4. Throws cshapes::Error for a dataset that cannot be read, and
+// cshapes::WriteError for a folder or cache that cannot be written.
+ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
+                                  const std::string& folder, const DiskCache& cache,
+                                  const Communicator* communicator = nullptr, const NoteFn& note = {});
+
+// The measures of a resampled dataset as report text: a summary line (vertex counts, largest Hausdorff
+// distance, smallest angle) and a Markdown table, one row per shape. For the experiments' report.md.
+std::string resampling_markdown(const ResampledDataset& resampled);
+
+}  // namespace cshapes

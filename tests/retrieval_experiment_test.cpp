@@ -1,0 +1,159 @@
+// `cshapes experiment retrieval` (experiments/retrieval_experiment.h) end to end on a tiny collection, and
+// --resample (pipeline/resampled_dataset.h): the files, the measures against the matrices, resume, the .cla,
+// and the remesh's measures.
+#include "experiments/retrieval_experiment.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "core/classification.h"
+#include "core/dataset.h"
+#include "core/io.h"
+#include "core/remesh.h"
+#include "core/synthetic.h"
+#include "eval/distance_csv.h"
+#include "experiments/figures.h"
+#include "pipeline/resampled_dataset.h"
+#include "tests/test_support.h"
+
+namespace cshapes {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Three spheres and three tori of different sizes: two classes of three, about 160 vertices each.
+std::string tiny_collection(const std::string& dir) {
+  for (int k = 0; k < 3; ++k) {
+    write_mesh(dir + "/data/sphere" + std::to_string(k) + ".off", icosphere(2, 1.0 + 0.1 * k));
+    write_mesh(dir + "/data/torus" + std::to_string(k) + ".off", torus(16, 10, 1.0 + 0.1 * k, 0.3 + 0.03 * k));
+  }
+  return dir + "/data";
+}
+
+RetrievalExperimentOptions fast_options(const std::string& dir) {
+  RetrievalExperimentOptions o;
+  o.data = tiny_collection(dir);
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.canon.geodesics.method = GeodesicMethod::Graph;
+  return o;
+}
+
+TEST(RetrievalExperiment, EndToEndFilesMeasuresAndResume) {
+  const std::string dir = test::scratch_dir("retrieval-experiment");
+  RetrievalExperimentOptions o = fast_options(dir);
+  const RetrievalExperimentResult r = retrieval_experiment(o);
+  EXPECT_EQ(r.shapes, 6);
+  EXPECT_EQ(r.class_names, (std::vector<std::string>{"sphere", "torus"}));
+  ASSERT_EQ(r.methods.size(), 1u);
+  const RetrievalMethodResult& m = r.methods[0];
+  EXPECT_EQ(m.forms_computed, 6);
+  EXPECT_EQ(m.pairs_computed, 15);
+  for (const std::string& kind : retrieval_distances()) {
+    // The measures are those of the matrix written, as `cshapes evaluate` would compute them.
+    const NamedDistances written = read_distance_csv(o.out + "/cmds/" + kind + ".csv");
+    EXPECT_EQ(written.names, m.names);
+    const RetrievalResult again = evaluate_retrieval(written.D, {0, 0, 0, 1, 1, 1});
+    EXPECT_NEAR(m.by_distance.at(kind).result.mean.ap, again.mean.ap, 1e-12) << kind;
+    // The tools' forms hold the same numbers, in the order of cmds/classes.cla.
+    const NamedDistances text = read_distance_csv(o.out + "/cmds/" + kind + ".txt");
+    EXPECT_TRUE(text.D.isApprox(written.D, 1e-8)) << kind;
+    EXPECT_EQ(fs::file_size(o.out + "/cmds/" + kind + ".matrix"), 36u * 4u);
+    for (const char* f : {"metrics.json", "pr.csv", "queries.csv", "matrix.csv", "confusion.csv"})
+      EXPECT_TRUE(fs::exists(o.out + "/cmds/" + kind + "/" + f)) << kind << "/" << f;
+  }
+  // Spheres against tori: every method tells them apart.
+  EXPECT_EQ(m.by_distance.at("hausdorff").result.mean.nn, 1.0);
+  const Classification cla = read_classification(o.out + "/classes.cla");
+  ASSERT_EQ(cla.classes.size(), 2u);
+  EXPECT_EQ(cla.classes[1].models, (std::vector<std::string>{"torus0", "torus1", "torus2"}));
+  EXPECT_EQ(read_classification(o.out + "/cmds/classes.cla").models(), m.names);
+  const std::string report = read_text_file(o.out + "/report.md");
+  for (const char* part : {"## Overall", "## Per class", "| sphere | 3 |", "## Confusion", "## Files"})
+    EXPECT_NE(report.find(part), std::string::npos) << part;
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(o.out + "/retrieval.json"));
+  EXPECT_EQ(j["methods"][0]["distances"]["hausdorff"]["classes"]["torus"]["queries"], 3);
+  if (!find_plot_python().empty()) {
+    EXPECT_EQ(r.figures.size(), 3u) << r.figures_note;
+    for (const std::string& f : r.figures) EXPECT_GT(fs::file_size(o.out + "/" + f), 1000u) << f;
+  }
+  // A rerun computes nothing and gives the same numbers.
+  const std::string matrix = read_text_file(o.out + "/cmds/hausdorff.csv");
+  o.figures = false;
+  const RetrievalExperimentResult again = retrieval_experiment(o);
+  EXPECT_EQ(again.methods[0].forms_computed, 0);
+  EXPECT_EQ(again.methods[0].pairs_computed, 0);
+  EXPECT_EQ(again.methods[0].pairs_cached, 15);
+  EXPECT_EQ(read_text_file(o.out + "/cmds/hausdorff.csv"), matrix);
+}
+
+// The run returns the data and writes no report; the writer makes report.md from the result alone.
+TEST(RetrievalExperiment, RunWritesNoReportTheWriterUsesTheResult) {
+  const std::string dir = test::scratch_dir("retrieval-experiment-run");
+  const RetrievalExperimentOptions o = fast_options(dir);
+  const RetrievalExperimentResult r = run_retrieval_experiment(o);
+  EXPECT_FALSE(fs::exists(o.out + "/report.md"));
+  write_retrieval_report(r, dir + "/elsewhere");
+  EXPECT_NE(read_text_file(dir + "/elsewhere/report.md").find("classical MDS"), std::string::npos);
+}
+
+// --resample: each shape remeshed to about N vertices, its measures recorded (Hausdorff against the input
+// recomputed here), classes and order kept, and a second run reading every remesh from the cache.
+TEST(ResampledDataset, RemeshesKeepsClassesAndCachesByContent) {
+  const std::string dir = test::scratch_dir("resampled-dataset");
+  const std::string data = tiny_collection(dir);
+  ResampleOptions ro;
+  ro.vertices = 100;
+  ro.tolerance = 0.05;
+  const DiskCache cache(dir + "/cache");
+  const ResampledDataset r = resample_dataset(data, ro, dir + "/resampled", cache);
+  ASSERT_EQ(r.shapes.size(), 6u);
+  EXPECT_EQ(r.computed, 6);
+  const Dataset before = read_dataset(data), after = read_dataset(r.data);
+  ASSERT_EQ(after.entries.size(), 6u);
+  for (size_t k = 0; k < 6; ++k) {
+    const ResampledShape& s = r.shapes[k];
+    EXPECT_EQ(after.entries[k].name, before.entries[k].name);
+    EXPECT_EQ(after.entries[k].class_name, before.entries[k].class_name);
+    ASSERT_TRUE(s.remeshed) << s.note;
+    const Mesh input = read_mesh(before.entries[k].path), remeshed = read_mesh(after.entries[k].path);
+    EXPECT_EQ(s.input_vertices, input.num_vertices());
+    EXPECT_EQ(s.vertices, remeshed.num_vertices());
+    EXPECT_NEAR(static_cast<double>(s.vertices), 100.0, 5.0) << s.name;
+    const double diagonal = (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).norm();
+    EXPECT_NEAR(s.hausdorff, hausdorff_distance(input, remeshed) / diagonal, 1e-6) << s.name;
+    EXPECT_GT(s.hausdorff, 0);
+    EXPECT_LT(s.hausdorff, 0.1);
+    EXPECT_NEAR(s.min_angle, angle_stats(remeshed).min_angle, 1e-9);
+    EXPECT_GT(s.min_angle, 0);
+  }
+  const ResampledDataset again = resample_dataset(data, ro, dir + "/resampled2", cache);
+  EXPECT_EQ(again.computed, 0);
+  EXPECT_EQ(again.cached, 6);
+  EXPECT_EQ(read_file(dir + "/resampled2/sphere1.off"), read_file(dir + "/resampled/sphere1.off"));
+  const std::string md = resampling_markdown(r);
+  EXPECT_NE(md.find("| torus2 |"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir + "/resampled/resample.csv"));
+}
+
+// The experiment with resample: the report shows the remeshes, the matrices are over the remeshed shapes.
+TEST(ResampledDataset, TheExperimentRunsOnTheRemeshedShapes) {
+  const std::string dir = test::scratch_dir("retrieval-resampled");
+  RetrievalExperimentOptions o = fast_options(dir);
+  o.resample.vertices = 120;
+  o.figures = false;
+  const RetrievalExperimentResult r = retrieval_experiment(o);
+  ASSERT_TRUE(r.resampled);
+  EXPECT_EQ(r.resampling.shapes.size(), 6u);
+  EXPECT_EQ(r.data, o.out + "/resampled/manifest.csv");
+  EXPECT_EQ(r.methods[0].names.size(), 6u);
+  const std::string report = read_text_file(o.out + "/report.md");
+  EXPECT_NE(report.find("## Resampling"), std::string::npos);
+  EXPECT_NE(report.find("remeshed to about 120 vertices"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cshapes
