@@ -157,3 +157,34 @@ TEST(ResampledDataset, TheExperimentRunsOnTheRemeshedShapes) {
 
 }  // namespace
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// The command line: --resample's values, and distmat reading a .cla collection with --resample.
+TEST(RetrievalCli, ResampleOptionAndClaCollectionOnDistmat) {
+  const std::string dir = test::scratch_dir("retrieval-cli");
+  const std::string data = tiny_collection(dir);
+  test::CliResult bad = test::run_cli("experiment retrieval --data '" + data + "' --out '" + dir +
+                                      "/out' --resample 2");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--resample"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+  test::write_text(data + "/c.cla",
+                   "PSB 1\n2 6\n\nsphere 0 3\nsphere0\nsphere1\nsphere2\n\ntorus 0 3\ntorus0\ntorus1\ntorus2\n");
+  test::CliResult r = test::run_cli("-q distmat '" + data + "/c.cla' -o '" + dir +
+                                    "/d.csv' --method cmds --geodesics graph --resample 100 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["shapes"], 6);
+  EXPECT_EQ(j["resample"]["vertices"], 100);
+  EXPECT_EQ(j["resample"]["remeshes_computed"], 6);
+  const Dataset resampled = read_dataset(dir + "/.cshapes-cache/resampled-100/manifest.csv");
+  ASSERT_EQ(resampled.entries.size(), 6u);
+  EXPECT_NEAR(static_cast<double>(read_mesh(resampled.entries[4].path).num_vertices()), 100.0, 2.0);
+  EXPECT_EQ(read_distance_csv(dir + "/d.csv").names,
+            (std::vector<std::string>{"sphere0", "sphere1", "sphere2", "torus0", "torus1", "torus2"}));
+}
+
+}  // namespace
+}  // namespace cshapes

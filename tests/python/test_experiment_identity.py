@@ -29,3 +29,30 @@ def test_python_and_cli_runs_of_the_paper_experiment_write_the_same_files(cli, t
     assert sorted(a) == sorted(b)
     differing = [name for name in a if a[name] != b[name]]
     assert differing == [], f"written differently by the CLI and Python: {differing}"
+
+
+def test_python_and_cli_runs_of_the_retrieval_experiment_write_the_same_files(cli, tmp_path):
+    """experiment_retrieval(resample=N) and `cshapes experiment retrieval --resample N`: the same files (the
+    report, retrieval.json and the figures state times; left aside), and the Python result's measures are
+    those of metrics.json."""
+    import json
+
+    data = tmp_path / "data"
+    cli("generate", "dataset", "-o", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
+    cli("experiment", "retrieval", "--data", data / "manifest.csv", "--out", tmp_path / "cli", "--methods",
+        "coulomb", "--resample", "300", "--no-figures")
+    result = cshapes.experiment_retrieval(str(data / "manifest.csv"), str(tmp_path / "py"), methods=["coulomb"],
+                                          resample=300, figures=False)
+    assert result["shapes"] == 6 and result["resampled"] and not result["failures"]
+
+    def files(root):
+        return {k: v for k, v in _outputs(root).items()
+                if k != "retrieval.json" and not k.startswith("figures/")}
+
+    a, b = files(tmp_path / "cli"), files(tmp_path / "py")
+    assert "coulomb/hausdorff.matrix" in a and "resampled/manifest.csv" in a and "classes.cla" in a
+    assert sorted(a) == sorted(b)
+    differing = [name for name in a if a[name] != b[name]]
+    assert differing == [], f"written differently by the CLI and Python: {differing}"
+    metrics = json.loads((tmp_path / "py" / "coulomb" / "hausdorff" / "metrics.json").read_text())
+    assert result["measures"]["coulomb"]["hausdorff"]["map"] == metrics["map"]
