@@ -18,6 +18,7 @@
 #include "experiments/noise_experiment.h"
 #include "experiments/paper_experiment.h"
 #include "experiments/pose_invariance.h"
+#include "experiments/retrieval_experiment.h"
 #include "experiments/topkids_experiment.h"
 #include "matching/icp.h"
 #include "pipeline/canonical_form_methods.h"
@@ -107,6 +108,7 @@ TEST(OptionsKey, EveryMemberIsListed) {
   expect_every_member_listed<TopologicalNoiseOptions>("TopologicalNoiseOptions");
   expect_every_member_listed<IcpOptions>("IcpOptions");
   expect_every_member_listed<CanonicalFormOptions>("CanonicalFormOptions");
+  expect_every_member_listed<ResampleOptions>("ResampleOptions");
 }
 
 // The counting itself: a struct with a member its list leaves out is caught.
@@ -340,6 +342,9 @@ TEST(OptionsKey, ExperimentsStartFromTheLibraryDefaults) {
   const NoiseExperimentOptions noise;
   const TopkidsExperimentOptions topkids;
   const PoseInvarianceOptions pose;
+  const RetrievalExperimentOptions retrieval;
+  EXPECT_EQ(options_key(retrieval.canon), options_key(defaults));
+  EXPECT_EQ(retrieval.methods, canonical_form_methods());
   EXPECT_EQ(defaults.geodesics.method, GeodesicMethod::Heat);
   EXPECT_NE(options_key(defaults), options_key(single_call));
   EXPECT_EQ(options_key(paper.canon), options_key(defaults));
