@@ -30,6 +30,7 @@ from ._cshapes import (  # noqa: E402
     coulomb,
     distance_matrix,
     experiment_paper,
+    experiment_retrieval,
     generate,
     geodesics,
     get_num_threads,
@@ -46,6 +47,7 @@ from ._cshapes import (  # noqa: E402
 __version__ = _cshapes.__version__
 __all__ = [
     "Alignment", "CanonicalForm", "add_topological_noise", "canonical_form", "classical_mds", "coulomb",
-    "distance_matrix", "experiment_paper", "generate", "geodesics", "get_num_threads", "icp", "mesh_info", "read_mesh",
+    "distance_matrix", "experiment_paper", "experiment_retrieval", "generate", "geodesics", "get_num_threads",
+    "icp", "mesh_info", "read_mesh",
     "retrieval_measures", "set_num_threads", "shape_distance", "smacof", "write_mesh",
 ]

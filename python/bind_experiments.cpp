@@ -1,6 +1,6 @@
-// cshapes.experiment_paper: the paper's experiment (experiments/paper_experiment.h) from Python, with the
-// library's defaults, so a run from Python, from C++ and from `cshapes experiment paper` with the same
-// options writes the same files.
+// cshapes.experiment_paper and cshapes.experiment_retrieval: the experiments (experiments/paper_experiment.h,
+// experiments/retrieval_experiment.h) from Python, with the library's defaults, so a run from Python, from C++ and
+// `cshapes experiment paper|retrieval` with the same options writes the same files.
 #include <pybind11/stl.h>
 
 #include "experiments/paper_experiment.h"
