@@ -163,5 +163,21 @@ TEST(DistributedCli, PaperExperimentOfTwoAndThreeRanksEqualsOneProcess) {
   }
 }
 
+// experiment retrieval with --resample under 2 ranks: the remeshes, forms and pairs split over the ranks, the
+// files those of one process (retrieval.json, report.md and figures aside: they hold timings).
+TEST(DistributedCli, RetrievalExperimentOfTwoRanksEqualsOneProcess) {
+  CSHAPES_REQUIRE_MPI();
+  const std::string dir = small_dataset("mpi-retrieval");
+  for (int ranks : {0, 2}) {
+    const std::string out = dir + "/out" + std::to_string(ranks);
+    test::CliResult r = run_ranks(ranks, "-q experiment retrieval --data '" + dir + "/data' --out '" + out +
+                                             "' --methods coulomb,cmds --resample 300 --no-figures");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  for (const char* f : {"classes.cla", "resampled/manifest.csv", "resampled/biped0.off", "coulomb/hausdorff.csv",
+                        "coulomb/classes.cla", "cmds/rmse.matrix", "cmds/chamfer.txt", "cmds/hausdorff/queries.csv"})
+    EXPECT_EQ(read_file(dir + "/out0/" + f), read_file(dir + "/out2/" + f)) << f;
+}
+
 }  // namespace
 }  // namespace cshapes
