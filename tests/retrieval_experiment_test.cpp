@@ -16,6 +16,8 @@
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
 #include "experiments/figures.h"
+#include "experiments/noise_experiment.h"
+#include "experiments/paper_experiment.h"
 #include "pipeline/resampled_dataset.h"
 #include "tests/test_support.h"
 
@@ -184,6 +186,49 @@ TEST(RetrievalCli, ResampleOptionAndClaCollectionOnDistmat) {
   EXPECT_NEAR(static_cast<double>(read_mesh(resampled.entries[4].path).num_vertices()), 100.0, 2.0);
   EXPECT_EQ(read_distance_csv(dir + "/d.csv").names,
             (std::vector<std::string>{"sphere0", "sphere1", "sphere2", "torus0", "torus1", "torus2"}));
+}
+
+}  // namespace
+}  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// `experiment paper` and `experiment noise` with resample: they run on the remeshed shapes and their reports
+// show the remeshes (the data named is the one given).
+TEST(ResampledDataset, PaperAndNoiseExperimentsRunOnTheRemeshes) {
+  const std::string dir = test::scratch_dir("resampled-experiments");
+  const std::string data = test::generated_dataset(dir + "/gen", 2, 3, 400);
+  PaperExperimentOptions p;
+  p.data = data;
+  p.out = dir + "/paper";
+  p.methods = {"coulomb"};
+  p.poses_per_class = 3;
+  p.noisy_per_class = 0;
+  p.correspondence_samples = 0;
+  p.table1 = false;
+  p.figures = false;
+  p.resample.vertices = 250;
+  paper_experiment(p);
+  const std::string paper = read_text_file(p.out + "/report.md");
+  EXPECT_NE(paper.find("## Resampling"), std::string::npos);
+  EXPECT_NE(paper.find(data), std::string::npos);
+  EXPECT_NE(read_text_file(p.out + "/labels.csv").find(",250,"), std::string::npos);  // vertices of the shapes used
+  NoiseExperimentOptions n;
+  n.data = data;
+  n.out = dir + "/noise";
+  n.methods = {"coulomb"};
+  n.levels = {0, 1};
+  n.poses_per_class = 2;
+  n.relax_steps = 6;
+  n.figure = false;
+  n.resample.vertices = 250;
+  const NoiseExperimentResult r = noise_experiment(n);
+  ASSERT_TRUE(r.resampled);
+  for (const NoisePose& pose : r.pose_list) EXPECT_NEAR(static_cast<double>(pose.vertices), 250.0, 3.0);
+  const std::string noise = read_text_file(n.out + "/report.md");
+  EXPECT_NE(noise.find("## Resampling"), std::string::npos);
+  EXPECT_NE(noise.find(data), std::string::npos);
 }
 
 }  // namespace
