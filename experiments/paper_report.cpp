@@ -70,8 +70,13 @@ void header_and_setup(ReportText& t) {
      << format_number("%.0f", r.summary.seconds) << " s (" << r.summary.canonical_forms_computed
      << " canonical forms computed, " << r.summary.canonical_forms_cached << " from the cache; "
      << r.summary.pairs_computed << " ICP pairs computed, " << r.summary.pairs_cached
-     << " cached). Figures are drawn by `experiments/plots/paper_figures.py` from the "
-     << "CSV/JSON files beside this report.\n\n";
+     << " cached). ";
+  if (r.figures_drawn)
+    md << "The figures (PNG beside this report) were drawn by `paper_figures.py` from the CSV/JSON files "
+          "beside it.\n\n";
+  else
+    md << "**The figures were not drawn**: " << r.figures_note
+       << ". Their data (CSV/JSON) is beside this report.\n\n";
 
   const int clean = t.clean, noisy = t.noisy;
   md << "## Set-up\n\n";
