@@ -100,7 +100,7 @@ void header_and_setup(ReportText& t) {
      << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100
      << "% of the edges in " << o.canon.coulomb.tear_times << " rounds from iteration "
      << o.canon.coulomb.tear_after << " (or convergence), " << o.canon.coulomb.tear_interval
-     << " iterations apart (README: how these defaults were chosen).\n";
+     << " iterations apart (docs/coulomb-defaults.md: how these defaults were chosen).\n";
   md << "- Distance between shapes: ICP alignment of the canonical forms (principal-axis starts, reflections "
         "allowed), then the maximum distance between corresponding points (symmetric Hausdorff), as in "
         "§3; retrieval is also reported under the Chamfer and RMSE distances of the same alignment.\n\n";

@@ -41,7 +41,8 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
   o.canon.strict = k.flag("strict", o.canon.strict);
-  if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  o.canon.geodesics.method =
+      parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   k.done();
   o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   PaperExperimentSummary s;
