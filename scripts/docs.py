@@ -69,6 +69,22 @@ def write_atomically(path, text):
     os.replace(tmp, path)
 
 
+def wrap_help(text, width=100):
+    """Long help lines wrapped at `width`, each continuation under its description's first column, so the page
+    reads without scrolling sideways."""
+    import textwrap  # noqa: PLC0415
+
+    out = []
+    for line in text.splitlines():
+        if len(line) <= width:
+            out.append(line)
+            continue
+        m = re.match(r"^(\s*\S.*?\s{2,})(\S.*)$", line)
+        indent = " " * (len(m.group(1)) if m and len(m.group(1)) < width // 2 else len(line) - len(line.lstrip()))
+        out += textwrap.wrap(line, width=width, subsequent_indent=indent, break_on_hyphens=False)
+    return "\n".join(out)
+
+
 def cli_reference(cshapes, out):
     tree = command_tree(cshapes)
     md = ["# Command-line reference", "",
@@ -77,7 +93,7 @@ def cli_reference(cshapes, out):
           "are for and how they fit together, see [the command line](../cli.md).", ""]
     for path in sorted(tree):
         title = " ".join(("cshapes",) + path)
-        md += [f"## {title}", "", "```text", tree[path].rstrip(), "```", ""]
+        md += [f"## {title}", "", "```text", wrap_help(tree[path].rstrip()), "```", ""]
     write_atomically(out, "\n".join(md))
 
 
