@@ -1,9 +1,11 @@
 // cshapes align A B [--json] [--no-reflections] [-o aligned.ply]: rigid ICP alignment of A onto B and the
 // shape distances after it (matching/icp.h, matching/shape_distance.h).
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
 #include "core/io.h"
+#include "core/mesh.h"
 #include "cli/command.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
@@ -70,6 +72,13 @@ int run() {
   j["rmse"] = d.rmse;
   j["directed_source_to_target"] = d.directed_ab;
   j["directed_target_to_source"] = d.directed_ba;
+  // The same distances as a share of B's bounding-box diagonal: comparable across shapes of any size.
+  const double diagonal = finite_bbox_diagonal(b.V);
+  const auto share = [&](double x) { return diagonal > 0 ? 100 * x / diagonal : std::nan(""); };
+  j["target_bbox_diagonal"] = diagonal;
+  j["hausdorff_percent"] = share(d.hausdorff);
+  j["chamfer_percent"] = share(d.chamfer);
+  j["rmse_percent"] = share(d.rmse);
   j["icp_rmse"] = r.rmse;
   j["inlier_fraction"] = r.inlier_fraction;
   j["iterations"] = r.iterations;
@@ -90,7 +99,9 @@ int run() {
   std::printf("  transform (x -> R x + t)%s\n", r.transform.is_reflection() ? ", a reflection" : "");
   for (int i = 0; i < 4; ++i)
     std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
-  std::printf("  hausdorff  %.6g\n  chamfer    %.6g\n  rmse       %.6g\n", d.hausdorff, d.chamfer, d.rmse);
+  std::printf("  distances after alignment (%% of B's bounding-box diagonal, %.6g):\n", diagonal);
+  std::printf("    hausdorff  %-12.6g (%.3f%%)\n    chamfer    %-12.6g (%.3f%%)\n    rmse       %-12.6g (%.3f%%)\n",
+              d.hausdorff, share(d.hausdorff), d.chamfer, share(d.chamfer), d.rmse, share(d.rmse));
   std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3f s\n", r.iterations,
               r.total_iterations, r.start_transforms.size(), r.stop_reason.c_str(), r.seconds);
   return 0;
@@ -99,7 +110,7 @@ int run() {
 const bool registered = register_command(
     {{"align"},
      "Rigidly align shape A onto shape B (ICP) and print the transform and the Hausdorff, Chamfer and RMS "
-     "distances",
+     "distances (in A's units and in % of B's bounding-box diagonal)",
      [](CLI::App& app) {
        app.add_option("A", args.source, "source mesh or point cloud (moved)")->required();
        app.add_option("B", args.target, "target mesh or point cloud")->required();

@@ -1,11 +1,14 @@
 // cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix, written by
-// eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv).
+// eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their figures
+// pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with matplotlib is
+// found.
 #include <cstdio>
 #include <iostream>
 
 #include "eval/distance_csv.h"
 #include "eval/retrieval_report.h"
 #include "cli/command.h"
+#include "experiments/figures.h"
 
 namespace cshapes::cli {
 namespace {
@@ -14,7 +17,7 @@ struct EvaluateArgs {
   std::string matrix, labels, output;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
-  bool json = false;
+  bool json = false, no_figures = false;
 } args;
 
 int run() {
@@ -42,6 +45,13 @@ int run() {
                 r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
   }
   note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
+  if (!args.no_figures) {
+    const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr.png");
+    if (figures.drawn)
+      note("wrote " + args.output + "/pr.png, confusion.png, matrix.png");
+    else
+      warn("no figures: " + figures.problem);
+  }
   return 0;
 }
 
@@ -64,6 +74,8 @@ const bool registered = register_command(
        app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
+       app.add_flag("--no-figures", args.no_figures,
+                    "do not draw pr.png, confusion.png and matrix.png (drawing needs Python with matplotlib)");
      },
      run});
 

@@ -18,7 +18,7 @@ struct PaperArgs {
   std::string methods;  // add_methods_option: every registered method
   std::string poses = "4";
   std::string noisy = "1";
-  bool no_table1 = false, no_figures = false, json = false;
+  bool no_table1 = false, no_figures = false, no_draw = false, json = false;
 } args;
 
 int run() {
@@ -33,6 +33,7 @@ int run() {
   prepare_experiment(o.methods, o.out, o.canon);
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
+  o.draw = !args.no_draw;
   if (comm.is_root()) {  // one voice: the other ranks work silently
     o.progress = progress_printer();
     o.note = [](const std::string& line) { note(line); };
@@ -47,6 +48,7 @@ int run() {
                    {"canonical_forms_cached", s.canonical_forms_cached},
                    {"pairs_computed", s.pairs_computed},
                    {"pairs_cached", s.pairs_cached},
+                   {"figures_drawn", s.figures_drawn},
                    {"failures", shape_failures_json(s.failures)}};
   if (args.json) {
     std::cout << j.dump(2) << std::endl;
@@ -91,6 +93,8 @@ const bool registered = register_command(
        app.add_flag("--no-table1", args.no_table1,
                     "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
        app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       app.add_flag("--no-draw", args.no_draw,
+                    "write the figures' data but do not draw them (drawing needs Python with matplotlib)");
        app.add_option("--figure-vertices", o.figure_vertices,
                       "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
            ->capture_default_str()

@@ -14,7 +14,6 @@ namespace {
 struct InfoArgs {
   std::vector<std::string> paths;
   bool json = false;
-  bool no_validate = false;
 } args;
 
 int run() {
@@ -70,8 +69,6 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("MESH", args.paths, "mesh or point-cloud files")->required();
        app.add_flag("--json", args.json, "print JSON (an object, or an array for several files)");
-       app.add_flag("--no-validate", args.no_validate,
-                    "accepted for old scripts: every readable mesh is described, defects included");
      },
      run});
 

@@ -60,7 +60,8 @@ void write_retrieval_report(const std::string& folder, const NamedDistances& inp
   for (int k : report.image.order) ordered_names.push_back(input.names[static_cast<size_t>(k)]);
   write_distance_csv(folder + "/matrix.csv", ordered_names, report.image.values);
   write_file_atomically(folder + "/confusion.csv", [&](std::ostream& s) {
-    s << "class";
+    // Says what its rows and columns are: the query's class down, its nearest neighbour's class across.
+    s << "query class / nearest neighbour class";
     for (const std::string& c : report.class_names) s << ',' << c;
     s << '\n';
     for (size_t a = 0; a < report.class_names.size(); ++a) {

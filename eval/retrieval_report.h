@@ -5,7 +5,8 @@
 //   pr.csv         recall, precision (interpolated, 11 points)
 //   queries.csv    per query: shape, class, nn, ft, st, e, dcg, ap
 //   matrix.csv     the matrix grouped by class and normalised (the paper's Fig. 7 image)
-//   confusion.csv  nearest-neighbour class counts
+//   confusion.csv  nearest-neighbour class counts: row = the query's class, column = its nearest neighbour's
+//                  (the header's first cell says so), every shape a query
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -30,9 +30,12 @@ alignments = [cshapes.icp(f.X, forms[0].X) for f in forms[1:]]
 aligned = [forms[0].X] + [a.aligned for a in alignments]
 # canonical forms are defined up to a reflection too: a mirrored form's triangles turn inside out
 flipped = [False] + [a.reflection for a in alignments]
+# distances in % of the bounding-box diagonal of A's form: comparable across shapes of any size
+diagonal = np.linalg.norm(np.ptp(forms[0].X, axis=0))
 for (_, _, name), form in zip(shapes, forms):
     d = cshapes.shape_distance(form.X, forms[0].X)
-    print(f"{name:22s} {form.iterations:4d} iterations, {form.seconds:5.2f} s, distance to A's form {d:.4f}")
+    print(f"{name:22s} {form.iterations:4d} iterations, {form.seconds:5.2f} s, "
+          f"distance to A's form {d:.4f} ({100 * d / diagonal:.2f}% of its bounding-box diagonal)")
 
 fig = plt.figure(figsize=(12, 7))
 glued = np.unique(np.array(glue["pairs"]).ravel())

@@ -4,6 +4,10 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "pipeline/canonical_form_methods.h"
 
 namespace cshapes {
 
@@ -60,8 +64,11 @@ std::string find_python(const std::string& imports) {
   return "";
 }
 
-std::string find_plot_python() {
-  return find_python("matplotlib, numpy");
+void write_method_titles(const std::string& folder) {
+  nlohmann::ordered_json titles = nlohmann::ordered_json::object();
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) titles[method.name] = method.title;
+  write_file_atomically((fs::path(folder) / "methods.json").string(),
+                        [&](std::ostream& out) { out << titles.dump(2) << "\n"; });
 }
 
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
@@ -76,7 +83,8 @@ FigureRun draw_figure(const std::string& script, const std::vector<std::string>&
                   " was not found (looked beside the binary in share/cshapes/plots; set $CSHAPES_PLOTS)";
     return run;
   }
-  const std::string python = find_plot_python();
+  write_method_titles(fs::path(expected).parent_path().string());
+  const std::string python = find_python("matplotlib, numpy");
   if (python.empty()) {
     run.problem =
         "no Python with matplotlib and numpy found ($CSHAPES_PYTHON, /usr/bin/python3, python3); run `" +

@@ -23,10 +23,13 @@ std::string plot_scripts_directory();
 // ("matplotlib, numpy"); "" when none does. The one place cshapes looks for an interpreter (figures, and the
 // benchmarks' scikit-learn and Open3D anchors).
 std::string find_python(const std::string& imports);
-// The interpreter for the figures: find_python("matplotlib, numpy").
-std::string find_plot_python();
 // s in single quotes for /bin/sh (a quote inside becomes '\'').
 std::string shell_quote(const std::string& s);
+
+// FOLDER/methods.json: {"coulomb": "Coulomb", "cmds": "classical MDS", ...} for every registered method
+// (pipeline/canonical_form_methods.h), in registration order: the one name of each method in figures, read
+// by experiments/plots/figure_style.py. Atomic; throws WriteError when it cannot write.
+void write_method_titles(const std::string& folder);
 
 struct FigureRun {
   bool drawn = false;
@@ -34,7 +37,8 @@ struct FigureRun {
 };
 // Runs `PYTHON SCRIPT ARGS...` (script: a file name in plot_scripts_directory(), e.g. "noise_figure.py"),
 // quietly; drawn when it exits 0 and `expected` (a file it writes) exists afterwards. `expected` is removed
-// first, so an old figure is never taken for a new one.
+// first, so an old figure is never taken for a new one. Writes methods.json beside `expected` first
+// (write_method_titles), so the script names every method as the tables do.
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
                       const std::string& expected);
 

@@ -22,6 +22,7 @@
 #include "eval/distance_csv.h"
 #include "eval/pairwise_distances.h"
 #include "eval/retrieval.h"
+#include "experiments/figures.h"
 #include "experiments/paper_figures.h"
 #include "experiments/paper_report.h"
 #include "matching/icp.h"
@@ -826,11 +827,29 @@ PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
   return std::move(report);
 }
 
+void draw_paper_figures(PaperReport& report) {
+  const std::string out = report.options.out;
+  const FigureRun drawn =
+      draw_figure("paper_figures.py", {out}, (fs::path(out) / "fig7_distance_matrices.png").string());
+  report.figures_drawn = drawn.drawn;
+  report.figures_note = drawn.problem;
+}
+
 PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
   const auto start = WallClock::now();
   PaperReport report = run_paper_experiment(options);
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
   if (comm.is_root()) {
+    if (options.draw) {
+      say(options.note, "== figures");
+      draw_paper_figures(report);
+      if (!report.figures_drawn) say(options.note, "warning: no figures: " + report.figures_note);
+      report.summary.figures_drawn = report.figures_drawn;
+    } else {
+      report.figures_note = "not requested (`--no-draw`); draw them with `python3 " +
+                            (fs::path(plot_scripts_directory()) / "paper_figures.py").string() + " " +
+                            shell_quote(options.out) + "`";
+    }
     report.summary.seconds = seconds_since(start);
     write_paper_report(report, options.out);
   }

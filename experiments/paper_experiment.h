@@ -55,6 +55,9 @@ struct PaperExperimentOptions {
   bool table1 = true;      // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
   int timing_repeats = 5;  // Table 1: runs per median
   bool figures = true;     // compute the data of Figures 2, 3, 4, 5
+  // Draw every figure (PNG beside report.md: experiments/plots/paper_figures.py, through experiments/figures.h)
+  // when a Python with matplotlib is found; report.md says when they could not be drawn, and how to.
+  bool draw = true;
   // Figures 3 and 5: remesh their shape to this many vertices first; 0: the data's own resolution (tosca5k:
   // 5,000 vertices, about 23 s for both figures' 13,000 outer iterations).
   int figure_vertices = 0;
@@ -71,6 +74,7 @@ struct PaperExperimentSummary {
   int shapes = 0;
   long canonical_forms_computed = 0, canonical_forms_cached = 0;  // over all ranks
   long pairs_computed = 0, pairs_cached = 0;                      // over all ranks
+  bool figures_drawn = false;  // the PNGs beside report.md (PaperReport::figures_note says why not)
   // Files that could not be used (stage "read") and shapes whose canonical form failed by some method, each
   // left out by every method; and geodesic fallbacks (the shape kept). Empty when nothing failed (rank 0's
   // account; pipeline/shape_failures.h).
@@ -125,6 +129,8 @@ struct PaperReport {
   std::vector<Convergence> convergence;
   std::string figure_shape;                                // the shape of Figures 3 and 5
   nlohmann::json figure_grids = nlohmann::json::object();  // Fig. 2, 3 mesh grids for paper_figures.py
+  bool figures_drawn = false;  // the PNGs exist (paper_experiment drew them)
+  std::string figures_note;    // why not, and how to draw them, when not drawn
   std::map<std::string, double> stage_seconds;
   PaperExperimentSummary summary;
   bool resampled = false;
@@ -138,8 +144,12 @@ struct PaperReport {
 // ranks other than 0 of a distributed run, only report.summary's counts are filled.
 PaperReport run_paper_experiment(const PaperExperimentOptions& options);
 
+// Draws the figures from the files run_paper_experiment wrote into options.out (paper_figures.py): sets
+// report.figures_drawn, or report.figures_note to why not and the command that draws them.
+void draw_paper_figures(PaperReport& report);
+
 // The experiment as `cshapes experiment paper` (and cshapes.experiment_paper) runs it: run_paper_experiment,
-// then report.md (experiments/paper_report.h) on rank 0. Returns the summary.
+// the figures (options.draw) and report.md (experiments/paper_report.h) on rank 0. Returns the summary.
 PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options);
 
 }  // namespace cshapes

@@ -70,8 +70,13 @@ void header_and_setup(ReportText& t) {
      << format_number("%.0f", r.summary.seconds) << " s (" << r.summary.canonical_forms_computed
      << " canonical forms computed, " << r.summary.canonical_forms_cached << " from the cache; "
      << r.summary.pairs_computed << " ICP pairs computed, " << r.summary.pairs_cached
-     << " cached). Figures are drawn by `experiments/plots/paper_figures.py` from the "
-     << "CSV/JSON files beside this report.\n\n";
+     << " cached). ";
+  if (r.figures_drawn)
+    md << "The figures (PNG beside this report) were drawn by `paper_figures.py` from the CSV/JSON files "
+          "beside it.\n\n";
+  else
+    md << "**The figures were not drawn**: " << r.figures_note
+       << ". Their data (CSV/JSON) is beside this report.\n\n";
 
   const int clean = t.clean, noisy = t.noisy;
   md << "## Set-up\n\n";
@@ -95,7 +100,7 @@ void header_and_setup(ReportText& t) {
      << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100
      << "% of the edges in " << o.canon.coulomb.tear_times << " rounds from iteration "
      << o.canon.coulomb.tear_after << " (or convergence), " << o.canon.coulomb.tear_interval
-     << " iterations apart (README: how these defaults were chosen).\n";
+     << " iterations apart (docs/coulomb-defaults.md: how these defaults were chosen).\n";
   md << "- Distance between shapes: ICP alignment of the canonical forms (principal-axis starts, reflections "
         "allowed), then the maximum distance between corresponding points (symmetric Hausdorff), as in "
         "§3; retrieval is also reported under the Chamfer and RMSE distances of the same alignment.\n\n";

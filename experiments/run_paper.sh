@@ -63,11 +63,11 @@ if [[ $status -ne 0 && $status -ne 3 ]]; then
   exit "$status"
 fi
 
-echo "== figures" >&2
-if "$root/scripts/python.sh" -c 'pass' 2>/dev/null; then
-  "$root/scripts/python.sh" "$root/experiments/plots/paper_figures.py" "$out" "${pdf[@]}"
-else
-  echo "run_paper: no Python with matplotlib: figures skipped (the CSV/JSON behind them are in $out)" >&2
+# `cshapes experiment paper` draws the PNGs itself (report.md says when it could not, and how to);
+# PDFs are drawn here on request.
+if [[ ${#pdf[@]} -gt 0 ]]; then
+  echo "== figures as PDF" >&2
+  "$root/scripts/python.sh" "$root/build/share/cshapes/plots/paper_figures.py" "$out" --pdf
 fi
 echo "== done in $(( $(date +%s) - start )) s: see $out/report.md" >&2
 if [[ $status -eq 3 ]]; then

@@ -22,13 +22,12 @@
 
 namespace cshapes {
 
-// A run's two channels to a front end (the CLI prints them; the Python module and tests may listen or not).
+// A run's two channels to a front end (the CLI prints them; the Python module and tests may listen or not),
+// for code that passes both around together; speaking is core/progress.h's say().
 struct Notes {
   ProgressFn progress;  // (stage, done, total)
   NoteFn note;          // one line of text
-  void say(const std::string& line) const {
-    if (note) note(line);
-  }
+  void say(const std::string& line) const { cshapes::say(note, line); }
   void report(const std::string& stage, double done, double total) const {
     if (progress) progress(stage, done, total);
   }

@@ -5,7 +5,7 @@ dtype and any strides are accepted (copied once into the library's layout). Keyw
 CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations release the GIL.
 
 The extension is cshapes._cshapes. Before loading it (and with it libgomp, which reads its settings once)
-this package bounds OpenMP's spin-wait as the CLI does (GOMP_SPINCOUNT=1000, README "Threads") unless
+this package bounds OpenMP's spin-wait as the CLI does (GOMP_SPINCOUNT=1000, docs/python.md) unless
 OMP_WAIT_POLICY or GOMP_SPINCOUNT is set, and restores the environment afterwards. If another module loaded
 libgomp first, its setting stays.
 """

@@ -17,7 +17,7 @@ namespace py = pybind11;
 namespace {
 
 py::dict experiment_paper_py(const py::object& data, const py::object& out, const py::object& methods,
-                             int poses_per_class, int noisy_per_class, bool table1, bool figures,
+                             int poses_per_class, int noisy_per_class, bool table1, bool figures, bool draw,
                              const py::kwargs& kwargs) {
   PaperExperimentOptions o;
   o.data = to_path(data, "data");
@@ -35,13 +35,15 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.noisy_per_class = noisy_per_class;
   o.table1 = table1;
   o.figures = figures;
+  o.draw = draw;
   Kwargs k(kwargs, "experiment_paper");
   o.glue = k.int32("glue", o.glue);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
   o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
   o.canon.strict = k.flag("strict", o.canon.strict);
-  if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  o.canon.geodesics.method =
+      parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.resample.vertices = static_cast<Index>(k.integer("resample", 0, 0));
   CSHAPES_REQUIRE(o.resample.vertices == 0 || o.resample.vertices >= 4,
                   "experiment_paper(): resample: expected 0 (off) or at least 4 vertices, got ",
@@ -61,6 +63,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   result["canonical_forms_cached"] = s.canonical_forms_cached;
   result["pairs_computed"] = s.pairs_computed;
   result["pairs_cached"] = s.pairs_cached;
+  result["figures_drawn"] = s.figures_drawn;
   result["failures"] = python::to_python(shape_failures_json(s.failures));
   return result;
 }
@@ -81,7 +84,8 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   o.figures = figures;
   Kwargs k(kwargs, "experiment_retrieval");
   o.canon.strict = k.flag("strict", o.canon.strict);
-  if (k.given("geodesics")) o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", ""));
+  o.canon.geodesics.method =
+      parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
   o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
   k.done();
@@ -115,17 +119,18 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
 void bind_experiments(py::module_& m) {
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
-        py::arg("table1") = true, py::arg("figures") = true,
+        py::arg("table1") = true, py::arg("figures") = true, py::arg("draw") = true,
         R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
 
 data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
 folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figures [True] computes the figures' data. Keywords: glue [2], seed [1], timing_repeats [5],
+figures [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
+matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
 correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
 (remesh every shape to about this many vertices first, as the CLI's --resample).
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
-(shapes, seconds, counts, failures). The same options give the same files as the CLI and C++.)");
+(shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("figures") = true,
         R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.

@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
 # Reruns every benchmark behind docs/benchmarks.md's table and writes one JSON file per row into OUT
-# (default: results/benchmarks). Each benchmark measures its reference in the same run.
+# (default: results/benchmarks), then prints every ratio (scripts/benchmark_ratios.py). Each benchmark measures
+# its reference in the same run. On a fresh Debian machine it first installs what is missing, the anchors
+# included (scikit-learn and Open3D, Debian's python3-sklearn and python3-open3d), and builds.
 #   scripts/benchmarks.sh [OUT] [--data DIR]     (DIR: tosca5k, default ../shared/data/tosca5k)
-# Takes about a minute on 2 cores (remeshing included); run it on an otherwise idle machine.
+# Takes a few minutes on 2 cores (remeshing included); run it on an otherwise idle machine. Exits 1 when an
+# anchor could not run.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out="${1:-$root/results/benchmarks}"
 data="$root/../shared/data/tosca5k"
 [[ "${2:-}" == "--data" ]] && data="$3"
 cshapes="$root/build/cshapes"
+"$root/scripts/install-deps.sh" --with-anchors
 [[ -x "$cshapes" ]] || "$root/scripts/build.sh"
+[[ -d "$data" ]] || { echo "benchmarks: no data at $data (give --data DIR: TOSCA meshes cat0.off, cat1.off, michael0.off)" >&2; exit 1; }
 mkdir -p "$out"
 
 bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into OUT/NAME.json
@@ -43,3 +48,5 @@ echo "== coulomb-cat0-converged: cshapes canon cat0.off --method coulomb" >&2
 "$cshapes" -q canon "$data/cat0.off" -o "$out/cat0-coulomb.ply" --method coulomb --json >"$out/coulomb-cat0-converged.json.tmp"
 mv "$out/coulomb-cat0-converged.json.tmp" "$out/coulomb-cat0-converged.json"
 echo "benchmarks: JSON in $out" >&2
+echo
+"$root/scripts/benchmark_ratios.py" "$out"

@@ -10,6 +10,7 @@ import argparse
 import json
 import os
 import pathlib
+import re
 import subprocess
 import sys
 import tempfile
@@ -42,15 +43,24 @@ def ply_vertex_count(path):
     raise ValueError(f"{path}: no vertex element in the PLY header")
 
 
+def registered_methods(cshapes):
+    """The canonical-form methods the binary registers, from `canon --help` ("--method TEXT:{a, b, c}")."""
+    text = subprocess.run([cshapes, "canon", "--help"], capture_output=True, text=True, check=True).stdout
+    m = re.search(r"--method TEXT:\{([^}]*)\}", text)
+    if not m:
+        raise SystemExit(f"scan_data: no method list in `{cshapes} canon --help`")
+    return [x.strip() for x in m.group(1).split(",")]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folders", nargs="+")
     parser.add_argument("--cshapes", default="build/cshapes")
     parser.add_argument("--threads", type=int, default=0, help="--threads for cshapes (0: its default)")
-    parser.add_argument("--canon", action="store_true", help="also canonize with coulomb, cmds and smacof")
+    parser.add_argument("--canon", action="store_true", help="also canonize with every registered method")
     args = parser.parse_args()
     base = [args.cshapes, "-q"] + (["--threads", str(args.threads)] if args.threads > 0 else [])
-    methods = ["coulomb", "cmds", "smacof"] if args.canon else []
+    methods = registered_methods(args.cshapes) if args.canon else []
 
     header = "| mesh | vertices | defects | heat all-pairs: non-finite / dropped rows | s |"
     header += "".join(f" canon {m}: exit, vertices, s |" for m in methods)

@@ -100,7 +100,8 @@ def report(rows, args, elapsed):
               f"{100 * max(maxima, default=float('nan')):.1f}% | "
               f"{exempt} |")
     print("\n| canonical form / ICP | meshes run | failures | poor form quality |\n| --- | --- | --- | --- |")
-    for m in ["coulomb", "cmds", "smacof"]:
+    canon_methods = list(dict.fromkeys(m for r in rows for m in r.get("canon", {})))  # as the run names them
+    for m in canon_methods:
         outcomes = [r["canon"][m] for r in rows if m in r.get("canon", {}) and r["canon"][m]["ran"]]
         print(f"| {m} | {len(outcomes)} | {sum(o['failed'] for o in outcomes)} | "
               f"{sum(o.get('verdict') == 'poor' for o in outcomes)} |")

@@ -267,6 +267,14 @@ TEST(AlignCli, RecoversAMirroredCopy) {
   j = nlohmann::json::parse(r.out);
   EXPECT_FALSE(j["reflection"].get<bool>());
   EXPECT_GT(j["hausdorff"].get<double>(), 1e-3);
+  // Every distance also in % of B's bounding-box diagonal.
+  const double diagonal = bbox_diagonal(b.V);
+  EXPECT_NEAR(j["target_bbox_diagonal"].get<double>(), diagonal, 1e-9 * diagonal);
+  for (const char* d : {"hausdorff", "chamfer", "rmse"})
+    EXPECT_NEAR(j[std::string(d) + "_percent"].get<double>(), 100 * j[d].get<double>() / diagonal, 1e-9) << d;
+  r = test::run_cli("align '" + dir + "/a.off' '" + dir + "/b.off' --no-reflections");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("% of B's bounding-box diagonal"), std::string::npos) << r.out;
   std::filesystem::remove_all(dir);
 }
 

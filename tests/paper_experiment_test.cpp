@@ -14,6 +14,7 @@
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
+#include "experiments/figures.h"
 #include "experiments/paper_experiment.h"
 #include "experiments/paper_report.h"
 #include "pipeline/shape_failures.h"
@@ -78,10 +79,46 @@ PaperExperimentOptions small_run(const std::string& dir, const std::string& out)
   o.noisy_per_class = 0;
   o.table1 = false;
   o.figures = false;
+  o.draw = false;
   o.correspondence_samples = 0;
   o.canon.geodesics.method = GeodesicMethod::Heat;  // as the CLI: the fallback to fast marching is tried
   o.canon.coulomb.max_iterations = 60;
   return o;
+}
+
+// `experiment paper` draws its own figures: with a Python that has matplotlib, Fig. 7 and Fig. 8 land beside
+// report.md, with methods.json naming each method as the tables do; without the scripts, the report says the
+// figures were not drawn, why, and the run still succeeds.
+TEST(PaperExperiment, DrawsItsFiguresOrSaysWhyNot) {
+  const std::string dir = dataset_with_an_unusable_shape("paper_draws", false);
+  PaperExperimentOptions o = small_run(dir, "drawn");
+  o.draw = true;
+  PaperReport r = run_paper_experiment(o);
+  draw_paper_figures(r);
+  const nlohmann::json titles = nlohmann::json::parse(read_file(o.out + "/methods.json"));
+  EXPECT_EQ(titles.at("cmds"), "classical MDS");
+  EXPECT_EQ(titles.at("smacof"), canonical_form_method("smacof").title);
+  if (find_python("matplotlib, numpy").empty()) {
+    EXPECT_FALSE(r.figures_drawn);
+    EXPECT_NE(r.figures_note.find("matplotlib"), std::string::npos) << r.figures_note;
+  } else {
+    EXPECT_TRUE(r.figures_drawn) << r.figures_note;
+    EXPECT_GT(fs::file_size(o.out + "/fig7_distance_matrices.png"), 1000u);
+    EXPECT_GT(fs::file_size(o.out + "/fig8_pr.png"), 1000u);
+  }
+
+  const std::string empty = test::scratch_dir("paper_draws_no_scripts");
+  setenv("CSHAPES_PLOTS", empty.c_str(), 1);
+  PaperExperimentOptions again = small_run(dir, "not_drawn");
+  again.draw = true;
+  const PaperExperimentSummary s = paper_experiment(again);
+  unsetenv("CSHAPES_PLOTS");
+  EXPECT_FALSE(s.figures_drawn);
+  EXPECT_FALSE(fs::exists(dir + "/not_drawn/fig7_distance_matrices.png"));
+  const std::string report = read_file(dir + "/not_drawn/report.md");
+  EXPECT_NE(report.find("**The figures were not drawn**: the figure script paper_figures.py was not found"),
+            std::string::npos)
+      << report;
 }
 
 TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {

@@ -4,8 +4,10 @@
 
 #include <cmath>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "eval/distance_csv.h"
+#include "experiments/figures.h"
 #include "tests/test_support.h"
 
 #include <filesystem>
@@ -227,11 +229,22 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
   EXPECT_EQ(m["skipped"].get<int>(), 1);
   for (const char* file : {"metrics.json", "pr.csv", "queries.csv", "matrix.csv", "confusion.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
+  // The confusion matrix says what its rows and columns are.
+  EXPECT_EQ(read_file(dir + "/out/confusion.csv"),
+            "query class / nearest neighbour class,cat,dog,man\ncat,2,0,1\ndog,0,3,0\nman,1,0,0\n");
+  // Its figures, drawn when Python has matplotlib; otherwise a warning says why.
+  if (find_python("matplotlib, numpy").empty()) {
+    EXPECT_NE(r.err.find("no figures"), std::string::npos) << r.err;
+  } else {
+    for (const char* file : {"pr.png", "confusion.png", "matrix.png"})
+      EXPECT_GT(std::filesystem::file_size(dir + "/out/" + file), 1000u) << file << r.err;
+  }
   // Labels from a file override the names: all seven in one class → every result relevant.
   test::write_text(dir + "/labels.csv", "a\na\na\na\na\na\na\n");
   r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' -o '" + dir +
-                    "/out2' --json -q");
+                    "/out2' --json -q --no-figures");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out2/pr.png"));
   EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
   // A broken file: a one-line error, non-zero exit.
   test::write_text(dir + "/bad.csv", "a,b\n0,1\n");

@@ -1,11 +1,36 @@
 """What the figure scripts share: each method's name and colour, and an atomic save."""
+import json
 import os
 import sys
 
 import matplotlib.pyplot as plt
 
-METHOD_STYLE = {"coulomb": ("Coulomb", "tab:red"), "cmds": ("classical MDS", "tab:blue"),
-                "smacof": ("SMACOF MDS", "tab:green")}
+# Colours of the methods, fixed so a method looks the same in every figure; a method without one here (added
+# later) takes the next of EXTRA_COLOURS in registration order.
+COLOURS = {"inputs": "0.45", "coulomb": "tab:red", "cmds": "tab:blue", "smacof": "tab:green"}
+EXTRA_COLOURS = ["tab:purple", "tab:orange", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "black"]
+# Titles when OUT has no methods.json (a folder written before it existed); the library's titles otherwise.
+DEFAULT_TITLES = {"inputs": "inputs (no canonical form)", "coulomb": "Coulomb", "cmds": "classical MDS",
+                  "smacof": "SMACOF"}
+
+
+def method_styles(out):
+    """{method: (title, colour)} for every method named in OUT/methods.json (written by the C++ driver from the
+    method registry: the one name of each method in tables and figures), plus the defaults above."""
+    titles = dict(DEFAULT_TITLES)
+    path = os.path.join(out, "methods.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            titles.update(json.load(f))
+    styles, extra = {}, iter(EXTRA_COLOURS)
+    for m, title in titles.items():
+        styles[m] = (title, COLOURS.get(m) or next(extra, None))
+    return styles
+
+
+def method_style(styles, m):
+    """(title, colour) of method m; (m, None) for a name no one registered."""
+    return styles.get(m, (m, None))
 
 
 def save(fig, out, name, pdf):

@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from figure_style import METHOD_STYLE, save  # noqa: E402
+from figure_style import method_style, method_styles, save  # noqa: E402
 
 METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^"}
 DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
@@ -57,8 +57,9 @@ def main():
     # The levels equally spaced (0, 1, 2, 4, 8 read as steps), the methods side by side around each one (equal
     # values would hide each other's curves).
     position = {L: i for i, L in enumerate(levels)}
+    styles = method_styles(args.out)
     for k, m in enumerate(methods):
-        label, color = METHOD_STYLE.get(m, (m, None))
+        label, color = method_style(styles, m)
         marker = METHOD_MARKER.get(m, "o")
         shift = (k - (len(methods) - 1) / 2) * 0.06
 

@@ -27,7 +27,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
-from figure_style import METHOD_STYLE, save  # noqa: E402
+from figure_style import method_style, method_styles, save  # noqa: E402
 
 
 def read_csv(path):
@@ -109,6 +109,9 @@ def read_matrix(path):
 
 
 def fig_distance_matrices(out, pdf):
+    """Fig. 7: one panel per method, all on one colour scale (the 95th percentile of every method's distances
+    between different shapes), so the methods can be compared by eye: a method whose distances are smaller
+    across the board looks brighter everywhere, not just rescaled."""
     folder = os.path.join(out, "distances")
     if not os.path.isdir(folder):
         return
@@ -116,11 +119,14 @@ def fig_distance_matrices(out, pdf):
     methods += sorted(f[:-4] for f in os.listdir(folder) if f.endswith(".csv") and f[:-4] not in methods)
     if not methods:
         return
-    fig, axes = plt.subplots(1, len(methods), figsize=(4.6 * len(methods), 4.4), squeeze=False)
+    styles = method_styles(out)
+    matrices = {m: read_matrix(os.path.join(folder, m + ".csv")) for m in methods}
+    off_diagonal = np.concatenate([D[~np.eye(len(D), dtype=bool)] for _, D in matrices.values()])
+    vmax = np.percentile(off_diagonal, 95) if off_diagonal.size else 1.0
+    fig, axes = plt.subplots(1, len(methods), figsize=(4.3 * len(methods) + 0.8, 4.4), squeeze=False)
     for ax, m in zip(axes[0], methods):
-        names, D = read_matrix(os.path.join(folder, m + ".csv"))
-        scale = np.percentile(D[~np.eye(len(D), dtype=bool)], 95) if len(D) > 1 else 1
-        im = ax.imshow(D / scale, cmap="viridis_r", vmin=0, vmax=1, interpolation="nearest")
+        names, D = matrices[m]
+        im = ax.imshow(D, cmap="viridis_r", vmin=0, vmax=vmax, interpolation="nearest")
         ax.set_xticks(range(len(names)))
         ax.set_yticks(range(len(names)))
         ax.set_xticklabels(names, rotation=90, fontsize=6)
@@ -131,10 +137,10 @@ def fig_distance_matrices(out, pdf):
             if classes[i] != classes[i - 1]:
                 ax.axhline(i - 0.5, color="white", lw=1)
                 ax.axvline(i - 0.5, color="white", lw=1)
-        ax.set_title(METHOD_STYLE.get(m, (m,))[0])
-        fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="distance / 95th percentile")
+        ax.set_title(method_style(styles, m)[0])
+    fig.colorbar(im, ax=list(axes[0]), fraction=0.025, pad=0.02,
+                 label="distance (mesh units), one scale for all panels")
     fig.suptitle("Fig. 7: distances between shapes (yellow = close, dark = far)")
-    fig.tight_layout()
     save(fig, out, "fig7_distance_matrices", pdf)
 
 
@@ -144,11 +150,12 @@ def fig_pr(out, pdf):
         return
     with open(path) as f:
         metrics = json.load(f)
+    styles = method_styles(out)
     fig, ax = plt.subplots(figsize=(5, 4.2))
     for m, v in metrics.get("methods", metrics).items():
         if not isinstance(v, dict) or "pr" not in v:
             continue
-        label, color = METHOD_STYLE.get(m, (m, None))
+        label, color = method_style(styles, m)
         ax.plot(v["pr"]["recall"], v["pr"]["precision"], marker="o", ms=3, color=color,
                 label=f"{label} (mAP {v['map']:.2f})")
     ax.set_xlabel("recall")
@@ -166,10 +173,11 @@ def fig_correspondence(out, pdf):
     if not os.path.exists(path):
         return
     rows = read_csv(path)
+    styles = method_styles(out)
     fig, ax = plt.subplots(figsize=(5, 4))
     for m in dict.fromkeys(r["method"] for r in rows):
         sel = [r for r in rows if r["method"] == m]
-        label, color = METHOD_STYLE.get(m, (m, None))
+        label, color = method_style(styles, m)
         ax.plot([float(r["error"]) for r in sel], [float(r["fraction"]) for r in sel], color=color, label=label)
     ax.set_xlabel("geodesic error (fraction of the geodesic diameter)")
     ax.set_ylabel("fraction of correspondences")

@@ -18,10 +18,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-STYLE = {"inputs": ("inputs (no canonical form)", "0.45", "--"),
-         "coulomb": ("Coulomb", "tab:red", "-"),
-         "cmds": ("classical MDS", "tab:blue", "-"),
-         "smacof": ("SMACOF MDS", "tab:green", "-")}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figure_style import method_style, method_styles  # noqa: E402
 
 
 def main():
@@ -49,11 +47,13 @@ def main():
 
     panels = [(k, t) for k, t in (("vertex", "flip forgiven per vertex (SHREC'16)"),
                                   ("map", "flip forgiven per whole map (stricter)")) if k in curves]
+    styles = method_styles(args.out)
     fig, axes = plt.subplots(1, len(panels), figsize=(6.0 * len(panels), 4.8), squeeze=False)
     for ax, (kind, panel_title) in zip(axes[0], panels):
         prefix = "" if kind == "vertex" else "whole_map_"
         for method, (x, y) in curves[kind].items():
-            name, colour, dash = STYLE.get(method, (method, None, "-"))
+            name, colour = method_style(styles, method)
+            dash = "--" if method == "inputs" else "-"
             s = summary.get(method)
             if s and s.get(prefix + "mean_error") is not None:
                 name += f"  (mean {s[prefix + 'mean_error']:.3f}, \u2264 0.25: {100 * s[prefix + 'under_0.25']:.0f}%)"
