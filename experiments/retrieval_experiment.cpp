@@ -1,5 +1,6 @@
 #include "experiments/retrieval_experiment.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -125,6 +126,12 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
   r.class_names = data.classes;
   r.class_sizes.assign(data.classes.size(), 0);
   for (int label : data.labels()) ++r.class_sizes[static_cast<size_t>(label)];
+  // Before any work: a collection without a class large enough gives no query at all.
+  CSHAPES_REQUIRE(*std::max_element(r.class_sizes.begin(), r.class_sizes.end()) >= o.retrieval.min_class_size,
+                  r.data, ": no class has ", o.retrieval.min_class_size,
+                  " shapes or more, so no shape can be a query (the measures need a class of at least "
+                  "min_class_size; classes are the file names without trailing digits, or the manifest's or "
+                  ".cla's)");
   std::vector<std::string> names, classes;
   for (const DatasetEntry& e : data.entries) {
     names.push_back(e.name);

@@ -104,8 +104,9 @@ std::optional<json> cached_remesh(const DiskCache& cache, const std::string& pat
   return value;
 }
 
-// Each rank remeshes its share into the cache, silently: the largest files first, dealt round-robin.
-void remesh_share(const Dataset& d, const ResampleOptions& options, const DiskCache& cache,
+// Each rank remeshes its share into the cache, silently: the largest files first, dealt round-robin. Returns
+// the remeshes this rank computed.
+long remesh_share(const Dataset& d, const ResampleOptions& options, const DiskCache& cache,
                   const Communicator& comm) {
   std::vector<size_t> order(d.entries.size());
   std::iota(order.begin(), order.end(), size_t{0});
@@ -115,10 +116,12 @@ void remesh_share(const Dataset& d, const ResampleOptions& options, const DiskCa
     size[i] = fs::file_size(d.entries[i].path, ec);
   }
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return size[a] > size[b]; });
+  long computed = 0;
   for (size_t k = static_cast<size_t>(comm.rank()); k < order.size(); k += static_cast<size_t>(comm.size())) {
-    bool cached = false;
-    cached_remesh(cache, d.entries[order[k]].path, options, &cached);
+    bool cached = true;
+    if (cached_remesh(cache, d.entries[order[k]].path, options, &cached) && !cached) ++computed;
   }
+  return computed;
 }
 
 ResampledShape shape_record(const DatasetEntry& e, const json& value, const std::string& file) {
@@ -171,8 +174,9 @@ ResampledDataset resample_dataset(const std::string& data, const ResampleOptions
     CSHAPES_REQUIRE(fresh, data, ": two shapes named '", e.name, "' (", it->second, " and ", e.path,
                     "): resampling writes one file per name");
   }
+  long computed_by_ranks = 0;
   if (comm.size() > 1) {
-    remesh_share(d, options, cache, comm);
+    computed_by_ranks = comm.sum(remesh_share(d, options, cache, comm));
     comm.barrier();
   }
   ResampledDataset r;
@@ -211,8 +215,8 @@ ResampledDataset resample_dataset(const std::string& data, const ResampleOptions
   }
   // The ranks computed their shares: count those as computed (they were read from the cache above).
   if (comm.size() > 1) {
-    r.computed = comm.sum(comm.is_root() ? r.computed : 0L);
-    r.cached = static_cast<long>(r.shapes.size()) - r.computed;
+    r.computed = computed_by_ranks;
+    r.cached = static_cast<long>(r.shapes.size()) - computed_by_ranks;
   }
   if (comm.is_root()) {
     write_manifest(r.data, entries);

@@ -19,16 +19,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from figure_style import METHOD_STYLE, save  # noqa: E402
+from figure_style import COLOURS, EXTRA_COLOURS, save  # noqa: E402
 
 DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
 
 
 def style(m, k):
-    """A method's label and colour: the registry's, else the method's title and a colour of the cycle."""
-    if m["method"] in METHOD_STYLE:
-        return METHOD_STYLE[m["method"]]
-    return m.get("title", m["method"]), f"C{k % 10}"
+    """A method's label (its registered title, from retrieval.json) and colour (figure_style's, else the k-th
+    of its extra colours)."""
+    return m.get("title", m["method"]), COLOURS.get(m["method"]) or EXTRA_COLOURS[k % len(EXTRA_COLOURS)]
 
 
 def pr_figure(data, out, pdf):
