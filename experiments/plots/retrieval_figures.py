@@ -19,15 +19,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from figure_style import COLOURS, EXTRA_COLOURS, save  # noqa: E402
+from figure_style import method_style, method_styles, save  # noqa: E402
 
 DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
 
 
+STYLES = {}  # set in main: figure_style's {method: (title, colour)} from the methods.json the driver wrote
+
+
 def style(m, k):
-    """A method's label (its registered title, from retrieval.json) and colour (figure_style's, else the k-th
-    of its extra colours)."""
-    return m.get("title", m["method"]), COLOURS.get(m["method"]) or EXTRA_COLOURS[k % len(EXTRA_COLOURS)]
+    """A method's title and colour (figure_style's: one look per method in every figure); a method it does not
+    know gets its retrieval.json title and the k-th colour of matplotlib's cycle."""
+    title, colour = method_style(STYLES, m["method"])
+    return (m.get("title", title), colour) if colour else (m.get("title", m["method"]), f"C{k % 10}")
 
 
 def pr_figure(data, out, pdf):
@@ -113,6 +117,7 @@ def main():
         data = json.load(f)
     figures = os.path.join(args.out, "figures")
     os.makedirs(figures, exist_ok=True)
+    STYLES.update(method_styles(figures))
     per_class_figure(data, figures, args.pdf)
     confusion_figure(data, figures, args.pdf)
     pr_figure(data, figures, args.pdf)  # last: its file is the one the driver waits for
