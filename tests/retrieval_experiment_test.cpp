@@ -78,7 +78,7 @@ TEST(RetrievalExperiment, EndToEndFilesMeasuresAndResume) {
     EXPECT_NE(report.find(part), std::string::npos) << part;
   const nlohmann::json j = nlohmann::json::parse(read_text_file(o.out + "/retrieval.json"));
   EXPECT_EQ(j["methods"][0]["distances"]["hausdorff"]["classes"]["torus"]["queries"], 3);
-  if (!find_plot_python().empty()) {
+  if (!find_python("matplotlib, numpy").empty()) {
     EXPECT_EQ(r.figures.size(), 3u) << r.figures_note;
     for (const std::string& f : r.figures) EXPECT_GT(fs::file_size(o.out + "/" + f), 1000u) << f;
   }
