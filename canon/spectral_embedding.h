@@ -47,9 +47,9 @@ struct DiffusionFormOptions {
   // c in t = c / λ_1. 1: the slowest non-constant mode has decayed by 1/e, so heat has spread over the
   // whole shape (the distances are global, as geodesics are), and modes with λ ≥ 4λ_1 are damped by e^{-3}
   // or more relative to it, so three axes keep most of the diffusion distance (the form's summary reports
-  // the fraction kept among the computed eigenpairs: 80-95% on TOSCA, docs/design.md). Smaller c: more
-  // local, more of the distance in the dropped axes; larger c: the second and third axes shrink towards a
-  // line.
+  // the fraction kept among the computed eigenpairs: 96.6-99.8% on TOSCA cat0, dog0, michael0, victoria0).
+  // Smaller c: more local, more of the distance in the dropped axes; larger c: the second and third axes
+  // shrink towards a line.
   double time = 1.0;
 
   // Every field by name, for cache keys (core/option_fields.h).

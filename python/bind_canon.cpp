@@ -45,6 +45,27 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
 const std::vector<std::string> kMdsOptions = {"geodesics"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
+// lbo and diffusion: their Laplace–Beltrami eigenpairs; diffusion: its time.
+const std::vector<std::string> kSpectralOptions = {"laplacian", "eigenpairs", "near_multiple_gap"};
+const std::vector<std::string> kDiffusionOptions = {"diffusion_time"};
+
+bool is_spectral(const std::string& method) {
+  return method == "lbo" || method == "diffusion";
+}
+
+// The `lbo options` and `diffusion options` groups of `cshapes canon`.
+void read_spectral_options(Kwargs& k, CanonicalFormOptions& o) {
+  LaplaceBeltramiOptions& l = o.method == "lbo" ? o.lbo.laplacian : o.diffusion.laplacian;
+  const std::string laplacian = k.text("laplacian", l.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent");
+  if (laplacian != "intrinsic-delaunay" && laplacian != "cotangent")
+    fail("laplacian: unknown '", laplacian, "'; known: intrinsic-delaunay, cotangent");
+  l.intrinsic_delaunay = laplacian == "intrinsic-delaunay";
+  l.eigenpairs = k.int32("eigenpairs", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
+  l.near_multiple_gap =
+      k.number("near_multiple_gap", l.near_multiple_gap, laplace_beltrami_limits::kNearMultipleGap);
+  if (o.method == "diffusion")
+    o.diffusion.time = k.number("diffusion_time", o.diffusion.time, spectral_limits::kDiffusionTime);
+}
 
 // The `coulomb options` group of `cshapes canon`, read from keywords, each checked against its library limit.
 void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
@@ -106,6 +127,8 @@ void refuse_other_methods(const Kwargs& k, const std::string& method) {
   if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
   if (!canonical_form_method(method).uses_geodesic_matrix) refuse(kMdsOptions, "'cmds' or 'smacof'");
   if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
+  if (!is_spectral(method)) refuse(kSpectralOptions, "'lbo' or 'diffusion'");
+  if (method != "diffusion") refuse(kDiffusionOptions, "'diffusion'");
 }
 
 PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) {
@@ -137,6 +160,7 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   if (canonical_form_method(method).uses_geodesic_matrix)
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
   if (method == "smacof") read_smacof_options(k, o);
+  if (is_spectral(method)) read_spectral_options(k, o);
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
@@ -259,7 +283,9 @@ void bind_canon(py::module_& m) {
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
 distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
-(with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
+(with rre/mpe), weights ['uniform'] | 'area'. lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
+map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap
+[0.02]; diffusion also diffusion_time [1.0] (c). strict [False]. An option of another method is refused.
 Returns a CanonicalForm.)");
   m.def(
       "canonical_form_methods",
