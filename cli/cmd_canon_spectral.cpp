@@ -1,6 +1,7 @@
-// The options of `--method lbo|diffusion`: spectral canonical forms from the Laplace–Beltrami eigenpairs
-// (canon/spectral_embedding.h); pipeline/canonical_forms.h computes them. The eigenpair options are in the
-// lbo group and serve diffusion too (CLI11 needs each name once). Point clouds use the kNN graph of k = 8
+// The options of `--method lbo|diffusion|spectral-mds`: spectral canonical forms from the Laplace–Beltrami
+// eigenpairs (canon/spectral_embedding.h, canon/spectral_mds.h); pipeline/canonical_forms.h computes them. The
+// eigenpair options are in the lbo group and serve diffusion too, --laplacian and --near-multiple-gap also
+// spectral-mds (whose basis is --basis; CLI11 needs each name once). Point clouds use the kNN graph of k = 8
 // (--knn is the coulomb group's, as for cmds).
 #include "canon/spectral_embedding.h"
 #include "cli/command.h"
@@ -12,6 +13,7 @@ struct SpectralArgs {
   LaplaceBeltramiOptions laplacian;  // the library's defaults
   std::string operator_name = "intrinsic-delaunay";
   double time = DiffusionFormOptions{}.time;
+  SpectralMdsOptions spectral_mds;  // the library's defaults
 } args;
 
 const std::vector<std::string> kLaplacians = {"intrinsic-delaunay", "cotangent"};
@@ -25,6 +27,12 @@ void configure_laplacian(CanonicalFormOptions& o, bool /*single_mesh*/) {
 
 void configure_diffusion(CanonicalFormOptions& o, bool /*single_mesh*/) {
   o.diffusion.time = args.time;
+}
+
+void configure_spectral_mds(CanonicalFormOptions& o, bool /*single_mesh*/) {
+  o.spectral_mds = args.spectral_mds;
+  o.spectral_mds.laplacian.intrinsic_delaunay = args.operator_name == "intrinsic-delaunay";
+  o.spectral_mds.laplacian.near_multiple_gap = args.laplacian.near_multiple_gap;
 }
 
 const bool lbo_registered = register_canon_method(
@@ -47,7 +55,7 @@ const bool lbo_registered = register_canon_method(
            ->check(within(laplace_beltrami_limits::kNearMultipleGap));
      },
      configure_laplacian,
-     {"diffusion"}});
+     {"diffusion", "spectral-mds"}});
 
 const bool diffusion_registered = register_canon_method(
     {"diffusion",
@@ -58,6 +66,28 @@ const bool diffusion_registered = register_canon_method(
            ->check(within(spectral_limits::kDiffusionTime));
      },
      configure_diffusion});
+
+const bool spectral_mds_registered = register_canon_method(
+    {"spectral-mds",
+     "spectral MDS (Aflalo & Kimmel): classical MDS in the span of the first eigenfunctions, from the "
+     "geodesic rows of farthest-point sources (--geodesics: their solver)",
+     [](CLI::Option_group& g) {
+       g.add_option("--basis", args.spectral_mds.laplacian.eigenpairs,
+                    "spectral-mds: eigenfunctions k spanning the distances (the constant one included)")
+           ->capture_default_str()
+           ->check(within(laplace_beltrami_limits::kEigenpairs));
+       g.add_option("--sources", args.spectral_mds.sources,
+                    "spectral-mds: geodesic rows L (farthest-point sources), at least --basis")
+           ->capture_default_str()
+           ->check(within(spectral_mds_limits::kLandmarks));
+     },
+     configure_spectral_mds,
+     {},
+     [] {
+       if (args.spectral_mds.sources < args.spectral_mds.laplacian.eigenpairs)
+         usage_fail("--sources (", args.spectral_mds.sources, ") must be at least --basis (",
+                    args.spectral_mds.laplacian.eigenpairs, ")");
+     }});
 
 }  // namespace
 }  // namespace cshapes::cli

@@ -6,6 +6,8 @@
 //   smacof   SMACOF (canon/smacof.h) of the same distances, initialised from classical MDS
 //   lbo      eigenmap / GPS of the Laplace–Beltrami eigenpairs (canon/spectral_embedding.h)
 //   diffusion  diffusion map at a time relative to the shape's own spectrum (canon/spectral_embedding.h)
+//   spectral-mds  classical MDS in the span of the first eigenfunctions from sampled geodesic rows
+//                 (canon/spectral_mds.h)
 //
 // Each method states what it needs of the mesh (canonical_form_requirements) and the mesh is repaired for it
 // first (core/mesh_repair.h: Coulomb the largest component's edge graph, MDS a manifold surface without
@@ -26,6 +28,7 @@
 #include "canon/coulomb.h"
 #include "canon/smacof.h"
 #include "canon/spectral_embedding.h"
+#include "canon/spectral_mds.h"
 #include "core/geodesics.h"
 #include "core/knn_graph.h"
 #include "core/mesh.h"
@@ -68,6 +71,7 @@ struct CanonicalFormOptions {
   KnnGraphOptions knn;  // point clouds: the graph that stands in for mesh edges
   LboFormOptions lbo;              // method lbo
   DiffusionFormOptions diffusion;  // method diffusion
+  SpectralMdsOptions spectral_mds;  // method spectral-mds (its geodesic rows: `geodesics`)
   ProgressFn progress;  // stages "geodesics", "coulomb"
   // One line per stage result ("coulomb: 620 iterations ..."), for a front end to print; none when unset.
   std::function<void(const std::string&)> note;
@@ -88,6 +92,7 @@ struct CanonicalFormOptions {
     visit("knn", o.knn);
     visit("lbo", o.lbo);
     visit("diffusion", o.diffusion);
+    visit("spectral_mds", o.spectral_mds);
     visit("progress", o.progress, kNoEffect);  // reports, computes nothing
     visit("note", o.note, kNoEffect);          // reports, computes nothing
     // Refuses (a mesh that needs repair, a geodesic fallback) instead of computing something else: a form it

@@ -202,6 +202,31 @@ TEST(SpectralForms, PosesOfAnArticulatedShapeGetNearlyTheSameForm) {
   }
 }
 
+TEST(SpectralMds, IsClassicalMdsFromAFewGeodesicRows) {
+  // Aflalo & Kimmel's spectral MDS (k = 40 eigenfunctions, 120 heat-geodesic rows) against classical MDS of
+  // all-pairs heat geodesics on the same 900-vertex biped: the same form up to the area weighting.
+  ArticulatedOptions ao;
+  ao.poses = 1;
+  ao.seed = 3;
+  ao.rest.target_vertices = 900;
+  const Mesh biped = generate_articulated("biped", ao).poses[0];
+  CanonicalFormOptions o;
+  o.geodesics.method = GeodesicMethod::Heat;
+  o.method = "cmds";
+  const Points full = canonical_form(biped, o).X;
+  o.method = "spectral-mds";
+  const CanonicalForm spectral = canonical_form(biped, o);
+  const double rms = std::sqrt((full.rowwise() - full.colwise().mean()).rowwise().squaredNorm().mean());
+  const ShapeDistance d = aligned_shape_distance(spectral.X, full);
+  EXPECT_LT(d.chamfer, 0.03 * rms);
+  const nlohmann::json s = nlohmann::json::parse(spectral.summary_json);
+  EXPECT_EQ(s["sources"], 120);
+  EXPECT_LT(s["fit_residual"].get<double>(), 0.1);
+  // Fewer sources than eigenfunctions cannot fit the basis.
+  o.spectral_mds.sources = 20;
+  EXPECT_THROW(canonical_form(biped, o), Error);
+}
+
 TEST(SpectralForms, FormsScaleWithTheShapeAndDiffusionTimeIsScaleFree) {
   const Mesh mesh = bent_strip();  // simple eigenvalues: the eigenvectors are set up to sign
   Mesh big = mesh;
