@@ -30,9 +30,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
        app.add_option("--n", options.n, "vertices of the generated torus")->capture_default_str();
-       app.add_option("--method", options.method, "lbo or diffusion")
+       app.add_option("--method", options.method, "lbo, diffusion or spectral-mds")
            ->capture_default_str()
-           ->check(one_of({"lbo", "diffusion"}));
+           ->check(one_of({"lbo", "diffusion", "spectral-mds"}));
        app.add_option("--repeats", options.repeats, "forms timed (median reported)")->capture_default_str();
        app.add_flag("--json", json, "print JSON");
      },

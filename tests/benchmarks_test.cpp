@@ -378,7 +378,7 @@ TEST(SpectralBench, ReportsOneFormOfEachMethod) {
   SpectralBenchOptions o;
   o.n = 600;  // above the dense solver's limit: shift-invert Lanczos
   o.repeats = 1;
-  for (const char* method : {"lbo", "diffusion"}) {
+  for (const char* method : {"lbo", "diffusion", "spectral-mds"}) {
     o.method = method;
     const SpectralBenchResult r = bench_spectral(o);
     EXPECT_NEAR(static_cast<double>(r.vertices), 600, 30);
