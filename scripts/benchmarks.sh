@@ -38,7 +38,7 @@ bench smacof-3505 smacof --n 3505
 bench smacof-22738 smacof --n 22738 --iters 5
 bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
 bench icp icp --a "$data/cat0.off" --b "$data/cat1.off"
-for method in lbo diffusion; do
+for method in lbo diffusion spectral-mds; do
   bench spectral-$method-5000 spectral --mesh "$data/cat0.off" --method $method
   bench spectral-$method-22738 spectral --mesh "$out/michael22738.off" --method $method
 done
