@@ -73,7 +73,8 @@ struct LaplaceBeltramiOptions {
   static void for_each_field(Self& o, Visit&& visit) {
     visit("eigenpairs", o.eigenpairs);
     visit("intrinsic_delaunay", o.intrinsic_delaunay);
-    visit("near_multiple_gap", o.near_multiple_gap, kNoEffect);  // reports, computes nothing
+    // Changes only the report (near_multiple, the warning), but that is part of the cached summary.
+    visit("near_multiple_gap", o.near_multiple_gap);
   }
 };
 
