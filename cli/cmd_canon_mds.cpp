@@ -71,7 +71,7 @@ const bool cmds_registered = register_canon_method(
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
      },
      configure_mds,
-     {"smacof"},
+     {"smacof", "spectral-mds"},  // --geodesics: spectral-mds's geodesic rows too
      validate_mds});
 
 const bool smacof_registered = register_canon_method(

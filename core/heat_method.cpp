@@ -1,6 +1,5 @@
 #include "core/heat_method.h"
 
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <atomic>
 #include <cmath>
@@ -12,10 +11,7 @@
 #include "core/error.h"
 #include "core/fast_marching.h"
 #include "core/intrinsic_delaunay.h"
-
-#ifdef CSHAPES_HAVE_CHOLMOD
-#include <cholmod.h>
-#endif
+#include "core/sparse_cholesky.h"
 
 namespace cshapes {
 
@@ -24,136 +20,7 @@ namespace {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 // A block of right-hand sides, one row per vertex: the k values of a vertex are contiguous, so the sparse
 // triangular solves and the gradient/divergence step run vectorised across the k sources.
-using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-// A symmetric positive definite matrix, factorised once as P A Pᵀ = L Lᵀ; solve() may run concurrently from
-// several threads. The factorisation is CHOLMOD's (simplicial: with the reference BLAS of a stock system its
-// supernodal solve is slower per block); the triangular solves are ours, one pass over L per block of k
-// right-hand sides, k-wide AXPYs per nonzero of L (CHOLMOD's own solve handles at most 4 columns per pass).
-class SparseCholesky {
- public:
-  // `what` names the matrix in error messages. A is symmetric with both triangles stored.
-  void factorize(const SparseMatrix& A, const std::string& what) {
-    n_ = A.rows();
-#ifdef CSHAPES_HAVE_CHOLMOD
-    cholmod_common common;
-    cholmod_start(&common);
-    common.print = 0;
-    common.error_handler = nullptr;
-    common.supernodal = CHOLMOD_SIMPLICIAL;
-    common.final_ll = 1;
-    SparseMatrix lower = A.triangularView<Eigen::Lower>();
-    lower.makeCompressed();
-    cholmod_sparse view = sparse_view(lower);
-    cholmod_factor* factor = cholmod_analyze(&view, &common);
-    bool ok = factor && common.status == CHOLMOD_OK;
-    ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
-    // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
-    ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
-    const int status = common.status;
-    if (ok) {
-      const int* p = static_cast<const int*>(factor->p);
-      const int* i = static_cast<const int*>(factor->i);
-      const double* x = static_cast<const double*>(factor->x);
-      const int* perm = static_cast<const int*>(factor->Perm);
-      colptr_.assign(p, p + n_ + 1);
-      row_.assign(i, i + p[n_]);
-      value_.assign(x, x + p[n_]);
-      perm_.assign(perm, perm + n_);
-    }
-    if (factor) cholmod_free_factor(&factor, &common);
-    cholmod_finish(&common);
-    CSHAPES_REQUIRE(ok, "heat method: CHOLMOD could not factorise the ", what, " matrix (status ", status,
-                    "; not positive definite: degenerate or inverted triangles?)");
-#else
-    Eigen::SimplicialLLT<SparseMatrix> llt(A);
-    CSHAPES_REQUIRE(llt.info() == Eigen::Success, "heat method: the ", what,
-                    " matrix could not be factorised; degenerate triangles?");
-    // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of
-    // A.
-    SparseMatrix L = llt.matrixL();
-    L.makeCompressed();
-    colptr_.assign(L.outerIndexPtr(), L.outerIndexPtr() + n_ + 1);
-    row_.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
-    value_.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
-    perm_.resize(n_);
-    for (Index i = 0; i < n_; ++i) perm_[llt.permutationP().indices()[i]] = static_cast<int>(i);
-#endif
-  }
-
-  // B (n × k, row-major) is overwritten by A⁻¹ B. `work` is scratch of the same size.
-  void solve(Block& B, Block& work) const {
-    const Index k = B.cols();
-    work.resize(n_, k);
-    double* __restrict y = work.data();
-    for (Index r = 0; r < n_; ++r) work.row(r) = B.row(perm_[r]);
-    // L y = P b, column by column: each column of L updates the rows below its diagonal.
-    for (Index j = 0; j < n_; ++j) {
-      double* __restrict yj = y + j * k;
-      const double inv = 1.0 / value_[colptr_[j]];
-#pragma omp simd
-      for (Index c = 0; c < k; ++c) yj[c] *= inv;
-      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
-        double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
-        const double v = value_[q];
-#pragma omp simd
-        for (Index c = 0; c < k; ++c) yi[c] -= v * yj[c];
-      }
-    }
-    // Lᵀ x = y, backwards: row j of Lᵀ is column j of L.
-    for (Index j = n_ - 1; j >= 0; --j) {
-      double* __restrict yj = y + j * k;
-      for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
-        const double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
-        const double v = value_[q];
-#pragma omp simd
-        for (Index c = 0; c < k; ++c) yj[c] -= v * yi[c];
-      }
-      const double inv = 1.0 / value_[colptr_[j]];
-#pragma omp simd
-      for (Index c = 0; c < k; ++c) yj[c] *= inv;
-    }
-    for (Index r = 0; r < n_; ++r) B.row(perm_[r]) = work.row(r);
-  }
-
-  Index factor_nonzeros() const {
-    return static_cast<Index>(value_.size());
-  }
-
-  static std::string backend() {
-#ifdef CSHAPES_HAVE_CHOLMOD
-    return "cholmod";
-#else
-    return "eigen-llt";
-#endif
-  }
-
- private:
-#ifdef CSHAPES_HAVE_CHOLMOD
-  static cholmod_sparse sparse_view(SparseMatrix& lower) {
-    cholmod_sparse s;
-    s.nrow = lower.rows();
-    s.ncol = lower.cols();
-    s.nzmax = lower.nonZeros();
-    s.p = lower.outerIndexPtr();
-    s.i = lower.innerIndexPtr();
-    s.nz = nullptr;
-    s.x = lower.valuePtr();
-    s.z = nullptr;
-    s.stype = -1;  // symmetric, lower triangle stored
-    s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
-    s.dtype = CHOLMOD_DOUBLE;
-    s.sorted = 1;
-    s.packed = 1;
-    return s;
-  }
-#endif
-  Index n_ = 0;
-  std::vector<int> colptr_, row_;  // L in compressed columns, diagonal first in each column
-  std::vector<double> value_;
-  std::vector<int> perm_;  // row k of the factorised system is row perm_[k] of A
-};
+using Block = SparseCholesky::Block;
 
 }  // namespace
 
@@ -367,8 +234,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   }
   im.source_heat = kHeatPeak * min_mass / std::sqrt(max_diagonal);
   poisson.setFromTriplets(poisson_entries.begin(), poisson_entries.end());
-  im.heat.factorize(heat, "heat-flow (M + tL)");
-  im.poisson.factorize(poisson, "Poisson (cotangent Laplacian)");
+  im.heat.factorize(heat, "heat method", "heat-flow (M + tL)");
+  im.poisson.factorize(poisson, "heat method", "Poisson (cotangent Laplacian)");
 }
 
 HeatMethod::~HeatMethod() = default;

@@ -16,8 +16,8 @@
 // made definite by pinning φ = 0 at one vertex per connected component (the divergence sums to zero there, so
 // the solution is unchanged up to the constant removed in step 4).
 //
-// Factorisation: SuiteSparse CHOLMOD (simplicial LLᵀ, its fill-reducing ordering) when cshapes was built with
-// it, Eigen's SimplicialLLT otherwise. The triangular solves are ours: one pass over the factor per block of
+// Factorisation (core/sparse_cholesky.h): SuiteSparse CHOLMOD (simplicial LLᵀ, its fill-reducing ordering)
+// when cshapes was built with it, Eigen's SimplicialLLT otherwise. The triangular solves are ours: one pass over the factor per block of
 // right-hand sides stored row by row, so each nonzero of L is one k-wide vectorised AXPY (CHOLMOD's own solve
 // handles at most 4 columns per pass, and its supernodal solve depends on the BLAS, the reference one here).
 // Measured at 5,000 vertices (TOSCA cat0), one thread: 0.12 ms per source against 1.3 ms for CGAL.

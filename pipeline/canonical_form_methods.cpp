@@ -7,7 +7,9 @@ namespace cshapes {
 const std::vector<CanonicalFormMethod>& canonical_form_method_registry() {
   // A function-local static: built on first use, so callers during static initialisation (the CLI's option
   // defaults) find it complete.
-  static const std::vector<CanonicalFormMethod> methods = {coulomb_method(), cmds_method(), smacof_method()};
+  static const std::vector<CanonicalFormMethod> methods = {coulomb_method(), cmds_method(), smacof_method(),
+                                                           lbo_method(), diffusion_method(),
+                                                           spectral_mds_method()};
   return methods;
 }
 

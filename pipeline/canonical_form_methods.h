@@ -8,6 +8,9 @@
 //   coulomb  Coulomb        pipeline/method_coulomb.cpp  §2 of the paper (canon/coulomb.h): edge lengths only
 //   cmds     classical MDS  pipeline/method_mds.cpp      classical MDS of all-pairs geodesic distances
 //   smacof   SMACOF         pipeline/method_mds.cpp      SMACOF of the same distances
+//   lbo      eigenmap (GPS) pipeline/method_lbo.cpp      Laplace–Beltrami eigenvectors scaled by 1/√λ
+//   diffusion diffusion map pipeline/method_diffusion.cpp  e^{-λt}φ at t relative to the shape's spectrum
+//   spectral-mds spectral MDS pipeline/method_spectral_mds.cpp  MDS in the first eigenfunctions' span
 //
 // Adding a method is one file (pipeline/method_NAME.cpp defining NAME_method(), declared below) and one line
 // in canonical_form_method_registry() (canonical_form_methods.cpp); its CLI option group, if it has options,
@@ -52,8 +55,8 @@ struct CanonicalFormMethod {
                            const GivenDistances& given) = nullptr;
 };
 
-// Every registered method, in registration order (coulomb, cmds, smacof): the order of help texts and of
-// the experiments' default method lists.
+// Every registered method, in registration order (coulomb, cmds, smacof, lbo, diffusion, spectral-mds): the
+// order of help texts and of the experiments' default method lists.
 const std::vector<CanonicalFormMethod>& canonical_form_method_registry();
 // The method registered under `name`, or null.
 const CanonicalFormMethod* find_canonical_form_method(const std::string& name);
@@ -80,6 +83,9 @@ CanonicalFormOptions experiment_canonical_form_options();
 CanonicalFormMethod coulomb_method();  // pipeline/method_coulomb.cpp
 CanonicalFormMethod cmds_method();     // pipeline/method_mds.cpp
 CanonicalFormMethod smacof_method();   // pipeline/method_mds.cpp
+CanonicalFormMethod lbo_method();        // pipeline/method_lbo.cpp
+CanonicalFormMethod diffusion_method();  // pipeline/method_diffusion.cpp
+CanonicalFormMethod spectral_mds_method();  // pipeline/method_spectral_mds.cpp
 
 // For the method files: what several methods share.
 // The edges standing in for the mesh's: its triangle edges, or the kNN graph of a point cloud (no faces).

@@ -4,6 +4,10 @@
 //   coulomb  §2 of the paper (canon/coulomb.h): edge lengths only, O(n log n) per iteration
 //   cmds     classical MDS (canon/classical_mds.h) of all-pairs geodesic distances
 //   smacof   SMACOF (canon/smacof.h) of the same distances, initialised from classical MDS
+//   lbo      eigenmap / GPS of the Laplace–Beltrami eigenpairs (canon/spectral_embedding.h)
+//   diffusion  diffusion map at a time relative to the shape's own spectrum (canon/spectral_embedding.h)
+//   spectral-mds  classical MDS in the span of the first eigenfunctions from sampled geodesic rows
+//                 (canon/spectral_mds.h)
 //
 // Each method states what it needs of the mesh (canonical_form_requirements) and the mesh is repaired for it
 // first (core/mesh_repair.h: Coulomb the largest component's edge graph, MDS a manifold surface without
@@ -23,6 +27,8 @@
 #include "canon/classical_mds.h"
 #include "canon/coulomb.h"
 #include "canon/smacof.h"
+#include "canon/spectral_embedding.h"
+#include "canon/spectral_mds.h"
 #include "core/geodesics.h"
 #include "core/knn_graph.h"
 #include "core/mesh.h"
@@ -63,6 +69,9 @@ struct CanonicalFormOptions {
   // geodesics; it has the input's or the repaired mesh's vertex count. For one mesh; empty: compute.
   std::string distances_file;
   KnnGraphOptions knn;  // point clouds: the graph that stands in for mesh edges
+  LboFormOptions lbo;              // method lbo
+  DiffusionFormOptions diffusion;  // method diffusion
+  SpectralMdsOptions spectral_mds;  // method spectral-mds (its geodesic rows: `geodesics`)
   ProgressFn progress;  // stages "geodesics", "coulomb"
   // One line per stage result ("coulomb: 620 iterations ..."), for a front end to print; none when unset.
   std::function<void(const std::string&)> note;
@@ -81,6 +90,9 @@ struct CanonicalFormOptions {
     visit("smacof_weights", o.smacof_weights);
     visit("distances_file", o.distances_file, kFileContent);  // its content is the input, not its name
     visit("knn", o.knn);
+    visit("lbo", o.lbo);
+    visit("diffusion", o.diffusion);
+    visit("spectral_mds", o.spectral_mds);
     visit("progress", o.progress, kNoEffect);  // reports, computes nothing
     visit("note", o.note, kNoEffect);          // reports, computes nothing
     // Refuses (a mesh that needs repair, a geodesic fallback) instead of computing something else: a form it

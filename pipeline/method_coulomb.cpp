@@ -74,7 +74,9 @@ CanonicalFormMethod coulomb_method() {
   m.requirements = MeshRequirements::edge_graph();
   m.repair_purpose = "Coulomb canonization (the largest component's edge graph)";
   m.uses_geodesic_matrix = false;
-  m.options_not_read = {"geodesics", "cmds", "smacof", "smacof_init", "smacof_weights", "distances_file"};
+  m.options_not_read = {"geodesics",      "cmds",           "smacof", "smacof_init",
+                        "smacof_weights", "distances_file", "lbo",    "diffusion",
+                        "spectral_mds"};
   m.compute = coulomb_compute;
   return m;
 }

@@ -199,7 +199,7 @@ CanonicalFormMethod cmds_method() {
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = "cmds (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
-  m.options_not_read = {"coulomb", "smacof", "smacof_init", "smacof_weights"};
+  m.options_not_read = {"coulomb", "smacof", "smacof_init", "smacof_weights", "lbo", "diffusion", "spectral_mds"};
   m.compute = cmds_compute;
   return m;
 }
@@ -211,7 +211,7 @@ CanonicalFormMethod smacof_method() {
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = "smacof (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
-  m.options_not_read = {"coulomb"};  // it reads cmds: classical MDS is its start
+  m.options_not_read = {"coulomb", "lbo", "diffusion", "spectral_mds"};  // it reads cmds: classical MDS is its start
   m.compute = smacof_compute;
   return m;
 }

@@ -45,6 +45,37 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
 const std::vector<std::string> kMdsOptions = {"geodesics"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
+// lbo and diffusion: their Laplace–Beltrami eigenpairs; diffusion: its time.
+const std::vector<std::string> kSpectralOptions = {"laplacian", "eigenpairs", "near_multiple_gap"};
+const std::vector<std::string> kDiffusionOptions = {"diffusion_time"};
+const std::vector<std::string> kSpectralMdsOptions = {"basis", "sources"};
+
+bool is_spectral(const std::string& method) {
+  return method == "lbo" || method == "diffusion" || method == "spectral-mds";
+}
+
+// The `lbo options` and `diffusion options` groups of `cshapes canon`.
+void read_spectral_options(Kwargs& k, CanonicalFormOptions& o) {
+  LaplaceBeltramiOptions& l = o.method == "lbo"         ? o.lbo.laplacian
+                              : o.method == "diffusion" ? o.diffusion.laplacian
+                                                        : o.spectral_mds.laplacian;
+  const std::string laplacian = k.text("laplacian", l.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent");
+  if (laplacian != "intrinsic-delaunay" && laplacian != "cotangent")
+    fail("laplacian: unknown '", laplacian, "'; known: intrinsic-delaunay, cotangent");
+  l.intrinsic_delaunay = laplacian == "intrinsic-delaunay";
+  if (o.method != "spectral-mds")
+    l.eigenpairs = k.int32("eigenpairs", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
+  l.near_multiple_gap =
+      k.number("near_multiple_gap", l.near_multiple_gap, laplace_beltrami_limits::kNearMultipleGap);
+  if (o.method == "diffusion")
+    o.diffusion.time = k.number("diffusion_time", o.diffusion.time, spectral_limits::kDiffusionTime);
+  if (o.method == "spectral-mds") {
+    l.eigenpairs = k.int32("basis", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
+    o.spectral_mds.sources = k.integer("sources", o.spectral_mds.sources, 10, 100000);
+    if (o.spectral_mds.sources < l.eigenpairs)
+      fail("sources (", o.spectral_mds.sources, ") must be at least basis (", l.eigenpairs, ")");
+  }
+}
 
 // The `coulomb options` group of `cshapes canon`, read from keywords, each checked against its library limit.
 void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
@@ -104,8 +135,13 @@ void refuse_other_methods(const Kwargs& k, const std::string& method) {
       if (k.given(name)) fail(name, " applies to method ", owner, " only, not '", method, "'");
   };
   if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
-  if (!canonical_form_method(method).uses_geodesic_matrix) refuse(kMdsOptions, "'cmds' or 'smacof'");
+  const bool reads_geodesics = canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds";
+  if (!reads_geodesics) refuse(kMdsOptions, "'cmds', 'smacof' or 'spectral-mds'");
   if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
+  if (!is_spectral(method)) refuse(kSpectralOptions, "'lbo', 'diffusion' or 'spectral-mds'");
+  if (method == "spectral-mds" && k.given("eigenpairs")) fail("eigenpairs: spectral-mds takes basis");
+  if (method != "spectral-mds") refuse(kSpectralMdsOptions, "'spectral-mds'");
+  if (method != "diffusion") refuse(kDiffusionOptions, "'diffusion'");
 }
 
 PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) {
@@ -134,9 +170,10 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   CanonicalFormOptions o;
   o.method = method;
   if (method == "coulomb") read_coulomb_options(k, o);
-  if (canonical_form_method(method).uses_geodesic_matrix)
+  if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
   if (method == "smacof") read_smacof_options(k, o);
+  if (is_spectral(method)) read_spectral_options(k, o);
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
@@ -259,7 +296,10 @@ void bind_canon(py::module_& m) {
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
 distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
-(with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
+(with rre/mpe), weights ['uniform'] | 'area'. lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
+map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap
+[0.02]; diffusion also diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the
+first eigenfunctions) takes laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. strict [False]. An option of another method is refused.
 Returns a CanonicalForm.)");
   m.def(
       "canonical_form_methods",

@@ -43,6 +43,10 @@ bench smacof-3505 smacof --n 3505
 bench smacof-22738 smacof --n 22738 --iters 5
 bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
 bench icp icp --a "$data/cat0.off" --b "$data/cat1.off"
+for method in lbo diffusion spectral-mds; do
+  bench spectral-$method-5000 spectral --mesh "$data/cat0.off" --method $method
+  bench spectral-$method-22738 spectral --mesh "$out/michael22738.off" --method $method
+done
 # A whole canonical form with the default options (not a bench: its JSON summary has seconds and iterations).
 echo "== coulomb-cat0-converged: cshapes canon cat0.off --method coulomb" >&2
 "$cshapes" -q canon "$data/cat0.off" -o "$out/cat0-coulomb.ply" --method coulomb --json >"$out/coulomb-cat0-converged.json.tmp"

@@ -16,6 +16,7 @@
 #include "experiments/bench_geodesics.h"
 #include "experiments/bench_icp.h"
 #include "experiments/bench_smacof.h"
+#include "experiments/bench_spectral.h"
 #include "experiments/bench_support.h"
 #include "experiments/figures.h"
 #include "tests/test_support.h"
@@ -371,6 +372,26 @@ TEST(BenchSupport, SharedToscaShapeFromTheDataFolder) {
   const DataFolder data(dir);
   EXPECT_EQ(shared_tosca5k_shape("cat0"), dir + "/tosca5k/cat0.off");
   EXPECT_EQ(shared_tosca5k_shape("cat1"), "");
+}
+
+TEST(SpectralBench, ReportsOneFormOfEachMethod) {
+  SpectralBenchOptions o;
+  o.n = 600;  // above the dense solver's limit: shift-invert Lanczos
+  o.repeats = 1;
+  for (const char* method : {"lbo", "diffusion", "spectral-mds"}) {
+    o.method = method;
+    const SpectralBenchResult r = bench_spectral(o);
+    EXPECT_NEAR(static_cast<double>(r.vertices), 600, 30);
+    EXPECT_GT(r.seconds, 0);
+    EXPECT_GT(r.eigen_seconds, 0);
+    EXPECT_LE(r.eigen_seconds, r.seconds);
+    EXPECT_GT(r.operator_products, 0);
+    EXPECT_NE(r.solver.find("shift-invert"), std::string::npos) << r.solver;
+    EXPECT_GE(r.peak_rss_mb, r.rss_before_mb);
+    EXPECT_EQ(to_json(r)["method"], method);
+  }
+  o.method = "cmds";
+  EXPECT_THROW(bench_spectral(o), Error);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "core/synthetic.h"
 #include "eval/distance_csv.h"
 #include "experiments/noise_experiment.h"
+#include "pipeline/canonical_forms.h"
 #include "pipeline/shape_failures.h"
 #include "test_support.h"
 
@@ -167,20 +168,21 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
       // in a portable build (which almost-touching pairs qualify moves with last-bit differences).
       " --relax-steps 6";
   const nlohmann::json first = run_json(command);
+  const int methods = static_cast<int>(canonical_form_methods().size());  // every registered one (default)
   EXPECT_EQ(first["poses"], 6);
   EXPECT_EQ(first["classes"], 2);
   EXPECT_EQ(first["glued"], 12);  // 6 poses × levels 1, 2
   EXPECT_EQ(first["chi_mismatches"], 0);
   EXPECT_EQ(first["glue_failures"], 0);
   EXPECT_EQ(first["glued_computed"], 12);
-  EXPECT_EQ(first["canonical_forms_computed"], 54);  // 18 shapes × 3 methods
+  EXPECT_EQ(first["canonical_forms_computed"], 18 * methods);  // 18 shapes × the methods
   EXPECT_EQ(first["canonical_forms_cached"], 0);
   // Per method: level 0 the 15 clean pairs, levels 1 and 2 each 6 queries × 5 clean poses.
-  EXPECT_EQ(first["pairs_computed"], 3 * (15 + 2 * 30));
+  EXPECT_EQ(first["pairs_computed"], methods * (15 + 2 * 30));
 
-  // noise.csv: 3 methods × 3 levels × 3 distances.
+  // noise.csv: the methods × 3 levels × 3 distances.
   const auto rows = read_csv_rows(out + "/noise.csv");
-  ASSERT_EQ(rows.size(), 28u);
+  ASSERT_EQ(rows.size(), static_cast<size_t>(methods * 9 + 1));
   EXPECT_EQ(rows[0], (std::vector<std::string>{"method", "level", "distance", "queries", "map", "nn",
                                                "form_rms_median", "form_rms_mean", "form_poses",
                                                "map_clean_same_poses"}));
@@ -210,7 +212,7 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
       EXPECT_LT(mean, 1.0);
     }
   }
-  EXPECT_EQ(seen.size(), 27u);
+  EXPECT_EQ(seen.size(), static_cast<size_t>(methods * 9));
   for (const auto& [key, value] : clean_map) {
     const std::string level0 = key.substr(0, key.find('/')) + "/0" + key.substr(key.rfind('/'));
     EXPECT_NEAR(value, clean_map.at(level0), 1e-12) << key;
@@ -248,7 +250,7 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
   EXPECT_EQ(again["glued_computed"], 0);
   EXPECT_EQ(again["glued_cached"], 12);
   EXPECT_EQ(again["canonical_forms_computed"], 0);
-  EXPECT_EQ(again["canonical_forms_cached"], 54);
+  EXPECT_EQ(again["canonical_forms_cached"], 18 * methods);
   EXPECT_EQ(again["pairs_computed"], 0);
   EXPECT_EQ(again["pairs_cached"], first["pairs_computed"]);
   EXPECT_EQ(read_file(out + "/noise.csv"), csv);

@@ -48,6 +48,35 @@ def test_mds_forms_are_the_cli_canon(cli, shapes, tmp_path, method, args):
     assert form.torn is None
 
 
+@pytest.mark.parametrize("method, kwargs, args", [
+    ("lbo", {}, []),
+    ("lbo", {"laplacian": "cotangent", "eigenpairs": 8}, ["--laplacian", "cotangent", "--eigenpairs", "8"]),
+    ("diffusion", {"diffusion_time": 0.5}, ["--diffusion-time", "0.5"]),
+    ("spectral-mds", {"basis": 20, "sources": 60, "geodesics": "heat"},
+     ["--basis", "20", "--sources", "60", "--geodesics", "heat"]),
+])
+def test_spectral_forms_are_the_cli_canon(cli, shapes, tmp_path, method, kwargs, args):
+    V, F = cshapes.read_mesh(shapes[0])
+    form = cshapes.canonical_form(V, F, method=method, **kwargs)
+    X, _, summary = cli_form(cli, shapes[0], tmp_path, "--method", method, *args)
+    np.testing.assert_array_equal(form.X, X)
+    assert form.summary["eigenvalues"] == summary["eigenvalues"]
+    assert len(summary["eigenvalues"]) == kwargs.get("eigenpairs", kwargs.get("basis", 10))
+    assert summary["laplacian"] == kwargs.get("laplacian", "intrinsic-delaunay")
+
+
+def test_spectral_options_are_checked_by_name(shapes):
+    V, F = cshapes.read_mesh(shapes[0])
+    with pytest.raises(ValueError, match="diffusion_time applies to method 'diffusion' only"):
+        cshapes.canonical_form(V, F, method="lbo", diffusion_time=2.0)
+    with pytest.raises(ValueError, match="eigenpairs applies to method 'lbo', 'diffusion' or 'spectral-mds' only"):
+        cshapes.canonical_form(V, F, method="cmds", eigenpairs=12)
+    with pytest.raises(ValueError, match="laplacian: unknown 'graph'; known: intrinsic-delaunay, cotangent"):
+        cshapes.canonical_form(V, F, method="lbo", laplacian="graph")
+    with pytest.raises(ValueError, match="eigenpairs: expected an integer 5..500, got 2"):
+        cshapes.canonical_form(V, F, method="diffusion", eigenpairs=2)
+
+
 def test_classical_mds_and_smacof_of_a_matrix_recover_a_point_set():
     rng = np.random.default_rng(0)
     P = rng.normal(size=(60, 3)) * [3.0, 2.0, 1.0]
@@ -87,11 +116,13 @@ def test_options_are_checked_by_name(shapes):
 
 def test_methods_are_the_library_registry(shapes):
     methods = cshapes.canonical_form_methods()
-    assert [m["name"] for m in methods] == ["coulomb", "cmds", "smacof"]
-    assert [m["title"] for m in methods] == ["Coulomb", "classical MDS", "SMACOF"]
-    assert [m["uses_geodesic_matrix"] for m in methods] == [False, True, True]
+    assert [m["name"] for m in methods] == ["coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"]
+    assert [m["title"] for m in methods] == ["Coulomb", "classical MDS", "SMACOF", "LBO eigenmap", "diffusion map",
+                                             "spectral MDS"]
+    assert [m["uses_geodesic_matrix"] for m in methods] == [False, True, True, False, False, False]
     V, F = cshapes.read_mesh(shapes[0])
-    with pytest.raises(ValueError, match="unknown canonization method 'pca'; known: coulomb, cmds, smacof"):
+    with pytest.raises(ValueError, match="unknown canonization method 'pca'; known: coulomb, cmds, smacof, lbo, "
+                                         "diffusion, spectral-mds"):
         cshapes.canonical_form(V, F, method="pca")
     with pytest.raises(ValueError, match="smacof init: unknown 'random'; known: cmds, mesh"):
         cshapes.canonical_form(V, F, method="smacof", init="random")

@@ -1,0 +1,33 @@
+// Method lbo (pipeline/canonical_form_methods.h): the Laplace–Beltrami eigenmap scaled as the Global Point
+// Signature [BN03, Rus07]: √A · φ_i/√λ_i, i = 1..3 (canon/spectral_embedding.h), on the mesh's intrinsic
+// Delaunay cotangent Laplacian (a point cloud: its kNN graph Laplacian).
+#include "core/timing.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/spectral_method.h"
+
+namespace cshapes {
+
+namespace {
+
+CanonicalForm lbo_compute(const Mesh& mesh, const CanonicalFormOptions& options, const GivenDistances&) {
+  SpectralSolve s = spectral_eigenpairs(mesh, options.lbo.laplacian, options, "lbo");
+  CanonicalForm form;
+  form.precompute_seconds = s.seconds;
+  auto start = WallClock::now();
+  form.X = gps_embedding(s.eigen, 3);
+  form.solve_seconds = seconds_since(start);
+  s.summary["embedding"] = "gps: sqrt(area) * phi_i / sqrt(lambda_i), i = 1..3";
+  form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "lbo");
+  return form;
+}
+
+}  // namespace
+
+CanonicalFormMethod lbo_method() {
+  CanonicalFormMethod m = spectral_method_base("lbo");
+  m.title = "LBO eigenmap";
+  m.compute = lbo_compute;
+  return m;
+}
+
+}  // namespace cshapes

@@ -1,0 +1,58 @@
+// Method spectral-mds (pipeline/canonical_form_methods.h): Aflalo & Kimmel's spectral MDS (canon/spectral_mds.h)
+// — classical MDS of the squared geodesic distances restricted to the span of the first k Laplace–Beltrami
+// eigenfunctions, fitted from L farthest-point geodesic rows (core/landmark_geodesics.h, options.geodesics):
+// the fast MDS the paper cites [AK13], O((L + k) n) memory.
+#include "core/error.h"
+#include "core/landmark_geodesics.h"
+#include "core/timing.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/spectral_method.h"
+
+namespace cshapes {
+
+namespace {
+
+CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions& options,
+                                   const GivenDistances&) {
+  CSHAPES_REQUIRE(!mesh.is_point_cloud(), options.name,
+                  ": spectral-mds needs a mesh with faces (its geodesic rows and its Laplacian)");
+  const SpectralMdsOptions& so = options.spectral_mds;
+  SpectralSolve s = spectral_eigenpairs(mesh, so.laplacian, options, "spectral-mds");
+  CanonicalForm form;
+  auto start = WallClock::now();
+  LandmarkGeodesicsOptions lo;
+  lo.count = std::min<Index>(so.sources, mesh.num_vertices());
+  lo.geodesics = options.geodesics;
+  const LandmarkGeodesics rows = landmark_geodesics(mesh, lo);
+  form.precompute_seconds = s.seconds + seconds_since(start);
+  start = WallClock::now();
+  const SpectralMdsResult r = spectral_mds(s.eigen, rows.landmarks, rows.rows);
+  form.X = r.X;
+  form.solve_seconds = seconds_since(start);
+  s.summary["sources"] = rows.landmarks.size();
+  s.summary["coverage_radius"] = rows.coverage_radius;
+  s.summary["geodesics"] = to_string(options.geodesics.method);
+  s.summary["mds_eigenvalues"] = {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]};
+  s.summary["negative_mass"] = r.negative_mass;
+  s.summary["fit_residual"] = r.fit_residual;
+  say(options.note, "spectral-mds: " + std::to_string(rows.landmarks.size()) + " geodesic rows (" +
+                        to_string(options.geodesics.method) + ", coverage radius " +
+                        std::to_string(rows.coverage_radius) + "); the basis misses " +
+                        std::to_string(100 * r.fit_residual) + "% of their squared distances");
+  form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "spectral-mds");
+  return form;
+}
+
+}  // namespace
+
+CanonicalFormMethod spectral_mds_method() {
+  CanonicalFormMethod m = spectral_method_base("spectral-mds");
+  m.title = "spectral MDS";
+  m.compute = spectral_mds_compute;
+  // Reads geodesics (its rows' solver), not the other spectral methods' options.
+  m.options_not_read = {"coulomb", "cmds", "smacof", "smacof_init", "smacof_weights", "distances_file",
+                        "lbo", "diffusion"};
+  return m;
+}
+
+}  // namespace cshapes
