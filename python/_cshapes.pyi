@@ -78,8 +78,9 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             momentum: float = 0.9,
             coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
             coulomb_accuracy: float = 0.01, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
-# Each method reads its own keywords (coulomb: those of coulomb(); cmds and smacof: geodesics; smacof: iters
-# to weights) and refuses another method's.
+# Each method reads its own keywords (coulomb: those of coulomb(); cmds, smacof and spectral-mds: geodesics;
+# smacof: iters to weights; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
+# eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources) and refuses another method's.
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    scheme: Literal["paper", "momentum"] = "momentum",
                    step_rule: Literal["max-edge", "mean-edge", "median-edge", "fixed"] = "mean-edge",
@@ -96,6 +97,9 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    iters: int = 300, tolerance: float = 1e-05,
                    accelerate: Literal["none", "rre", "mpe"] = "none", window: int = 6,
                    init: Literal["cmds", "mesh"] = "cmds", weights: Literal["uniform", "area"] = "uniform",
+                   laplacian: Literal["intrinsic-delaunay", "cotangent"] = "intrinsic-delaunay",
+                   eigenpairs: int = 10, near_multiple_gap: float = 0.02, diffusion_time: float = 1.0,
+                   basis: int = 40, sources: int = 120,
                    strict: bool = False) -> CanonicalForm: ...
 def classical_mds(D: _Array, dim: int = 3) -> CanonicalForm: ...
 def smacof(D: _Array, X0: _Array | None = None, *, iters: int = 300, tolerance: float = 1e-05,

@@ -7,11 +7,13 @@ import matplotlib.pyplot as plt
 
 # Colours of the methods, fixed so a method looks the same in every figure; a method without one here (added
 # later) takes the next of EXTRA_COLOURS in registration order.
-COLOURS = {"inputs": "0.45", "coulomb": "tab:red", "cmds": "tab:blue", "smacof": "tab:green"}
-EXTRA_COLOURS = ["tab:purple", "tab:orange", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "black"]
+COLOURS = {"inputs": "0.45", "coulomb": "tab:red", "cmds": "tab:blue", "smacof": "tab:green",
+           "lbo": "tab:purple", "diffusion": "tab:orange", "spectral-mds": "tab:brown"}
+EXTRA_COLOURS = ["tab:pink", "tab:olive", "tab:cyan", "black", "tab:gray"]
 # Titles when OUT has no methods.json (a folder written before it existed); the library's titles otherwise.
 DEFAULT_TITLES = {"inputs": "inputs (no canonical form)", "coulomb": "Coulomb", "cmds": "classical MDS",
-                  "smacof": "SMACOF"}
+                  "smacof": "SMACOF", "lbo": "LBO eigenmap", "diffusion": "diffusion map",
+                  "spectral-mds": "spectral MDS"}
 
 
 def method_styles(out):

@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from figure_style import method_style, method_styles, save  # noqa: E402
 
-METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^"}
+METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^", "lbo": "D", "diffusion": "v", "spectral-mds": "P"}
 DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
 
 
