@@ -138,7 +138,8 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
 }
 
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
-                                  const SmacofOptions& smacof_options, int interpolation_iterations) {
+                                  const SmacofOptions& smacof_options, int interpolation_iterations,
+                                  const Points& start_configuration) {
   const auto start = WallClock::now();
   check_rows(rows, landmarks);
   CSHAPES_REQUIRE(interpolation_iterations >= 0,
@@ -166,7 +167,11 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   LandmarkMdsResult result;
   result.eigenvalues = frame.eigenvalues;
   result.explained_energy = frame.explained_energy;
-  result.landmark_smacof = smacof(block.cast<float>(), frame.Y, so);
+  CSHAPES_REQUIRE(start_configuration.rows() == 0 || start_configuration.rows() == L,
+                  "landmark SMACOF: a start of ", start_configuration.rows(), " points for ", L,
+                  " landmarks");
+  result.landmark_smacof =
+      smacof(block.cast<float>(), start_configuration.rows() ? start_configuration : frame.Y, so);
   result.landmark_normalized_stress = result.landmark_smacof.normalized_stress;
   const Points& Y = result.landmark_smacof.X;
 

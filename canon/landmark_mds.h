@@ -83,8 +83,10 @@ struct LandmarkMdsResult {
 LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks);
 
 // Landmark SMACOF: `smacof` runs on the landmark block (its vertex_weights: empty, or n per-point weights
-// summed over each landmark's Voronoi cell); interpolation_iterations as above.
+// summed over each landmark's Voronoi cell) from `start` (L×3, e.g. the mesh's landmark vertices; empty:
+// the landmarks' classical MDS); interpolation_iterations as above.
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
-                                  const SmacofOptions& smacof, int interpolation_iterations = 30);
+                                  const SmacofOptions& smacof, int interpolation_iterations = 30,
+                                  const Points& start = {});
 
 }  // namespace cshapes

@@ -42,7 +42,7 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
                                                   "coulomb_window",   "coulomb_tolerance",
                                                   "momentum",         "coulomb_summation",
                                                   "coulomb_accuracy", "knn"};
-const std::vector<std::string> kMdsOptions = {"geodesics"};
+const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
 
@@ -134,8 +134,11 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   CanonicalFormOptions o;
   o.method = method;
   if (method == "coulomb") read_coulomb_options(k, o);
-  if (canonical_form_method(method).uses_geodesic_matrix)
+  if (canonical_form_method(method).uses_geodesic_matrix) {
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
+    o.mds_solver.solver = parse_mds_solver(k.text("mds_solver", to_string(o.mds_solver.solver)));
+    o.mds_solver.landmarks = k.integer("landmarks", o.mds_solver.landmarks, 4, 1000000);
+  }
   if (method == "smacof") read_smacof_options(k, o);
   o.strict = k.flag("strict", false);
   k.done();
@@ -257,7 +260,8 @@ void bind_canon(py::module_& m) {
       R"(A canonical form by any method, as `cshapes canon --method M` computes it.
 
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph). smacof also takes
+distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph; mds_solver ['auto']
+| 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area'. strict [False]. An option of another method is refused.
 Returns a CanonicalForm.)");
