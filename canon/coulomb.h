@@ -98,7 +98,7 @@ struct CoulombMultiresolutionOptions {
   // Meshes with more vertices go through a coarse version; 0: never (the single-level iteration at any n).
   Index above_vertices = 8000;
   Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
-  int refine_iterations = 40;    // outer iterations on the fine mesh after the prolongation
+  int refine_iterations = 40;    // projections (of projection.steps sweeps) on the fine mesh after prolongation
 
   // Every field by name, for cache keys (core/option_fields.h). Self: CoulombMultiresolutionOptions.
   template <class Self, class Visit>

@@ -180,12 +180,17 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   out.prolong_seconds = seconds_since(start);
 
   start = WallClock::now();
-  CoulombCanonOptions fine_options = options;
-  fine_options.tear_fraction = 0;  // torn above, where the coarse tears opened the surface
-  fine_options.max_iterations = mr.refine_iterations;
-  CoulombCanonResult fine = coulomb_canonical_form(X, kept, fine_options, kept_rest);
+  // Projection sweeps only: they restore what the prolongation distorted locally (shear and uneven stretch
+  // within a coarse triangle, kinks across coarse edges) and leave the shape-wide form, the coarse one's,
+  // as it is (the averaged projection does not pull back a smooth dilation). Coulomb steps here would
+  // start the fine level's own inflation (measured: mean stretch 1.31 after 40 fine iterations at 10,000
+  // vertices, against 1.21 for the coarse form).
+  CoulombCanonResult fine;
+  fine.X = X;
+  const MetricProjection projection(n, kept, kept_rest, options.projection);
+  for (int it = 0; it < mr.refine_iterations; ++it) projection.project(fine.X);
+  CSHAPES_REQUIRE(fine.X.allFinite(), "coulomb multiresolution: non-finite coordinates after the refinement");
   out.refine_seconds = seconds_since(start);
-  // The fine run measured itself against its start; the form is measured against the input.
   std::vector<bool> torn_flags(E.rows(), false);
   Edges torn_edges(static_cast<Index>(torn.size()), 2);
   fine.torn_vertices = Eigen::VectorXd::Zero(n);
@@ -197,10 +202,17 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   }
   fine.torn_edges = std::move(torn_edges);
   fine.quality = form_quality(mesh.V, E, fine.X, &torn_flags);
+  fine.violation = metric_violation(fine.X, kept, kept_rest);
+  CoulombOptions final_energy = options.energy;
+  final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);
+  fine.energy = coulomb_energy_gradient(fine.X, final_energy).energy;
+  fine.edges = kept;
+  fine.rest_lengths = kept_rest;
+  fine.history = coarse_form.history;
+  fine.iterations = coarse_form.iterations;
   fine.converged = coarse_form.converged;
-  fine.stop_reason =
-      coarse_form.stop_reason + " (coarse), then " + std::to_string(fine.iterations) + " fine iterations";
-  fine.iterations += coarse_form.iterations;
+  fine.stop_reason = coarse_form.stop_reason + " (coarse), then " + std::to_string(mr.refine_iterations) +
+                     " fine projections";
   fine.seconds = out.remesh_seconds + out.coarse_seconds + out.prolong_seconds + out.refine_seconds;
   out.result = std::move(fine);
   out.used = true;
@@ -209,7 +221,7 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
              " s, coarse " + std::to_string(out.coarse_iterations) + " iterations " +
              std::to_string(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
              " coarse edges torn -> " + std::to_string(torn.size()) + " fine, " +
-             std::to_string(mr.refine_iterations) + " fine iterations " + std::to_string(out.refine_seconds) +
+             std::to_string(mr.refine_iterations) + " fine projections " + std::to_string(out.refine_seconds) +
              " s)";
   return out;
 }

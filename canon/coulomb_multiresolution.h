@@ -16,12 +16,14 @@
 // each fine vertex in the affine frame of its closest coarse triangle, [b−a, c−a, n], mapped into that
 // triangle's frame in the coarse form), tear the fine edges the coarse tears opened (as many as keep the
 // cut's length: the coarse tear count × h_coarse / h_fine, largest deviation first, the connected guard),
-// then refine_iterations outer iterations of the ordinary iteration on the fine edges, which restore the
-// fine edge lengths locally while the shape-wide form stays the coarse one's.
+// then refine_iterations projections (each projection.steps Jacobi sweeps, metric_projection.h) on the fine
+// edges, which restore the fine edge lengths locally while the shape-wide form stays the coarse one's (no
+// Coulomb steps at the fine level: they would start its own, larger, inflation).
 //
 // Meshes at or below above_vertices, point clouds and meshes the remesher refuses (non-manifold) use the
 // single-level iteration unchanged (and say why in the note). Cost: one remesh (O(n log n)), the coarse
-// iteration, a closest-triangle search (kd-tree, O(n log n)) and refine_iterations fine iterations.
+// iteration, a closest-triangle search (kd-tree, O(n log n)), refine_iterations · k sweeps (O(|E|) each) and one
+// fast Coulomb energy for the report.
 #pragma once
 
 #include <string>
@@ -32,7 +34,7 @@
 namespace cshapes {
 
 struct CoulombMultiresolutionResult {
-  CoulombCanonResult result;  // on the fine mesh: X, torn edges (fine), history of the fine iterations
+  CoulombCanonResult result;  // on the fine mesh: X, torn edges (fine), the coarse iteration's history
   bool used = false;          // false: the single-level iteration ran (see note)
   Index coarse_vertices = 0;
   int coarse_iterations = 0;

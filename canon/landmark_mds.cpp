@@ -182,7 +182,6 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   const Eigen::MatrixXd P = AtA.completeOrthogonalDecomposition().pseudoInverse() * A.transpose();
   Eigen::VectorXd c = Y.rowwise().squaredNorm();
   c.array() -= c.mean();
-  const double w_sum = w.sum();
 
   std::vector<char> is_landmark(n, 0);
   for (int l : landmarks) is_landmark[l] = 1;
@@ -193,10 +192,14 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
     if (is_landmark[j]) continue;
     const Eigen::VectorXd delta = rows.col(j).cast<double>();
     Eigen::Vector3d x = P * (c - delta.cwiseAbs2());
-    const double energy = delta.cwiseAbs2().dot(w);
+    // Relative weights v_k = w_k / δ²_ak: the nearest landmarks count most (see the header).
+    const double floor = 1e-6 * std::max(delta.maxCoeff(), 1e-300);
+    const Eigen::VectorXd v = w.cwiseQuotient(delta.cwiseMax(floor).cwiseAbs2());
+    const double v_sum = v.sum();
+    const double energy = delta.cwiseAbs2().dot(v);
     auto point_stress = [&](const Eigen::Vector3d& p) {
       const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
-      return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
+      return energy > 0 ? (delta - d).cwiseAbs2().dot(v) / energy : 0.0;
     };
     stress_before += point_stress(x);
     // Guttman transforms of this point's stress with the landmarks fixed.
@@ -205,9 +208,9 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
       for (Index k = 0; k < L; ++k) {
         const Eigen::Vector3d y = Y.row(k).transpose();
         const double d = (x - y).norm();
-        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
+        next += v[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
       }
-      next /= w_sum;
+      next /= v_sum;
       const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
       x = next;
       if (settled) break;

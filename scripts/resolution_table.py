@@ -59,7 +59,12 @@ def run(command, log):
     wall = re.search(r"Elapsed \(wall clock\) time.*: (\S+)", text).group(1)
     seconds = sum(float(x) * 60 ** k for k, x in enumerate(reversed(wall.split(":"))))
     peak = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", text).group(1)) / 1024
-    return done.stdout, seconds, peak
+    return done.stdout, seconds, peak, cpu_seconds(text)
+
+
+def cpu_seconds(text):
+    """User + system CPU seconds of a /usr/bin/time -v log: less sensitive to other processes than wall time."""
+    return sum(float(re.search(rf"{kind} time \(seconds\): (\S+)", text).group(1)) for kind in ("User", "System"))
 
 
 def remeshed(n):
@@ -76,11 +81,14 @@ def canonized(n, method):
         command = [args.cli, "canon", str(remeshed(n)), "-o", f"{stem}.off", "--method", name, "--json"]
         command += ["--mds-solver", solver] if solver else []
         command += args.extra.split()
-        out, seconds, peak = run(command, f"{stem}.time")
+        out, seconds, peak, cpu = run(command, f"{stem}.time")
         summary = json.loads(out)
-        summary["_seconds"], summary["_peak_mb"] = seconds, peak
+        summary["_seconds"], summary["_peak_mb"], summary["_cpu"] = seconds, peak, cpu
         Path(f"{stem}.json").write_text(json.dumps(summary))
-    return read_off(f"{stem}.off"), json.loads(Path(f"{stem}.json").read_text())
+    summary = json.loads(Path(f"{stem}.json").read_text())
+    summary.setdefault("_cpu", cpu_seconds(Path(f"{stem}.time").read_text()) if Path(f"{stem}.time").exists()
+                       else float("nan"))
+    return read_off(f"{stem}.off"), summary
 
 
 def aligned_rms(A, B):
@@ -95,9 +103,9 @@ base_V = read_off(remeshed(sizes[0]))
 subset = np.arange(len(base_V)) if args.pairs <= 0 else rng.choice(len(base_V), args.pairs, replace=False)
 print(f"Shape {Path(args.shape).name} remeshed to {', '.join(map(str, sizes))} vertices; distance to the "
       f"{sizes[0]:,}-vertex form in % of its bounding-box diagonal ({len(subset):,} vertex pairs, seed {args.seed}).\n")
-print("| method | vertices | seconds | peak MB | form quality | mean stretch | distance to the "
+print("| method | vertices | wall s | CPU s | peak MB | form quality | mean stretch | distance to the "
       f"{sizes[0]:,} form |")
-print("| --- | --- | --- | --- | --- | --- | --- |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- |")
 for method in args.methods.split(","):
     base_X, _ = canonized(sizes[0], method)
     diagonal = np.linalg.norm(base_X.max(0) - base_X.min(0))
@@ -106,7 +114,7 @@ for method in args.methods.split(","):
         pairs = cKDTree(read_off(remeshed(n))).query(base_V[subset])[1]
         distance = 100 * aligned_rms(X[pairs], base_X[subset]) / diagonal
         q = s.get("form_quality", {})
-        print(f"| {method} | {n:,} | {s['_seconds']:.1f} | {s['_peak_mb']:.0f} | "
+        print(f"| {method} | {n:,} | {s['_seconds']:.1f} | {s['_cpu']:.1f} | {s['_peak_mb']:.0f} | "
               f"{'ok' if q.get('ok') else 'FAILS'} ({q.get('runaway_vertices', '?')} runaway, max stretch "
               f"{q.get('max_stretch', float('nan')):.2f}) | {q.get('mean_stretch', float('nan')):.2f} | "
               f"{distance:.2f}% |")
