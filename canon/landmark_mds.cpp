@@ -183,6 +183,7 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   Eigen::VectorXd c = Y.rowwise().squaredNorm();
   c.array() -= c.mean();
 
+  const double w_sum = w.sum();
   std::vector<char> is_landmark(n, 0);
   for (int l : landmarks) is_landmark[l] = 1;
   result.X.resize(n, 3);
@@ -191,15 +192,19 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   for (Index j = 0; j < n; ++j) {
     if (is_landmark[j]) continue;
     const Eigen::VectorXd delta = rows.col(j).cast<double>();
-    Eigen::Vector3d x = P * (c - delta.cwiseAbs2());
-    // Relative weights v_k = w_k / δ²_ak: the nearest landmarks count most (see the header).
-    const double floor = 1e-6 * std::max(delta.maxCoeff(), 1e-300);
-    const Eigen::VectorXd v = w.cwiseQuotient(delta.cwiseMax(floor).cwiseAbs2());
-    const double v_sum = v.sum();
-    const double energy = delta.cwiseAbs2().dot(v);
+    // Start beside the nearest landmark, at its distance, towards the linear triangulation: the point then
+    // descends into the basin of its own neighbourhood (from the triangulation alone, points near folds
+    // fell into the basin across the fold).
+    Index nearest = 0;
+    delta.minCoeff(&nearest);
+    const Eigen::Vector3d y_near = Y.row(nearest).transpose();
+    const Eigen::Vector3d towards = P * (c - delta.cwiseAbs2()) - y_near;
+    Eigen::Vector3d x = y_near + (towards.norm() > 0 ? Eigen::Vector3d(delta[nearest] * towards.normalized())
+                                                     : Eigen::Vector3d::Zero());
+    const double energy = delta.cwiseAbs2().dot(w);
     auto point_stress = [&](const Eigen::Vector3d& p) {
       const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
-      return energy > 0 ? (delta - d).cwiseAbs2().dot(v) / energy : 0.0;
+      return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
     };
     stress_before += point_stress(x);
     // Guttman transforms of this point's stress with the landmarks fixed.
@@ -208,9 +213,9 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
       for (Index k = 0; k < L; ++k) {
         const Eigen::Vector3d y = Y.row(k).transpose();
         const double d = (x - y).norm();
-        next += v[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
+        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
       }
-      next /= v_sum;
+      next /= w_sum;
       const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
       x = next;
       if (settled) break;
@@ -220,7 +225,7 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   }
   for (Index k = 0; k < L; ++k) result.X.row(landmarks[k]) = Y.row(k);
   const double others = static_cast<double>(std::max<Index>(1, n - L));
-  result.triangulated_point_stress = stress_before / others;
+  result.start_point_stress = stress_before / others;
   result.interpolated_point_stress = stress_after / others;
   result.X.rowwise() -= result.X.colwise().mean();
   result.seconds = seconds_since(start);

@@ -12,13 +12,13 @@
 // the axes); the form is then centred at the mean of all points. Axes with λ ≤ 0 are zero.
 //
 // Landmark SMACOF. SMACOF (canon/smacof.h) of the L×L block from the landmarks' classical MDS, then each
-// other point placed against the fixed landmarks: started at the least-squares triangulation in the SMACOF
-// frame (‖x − y_k‖² ≈ δ²_ak linearised by subtracting the landmarks' mean: 2 (y_k − ȳ)·x ≈ ‖y_k‖² − δ²_ak −
-// mean), then `interpolation_iterations` Guttman transforms of its own relative stress
-// Σ_k v_k (δ_ak − ‖x − y_k‖)², v_k = w_k / δ²_ak, with the landmarks held (x⁺ = Σ_k v_k [y_k + δ_ak (x − y_k)/
-// ‖x − y_k‖] / Σ_k v_k, which never increases it). The relative weights make the nearest landmarks count most,
-// so a point keeps its place among its neighbours: with v = w (SMACOF's own weights) 7 vertices of michael0
-// (5,000 vertices, L = 300) landed across a fold, on edges stretched 18×.
+// other point placed against the fixed landmarks: started beside its nearest landmark y_n, at distance δ_an,
+// in the direction of the least-squares triangulation in the SMACOF frame (‖x − y_k‖² ≈ δ²_ak linearised by
+// subtracting the landmarks' mean: 2 (y_k − ȳ)·x ≈ ‖y_k‖² − δ²_ak − mean), then moved by
+// `interpolation_iterations` Guttman transforms of its own stress Σ_k w_k (δ_ak − ‖x − y_k‖)² with the
+// landmarks held (x⁺ = Σ_k w_k [y_k + δ_ak (x − y_k)/‖x − y_k‖] / Σ_k w_k, which never increases it). Started
+// at the triangulation itself, points near folds descended into the basin across the fold (michael0, 5,000
+// vertices, L = 300: 7 vertices on edges stretched up to 18×).
 // Landmark weights w_k: uniform, or (SmacofOptions::vertex_weights given, n values) the sum of the
 // weights of the vertices nearest to landmark k (its geodesic Voronoi cell), so area weights stay area
 // weights.
@@ -72,10 +72,10 @@ struct LandmarkMdsResult {
   Eigen::Vector3d eigenvalues;  // λ₁ ≥ λ₂ ≥ λ₃ of the landmarks' B_L
   double explained_energy = 0;  // (λ₁² + λ₂² + λ₃²) / ‖B_L‖²_F
   // Landmark SMACOF only (NaN otherwise): the landmarks' normalised stress after SMACOF, and the mean over
-  // the other points of their relative stress against the landmarks, Σ_k v_k (δ_ak − d_ak)² / Σ_k v_k δ_ak²,
-  // at the triangulation and after the interpolation steps.
+  // the other points of their stress against the landmarks, Σ_k w_k (δ_ak − d_ak)² / Σ_k w_k δ_ak², at the
+  // start (beside the nearest landmark) and after the interpolation steps.
   double landmark_normalized_stress = std::numeric_limits<double>::quiet_NaN();
-  double triangulated_point_stress = std::numeric_limits<double>::quiet_NaN();
+  double start_point_stress = std::numeric_limits<double>::quiet_NaN();
   double interpolated_point_stress = std::numeric_limits<double>::quiet_NaN();
   SmacofResult landmark_smacof;  // SMACOF of the landmark block (empty for classical)
   double seconds = 0;

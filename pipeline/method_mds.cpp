@@ -115,11 +115,11 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
     summary["smacof"] = smacof_summary(r.landmark_smacof, so);
     summary["smacof"]["init"] = to_string(options.smacof_init);
     summary["smacof"]["weights"] = to_string(options.smacof_weights);
-    summary["smacof"]["triangulated_point_stress"] = r.triangulated_point_stress;
+    summary["smacof"]["start_point_stress"] = r.start_point_stress;
     summary["smacof"]["interpolated_point_stress"] = r.interpolated_point_stress;
     say(options.note, "landmark SMACOF: landmarks' normalised stress " +
                           std::to_string(r.landmark_normalized_stress) + "; other points' stress " +
-                          std::to_string(r.triangulated_point_stress) + " -> " +
+                          std::to_string(r.start_point_stress) + " -> " +
                           std::to_string(r.interpolated_point_stress));
   }
   summary["landmark_mds"] = {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
