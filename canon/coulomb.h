@@ -98,7 +98,7 @@ struct CoulombMultiresolutionOptions {
   // Meshes with more vertices go through a coarse version; 0: never (the single-level iteration at any n).
   Index above_vertices = 8000;
   Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
-  int refine_iterations = 40;    // projections (of projection.steps sweeps) on the fine mesh after prolongation
+  int refine_iterations = 40;  // projections (of projection.steps sweeps) on the fine mesh after prolongation
 
   // Every field by name, for cache keys (core/option_fields.h). Self: CoulombMultiresolutionOptions.
   template <class Self, class Visit>
@@ -173,7 +173,7 @@ struct CoulombCanonOptions {
   // iterations' accuracy if that is smaller.
   double result_accuracy = 1e-3;
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
-  ProgressFn progress;  // called with ("coulomb", iteration, max_iterations)
+  ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
 
   // Every field by name, for cache keys (core/option_fields.h). Self: CoulombCanonOptions, const or not.
   template <class Self, class Visit>

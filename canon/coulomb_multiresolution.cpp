@@ -221,8 +221,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
              " s, coarse " + std::to_string(out.coarse_iterations) + " iterations " +
              std::to_string(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
              " coarse edges torn -> " + std::to_string(torn.size()) + " fine, " +
-             std::to_string(mr.refine_iterations) + " fine projections " + std::to_string(out.refine_seconds) +
-             " s)";
+             std::to_string(mr.refine_iterations) + " fine projections " +
+             std::to_string(out.refine_seconds) + " s)";
   return out;
 }
 

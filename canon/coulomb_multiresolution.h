@@ -22,8 +22,8 @@
 //
 // Meshes at or below above_vertices, point clouds and meshes the remesher refuses (non-manifold) use the
 // single-level iteration unchanged (and say why in the note). Cost: one remesh (O(n log n)), the coarse
-// iteration, a closest-triangle search (kd-tree, O(n log n)), refine_iterations · k sweeps (O(|E|) each) and one
-// fast Coulomb energy for the report.
+// iteration, a closest-triangle search (kd-tree, O(n log n)), refine_iterations · k sweeps (O(|E|) each) and
+// one fast Coulomb energy for the report.
 #pragma once
 
 #include <string>

@@ -18,12 +18,11 @@
 // `interpolation_iterations` Guttman transforms of its own stress Σ_k w_k (δ_ak − ‖x − y_k‖)² with the
 // landmarks held (x⁺ = Σ_k w_k [y_k + δ_ak (x − y_k)/‖x − y_k‖] / Σ_k w_k, which never increases it).
 // Open defect (measured on tosca5k michael0, 5,000 vertices): L = 100 and 1,000 pass the form-quality check,
-// L = 300 leaves 20 vertices on overstretched edges (stretch up to 33; 7 vertices, stretch 18, when started at
-// the triangulation itself, 0 but a mean stretch of 1.18 with weights 1/δ²): a point near a fold can settle in
-// the basin across it. Landmark classical MDS has no such failure.
-// Landmark weights w_k: uniform, or (SmacofOptions::vertex_weights given, n values) the sum of the
-// weights of the vertices nearest to landmark k (its geodesic Voronoi cell), so area weights stay area
-// weights.
+// L = 300 leaves 20 vertices on overstretched edges (stretch up to 33; 7 vertices, stretch 18, when started
+// at the triangulation itself, 0 but a mean stretch of 1.18 with weights 1/δ²): a point near a fold can
+// settle in the basin across it. Landmark classical MDS has no such failure. Landmark weights w_k: uniform,
+// or (SmacofOptions::vertex_weights given, n values) the sum of the weights of the vertices nearest to
+// landmark k (its geodesic Voronoi cell), so area weights stay area weights.
 //
 // Cost: O(L·n) memory for the rows (read only), O(L²) for the block; O(L³) for the dense eigensolver of the
 // block; O(L·n) for the triangulation, O(L·n·iterations) for the interpolation (OpenMP over points); SMACOF
