@@ -91,6 +91,24 @@ inline constexpr Limit kMomentum = number_limit("momentum", 0, 0.999);
 inline constexpr Limit kAccuracy = number_limit("coulomb-accuracy", 1e-12, 1);
 }  // namespace coulomb_limits
 
+// Meshes finer than the resolution the defaults were chosen at are canonized through a coarse version of
+// the same surface (canon/coulomb_multiresolution.h: why the single-level form inflates with n, and how).
+// Read by coulomb_multiresolution (a mesh), not by coulomb_canonical_form (points and edges).
+struct CoulombMultiresolutionOptions {
+  // Meshes with more vertices go through a coarse version; 0: never (the single-level iteration at any n).
+  Index above_vertices = 8000;
+  Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
+  int refine_iterations = 40;  // projections (of projection.steps sweeps) on the fine mesh after prolongation
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombMultiresolutionOptions.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("above_vertices", o.above_vertices);
+    visit("coarse_vertices", o.coarse_vertices);
+    visit("refine_iterations", o.refine_iterations);
+  }
+};
+
 struct CoulombCanonOptions {
   // Momentum by default: on cat0 (max-edge, k = 10, no tearing) it came within 0.5% of the fixed point's
   // energy in 74 iterations, the paper's scheme in 827; after 2,000 iterations both end at the same energy
@@ -154,7 +172,8 @@ struct CoulombCanonOptions {
   // Fast summation's accuracy for the reported energy (CoulombCanonResult::energy, one evaluation), or the
   // iterations' accuracy if that is smaller.
   double result_accuracy = 1e-3;
-  ProgressFn progress;  // called with ("coulomb", iteration, max_iterations)
+  CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
+  ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
 
   // Every field by name, for cache keys (core/option_fields.h). Self: CoulombCanonOptions, const or not.
   template <class Self, class Visit>
@@ -178,6 +197,7 @@ struct CoulombCanonOptions {
     visit("remove_rigid_motion", o.remove_rigid_motion);
     visit("energy", o.energy);
     visit("result_accuracy", o.result_accuracy);
+    visit("multiresolution", o.multiresolution);
     visit("progress", o.progress, kNoEffect);  // reports, computes nothing
   }
 };

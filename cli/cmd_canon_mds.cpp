@@ -1,10 +1,11 @@
 // The options of `--method cmds|smacof`: MDS canonical forms (Elad & Kimmel) of a mesh, from its all-pairs
 // geodesic distances (computed, or read with --distances by `cshapes canon`); pipeline/canonical_forms.h
 // computes them.
+#include "canon/landmark_mds.h"
 #include "canon/smacof.h"
+#include "cli/command.h"
 #include "core/error.h"
 #include "core/geodesics.h"
-#include "cli/command.h"
 
 namespace cshapes::cli {
 namespace {
@@ -18,6 +19,8 @@ struct MdsArgs {
   std::string accelerate = "none";
   int window = 6;
   std::string weights = "uniform";
+  std::string mds_solver = to_string(MdsSolverOptions{}.solver);
+  long landmarks = MdsSolverOptions{}.landmarks;
 } args;
 
 void validate_mds() {
@@ -33,6 +36,10 @@ void configure_mds(CanonicalFormOptions& o, bool single_mesh) {
         "--distances: only `cshapes canon` reads a precomputed distance matrix (here every shape needs "
         "its own)");
   o.distances_file = args.distances;
+  o.mds_solver.solver = parse_mds_solver(args.mds_solver);
+  o.mds_solver.landmarks = args.landmarks;
+  if (canon_option_given("--landmarks") && o.mds_solver.solver == MdsSolver::Full)
+    usage_fail("--landmarks applies to --mds-solver landmarks or auto only");
 }
 
 void validate_smacof() {
@@ -69,6 +76,16 @@ const bool cmds_registered = register_canon_method(
            ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");
+       g.add_option("--mds-solver", args.mds_solver,
+                    "cmds/smacof: full (the n×n geodesic matrix), landmarks (L rows: landmark MDS, SMACOF on "
+                    "the landmarks), or auto (landmarks above 12,000 vertices or when the matrix would take "
+                    "more than half the free memory)")
+           ->capture_default_str()
+           ->check(one_of(mds_solver_names()));
+       g.add_option("--landmarks", args.landmarks,
+                    "cmds/smacof: landmarks L for --mds-solver landmarks|auto (farthest-point sampling)")
+           ->capture_default_str()
+           ->check(CLI::Range(4L, 1000000L));
      },
      configure_mds,
      {"smacof", "spectral-mds"},  // --geodesics: spectral-mds's geodesic rows too

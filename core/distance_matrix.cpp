@@ -120,6 +120,8 @@ double control_group_memory_room(const std::string& proc_cgroup, const std::stri
   return room.bytes;
 }
 
+double available_memory_bytes() { return memory_room().bytes; }
+
 void require_memory(double bytes, const std::string& what) {
   const MemoryRoom room = memory_room();
   if (room.bytes < 0) return;  // unknown: let the allocation decide

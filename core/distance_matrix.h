@@ -26,6 +26,8 @@ double distance_matrix_bytes(Index n);
 // can still take: the machine's (MemAvailable), its address-space limit (RLIMIT_AS, `ulimit -v`) less what it
 // maps, and its control group's limit (cgroup v2 memory.max, v1 memory.limit_in_bytes) less the group's use.
 void require_memory(double bytes, const std::string& what);
+// The memory this process can still take by the rules require_memory applies, in bytes; < 0 when unknown.
+double available_memory_bytes();
 // The control-group part of require_memory, on the files given (require_memory reads /proc/self/cgroup and
 // /sys/fs/cgroup; tests give a fake tree): the least room in bytes over the process's groups and each group
 // above them, limit less use (< 0: no limit found), and in `rule` the file that sets it.

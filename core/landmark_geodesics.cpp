@@ -28,7 +28,7 @@ void require_connected_for_rows(const Mesh& mesh) {
 }  // namespace
 
 struct SingleSourceGeodesics::Impl {
-  const Mesh& mesh;
+  const Mesh& mesh;  // (no faces: a graph solver)
   GeodesicOptions options;
   std::unique_ptr<HeatMethod> heat;
   std::unique_ptr<FastMarching> fmm;
@@ -63,6 +63,22 @@ SingleSourceGeodesics::SingleSourceGeodesics(const Mesh& mesh, const GeodesicOpt
     case GeodesicMethod::Exact:
       break;  // CGAL's solvers are built per source by geodesic_distances (not thread-safe to share)
   }
+}
+
+SingleSourceGeodesics::SingleSourceGeodesics(const Points& V, const Edges& E)
+    : graph_points_(std::make_unique<Mesh>()) {
+  graph_points_->V = V;
+  GeodesicOptions options;
+  options.method = GeodesicMethod::Graph;
+  impl_.reset(new Impl{*graph_points_, options, nullptr, nullptr, {}, {}, 0});
+  const Index n = V.rows();
+  CSHAPES_REQUIRE(n > 0, "landmark geodesics: no points");
+  const Components comp = connected_components(n, E);
+  CSHAPES_REQUIRE(comp.count == 1, "landmark geodesics: the graph has ", comp.count,
+                  " connected components (largest ", comp.sizes[comp.largest()], " of ", n, " points)");
+  impl_->adj = adjacency(n, E);
+  impl_->edge_weights = edge_lengths(V, E);
+  impl_->bound = impl_->edge_weights.sum() * (1 + 1e-6);
 }
 
 SingleSourceGeodesics::~SingleSourceGeodesics() = default;
@@ -116,18 +132,28 @@ Eigen::MatrixXf geodesic_rows_from(const Mesh& mesh, const std::vector<int>& lan
 
 LandmarkGeodesics landmark_geodesics(const Mesh& mesh, const LandmarkGeodesicsOptions& options) {
   const auto start = WallClock::now();
-  const Index n = mesh.num_vertices();
   CSHAPES_REQUIRE(options.count >= 1, "landmark geodesics: the number of landmarks must be at least 1, not ",
                   options.count);
-  CSHAPES_REQUIRE(options.first_hint >= 0 && options.first_hint < n, "landmark geodesics: first_hint ",
-                  options.first_hint, " out of range 0..", n - 1);
-  const Index L = std::min(options.count, n);
-  SingleSourceGeodesics solver(mesh, options.geodesics);
+  const SingleSourceGeodesics solver(mesh, options.geodesics);
+  LandmarkGeodesics result =
+      landmark_geodesics(solver, options.count, options.first_hint, options.geodesics.progress);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, Index count, int first_hint,
+                                     const ProgressFn& progress) {
+  const auto start = WallClock::now();
+  const Index n = solver.num_vertices();
+  CSHAPES_REQUIRE(count >= 1, "landmark geodesics: the number of landmarks must be at least 1, not ", count);
+  CSHAPES_REQUIRE(first_hint >= 0 && first_hint < n, "landmark geodesics: first_hint ", first_hint,
+                  " out of range 0..", n - 1);
+  const Index L = std::min(count, n);
   LandmarkGeodesics result;
   result.rows.resize(L, n);
   result.landmarks.reserve(L);
   // nearest(i): distance from vertex i to its nearest landmark so far; the hint's row starts the sampling.
-  Eigen::VectorXd nearest = solver.distances(options.first_hint);
+  Eigen::VectorXd nearest = solver.distances(first_hint);
   for (Index k = 0; k < L; ++k) {
     Index next = 0;
     nearest.maxCoeff(&next);  // the first maximum: ties go to the lowest index
@@ -135,8 +161,7 @@ LandmarkGeodesics landmark_geodesics(const Mesh& mesh, const LandmarkGeodesicsOp
     const Eigen::VectorXd row = solver.distances(static_cast<int>(next));
     result.rows.row(k) = row.cast<float>().transpose();
     nearest = k == 0 ? row : nearest.cwiseMin(row);
-    if (options.geodesics.progress)
-      options.geodesics.progress("landmark geodesics", static_cast<double>(k + 1), static_cast<double>(L));
+    if (progress) progress("landmark geodesics", static_cast<double>(k + 1), static_cast<double>(L));
   }
   result.coverage_radius = nearest.maxCoeff();
   result.seconds = seconds_since(start);

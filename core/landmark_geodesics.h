@@ -53,6 +53,12 @@ struct LandmarkGeodesics {
 // One-shot: landmarks by farthest-point sampling and their rows.
 LandmarkGeodesics landmark_geodesics(const Mesh& mesh, const LandmarkGeodesicsOptions& options = {});
 
+class SingleSourceGeodesics;
+// The same with a solver already set up (e.g. graph distances on a point cloud's kNN graph); count and
+// first_hint as in LandmarkGeodesicsOptions, progress per landmark.
+LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, Index count, int first_hint = 0,
+                                     const ProgressFn& progress = {});
+
 // Rows for given landmark vertices (no sampling): rows(k, j) = d(landmarks[k], j). Throws for an index out of
 // range and on a disconnected mesh.
 Eigen::MatrixXf geodesic_rows_from(const Mesh& mesh, const std::vector<int>& landmarks,
@@ -63,6 +69,9 @@ Eigen::MatrixXf geodesic_rows_from(const Mesh& mesh, const std::vector<int>& lan
 class SingleSourceGeodesics {
  public:
   SingleSourceGeodesics(const Mesh& mesh, const GeodesicOptions& options = {});
+  // Graph distances (Dijkstra) on the edges E between the points V (a point cloud's kNN graph), which must
+  // be connected.
+  SingleSourceGeodesics(const Points& V, const Edges& E);
   ~SingleSourceGeodesics();
   SingleSourceGeodesics(const SingleSourceGeodesics&) = delete;
   SingleSourceGeodesics& operator=(const SingleSourceGeodesics&) = delete;
@@ -72,6 +81,7 @@ class SingleSourceGeodesics {
 
  private:
   struct Impl;
+  std::unique_ptr<Mesh> graph_points_;  // the graph constructor's points (Impl refers to a mesh)
   std::unique_ptr<Impl> impl_;
 };
 

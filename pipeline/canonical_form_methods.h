@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/distance_matrix.h"
+#include "core/landmark_geodesics.h"
 #include "core/mesh.h"
 #include "core/mesh_repair.h"
 #include "pipeline/canonical_forms.h"
@@ -96,5 +97,9 @@ Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn);
 // floats do not fit in the available memory.
 DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                         std::string* fallback = nullptr);
+// The landmark rows instead (options.mds_solver.landmarks by farthest-point sampling, core/
+// landmark_geodesics.h; a point cloud: graph distances on its kNN graph), with the same fallback.
+LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                                    std::string* fallback = nullptr);
 
 }  // namespace cshapes

@@ -30,24 +30,17 @@ std::optional<GeodesicMethod> geodesic_fallback_method(GeodesicMethod method) {
   return std::nullopt;
 }
 
-// All pairs on a surface. A method that fails on this mesh (a cshapes::Error, not the run's own I/O) falls
-// back to the next one (heat → fast marching) unless options.strict; *fallback then says which failed and
-// why.
-DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
-                                 std::string* fallback) {
-  GeodesicOptions go = options.geodesics;
-  if (!go.progress) go.progress = options.progress;
-  auto all_pairs = [&](GeodesicMethod method) {
-    go.method = method;
-    if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
-    return all_pairs_geodesics(mesh, go);
-  };
+// compute(method) by options.geodesics.method; a method that fails on this mesh (a cshapes::Error, not the
+// run's own I/O) falls back to the next one (heat → fast marching) unless options.strict; *fallback then
+// says which failed and why.
+template <class Compute>
+auto with_geodesic_fallback(const CanonicalFormOptions& options, std::string* fallback, Compute&& compute) {
   // The run's own files and I/O failing are never the method's failure on this mesh.
   auto the_runs_own = [](const Error& e) {
     return dynamic_cast<const IoError*>(&e) != nullptr || dynamic_cast<const FileError*>(&e) != nullptr;
   };
   try {
-    return all_pairs(options.geodesics.method);
+    return compute(options.geodesics.method);
   } catch (const Error& error) {
     const std::optional<GeodesicMethod> next = geodesic_fallback_method(options.geodesics.method);
     if (the_runs_own(error) || options.strict || !next) throw;
@@ -56,7 +49,7 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
     say(options.note, options.name + ": " + text);
     if (fallback) *fallback = text;
     try {
-      return all_pairs(*next);
+      return compute(*next);
     } catch (const Error& next_error) {
       if (the_runs_own(next_error)) throw;
       // Both failed: say so, the first method's reason included.
@@ -64,6 +57,18 @@ DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& o
            to_string(*next), " (", next_error.what(), ")");
     }
   }
+}
+
+// All pairs on a surface, with the fallback above.
+DistanceMatrix surface_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                 std::string* fallback) {
+  GeodesicOptions go = options.geodesics;
+  if (!go.progress) go.progress = options.progress;
+  return with_geodesic_fallback(options, fallback, [&](GeodesicMethod method) {
+    go.method = method;
+    if (geodesics_test_hook()) geodesics_test_hook()(go.method, options.name);
+    return all_pairs_geodesics(mesh, go);
+  });
 }
 
 }  // namespace
@@ -85,6 +90,29 @@ DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOpt
   for (Index s = 0; s < n; ++s) D.col(s) = dijkstra(n, adj, w, {static_cast<int>(s)}).cast<float>();
   symmetrize_distances(D);
   return D;
+}
+
+LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
+                                                    std::string* fallback) {
+  const Index count = options.mds_solver.landmarks;
+  if (mesh.is_point_cloud()) {
+    const SingleSourceGeodesics graph(mesh.V, knn_graph(mesh.V, options.knn));
+    return landmark_geodesics(graph, count, 0, options.progress);
+  }
+  LandmarkGeodesicsOptions lo;
+  lo.count = count;
+  lo.geodesics = options.geodesics;
+  if (!lo.geodesics.progress) lo.geodesics.progress = options.progress;
+  return with_geodesic_fallback(options, fallback, [&](GeodesicMethod method) {
+    lo.geodesics.method = method;
+    if (geodesics_test_hook()) geodesics_test_hook()(method, options.name);
+    return landmark_geodesics(mesh, lo);
+  });
+}
+
+bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n) {
+  return options.distances_file.empty() &&
+         mds_uses_landmarks(options.mds_solver, n, available_memory_bytes());
 }
 
 namespace {
@@ -178,7 +206,7 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
       " points coincide (a degenerate point set): nothing to canonize");
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
-  if (method.uses_geodesic_matrix && !D)
+  if (method.uses_geodesic_matrix && !D && !mds_uses_landmarks(options, mesh.num_vertices()))
     require_memory(distance_matrix_bytes(mesh.num_vertices()),
                    detail::concat(options.name, ": ", options.method, "'s all-pairs distances on ",
                                   mesh.num_vertices(), " vertices"));
@@ -300,7 +328,8 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
     if (at) *at = k;
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
-    const bool mds = canonical_form_method(co.method).uses_geodesic_matrix && co.distances_file.empty();
+    const bool mds = canonical_form_method(co.method).uses_geodesic_matrix && co.distances_file.empty() &&
+                     !mds_uses_landmarks(co, mesh.num_vertices());
     if (mds && !(D_for && same_geodesics(*D_for, co)) &&
         !std::filesystem::exists(cache.entry_path(out.key))) {
       D_fallback.clear();

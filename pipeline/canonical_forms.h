@@ -26,6 +26,7 @@
 
 #include "canon/classical_mds.h"
 #include "canon/coulomb.h"
+#include "canon/landmark_mds.h"
 #include "canon/smacof.h"
 #include "canon/spectral_embedding.h"
 #include "canon/spectral_mds.h"
@@ -65,6 +66,9 @@ struct CanonicalFormOptions {
   SmacofInit smacof_init = SmacofInit::ClassicalMds;  // method smacof: its start
   // Method smacof: its pair weights (Area replaces smacof.vertex_weights by the mesh's vertex areas).
   SmacofWeights smacof_weights = SmacofWeights::Uniform;
+  // cmds/smacof: the full n×n matrix or L landmark rows (canon/landmark_mds.h); auto picks landmarks above
+  // 12,000 vertices or when the matrix would take more than half the available memory.
+  MdsSolverOptions mds_solver;
   // cmds/smacof: read the all-pairs distances from this .bin (core/distance_matrix.h) instead of computing
   // geodesics; it has the input's or the repaired mesh's vertex count. For one mesh; empty: compute.
   std::string distances_file;
@@ -88,6 +92,7 @@ struct CanonicalFormOptions {
     visit("smacof", o.smacof);
     visit("smacof_init", o.smacof_init);
     visit("smacof_weights", o.smacof_weights);
+    visit("mds_solver", o.mds_solver);
     visit("distances_file", o.distances_file, kFileContent);  // its content is the input, not its name
     visit("knn", o.knn);
     visit("lbo", o.lbo);
@@ -114,6 +119,11 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
 // itself when it has the repaired mesh's size. Throws, naming `source`, for any other size.
 DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const RepairedMesh& repaired,
                                           const std::string& source);
+
+// Whether an MDS form of a mesh of n vertices under `options` embeds landmark rows instead of the all-pairs
+// matrix (mds_uses_landmarks with the memory available now; never with a distances_file, which is the
+// matrix).
+bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n);
 
 // Every method name canonical_form accepts, in registration order (pipeline/canonical_form_methods.h).
 const std::vector<std::string>& canonical_form_methods();

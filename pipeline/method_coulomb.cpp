@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "canon/coulomb.h"
+#include "canon/coulomb_multiresolution.h"
 #include "core/error.h"
 #include "core/timing.h"
 #include "pipeline/canonical_form_methods.h"
@@ -28,7 +29,18 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   form.precompute_seconds = seconds_since(start);
   CoulombCanonOptions co = options.coulomb;
   if (!co.progress) co.progress = options.progress;
-  CoulombCanonResult r = coulomb_canonical_form(mesh.V, E, co);
+  // A mesh finer than options.coulomb.multiresolution.above_vertices goes through a coarse version of its
+  // surface (canon/coulomb_multiresolution.h); point clouds and coarser meshes run the iteration directly.
+  CoulombCanonResult r;
+  std::string multiresolution;
+  if (mesh.is_point_cloud()) {
+    r = coulomb_canonical_form(mesh.V, E, co);
+  } else {
+    CoulombMultiresolutionResult mr = coulomb_multiresolution(mesh, co);
+    if (mr.used) say(options.note, "coulomb: " + mr.note);
+    multiresolution = mr.note;
+    r = std::move(mr.result);
+  }
   form.X = r.X;
   form.torn = r.torn_vertices;
   form.iterations = r.iterations;
@@ -43,6 +55,7 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"edges", E.rows()},
                                      {"torn_edges", r.torn_edges.rows()},
                                      {"iterations", r.iterations},
+                                     {"multiresolution", multiresolution},
                                      {"converged", r.converged},
                                      {"stop_reason", r.stop_reason},
                                      {"energy", r.energy},
@@ -74,9 +87,8 @@ CanonicalFormMethod coulomb_method() {
   m.requirements = MeshRequirements::edge_graph();
   m.repair_purpose = "Coulomb canonization (the largest component's edge graph)";
   m.uses_geodesic_matrix = false;
-  m.options_not_read = {"geodesics",      "cmds",           "smacof", "smacof_init",
-                        "smacof_weights", "distances_file", "lbo",    "diffusion",
-                        "spectral_mds"};
+  m.options_not_read = {"geodesics",      "cmds",           "smacof", "smacof_init", "smacof_weights",
+                        "distances_file", "lbo",            "diffusion", "spectral_mds", "mds_solver"};
   m.compute = coulomb_compute;
   return m;
 }

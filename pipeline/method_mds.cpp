@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "canon/form_quality.h"
+#include "canon/landmark_mds.h"
 #include "core/error.h"
 #include "core/heat_method.h"
 #include "core/timing.h"
@@ -64,11 +65,83 @@ ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFor
   return r;
 }
 
+// The heat method's warning on a coarse mesh and the geodesic fallback, in the summary.
+void note_geodesics(const Mesh& mesh, const CanonicalFormOptions& options, const CanonicalForm& form,
+                    nlohmann::json& summary) {
+  if (!form.geodesics_fallback.empty()) summary["geodesics_fallback"] = form.geodesics_fallback;
+  if (form.geodesics_fallback.empty() && (options.geodesics.method == GeodesicMethod::Heat ||
+                                          options.geodesics.method == GeodesicMethod::HeatCgal)) {
+    const std::string warning = heat_method_warning(mesh);
+    if (!warning.empty()) {
+      summary["warning"] = warning;
+      say(options.note, "warning: " + warning);
+    }
+  }
+}
+
+// Both methods from L landmark rows (canon/landmark_mds.h): landmark classical MDS, or SMACOF of the
+// landmarks (from their classical MDS, or from the mesh) with the other points interpolated.
+CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& options, bool with_smacof) {
+  CanonicalForm form;
+  auto start = WallClock::now();
+  const LandmarkGeodesics lg = canonical_form_landmark_geodesics(mesh, options, &form.geodesics_fallback);
+  form.precompute_seconds = seconds_since(start);
+  const Index L = lg.rows.rows(), n = lg.rows.cols();
+  say(options.note, "landmark geodesics: " + std::to_string(L) + " landmarks, covering radius " +
+                        std::to_string(lg.coverage_radius) + ", in " + std::to_string(lg.seconds) + " s");
+  nlohmann::json summary = nlohmann::json::object();
+  note_geodesics(mesh, options, form, summary);
+  summary["mds_solver"] = {{"solver", "landmarks"},
+                           {"landmarks", L},
+                           {"distance_entries", L * n},
+                           {"coverage_radius", lg.coverage_radius},
+                           {"geodesics_seconds", lg.seconds}};
+  start = WallClock::now();
+  LandmarkMdsResult r;
+  if (!with_smacof) {
+    r = landmark_classical_mds(lg.rows, lg.landmarks);
+  } else {
+    SmacofOptions so = options.smacof;
+    if (!so.progress) so.progress = options.progress;
+    if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
+    Points landmark_start;
+    if (options.smacof_init == SmacofInit::Mesh) {
+      landmark_start.resize(L, 3);
+      for (Index k = 0; k < L; ++k) landmark_start.row(k) = mesh.V.row(lg.landmarks[k]);
+    }
+    r = landmark_smacof(lg.rows, lg.landmarks, so, options.mds_solver.interpolation_iterations,
+                        landmark_start);
+    set_smacof_result(form, r.landmark_smacof);
+    summary["smacof"] = smacof_summary(r.landmark_smacof, so);
+    summary["smacof"]["init"] = to_string(options.smacof_init);
+    summary["smacof"]["weights"] = to_string(options.smacof_weights);
+    summary["smacof"]["start_point_stress"] = r.start_point_stress;
+    summary["smacof"]["interpolated_point_stress"] = r.interpolated_point_stress;
+    say(options.note, "landmark SMACOF: landmarks' normalised stress " +
+                          std::to_string(r.landmark_normalized_stress) + "; other points' stress " +
+                          std::to_string(r.start_point_stress) + " -> " +
+                          std::to_string(r.interpolated_point_stress));
+  }
+  summary["landmark_mds"] = {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
+                             {"explained_energy", r.explained_energy},
+                             {"seconds", r.seconds}};
+  form.X = std::move(r.X);
+  form.solve_seconds = seconds_since(start);
+  const FormQuality quality = form_quality(mesh.V, constraint_edges(mesh, options.knn), form.X);
+  say(options.note, "form quality " + quality.description);
+  summary["form_quality"] = form_quality_json(quality);
+  form.summary_json = summary.dump();
+  return form;
+}
+
 // Both methods: the distances (given, or the geodesics computed here), classical MDS unless SMACOF starts
-// from the mesh, then (with_smacof) SMACOF.
+// from the mesh, then (with_smacof) SMACOF. Landmark rows instead of the matrix when the solver option says
+// so and no matrix is given.
 CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
                        const GivenDistances& given_distances, bool with_smacof) {
   const DistanceMatrix* given = given_distances.D;
+  if (!given && mds_uses_landmarks(options, mesh.num_vertices()))
+    return landmark_mds_form(mesh, options, with_smacof);
   CanonicalForm form;
   form.precompute_seconds = given_distances.seconds;
   form.geodesics_fallback = given ? given_distances.fallback : "";
@@ -83,15 +156,8 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
                   " rows for a mesh of ", mesh.num_vertices(), " vertices");
   auto start = WallClock::now();
   nlohmann::json summary = nlohmann::json::object();
-  if (!form.geodesics_fallback.empty()) summary["geodesics_fallback"] = form.geodesics_fallback;
-  if (form.geodesics_fallback.empty() && (options.geodesics.method == GeodesicMethod::Heat ||
-                                          options.geodesics.method == GeodesicMethod::HeatCgal)) {
-    const std::string warning = heat_method_warning(mesh);
-    if (!warning.empty()) {
-      summary["warning"] = warning;
-      say(options.note, "warning: " + warning);
-    }
-  }
+  note_geodesics(mesh, options, form, summary);
+  summary["mds_solver"] = {{"solver", "full"}, {"distance_entries", given->rows() * given->cols()}};
   const Edges E = constraint_edges(mesh, options.knn);
   Points X0;
   if (!with_smacof || options.smacof_init == SmacofInit::ClassicalMds) {

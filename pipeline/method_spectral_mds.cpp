@@ -51,7 +51,7 @@ CanonicalFormMethod spectral_mds_method() {
   m.compute = spectral_mds_compute;
   // Reads geodesics (its rows' solver), not the other spectral methods' options.
   m.options_not_read = {"coulomb", "cmds", "smacof", "smacof_init", "smacof_weights", "distances_file",
-                        "lbo", "diffusion"};
+                        "lbo", "diffusion", "mds_solver"};
   return m;
 }
 

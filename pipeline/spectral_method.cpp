@@ -68,7 +68,7 @@ CanonicalFormMethod spectral_method_base(const std::string& name) {
   m.repair_purpose = name + " (its Laplace-Beltrami eigenpairs need one manifold component)";
   m.uses_geodesic_matrix = false;
   m.options_not_read = {"coulomb", "geodesics", "cmds", "smacof", "smacof_init", "smacof_weights",
-                        "distances_file", "spectral_mds"};
+                        "distances_file", "spectral_mds", "mds_solver"};
   m.options_not_read.push_back(name == "lbo" ? "diffusion" : "lbo");  // the other one's
   return m;
 }

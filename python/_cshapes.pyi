@@ -79,6 +79,7 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
             coulomb_accuracy: float = 0.01, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); cmds, smacof and spectral-mds: geodesics;
+# cmds and smacof: mds_solver, landmarks;
 # smacof: iters to weights; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
 # eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources) and refuses another method's.
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
@@ -94,6 +95,7 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
                    coulomb_accuracy: float = 0.01, knn: int = 8,
                    geodesics: _Geodesics = "fmm",
+                   mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300,
                    iters: int = 300, tolerance: float = 1e-05,
                    accelerate: Literal["none", "rre", "mpe"] = "none", window: int = 6,
                    init: Literal["cmds", "mesh"] = "cmds", weights: Literal["uniform", "area"] = "uniform",

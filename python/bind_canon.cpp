@@ -42,7 +42,7 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
                                                   "coulomb_window",   "coulomb_tolerance",
                                                   "momentum",         "coulomb_summation",
                                                   "coulomb_accuracy", "knn"};
-const std::vector<std::string> kMdsOptions = {"geodesics"};
+const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
 // lbo and diffusion: their Laplace–Beltrami eigenpairs; diffusion: its time.
@@ -136,7 +136,8 @@ void refuse_other_methods(const Kwargs& k, const std::string& method) {
   };
   if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
   const bool reads_geodesics = canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds";
-  if (!reads_geodesics) refuse(kMdsOptions, "'cmds', 'smacof' or 'spectral-mds'");
+  if (!reads_geodesics) refuse({"geodesics"}, "'cmds', 'smacof' or 'spectral-mds'");
+  if (!canonical_form_method(method).uses_geodesic_matrix) refuse({"mds_solver", "landmarks"}, "'cmds' or 'smacof'");
   if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
   if (!is_spectral(method)) refuse(kSpectralOptions, "'lbo', 'diffusion' or 'spectral-mds'");
   if (method == "spectral-mds" && k.given("eigenpairs")) fail("eigenpairs: spectral-mds takes basis");
@@ -172,6 +173,10 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   if (method == "coulomb") read_coulomb_options(k, o);
   if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
+  if (canonical_form_method(method).uses_geodesic_matrix) {
+    o.mds_solver.solver = parse_mds_solver(k.text("mds_solver", to_string(o.mds_solver.solver)));
+    o.mds_solver.landmarks = k.integer("landmarks", o.mds_solver.landmarks, 4, 1000000);
+  }
   if (method == "smacof") read_smacof_options(k, o);
   if (is_spectral(method)) read_spectral_options(k, o);
   o.strict = k.flag("strict", false);
@@ -294,7 +299,8 @@ void bind_canon(py::module_& m) {
       R"(A canonical form by any method, as `cshapes canon --method M` computes it.
 
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph). smacof also takes
+distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph; mds_solver ['auto']
+| 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area'. lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
 map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap

@@ -65,11 +65,12 @@ TEST(CanonicalFormsOfDegenerateInput, CoincidentPointsAreRefusedByName) {
 
 TEST(CanonicalFormsOfDegenerateInput, MdsMemoryIsCheckedBeforeAnyWork) {
   // Issue 22: `canon --method cmds` on 100,000 points spent 37 s before refusing. 2^21 points (a 17.6 TB
-  // matrix) are refused at once, naming the input.
+  // matrix) are refused at once, naming the input. (The full solver: auto would take landmark rows here.)
   Mesh cloud;
   cloud.V = Points::Random(1 << 21, 3);
   CanonicalFormOptions o;
   o.method = "cmds";
+  o.mds_solver.solver = MdsSolver::Full;
   o.name = "huge.xyz";
   try {
     canonical_form(cloud, o);

@@ -93,3 +93,26 @@ TEST(LandmarkGeodesics, RefusesBadInput) {
 
 }  // namespace
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// A point set's graph (here a mesh's edges, given as a graph): the same landmarks and rows as the mesh's
+// graph geodesics.
+TEST(LandmarkGeodesics, GraphSolverOnGivenEdges) {
+  const Mesh m = icosphere(2);
+  LandmarkGeodesicsOptions options;
+  options.count = 9;
+  options.geodesics.method = GeodesicMethod::Graph;
+  const LandmarkGeodesics on_mesh = landmark_geodesics(m, options);
+  const SingleSourceGeodesics graph(m.V, mesh_edges(m.F));
+  const LandmarkGeodesics on_graph = landmark_geodesics(graph, 9);
+  EXPECT_EQ(on_graph.landmarks, on_mesh.landmarks);
+  EXPECT_EQ((on_graph.rows - on_mesh.rows).cwiseAbs().maxCoeff(), 0.0f);
+  Edges two_pieces(1, 2);
+  two_pieces << 0, 1;
+  EXPECT_THROW(SingleSourceGeodesics(m.V.topRows(3), two_pieces), Error);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -103,6 +103,8 @@ TEST(OptionsKey, EveryMemberIsListed) {
   expect_every_member_listed<CoulombOptions>("CoulombOptions");
   expect_every_member_listed<SmacofOptions>("SmacofOptions");
   expect_every_member_listed<ClassicalMdsOptions>("ClassicalMdsOptions");
+  expect_every_member_listed<MdsSolverOptions>("MdsSolverOptions");
+  expect_every_member_listed<LandmarkGeodesicsOptions>("LandmarkGeodesicsOptions");
   expect_every_member_listed<GeodesicOptions>("GeodesicOptions");
   expect_every_member_listed<KnnGraphOptions>("KnnGraphOptions");
   expect_every_member_listed<TopologicalNoiseOptions>("TopologicalNoiseOptions");

@@ -1,0 +1,54 @@
+// Coulomb canonical forms of fine meshes through a coarse one, so that the form is a property of the surface
+// and not of its triangulation (issue 24).
+//
+// Why the single-level iteration depends on the resolution (measured, docs/results.md "Coulomb across
+// resolutions"): each outer iteration moves a typical vertex by a fixed share of a mean edge h (the step
+// rule), and k = 10 Jacobi sweeps of the averaged projection pull it back. The sweeps act like a diffusion of
+// k steps over the edge graph: a deformation of wavelength λ is reduced by about k·(h/λ)² per iteration, so
+// the shape-wide inflation (λ ≈ the shape's size R) is held by a force ∝ k h²/R² while the Coulomb step
+// pushes by ∝ h. The fixed point's inflation grows like R/(k h) ∝ √n: michael0 remeshed to 3,500 / 10,000 /
+// 25,000 / 50,000 vertices ends with median edge ratio 1.17 / 1.31 / … (docs/results.md). Scaling the step by
+// h/R instead would need O(n) iterations, and scaling k by (R/h)² O(n) sweeps per iteration: the cost would
+// grow like n².
+//
+// The method here: remesh the surface to coarse_vertices (core/remesh.h; the resolution the defaults were
+// chosen at), run coulomb_canonical_form there, carry the coarse form to the fine vertices (prolongation:
+// each fine vertex in the affine frame of its closest coarse triangle, [b−a, c−a, n], mapped into that
+// triangle's frame in the coarse form), tear the fine edges the coarse tears opened (as many as keep the
+// cut's length: the coarse tear count × h_coarse / h_fine, largest deviation first, the connected guard),
+// then refine_iterations projections (each projection.steps Jacobi sweeps, metric_projection.h) on the fine
+// edges, which restore the fine edge lengths locally while the shape-wide form stays the coarse one's (no
+// Coulomb steps at the fine level: they would start its own, larger, inflation).
+//
+// Meshes at or below above_vertices, point clouds and meshes the remesher refuses (non-manifold) use the
+// single-level iteration unchanged (and say why in the note). Cost: one remesh (O(n log n)), the coarse
+// iteration, a closest-triangle search (kd-tree, O(n log n)), refine_iterations · k sweeps (O(|E|) each) and
+// one fast Coulomb energy for the report.
+#pragma once
+
+#include <string>
+
+#include "canon/coulomb.h"
+#include "core/mesh.h"
+
+namespace cshapes {
+
+struct CoulombMultiresolutionResult {
+  CoulombCanonResult result;  // on the fine mesh: X, torn edges (fine), the coarse iteration's history
+  bool used = false;          // false: the single-level iteration ran (see note)
+  Index coarse_vertices = 0;
+  int coarse_iterations = 0;
+  Index coarse_torn_edges = 0;
+  double remesh_seconds = 0, coarse_seconds = 0, prolong_seconds = 0, refine_seconds = 0;
+  std::string note;  // one line: what was done, or why not
+};
+
+// The Coulomb form of `mesh` (its edges and rest lengths from the mesh) by options.multiresolution's rule.
+CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const CoulombCanonOptions& options);
+
+// The prolongation alone: fine points P carried from the coarse surface (Vc, Fc) to its form Yc (both
+// |Vc|×3): each point in the frame [b−a, c−a, n] of its closest coarse triangle, n the unit normal, mapped to
+// [b'−a', c'−a', n'·√(area'/area)]. A point on the coarse surface lands on the coarse form's triangle.
+Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const Points& Yc);
+
+}  // namespace cshapes

@@ -1,0 +1,96 @@
+// MDS canonical forms from L landmark rows of the distance matrix (L × n memory instead of n × n): landmark
+// classical MDS (de Silva & Tenenbaum, "Sparse multidimensional scaling using landmark points", 2004; one of
+// the Nyström methods Platt compares in [Pla05]) and SMACOF on the landmarks with the other points
+// interpolated. The rows come from core/landmark_geodesics.h (farthest-point landmarks).
+//
+// Landmark classical MDS. Δ the L×L squared distances between landmarks (the rows' landmark columns,
+// symmetrised), δ_μ its column means, B_L = −½ J Δ J its double centring (canon/classical_mds.h with n = L):
+//   landmarks:   Y = [v₁ v₂ v₃] diag(√λ₁, √λ₂, √λ₃)      (the classical MDS of the landmarks)
+//   every point: x_a = −½ L^# (δ_a − δ_μ),   L^# = diag(1/√λ) [v₁ v₂ v₃]ᵀ   (distance-based triangulation)
+// with δ_a the squared distances from point a to the landmarks. A landmark is placed at its own Y row, and
+// with every vertex a landmark (L = n) the result is classical MDS of the full matrix (up to the signs of
+// the axes); the form is then centred at the mean of all points. Axes with λ ≤ 0 are zero.
+//
+// Landmark SMACOF. SMACOF (canon/smacof.h) of the L×L block from the landmarks' classical MDS, then each
+// other point placed against the fixed landmarks: started beside its nearest landmark y_n, at distance δ_an,
+// in the direction of the least-squares triangulation in the SMACOF frame (‖x − y_k‖² ≈ δ²_ak linearised by
+// subtracting the landmarks' mean: 2 (y_k − ȳ)·x ≈ ‖y_k‖² − δ²_ak − mean), then moved by
+// `interpolation_iterations` Guttman transforms of its own stress Σ_k w_k (δ_ak − ‖x − y_k‖)² with the
+// landmarks held (x⁺ = Σ_k w_k [y_k + δ_ak (x − y_k)/‖x − y_k‖] / Σ_k w_k, which never increases it).
+// Open defect (measured on tosca5k michael0, 5,000 vertices): L = 100 and 1,000 pass the form-quality check,
+// L = 300 leaves 20 vertices on overstretched edges (stretch up to 33; 7 vertices, stretch 18, when started
+// at the triangulation itself, 0 but a mean stretch of 1.18 with weights 1/δ²): a point near a fold can
+// settle in the basin across it. Landmark classical MDS has no such failure. Landmark weights w_k: uniform,
+// or (SmacofOptions::vertex_weights given, n values) the sum of the weights of the vertices nearest to
+// landmark k (its geodesic Voronoi cell), so area weights stay area weights.
+//
+// Cost: O(L·n) memory for the rows (read only), O(L²) for the block; O(L³) for the dense eigensolver of the
+// block; O(L·n) for the triangulation, O(L·n·iterations) for the interpolation (OpenMP over points); SMACOF
+// on the block O(L²) per pass. Rows must be finite and ≥ 0 (throws naming the entry), L ≥ 4.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "canon/smacof.h"
+#include "core/option_fields.h"
+#include "core/types.h"
+
+namespace cshapes {
+
+// Which solver an MDS canonical form uses: the full n×n matrix, L landmark rows, or the rule of auto
+// (mds_uses_landmarks).
+enum class MdsSolver { Full, Landmarks, Auto };
+// Parses "full", "landmarks", "auto"; throws listing them otherwise.
+MdsSolver parse_mds_solver(const std::string& name);
+std::string to_string(MdsSolver solver);
+const std::vector<std::string>& mds_solver_names();
+
+struct MdsSolverOptions {
+  MdsSolver solver = MdsSolver::Auto;  // auto: full matrix up to auto_full_max_vertices, landmarks beyond
+  Index landmarks = 300;               // L, landmarks by farthest-point sampling (clamped to n)
+  // auto: landmarks above this many vertices (the full path then needs ≥ 0.58 GB and minutes: README), or
+  // whenever n² floats would take more than half the memory this process may still use.
+  Index auto_full_max_vertices = 12000;
+  int interpolation_iterations = 30;  // smacof on landmarks: Guttman steps of each other point
+
+  // Every field by name, for cache keys (core/option_fields.h). Self: MdsSolverOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("solver", o.solver);
+    visit("landmarks", o.landmarks);
+    visit("auto_full_max_vertices", o.auto_full_max_vertices);
+    visit("interpolation_iterations", o.interpolation_iterations);
+  }
+};
+
+// Whether `options` embed n points from landmark rows: Landmarks always, Full never, Auto when n >
+// auto_full_max_vertices or when n² floats exceed half of `available_bytes` (< 0: unknown, not a reason).
+bool mds_uses_landmarks(const MdsSolverOptions& options, Index n, double available_bytes);
+
+struct LandmarkMdsResult {
+  Points X;                     // n×3, centred at the mean of the points, units of the distances
+  Eigen::Vector3d eigenvalues;  // λ₁ ≥ λ₂ ≥ λ₃ of the landmarks' B_L
+  double explained_energy = 0;  // (λ₁² + λ₂² + λ₃²) / ‖B_L‖²_F
+  // Landmark SMACOF only (NaN otherwise): the landmarks' normalised stress after SMACOF, and the mean over
+  // the other points of their stress against the landmarks, Σ_k w_k (δ_ak − d_ak)² / Σ_k w_k δ_ak², at the
+  // start (beside the nearest landmark) and after the interpolation steps.
+  double landmark_normalized_stress = std::numeric_limits<double>::quiet_NaN();
+  double start_point_stress = std::numeric_limits<double>::quiet_NaN();
+  double interpolated_point_stress = std::numeric_limits<double>::quiet_NaN();
+  SmacofResult landmark_smacof;  // SMACOF of the landmark block (empty for classical)
+  double seconds = 0;
+};
+
+// Landmark classical MDS. rows: L × n distances from landmarks[k] to every point (landmarks[k] < n,
+// distinct).
+LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks);
+
+// Landmark SMACOF: `smacof` runs on the landmark block (its vertex_weights: empty, or n per-point weights
+// summed over each landmark's Voronoi cell) from `start` (L×3, e.g. the mesh's landmark vertices; empty:
+// the landmarks' classical MDS); interpolation_iterations as above.
+LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
+                                  const SmacofOptions& smacof, int interpolation_iterations = 30,
+                                  const Points& start = {});
+
+}  // namespace cshapes

@@ -1,0 +1,84 @@
+#include "canon/coulomb_multiresolution.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/error.h"
+#include "core/rigid_transform.h"
+#include "core/subdivide.h"
+#include "core/synthetic.h"
+
+namespace cshapes {
+namespace {
+
+// Points on and near a coarse surface, off it by up to a fifth of an edge.
+Points points_near(const Mesh& coarse, Index count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  Points P = sample_surface(coarse, count, rng);
+  std::normal_distribution<double> normal(0.0, 0.05);
+  for (Index i = 0; i < P.rows(); ++i) P.row(i) += Eigen::RowVector3d(normal(rng), normal(rng), normal(rng));
+  return P;
+}
+
+// Known answers: the identity form carries every point to itself, a rigid motion of the form moves them by
+// the same motion, a uniform scaling scales them (normal offsets too: √(area ratio) = the scale).
+TEST(CoulombMultiresolution, ProlongationOfAffineFormsIsExact) {
+  const Mesh coarse = icosphere(2, 3.0);
+  const Points P = points_near(coarse, 500, 4);
+  const double scale = 3.0;
+  EXPECT_LT((prolong_to_fine(P, coarse.V, coarse.F, coarse.V) - P).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  const RigidTransform motion = random_rigid_transform(7, 2.0);
+  const Points moved = prolong_to_fine(P, coarse.V, coarse.F, motion.apply(coarse.V));
+  EXPECT_LT((moved - motion.apply(P)).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  const Points scaled = prolong_to_fine(P, coarse.V, coarse.F, 2.5 * coarse.V);
+  EXPECT_LT((scaled - 2.5 * P).cwiseAbs().maxCoeff(), 1e-9 * scale);
+}
+
+// At or below above_vertices nothing changes: the single-level iteration's form, bit for bit.
+TEST(CoulombMultiresolution, SmallMeshesRunTheSingleLevelIteration) {
+  const Mesh m = icosphere(2);
+  CoulombCanonOptions options;
+  options.max_iterations = 30;
+  const CoulombMultiresolutionResult mr = coulomb_multiresolution(m, options);
+  EXPECT_FALSE(mr.used);
+  const CoulombCanonResult direct = coulomb_canonical_form(m.V, mesh_edges(m.F), options);
+  EXPECT_EQ((mr.result.X - direct.X).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// A fine mesh through a coarse version of its surface: the form has every fine vertex, passes the quality
+// check, and the coarse tears become more fine ones (scaled by the edge-length ratio).
+TEST(CoulombMultiresolution, FineMeshThroughCoarse) {
+  CapsuleOptions co;
+  co.segments = 24;
+  co.bend = 2.0;
+  const Mesh fine = split_longest_edges(capsule(co), 3000);
+  CoulombCanonOptions options;
+  options.multiresolution.above_vertices = 1500;
+  options.multiresolution.coarse_vertices = 800;
+  options.max_iterations = 300;
+  options.tear_after = 100;
+  const CoulombMultiresolutionResult mr = coulomb_multiresolution(fine, options);
+  ASSERT_TRUE(mr.used) << mr.note;
+  EXPECT_NEAR(static_cast<double>(mr.coarse_vertices), 800, 16);
+  ASSERT_EQ(mr.result.X.rows(), fine.num_vertices());
+  EXPECT_TRUE(mr.result.X.allFinite());
+  EXPECT_TRUE(mr.result.quality.ok) << mr.result.quality.description;
+  EXPECT_GT(mr.coarse_torn_edges, 0);
+  const double ratio = static_cast<double>(mr.result.torn_edges.rows()) / mr.coarse_torn_edges;
+  EXPECT_GT(ratio, 1.2);  // finer edges: more of them along the same cuts
+  EXPECT_EQ(mr.result.torn_vertices.size(), fine.num_vertices());
+  EXPECT_FALSE(mr.note.empty());
+}
+
+TEST(CoulombMultiresolution, RefusesBadOptions) {
+  const Mesh m = icosphere(3);
+  CoulombCanonOptions options;
+  options.multiresolution.above_vertices = 100;
+  options.multiresolution.coarse_vertices = m.num_vertices();
+  EXPECT_THROW(coulomb_multiresolution(m, options), Error);
+  EXPECT_THROW(prolong_to_fine(m.V, m.V, Faces(0, 3), m.V), Error);
+}
+
+}  // namespace
+}  // namespace cshapes

@@ -1,0 +1,90 @@
+// cmds and smacof by landmark rows through canonical_form (pipeline/method_mds.cpp): the solver option, the
+// auto rule, the memory the distances take (L × n entries, from the form's summary), and the cache key.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/rigid_transform.h"
+#include "core/synthetic.h"
+#include "pipeline/canonical_form_methods.h"
+#include "pipeline/canonical_forms.h"
+
+namespace cshapes {
+namespace {
+
+double bbox_diagonal(const Points& X) {
+  return (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+}
+
+CanonicalFormOptions mds_options(const std::string& method, MdsSolver solver, Index landmarks = 120) {
+  CanonicalFormOptions o;
+  o.method = method;
+  o.geodesics.method = GeodesicMethod::Heat;
+  o.mds_solver.solver = solver;
+  o.mds_solver.landmarks = landmarks;
+  return o;
+}
+
+nlohmann::json summary_of(const CanonicalForm& form) {
+  return nlohmann::json::parse(form.summary_json);
+}
+
+// Landmark cmds and smacof through canonical_form: distances of L × n entries (never n × n), forms within 2%
+// of the bounding-box diagonal of the full methods' after the best rigid motion or reflection.
+TEST(LandmarkForms, LandmarksTakeLTimesNAndAgreeWithTheFullForms) {
+  const Mesh m = torus(64, 24, 2.0, 0.7);  // 1,536 vertices
+  const Index n = m.num_vertices();
+  for (const char* method : {"cmds", "smacof"}) {
+    const CanonicalForm full = canonical_form(m, mds_options(method, MdsSolver::Full));
+    const CanonicalForm landmarks = canonical_form(m, mds_options(method, MdsSolver::Landmarks));
+    const nlohmann::json fs = summary_of(full), ls = summary_of(landmarks);
+    EXPECT_EQ(fs["mds_solver"]["solver"], "full");
+    EXPECT_EQ(fs["mds_solver"]["distance_entries"].get<Index>(), n * n);
+    EXPECT_EQ(ls["mds_solver"]["solver"], "landmarks");
+    EXPECT_EQ(ls["mds_solver"]["landmarks"].get<Index>(), 120);
+    EXPECT_EQ(ls["mds_solver"]["distance_entries"].get<Index>(), 120 * n);
+    ASSERT_EQ(landmarks.X.rows(), n);
+    EXPECT_TRUE(landmarks.X.allFinite());
+    const double error = aligned_rms(landmarks.X, full.X, true) / bbox_diagonal(full.X);
+    EXPECT_LT(error, 0.02) << method;
+    EXPECT_TRUE(ls.contains("form_quality")) << method;
+    EXPECT_EQ(ls.contains("smacof"), std::string(method) == "smacof");
+  }
+}
+
+// auto: the full matrix at this size; landmarks once the mesh is above auto_full_max_vertices.
+TEST(LandmarkForms, AutoPicksBySize) {
+  const Mesh m = torus(24, 10, 2.0, 0.7);  // 240 vertices
+  CanonicalFormOptions o = mds_options("cmds", MdsSolver::Auto, 40);
+  EXPECT_EQ(summary_of(canonical_form(m, o))["mds_solver"]["solver"], "full");
+  EXPECT_FALSE(mds_uses_landmarks(o, m.num_vertices()));
+  o.mds_solver.auto_full_max_vertices = 200;
+  EXPECT_TRUE(mds_uses_landmarks(o, m.num_vertices()));
+  EXPECT_EQ(summary_of(canonical_form(m, o))["mds_solver"]["solver"], "landmarks");
+  o.distances_file = "given.bin";  // a given matrix is the full matrix
+  EXPECT_FALSE(mds_uses_landmarks(o, m.num_vertices()));
+}
+
+// The solver options are in the MDS methods' cache keys and not in Coulomb's.
+TEST(LandmarkForms, CacheKeys) {
+  CanonicalFormOptions a = mds_options("cmds", MdsSolver::Full),
+                       b = mds_options("cmds", MdsSolver::Landmarks);
+  EXPECT_NE(canonical_form_key(a), canonical_form_key(b));
+  b.mds_solver.solver = MdsSolver::Full;
+  b.mds_solver.landmarks = 7;
+  EXPECT_NE(canonical_form_key(a), canonical_form_key(b));
+  a.method = b.method = "coulomb";
+  EXPECT_EQ(canonical_form_key(a), canonical_form_key(b));
+}
+
+// A point cloud: landmark rows of graph distances on its kNN graph.
+TEST(LandmarkForms, PointCloud) {
+  Mesh cloud;
+  cloud.V = torus(40, 16, 2.0, 0.7).V;
+  const CanonicalForm form = canonical_form(cloud, mds_options("cmds", MdsSolver::Landmarks, 30));
+  EXPECT_EQ(summary_of(form)["mds_solver"]["distance_entries"].get<Index>(), 30 * cloud.num_vertices());
+  EXPECT_TRUE(form.X.allFinite());
+}
+
+}  // namespace
+}  // namespace cshapes
