@@ -94,7 +94,10 @@ DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOpt
 
 LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                                     std::string* fallback) {
-  const Index count = options.mds_solver.landmarks;
+  const Index count = std::min<Index>(options.mds_solver.landmarks, mesh.num_vertices());
+  // The L × n float rows, checked before any work as the full matrix is.
+  require_memory(4.0 * static_cast<double>(count) * static_cast<double>(mesh.num_vertices()),
+                 "the " + std::to_string(count) + " landmark geodesic rows of " + options.name);
   if (mesh.is_point_cloud()) {
     const SingleSourceGeodesics graph(mesh.V, knn_graph(mesh.V, options.knn));
     return landmark_geodesics(graph, count, 0, options.progress);
