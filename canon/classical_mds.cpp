@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/serial_eigen_products.h"
 #include "core/timing.h"
 
 namespace cshapes {
@@ -168,36 +169,6 @@ class DoubleCentredOp {
   // Per tile, its rows' and its columns' sums of one product (kTile each): 2n²/kTile doubles in all.
   mutable std::vector<double> tile_rows_, tile_columns_;
   mutable int products_ = 0;
-};
-
-// Eigen's own parallel products (Spectra's restarts multiply V, n×m, by m×m matrices) split the rows among
-// the threads, and a row's last bits depend on which micro-kernel of its thread's block computes it: while
-// any classical MDS runs, Eigen multiplies on one thread, so that the result is bit-identical for any thread
-// count. The expensive products (perform_op) use OpenMP directly and keep every thread. Nothing else in
-// cshapes sets Eigen's thread count: the last one out gives it back to OpenMP (0: follow
-// omp_get_max_threads).
-class SerialEigenProducts {
- public:
-  SerialEigenProducts() {
-    std::lock_guard<std::mutex> lock(mutex());
-    if (users()++ == 0) Eigen::setNbThreads(1);
-  }
-  ~SerialEigenProducts() {
-    std::lock_guard<std::mutex> lock(mutex());
-    if (--users() == 0) Eigen::setNbThreads(0);
-  }
-  SerialEigenProducts(const SerialEigenProducts&) = delete;
-  SerialEigenProducts& operator=(const SerialEigenProducts&) = delete;
-
- private:
-  static std::mutex& mutex() {
-    static std::mutex m;
-    return m;
-  }
-  static int& users() {
-    static int count = 0;
-    return count;
-  }
 };
 
 template <typename Scalar>

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/serial_eigen_products.h"
 #include "core/timing.h"
 
 namespace cshapes {
@@ -116,6 +117,7 @@ bool mds_uses_landmarks(const MdsSolverOptions& options, Index n, double availab
 }
 
 LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) {
+  const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   const auto start = WallClock::now();
   check_rows(rows, landmarks);
   const Index n = rows.cols();
@@ -140,6 +142,7 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
                                   const SmacofOptions& smacof_options, int interpolation_iterations,
                                   const Points& start_configuration) {
+  const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   const auto start = WallClock::now();
   check_rows(rows, landmarks);
   CSHAPES_REQUIRE(interpolation_iterations >= 0,

@@ -4,11 +4,13 @@
 #include <Eigen/QR>
 
 #include "core/error.h"
+#include "core/serial_eigen_products.h"
 
 namespace cshapes {
 
 SpectralMdsResult spectral_mds(const LaplaceBeltramiEigen& eigen, const std::vector<int>& sources,
                                const Eigen::MatrixXf& rows) {
+  const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   const Index n = eigen.vectors.rows(), k = eigen.vectors.cols(), L = static_cast<Index>(sources.size());
   CSHAPES_REQUIRE(k >= 4, "spectral MDS: needs at least 4 eigenpairs, got ", k);
   CSHAPES_REQUIRE(rows.rows() == L && rows.cols() == n, "spectral MDS: ", rows.rows(), " × ", rows.cols(),

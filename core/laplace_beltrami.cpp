@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/serial_eigen_products.h"
 #include "core/intrinsic_delaunay.h"
 #include "core/sparse_cholesky.h"
 #include "core/timing.h"
@@ -176,6 +177,7 @@ LaplacianMatrices laplace_beltrami_matrices(const Mesh& mesh, const LaplaceBeltr
 
 LaplaceBeltramiEigen laplace_beltrami_eigen_dense(const LaplacianMatrices& matrices,
                                                   const LaplaceBeltramiOptions& options) {
+  const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   auto start = WallClock::now();
   LaplacianMatrices A = matrices;
   guard_massless(A);
@@ -212,6 +214,7 @@ LaplaceBeltramiEigen laplace_beltrami_eigen(const LaplacianMatrices& matrices,
     e.near_multiple = near_multiple_groups(e.values, options.near_multiple_gap);
     return e;
   }
+  const SerialEigenProducts serial_eigen_products;  // Spectra's restarts: bit-identical for any thread count
   auto start = WallClock::now();
   LaplacianMatrices A = matrices;
   guard_massless(A);

@@ -92,12 +92,22 @@ DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOpt
   return D;
 }
 
+namespace {
+
+// The L × n float rows of landmark MDS, checked before any work as the full matrix is.
+void require_landmark_memory(const Mesh& mesh, const CanonicalFormOptions& options) {
+  const Index n = mesh.num_vertices(), count = std::min<Index>(options.mds_solver.landmarks, n);
+  require_memory(4.0 * static_cast<double>(count) * static_cast<double>(n),
+                 detail::concat(options.name, ": ", options.method, "'s ", count, " landmark geodesic rows on ", n,
+                                " vertices"));
+}
+
+}  // namespace
+
 LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                                     std::string* fallback) {
   const Index count = std::min<Index>(options.mds_solver.landmarks, mesh.num_vertices());
-  // The L × n float rows, checked before any work as the full matrix is.
-  require_memory(4.0 * static_cast<double>(count) * static_cast<double>(mesh.num_vertices()),
-                 "the " + std::to_string(count) + " landmark geodesic rows of " + options.name);
+  require_landmark_memory(mesh, options);
   if (mesh.is_point_cloud()) {
     const SingleSourceGeodesics graph(mesh.V, knn_graph(mesh.V, options.knn));
     return landmark_geodesics(graph, count, 0, options.progress);
@@ -209,10 +219,15 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
       " points coincide (a degenerate point set): nothing to canonize");
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
-  if (method.uses_geodesic_matrix && !D && !mds_uses_landmarks(options, mesh.num_vertices()))
-    require_memory(distance_matrix_bytes(mesh.num_vertices()),
-                   detail::concat(options.name, ": ", options.method, "'s all-pairs distances on ",
-                                  mesh.num_vertices(), " vertices"));
+  // So are landmark MDS's L rows.
+  if (method.uses_geodesic_matrix && !D) {
+    if (!mds_uses_landmarks(options, mesh.num_vertices()))
+      require_memory(distance_matrix_bytes(mesh.num_vertices()),
+                     detail::concat(options.name, ": ", options.method, "'s all-pairs distances on ",
+                                    mesh.num_vertices(), " vertices"));
+    else
+      require_landmark_memory(mesh, options);
+  }
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {

@@ -150,7 +150,13 @@ TEST(CliRefusals, CountsAndSizesBeforeAnyWork) {
       kData, "remesh", {"--vertices 10000000000", "GB", "available"});
   expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o " + q(in.dir + "/d.bin")), kData, "geodesics",
                  {"501264", "GB", "available"});
-  expect_refusal(test::run_cli("canon " + q(in.big) + " -o " + q(in.dir + "/c.ply") + " --method cmds"),
+  // The full matrix asked for by name is refused; landmark rows too many for memory are refused too (auto
+  // takes 300 landmark rows here and succeeds, in about a minute: not run).
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o " + q(in.dir + "/c.ply") +
+                               " --method cmds --mds-solver full"),
+                 kData, "canon", {"501264", "GB"});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o " + q(in.dir + "/c.ply") +
+                               " --method smacof --mds-solver landmarks --landmarks 200000"),
                  kData, "canon", {"501264", "GB"});
   for (const std::string option : {"--projection-steps -1", "--coulomb-max-iterations -1", "--tear-times -2",
                                    "--coulomb-window 0", "--knn 0", "--step-factor 0", "--momentum 1"})
@@ -166,7 +172,7 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
   expect_refusal(test::run_cli(canon + " --method coulomb --accelerate rre"), kUsage, "canon",
                  {"--accelerate applies to --method smacof only"});
   expect_refusal(test::run_cli(canon + " --method coulomb --distances d.bin"), kUsage, "canon",
-                 {"--distances applies to --method cmds or smacof only"});
+                 {"--distances applies to --method cmds, smacof or spectral-mds only"});
   expect_refusal(test::run_cli(canon + " --method smacof --scheme paper"), kUsage, "canon",
                  {"--scheme applies to --method coulomb only"});
   expect_refusal(test::run_cli(canon + " --method smacof --tear-fraction 0.1"), kUsage, "canon",

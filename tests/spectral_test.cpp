@@ -3,6 +3,7 @@
 // isometry invariance up to signs, scale equivariance, diffusion distances against a brute-force sum over
 // all eigenpairs, and sign flips undone by the shape distance distmat uses.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -225,6 +226,29 @@ TEST(SpectralMds, IsClassicalMdsFromAFewGeodesicRows) {
   // Fewer sources than eigenfunctions cannot fit the basis.
   o.spectral_mds.sources = 20;
   EXPECT_THROW(canonical_form(biped, o), Error);
+}
+
+TEST(SpectralForms, BitIdenticalForAnyThreadCount) {
+  // The paper experiment's CLI and C++ runs differed in spectral-mds's last bits: Eigen's parallel products
+  // block by the thread count. A 900-vertex biped takes the shift-invert path (above kDenseEigenVertices).
+  ArticulatedOptions ao;
+  ao.poses = 1;
+  ao.seed = 5;
+  ao.rest.target_vertices = 900;
+  const Mesh biped = generate_articulated("biped", ao).poses[0];
+  ASSERT_GT(biped.num_vertices(), kDenseEigenVertices);
+  const int before = omp_get_max_threads();
+  for (const char* method : {"lbo", "diffusion", "spectral-mds"}) {
+    CanonicalFormOptions o;
+    o.method = method;
+    std::vector<Points> runs;
+    for (int threads : {1, 2, 3}) {
+      omp_set_num_threads(threads);
+      runs.push_back(canonical_form(biped, o).X);
+    }
+    omp_set_num_threads(before);
+    for (size_t k = 1; k < runs.size(); ++k) EXPECT_EQ(runs[k], runs[0]) << method << ", threads " << k + 1;
+  }
 }
 
 TEST(SpectralForms, FormsScaleWithTheShapeAndDiffusionTimeIsScaleFree) {
