@@ -2,7 +2,7 @@
 # A collection of mixed resolution from a folder of meshes: every mesh remeshed (`cshapes remesh`) to a
 # random vertex count in [MIN, MAX], drawn from a seeded generator, so the same seed gives the same sizes.
 # The sizes chosen are listed in OUT/sizes.csv. Used by the must-show run of issue 24:
-#   scripts/make_mixed_resolution.sh ../shared/data/tosca5k /work/runs/mixed 1000 30000 24
+#   scripts/make_mixed_resolution.sh ../shared/data/tosca5k results/mixed 1000 30000 24
 # Usage: make_mixed_resolution.sh DATA OUT [MIN [MAX [SEED]]]   (CSHAPES: the binary, default build/cshapes)
 set -eu
 data=$1 out=$2 min=${3:-1000} max=${4:-30000} seed=${5:-24}
