@@ -86,6 +86,19 @@ def main(out):
             reason = j.get("open3d_skipped", "not measured")
             print(f"{'ICP iteration, cat0 vs cat1':44s} Open3D skipped: {reason}")
             missing.append(f"icp: {reason}")
+    for n in (5000, 22738, 50000):
+        for method in ("coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"):
+            j = load(out, f"form-{method}-{n}")
+            if not j:
+                continue
+            ours = f"{j['seconds']:.3g} s, {j['peak_rss_mb']:.0f} MB"
+            row = f"{method} form, {j['vertices']:,} vertices"
+            if "speedup_vs_reference" in j:
+                ref = j["reference"]
+                line(row, ours, f"full cMDS {ref['seconds']:.3g} s, {ref['peak_rss_mb']:.0f} MB",
+                     j["speedup_vs_reference"])
+            else:
+                print(f"{row:44s} {ours:>26s}   (reference: {j['reference'].get('skipped', 'not run')})")
     for m in missing:
         print(f"benchmark_ratios: an anchor did not run: {m} (scripts/install-deps.sh --with-anchors)",
               file=sys.stderr)

@@ -13,12 +13,13 @@
 #include "core/synthetic.h"
 #include "experiments/bench_coulomb.h"
 #include "experiments/bench_coulomb_iteration.h"
+#include "experiments/bench_form.h"
 #include "experiments/bench_geodesics.h"
 #include "experiments/bench_icp.h"
 #include "experiments/bench_smacof.h"
-#include "experiments/bench_spectral.h"
 #include "experiments/bench_support.h"
 #include "experiments/figures.h"
+#include "pipeline/canonical_form_methods.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -374,24 +375,42 @@ TEST(BenchSupport, SharedToscaShapeFromTheDataFolder) {
   EXPECT_EQ(shared_tosca5k_shape("cat1"), "");
 }
 
-TEST(SpectralBench, ReportsOneFormOfEachMethod) {
-  SpectralBenchOptions o;
-  o.n = 600;  // above the dense solver's limit: shift-invert Lanczos
+TEST(FormBench, ReportsOneFormOfEachMethodAgainstFullClassicalMds) {
+  FormBenchOptions o;
+  o.n = 600;  // above the dense eigensolver's limit: shift-invert Lanczos
   o.repeats = 1;
-  for (const char* method : {"lbo", "diffusion", "spectral-mds"}) {
-    o.method = method;
-    const SpectralBenchResult r = bench_spectral(o);
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    o.method = method.name;
+    const FormBenchResult r = bench_form(o);
     EXPECT_NEAR(static_cast<double>(r.vertices), 600, 30);
-    EXPECT_GT(r.seconds, 0);
-    EXPECT_GT(r.eigen_seconds, 0);
-    EXPECT_LE(r.eigen_seconds, r.seconds);
-    EXPECT_GT(r.operator_products, 0);
-    EXPECT_NE(r.solver.find("shift-invert"), std::string::npos) << r.solver;
+    EXPECT_GT(r.seconds, 0) << method.name;
+    EXPECT_GE(r.precompute_seconds, 0) << method.name;
+    EXPECT_LE(r.precompute_seconds, r.seconds) << method.name;
+    EXPECT_EQ(r.quality.rfind("ok", 0), 0u) << method.name << ": " << r.quality;
     EXPECT_GE(r.peak_rss_mb, r.rss_before_mb);
-    EXPECT_EQ(to_json(r)["method"], method);
+    ASSERT_TRUE(r.reference_ran) << r.reference_skipped;
+    EXPECT_GT(r.reference_seconds, 0);
+    EXPECT_GE(r.reference_peak_rss_mb, r.peak_rss_mb);
+    const nlohmann::json j = to_json(r);
+    EXPECT_EQ(j["method"], method.name);
+    EXPECT_DOUBLE_EQ(j["speedup_vs_reference"].get<double>(), r.reference_seconds / r.seconds);
   }
+  // The spectral methods say how they solved; landmark MDS says it used landmarks.
+  o.method = "lbo";
+  EXPECT_NE(bench_form(o).details.value("solver", std::string()).find("shift-invert"), std::string::npos);
   o.method = "cmds";
-  EXPECT_THROW(bench_spectral(o), Error);
+  o.mds_solver = "landmarks";
+  o.reference = false;
+  const FormBenchResult landmarks = bench_form(o);
+  EXPECT_FALSE(landmarks.reference_ran);
+  EXPECT_NE(landmarks.reference_skipped.find("--reference none"), std::string::npos);
+  EXPECT_FALSE(to_json(landmarks).contains("speedup_vs_reference"));
+  // A solver for a method without one, and an unknown method, are refused.
+  o.method = "lbo";
+  EXPECT_THROW(bench_form(o), Error);
+  o.method = "nonexistent";
+  o.mds_solver.clear();
+  EXPECT_THROW(bench_form(o), Error);
 }
 
 }  // namespace

@@ -63,8 +63,9 @@ TEST(CliHelp, GroupsAreDescribedAndNumericOptionsShowTheirDefault) {
     for (std::string line; std::getline(lines, line);) {
       if (line.rfind("  -", 0) != 0 && line.rfind("    -", 0) != 0) continue;
       const bool numeric = line.find(" INT") != std::string::npos || line.find(" FLOAT") != std::string::npos;
-      if (numeric && line.find("REQUIRED") == std::string::npos)
+      if (numeric && line.find("REQUIRED") == std::string::npos) {
         EXPECT_NE(line.find('='), std::string::npos) << command << ": no default shown: " << line;
+      }
     }
   }
 }
