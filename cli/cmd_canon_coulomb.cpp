@@ -4,7 +4,6 @@
 #include "canon/coulomb.h"
 #include "cli/command.h"
 #include "core/error.h"
-#include "core/knn_graph.h"
 
 namespace cshapes::cli {
 namespace {
@@ -17,7 +16,6 @@ struct CoulombArgs {
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
   std::string tear_guard = to_string(CoulombCanonOptions{}.tear_guard);
   std::string summation = to_string(CoulombCanonOptions{}.energy.summation);
-  KnnGraphOptions knn;
 } args;
 
 void add_options(CLI::Option_group& g) {
@@ -80,9 +78,6 @@ void add_options(CLI::Option_group& g) {
        "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
        "whichever is smaller)")
       ->check(within(coulomb_limits::kAccuracy));
-  g.add_option("--knn", args.knn.k,
-               "point clouds (no faces): neighbours per point of the symmetric kNN graph")
-      ->check(within(kKnnLimit));
 }
 
 // The options as parsed (names checked here, so a typo fails before any work).
@@ -115,7 +110,6 @@ void validate() {
 void configure(CanonicalFormOptions& o, bool /*single_mesh*/) {
   validate();
   o.coulomb = parsed_options();
-  o.knn = args.knn;
 }
 
 const bool registered =

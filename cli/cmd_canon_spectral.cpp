@@ -1,8 +1,8 @@
 // The options of `--method lbo|diffusion|spectral-mds`: spectral canonical forms from the Laplace–Beltrami
 // eigenpairs (canon/spectral_embedding.h, canon/spectral_mds.h); pipeline/canonical_forms.h computes them. The
 // eigenpair options are in the lbo group and serve diffusion too, --laplacian and --near-multiple-gap also
-// spectral-mds (whose basis is --basis; CLI11 needs each name once). Point clouds use the kNN graph of k = 8
-// (--knn is the coulomb group's, as for cmds).
+// spectral-mds (whose basis is --basis; CLI11 needs each name once). Point clouds use the kNN graph of
+// --knn (cli/main.cpp: an option of every method).
 #include "canon/spectral_embedding.h"
 #include "cli/command.h"
 

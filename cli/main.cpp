@@ -22,6 +22,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/knn_graph.h"
 #include "core/threads.h"
 #include "core/timing.h"
 #include "eval/cache.h"
@@ -42,6 +43,8 @@ Registry& registry() {
   static Registry r;
   return r;
 }
+// The point-cloud option every method reads (add_canon_method_options).
+KnnGraphOptions g_knn;
 bool g_quiet = false;
 int g_threads = 0;
 std::string g_command = "";  // "canon", "bench coulomb": the command in messages
@@ -66,6 +69,15 @@ void add_canon_method_options(CLI::App& app) {
     if (m.add_options) m.add_options(*group);
     registry().canon_groups.emplace_back(k, group);
   }
+  // Not a method's: Coulomb's constraint edges, the MDS methods' graph geodesics and the spectral methods'
+  // graph Laplacian are all this graph on a point cloud.
+  CLI::Option_group* clouds = app.add_option_group("point-cloud options (every method)");
+  clouds
+      ->add_option("--knn", g_knn.k,
+                   "point clouds (no faces): neighbours per point of the symmetric kNN graph that stands in for "
+                   "the mesh's edges")
+      ->capture_default_str()
+      ->check(within(kKnnLimit));
 }
 
 bool canon_option_given(const std::string& name) {
@@ -116,6 +128,7 @@ std::vector<std::string> methods_option(const std::string& text) {
 }
 
 void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {
+  options.knn = g_knn;
   for (const CanonMethod& m : canon_methods())
     if (m.configure) m.configure(options, single_mesh);
 }

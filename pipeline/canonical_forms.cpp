@@ -80,7 +80,7 @@ DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOpt
   Edges E = knn_graph(mesh.V, options.knn);
   Components comp = connected_components(mesh.num_vertices(), E);
   CSHAPES_REQUIRE(comp.count == 1, "point cloud: its ", options.knn.k, "-nearest-neighbour graph has ",
-                  comp.count, " components; MDS needs one (raise k)");
+                  comp.count, " components; MDS needs one (raise --knn)");
   const Index n = mesh.num_vertices();
   require_memory(distance_matrix_bytes(n), "all-pairs graph distances on " + std::to_string(n) + " points");
   DistanceMatrix D(n, n);

@@ -81,7 +81,8 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
 # Each method reads its own keywords (coulomb: those of coulomb(); cmds, smacof and spectral-mds: geodesics;
 # cmds and smacof: mds_solver, landmarks;
 # smacof: iters to weights; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
-# eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources) and refuses another method's.
+# eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources; every method: knn, strict) and refuses
+# another method's.
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    scheme: Literal["paper", "momentum"] = "momentum",
                    step_rule: Literal["max-edge", "mean-edge", "median-edge", "fixed"] = "mean-edge",

@@ -41,7 +41,7 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
                                                   "tear_guard",       "coulomb_max_iterations",
                                                   "coulomb_window",   "coulomb_tolerance",
                                                   "momentum",         "coulomb_summation",
-                                                  "coulomb_accuracy", "knn"};
+                                                  "coulomb_accuracy"};
 const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
@@ -101,7 +101,6 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   c.momentum = k.number("momentum", c.momentum, coulomb_limits::kMomentum);
   c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
   c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy, coulomb_limits::kAccuracy);
-  o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);
   // As the CLI: an option only another setting reads is refused rather than ignored.
   if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
     fail("fixed_step applies to step_rule='fixed' only");
@@ -170,6 +169,7 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   refuse_other_methods(k, method);
   CanonicalFormOptions o;
   o.method = method;
+  o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);  // every method: a point cloud's neighbourhood graph
   if (method == "coulomb") read_coulomb_options(k, o);
   if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
@@ -305,7 +305,9 @@ iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rr
 (with rre/mpe), weights ['uniform'] | 'area'. lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
 map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap
 [0.02]; diffusion also diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the
-first eigenfunctions) takes laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. strict [False]. An option of another method is refused.
+first eigenfunctions) takes laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. Every
+method: knn [8] (point clouds: the kNN graph standing in for the edges), strict [False]. An option of another
+method is refused.
 Returns a CanonicalForm.)");
   m.def(
       "canonical_form_methods",

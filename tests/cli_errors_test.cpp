@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -283,6 +284,31 @@ TEST(CliRefusals, HelpAndChecksAgreeAndOptionsThatDoNotApplyAreRefused) {
                                " --methods cmds,smacof --scheme paper"),
                  kUsage, "experiment paper", {"--scheme applies to method coulomb only", "(cmds,smacof)"});
   EXPECT_FALSE(fs::exists(in.dir + "/p"));
+}
+
+TEST(CliPointClouds, EveryMethodReadsKnn) {
+  // --knn was an option of the coulomb group only: `--method lbo --knn 12` was refused ("applies to --method
+  // coulomb only") while lbo's own error on a disconnected graph said "raise --knn". Two clusters of 60
+  // points on two unit circles' worth of a sphere far apart: k = 8 cannot join them; every method says so
+  // and names k; no k joins them, so each method's refusal proves it read the k given.
+  const std::string dir = test::scratch_dir("cli-knn");
+  std::string xyz;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < 60; ++i) {
+      const double t = 2 * M_PI * i / 60, z = std::cos(7.0 * i);
+      xyz += std::to_string(10.0 * c + std::cos(t) * std::sqrt(1 - z * z)) + " " +
+             std::to_string(std::sin(t) * std::sqrt(1 - z * z)) + " " + std::to_string(z) + "\n";
+    }
+  test::write_text(dir + "/two.xyz", xyz);
+  for (const char* method : {"coulomb", "cmds", "lbo", "diffusion"}) {
+    const test::CliResult r = test::run_cli("canon " + q(dir + "/two.xyz") + " -o " + q(dir + "/c.ply") +
+                                            " --method " + method + " --knn 11");
+    EXPECT_EQ(r.exit_code, kData) << method << ": " << r.err;
+    EXPECT_NE(r.err.find("11"), std::string::npos) << method << ": " << r.err;
+    EXPECT_NE(r.err.find("--knn"), std::string::npos) << method << ": " << r.err;
+    EXPECT_EQ(r.err.find("applies to"), std::string::npos) << method << ": " << r.err;
+  }
+  fs::remove_all(dir);
 }
 
 TEST(CliRefusals, TheReferenceIsReadBeforeAnyWork) {
