@@ -99,6 +99,12 @@ struct CoulombMultiresolutionOptions {
   Index above_vertices = 8000;
   Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
   int refine_iterations = 40;  // projections (of projection.steps sweeps) on the fine mesh after prolongation
+  // Rounds in which fine edges still overstretched after the projections are torn and the projections
+  // repeated (canon/coulomb_multiresolution.h); 0: none. 20: every KIDS pose passes its quality check.
+  int tear_rounds = 20;
+  // The prolongation picks the closest coarse triangle facing the fine vertex's way (its normal) rather
+  // than the closest: where two parts almost touch, a vertex follows its own part.
+  bool facing_triangles = true;
 
   // Every field by name, for cache keys (core/option_fields.h). Self: CoulombMultiresolutionOptions.
   template <class Self, class Visit>
@@ -106,6 +112,8 @@ struct CoulombMultiresolutionOptions {
     visit("above_vertices", o.above_vertices);
     visit("coarse_vertices", o.coarse_vertices);
     visit("refine_iterations", o.refine_iterations);
+    visit("tear_rounds", o.tear_rounds);
+    visit("facing_triangles", o.facing_triangles);
   }
 };
 

@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <random>
 
 #include "core/error.h"
+#include "core/io.h"
 #include "core/rigid_transform.h"
 #include "core/subdivide.h"
 #include "core/synthetic.h"
+#include "tests/test_support.h"
 
 namespace cshapes {
 namespace {
@@ -69,6 +72,40 @@ TEST(CoulombMultiresolution, FineMeshThroughCoarse) {
   EXPECT_GT(ratio, 1.2);  // finer edges: more of them along the same cuts
   EXPECT_EQ(mr.result.torn_vertices.size(), fine.num_vertices());
   EXPECT_FALSE(mr.note.empty());
+}
+
+// Two parallel squares 0.1 apart, facing each other (a hand on a thigh): a point 0.06 above the lower one,
+// facing up, is nearer the upper square but belongs to the lower. With its normal it follows the lower
+// square's form; without, the upper's (moved 10 along x in the form).
+TEST(CoulombMultiresolution, ProlongationFollowsTheTriangleFacingThePointsWay) {
+  Points Vc(8, 3);
+  Vc << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,  // lower, normal +z
+      0, 0, 0.1, 1, 0, 0.1, 1, 1, 0.1, 0, 1, 0.1;  // upper, normal -z
+  Faces Fc(4, 3);
+  Fc << 0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6;
+  Points Yc = Vc;
+  Yc.bottomRows(4).col(0).array() += 10.0;
+  Points P(1, 3), up(1, 3), down(1, 3);
+  P << 0.4, 0.3, 0.06;
+  up << 0, 0, 1;
+  down << 0, 0, -1;
+  EXPECT_LT((prolong_to_fine(P, Vc, Fc, Yc, up) - P).norm(), 1e-12);
+  EXPECT_NEAR(prolong_to_fine(P, Vc, Fc, Yc, down)(0, 0), 10.4, 1e-12);
+  EXPECT_NEAR(prolong_to_fine(P, Vc, Fc, Yc)(0, 0), 10.4, 1e-12);  // no normals: the nearest
+}
+
+// Regression (KIDS kid3, 59,727 vertices, a child with an arm near its body): the form failed its quality
+// check with 587 vertices on edges stretched up to 700× (wrong-part prolongation and fine edges left across
+// the coarse gaps); now it passes.
+TEST(CoulombMultiresolution, KidsPoseAtFullResolutionPassesItsQualityCheck) {
+  CSHAPES_REQUIRE_DATA();
+  const std::string path = test::data_dir() + "/kids/kid3.off";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  const Mesh kid = read_mesh(path);
+  const CoulombMultiresolutionResult mr = coulomb_multiresolution(kid, CoulombCanonOptions{});
+  ASSERT_TRUE(mr.used) << mr.note;
+  EXPECT_TRUE(mr.result.quality.ok) << mr.result.quality.description << "; " << mr.note;
+  EXPECT_LT(mr.result.quality.p99_stretch, 3.0);
 }
 
 TEST(CoulombMultiresolution, RefusesBadOptions) {
