@@ -26,7 +26,8 @@ struct ShapeFailure {
   std::string name;    // the shape (file stem, or the name of a shape made here)
   std::string path;    // its file
   std::string method;  // the method whose form failed or fell back; "" when the file itself failed
-  std::string stage;   // "read" (the file: unreadable, too few vertices, ...), "canonical form"
+  std::string stage;   // "read" (the file: unreadable, too few vertices, ...), "canonical form",
+                       // "geodesics" (a fallback), "form quality" (a form failing its check, kept)
   std::string reason;  // the error's message
   std::string
       fallback;  // "": the shape was left out; else the fallback that kept it (its geodesics_fallback)
@@ -51,7 +52,8 @@ ShapeFailure read_failure(const std::string& name, const std::string& path, cons
 // One shape's canonical forms by every method of `options` (cached_canonical_forms). A cshapes::Error from
 // any method is appended to `failures` as the shape's record and nullopt returned (the shape is left out by
 // every method); IoError, FileError and everything under options[k].strict are rethrown. Forms computed on
-// fallback geodesics are returned, each fallback appended to `failures` (once per shape and fallback text).
+// fallback geodesics are returned, each fallback appended to `failures` (once per shape and fallback text);
+// so is each form that fails its quality check (stage "form quality": kept, not left out).
 // name: the shape's name in the records (options carry its path).
 std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& cache, const Mesh& mesh,
                                                              const std::vector<CanonicalFormOptions>& options,

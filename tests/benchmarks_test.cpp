@@ -205,8 +205,10 @@ TEST(BenchIcp, GeneratedBlobsWithoutTheSharedDataAndOpen3dNotAsked) {
   EXPECT_GE(r.iterations_total, r.iterations_all_points);
   // One repeat: the medians are the single run's, and the total is build + align.
   EXPECT_NEAR(r.total_wall_ms, r.build_wall_ms + r.align_wall_ms, 1e-9 * r.total_wall_ms);
-  for (double v : {r.rmse, r.hausdorff, r.chamfer, r.no_refine_hausdorff, r.ours_ms_per_iteration})
+  for (double v : {r.rmse, r.hausdorff, r.chamfer, r.no_refine_hausdorff})
     EXPECT_TRUE(std::isfinite(v) && v > 0) << v;
+  // A difference of two timed runs: finite, but under load it can come out ≤ 0 (no timing assertions).
+  EXPECT_TRUE(std::isfinite(r.ours_ms_per_iteration));
   EXPECT_LE(r.chamfer, r.hausdorff);
   EXPECT_FALSE(r.open3d_measured);
   EXPECT_FALSE(r.open3d_skipped.empty());
