@@ -170,3 +170,38 @@ TEST(ShapeFailures, NothingFailedMeansNoReportSection) {
 
 }  // namespace
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// A form that fails its own quality check (Coulomb with no projection and a huge fixed step: every edge
+// stretched far beyond 5×) is kept, and recorded as such: stage "form quality", not left out, in the report.
+TEST(ShapeFailures, AFormFailingItsQualityCheckIsKeptAndRecorded) {
+  const std::string dir = test::scratch_dir("quality-record");
+  const DiskCache cache(dir + "/forms");
+  CanonicalFormOptions base;
+  base.coulomb.step_rule = CoulombStepRule::Fixed;
+  base.coulomb.fixed_step = 1e4;
+  base.coulomb.projection.steps = 0;
+  base.coulomb.max_iterations = 5;
+  base.coulomb.tear_fraction = 0;
+  const Mesh sphere = icosphere(2);
+  std::vector<ShapeFailure> failures;
+  const auto forms = shape_canonical_forms(cache, sphere, options_per_method(base, {"coulomb"}, "ball"), "ball",
+                                           failures);
+  ASSERT_TRUE(forms.has_value());
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_EQ(failures[0].stage, "form quality");
+  EXPECT_EQ(failures[0].method, "coulomb");
+  EXPECT_FALSE(failures[0].left_out());
+  EXPECT_EQ(count_left_out(failures), 0);
+  EXPECT_NE(describe(failures[0]).find("NOT OK"), std::string::npos) << describe(failures[0]);
+  EXPECT_NE(shape_failures_markdown(failures).find("its own quality check"), std::string::npos);
+  // A good form adds no record.
+  std::vector<ShapeFailure> none;
+  ASSERT_TRUE(shape_canonical_forms(cache, sphere, options_per_method({}, {"coulomb"}, "ball"), "ball", none));
+  EXPECT_TRUE(none.empty()) << describe(none.front());
+}
+
+}  // namespace
+}  // namespace cshapes
