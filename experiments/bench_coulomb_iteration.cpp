@@ -6,8 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "experiments/bench_support.h"
 #include "experiments/timing_table.h"
 
 namespace cshapes {
@@ -22,19 +21,7 @@ CoulombIterationBenchResult bench_coulomb_iteration(const CoulombIterationBenchO
   CSHAPES_REQUIRE(options.repeats >= 1, "--repeats must be >= 1");
   CoulombIterationBenchResult result;
   result.options = options;
-  Mesh mesh;
-  if (!options.mesh.empty()) {
-    mesh = read_mesh(options.mesh);
-    result.source = options.mesh;
-  } else {
-    CSHAPES_REQUIRE(options.n >= 16, "--n must be >= 16, got ", options.n);
-    // A torus of about n vertices: a closed surface with TOSCA's degree (6) and no special symmetry in the
-    // sum.
-    const int nv = std::max(4, static_cast<int>(std::lround(std::sqrt(options.n / 3.0))));
-    const int nu = (options.n + nv - 1) / nv;
-    mesh = torus(nu, nv, 1.0, 0.3);
-    result.source = "torus " + std::to_string(nu) + "x" + std::to_string(nv);
-  }
+  const Mesh mesh = bench_mesh(options.mesh, options.n, result.source);
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), result.source, ": the benchmark needs a mesh with faces");
   result.vertices = mesh.num_vertices();
   result.edges = mesh_edges(mesh.F).rows();

@@ -7,8 +7,6 @@
 
 #include "canon/landmark_mds.h"
 #include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
 #include "core/timing.h"
 #include "experiments/bench_support.h"
 #include "pipeline/canonical_form_methods.h"
@@ -34,17 +32,7 @@ FormBenchResult bench_form(const FormBenchOptions& options) {
   require_canonical_form_methods({options.method}, "--method");
   FormBenchResult result;
   result.options = options;
-  Mesh mesh;
-  if (!options.mesh.empty()) {
-    mesh = read_mesh(options.mesh);
-    result.source = options.mesh;
-  } else {
-    CSHAPES_REQUIRE(options.n >= 16, "--n must be >= 16, got ", options.n);
-    const int nv = std::max(4, static_cast<int>(std::lround(std::sqrt(options.n / 3.0))));
-    const int nu = (options.n + nv - 1) / nv;
-    mesh = torus(nu, nv, 1.0, 0.3);
-    result.source = "torus " + std::to_string(nu) + "x" + std::to_string(nv);
-  }
+  const Mesh mesh = bench_mesh(options.mesh, options.n, result.source);
   result.vertices = mesh.num_vertices();
   result.threads = omp_get_max_threads();
   result.rss_before_mb = peak_rss_mb();

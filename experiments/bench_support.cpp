@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,9 +14,23 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/io.h"
+#include "core/synthetic.h"
 #include "experiments/figures.h"
 
 namespace cshapes {
+
+Mesh bench_mesh(const std::string& path, int n, std::string& source) {
+  if (!path.empty()) {
+    source = path;
+    return read_mesh(path);
+  }
+  CSHAPES_REQUIRE(n >= 16, "--n must be >= 16, got ", n);
+  const int nv = std::max(4, static_cast<int>(std::lround(std::sqrt(n / 3.0))));
+  const int nu = (n + nv - 1) / nv;
+  source = "torus " + std::to_string(nu) + "x" + std::to_string(nv);
+  return torus(nu, nv, 1.0, 0.3);
+}
 
 namespace fs = std::filesystem;
 

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
+
 namespace cshapes {
 
 // Peak resident memory of this process so far, in MB (2^20 bytes; getrusage's ru_maxrss).
@@ -22,6 +24,10 @@ double load_average();
 // relative to the working folder (the data beside a checkout, run from its root: docs/data.md). "" when that
 // file does not exist.
 std::string shared_tosca5k_shape(const std::string& name);
+
+// The mesh a benchmark runs on: the file `path`, or (path "") a torus of about n vertices (n >= 16), a closed
+// surface with TOSCA's degree (6) and no special symmetry. source: set to the file, or "torus NUxNV".
+Mesh bench_mesh(const std::string& path, int n, std::string& source);
 
 // A Python script that measures an anchor. It runs in a fresh temporary folder (removed afterwards), which
 // write_inputs fills first and the script gets as sys.argv[1] (then `arguments`), and it prints its
