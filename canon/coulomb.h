@@ -89,6 +89,9 @@ inline constexpr Limit kWindow = integer_limit("coulomb-window", 1, 1e8);
 inline constexpr Limit kTolerance = number_limit("coulomb-tolerance", 0);
 inline constexpr Limit kMomentum = number_limit("momentum", 0, 0.999);
 inline constexpr Limit kAccuracy = number_limit("coulomb-accuracy", 1e-12, 1);
+inline constexpr Limit kMultiresolutionAbove = integer_limit("coulomb-multiresolution-above", 0, 2e9);
+inline constexpr Limit kCoarseVertices = integer_limit("coulomb-coarse-vertices", 4, 1e9);
+inline constexpr Limit kTearRounds = integer_limit("coulomb-tear-rounds", 0, 1e6);
 }  // namespace coulomb_limits
 
 // Meshes finer than the resolution the defaults were chosen at are canonized through a coarse version of

@@ -133,14 +133,18 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
     out.note = "single level (" + why + ")";
     return out;
   };
-  if (mr.above_vertices <= 0 || n <= mr.above_vertices)
-    return single_level(std::to_string(n) + " vertices, at most " + std::to_string(mr.above_vertices));
-  if (mesh.is_point_cloud()) return single_level("a point cloud has no surface to coarsen");
-  CSHAPES_REQUIRE(mr.coarse_vertices >= 4 && mr.coarse_vertices < n,
-                  "coulomb multiresolution: coarse_vertices ", mr.coarse_vertices, " must be in 4..", n - 1);
+  check_limit(coulomb_limits::kMultiresolutionAbove, static_cast<double>(mr.above_vertices), "coulomb");
+  check_limit(coulomb_limits::kCoarseVertices, static_cast<double>(mr.coarse_vertices), "coulomb");
+  check_limit(coulomb_limits::kTearRounds, mr.tear_rounds, "coulomb");
   CSHAPES_REQUIRE(mr.refine_iterations >= 0, "coulomb multiresolution: refine_iterations must be ≥ 0, not ",
                   mr.refine_iterations);
-  CSHAPES_REQUIRE(mr.tear_rounds >= 0, "coulomb multiresolution: tear_rounds must be ≥ 0, not ", mr.tear_rounds);
+  if (mr.above_vertices == 0) return single_level("multiresolution off");
+  if (n <= mr.above_vertices)
+    return single_level(std::to_string(n) + " vertices, at most " + std::to_string(mr.above_vertices));
+  if (mesh.is_point_cloud()) return single_level("a point cloud has no surface to coarsen");
+  if (mr.coarse_vertices >= n)
+    return single_level(std::to_string(n) + " vertices, not more than the coarse version's " +
+                        std::to_string(mr.coarse_vertices));
 
   auto start = WallClock::now();
   RemeshOptions ro;

@@ -1,9 +1,11 @@
 #include "canon/landmark_mds.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/error.h"
 #include "core/serial_eigen_products.h"
@@ -84,6 +86,119 @@ LandmarkFrame landmark_frame(const Eigen::MatrixXd& block) {
   return f;
 }
 
+// Union-find with path halving (the components of the fold repair).
+struct Components {
+  std::vector<Index> parent;
+  explicit Components(Index n) : parent(static_cast<size_t>(n)) {
+    for (Index i = 0; i < n; ++i) parent[i] = i;
+  }
+  Index find(Index i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(Index a, Index b) { parent[find(a)] = find(b); }
+};
+
+// Landmark SMACOF's fold repair (canon/landmark_mds.h, "Folds"): cut the overstretched edges; in each
+// component of the input graph keep the largest remaining part, and place every other point again from its
+// neighbours, breadth first from that part. settle(j, start, radius) runs point j's Guttman transforms
+// within `radius` of `start`.
+template <class Settle>
+void repair_folds(const LandmarkNeighbourGraph& graph, Settle&& settle, LandmarkMdsResult& result) {
+  Points& X = result.X;
+  const Index n = X.rows(), m = graph.edges.rows();
+  CSHAPES_REQUIRE(graph.lengths.size() == m, "landmark SMACOF: ", graph.lengths.size(), " edge lengths for ",
+                  m, " edges");
+  CSHAPES_REQUIRE(graph.overstretch > 1, "landmark SMACOF: overstretch must be > 1, not ", graph.overstretch);
+  for (Index e = 0; e < m; ++e)
+    for (int side = 0; side < 2; ++side)
+      CSHAPES_REQUIRE(graph.edges(e, side) >= 0 && graph.edges(e, side) < n, "landmark SMACOF: edge ", e,
+                      " names point ", graph.edges(e, side), " of ", n);
+  const double mean_length = graph.lengths.cwiseAbs().mean();
+  auto overstretched = [&](Index e) {
+    const double limit = graph.overstretch * std::max(std::abs(graph.lengths[e]), mean_length);
+    return (X.row(graph.edges(e, 0)) - X.row(graph.edges(e, 1))).norm() > limit;
+  };
+  // Neighbours in compressed rows.
+  std::vector<Index> offset(static_cast<size_t>(n) + 1, 0), neighbour(static_cast<size_t>(2 * m));
+  for (Index e = 0; e < m; ++e) ++offset[graph.edges(e, 0) + 1], ++offset[graph.edges(e, 1) + 1];
+  for (Index i = 0; i < n; ++i) offset[i + 1] += offset[i];
+  {
+    std::vector<Index> fill(offset.begin(), offset.end() - 1);
+    for (Index e = 0; e < m; ++e) {
+      neighbour[fill[graph.edges(e, 0)]++] = graph.edges(e, 1);
+      neighbour[fill[graph.edges(e, 1)]++] = graph.edges(e, 0);
+    }
+  }
+  Components input(n);
+  for (Index e = 0; e < m; ++e) input.join(graph.edges(e, 0), graph.edges(e, 1));
+  // A point placed again stays within half the mean input length of its edges of its start (the mean of
+  // its placed neighbours): its edges then stay about as long as its neighbours' spread plus that.
+  std::vector<double> radius(static_cast<size_t>(n), 0.0);
+  std::vector<int> degree(static_cast<size_t>(n), 0);
+  for (Index e = 0; e < m; ++e)
+    for (int side = 0; side < 2; ++side)
+      radius[graph.edges(e, side)] += std::abs(graph.lengths[e]), ++degree[graph.edges(e, side)];
+  for (Index i = 0; i < n; ++i) radius[i] = 0.5 * (degree[i] ? radius[i] / degree[i] : mean_length);
+
+  for (int round = 0; round < graph.rounds; ++round) {
+    std::vector<char> cut(static_cast<size_t>(m));
+    Index cuts = 0;
+    for (Index e = 0; e < m; ++e) cuts += (cut[e] = overstretched(e));
+    if (cuts == 0) break;
+    ++result.repair_rounds;
+    // The largest part of each input component once the cut edges are gone: placed; the rest is not.
+    Components kept(n);
+    for (Index e = 0; e < m; ++e)
+      if (!cut[e]) kept.join(graph.edges(e, 0), graph.edges(e, 1));
+    std::vector<Index> part_size(static_cast<size_t>(n), 0), largest(static_cast<size_t>(n), -1);
+    for (Index i = 0; i < n; ++i) ++part_size[kept.find(i)];
+    for (Index i = 0; i < n; ++i) {
+      const Index c = input.find(i), p = kept.find(i);
+      if (largest[c] < 0 || part_size[p] > part_size[largest[c]]) largest[c] = p;
+    }
+    std::vector<char> placed(static_cast<size_t>(n));
+    for (Index i = 0; i < n; ++i) placed[i] = kept.find(i) == largest[input.find(i)];
+    // A cut edge inside the largest part (it separates nothing): both its ends are placed again.
+    for (Index e = 0; e < m; ++e)
+      if (cut[e] && kept.find(graph.edges(e, 0)) == kept.find(graph.edges(e, 1)))
+        placed[graph.edges(e, 0)] = placed[graph.edges(e, 1)] = 0;
+    // Breadth first from the placed points; a layer is placed in parallel from the layers before it.
+    std::vector<Index> layer;
+    for (Index i = 0; i < n; ++i)
+      if (!placed[i])
+        for (Index k = offset[i]; k < offset[i + 1]; ++k)
+          if (placed[neighbour[k]]) {
+            layer.push_back(i);
+            break;
+          }
+    while (!layer.empty()) {
+      const Index size = static_cast<Index>(layer.size());
+#pragma omp parallel for schedule(dynamic, 16)
+      for (Index q = 0; q < size; ++q) {
+        const Index i = layer[q];
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        int count = 0;
+        for (Index k = offset[i]; k < offset[i + 1]; ++k)
+          if (placed[neighbour[k]]) mean += X.row(neighbour[k]).transpose(), ++count;
+        X.row(i) = settle(i, Eigen::Vector3d(mean / count), radius[i]).transpose();
+      }
+      for (Index i : layer) placed[i] = 1;
+      result.replaced_points += size;
+      std::vector<Index> next;
+      for (Index i : layer)
+        for (Index k = offset[i]; k < offset[i + 1]; ++k) {
+          const Index j = neighbour[k];
+          if (!placed[j] && (next.empty() || next.back() != j)) next.push_back(j);
+        }
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      layer = std::move(next);
+    }
+  }
+  for (Index e = 0; e < m; ++e) result.overstretched_edges += overstretched(e);
+}
+
 }  // namespace
 
 const std::vector<std::string>& mds_solver_names() {
@@ -141,7 +256,7 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
 
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
                                   const SmacofOptions& smacof_options, int interpolation_iterations,
-                                  const Points& start_configuration) {
+                                  const Points& start_configuration, const LandmarkNeighbourGraph& graph) {
   const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   const auto start = WallClock::now();
   check_rows(rows, landmarks);
@@ -189,9 +304,37 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   const double w_sum = w.sum();
   std::vector<char> is_landmark(n, 0);
   for (int l : landmarks) is_landmark[l] = 1;
+  auto point_stress = [&](Index j, const Eigen::Vector3d& p) {
+    const Eigen::VectorXd delta = rows.col(j).cast<double>();
+    const double energy = delta.cwiseAbs2().dot(w);
+    const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
+    return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
+  };
+  // Guttman transforms of point j's stress with the landmarks fixed, from x; with a radius, each projected
+  // onto the ball of that radius around the start (the majorizer is isotropic, so the projection is its
+  // minimum over the ball: the stress still never increases).
+  auto settle = [&](Index j, Eigen::Vector3d x, double radius) {
+    const Eigen::VectorXd delta = rows.col(j).cast<double>();
+    const Eigen::Vector3d centre = x;
+    for (int it = 0; it < interpolation_iterations; ++it) {
+      Eigen::Vector3d next = Eigen::Vector3d::Zero();
+      for (Index k = 0; k < L; ++k) {
+        const Eigen::Vector3d y = Y.row(k).transpose();
+        const double d = (x - y).norm();
+        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
+      }
+      next /= w_sum;
+      if (radius < std::numeric_limits<double>::infinity() && (next - centre).norm() > radius)
+        next = centre + radius * (next - centre).normalized();
+      const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
+      x = next;
+      if (settled) break;
+    }
+    return x;
+  };
   result.X.resize(n, 3);
-  double stress_before = 0, stress_after = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : stress_before, stress_after)
+  double stress_before = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : stress_before)
   for (Index j = 0; j < n; ++j) {
     if (is_landmark[j]) continue;
     const Eigen::VectorXd delta = rows.col(j).cast<double>();
@@ -202,31 +345,17 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
     delta.minCoeff(&nearest);
     const Eigen::Vector3d y_near = Y.row(nearest).transpose();
     const Eigen::Vector3d towards = P * (c - delta.cwiseAbs2()) - y_near;
-    Eigen::Vector3d x = y_near + (towards.norm() > 0 ? Eigen::Vector3d(delta[nearest] * towards.normalized())
-                                                     : Eigen::Vector3d::Zero());
-    const double energy = delta.cwiseAbs2().dot(w);
-    auto point_stress = [&](const Eigen::Vector3d& p) {
-      const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
-      return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
-    };
-    stress_before += point_stress(x);
-    // Guttman transforms of this point's stress with the landmarks fixed.
-    for (int it = 0; it < interpolation_iterations; ++it) {
-      Eigen::Vector3d next = Eigen::Vector3d::Zero();
-      for (Index k = 0; k < L; ++k) {
-        const Eigen::Vector3d y = Y.row(k).transpose();
-        const double d = (x - y).norm();
-        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
-      }
-      next /= w_sum;
-      const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
-      x = next;
-      if (settled) break;
-    }
-    stress_after += point_stress(x);
-    result.X.row(j) = x.transpose();
+    const Eigen::Vector3d x = y_near + (towards.norm() > 0 ? Eigen::Vector3d(delta[nearest] * towards.normalized())
+                                                           : Eigen::Vector3d::Zero());
+    stress_before += point_stress(j, x);
+    result.X.row(j) = settle(j, x, std::numeric_limits<double>::infinity()).transpose();
   }
   for (Index k = 0; k < L; ++k) result.X.row(landmarks[k]) = Y.row(k);
+  if (graph.edges.rows() > 0) repair_folds(graph, settle, result);
+  double stress_after = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : stress_after)
+  for (Index j = 0; j < n; ++j)
+    if (!is_landmark[j]) stress_after += point_stress(j, result.X.row(j).transpose());
   const double others = static_cast<double>(std::max<Index>(1, n - L));
   result.start_point_stress = stress_before / others;
   result.interpolated_point_stress = stress_after / others;

@@ -17,10 +17,19 @@
 // subtracting the landmarks' mean: 2 (y_k − ȳ)·x ≈ ‖y_k‖² − δ²_ak − mean), then moved by
 // `interpolation_iterations` Guttman transforms of its own stress Σ_k w_k (δ_ak − ‖x − y_k‖)² with the
 // landmarks held (x⁺ = Σ_k w_k [y_k + δ_ak (x − y_k)/‖x − y_k‖] / Σ_k w_k, which never increases it).
-// Open defect (measured on tosca5k michael0, 5,000 vertices): L = 100 and 1,000 pass the form-quality check,
-// L = 300 leaves 20 vertices on overstretched edges (stretch up to 33; 7 vertices, stretch 18, when started
-// at the triangulation itself, 0 but a mean stretch of 1.18 with weights 1/δ²): a point near a fold can
-// settle in the basin across it. Landmark classical MDS has no such failure. Landmark weights w_k: uniform,
+// Folds. A point's stress against the landmarks can have two basins: on a thin part (an arm, a finger) the
+// near landmarks lie along its axis and fix only the point's distance from it, so a point near such a fold
+// can settle across it, away from its mesh neighbours (measured on tosca5k michael0 at 5,000 vertices,
+// L = 300: 20 vertices on edges stretched up to 33×; started at the triangulation itself 7 vertices, with
+// weights 1/δ² none but a mean stretch of 1.18). Given the input's edge graph (LandmarkNeighbourGraph), the
+// interpolation is repaired: edges longer than `overstretch` × max(their input length, the mean input length)
+// are cut, and in each component of the input graph the points outside the largest remaining part (and both
+// ends of a cut edge that separates nothing) are placed again, layer by layer from that part (breadth
+// first), each started at the mean of its neighbours already placed and moved by the same Guttman
+// transforms, but kept within half its mean input edge length of that start (each step projected onto the
+// ball: the stress still never increases): the point stays beside its neighbours, at the best place there.
+// Up to `rounds` rounds, while any edge is still over the limit. Landmarks in a cut-off part are placed
+// again too (their interpolated rows; the landmarks' SMACOF itself is kept). Landmark weights w_k: uniform,
 // or (SmacofOptions::vertex_weights given, n values) the sum of the weights of the vertices nearest to
 // landmark k (its geodesic Voronoi cell), so area weights stay area weights.
 //
@@ -53,6 +62,9 @@ struct MdsSolverOptions {
   // whenever n² floats would take more than half the memory this process may still use.
   Index auto_full_max_vertices = 12000;
   int interpolation_iterations = 30;  // smacof on landmarks: Guttman steps of each other point
+  // smacof on landmarks: edges longer than this × max(input length, mean input length) mark points
+  // interpolated across a fold, placed again from their neighbours (LandmarkNeighbourGraph); 0: no repair.
+  double fold_overstretch = 3.0;
 
   // Every field by name, for cache keys (core/option_fields.h). Self: MdsSolverOptions, const or not.
   template <class Self, class Visit>
@@ -61,12 +73,21 @@ struct MdsSolverOptions {
     visit("landmarks", o.landmarks);
     visit("auto_full_max_vertices", o.auto_full_max_vertices);
     visit("interpolation_iterations", o.interpolation_iterations);
+    visit("fold_overstretch", o.fold_overstretch);
   }
 };
 
 // Whether `options` embed n points from landmark rows: Landmarks always, Full never, Auto when n >
 // auto_full_max_vertices or when n² floats exceed half of `available_bytes` (< 0: unknown, not a reason).
 bool mds_uses_landmarks(const MdsSolverOptions& options, Index n, double available_bytes);
+
+// The input's edge graph, for landmark SMACOF's fold repair (see "Folds" above).
+struct LandmarkNeighbourGraph {
+  Edges edges;               // |E|×2 point indices (mesh edges or the kNN graph); empty: no repair
+  Eigen::VectorXd lengths;   // |E| input lengths, in the units of the rows
+  double overstretch = 3.0;  // an edge longer than this × max(its length, the mean length) is cut
+  int rounds = 10;           // repair rounds at most
+};
 
 struct LandmarkMdsResult {
   Points X;                     // n×3, centred at the mean of the points, units of the distances
@@ -79,6 +100,11 @@ struct LandmarkMdsResult {
   double start_point_stress = std::numeric_limits<double>::quiet_NaN();
   double interpolated_point_stress = std::numeric_limits<double>::quiet_NaN();
   SmacofResult landmark_smacof;  // SMACOF of the landmark block (empty for classical)
+  // Landmark SMACOF with a graph: points placed again from their neighbours, rounds run, and edges still
+  // over the limit after the last one.
+  Index replaced_points = 0;
+  int repair_rounds = 0;
+  Index overstretched_edges = 0;
   double seconds = 0;
 };
 
@@ -89,8 +115,9 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
 // Landmark SMACOF: `smacof` runs on the landmark block (its vertex_weights: empty, or n per-point weights
 // summed over each landmark's Voronoi cell) from `start` (L×3, e.g. the mesh's landmark vertices; empty:
 // the landmarks' classical MDS); interpolation_iterations as above.
+// graph: the input's edges and their lengths (empty: no fold repair; see "Folds" above).
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
                                   const SmacofOptions& smacof, int interpolation_iterations = 30,
-                                  const Points& start = {});
+                                  const Points& start = {}, const LandmarkNeighbourGraph& graph = {});
 
 }  // namespace cshapes

@@ -78,6 +78,17 @@ void add_options(CLI::Option_group& g) {
        "fast summation in the iterations: target relative gradient error (the reported energy: 1e-3 or this, "
        "whichever is smaller)")
       ->check(within(coulomb_limits::kAccuracy));
+  CoulombMultiresolutionOptions& mr = o.multiresolution;
+  g.add_option("--coulomb-multiresolution-above", mr.above_vertices,
+               "meshes with more vertices are canonized through a coarse remesh of their surface and refined "
+               "(the single-level form inflates with n); 0: never")
+      ->check(within(coulomb_limits::kMultiresolutionAbove));
+  g.add_option("--coulomb-coarse-vertices", mr.coarse_vertices,
+               "vertices of that coarse remesh (the resolution the defaults were chosen at)")
+      ->check(within(coulomb_limits::kCoarseVertices));
+  g.add_option("--coulomb-tear-rounds", mr.tear_rounds,
+               "multiresolution: rounds that tear fine edges still overstretched after the refinement; 0: none")
+      ->check(within(coulomb_limits::kTearRounds));
 }
 
 // The options as parsed (names checked here, so a typo fails before any work).
@@ -101,6 +112,10 @@ void validate() {
     usage_fail("--l1-floor applies to --projection l1 only");
   if (canon_option_given("--momentum") && options.scheme != CoulombScheme::Momentum)
     usage_fail("--momentum applies to --scheme momentum only");
+  if (options.multiresolution.above_vertices == 0)
+    for (const char* fine : {"--coulomb-coarse-vertices", "--coulomb-tear-rounds"})
+      if (canon_option_given(fine))
+        usage_fail(fine, " applies only with multiresolution (--coulomb-multiresolution-above > 0)");
   if (options.tear_fraction == 0)
     for (const char* tearing : {"--tear-after", "--tear-times", "--tear-interval", "--tear-guard"})
       if (canon_option_given(tearing))

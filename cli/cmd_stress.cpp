@@ -21,6 +21,7 @@ struct StressArgs {
   std::uint64_t seed = 1;
   long long min_vertices = 200, max_vertices = 30000;
   std::string tosca, methods = "heat,heat-direct,heat-cgal,fmm,exact,graph", save_failures, out, mesh_out;
+  std::string canon_methods;  // empty: every registered method
   long long exact_max = 6000, canon_max = 4000;
   int sources = 3;
   bool no_canon = false, no_icp = false;
@@ -47,6 +48,7 @@ int run() {
   options.exact_max_vertices = args.exact_max;
   options.canon = !args.no_canon;
   options.canon_max_vertices = args.canon_max;
+  if (!args.canon_methods.empty()) options.canon_methods = methods_option(args.canon_methods);
   options.icp = !args.no_icp;
   if (!args.out.empty()) require_output_path(args.out, {"jsonl", "json"});
   if (!args.save_failures.empty()) fs::create_directories(args.save_failures);
@@ -129,6 +131,8 @@ const bool registered = register_command(
        app.add_option("--canon-max", args.canon_max, "canonical forms only on meshes up to this size")
            ->capture_default_str()
            ->check(integer_at_least(0));
+       app.add_option("--canon-methods", args.canon_methods,
+                      "canonical-form methods, comma-separated; default: every registered method");
        app.add_flag("--no-canon", args.no_canon, "skip the canonical forms");
        app.add_flag("--no-icp", args.no_icp, "skip ICP");
        app.add_option("--save-failures", args.save_failures, "write each failing mesh here as CASE.off");

@@ -132,7 +132,9 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
   }
 
   if (options.canon) {
-    for (const std::string& method : canonical_form_methods()) {
+    const std::vector<std::string> methods =
+        options.canon_methods.empty() ? canonical_form_methods() : options.canon_methods;
+    for (const std::string& method : methods) {
       StressOutcome o;
       o.what = method;
       o.ran = mesh.num_vertices() <= options.canon_max_vertices;

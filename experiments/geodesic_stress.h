@@ -33,8 +33,9 @@ struct GeodesicStressOptions {
   std::vector<std::string> geodesic_methods = {"heat", "heat-direct", "heat-cgal", "fmm", "exact", "graph"};
   int sources = 3;                   // source vertices per mesh (drawn from the case's seed)
   Index exact_max_vertices = 6000;   // exact geodesics (the reference) up to this size, fast marching above
-  bool canon = true;                 // run the three canonical forms
+  bool canon = true;                 // run the canonical forms
   Index canon_max_vertices = 4000;   // ... on meshes up to this size
+  std::vector<std::string> canon_methods;  // ... of these methods; empty: every registered one
   bool icp = true;                   // run ICP against a moved copy
 };
 

@@ -109,14 +109,30 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
       landmark_start.resize(L, 3);
       for (Index k = 0; k < L; ++k) landmark_start.row(k) = mesh.V.row(lg.landmarks[k]);
     }
+    // The input's edge graph, so that points interpolated across a fold are placed again from their
+    // neighbours (canon/landmark_mds.h, "Folds").
+    LandmarkNeighbourGraph graph;
+    if (options.mds_solver.fold_overstretch > 0) graph.edges = constraint_edges(mesh, options.knn);
+    graph.overstretch = options.mds_solver.fold_overstretch;
+    graph.lengths.resize(graph.edges.rows());
+    for (Index e = 0; e < graph.edges.rows(); ++e)
+      graph.lengths[e] = (mesh.V.row(graph.edges(e, 0)) - mesh.V.row(graph.edges(e, 1))).norm();
     r = landmark_smacof(lg.rows, lg.landmarks, so, options.mds_solver.interpolation_iterations,
-                        landmark_start);
+                        landmark_start, graph);
     set_smacof_result(form, r.landmark_smacof);
     summary["smacof"] = smacof_summary(r.landmark_smacof, so);
     summary["smacof"]["init"] = to_string(options.smacof_init);
     summary["smacof"]["weights"] = to_string(options.smacof_weights);
     summary["smacof"]["start_point_stress"] = r.start_point_stress;
     summary["smacof"]["interpolated_point_stress"] = r.interpolated_point_stress;
+    summary["smacof"]["fold_repair"] = {{"replaced_points", r.replaced_points},
+                                        {"rounds", r.repair_rounds},
+                                        {"overstretched_edges_left", r.overstretched_edges}};
+    if (r.replaced_points > 0)
+      say(options.note, "landmark SMACOF: " + std::to_string(r.replaced_points) +
+                            " points interpolated across a fold placed again from their neighbours (" +
+                            std::to_string(r.repair_rounds) + " rounds, " +
+                            std::to_string(r.overstretched_edges) + " edges still overstretched)");
     say(options.note, "landmark SMACOF: landmarks' normalised stress " +
                           std::to_string(r.landmark_normalized_stress) + "; other points' stress " +
                           std::to_string(r.start_point_stress) + " -> " +

@@ -41,7 +41,8 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
                                                   "tear_guard",       "coulomb_max_iterations",
                                                   "coulomb_window",   "coulomb_tolerance",
                                                   "momentum",         "coulomb_summation",
-                                                  "coulomb_accuracy"};
+                                                  "coulomb_accuracy", "coulomb_multiresolution_above",
+                                                  "coulomb_coarse_vertices", "coulomb_tear_rounds"};
 const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
 const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
                                                  "accelerate", "window",    "weights"};
@@ -101,6 +102,15 @@ void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   c.momentum = k.number("momentum", c.momentum, coulomb_limits::kMomentum);
   c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
   c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy, coulomb_limits::kAccuracy);
+  CoulombMultiresolutionOptions& mr = c.multiresolution;
+  mr.above_vertices = k.int32("coulomb_multiresolution_above", static_cast<int>(mr.above_vertices),
+                              coulomb_limits::kMultiresolutionAbove);
+  mr.coarse_vertices =
+      k.int32("coulomb_coarse_vertices", static_cast<int>(mr.coarse_vertices), coulomb_limits::kCoarseVertices);
+  mr.tear_rounds = k.int32("coulomb_tear_rounds", mr.tear_rounds, coulomb_limits::kTearRounds);
+  if (mr.above_vertices == 0)
+    for (const char* fine : {"coulomb_coarse_vertices", "coulomb_tear_rounds"})
+      if (k.given(fine)) fail(fine, " applies only with multiresolution (coulomb_multiresolution_above > 0)");
   // As the CLI: an option only another setting reads is refused rather than ignored.
   if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
     fail("fixed_step applies to step_rule='fixed' only");
@@ -257,6 +267,9 @@ std::string coulomb_doc() {
     << "  momentum [" << c.momentum << "] (scheme='momentum')\n"
     << "  coulomb_summation ['" << to_string(c.energy.summation) << "'] auto | direct | direct-float | fast, "
     << "coulomb_accuracy [" << c.energy.accuracy << "]\n"
+    << "  coulomb_multiresolution_above [" << c.multiresolution.above_vertices
+    << "] (0: never), coulomb_coarse_vertices [" << c.multiresolution.coarse_vertices
+    << "], coulomb_tear_rounds [" << c.multiresolution.tear_rounds << "]\n"
     << "  knn [" << o.knn.k
     << "] (point clouds), strict [False] (refuse a mesh that needs repair)\n\n"
        "Returns a CanonicalForm: X (n, 3) in the input's vertex order and units, torn (n,) 1 at vertices of "

@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "core/error.h"
 #include "core/io.h"
 #include "core/rigid_transform.h"
+#include "core/stress_corpus.h"
 #include "core/subdivide.h"
 #include "core/synthetic.h"
 #include "tests/test_support.h"
@@ -108,13 +111,88 @@ TEST(CoulombMultiresolution, KidsPoseAtFullResolutionPassesItsQualityCheck) {
   EXPECT_LT(mr.result.quality.p99_stretch, 3.0);
 }
 
+// Options out of their limits are refused; a coarse version no coarser than the mesh is no reason to fail:
+// the single-level iteration runs, and the note says why.
 TEST(CoulombMultiresolution, RefusesBadOptions) {
   const Mesh m = icosphere(3);
   CoulombCanonOptions options;
+  options.max_iterations = 20;
   options.multiresolution.above_vertices = 100;
   options.multiresolution.coarse_vertices = m.num_vertices();
+  const CoulombMultiresolutionResult same = coulomb_multiresolution(m, options);
+  EXPECT_FALSE(same.used);
+  EXPECT_NE(same.note.find("not more than the coarse version"), std::string::npos) << same.note;
+  options.multiresolution.coarse_vertices = 3;
+  EXPECT_THROW(coulomb_multiresolution(m, options), Error);
+  options.multiresolution.coarse_vertices = 200;
+  options.multiresolution.above_vertices = -1;
+  EXPECT_THROW(coulomb_multiresolution(m, options), Error);
+  options.multiresolution.above_vertices = 100;
+  options.multiresolution.tear_rounds = -1;
   EXPECT_THROW(coulomb_multiresolution(m, options), Error);
   EXPECT_THROW(prolong_to_fine(m.V, m.V, Faces(0, 3), m.V), Error);
+}
+
+// The CLI reaches the multiresolution options: a 3,000-vertex capsule goes through a coarse version when
+// above 1,500, runs single level with 0, and a fine-mesh option without multiresolution is refused by name.
+TEST(CoulombMultiresolution, CliOptionsChooseThePath) {
+  CapsuleOptions co;
+  co.segments = 24;
+  const std::string dir = test::scratch_dir("multiresolution_cli");
+  const std::string mesh = dir + "/capsule.off";
+  write_mesh(mesh, split_longest_edges(capsule(co), 3000));
+  const std::string common = "-q canon " + mesh + " -o " + dir + "/form.off --method coulomb --json " +
+                             "--coulomb-max-iterations 60 --tear-after 30 ";
+  auto note_of = [](const test::CliResult& r) {
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    return j.dump();
+  };
+  const std::string multi =
+      note_of(test::run_cli(common + "--coulomb-multiresolution-above 1500 --coulomb-coarse-vertices 800 "
+                                     "--coulomb-tear-rounds 2"));
+  EXPECT_NE(multi.find("coarse"), std::string::npos) << multi;
+  const std::string single = note_of(test::run_cli(common + "--coulomb-multiresolution-above 0"));
+  EXPECT_NE(single.find("multiresolution off"), std::string::npos) << single;
+  const test::CliResult refused =
+      test::run_cli(common + "--coulomb-multiresolution-above 0 --coulomb-coarse-vertices 800");
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.err.find("--coulomb-coarse-vertices"), std::string::npos) << refused.err;
+}
+
+// A seeded sample of the stress corpus (every kind: jitter, flips, slivers, zero-area faces, thin tubes,
+// glued handles, boundaries, scales far from 1) through the multiresolution path, its thresholds lowered so
+// that meshes of 1,800-3,000 vertices take it: no case throws, every form is finite, every mesh the remesher
+// takes goes through the coarse version (else the note says why), and the form-quality verdicts are printed.
+// At the default thresholds the corpus runs by `scripts/stress_geodesics.py --min-vertices 9000 --extra
+// "--methods heat --exact-max 0 --canon-max 40000 --canon-methods coulomb --no-icp"` (docs/results.md).
+TEST(CoulombMultiresolution, StressCorpusSampleThroughTheCoarsePath) {
+  StressCorpusOptions corpus;
+  corpus.min_vertices = 1800;
+  corpus.max_vertices = 3000;
+  CoulombCanonOptions options;
+  options.multiresolution.above_vertices = 1500;
+  options.multiresolution.coarse_vertices = 600;
+  options.max_iterations = 150;
+  options.tear_after = 60;
+  int used = 0, passed = 0;
+  for (Index i = 0; i < kStressKinds; ++i) {
+    const StressCase c = stress_case(11, i, corpus);
+    const Mesh mesh = make_stress_mesh(c, corpus);
+    if (mesh.num_vertices() <= options.multiresolution.above_vertices) continue;
+    SCOPED_TRACE(c.describe());
+    CoulombMultiresolutionResult mr;
+    ASSERT_NO_THROW(mr = coulomb_multiresolution(mesh, options));
+    ASSERT_EQ(mr.result.X.rows(), mesh.num_vertices());
+    EXPECT_TRUE(mr.result.X.allFinite());
+    EXPECT_FALSE(mr.note.empty());
+    used += mr.used;
+    passed += mr.result.quality.ok;
+    std::printf("%-40s %s | %s\n", c.name().c_str(), mr.used ? "coarse path" : mr.note.c_str(),
+                mr.result.quality.description.c_str());
+  }
+  EXPECT_GE(used, kStressKinds - 2);  // the remesher may refuse a mesh with zero-area faces or slivers
+  std::printf("%d of %d through the coarse path, %d pass the quality check\n", used, kStressKinds, passed);
 }
 
 }  // namespace

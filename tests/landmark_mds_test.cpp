@@ -119,6 +119,51 @@ TEST(LandmarkMds, SmacofOnLandmarksStressBound) {
   EXPECT_LT(normalized_stress(D, lw.X), 1.1 * full_stress);
 }
 
+// The fold repair on exactly embeddable rows (Euclidean distances of points of R³: each point's stress has
+// one minimum). With the torus's own distances no edge is over the limit and nothing changes. Then ring 0's
+// columns are made those of the opposite ring 16, so the interpolation puts ring 0 on top of ring 16, across
+// the torus from its neighbours in rings 1 and 31: a fold. The repair cuts its edges, places ring 0 again
+// from its neighbours (within one edge of their mean) and leaves every other point as it was.
+TEST(LandmarkMds, FoldRepairPlacesAFoldedRingBackBesideItsNeighbours) {
+  const int nu = 32, nv = 12;
+  const Mesh m = torus(nu, nv, 2.0, 0.7);  // vertex i·nv + j: ring i
+  const Index n = m.num_vertices();
+  DistanceMatrix D(n, n);
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j) D(i, j) = static_cast<float>((m.V.row(i) - m.V.row(j)).norm());
+  const std::vector<int> landmarks = {13, 40, 100, 150, 230, 300, 333, 370};  // none on ring 0
+  Eigen::MatrixXf rows = rows_of(D, landmarks);
+  LandmarkNeighbourGraph graph;
+  graph.edges = mesh_edges(m.F);
+  graph.lengths.resize(graph.edges.rows());
+  for (Index e = 0; e < graph.edges.rows(); ++e)
+    graph.lengths[e] = (m.V.row(graph.edges(e, 0)) - m.V.row(graph.edges(e, 1))).norm();
+  const LandmarkMdsResult plain = landmark_smacof(rows, landmarks, SmacofOptions{});
+  const LandmarkMdsResult kept = landmark_smacof(rows, landmarks, SmacofOptions{}, 30, {}, graph);
+  EXPECT_EQ(kept.replaced_points, 0);
+  EXPECT_EQ(kept.repair_rounds, 0);
+  EXPECT_EQ(kept.overstretched_edges, 0);
+  EXPECT_EQ(kept.X, plain.X);
+
+  const Index opposite = (nu / 2) * nv;
+  for (int j = 0; j < nv; ++j) rows.col(j) = rows.col(opposite + j);
+  const LandmarkMdsResult folded = landmark_smacof(rows, landmarks, SmacofOptions{});
+  const LandmarkMdsResult repaired = landmark_smacof(rows, landmarks, SmacofOptions{}, 30, {}, graph);
+  const double edge = graph.lengths.mean();
+  EXPECT_GT((folded.X.row(0) - folded.X.row(nv)).norm(), 10 * edge);  // the fold: ring 0 beside ring 16
+  EXPECT_EQ(repaired.replaced_points, nv);
+  EXPECT_EQ(repaired.repair_rounds, 1);
+  EXPECT_EQ(repaired.overstretched_edges, 0);
+  // Off ring 0 nothing moved (up to the centring's shift); ring 0 lies within two edges of where it belongs.
+  const Points moved = repaired.X.bottomRows(n - nv) - folded.X.bottomRows(n - nv);
+  EXPECT_LT((moved.rowwise() - moved.row(0)).cwiseAbs().maxCoeff(), 1e-12 * bbox_diagonal(m.V));
+  const RigidTransform fit = best_rigid_transform(repaired.X.bottomRows(n - nv), m.V.bottomRows(n - nv), 0);
+  EXPECT_LT((fit.apply(Points(repaired.X.bottomRows(n - nv))) - m.V.bottomRows(n - nv)).cwiseAbs().maxCoeff(),
+            1e-4 * edge);
+  const Points ring = fit.apply(Points(repaired.X.topRows(nv)));
+  for (int j = 0; j < nv; ++j) EXPECT_LT((ring.row(j) - m.V.row(j)).norm(), 2 * edge) << "vertex " << j;
+}
+
 TEST(LandmarkMds, SolverRule) {
   MdsSolverOptions o;
   for (const char* name : {"full", "landmarks", "auto"}) EXPECT_EQ(to_string(parse_mds_solver(name)), name);

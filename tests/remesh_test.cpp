@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "core/io.h"
 #include "core/synthetic.h"
@@ -94,6 +95,28 @@ TEST(Remesh, Tosca5kCatTo3505WithinOnePercentOfTheDiagonal) {
   double h = hausdorff_distance(cat, r.mesh);
   EXPECT_LE(h, 0.01 * info.bbox_diagonal) << "Hausdorff " << h << ", diagonal " << info.bbox_diagonal;
   EXPECT_GE(angle_stats(r.mesh).min_angle, angle_stats(cat).min_angle);
+}
+
+// `cshapes remesh --subdivide K`: the remesh, then K midpoint subdivisions: V + E + F-grown counts exactly
+// (V' = V + E, F' = 4F per round, Euler characteristic kept), still on the unit sphere's polyhedron.
+TEST(Remesh, CliSubdividesTheRemesh) {
+  const std::string dir = test::scratch_dir("remesh_subdivide");
+  write_mesh(dir + "/sphere.off", icosphere(3, 1.0));
+  const test::CliResult plain =
+      test::run_cli("-q remesh " + dir + "/sphere.off -o " + dir + "/r.off --vertices 300 --json");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const test::CliResult twice = test::run_cli("-q remesh " + dir + "/sphere.off -o " + dir +
+                                              "/r2.off --vertices 300 --subdivide 2 --json");
+  ASSERT_EQ(twice.exit_code, 0) << twice.err;
+  const nlohmann::json a = nlohmann::json::parse(plain.out), b = nlohmann::json::parse(twice.out);
+  const Mesh r = read_mesh(dir + "/r.off"), r2 = read_mesh(dir + "/r2.off");
+  const Index v = r.num_vertices(), f = r.num_faces(), e = v + f - 2;  // closed genus 0: V − E + F = 2
+  EXPECT_EQ(b["remeshed_vertices"].get<long>(), v);  // the same remesh (deterministic)
+  EXPECT_EQ(b["subdivisions"].get<int>(), 2);
+  EXPECT_EQ(r2.num_faces(), 16 * f);
+  EXPECT_EQ(r2.num_vertices(), v + e + (2 * e + 3 * f));  // round 1 adds E, round 2 adds E' = 2E + 3F
+  EXPECT_EQ(b["euler_characteristic"].get<long>(), a["euler_characteristic"].get<long>());
+  EXPECT_EQ(Points(r2.V.topRows(v)), r.V);  // the remesh's vertices come first, unmoved
 }
 
 }  // namespace
