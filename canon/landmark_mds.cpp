@@ -141,12 +141,14 @@ void repair_folds(const LandmarkNeighbourGraph& graph, Settle&& settle, Landmark
       radius[graph.edges(e, side)] += std::abs(graph.lengths[e]), ++degree[graph.edges(e, side)];
   for (Index i = 0; i < n; ++i) radius[i] = 0.5 * (degree[i] ? radius[i] / degree[i] : mean_length);
 
+  const Points interpolated = X;
+  Index over_before = 0;
+  for (Index e = 0; e < m; ++e) over_before += overstretched(e);
   for (int round = 0; round < graph.rounds; ++round) {
     std::vector<char> cut(static_cast<size_t>(m));
     Index cuts = 0;
     for (Index e = 0; e < m; ++e) cuts += (cut[e] = overstretched(e));
     if (cuts == 0) break;
-    ++result.repair_rounds;
     // The largest part of each input component once the cut edges are gone: placed; the rest is not.
     Components kept(n);
     for (Index e = 0; e < m; ++e)
@@ -159,10 +161,8 @@ void repair_folds(const LandmarkNeighbourGraph& graph, Settle&& settle, Landmark
     }
     std::vector<char> placed(static_cast<size_t>(n));
     for (Index i = 0; i < n; ++i) placed[i] = kept.find(i) == largest[input.find(i)];
-    // A cut edge inside the largest part (it separates nothing): both its ends are placed again.
-    for (Index e = 0; e < m; ++e)
-      if (cut[e] && kept.find(graph.edges(e, 0)) == kept.find(graph.edges(e, 1)))
-        placed[graph.edges(e, 0)] = placed[graph.edges(e, 1)] = 0;
+    if (std::all_of(placed.begin(), placed.end(), [](char p) { return p != 0; })) break;  // nothing cut off
+    ++result.repair_rounds;
     // Breadth first from the placed points; a layer is placed in parallel from the layers before it.
     std::vector<Index> layer;
     for (Index i = 0; i < n; ++i)
@@ -197,6 +197,12 @@ void repair_folds(const LandmarkNeighbourGraph& graph, Settle&& settle, Landmark
     }
   }
   for (Index e = 0; e < m; ++e) result.overstretched_edges += overstretched(e);
+  // Kept only when it leaves fewer edges over the limit than the interpolation did.
+  if (result.replaced_points > 0 && result.overstretched_edges >= over_before) {
+    X = interpolated;
+    result.overstretched_edges = over_before;
+    result.repair_kept = false;
+  }
 }
 
 }  // namespace

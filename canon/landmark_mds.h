@@ -23,13 +23,16 @@
 // L = 300: 20 vertices on edges stretched up to 33×; started at the triangulation itself 7 vertices, with
 // weights 1/δ² none but a mean stretch of 1.18). Given the input's edge graph (LandmarkNeighbourGraph), the
 // interpolation is repaired: edges longer than `overstretch` × max(their input length, the mean input length)
-// are cut, and in each component of the input graph the points outside the largest remaining part (and both
-// ends of a cut edge that separates nothing) are placed again, layer by layer from that part (breadth
-// first), each started at the mean of its neighbours already placed and moved by the same Guttman
-// transforms, but kept within half its mean input edge length of that start (each step projected onto the
-// ball: the stress still never increases): the point stays beside its neighbours, at the best place there.
-// Up to `rounds` rounds, while any edge is still over the limit. Landmarks in a cut-off part are placed
-// again too (their interpolated rows; the landmarks' SMACOF itself is kept). Landmark weights w_k: uniform,
+// are cut, and in each component of the input graph the points outside the largest remaining part are
+// placed again, layer by layer from that part (breadth first), each started at the mean of its neighbours
+// already placed and moved by the same Guttman transforms, but kept within half its mean input edge length
+// of that start (each step projected onto the ball: the stress still never increases): the point stays
+// beside its neighbours, at the best place there. Up to `rounds` rounds, while the cut edges cut a part
+// off. Landmarks in a cut-off part are placed again too (their interpolated rows; the landmarks' SMACOF
+// itself is kept). The repair is kept only when it leaves fewer edges over the limit than the interpolation
+// did. A fold that cuts nothing off (a crease inside a part: both sides stay connected around its ends) is
+// not repaired: placing its ends again between the two sheets made it worse (KIDS, 60,000 vertices).
+// Landmark weights w_k: uniform,
 // or (SmacofOptions::vertex_weights given, n values) the sum of the weights of the vertices nearest to
 // landmark k (its geodesic Voronoi cell), so area weights stay area weights.
 //
@@ -43,9 +46,15 @@
 
 #include "canon/smacof.h"
 #include "core/option_fields.h"
+#include "core/option_limits.h"
 #include "core/types.h"
 
 namespace cshapes {
+
+namespace landmark_limits {
+// 0 (no repair) or above 1 (a limit below an edge's own length would cut every edge).
+inline constexpr Limit kFoldOverstretch = number_limit("fold-overstretch", 0, 1000);
+}  // namespace landmark_limits
 
 // Which solver an MDS canonical form uses: the full n×n matrix, L landmark rows, or the rule of auto
 // (mds_uses_landmarks).
@@ -105,6 +114,7 @@ struct LandmarkMdsResult {
   Index replaced_points = 0;
   int repair_rounds = 0;
   Index overstretched_edges = 0;
+  bool repair_kept = true;  // false: the repair left no fewer edges over the limit, and was undone
   double seconds = 0;
 };
 

@@ -21,6 +21,7 @@ struct MdsArgs {
   std::string weights = "uniform";
   std::string mds_solver = to_string(MdsSolverOptions{}.solver);
   long landmarks = MdsSolverOptions{}.landmarks;
+  double fold_overstretch = MdsSolverOptions{}.fold_overstretch;
 } args;
 
 void validate_mds() {
@@ -56,6 +57,9 @@ void configure_smacof(CanonicalFormOptions& o, bool single_mesh) {
   o.smacof.extrapolation_window = args.window;
   o.smacof_init = parse_smacof_init(args.init);
   o.smacof_weights = parse_smacof_weights(args.weights);
+  o.mds_solver.fold_overstretch = args.fold_overstretch;
+  if (canon_option_given("--fold-overstretch") && o.mds_solver.solver == MdsSolver::Full)
+    usage_fail("--fold-overstretch applies to --mds-solver landmarks or auto only");
   if (o.smacof_init != SmacofInit::ClassicalMds && !single_mesh)
     usage_fail("--init ", args.init,
                ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
@@ -115,6 +119,11 @@ const bool smacof_registered = register_canon_method(
                     "smacof: pair weights w_i*w_j from uniform or area (vertex areas)")
            ->capture_default_str()
            ->check(one_of(smacof_weights_names()));
+       g.add_option("--fold-overstretch", args.fold_overstretch,
+                    "smacof on landmarks: points on edges longer than this × their input length (or the mean "
+                    "edge) are placed again beside their neighbours; 0: no repair")
+           ->capture_default_str()
+           ->check(within(landmark_limits::kFoldOverstretch));
      },
      configure_smacof,
      {},

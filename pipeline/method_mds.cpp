@@ -127,12 +127,14 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
     summary["smacof"]["interpolated_point_stress"] = r.interpolated_point_stress;
     summary["smacof"]["fold_repair"] = {{"replaced_points", r.replaced_points},
                                         {"rounds", r.repair_rounds},
-                                        {"overstretched_edges_left", r.overstretched_edges}};
+                                        {"overstretched_edges_left", r.overstretched_edges},
+                                        {"kept", r.repair_kept}};
     if (r.replaced_points > 0)
       say(options.note, "landmark SMACOF: " + std::to_string(r.replaced_points) +
                             " points interpolated across a fold placed again from their neighbours (" +
                             std::to_string(r.repair_rounds) + " rounds, " +
-                            std::to_string(r.overstretched_edges) + " edges still overstretched)");
+                            std::to_string(r.overstretched_edges) + " edges still overstretched" +
+                            (r.repair_kept ? ")" : "; not kept: no fewer than before)"));
     say(options.note, "landmark SMACOF: landmarks' normalised stress " +
                           std::to_string(r.landmark_normalized_stress) + "; other points' stress " +
                           std::to_string(r.start_point_stress) + " -> " +
