@@ -14,13 +14,12 @@
 #include "core/error.h"
 #include "core/geodesics.h"
 #include "core/io.h"
-#include "core/locate_on_surface.h"
 #include "core/mesh_repair.h"
 #include "core/rigid_transform.h"
 #include "core/timing.h"
-#include "core/topological_noise.h"
 #include "eval/correspondence_error.h"
 #include "pipeline/experiment_kit.h"
+#include "pipeline/remesh_samples.h"
 
 namespace cshapes {
 
@@ -39,13 +38,12 @@ struct PosePair {
   std::vector<int> va, vb;  // corresponding vertices (0-based), equal lengths
 };
 
-// With resampling, one shape's samples on its remesh: the input vertices some pair reads (sorted) and where
-// each lies on the remesh. `at` is empty when the forms are computed on the input itself (no resampling, or a
-// shape kept at its own resolution): its samples are then its vertices.
+// With resampling, one shape's samples on its remesh: the input vertices some pair reads (sorted), where each
+// lies on the remesh. `carried.at` is empty when the forms are computed on the input itself (no resampling,
+// or a shape kept at its own resolution): its samples are then its vertices.
 struct LocatedSamples {
   Index input_vertices = 0;
-  std::vector<int> vertices;
-  SurfaceLocations at;
+  RemeshSamples carried;
 };
 
 // One form of one shape as the pairs read it: a row per input vertex (with resampling, NaN but for the
@@ -228,41 +226,25 @@ std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, cons
     PoseShape& s = shapes[i];
     LocatedSamples& l = located[i];
     l.input_vertices = s.mesh.num_vertices();
-    l.vertices = samples[i];
     PoseLocatedRow row;
     row.shape = s.name;
-    row.samples = static_cast<int>(l.vertices.size());
+    row.samples = static_cast<int>(samples[i].size());
     const auto found = remesh_of.find(s.name);
     CSHAPES_REQUIRE(found != remesh_of.end(), "experiment pose: ", s.path, " was not resampled");
     const ResampledShape& r = *found->second;
     row.remeshed = r.remeshed;
     if (r.remeshed) {
       const Mesh remeshed = read_mesh(r.file);
-      Points P(static_cast<Index>(l.vertices.size()), 3);
-      for (size_t k = 0; k < l.vertices.size(); ++k)
-        P.row(static_cast<Index>(k)) = s.mesh.V.row(l.vertices[k]);
-      l.at = locate_on_surface(remeshed.V, remeshed.F, P);
-      const double diagonal = finite_bbox_diagonal(s.mesh.V);
-      const Points input_normals = vertex_normals(s.mesh);
-      // The remesh's normal at the located point, interpolated from its vertices' (continuous across faces,
-      // so a point on a sharp edge does not depend on which of the two faces the search returned).
-      const Eigen::MatrixXd normals_there =
-          interpolate_on_surface(remeshed.F, l.at, vertex_normals(remeshed));
-      double sum = 0;
-      for (Index k = 0; k < P.rows(); ++k) {
-        const double d = l.at.distance[k] / diagonal;
-        sum += d;
-        row.max_distance = std::max(row.max_distance, d);
-        if (normals_there.row(k).dot(input_normals.row(l.vertices[k])) < 0) ++row.facing_away;
-      }
-      row.mean_distance = P.rows() ? sum / static_cast<double>(P.rows()) : 0.0;
+      l.carried = carry_to_remesh(s.mesh, remeshed, samples[i]);
+      row.mean_distance = l.carried.mean_distance;
+      row.max_distance = l.carried.max_distance;
+      row.off_part = l.carried.off_part;
       s.mesh = remeshed;
       s.path = r.file;
-      say(o.note,
-          detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
-                         percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
-                         percent(row.max_distance, 3),
-                         row.facing_away ? detail::concat(", ", row.facing_away, " facing away") : ""));
+      say(o.note, detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
+                                 percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
+                                 percent(row.max_distance, 3),
+                                 row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
     }
     result.located.push_back(row);
   }
@@ -273,14 +255,15 @@ std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, cons
 FormAtSamples at_samples(const Points& X, const Faces& F, const LocatedSamples& located) {
   FormAtSamples out;
   out.diagonal = finite_bbox_diagonal(X);
-  if (located.at.face.size() == 0) {
+  const RemeshSamples& carried = located.carried;
+  if (carried.at.face.size() == 0) {
     out.X = X;
     return out;
   }
-  const Eigen::MatrixXd values = interpolate_on_surface(F, located.at, X);
+  const Eigen::MatrixXd values = interpolate_on_surface(F, carried.at, X);
   out.X.setConstant(located.input_vertices, 3, NAN);
-  for (size_t k = 0; k < located.vertices.size(); ++k)
-    out.X.row(located.vertices[k]) = values.row(static_cast<Index>(k));
+  for (size_t k = 0; k < carried.vertices.size(); ++k)
+    out.X.row(carried.vertices[k]) = values.row(static_cast<Index>(k));
   return out;
 }
 
@@ -555,21 +538,21 @@ size_t count_form(const std::vector<PoseShapeRow>& rows, const std::string& form
 
 // With resampling: how the samples were carried to the remeshes, and how far they moved.
 std::string located_markdown(const PoseInvarianceResult& result) {
-  long samples = 0, facing_away = 0;
+  long samples = 0, off_part = 0;
   double sum = 0, worst = 0;
   std::string worst_shape;
   std::ostringstream table;
-  table << "| shape | samples | mean distance | max distance | facing away |\n|---|---:|---:|---:|---:|\n";
+  table << "| shape | samples | mean distance | max distance | off their part |\n|---|---:|---:|---:|---:|\n";
   for (const PoseLocatedRow& r : result.located) {
     table << "| " << r.shape << " | " << r.samples << " | ";
     if (!r.remeshed) {
       table << "— | — | — |\n";  // its samples are its own vertices
       continue;
     }
-    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.facing_away
+    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.off_part
           << " |\n";
     samples += r.samples;
-    facing_away += r.facing_away;
+    off_part += r.off_part;
     sum += r.mean_distance * r.samples;
     if (r.max_distance >= worst) {
       worst = r.max_distance;
@@ -586,9 +569,10 @@ std::string located_markdown(const PoseInvarianceResult& result) {
         "on the remeshes. Distance from the located points to the input vertices, over the input's "
         "bounding-box diagonal: mean "
      << percent(samples ? sum / static_cast<double>(samples) : NAN, 3) << ", largest " << percent(worst, 3)
-     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << "; " << facing_away << " of " << samples
-     << " located points have the remesh's normal there pointing away from the input vertex's (a sign of the "
-        "wrong part of the surface, e.g. an arm lying against the body).\n\n"
+     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << "; " << off_part << " of " << samples
+     << " located points off their part of the surface (on a remeshed triangle that lies, on the input, "
+        "out of reach of the sample along the surface, as where an arm lies against the body: "
+        "pipeline/remesh_samples.h).\n\n"
      << table.str();
   return md.str();
 }

@@ -95,10 +95,9 @@ struct PoseLocatedRow {
   int samples = 0;           // input vertices that are a sample of some pair (each located once)
   double mean_distance = 0;  // mean ‖input vertex − located point‖ over the input's bounding-box diagonal
   double max_distance = 0;   // the largest, likewise
-  // Samples where the remesh's normal (its vertex normals interpolated at the located point) points away
-  // from the input's vertex normal (normal · normal < 0): a sign the closest point lies on another part of
-  // the surface, e.g. an arm lying against the body.
-  int facing_away = 0;
+  // Samples located on another part of the surface (an arm lying against the body):
+  // pipeline/remesh_samples.h.
+  int off_part = 0;
   bool remeshed = true;  // false: the shape was kept at its own resolution (its samples are its vertices)
 };
 
