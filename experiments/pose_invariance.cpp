@@ -238,13 +238,16 @@ std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, cons
       l.carried = carry_to_remesh(s.mesh, remeshed, samples[i]);
       row.mean_distance = l.carried.mean_distance;
       row.max_distance = l.carried.max_distance;
+      row.relocated = l.carried.relocated;
       row.off_part = l.carried.off_part;
       s.mesh = remeshed;
       s.path = r.file;
-      say(o.note, detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
-                                 percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
-                                 percent(row.max_distance, 3),
-                                 row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
+      say(o.note,
+          detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
+                         percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
+                         percent(row.max_distance, 3),
+                         row.relocated ? detail::concat(", ", row.relocated, " relocated to their part") : "",
+                         row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
     }
     result.located.push_back(row);
   }
@@ -538,20 +541,22 @@ size_t count_form(const std::vector<PoseShapeRow>& rows, const std::string& form
 
 // With resampling: how the samples were carried to the remeshes, and how far they moved.
 std::string located_markdown(const PoseInvarianceResult& result) {
-  long samples = 0, off_part = 0;
+  long samples = 0, relocated = 0, off_part = 0;
   double sum = 0, worst = 0;
   std::string worst_shape;
   std::ostringstream table;
-  table << "| shape | samples | mean distance | max distance | off their part |\n|---|---:|---:|---:|---:|\n";
+  table << "| shape | samples | mean distance | max distance | relocated | off their part |\n"
+           "|---|---:|---:|---:|---:|---:|\n";
   for (const PoseLocatedRow& r : result.located) {
     table << "| " << r.shape << " | " << r.samples << " | ";
     if (!r.remeshed) {
-      table << "— | — | — |\n";  // its samples are its own vertices
+      table << "— | — | — | — |\n";  // its samples are its own vertices
       continue;
     }
-    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.off_part
-          << " |\n";
+    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.relocated
+          << " | " << r.off_part << " |\n";
     samples += r.samples;
+    relocated += r.relocated;
     off_part += r.off_part;
     sum += r.mean_distance * r.samples;
     if (r.max_distance >= worst) {
@@ -569,10 +574,13 @@ std::string located_markdown(const PoseInvarianceResult& result) {
         "on the remeshes. Distance from the located points to the input vertices, over the input's "
         "bounding-box diagonal: mean "
      << percent(samples ? sum / static_cast<double>(samples) : NAN, 3) << ", largest " << percent(worst, 3)
-     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << "; " << off_part << " of " << samples
-     << " located points off their part of the surface (on a remeshed triangle that lies, on the input, "
-        "out of reach of the sample along the surface, as where an arm lies against the body: "
-        "pipeline/remesh_samples.h).\n\n"
+     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << ". " << relocated + off_part << " of "
+     << samples
+     << " samples were closest to another part of the surface (a remeshed triangle whose corners lie, on "
+        "the input, out of reach of the sample along it, as where an arm lies against the body: "
+        "pipeline/remesh_samples.h); "
+     << relocated << " of them were located on the closest triangle of their own part instead, " << off_part
+     << " found none within reach and stayed.\n\n"
      << table.str();
   return md.str();
 }

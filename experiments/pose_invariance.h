@@ -95,9 +95,10 @@ struct PoseLocatedRow {
   int samples = 0;           // input vertices that are a sample of some pair (each located once)
   double mean_distance = 0;  // mean ‖input vertex − located point‖ over the input's bounding-box diagonal
   double max_distance = 0;   // the largest, likewise
-  // Samples located on another part of the surface (an arm lying against the body):
-  // pipeline/remesh_samples.h.
-  int off_part = 0;
+  // Samples closest to another part of the surface (an arm lying against the body), located on their own
+  // part instead (relocated), or left there for want of a triangle of their own within reach
+  // (pipeline/remesh_samples.h).
+  int relocated = 0, off_part = 0;
   bool remeshed = true;  // false: the shape was kept at its own resolution (its samples are its vertices)
 };
 

@@ -350,6 +350,7 @@ TEST(PoseInvariance, ResampledPosesCarryTheirSamplesToTheRemeshes) {
     EXPECT_LE(l.max_distance, s.hausdorff * (1 + 1e-9)) << s.name;
     EXPECT_LE(l.mean_distance, l.max_distance);
     EXPECT_EQ(l.off_part, 0) << s.name;
+    EXPECT_EQ(l.relocated, 0) << s.name;
     located[s.name] = &l;
     input_diagonal[s.name] = bbox_diagonal(read_mesh(s.source).V);
     remesh_diagonal[s.name] = bbox_diagonal(read_mesh(s.file).V);
@@ -384,7 +385,8 @@ TEST(PoseInvariance, ResampledPosesCarryTheirSamplesToTheRemeshes) {
   EXPECT_TRUE(contains(report, "Every shape was remeshed to about 800 vertices"))
       << report;  // the kit's table
   EXPECT_TRUE(contains(report, "carried to its shape's remesh")) << report;
-  EXPECT_TRUE(contains(report, "| shape | samples | mean distance | max distance | off their part |"))
+  EXPECT_TRUE(
+      contains(report, "| shape | samples | mean distance | max distance | relocated | off their part |"))
       << report;
   EXPECT_FALSE(contains(pose_invariance_markdown(plain, o), "## Resampling"));
   EXPECT_TRUE(fs::exists(o.out + "/resampled/manifest.csv"));
