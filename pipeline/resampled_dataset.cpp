@@ -70,8 +70,10 @@ json compute_remesh(const Mesh& input, const ResampleOptions& options, const std
   return value;
 }
 
+// v2: the Hausdorff distance measures non-manifold inputs (v1 kept them at their own resolution: TOPKIDS's
+// kid00 "cannot be remeshed"), so v1's entries of such inputs are stale.
 std::string remesh_key(const std::string& path, const ResampleOptions& options) {
-  return cache_key({"resampled-mesh-v1", file_content_hash(path), options_key(options)});
+  return cache_key({"resampled-mesh-v2", file_content_hash(path), options_key(options)});
 }
 
 // The cached remesh of one file (computed on a miss); nothing when the file cannot be read (the reader
