@@ -263,8 +263,8 @@ struct Reference {
 
 Reference reference_forms(const TopkidsInputs& in, const DiskCache& form_cache,
                           const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
-  say(o.note,
-      "== reference " + o.reference + " (" + std::to_string(in.reference.num_vertices()) + " vertices)");
+  say(o.note, "== reference " + o.reference + " (" + std::to_string(in.reference_measured.num_vertices()) +
+                  " vertices)");
   std::optional<MethodForms> forms =
       forms_of(in.reference_measured, in.reference_measured_path, form_cache, o, r);
   // Every pose is measured against the reference: without its forms there is nothing to measure.
