@@ -38,6 +38,7 @@ const bool registered = register_command(
            "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
            "clean poses of a class share their faces (vertex i against vertex i)");
        add_methods_option(app, args.methods);
+       add_resample_option(app, o.resample.vertices);
        app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
        app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")
            ->capture_default_str()

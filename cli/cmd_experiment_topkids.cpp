@@ -76,6 +76,7 @@ const bool registered = register_command(
            "--poses", args.poses,
            "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
        add_methods_option(app, args.methods);
+       add_resample_option(app, o.resample.vertices);
        app.add_option("--samples", o.samples,
                       "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)")
            ->capture_default_str()

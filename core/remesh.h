@@ -63,8 +63,9 @@ double remesh_memory_bytes(Index target_vertices);
 
 // Symmetric Hausdorff distance between two surfaces, approximated by sampling: every vertex, edge midpoint
 // and face centroid of each mesh is projected onto the other (exact point-to-triangle distances via an AABB
-// tree). Units of the meshes. A lower bound of the true Hausdorff distance, tight to within about half an
-// edge's sag.
+// tree: core/locate_on_surface.h, so any triangle mesh, non-manifold too; faces of zero area are left out of
+// the target). Units of the meshes. A lower bound of the true Hausdorff distance, tight to within about half
+// an edge's sag.
 double hausdorff_distance(const Mesh& a, const Mesh& b);
 
 // Triangle angles in degrees: the smallest one in the mesh, and the mean over faces of each face's smallest

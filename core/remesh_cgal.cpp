@@ -1,8 +1,5 @@
 // CGAL side of core/remesh.h: isotropic remeshing, edge-collapse simplification, AABB-tree distances and the
 // exact self-intersection test. The only translation unit of the remeshing code that sees CGAL types.
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
@@ -21,6 +18,7 @@
 #include "core/distance_matrix.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/locate_on_surface.h"
 #include "core/remesh.h"
 #include "core/surface_mesh_cgal.h"
 
@@ -141,30 +139,32 @@ void improve_by_flips(Mesh& mesh, double bad_angle_deg, double max_dihedral_deg,
   }
 }
 
-using Tree =
-    CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
-
 // Largest distance from the sample points of `from` (vertices, edge midpoints, centroids) to the surface
-// `to`.
-double one_sided_distance(const Mesh& from, const SurfaceMesh& to) {
-  Tree tree(faces(to).first, faces(to).second, to);
-  tree.accelerate_distance_queries();
-  std::vector<Eigen::Vector3d> samples;
-  samples.reserve(from.num_vertices() + 4 * from.num_faces());
-  for (Index i = 0; i < from.num_vertices(); ++i) samples.push_back(from.V.row(i));
+// `to`, located in blocks (the samples of a million-vertex mesh are never all held at once).
+double one_sided_distance(const Mesh& from, const SurfaceLocator& to) {
+  constexpr Index kBlock = 65536;
+  double worst = 0;
+  Points block(kBlock, 3);
+  Index filled = 0;
+  auto flush = [&] {
+    if (filled == 0) return;
+    worst = std::max(worst, to.locate(block.topRows(filled)).distance.maxCoeff());
+    filled = 0;
+  };
+  auto add = [&](const Eigen::Vector3d& p) {
+    block.row(filled++) = p.transpose();
+    if (filled == kBlock) flush();
+  };
+  for (Index i = 0; i < from.num_vertices(); ++i) add(from.V.row(i).transpose());
   for (Index f = 0; f < from.num_faces(); ++f) {
     Eigen::Vector3d a = from.V.row(from.F(f, 0)), b = from.V.row(from.F(f, 1)), c = from.V.row(from.F(f, 2));
-    samples.push_back((a + b + c) / 3);
-    samples.push_back((a + b) / 2);  // each interior edge twice: harmless
-    samples.push_back((b + c) / 2);
-    samples.push_back((c + a) / 2);
+    add((a + b + c) / 3);
+    add((a + b) / 2);  // each interior edge twice: harmless
+    add((b + c) / 2);
+    add((c + a) / 2);
   }
-  double worst = 0;
-  for (const auto& s : samples) {
-    double d2 = tree.squared_distance(Point3(s.x(), s.y(), s.z()));
-    worst = std::max(worst, d2);
-  }
-  return std::sqrt(worst);
+  flush();
+  return worst;
 }
 
 }  // namespace
@@ -297,8 +297,8 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
 
 double hausdorff_distance(const Mesh& a, const Mesh& b) {
   CSHAPES_REQUIRE(!a.is_point_cloud() && !b.is_point_cloud(), "hausdorff_distance: both inputs need faces");
-  return std::max(one_sided_distance(a, cgal::to_surface_mesh(b, "hausdorff")),
-                  one_sided_distance(b, cgal::to_surface_mesh(a, "hausdorff")));
+  return std::max(one_sided_distance(a, SurfaceLocator(b.V, b.F)),
+                  one_sided_distance(b, SurfaceLocator(a.V, a.F)));
 }
 
 AngleStats angle_stats(const Mesh& mesh) {

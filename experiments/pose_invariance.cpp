@@ -19,6 +19,7 @@
 #include "core/timing.h"
 #include "eval/correspondence_error.h"
 #include "pipeline/experiment_kit.h"
+#include "pipeline/remesh_samples.h"
 
 namespace cshapes {
 
@@ -35,6 +36,21 @@ struct PoseShape {
 struct PosePair {
   int a = 0, b = 0;         // shape indices
   std::vector<int> va, vb;  // corresponding vertices (0-based), equal lengths
+};
+
+// With resampling, one shape's samples on its remesh: the input vertices some pair reads (sorted), where each
+// lies on the remesh. `carried.at` is empty when the forms are computed on the input itself (no resampling,
+// or a shape kept at its own resolution): its samples are then its vertices.
+struct LocatedSamples {
+  Index input_vertices = 0;
+  RemeshSamples carried;
+};
+
+// One form of one shape as the pairs read it: a row per input vertex (with resampling, NaN but for the
+// samples) and the bounding-box diagonal of the form itself, which normalises the pose RMS.
+struct FormAtSamples {
+  Points X;
+  double diagonal = 0;
 };
 
 // Evenly spaced subset of `count` of n indices (all when count ≤ 0 or ≥ n).
@@ -157,17 +173,101 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
   CSHAPES_REQUIRE(!pairs.empty(), "experiment pose: no two poses of one class in ", o.data);
 }
 
-double pose_rms(const Points& A, const Points& B, const PosePair& pair, const std::vector<size_t>& keep) {
+double pose_rms(const FormAtSamples& A, const FormAtSamples& B, const PosePair& pair,
+                const std::vector<size_t>& keep) {
   Points SA(static_cast<Index>(keep.size()), 3), SB(static_cast<Index>(keep.size()), 3);
   for (size_t k = 0; k < keep.size(); ++k) {
-    SA.row(static_cast<Index>(k)) = A.row(pair.va[keep[k]]);
-    SB.row(static_cast<Index>(k)) = B.row(pair.vb[keep[k]]);
+    SA.row(static_cast<Index>(k)) = A.X.row(pair.va[keep[k]]);
+    SB.row(static_cast<Index>(k)) = B.X.row(pair.vb[keep[k]]);
   }
   RigidFitOptions fit;
   fit.determinant = 0;
   fit.skip_nonfinite_rows = true;
   const double rms = fit_rigid_transform(SA, SB, fit).rms;
-  return rms / (0.5 * (finite_bbox_diagonal(A) + finite_bbox_diagonal(B)));
+  return rms / (0.5 * (A.diagonal + B.diagonal));
+}
+
+// ---- Resampling -------------------------------------------------------------------------------------------
+
+// The input vertices each shape's pairs read (the samples of measure_pairs), sorted.
+std::vector<std::vector<int>> sampled_vertices(size_t shape_count, const std::vector<PosePair>& pairs,
+                                               int samples) {
+  std::vector<std::set<int>> sets(shape_count);
+  for (const PosePair& p : pairs)
+    for (size_t k : thin(p.va.size(), samples)) {
+      sets[p.a].insert(p.va[k]);
+      sets[p.b].insert(p.vb[k]);
+    }
+  std::vector<std::vector<int>> out(shape_count);
+  for (size_t i = 0; i < shape_count; ++i) out[i].assign(sets[i].begin(), sets[i].end());
+  return out;
+}
+
+// Remeshes the shapes (only those of the run), then replaces each shape's mesh and path by its remesh and
+// locates its samples there: result.resampling and result.located are set, the returned list says where each
+// shape's samples lie.
+std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, const ExperimentFolder& folder,
+                                            const std::vector<PosePair>& pairs,
+                                            std::vector<PoseShape>& shapes, PoseInvarianceResult& result) {
+  Dataset inputs;
+  inputs.source = o.data;
+  std::map<std::string, int> poses_of_class;
+  for (const PoseShape& s : shapes)
+    inputs.entries.push_back({s.path, s.name, s.class_name, poses_of_class[s.class_name]++, false});
+  result.resampled = true;
+  result.resampling = resample_dataset(inputs, o.resample, folder.path("resampled"), folder.cache("remeshed"),
+                                       nullptr, o.note);
+  std::map<std::string, const ResampledShape*> remesh_of;
+  for (const ResampledShape& r : result.resampling.shapes) remesh_of[r.name] = &r;
+
+  const std::vector<std::vector<int>> samples = sampled_vertices(shapes.size(), pairs, o.samples);
+  std::vector<LocatedSamples> located(shapes.size());
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    PoseShape& s = shapes[i];
+    LocatedSamples& l = located[i];
+    l.input_vertices = s.mesh.num_vertices();
+    PoseLocatedRow row;
+    row.shape = s.name;
+    row.samples = static_cast<int>(samples[i].size());
+    const auto found = remesh_of.find(s.name);
+    CSHAPES_REQUIRE(found != remesh_of.end(), "experiment pose: ", s.path, " was not resampled");
+    const ResampledShape& r = *found->second;
+    row.remeshed = r.remeshed;
+    if (r.remeshed) {
+      const Mesh remeshed = read_mesh(r.file);
+      l.carried = carry_to_remesh(s.mesh, remeshed, samples[i]);
+      row.mean_distance = l.carried.mean_distance;
+      row.max_distance = l.carried.max_distance;
+      row.relocated = l.carried.relocated;
+      row.off_part = l.carried.off_part;
+      s.mesh = remeshed;
+      s.path = r.file;
+      say(o.note,
+          detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
+                         percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
+                         percent(row.max_distance, 3),
+                         row.relocated ? detail::concat(", ", row.relocated, " relocated to their part") : "",
+                         row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
+    }
+    result.located.push_back(row);
+  }
+  return located;
+}
+
+// A form (n×3, a row per vertex of the mesh it was computed on) at the shape's samples (see FormAtSamples).
+FormAtSamples at_samples(const Points& X, const Faces& F, const LocatedSamples& located) {
+  FormAtSamples out;
+  out.diagonal = finite_bbox_diagonal(X);
+  const RemeshSamples& carried = located.carried;
+  if (carried.at.face.size() == 0) {
+    out.X = X;
+    return out;
+  }
+  const Eigen::MatrixXd values = interpolate_on_surface(F, carried.at, X);
+  out.X.setConstant(located.input_vertices, 3, NAN);
+  for (size_t k = 0; k < carried.vertices.size(); ++k)
+    out.X.row(carried.vertices[k]) = values.row(static_cast<Index>(k));
+  return out;
 }
 
 // Stretch statistics over the mesh edges with finite ends; edges between two torn vertices are left out
@@ -268,8 +368,8 @@ void check_methods(const PoseInvarianceOptions& o) {
   require_canonical_form_methods(o.methods, "experiment pose");
 }
 
-// The points of every form of every shape: X[form][shape index] (empty for a shape left out).
-using FormPoints = std::map<std::string, std::vector<Points>>;
+// Every form of every shape at its samples: X[form][shape index] (empty for a shape left out).
+using FormPoints = std::map<std::string, std::vector<FormAtSamples>>;
 
 // One shape's row for one method's form: stretch, stress against `reference`, cost; said in a note.
 PoseShapeRow form_row(const PoseShape& s, const std::string& method, const CachedForm& computed,
@@ -290,17 +390,17 @@ PoseShapeRow form_row(const PoseShape& s, const std::string& method, const Cache
   return row;
 }
 
-// Shape i: its forms by every method (cached), its rows of result.shapes (the input's first), its points in
-// X. false when a form failed: the shape is left out (its record in result.failures).
-bool measure_shape(const PoseShape& s, size_t i, const DiskCache& cache, const PoseInvarianceOptions& o,
-                   FormPoints& X, PoseInvarianceResult& result) {
+// Shape i: its forms by every method (cached), its rows of result.shapes (the input's first), its forms at
+// its samples in X. false when a form failed: the shape is left out (its record in result.failures).
+bool measure_shape(const PoseShape& s, size_t i, const LocatedSamples& located, const DiskCache& cache,
+                   const PoseInvarianceOptions& o, FormPoints& X, PoseInvarianceResult& result) {
   const size_t failures_before = result.failures.size();
   std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
       cache, s.mesh, options_per_method(o.canon, o.methods, s.path), s.name, result.failures);
   for (size_t k = failures_before; k < result.failures.size(); ++k)
     say(o.note, "  " + describe(result.failures[k]));
   if (!computed) return false;
-  X["input"][i] = s.mesh.V;
+  X["input"][i] = at_samples(s.mesh.V, s.mesh.F, located);
   const StressReference reference = stress_reference(s, o.stress_sources);
   PoseShapeRow input_row;
   input_row.shape = s.name;
@@ -309,7 +409,7 @@ bool measure_shape(const PoseShape& s, size_t i, const DiskCache& cache, const P
   result.shapes.push_back(input_row);
   for (size_t k = 0; k < o.methods.size(); ++k) {
     result.shapes.push_back(form_row(s, o.methods[k], (*computed)[k], reference, o.note));
-    X[o.methods[k]][i] = std::move((*computed)[k].form.X);
+    X[o.methods[k]][i] = at_samples((*computed)[k].form.X, s.mesh.F, located);
   }
   return true;
 }
@@ -439,6 +539,52 @@ size_t count_form(const std::vector<PoseShapeRow>& rows, const std::string& form
       std::count_if(rows.begin(), rows.end(), [&](const PoseShapeRow& r) { return r.form == form; }));
 }
 
+// With resampling: how the samples were carried to the remeshes, and how far they moved.
+std::string located_markdown(const PoseInvarianceResult& result) {
+  long samples = 0, relocated = 0, off_part = 0;
+  double sum = 0, worst = 0;
+  std::string worst_shape;
+  std::ostringstream table;
+  table << "| shape | samples | mean distance | max distance | relocated | off their part |\n"
+           "|---|---:|---:|---:|---:|---:|\n";
+  for (const PoseLocatedRow& r : result.located) {
+    table << "| " << r.shape << " | " << r.samples << " | ";
+    if (!r.remeshed) {
+      table << "— | — | — | — |\n";  // its samples are its own vertices
+      continue;
+    }
+    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.relocated
+          << " | " << r.off_part << " |\n";
+    samples += r.samples;
+    relocated += r.relocated;
+    off_part += r.off_part;
+    sum += r.mean_distance * r.samples;
+    if (r.max_distance >= worst) {
+      worst = r.max_distance;
+      worst_shape = r.shape;
+    }
+  }
+  std::ostringstream md;
+  md << "Each ground-truth correspondence sample (a vertex of the input) was carried to its shape's "
+        "remesh as the closest point of the remeshed surface, and each form's position of it interpolated "
+        "there on the remesh's triangle (barycentric; core/locate_on_surface.h); poses that shared their "
+        "faces "
+        "are still paired vertex i with vertex i of the inputs. Edge stretch and geodesic stress are "
+        "measured "
+        "on the remeshes. Distance from the located points to the input vertices, over the input's "
+        "bounding-box diagonal: mean "
+     << percent(samples ? sum / static_cast<double>(samples) : NAN, 3) << ", largest " << percent(worst, 3)
+     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << ". " << relocated + off_part << " of "
+     << samples
+     << " samples were closest to another part of the surface (a remeshed triangle whose corners lie, on "
+        "the input, out of reach of the sample along it, as where an arm lies against the body: "
+        "pipeline/remesh_samples.h); "
+     << relocated << " of them were located on the closest triangle of their own part instead, " << off_part
+     << " found none within reach and stayed.\n\n"
+     << table.str();
+  return md.str();
+}
+
 }  // namespace
 
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
@@ -452,10 +598,13 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   const ExperimentFolder folder(o.out);
   const DiskCache cache = folder.cache("forms");
   PoseInvarianceResult result;
+  std::vector<LocatedSamples> located(shapes.size());
+  if (o.resample.vertices > 0) located = resample_shapes(o, folder, pairs, shapes, result);
   FormPoints X;
   for (const std::string& f : forms_of_run(o)) X[f].resize(shapes.size());
   std::vector<char> failed(shapes.size(), 0);
-  for (size_t i = 0; i < shapes.size(); ++i) failed[i] = !measure_shape(shapes[i], i, cache, o, X, result);
+  for (size_t i = 0; i < shapes.size(); ++i)
+    failed[i] = !measure_shape(shapes[i], i, located[i], cache, o, X, result);
   measure_pairs(shapes, pairs, failed, X, o, result);
 
   std::map<std::string, std::string> class_of;
@@ -475,7 +624,11 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result, const P
   md << "# Pose invariance (" << label_of(o) << ")\n\n"
      << "Data: `" << o.data << "`, " << count_form(result.shapes, "input") << " shapes, "
      << count_form(result.pairs, "input") << " pairs of poses, up to " << o.samples
-     << " ground-truth correspondences per pair. Pose RMS: RMS distance between corresponding points of the "
+     << " ground-truth correspondences per pair"
+     << (result.resampled ? detail::concat(", every shape remeshed to about ", o.resample.vertices,
+                                           " vertices first (see Resampling below)")
+                          : std::string())
+     << ". Pose RMS: RMS distance between corresponding points of the "
         "two forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; "
         "removed = 1 − form / input (medians over pairs). Stretch: edge length in the form / in the input, "
         "edges not torn; stress: against fast marching from "
@@ -488,6 +641,8 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result, const P
        << percent(r.removed, 0) << " | " << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
        << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(measured_stress(r.stress), 3)
        << " |\n";
+  if (result.resampled)
+    md << "\n## Resampling\n\n" << resampling_markdown(result.resampling) << "\n" << located_markdown(result);
   if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);
   return md.str();
 }

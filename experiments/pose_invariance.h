@@ -11,13 +11,25 @@
 //     class, vertex i against vertex i (a class whose poses do not share faces is refused).
 // Per pair and form (the two inputs themselves, and the canonical forms of each method):
 //   pose RMS = sqrt(mean_s ‖R·a_s + t − b_s‖²) / ((diag A + diag B) / 2)
-// after the best rigid fit of the samples (Kabsch; reflections allowed, since MDS forms are defined only up to
-// one), diag = the bounding-box diagonal of the form. 0: the two poses have the same canonical form up to a
-// rigid motion. "Removed" = 1 − form RMS / input RMS: the share of the pose variation the method undoes.
+// after the best rigid fit of the samples (Kabsch; reflections allowed, since MDS forms are defined only up
+// to one), diag = the bounding-box diagonal of the form. 0: the two poses have the same canonical form up to
+// a rigid motion. "Removed" = 1 − form RMS / input RMS: the share of the pose variation the method undoes.
 // Per shape and form, the metric faithfulness: edge stretch ‖x_i − x_j‖ / ‖v_i − v_j‖ over the edges not
 // torn (mean |stretch − 1|, 99th percentile and max), and the geodesic stress against fast-marching distances
 // from `stress_sources` sources: sqrt(Σ (‖x_i − x_s‖ − g_is)² / Σ g_is²) over all vertices i and sources s
 // (the normalised stress MDS minimises, measured the same way for every method).
+//
+// Resampling (options.resample.vertices > 0, `--resample N`): every shape is remeshed to about N vertices
+// first (pipeline/resampled_dataset.h, cached under OUT/cache/remeshed, written to OUT/resampled) and its
+// forms are computed on the remesh, which keeps none of the input's vertices. Each correspondence sample (a
+// vertex of the input) is carried to the remesh as the closest point of the remeshed surface
+// (core/locate_on_surface.h), and a form's position of the sample is the form interpolated there
+// (barycentric, on the remesh's triangle); the input's pose RMS likewise compares the located points on the
+// two remeshes. For a dataset whose poses share faces, the pair is still vertex i of input A against vertex i
+// of input B, each located on its own remesh (the remeshes share no faces). Edge stretch and geodesic stress
+// are measured on the remesh. The report gives the remeshes' measures and how far the located points lie from
+// the input vertices. What this separates: the pose invariance of a form at another resolution, on the same
+// surfaces and truth.
 //
 // Canonical forms are cached under OUT/cache (a rerun, or a second run with other Coulomb options, computes
 // only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): run_pose_invariance
@@ -31,6 +43,7 @@
 #include <vector>
 
 #include "pipeline/canonical_form_methods.h"
+#include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -43,6 +56,9 @@ struct PoseInvarianceOptions {
   std::vector<std::string> shapes;
   int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
   int stress_sources = 16;   // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
+  // vertices > 0: every shape remeshed to about that many vertices first, the samples carried to the remesh
+  // (see above; the report's "Resampling" section); 0: the shapes as they are.
+  ResampleOptions resample;
   std::string label;         // a name for this run's configuration, written into every CSV row
   // Method options (the method field is set per method; MDS geodesics: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
@@ -73,6 +89,19 @@ struct PoseSummaryRow {
   double mean_abs_stretch = 0, max_stretch = 0, stress = -1;  // medians over the shapes (max: the worst)
 };
 
+// With resampling: how far one shape's correspondence samples moved when carried to its remesh.
+struct PoseLocatedRow {
+  std::string shape;
+  int samples = 0;           // input vertices that are a sample of some pair (each located once)
+  double mean_distance = 0;  // mean ‖input vertex − located point‖ over the input's bounding-box diagonal
+  double max_distance = 0;   // the largest, likewise
+  // Samples closest to another part of the surface (an arm lying against the body), located on their own
+  // part instead (relocated), or left there for want of a triangle of their own within reach
+  // (pipeline/remesh_samples.h).
+  int relocated = 0, off_part = 0;
+  bool remeshed = true;  // false: the shape was kept at its own resolution (its samples are its vertices)
+};
+
 struct PoseInvarianceResult {
   std::vector<PosePairRow> pairs;
   std::vector<PoseShapeRow> shapes;
@@ -80,6 +109,9 @@ struct PoseInvarianceResult {
   // Shapes whose canonical form failed by some method, left out with every pair they are in, and geodesic
   // fallbacks (kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
   std::vector<ShapeFailure> failures;
+  bool resampled = false;               // options.resample.vertices > 0
+  ResampledDataset resampling;          // when resampled: the remeshes and their measures
+  std::vector<PoseLocatedRow> located;  // when resampled: per shape, in shape order
 };
 
 // The measurement (see above): discovers the shapes and pairs (throws on a malformed folder or
@@ -88,8 +120,9 @@ struct PoseInvarianceResult {
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& options);
 
 // pose.md's text from the result and the options it was run with (label, data, samples, stress sources): the
-// summary table (pose RMS as percentages of the diagonal, "—" for a value not measured) and the shapes left
-// out. The shapes and pairs it counts are those of the result (shapes left out are not).
+// summary table (pose RMS as percentages of the diagonal, "—" for a value not measured), with resampling the
+// remeshes' measures and the located samples' distances, and the shapes left out. The shapes and pairs it
+// counts are those of the result (shapes left out are not).
 std::string pose_invariance_markdown(const PoseInvarianceResult& result,
                                      const PoseInvarianceOptions& options);
 // Writes it to folder/pose.md.

@@ -10,13 +10,16 @@
 #include <set>
 #include <sstream>
 
+#include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
 #include "core/timing.h"
 #include "eval/cache.h"
 #include "eval/correspondence_error.h"
 #include "experiments/figures.h"
+#include "matching/nearest_neighbors.h"
 #include "pipeline/experiment_kit.h"
+#include "pipeline/remesh_samples.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -64,6 +67,31 @@ PointMap align_and_map(const Points& source, const Points& target, const IcpOpti
   return pm;
 }
 
+// With resampling: ICP between the two forms (each on its remesh), then each carried vertex of the source
+// input (its form position interpolated on the source's remesh, moved by the alignment) to the nearest
+// finite row of the target form, taken back to a vertex of the target input by `back` (per target row).
+// The map has a row per vertex of the source input (−1 where no carried vertex is, or its form is not
+// finite there).
+PointMap align_and_map_carried(const Points& source, const Faces& source_faces, const RemeshSamples& carried,
+                               Index source_input_vertices, const Points& target, const Eigen::VectorXi& back,
+                               const IcpOptions& options) {
+  const std::vector<int> s_rows = finite_rows(source), t_rows = finite_rows(target);
+  const Points aligned_target = take_rows(target, t_rows);
+  const IcpResult r = icp(take_rows(source, s_rows), aligned_target, options);
+  const NearestNeighbors nearest(aligned_target);
+  const Eigen::MatrixXd at = interpolate_on_surface(source_faces, carried.at, source);
+  PointMap pm;
+  pm.map = Eigen::VectorXi::Constant(source_input_vertices, -1);
+  for (size_t k = 0; k < carried.vertices.size(); ++k) {
+    const Eigen::Vector3d x = at.row(static_cast<Index>(k)).transpose();
+    if (!x.allFinite()) continue;
+    pm.map[carried.vertices[k]] = back[t_rows[static_cast<size_t>(nearest.nearest(r.transform.apply(x)))]];
+  }
+  pm.reflected = r.transform.is_reflection();
+  pm.rmse = r.rmse;
+  return pm;
+}
+
 // Errors in a cache entry: JSON has no infinity, so an unmapped sample is stored as −1.
 json errors_to_json(const Eigen::VectorXd& e) {
   std::vector<double> v(static_cast<size_t>(e.size()));
@@ -84,12 +112,19 @@ struct Pose {
   std::string name;
   std::string mesh_path, ref_path, sym_path;  // sym_path "" when there is none
   Mesh mesh;
+  // The mesh the forms and ICP are computed on: the input, or with resampling its remesh; and its file.
+  Mesh measured;
+  std::string measured_path;
+  RemeshSamples carried;  // with resampling: the ground-truth vertices on `measured`
 };
 
 // Everything the run reads, read and checked before any work.
 struct TopkidsInputs {
   std::string reference_path;
   Mesh reference;
+  Mesh reference_measured;  // as Pose::measured
+  std::string reference_measured_path;
+  Eigen::VectorXi reference_back;  // with resampling: per vertex of reference_measured, the input's nearest
   std::vector<Pose> poses;
 };
 
@@ -110,6 +145,8 @@ Pose read_pose(const TopkidsExperimentOptions& o, const std::string& name, const
   const std::string sym = (fs::path(o.data) / (name + "_sym.txt")).string();
   if (fs::is_regular_file(sym)) p.sym_path = sym;
   p.mesh = read_mesh(p.mesh_path);
+  p.measured = p.mesh;
+  p.measured_path = p.mesh_path;
   // Checked now (the scoring reads them again, from its cache or not).
   read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.num_vertices());
   if (!p.sym_path.empty())
@@ -123,8 +160,61 @@ TopkidsInputs read_inputs(const TopkidsExperimentOptions& o, const std::vector<s
   TopkidsInputs in;
   in.reference_path = topkids_mesh_path(o.data, o.reference);
   in.reference = read_mesh(in.reference_path);
+  in.reference_measured = in.reference;
+  in.reference_measured_path = in.reference_path;
   for (const std::string& name : poses) in.poses.push_back(read_pose(o, name, in.reference));
   return in;
+}
+
+// With resampling: the reference and the poses remeshed (cached), each one's measured mesh its remesh; the
+// poses' ground-truth vertices carried there, the reference's remesh vertices taken back to its input.
+void resample_inputs(const TopkidsExperimentOptions& o, const ExperimentFolder& folder, TopkidsInputs& in,
+                     TopkidsExperimentResult& r) {
+  Dataset d;
+  d.source = o.data;
+  d.entries.push_back({in.reference_path, o.reference, "kid", 0, false});
+  for (size_t i = 0; i < in.poses.size(); ++i)
+    d.entries.push_back({in.poses[i].mesh_path, in.poses[i].name, "kid", static_cast<int>(i) + 1, false});
+  r.resampled = true;
+  r.resampling =
+      resample_dataset(d, o.resample, folder.path("resampled"), folder.cache("remeshed"), nullptr, o.note);
+  std::map<std::string, const ResampledShape*> remesh_of;
+  for (const ResampledShape& s : r.resampling.shapes) remesh_of[s.name] = &s;
+  // The remesh of a shape (its input when it was kept at its own resolution).
+  auto measured = [&](const std::string& name, Mesh& mesh, std::string& path) {
+    const auto found = remesh_of.find(name);
+    CSHAPES_REQUIRE(found != remesh_of.end(), "experiment topkids: ", name, " was not resampled");
+    if (!found->second->remeshed) return;
+    path = found->second->file;
+    mesh = read_mesh(path);
+  };
+  measured(o.reference, in.reference_measured, in.reference_measured_path);
+  Eigen::VectorXd squared;
+  NearestNeighbors(in.reference.V).nearest_all(in.reference_measured.V, in.reference_back, squared);
+  r.reference_back_distance = std::sqrt(squared.maxCoeff()) / finite_bbox_diagonal(in.reference.V);
+  for (Pose& p : in.poses) {
+    measured(p.name, p.measured, p.measured_path);
+    const CorrespondencePairs truth =
+        read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), in.reference.num_vertices());
+    std::vector<int> vertices = truth.from;
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    p.carried = carry_to_remesh(p.mesh, p.measured, vertices);
+    TopkidsCarriedRow row;
+    row.pose = p.name;
+    row.vertices = static_cast<int>(vertices.size());
+    row.mean_distance = p.carried.mean_distance;
+    row.max_distance = p.carried.max_distance;
+    row.relocated = p.carried.relocated;
+    row.off_part = p.carried.off_part;
+    r.carried.push_back(row);
+    say(o.note,
+        detail::concat("  ", p.name, ": ", row.vertices, " ground-truth vertices carried to the remesh, ",
+                       percent(row.mean_distance, 3), " of the diagonal on average, at most ",
+                       percent(row.max_distance, 3),
+                       row.relocated ? detail::concat(", ", row.relocated, " relocated to their part") : "",
+                       row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
+  }
 }
 
 // ---- Canonical forms --------------------------------------------------------------------------------------
@@ -162,8 +252,10 @@ std::optional<MethodForms> forms_of(const Mesh& mesh, const std::string& path, c
 
 // The reference pose, its forms, and the scales every pose's rows are measured in.
 struct Reference {
-  const Mesh& mesh;
+  const Mesh& mesh;  // the input: the scoring's geodesics
   const std::string& path;
+  const Mesh& measured;         // the mesh of the forms and ICP (with resampling, the remesh)
+  const Eigen::VectorXi& back;  // with resampling: per vertex of `measured`, the input's nearest
   MethodForms forms;
   std::map<std::string, double> form_diagonal;  // per method and "inputs": the form's bounding-box diagonal
   std::string content_key;                      // mesh_content_key
@@ -171,17 +263,24 @@ struct Reference {
 
 Reference reference_forms(const TopkidsInputs& in, const DiskCache& form_cache,
                           const TopkidsExperimentOptions& o, TopkidsExperimentResult& r) {
-  say(o.note,
-      "== reference " + o.reference + " (" + std::to_string(in.reference.num_vertices()) + " vertices)");
-  std::optional<MethodForms> forms = forms_of(in.reference, in.reference_path, form_cache, o, r);
+  say(o.note, "== reference " + o.reference + " (" + std::to_string(in.reference_measured.num_vertices()) +
+                  " vertices)");
+  std::optional<MethodForms> forms =
+      forms_of(in.reference_measured, in.reference_measured_path, form_cache, o, r);
   // Every pose is measured against the reference: without its forms there is nothing to measure.
   if (!forms) fail("experiment topkids: ", describe(r.failures.back()));
-  Reference ref{in.reference, in.reference_path, std::move(*forms), {}, mesh_content_key(in.reference)};
+  Reference ref{in.reference,
+                in.reference_path,
+                in.reference_measured,
+                in.reference_back,
+                std::move(*forms),
+                {},
+                mesh_content_key(in.reference)};
   for (const std::string& m : o.methods) {
     r.reference_repair[m] = ref.forms.forms[m].repair_text;
     ref.form_diagonal[m] = finite_bbox_diagonal(ref.forms.forms[m].X);
   }
-  ref.form_diagonal[kInputs] = bbox_diagonal(in.reference.V);
+  ref.form_diagonal[kInputs] = bbox_diagonal(in.reference_measured.V);
   return ref;
 }
 
@@ -198,6 +297,8 @@ std::string scoring_entry(const TopkidsExperimentOptions& o, const Reference& re
       << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
       << static_cast<int>(o.scoring_geodesics.heat_mode) << "," << o.scoring_geodesics.heat_time_factor
       << ";icp=" << to_key_string(o.icp) << ";curve=" << o.max_threshold << "," << o.curve_points;
+  if (o.resample.vertices > 0)  // the maps run through the remeshes (their keys cover the forms only)
+    key << ";resampled=" << mesh_content_key(reference.measured) << "," << mesh_content_key(p.measured);
   for (const std::string& m : o.methods)
     key << ";" << m << "=" << reference.forms.keys.at(m) << "," << forms.keys.at(m);
   return cache_key({key.str(), "json"});
@@ -224,10 +325,17 @@ json score_pose(const TopkidsExperimentOptions& o, const std::vector<std::string
   const CorrespondencePairs truth =
       read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.mesh.num_vertices());
   const std::vector<int> symmetric = mirrored_truth(p, truth, reference.mesh);
+  // Without resampling every vertex of the pose is mapped; with it, the carried ground-truth vertices.
+  auto map = [&](const Points& source, const Points& target) {
+    return o.resample.vertices > 0
+               ? align_and_map_carried(source, p.measured.F, p.carried, p.mesh.num_vertices(), target,
+                                       reference.back, o.icp)
+               : align_and_map(source, target, o.icp);
+  };
   std::vector<PointMap> maps;
-  maps.push_back(align_and_map(p.mesh.V, reference.mesh.V, o.icp));
+  maps.push_back(map(p.measured.V, reference.measured.V));
   for (const std::string& m : o.methods)
-    maps.push_back(align_and_map(forms.forms.at(m).X, reference.forms.forms.at(m).X, o.icp));
+    maps.push_back(map(forms.forms.at(m).X, reference.forms.forms.at(m).X));
   std::vector<Eigen::VectorXi> map_list;
   for (const PointMap& pm : maps) map_list.push_back(pm.map);
   CorrespondenceErrorOptions ce;
@@ -299,8 +407,8 @@ bool measure_pose(const Pose& p, const Reference& reference, const DiskCache& fo
                   const DiskCache& misc_cache, const TopkidsExperimentOptions& o, TopkidsExperimentResult& r,
                   PooledErrors& pooled) {
   const auto pose_start = WallClock::now();
-  say(o.note, "== " + p.name + " (" + std::to_string(p.mesh.num_vertices()) + " vertices)");
-  const std::optional<MethodForms> forms = forms_of(p.mesh, p.mesh_path, form_cache, o, r);
+  say(o.note, "== " + p.name + " (" + std::to_string(p.measured.num_vertices()) + " vertices)");
+  const std::optional<MethodForms> forms = forms_of(p.measured, p.measured_path, form_cache, o, r);
   if (!forms) return false;
   const std::string entry = scoring_entry(o, reference, p, *forms);
   bool computed = false;
@@ -468,6 +576,27 @@ void write_topkids_json(const ExperimentFolder& folder, const TopkidsExperimentR
          {"figure", r.figure},
          {"figure_problem", r.figure_problem}};
   if (!r.failures.empty()) j["failures"] = shape_failures_json(r.failures);
+  if (r.resampled) {
+    json carried = json::array();
+    for (const TopkidsCarriedRow& c : r.carried)
+      carried.push_back({{"pose", c.pose},
+                         {"vertices", c.vertices},
+                         {"mean_distance", c.mean_distance},
+                         {"max_distance", c.max_distance},
+                         {"relocated", c.relocated},
+                         {"off_part", c.off_part}});
+    json shapes = json::array();
+    for (const ResampledShape& rs : r.resampling.shapes)
+      shapes.push_back({{"name", rs.name},
+                        {"input_vertices", rs.input_vertices},
+                        {"vertices", rs.vertices},
+                        {"hausdorff", finite_or_null(rs.hausdorff)},
+                        {"remeshed", rs.remeshed}});
+    j["resample"] = {{"vertices", r.resampling.options.vertices},
+                     {"shapes", shapes},
+                     {"carried", carried},
+                     {"reference_back_distance", r.reference_back_distance}};
+  }
   for (const TopkidsSummary& s : r.summaries) j["summary"].push_back(summary_json(s));
   for (const TopkidsRow& row : r.rows) j["rows"].push_back(row_json(row));
   folder.write_json("topkids.json", j);
@@ -508,9 +637,10 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   r.poses = o.poses.empty() ? topkids_poses(o.data, o.reference) : o.poses;
   r.methods = {kInputs};
   r.methods.insert(r.methods.end(), o.methods.begin(), o.methods.end());
-  const TopkidsInputs inputs = read_inputs(o, r.poses);
+  TopkidsInputs inputs = read_inputs(o, r.poses);
 
   const ExperimentFolder folder(o.out);
+  if (o.resample.vertices > 0) resample_inputs(o, folder, inputs, r);
   const DiskCache form_cache = folder.cache("forms"), misc_cache = folder.cache("misc");
   const Reference reference = reference_forms(inputs, form_cache, o, r);
   PooledErrors pooled;
@@ -591,6 +721,33 @@ void write_method(std::ostream& s, const TopkidsExperimentResult& r, const Topki
        "half its vertices nearer the mirrored truth. The *whole map* columns forgive the flip only for a map "
        "as a whole (the better of truth and mirrored truth for all its vertices together, as Kim, Lipman & "
        "Funkhouser 2011 score symmetric shapes): the stricter reading.\n\n";
+  if (r.resampled)
+    s << "Resampled: the reference and every pose were remeshed to about " << o.resample.vertices
+      << " vertices first, and the forms and ICP computed on the remeshes; the ground truth and the scoring "
+         "stay on the inputs. Each ground-truth vertex of a pose was carried to its remesh (the closest "
+         "point "
+         "of the remeshed surface), its form position interpolated there and aligned; its image is the "
+         "nearest vertex of the reference's aligned form, taken back to the reference input's nearest vertex "
+         "(see Resampling below).\n\n";
+}
+
+// With resampling: the remeshes, and how far the carried vertices moved.
+void write_resampling(std::ostream& s, const TopkidsExperimentResult& r) {
+  if (!r.resampled) return;
+  s << "## Resampling\n\n" << resampling_markdown(r.resampling) << "\n";
+  s << "Ground-truth vertices carried to their pose's remesh (pipeline/remesh_samples.h), distance over the "
+       "pose's bounding-box diagonal; relocated: closest to a remeshed triangle of another part of the "
+       "surface "
+       "(two parts in contact), located on the closest triangle of their own part instead; off their part: "
+       "the same with none of their own within reach (left where they were). The reference's remesh vertices "
+       "lie at most "
+    << percent(r.reference_back_distance, 3)
+    << " of its diagonal from the input vertices they go back to.\n\n| pose | vertices | mean distance | max "
+       "distance | relocated | off their part |\n|---|---:|---:|---:|---:|---:|\n";
+  for (const TopkidsCarriedRow& c : r.carried)
+    s << "| " << c.pose << " | " << c.vertices << " | " << percent(c.mean_distance, 3) << " | "
+      << percent(c.max_distance, 3) << " | " << c.relocated << " | " << c.off_part << " |\n";
+  s << "\n";
 }
 
 void write_pooled_table(std::ostream& s, const TopkidsExperimentResult& r) {
@@ -663,6 +820,7 @@ void write_reproduce(std::ostream& s, const TopkidsExperimentOptions& o, const s
   s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << folder << " --methods ";
   for (size_t i = 0; i < o.methods.size(); ++i) s << (i ? "," : "") << o.methods[i];
   s << " --samples " << o.samples << (o.icp.try_axis_swaps ? " --icp-axis-swaps" : "")
+    << (o.resample.vertices > 0 ? " --resample " + std::to_string(o.resample.vertices) : std::string())
     << "` (canonical forms and scorings are cached in `cache/`).\n";
 }
 
@@ -676,6 +834,7 @@ void write_topkids_report(const TopkidsExperimentResult& r, const TopkidsExperim
   write_figure(s, r, folder);
   s << shape_failures_markdown(r.failures);
   write_pose_table(s, r);
+  write_resampling(s, r);
   write_repairs(s, r);
   write_reproduce(s, o, folder);
   ExperimentFolder(folder).write_text("report.md", s.str());

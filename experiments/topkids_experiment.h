@@ -27,6 +27,16 @@
 // The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported
 // beside.
 //
+// Resampling (options.resample.vertices > 0, `--resample N`): the reference and every pose are remeshed to
+// about N vertices first (pipeline/resampled_dataset.h: cached under out/cache/remeshed, written to
+// out/resampled), and the forms and ICP are computed on the remeshes; the ground truth and the scoring stay
+// on the inputs. Each ground-truth vertex of a pose is carried to the pose's remesh
+// (pipeline/remesh_samples.h: the closest point of the remeshed surface), its position in a form interpolated
+// there and moved by the ICP alignment; its image is the nearest vertex of the reference's aligned form,
+// taken back to the vertex of the reference input nearest to that remesh vertex. The report gives the
+// remeshes' measures, how far the carried vertices moved and how far the reference's remesh vertices lie from
+// the input vertices they go to.
+//
 // Three steps, as `cshapes experiment topkids` runs them:
 //   run_topkids_experiment   the measurement; writes the data files into out/: topkids.csv (one row per
 //                            method and pose), curves.csv (cumulative error curve per method, pooled over
@@ -51,6 +61,7 @@
 #include "core/progress.h"
 #include "matching/icp.h"
 #include "pipeline/canonical_form_methods.h"
+#include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
 
 namespace cshapes {
@@ -72,6 +83,9 @@ struct TopkidsExperimentOptions {
     g.method = GeodesicMethod::FastMarching;
     return g;
   }();
+  // vertices > 0: the reference and the poses remeshed to about that many vertices first (see above); 0: as
+  // they are.
+  ResampleOptions resample;
   double max_threshold = 0.5;  // curves: thresholds 0 .. max_threshold (units of √area of the reference)
   int curve_points = 101;      // points of each curve
   // draw_topkids_figure draws out/topkids.png (experiments/plots/topkids_figure.py); false: it records
@@ -113,6 +127,16 @@ struct TopkidsSummary {  // one method, pooled over poses
   Eigen::VectorXd whole_map_fraction;
 };
 
+// With resampling: one pose's ground-truth vertices carried to its remesh (pipeline/remesh_samples.h).
+struct TopkidsCarriedRow {
+  std::string pose;
+  int vertices = 0;          // ground-truth vertices of the pose, each carried once
+  double mean_distance = 0;  // mean ‖vertex − located point‖ / the pose input's bounding-box diagonal
+  double max_distance = 0;   // the largest, likewise
+  int relocated = 0;         // closest to another part, located on their own (pipeline/remesh_samples.h)
+  int off_part = 0;          // closest to another part, no triangle of their own within reach
+};
+
 struct TopkidsExperimentResult {
   std::vector<std::string> poses;
   std::vector<std::string> methods;  // "inputs" first, then the options' methods
@@ -129,6 +153,12 @@ struct TopkidsExperimentResult {
   // Query poses whose canonical form failed by some method, left out (not in `poses`), and geodesic
   // fallbacks (kept): pipeline/shape_failures.h. The reference's failure ends the run.
   std::vector<ShapeFailure> failures;
+  bool resampled = false;                  // options.resample.vertices > 0
+  ResampledDataset resampling;             // when resampled: the remeshes and their measures
+  std::vector<TopkidsCarriedRow> carried;  // when resampled: per pose (the poses read, left out or not)
+  // When resampled: the largest distance from a vertex of the reference's remesh to the reference input's
+  // vertex it goes back to, over the input's bounding-box diagonal.
+  double reference_back_distance = 0;
 };
 
 // The query poses of a folder: every NAME_ref.txt whose NAME is not the reference, in name order. Throws when

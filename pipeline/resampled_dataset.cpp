@@ -70,8 +70,10 @@ json compute_remesh(const Mesh& input, const ResampleOptions& options, const std
   return value;
 }
 
+// v2: the Hausdorff distance measures non-manifold inputs (v1 kept them at their own resolution: TOPKIDS's
+// kid00 "cannot be remeshed"), so v1's entries of such inputs are stale.
 std::string remesh_key(const std::string& path, const ResampleOptions& options) {
-  return cache_key({"resampled-mesh-v1", file_content_hash(path), options_key(options)});
+  return cache_key({"resampled-mesh-v2", file_content_hash(path), options_key(options)});
 }
 
 // The cached remesh of one file (computed on a miss); nothing when the file cannot be read (the reader
@@ -166,12 +168,18 @@ ResampledDataset resample_dataset(const std::string& data, const ResampleOptions
                                   const std::string& folder, const DiskCache& cache,
                                   const Communicator* communicator, const NoteFn& note) {
   CSHAPES_REQUIRE(options.vertices >= 4, "resample: expected at least 4 vertices, got ", options.vertices);
+  return resample_dataset(read_dataset(data), options, folder, cache, communicator, note);
+}
+
+ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& options, const std::string& folder,
+                                  const DiskCache& cache, const Communicator* communicator,
+                                  const NoteFn& note) {
+  CSHAPES_REQUIRE(options.vertices >= 4, "resample: expected at least 4 vertices, got ", options.vertices);
   const Communicator& comm = communicator ? *communicator : single_process();
-  const Dataset d = read_dataset(data);
   std::map<std::string, std::string> by_name;
   for (const DatasetEntry& e : d.entries) {
     const auto [it, fresh] = by_name.emplace(e.name, e.path);
-    CSHAPES_REQUIRE(fresh, data, ": two shapes named '", e.name, "' (", it->second, " and ", e.path,
+    CSHAPES_REQUIRE(fresh, d.source, ": two shapes named '", e.name, "' (", it->second, " and ", e.path,
                     "): resampling writes one file per name");
   }
   long computed_by_ranks = 0;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/communicator.h"
+#include "core/dataset.h"
 #include "core/progress.h"
 #include "core/types.h"
 #include "eval/cache.h"
@@ -67,6 +68,11 @@ struct ResampledDataset {
 // `cache`. options.vertices must be >= 4. Throws cshapes::Error for a dataset that cannot be read, and
 // cshapes::WriteError for a folder or cache that cannot be written.
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
+                                  const std::string& folder, const DiskCache& cache,
+                                  const Communicator* communicator = nullptr, const NoteFn& note = {});
+// The same for a dataset already read (e.g. the shapes an experiment chose from its folder: only those are
+// remeshed); its source names it in errors.
+ResampledDataset resample_dataset(const Dataset& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
                                   const Communicator* communicator = nullptr, const NoteFn& note = {});
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -309,6 +310,86 @@ TEST(PoseInvariance, AShapeWhoseFormFailsIsLeftOutWithItsPairsAndNamed) {
   EXPECT_EQ(r.summary[1].form, "cmds");
   EXPECT_EQ(r.summary[1].class_name, "all");
   EXPECT_EQ(r.summary[1].pairs, 1);
+}
+
+// --resample on poses that share their faces (as `generate dataset` writes them): each remeshed on its own,
+// the samples (vertex i of each input) carried to the remeshes. The surfaces are the same, so the inputs'
+// pose RMS moves only by what locating moved the samples.
+TEST(PoseInvariance, ResampledPosesCarryTheirSamplesToTheRemeshes) {
+  const std::string dir = test::scratch_dir("pose_resampled");
+  PoseInvarianceOptions o;
+  o.data = test::generated_dataset(dir + "/gen", 1, 3, 1200);
+  o.methods = {"cmds"};
+  o.samples = 200;
+  o.stress_sources = 4;
+  o.out = dir + "/plain";
+  const PoseInvarianceResult plain = run_pose_invariance(o);
+  o.out = dir + "/resampled";
+  o.resample.vertices = 800;
+  const PoseInvarianceResult r = run_pose_invariance(o);
+
+  ASSERT_TRUE(r.resampled);
+  EXPECT_FALSE(plain.resampled);
+  EXPECT_TRUE(plain.located.empty());
+  ASSERT_EQ(r.resampling.shapes.size(), 3u);
+  ASSERT_EQ(r.located.size(), 3u);
+  std::map<std::string, const PoseLocatedRow*> located;
+  std::map<std::string, double> input_diagonal, remesh_diagonal;
+  for (size_t i = 0; i < 3; ++i) {
+    const ResampledShape& s = r.resampling.shapes[i];
+    const PoseLocatedRow& l = r.located[i];
+    EXPECT_EQ(l.shape, s.name);
+    ASSERT_TRUE(s.remeshed) << s.note;
+    EXPECT_NEAR(static_cast<double>(s.vertices), 800.0, 8.0);
+    EXPECT_TRUE(fs::exists(s.file)) << s.file;
+    EXPECT_EQ(l.samples, 200);
+    EXPECT_TRUE(l.remeshed);
+    // The located points are the input vertices' projections onto the remesh, which the Hausdorff measure
+    // samples too: no farther than it (both over the input's diagonal).
+    EXPECT_GT(l.max_distance, 0.0);
+    EXPECT_LE(l.max_distance, s.hausdorff * (1 + 1e-9)) << s.name;
+    EXPECT_LE(l.mean_distance, l.max_distance);
+    EXPECT_EQ(l.off_part, 0) << s.name;
+    EXPECT_EQ(l.relocated, 0) << s.name;
+    located[s.name] = &l;
+    input_diagonal[s.name] = bbox_diagonal(read_mesh(s.source).V);
+    remesh_diagonal[s.name] = bbox_diagonal(read_mesh(s.file).V);
+  }
+  // Per pair the same samples and forms. Unnormalised, the inputs' RMS after the best rigid fit (the optimum
+  // of both runs) moves by at most the two shapes' largest sample displacements (triangle inequality); the
+  // normalisation is by the mean diagonal of the inputs, then of the remeshes.
+  ASSERT_EQ(r.pairs.size(), plain.pairs.size());
+  ASSERT_EQ(r.pairs.size(), 6u);  // 3 pairs, input and cmds
+  for (size_t k = 0; k < r.pairs.size(); ++k) {
+    const PosePairRow& p = r.pairs[k];
+    const PosePairRow& q = plain.pairs[k];
+    EXPECT_EQ(p.a, q.a);
+    EXPECT_EQ(p.b, q.b);
+    EXPECT_EQ(p.form, q.form);
+    EXPECT_EQ(p.samples, 200);
+    EXPECT_TRUE(std::isfinite(p.rms)) << p.a << "-" << p.b << " " << p.form;
+    if (p.form != "input") continue;
+    const double moved =
+        located[p.a]->max_distance * input_diagonal[p.a] + located[p.b]->max_distance * input_diagonal[p.b];
+    const double input_scale = (input_diagonal[p.a] + input_diagonal[p.b]) / 2;
+    const double remesh_scale = (remesh_diagonal[p.a] + remesh_diagonal[p.b]) / 2;
+    EXPECT_NEAR(p.rms * remesh_scale, q.rms * input_scale, moved) << p.a << "-" << p.b;
+    EXPECT_GT(q.rms * input_scale, 3 * moved) << "poses far enough apart for the comparison to say something";
+  }
+  // The shape rows are measured on the remeshes.
+  for (const PoseShapeRow& row : r.shapes) EXPECT_GE(row.stress, 0) << row.shape << " " << row.form;
+
+  const std::string report = pose_invariance_markdown(r, o);
+  EXPECT_TRUE(contains(report, "every shape remeshed to about 800 vertices first")) << report;
+  EXPECT_TRUE(contains(report, "## Resampling")) << report;
+  EXPECT_TRUE(contains(report, "Every shape was remeshed to about 800 vertices"))
+      << report;  // the kit's table
+  EXPECT_TRUE(contains(report, "carried to its shape's remesh")) << report;
+  EXPECT_TRUE(
+      contains(report, "| shape | samples | mean distance | max distance | relocated | off their part |"))
+      << report;
+  EXPECT_FALSE(contains(pose_invariance_markdown(plain, o), "## Resampling"));
+  EXPECT_TRUE(fs::exists(o.out + "/resampled/manifest.csv"));
 }
 
 // A result as run_pose_invariance returns it, made by hand: two classes, one shape left out.

@@ -55,6 +55,22 @@ TEST(Remesh, HausdorffOfBruteForceCases) {
   b.V.col(2).array() += 0.25;
   EXPECT_NEAR(hausdorff_distance(a, b), 0.25, 1e-12);
   EXPECT_NEAR(hausdorff_distance(a, a), 0.0, 1e-12);
+  // A non-manifold mesh (TOPKIDS's kid00 has an edge of four faces) is measured too: a unit square of two
+  // triangles with a fin of height 1 standing on their shared diagonal, an edge of three faces. Its apex lies
+  // 1 above the flat square, every other sample on it.
+  Mesh fin = grid(2, 2);
+  Eigen::Vector2i shared(-1, -1);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (fin.F(0, i) == fin.F(1, (j + 1) % 3) && fin.F(0, (i + 1) % 3) == fin.F(1, j))
+        shared << fin.F(0, i), fin.F(0, (i + 1) % 3);
+  ASSERT_GE(shared[0], 0);
+  fin.V.conservativeResize(5, 3);
+  fin.V.row(4) = (fin.V.row(shared[0]) + fin.V.row(shared[1])) / 2 + Eigen::RowVector3d(0, 0, 1);
+  fin.F.conservativeResize(3, 3);
+  fin.F.row(2) << shared[0], shared[1], 4;
+  EXPECT_EQ(mesh_info(fin).boundary_edges, 6);  // 4 sides of the square, 2 of the fin
+  EXPECT_NEAR(hausdorff_distance(fin, grid(9, 9)), 1.0, 1e-12);
 }
 
 TEST(Remesh, AngleStatsOfEquilateralAndRightTriangles) {

@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/mesh.h"
 #include "core/rigid_transform.h"
 #include "pipeline/canonical_forms.h"
 #include "tests/test_support.h"
@@ -373,6 +374,56 @@ TEST(TopkidsExperiment, CliRunsAndRefusesBadOptions) {
   r = test::run_cli("experiment topkids --data '" + k.dir + "/none' --out '" + out + "' --reference ref");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("none: not a folder"), std::string::npos) << r.err;
+  fs::remove_all(k.dir);
+}
+
+// --resample: the reference and the poses remeshed independently, the truth carried through the remeshes.
+// The rigid copy no longer maps exactly: each ground-truth vertex moves to its remesh, to the nearest remesh
+// vertex of the reference and back to an input vertex, each step within about a remesh edge.
+TEST(TopkidsExperiment, ResampledRunCarriesTheTruthThroughTheRemeshes) {
+  SyntheticKids k = make_kids("topkids_resampled");
+  TopkidsExperimentOptions o = options_for(k, k.dir + "/out");
+  o.methods = {"cmds"};
+  o.resample.vertices = 400;
+  const TopkidsExperimentResult r = run_topkids_experiment(o);
+  write_topkids_report(r, o, o.out);
+  ASSERT_TRUE(r.resampled);
+  ASSERT_EQ(r.resampling.shapes.size(), 3u);  // ref, moved, posed
+  double edge = 0;
+  for (const ResampledShape& s : r.resampling.shapes) {
+    ASSERT_TRUE(s.remeshed) << s.name << ": " << s.note;
+    EXPECT_NEAR(static_cast<double>(s.vertices), 400.0, 4.0) << s.name;
+    edge = std::max(edge, mesh_info(read_mesh(s.file)).mean_edge_length);
+  }
+  ASSERT_EQ(r.carried.size(), 2u);
+  for (const TopkidsCarriedRow& c : r.carried) {
+    EXPECT_EQ(c.vertices, k.reference.num_vertices()) << c.pose;  // identity truth: every vertex
+    EXPECT_GT(c.max_distance, 0.0) << c.pose;
+    EXPECT_EQ(c.off_part, 0) << c.pose;
+    EXPECT_EQ(c.relocated, 0) << c.pose;
+  }
+  EXPECT_GT(r.reference_back_distance, 0.0);
+  ASSERT_EQ(r.rows.size(), 4u);
+  for (const TopkidsRow& row : r.rows) {
+    EXPECT_EQ(row.samples, 200) << row.pose << " " << row.method;
+    EXPECT_EQ(row.unmapped, 0) << row.pose << " " << row.method;
+  }
+  // The rigid copy's inputs: errors of a fraction of a remesh edge on average (not 0 as at full resolution).
+  const TopkidsRow& moved = row_of(r, "moved", "inputs");
+  EXPECT_GT(moved.mean_error, 0.0);
+  EXPECT_LT(moved.mean_error, edge / r.reference_sqrt_area);
+  EXPECT_EQ(moved.under_0_1, 1.0);
+  EXPECT_LT(row_of(r, "posed", "cmds").mean_error, 1.0);
+
+  const std::string report = read_file(o.out + "/report.md");
+  EXPECT_TRUE(contains(report, "Resampled: the reference and every pose were remeshed to about 400"))
+      << report;
+  EXPECT_TRUE(contains(report, "## Resampling")) << report;
+  EXPECT_TRUE(contains(report, "| moved | ")) << report;
+  EXPECT_TRUE(contains(report, "--resample 400")) << report;
+  const nlohmann::json j = nlohmann::json::parse(read_file(o.out + "/topkids.json"));
+  EXPECT_EQ(j.at("resample").at("vertices"), 400);
+  EXPECT_EQ(j.at("resample").at("carried").size(), 2u);
   fs::remove_all(k.dir);
 }
 
