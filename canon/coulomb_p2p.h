@@ -247,6 +247,8 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
   }
   double sum[4][kBlock] = {};    // potential and force sums before the frame's constants, per lane
   double exact[4][kBlock] = {};  // the close pairs' exact potential and force sums, per lane
+  int pending = 0;
+#ifdef CSHAPES_COULOMB_AVX2
   // The close pairs of targets t (frame coordinates) and sources [begin, end): the same float h as the
   // vector loop (the same IEEE operations), then the exact term in double.
   auto sum_close_pairs = [&](const float(&t)[3][kBlock], int32_t begin, int32_t end, float close_h) {
@@ -262,8 +264,6 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
             exact[3][l] += ez * inv_r3;
       }
   };
-  int pending = 0;
-#ifdef CSHAPES_COULOMB_AVX2
   const __m256 floor = _mm256_set1_ps(half_floor2), three = _mm256_set1_ps(3.0f);
   const __m256i lanes = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int32_t>(i0)),
                                          _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
@@ -332,6 +332,7 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
     return _mm256_movemask_ps(any_close) != 0;
   };
 #else
+  static_cast<void>(self_range);  // the scalar loop tells i = j by index
   float acc[4][kBlock] = {};
   auto flush = [&]() {
     for (int k = 0; k < 4; ++k)
@@ -370,14 +371,40 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
       else
         any_close |= sum_sources(tx, ty, tz, begin, end, range.close_h, std::false_type{});
 #else
-      for (int32_t j = begin; j < end; ++j)
-        for (int l = 0; l < kBlock; ++l) {
-          const float dx = t[0][l] - sx[j], dy = t[1][l] - sy[j], dz = t[2][l] - sz[j];
-          const float h0 = std::fma(dx, dx, std::fma(dy, dy, dz * dz));
-          if (h0 < range.close_h) continue;  // summed exactly below (or i = j)
-          const float w = 2.0f / std::sqrt(std::max(h0, half_floor2)), w3 = w * w * w;
-          acc[0][l] += w, acc[1][l] += dx * w3, acc[2][l] += dy * w3, acc[3][l] += dz * w3;
+      {
+        // The lanes in SIMD registers (SSE2 in a portable build); each pair is classified once, its flag kept,
+        // and a close pair's exact double term added from the flags (no second test that might round
+        // differently).
+        alignas(32) unsigned char close_flag[kFlushEvery][kBlock];
+        const float close_h = range.close_h;
+        int any_close = 0;
+        for (int32_t j = begin; j < end; ++j) {
+          const float xj = sx[j], yj = sy[j], zj = sz[j];
+          unsigned char* flag = close_flag[j - begin];
+          int row_close = 0;
+#pragma omp simd reduction(| : row_close)
+          for (int l = 0; l < kBlock; ++l) {
+            const float dx = t[0][l] - xj, dy = t[1][l] - yj, dz = t[2][l] - zj;
+            const float h0 = dx * dx + dy * dy + dz * dz;
+            const int close = h0 < close_h;
+            const float w = close ? 0.0f : 2.0f / std::sqrt(std::max(h0, half_floor2)), w3 = w * w * w;
+            acc[0][l] += w, acc[1][l] += dx * w3, acc[2][l] += dy * w3, acc[3][l] += dz * w3;
+            flag[l] = static_cast<unsigned char>(close);
+            row_close |= close;
+          }
+          any_close |= row_close;
         }
+        if (any_close)
+          for (int32_t j = begin; j < end; ++j)
+            for (int l = 0; l < count; ++l) {
+              if (!close_flag[j - begin][l] || j == i0 + l) continue;  // i = j: no term
+              const double ex = target[0][l] - x[j], ey = target[1][l] - y[j], ez = target[2][l] - z[j];
+              const double r2 = std::max(ex * ex + ey * ey + ez * ez, static_cast<double>(floor2));
+              const double inv_r = 1 / std::sqrt(r2), inv_r3 = inv_r / r2;
+              exact[0][l] += inv_r, exact[1][l] += ex * inv_r3, exact[2][l] += ey * inv_r3,
+                  exact[3][l] += ez * inv_r3;
+            }
+      }
 #endif
       pending += end - begin;
       begin = end;
@@ -388,8 +415,6 @@ inline void p2p_framed_block(const double* x, const double* y, const double* z, 
       _mm256_store_ps(t[0], tx), _mm256_store_ps(t[1], ty), _mm256_store_ps(t[2], tz);
       sum_close_pairs(t, range.begin, range.end, range.close_h);
     }
-#else
-    sum_close_pairs(t, range.begin, range.end, range.close_h);
 #endif
   }
   flush();
