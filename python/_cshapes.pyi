@@ -77,10 +77,12 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             coulomb_max_iterations: int = 3000, coulomb_window: int = 20, coulomb_tolerance: float = 0.001,
             momentum: float = 0.9,
             coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-            coulomb_accuracy: float = 0.01, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
+            coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 8000,
+            coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 20, knn: int = 8,
+            strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); cmds, smacof and spectral-mds: geodesics;
 # cmds and smacof: mds_solver, landmarks;
-# smacof: iters to weights; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
+# smacof: iters to fold_overstretch; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
 # eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources; every method: knn, strict) and refuses
 # another method's.
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
@@ -94,12 +96,14 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    coulomb_max_iterations: int = 3000, coulomb_window: int = 20,
                    coulomb_tolerance: float = 0.001, momentum: float = 0.9,
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-                   coulomb_accuracy: float = 0.01, knn: int = 8,
+                   coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 8000,
+                   coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 20, knn: int = 8,
                    geodesics: _Geodesics = "fmm",
                    mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300,
                    iters: int = 300, tolerance: float = 1e-05,
                    accelerate: Literal["none", "rre", "mpe"] = "none", window: int = 6,
                    init: Literal["cmds", "mesh"] = "cmds", weights: Literal["uniform", "area"] = "uniform",
+                   fold_overstretch: float = 3.0,
                    laplacian: Literal["intrinsic-delaunay", "cotangent"] = "intrinsic-delaunay",
                    eigenpairs: int = 10, near_multiple_gap: float = 0.02, diffusion_time: float = 1.0,
                    basis: int = 40, sources: int = 120,

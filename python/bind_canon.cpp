@@ -44,8 +44,8 @@ const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule
                                                   "coulomb_accuracy", "coulomb_multiresolution_above",
                                                   "coulomb_coarse_vertices", "coulomb_tear_rounds"};
 const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
-const std::vector<std::string> kSmacofOptions = {"iters",      "tolerance", "init",
-                                                 "accelerate", "window",    "weights"};
+const std::vector<std::string> kSmacofOptions = {"iters",  "tolerance", "init",           "accelerate",
+                                                 "window", "weights",   "fold_overstretch"};
 // lbo and diffusion: their Laplace–Beltrami eigenpairs; diffusion: its time.
 const std::vector<std::string> kSpectralOptions = {"laplacian", "eigenpairs", "near_multiple_gap"};
 const std::vector<std::string> kDiffusionOptions = {"diffusion_time"};
@@ -135,6 +135,10 @@ void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
   read_smacof_solver_options(k, o.smacof);
   o.smacof_init = parse_smacof_init(k.text("init", to_string(o.smacof_init)));
   o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
+  o.mds_solver.fold_overstretch =
+      k.number("fold_overstretch", o.mds_solver.fold_overstretch, landmark_limits::kFoldOverstretch);
+  if (k.given("fold_overstretch") && o.mds_solver.solver == MdsSolver::Full)
+    fail("fold_overstretch applies to mds_solver='landmarks' or 'auto' only");
 }
 
 // Refuses, by name, the options of another method (as `cshapes canon --method` does).
@@ -315,7 +319,7 @@ method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACO
 distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph; mds_solver ['auto']
 | 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
-(with rre/mpe), weights ['uniform'] | 'area'. lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
+(with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off). lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
 map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap
 [0.02]; diffusion also diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the
 first eigenfunctions) takes laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. Every

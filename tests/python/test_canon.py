@@ -38,6 +38,34 @@ def test_coulomb_options_are_the_cli_options(cli, shapes, tmp_path):
     assert form.iterations == 40 and not form.torn.any()
 
 
+def test_multiresolution_options_are_the_cli_options(cli, shapes, tmp_path):
+    V, F = cshapes.read_mesh(shapes[0])  # ~900 vertices: through a 400-vertex version when above 600
+    kwargs = dict(coulomb_multiresolution_above=600, coulomb_coarse_vertices=400, coulomb_tear_rounds=2,
+                  coulomb_max_iterations=60, tear_after=30)
+    form = cshapes.coulomb(V, F, **kwargs)
+    X, _, summary = cli_form(cli, shapes[0], tmp_path, "--coulomb-multiresolution-above", "600",
+                             "--coulomb-coarse-vertices", "400", "--coulomb-tear-rounds", "2",
+                             "--coulomb-max-iterations", "60", "--tear-after", "30")
+    np.testing.assert_array_equal(form.X, X)
+    assert summary["multiresolution"].startswith("multiresolution: 9")  # ~900 vertices through ~400
+    assert form.summary["multiresolution"].startswith("multiresolution: 9")
+    single = cshapes.coulomb(V, F, coulomb_multiresolution_above=0, coulomb_max_iterations=20)
+    assert single.summary["multiresolution"] == "single level (multiresolution off)"
+    with pytest.raises(ValueError, match="coulomb_coarse_vertices"):
+        cshapes.coulomb(V, F, coulomb_multiresolution_above=0, coulomb_coarse_vertices=400)
+
+
+def test_fold_overstretch_is_read_for_landmark_smacof_only(shapes):
+    V, F = cshapes.read_mesh(shapes[0])
+    form = cshapes.canonical_form(V, F, method="smacof", mds_solver="landmarks", landmarks=40, iters=10,
+                                  fold_overstretch=0)
+    assert form.summary["smacof"]["fold_repair"]["replaced_points"] == 0
+    with pytest.raises(ValueError, match="fold_overstretch"):
+        cshapes.canonical_form(V, F, method="smacof", mds_solver="full", fold_overstretch=2)
+    with pytest.raises((TypeError, ValueError), match="fold_overstretch"):
+        cshapes.canonical_form(V, F, method="cmds", fold_overstretch=2)
+
+
 @pytest.mark.parametrize("method, args", [("cmds", []), ("smacof", ["--iters", "15"])])
 def test_mds_forms_are_the_cli_canon(cli, shapes, tmp_path, method, args):
     V, F = cshapes.read_mesh(shapes[0])
