@@ -58,6 +58,8 @@ void configure_smacof(CanonicalFormOptions& o, bool single_mesh) {
   o.smacof_init = parse_smacof_init(args.init);
   o.smacof_weights = parse_smacof_weights(args.weights);
   o.mds_solver.fold_overstretch = args.fold_overstretch;
+  if (args.fold_overstretch > 0 && args.fold_overstretch <= 1)
+    usage_fail("--fold-overstretch: expected 0 (no repair) or a number above 1, got ", args.fold_overstretch);
   if (canon_option_given("--fold-overstretch") && o.mds_solver.solver == MdsSolver::Full)
     usage_fail("--fold-overstretch applies to --mds-solver landmarks or auto only");
   if (o.smacof_init != SmacofInit::ClassicalMds && !single_mesh)

@@ -137,6 +137,8 @@ void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
   o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
   o.mds_solver.fold_overstretch =
       k.number("fold_overstretch", o.mds_solver.fold_overstretch, landmark_limits::kFoldOverstretch);
+  if (o.mds_solver.fold_overstretch > 0 && o.mds_solver.fold_overstretch <= 1)
+    fail("fold_overstretch: expected 0 (no repair) or a number above 1, got ", o.mds_solver.fold_overstretch);
   if (k.given("fold_overstretch") && o.mds_solver.solver == MdsSolver::Full)
     fail("fold_overstretch applies to mds_solver='landmarks' or 'auto' only");
 }

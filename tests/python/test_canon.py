@@ -62,6 +62,8 @@ def test_fold_overstretch_is_read_for_landmark_smacof_only(shapes):
     assert form.summary["smacof"]["fold_repair"]["replaced_points"] == 0
     with pytest.raises(ValueError, match="fold_overstretch"):
         cshapes.canonical_form(V, F, method="smacof", mds_solver="full", fold_overstretch=2)
+    with pytest.raises(ValueError, match="above 1"):
+        cshapes.canonical_form(V, F, method="smacof", mds_solver="landmarks", fold_overstretch=0.5)
     with pytest.raises((TypeError, ValueError), match="fold_overstretch"):
         cshapes.canonical_form(V, F, method="cmds", fold_overstretch=2)
 
