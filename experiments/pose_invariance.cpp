@@ -244,10 +244,7 @@ std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, cons
       s.path = r.file;
       say(o.note,
           detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
-                         percent(row.mean_distance, 3), " of the diagonal away on average, at most ",
-                         percent(row.max_distance, 3),
-                         row.relocated ? detail::concat(", ", row.relocated, " relocated to their part") : "",
-                         row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
+                         carried_summary(l.carried)));
     }
     result.located.push_back(row);
   }

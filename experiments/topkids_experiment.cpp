@@ -210,10 +210,7 @@ void resample_inputs(const TopkidsExperimentOptions& o, const ExperimentFolder& 
     r.carried.push_back(row);
     say(o.note,
         detail::concat("  ", p.name, ": ", row.vertices, " ground-truth vertices carried to the remesh, ",
-                       percent(row.mean_distance, 3), " of the diagonal on average, at most ",
-                       percent(row.max_distance, 3),
-                       row.relocated ? detail::concat(", ", row.relocated, " relocated to their part") : "",
-                       row.off_part ? detail::concat(", ", row.off_part, " off their part") : ""));
+                       carried_summary(p.carried)));
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "matching/nearest_neighbors.h"
+#include "pipeline/experiment_kit.h"
 
 namespace cshapes {
 
@@ -148,6 +149,13 @@ RemeshSamples carry_to_remesh(const Mesh& input, const Mesh& remesh, const std::
   out.max_distance = out.at.distance.maxCoeff() / diagonal;
   out.mean_distance = out.at.distance.mean() / diagonal;
   return out;
+}
+
+std::string carried_summary(const RemeshSamples& carried) {
+  return detail::concat(percent(carried.mean_distance, 3), " of the diagonal on average, at most ",
+                        percent(carried.max_distance, 3),
+                        carried.relocated ? detail::concat(", ", carried.relocated, " relocated to their part") : "",
+                        carried.off_part ? detail::concat(", ", carried.off_part, " off their part") : "");
 }
 
 }  // namespace cshapes

@@ -23,6 +23,7 @@
 // 5,000: 1,000 samples in a fraction of a second).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "core/locate_on_surface.h"
@@ -42,5 +43,9 @@ struct RemeshSamples {
 // Carries `vertices` of `input` to `remesh` (a remesh of the same surface, faces of positive area). Throws
 // cshapes::Error for a vertex index out of range or a remesh without faces.
 RemeshSamples carry_to_remesh(const Mesh& input, const Mesh& remesh, const std::vector<int>& vertices);
+
+// How far they moved, for the experiments' progress notes: "0.090% of the diagonal on average, at most
+// 0.807%[, N relocated to their part][, M off their part]".
+std::string carried_summary(const RemeshSamples& carried);
 
 }  // namespace cshapes
