@@ -8,6 +8,7 @@
 #include "canon/coulomb_p2p.h"
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/simd.h"
 
 namespace cshapes {
 
@@ -46,27 +47,35 @@ double effective_min_distance(const Points& X, double min_distance) {
 }
 
 namespace {
-// The exact sums at point i over all j ≠ i (double precision, vectorised over j): the potential e = Σ 1/r_ij and
-// g = Σ (x_i − x_j)/r_ij³, with distances floored at sqrt(floor2). Shared by the full and the subset direct sums.
-inline void direct_sum_at(Index i, const double* x, const double* y, const double* z, Index n, double floor2,
-                          double& e, double& gx, double& gy, double& gz) {
-  const double xi = x[i], yi = y[i], zi = z[i];
-  double se = 0, sx = 0, sy = 0, sz = 0;
-#pragma omp simd reduction(+ : se, sx, sy, sz)
-  for (Index j = 0; j < n; ++j) {
-    const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-    const double r2 = std::max(dx * dx + dy * dy + dz * dz, floor2);
-    const double inv_r = (j == i) ? 0.0 : 1.0 / std::sqrt(r2);
-    const double inv_r3 = inv_r * inv_r * inv_r;
-    se += inv_r;
-    sx += dx * inv_r3;
-    sy += dy * inv_r3;
-    sz += dz * inv_r3;
+namespace baseline {
+#include "canon/coulomb_direct_simd.inl"
+}  // namespace baseline
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2 {
+#include "canon/coulomb_direct_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+namespace avx512 {
+#include "canon/coulomb_direct_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+
+using DirectSum = void (*)(Index, const double*, const double*, const double*, Index, double, double&,
+                           double&, double&, double&);
+// direct_sum_at for the kernels' instruction set (core/simd.h).
+DirectSum direct_sum_kernel() {
+  switch (simd_target()) {
+    case SimdTarget::Avx512:
+      return &avx512::direct_sum_at;
+    case SimdTarget::Avx2:
+      return &avx2::direct_sum_at;
+    case SimdTarget::Baseline:
+      break;
   }
-  e = se;
-  gx = sx;
-  gy = sy;
-  gz = sz;
+  return &baseline::direct_sum_at;
 }
 }  // namespace
 
@@ -81,6 +90,7 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   result.gradient.resize(n, 3);
   result.potential.resize(n);
   result.summation_used = CoulombOptions::Summation::Direct;
+  const DirectSum direct_sum_at = direct_sum_kernel();
 #pragma omp parallel for schedule(dynamic, 64)
   for (Index i = 0; i < n; ++i) {
     double e, gx, gy, gz;
@@ -108,6 +118,7 @@ CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Inde
   CoulombTargetSums result;
   result.potential.resize(m);
   result.gradient.resize(m, 3);
+  const DirectSum direct_sum_at = direct_sum_kernel();
 #pragma omp parallel for schedule(dynamic, 4)
   for (Index t = 0; t < m; ++t) {
     const Index i = targets[t];
@@ -257,10 +268,14 @@ CoulombOptions::Summation parse_coulomb_summation(const std::string& name) {
 
 std::string to_string(CoulombOptions::Summation summation) {
   switch (summation) {
-    case CoulombOptions::Summation::Auto: return "auto";
-    case CoulombOptions::Summation::Direct: return "direct";
-    case CoulombOptions::Summation::DirectFloat: return "direct-float";
-    case CoulombOptions::Summation::Fast: return "fast";
+    case CoulombOptions::Summation::Auto:
+      return "auto";
+    case CoulombOptions::Summation::Direct:
+      return "direct";
+    case CoulombOptions::Summation::DirectFloat:
+      return "direct-float";
+    case CoulombOptions::Summation::Fast:
+      return "fast";
   }
   return "auto";
 }

@@ -9,6 +9,7 @@
 #include "canon/coulomb_p2p.h"
 #include "core/error.h"
 #include "core/morton.h"
+#include "core/simd.h"
 #include "core/timing.h"
 
 namespace cshapes {
@@ -142,7 +143,7 @@ struct MultiIndexTables {
   }
 };
 
-// The M2L of one batch of four sources with every table a compile-time constant, so that the fully unrolled
+// The compile-time tables of the M2L of order P (canon/coulomb_m2l_simd.inl), so that its fully unrolled
 // loops address registers and fixed offsets instead of loading indices (about 2× faster than the table-driven
 // loop of MultiIndexTables). Same multi-index order as MultiIndexTables.
 template <int P>
@@ -201,49 +202,7 @@ struct StaticM2L {
     return t;
   }
   static constexpr Tables kTables = make();
-
-  // accumulated[m] += Σ_k moments[k] · ∂^{m+k}(1/r)(R), lane by lane.
-  static void apply(const V4 R[3], const V4* __restrict moments, V4* __restrict accumulated) {
-    constexpr const Tables& t = kTables;
-    V4 D[kCount];
-    const V4 inv_r2 = 1.0 / (R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
-    for (int l = 0; l < 4; ++l) D[0][l] = std::sqrt(inv_r2[l]);
-#pragma GCC unroll 128
-    for (int k = 1; k < kCount; ++k) {
-      V4 s1 = R[t.axis1[k][0]] * D[t.index1[k][0]];
-#pragma GCC unroll 3
-      for (int q = 1; q < t.n1[k]; ++q) s1 += R[t.axis1[k][q]] * D[t.index1[k][q]];
-      V4 s2 = {0, 0, 0, 0};
-#pragma GCC unroll 3
-      for (int q = 0; q < t.n2[k]; ++q) s2 += D[t.index2[k][q]];
-      D[k] = -(t.c1[k] * s1 + t.c2[k] * s2) * inv_r2;
-    }
-#pragma GCC unroll 128
-    for (int k = 1; k < kCount; ++k) D[k] *= t.factorial[k];
-#pragma GCC unroll 1024
-    for (int j = 0; j < kPairs; ++j) accumulated[t.pair_m[j]] += moments[t.pair_k[j]] * D[t.pair_mk[j]];
-  }
 };
-
-using StaticM2LFunction = void (*)(const V4*, const V4*, V4*);
-StaticM2LFunction static_m2l(int order) {
-  switch (order) {
-    case 1:
-      return &StaticM2L<1>::apply;
-    case 2:
-      return &StaticM2L<2>::apply;
-    case 3:
-      return &StaticM2L<3>::apply;
-    case 4:
-      return &StaticM2L<4>::apply;
-    case 5:
-      return &StaticM2L<5>::apply;
-    case 6:
-      return &StaticM2L<6>::apply;
-    default:
-      return nullptr;  // higher orders use the table-driven loop
-  }
-}
 
 // P2M and L2P of one leaf with compile-time tables (unrolled, like StaticM2L; ≈ 3× faster than the table
 // loops of MultiIndexTables). Same multi-index order and the same formulas as the table-driven passes.
@@ -443,6 +402,41 @@ struct Cell {
   bool leaf() const { return child_count == 0; }
   int32_t size() const { return end - begin; }
 };
+
+// The M2L of one target cell, compiled for each instruction set of core/simd.h
+// (canon/coulomb_m2l_simd.inl): the same operations on the same vector type, in 256-bit registers and with
+// fused multiply-adds there.
+using M2LCellFunction = void (*)(const double* center, const int32_t* list, size_t count, const Cell* cells,
+                                 const double* multipoles, int stride, double* local);
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2 {
+#include "canon/coulomb_m2l_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+namespace avx512 {
+#include "canon/coulomb_m2l_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+namespace baseline {
+#include "canon/coulomb_m2l_simd.inl"
+}  // namespace baseline
+
+// The unrolled M2L of a cell for this order (1 … 6) and the kernels' instruction set; nullptr: the
+// table-driven loop (higher orders).
+M2LCellFunction m2l_cell_kernel(int order) {
+  switch (simd_target()) {
+    case SimdTarget::Avx512:
+      return avx512::m2l_cell_function(order);
+    case SimdTarget::Avx2:
+      return avx2::m2l_cell_function(order);
+    case SimdTarget::Baseline:
+      break;
+  }
+  return baseline::m2l_cell_function(order);
+}
 
 constexpr int kMortonLevels = 21;  // Morton code bits per axis (core/morton.h)
 
@@ -795,7 +789,7 @@ class Fmm {
     potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
     Index m2l_total = 0, p2p_total = 0;
     double m2l_seconds = 0, p2p_seconds = 0;
-    const StaticM2LFunction fixed_m2l = static_m2l(tables_.order);
+    const M2LCellFunction fixed_m2l = m2l_cell_kernel(tables_.order);
 #pragma omp parallel reduction(+ : m2l_total, p2p_total, m2l_seconds, p2p_seconds)
     {
       std::vector<V4> derivative(count), moments(stride_), accumulated(count);
@@ -805,10 +799,12 @@ class Fmm {
       for (size_t a = 0; a < cells_.size(); ++a) {
         const Cell& A = cells_[a];
         // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
-        // the lanes are summed at the end in a fixed order.
+        // the lanes are summed at the end in a fixed order (canon/coulomb_m2l_simd.inl for orders ≤ 6).
         const std::vector<int32_t>& list = m2l_lists_[a];
         const auto m2l_start = WallClock::now();
-        if (!list.empty()) {
+        if (!list.empty() && fixed_m2l) {
+          fixed_m2l(A.center, list.data(), list.size(), cells_.data(), multipoles_.data(), stride_, local(a));
+        } else if (!list.empty()) {  // orders above 6: the table-driven loop
           std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
           for (size_t g = 0; g < list.size(); g += 4) {
             V4 R[3];
@@ -837,10 +833,6 @@ class Fmm {
               moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
               moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
               moments[k + 3] = __builtin_shufflevector(b01, b23, 2, 3, 6, 7);
-            }
-            if (fixed_m2l) {
-              fixed_m2l(R, moments.data(), accumulated.data());
-              continue;
             }
             tables_.derivatives4(R, derivative.data());
             for (int m = 0; m < count; ++m) {

@@ -1,14 +1,14 @@
 #include "canon/metric_projection.h"
 
-#include <algorithm>
-#if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
-#endif
+
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <vector>
 
 #include "core/error.h"
+#include "core/simd.h"
 
 namespace cshapes {
 
@@ -165,6 +165,20 @@ inline void project_edge(const double* pa, const double* pb, double d, const Edg
   to_b[3] = w;
 }
 
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2 {
+#include "canon/metric_projection_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+namespace avx512 {
+#include "canon/metric_projection_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+
 }  // namespace
 
 // Pass 1 of a sweep, edges [first, last): the weighted projections of both endpoints, into their slots.
@@ -178,57 +192,12 @@ void MetricProjection::edge_pass(const double* positions, Index first, Index las
   const int* slot_b = slot_b_.data();
   const double* rest = edge_rest_.data();
   double* slots = slots_.data();
+  const SimdTarget target = simd_target();
   Index e = first;
-#if defined(__AVX2__) && defined(__FMA__)
-  // Four edges at a time: the square roots and divisions, the bulk of the arithmetic, run four-wide.
-  const __m256d one = _mm256_set1_pd(1.0), tiny = _mm256_set1_pd(1e-12);
-  for (; e + 4 <= last; e += 4) {
-    __m256d pa[4], pb[4], u[4];
-    for (int k = 0; k < 4; ++k) {
-      pa[k] = _mm256_load_pd(positions + 4 * Index(a[e + k]));
-      pb[k] = _mm256_load_pd(positions + 4 * Index(b[e + k]));
-      u[k] = _mm256_sub_pd(pa[k], pb[k]);  // fourth lane: 1 − 1 = 0
-    }
-    // The four squared lengths in one vector.
-    const __m256d h01 = _mm256_hadd_pd(_mm256_mul_pd(u[0], u[0]), _mm256_mul_pd(u[1], u[1]));
-    const __m256d h23 = _mm256_hadd_pd(_mm256_mul_pd(u[2], u[2]), _mm256_mul_pd(u[3], u[3]));
-    const __m256d r = _mm256_sqrt_pd(
-        _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31)));
-    const __m256d d = _mm256_loadu_pd(rest + e);
-    __m256d target = d, w = one;
-    if constexpr (Dilation)
-      target = _mm256_min_pd(_mm256_max_pd(r, _mm256_mul_pd(d, _mm256_set1_pd(p.inv_dilation))),
-                             _mm256_mul_pd(d, _mm256_set1_pd(p.dilation)));
-    if constexpr (L1) {
-      const __m256d deviation = _mm256_andnot_pd(_mm256_set1_pd(-0.0), _mm256_sub_pd(r, d));
-      w = _mm256_div_pd(one, _mm256_max_pd(deviation, _mm256_mul_pd(d, _mm256_set1_pd(p.floor))));
-    }
-    const __m256d apart = _mm256_cmp_pd(r, _mm256_mul_pd(tiny, d), _CMP_GT_OQ);
-    // t / r where the endpoints are apart, 0 where they coincide (divided by 1 there: no infinities).
-    const __m256d scale = _mm256_and_pd(apart, _mm256_div_pd(target, _mm256_blendv_pd(one, r, apart)));
-    const __m256d lane_scale[4] = {_mm256_permute4x64_pd(scale, 0x00), _mm256_permute4x64_pd(scale, 0x55),
-                                   _mm256_permute4x64_pd(scale, 0xAA), _mm256_permute4x64_pd(scale, 0xFF)};
-    const __m256d lane_w[4] = {_mm256_permute4x64_pd(w, 0x00), _mm256_permute4x64_pd(w, 0x55),
-                               _mm256_permute4x64_pd(w, 0xAA), _mm256_permute4x64_pd(w, 0xFF)};
-    for (int k = 0; k < 4; ++k) {
-      const __m256d v = _mm256_mul_pd(lane_scale[k], u[k]);
-      __m256d to_a = _mm256_add_pd(pb[k], v), to_b = _mm256_sub_pd(pa[k], v);
-      if constexpr (L1) {
-        to_a = _mm256_mul_pd(lane_w[k], to_a);
-        to_b = _mm256_mul_pd(lane_w[k], to_b);
-      }
-      _mm256_store_pd(slots + 4 * Index(slot_a[e + k]), to_a);
-      _mm256_store_pd(slots + 4 * Index(slot_b[e + k]), to_b);
-    }
-    const int apart_mask = _mm256_movemask_pd(apart);
-    if (apart_mask != 0xF)  // rare: coincident endpoints, redone one by one
-      for (int k = 0; k < 4; ++k)
-        if (!(apart_mask & (1 << k)))
-          project_edge<L1, Dilation>(positions + 4 * Index(a[e + k]), positions + 4 * Index(b[e + k]),
-                                     rest[e + k], p, slots + 4 * Index(slot_a[e + k]),
-                                     slots + 4 * Index(slot_b[e + k]));
-  }
-#endif
+  if (target == SimdTarget::Avx512)
+    e = avx512::edge_pass_vector<L1, Dilation>(positions, a, b, slot_a, slot_b, rest, slots, e, last, p);
+  else if (target == SimdTarget::Avx2)
+    e = avx2::edge_pass_vector<L1, Dilation>(positions, a, b, slot_a, slot_b, rest, slots, e, last, p);
   for (; e < last; ++e)
     project_edge<L1, Dilation>(positions + 4 * Index(a[e]), positions + 4 * Index(b[e]), rest[e], p,
                                slots + 4 * Index(slot_a[e]), slots + 4 * Index(slot_b[e]));
@@ -240,22 +209,14 @@ template <bool L1>
 void MetricProjection::vertex_pass(const double* positions, double* out, Index first, Index last) const {
   const double* slots = slots_.data();
   const double* inverse_degree = inverse_degree_.data();
+  const SimdTarget target = simd_target();
+  if (target == SimdTarget::Avx512)
+    return avx512::vertex_pass_vector<L1>(positions, out, slots, inverse_degree, offsets_.data(), first,
+                                          last);
+  if (target == SimdTarget::Avx2)
+    return avx2::vertex_pass_vector<L1>(positions, out, slots, inverse_degree, offsets_.data(), first, last);
   for (Index i = first; i < last; ++i) {
     const int begin = offsets_[i], end = offsets_[i + 1];
-#if defined(__AVX2__) && defined(__FMA__)
-    __m256d sum = _mm256_setzero_pd();
-    for (int k = begin; k < end; ++k) sum = _mm256_add_pd(sum, _mm256_load_pd(slots + 4 * Index(k)));
-    __m256d result;
-    if (begin == end) {  // an isolated vertex stays where it is
-      result = _mm256_load_pd(positions + 4 * i);
-    } else if constexpr (L1) {  // eq. (8); the fourth lane becomes 1 again
-      result = _mm256_div_pd(sum, _mm256_permute4x64_pd(sum, 0xFF));
-    } else {  // eq. (6): a multiplication by 1/v_i instead of a long division; the fourth lane set to 1
-      result = _mm256_blend_pd(_mm256_mul_pd(sum, _mm256_broadcast_sd(inverse_degree + i)),
-                               _mm256_set1_pd(1.0), 0x8);
-    }
-    _mm256_store_pd(out + 4 * i, result);
-#else
     double sum[4] = {0, 0, 0, 0};
     for (int k = begin; k < end; ++k)
       for (int c = 0; c < 4; ++c) sum[c] += slots[4 * Index(k) + c];
@@ -267,7 +228,6 @@ void MetricProjection::vertex_pass(const double* positions, double* out, Index f
       for (int c = 0; c < 3; ++c) o[c] = sum[c] * scale;
       o[3] = 1;
     }
-#endif
   }
 }
 

@@ -26,6 +26,7 @@
 // Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 2,000 vertices).
 #pragma once
 
+#include "core/aligned_allocator.h"
 #include "core/option_limits.h"
 
 #include <string>
@@ -133,7 +134,7 @@ class MetricProjection {
   std::vector<double> inverse_degree_;  // 1 / v_i (0 for an isolated vertex)
   // Work space: positions as 4-double records (x, y, z, 1) for two Jacobi buffers, and a record
   // (w·p_x, w·p_y, w·p_z, w) per slot (2|E|).
-  using AlignedDoubles = std::vector<double, Eigen::aligned_allocator<double>>;
+  using AlignedDoubles = std::vector<double, AlignedAllocator<double>>;  // the kernels' aligned loads
   mutable AlignedDoubles positions_a_, positions_b_, slots_;
   mutable std::vector<double> block_sums_, block_maxima_;  // the violation's partial results per edge block
 };

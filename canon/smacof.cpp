@@ -11,14 +11,37 @@
 
 #include "canon/classical_mds.h"
 #include "core/error.h"
+#include "core/simd.h"
 #include "core/timing.h"
 
-#ifdef __AVX2__
 #include <immintrin.h>
-#endif
 
 namespace cshapes {
 namespace {
+
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2 {
+#define CSHAPES_SIMD_VECTOR_AVX2
+#include "core/simd_vector.inl"
+#undef CSHAPES_SIMD_VECTOR_AVX2
+#include "canon/smacof_row_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+// gcc 12 warns falsely in its own AVX-512 intrinsics (_mm512_undefined_ps initialises a value from itself).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+namespace avx512 {
+#define CSHAPES_SIMD_VECTOR_AVX512
+#include "core/simd_vector.inl"
+#undef CSHAPES_SIMD_VECTOR_AVX512
+#include "canon/smacof_row_simd.inl"
+}  // namespace avx512
+#pragma GCC diagnostic pop
+#pragma GCC pop_options
 
 // Tiles of kTileRows × kTileCols entries: float partial sums run over at most kTileCols / 8 (rows) or
 // kTileRows (columns) terms before going into double accumulators, and a tile's column accumulators
@@ -51,73 +74,26 @@ struct RowSums {
 };
 
 // One row i against columns [ja, jb) of the tile starting at column j0: accumulates the row's sums and,
-// into col_{x,y,z}[j − j0], the columns' sums wᵢ cᵢⱼ (xⱼ − xᵢ). cᵢⱼ = δᵢⱼ / dᵢⱼ (0 when dᵢⱼ = 0).
+// into col_{x,y,z}[j − j0], the columns' sums wᵢ cᵢⱼ (xⱼ − xᵢ). cᵢⱼ = δᵢⱼ / dᵢⱼ (0 when dᵢⱼ = 0). The whole
+// vectors run the kernel of `target` (canon/smacof_row_simd.inl), the rest the scalar loop below.
 template <bool Weighted>
-inline RowSums row_pass(const float* delta, const FloatConfiguration& c, Index i, Index ja, Index jb,
-                        Index j0, float* col_x, float* col_y, float* col_z) {
+inline RowSums row_pass(SimdTarget target, const float* delta, const FloatConfiguration& c, Index i, Index ja,
+                        Index jb, Index j0, float* col_x, float* col_y, float* col_z) {
   const float xi = c.x[i], yi = c.y[i], zi = c.z[i], wi = Weighted ? c.w[i] : 1.0f;
   const float* xs = c.x.data();
   const float* ys = c.y.data();
   const float* zs = c.z.data();
   const float* ws = c.w.data();
-  RowSums sums;
+  double vector_sums[4] = {0, 0, 0, 0};
   Index j = ja;
-#ifdef __AVX2__
-  {
-    const __m256 vxi = _mm256_set1_ps(xi), vyi = _mm256_set1_ps(yi), vzi = _mm256_set1_ps(zi);
-    const __m256 vwi = _mm256_set1_ps(wi);
-    const __m256 half = _mm256_set1_ps(0.5f), three_halves = _mm256_set1_ps(1.5f);
-    const __m256 tiny = _mm256_set1_ps(FLT_MIN);
-    __m256 ax = _mm256_setzero_ps(), ay = _mm256_setzero_ps(), az = _mm256_setzero_ps();
-    __m256 as = _mm256_setzero_ps();
-    for (; j + 8 <= jb; j += 8) {
-      const __m256 dlt = _mm256_loadu_ps(delta + j);
-      const __m256 dx = _mm256_sub_ps(vxi, _mm256_loadu_ps(xs + j));
-      const __m256 dy = _mm256_sub_ps(vyi, _mm256_loadu_ps(ys + j));
-      const __m256 dz = _mm256_sub_ps(vzi, _mm256_loadu_ps(zs + j));
-      const __m256 d2 = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
-      // 1/d: hardware estimate (12 bits) and one Newton step (to about 23 bits), 0 for coincident points.
-      const __m256 r0 = _mm256_rsqrt_ps(d2);
-      const __m256 h = _mm256_mul_ps(_mm256_mul_ps(half, d2), _mm256_mul_ps(r0, r0));
-      __m256 inv = _mm256_mul_ps(r0, _mm256_sub_ps(three_halves, h));
-      inv = _mm256_and_ps(inv, _mm256_cmp_ps(d2, tiny, _CMP_GT_OQ));
-      const __m256 residual = _mm256_sub_ps(dlt, _mm256_mul_ps(d2, inv));
-      const __m256 ratio = _mm256_mul_ps(dlt, inv);
-      __m256 row_coef = ratio, col_coef = ratio;
-      if constexpr (Weighted) {
-        const __m256 wj = _mm256_loadu_ps(ws + j);
-        row_coef = _mm256_mul_ps(ratio, wj);
-        col_coef = _mm256_mul_ps(ratio, vwi);
-        as = _mm256_fmadd_ps(_mm256_mul_ps(wj, residual), residual, as);
-      } else {
-        as = _mm256_fmadd_ps(residual, residual, as);
-      }
-      ax = _mm256_fmadd_ps(row_coef, dx, ax);
-      ay = _mm256_fmadd_ps(row_coef, dy, ay);
-      az = _mm256_fmadd_ps(row_coef, dz, az);
-      float* px = col_x + (j - j0);
-      float* py = col_y + (j - j0);
-      float* pz = col_z + (j - j0);
-      _mm256_storeu_ps(px, _mm256_fnmadd_ps(col_coef, dx, _mm256_loadu_ps(px)));
-      _mm256_storeu_ps(py, _mm256_fnmadd_ps(col_coef, dy, _mm256_loadu_ps(py)));
-      _mm256_storeu_ps(pz, _mm256_fnmadd_ps(col_coef, dz, _mm256_loadu_ps(pz)));
-    }
-    alignas(32) float lanes[4][8];
-    _mm256_store_ps(lanes[0], ax);
-    _mm256_store_ps(lanes[1], ay);
-    _mm256_store_ps(lanes[2], az);
-    _mm256_store_ps(lanes[3], as);
-    for (int k = 0; k < 8; ++k) {
-      sums.x += lanes[0][k];
-      sums.y += lanes[1][k];
-      sums.z += lanes[2][k];
-      sums.stress += lanes[3][k];
-    }
-  }
-#else
-  (void)wi;
-#endif
-  // Remainder (and the whole row without AVX2): the same arithmetic with an exact 1/√.
+  if (target == SimdTarget::Avx512)
+    j = avx512::row_vector_part<Weighted>(delta, xs, ys, zs, ws, xi, yi, zi, wi, j, jb, j0, col_x, col_y,
+                                          col_z, vector_sums);
+  else if (target == SimdTarget::Avx2)
+    j = avx2::row_vector_part<Weighted>(delta, xs, ys, zs, ws, xi, yi, zi, wi, j, jb, j0, col_x, col_y, col_z,
+                                        vector_sums);
+  RowSums sums{vector_sums[0], vector_sums[1], vector_sums[2], vector_sums[3]};
+  // The remainder (the whole row on the baseline): the same arithmetic with an exact 1/√.
   for (; j < jb; ++j) {
     const float dlt = delta[j];
     const float dx = xi - xs[j], dy = yi - ys[j], dz = zi - zs[j];
@@ -138,28 +114,28 @@ inline RowSums row_pass(const float* delta, const FloatConfiguration& c, Index i
   return sums;
 }
 
-// The pass: σ(X) and S = [Σⱼ wⱼ cᵢⱼ (xᵢ − xⱼ)]ᵢ over the upper triangle, tiles in parallel.
+// The pass: σ(X) and S = [Σⱼ wⱼ cᵢⱼ (xᵢ − xⱼ)]ᵢ over the upper triangle, in tiles. Deterministic for any
+// thread count: a task is one row block (its tiles left to right); a row's sums over its own tiles are added
+// in tile order, each tile's column sums are kept apart and added afterwards in row-block order, and the
+// blocks' stresses in block order.
 template <bool Weighted>
 double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config, Points& sums) {
   const Index n = D.rows();
-  const auto tiles = upper_tiles(n);
-  sums.setZero(n, 3);
-  // Deterministic: tiles go to threads round-robin, and the threads' sums are added in thread order.
-  const size_t threads = static_cast<size_t>(omp_get_max_threads());
-  std::vector<std::vector<double>> locals(threads);
-  std::vector<double> local_stresses(threads, 0.0);
-#pragma omp parallel num_threads(static_cast <int>(threads))
-  {
-    const size_t me = static_cast<size_t>(omp_get_thread_num());
-    std::vector<double>& local = locals[me];  // x, y, z of row j at 3j
-    local.assign(3 * static_cast<size_t>(n), 0.0);
-    double local_stress = 0;
-    alignas(32) float col[3][kTileCols];
-#pragma omp for schedule(static, 1) nowait
-    for (size_t t = 0; t < tiles.size(); ++t) {
-      const Index i0 = tiles[t].first * kTileRows, i1 = std::min(n, i0 + kTileRows);
-      const Index j0 = tiles[t].second * kTileCols, j1 = std::min(n, j0 + kTileCols);
-      std::fill(&col[0][0], &col[0][0] + 3 * kTileCols, 0.0f);
+  const Index blocks = (n + kTileRows - 1) / kTileRows;
+  static_assert(kTileRows == kTileCols, "row and column blocks must coincide");
+  const SimdTarget target = simd_target();
+  // Tile (bi, bj), bi ≤ bj, at column_sums[3·kTileCols·tile_index(bi, bj)]: the tiles of row block bi follow
+  // those of the blocks above it.
+  auto tile_index = [blocks](Index bi, Index bj) { return bi * blocks - bi * (bi - 1) / 2 + (bj - bi); };
+  std::vector<float> column_sums(static_cast<size_t>(3 * kTileCols * tile_index(blocks, blocks)), 0.0f);
+  std::vector<double> row_sums(3 * static_cast<size_t>(n), 0.0), block_stress(blocks, 0.0);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index bi = 0; bi < blocks; ++bi) {
+    const Index i0 = bi * kTileRows, i1 = std::min(n, i0 + kTileRows);
+    double stress = 0;
+    for (Index bj = bi; bj < blocks; ++bj) {
+      const Index j0 = bj * kTileCols, j1 = std::min(n, j0 + kTileCols);
+      float* col = column_sums.data() + 3 * kTileCols * tile_index(bi, bj);
       for (Index i = i0; i < i1; ++i) {
         const Index ja = std::max(j0, i + 1);
         if (ja >= j1) continue;
@@ -169,27 +145,30 @@ double stress_and_sums(const DistanceMatrix& D, const FloatConfiguration& config
           const char* end = reinterpret_cast<const char*>(D.data() + ahead * n + j1);
           for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
         }
-        RowSums r = row_pass<Weighted>(D.data() + i * n, config, i, ja, j1, j0, col[0], col[1], col[2]);
-        local[3 * i] += r.x;
-        local[3 * i + 1] += r.y;
-        local[3 * i + 2] += r.z;
-        local_stress += Weighted ? static_cast<double>(config.w[i]) * r.stress : r.stress;
-      }
-      for (Index j = j0; j < j1; ++j) {
-        local[3 * j] += col[0][j - j0];
-        local[3 * j + 1] += col[1][j - j0];
-        local[3 * j + 2] += col[2][j - j0];
+        const RowSums r = row_pass<Weighted>(target, D.data() + i * n, config, i, ja, j1, j0, col,
+                                             col + kTileCols, col + 2 * kTileCols);
+        row_sums[3 * i] += r.x;
+        row_sums[3 * i + 1] += r.y;
+        row_sums[3 * i + 2] += r.z;
+        stress += Weighted ? static_cast<double>(config.w[i]) * r.stress : r.stress;
       }
     }
-    local_stresses[me] = local_stress;
+    block_stress[bi] = stress;
+  }
+  sums.resize(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Index bj = 0; bj < blocks; ++bj) {
+    const Index j0 = bj * kTileCols, j1 = std::min(n, j0 + kTileCols);
+    for (Index j = j0; j < j1; ++j)
+      for (int k = 0; k < 3; ++k) {
+        double s = row_sums[3 * j + k];
+        for (Index bi = 0; bi <= bj; ++bi)
+          s += column_sums[3 * kTileCols * tile_index(bi, bj) + k * kTileCols + (j - j0)];
+        sums(j, k) = s;
+      }
   }
   double stress = 0;
-  for (size_t t = 0; t < threads; ++t) {
-    if (locals[t].empty()) continue;
-    for (Index i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) sums(i, k) += locals[t][static_cast<size_t>(3 * i + k)];
-    stress += local_stresses[t];
-  }
+  for (const double s : block_stress) stress += s;
   return stress;
 }
 

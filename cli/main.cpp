@@ -20,13 +20,15 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/command.h"
 #include "core/atomic_file.h"
+#include "core/build_info.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
+#include "core/simd.h"
 #include "core/threads.h"
 #include "core/timing.h"
 #include "eval/cache.h"
-#include "cli/command.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/distributed.h"
 
@@ -73,9 +75,10 @@ void add_canon_method_options(CLI::App& app) {
   // graph Laplacian are all this graph on a point cloud.
   CLI::Option_group* clouds = app.add_option_group("point-cloud options (every method)");
   clouds
-      ->add_option("--knn", g_knn.k,
-                   "point clouds (no faces): neighbours per point of the symmetric kNN graph that stands in for "
-                   "the mesh's edges")
+      ->add_option(
+          "--knn", g_knn.k,
+          "point clouds (no faces): neighbours per point of the symmetric kNN graph that stands in for "
+          "the mesh's edges")
       ->capture_default_str()
       ->check(within(kKnnLimit));
 }
@@ -350,9 +353,11 @@ void prepare_experiment(const std::vector<std::string>& methods, const std::stri
   configure_canonical_form(canon);  // every method option given, as in `cshapes canon`
 }
 
-void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, const std::string& data_help) {
+void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out,
+                              const std::string& data_help) {
   app.add_option("--data", data, data_help)->required();
-  app.add_option("--out", out, "output folder, created when missing (its cache/ makes reruns resume)")->required();
+  app.add_option("--out", out, "output folder, created when missing (its cache/ makes reruns resume)")
+      ->required();
 }
 
 void add_resample_option(CLI::App& app, Index& vertices) {
@@ -426,6 +431,9 @@ void set_threads(int requested) {
   omp_set_num_threads(threads_for_computation(requested, 3, [given](const std::string& line) {
     warn((given ? "--threads " : "OMP_NUM_THREADS=") + line);
   }));
+  // Long runs choose again before each form and block of pairs, from the same request (core/threads.h).
+  cshapes::set_thread_request(
+      std::min(requested > 0 ? requested : omp_get_max_threads(), 4 * std::max(1, omp_get_num_procs())));
 }
 
 // The command named on the command line ("canon", "bench coulomb"), found without the parser (which may
@@ -502,8 +510,9 @@ std::string group_description(const std::string& name) {
       {"experiment",
        "Experiments: the paper's, the noise curve, TOPKIDS, pose invariance and the Coulomb parameter study, "
        "each writing data, figures and report.md into --out (cached: reruns resume)"},
-      {"generate", "Shapes made here, deterministic for a seed: a swiss roll, articulated poses, the hand, a "
-                   "whole retrieval dataset"}};
+      {"generate",
+       "Shapes made here, deterministic for a seed: a swiss roll, articulated poses, the hand, a "
+       "whole retrieval dataset"}};
   auto it = groups.find(name);
   return it == groups.end() ? std::string() : it->second;
 }
@@ -540,7 +549,14 @@ int main(int argc, char** argv) {
       "and shape-retrieval evaluation"};
   app.require_subcommand(1);
   app.fallthrough();
-  app.set_version_flag("--version", CSHAPES_VERSION);
+  app.set_version_flag("--version", [] {
+    try {
+      return cshapes::version_text();
+    } catch (const std::exception& e) {  // CSHAPES_SIMD names an instruction set this CPU lacks
+      return "cshapes " + cshapes::version() + "\nbuild: " + cshapes::build_description() +
+             "\nkernels: " + e.what();
+    }
+  });
   app.add_option("--threads", g_threads,
                  "OpenMP threads, at most 4 per core (default: all cores, shared among the MPI ranks of a "
                  "node); fewer when other processes keep "
@@ -600,6 +616,11 @@ int main(int argc, char** argv) {
   g_selected = selected;
   auto it = leaf.find(selected);
   if (it == leaf.end()) return report("no command given; see cshapes --help", kExitUsage);
+  try {
+    cshapes::simd_target();  // CSHAPES_SIMD checked before any work
+  } catch (const cshapes::Error& e) {
+    return report(e.what(), kExitUsage);
+  }
   set_threads(g_threads);
   cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
   int code = 0;

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cstdlib>
@@ -37,6 +38,26 @@ int threads_for_computation(int requested, int samples, const std::function<void
   const int busy = exact && *exact && std::string(exact) != "0" ? 0 : busy_cores(samples);
   if (busy > 0 && wanted + busy > cores) wanted = std::max(1, std::min(wanted, cores - busy));
   return wanted;
+}
+
+}  // namespace cshapes
+
+namespace cshapes {
+
+namespace {
+std::atomic<int> g_thread_request{-1};  // -1: none recorded
+}  // namespace
+
+void set_thread_request(int requested) {
+  g_thread_request.store(requested < 0 ? -1 : requested);
+}
+
+int refresh_threads() {
+  const int requested = g_thread_request.load();
+  if (requested < 0 || omp_in_parallel()) return omp_get_max_threads();
+  const int threads = threads_for_computation(requested);
+  omp_set_num_threads(threads);
+  return threads;
 }
 
 }  // namespace cshapes

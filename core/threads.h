@@ -27,4 +27,16 @@ int busy_cores(int samples = 3);
 int threads_for_computation(int requested, int samples = 3,
                             const std::function<void(const std::string&)>& warn = {});
 
+// Threads that follow the machine during a long run. A front end records its request once
+// (set_thread_request: the CLI after parsing, the Python module at each call); the library calls
+// refresh_threads() between stages and blocks of work (before each canonical form, each block of ICP pairs),
+// which chooses the count again from the load at that moment (threads_for_computation) and sets it for later
+// parallel regions. Every result is the same for any thread count, so choosing again changes timings only.
+// Without a recorded request refresh_threads() changes nothing (library users keep OpenMP's setting).
+// requested: 0 for OpenMP's default count, a negative value to forget the request.
+void set_thread_request(int requested);
+// The count for the next block of work (also set with omp_set_num_threads); inside a parallel region, or
+// without a request, the current count unchanged.
+int refresh_threads();
+
 }  // namespace cshapes

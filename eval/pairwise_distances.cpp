@@ -14,6 +14,7 @@
 #include <unordered_set>
 
 #include "core/error.h"
+#include "core/threads.h"
 #include "core/timing.h"
 #include "eval/cache.h"
 #include "matching/shape_distance.h"
@@ -277,44 +278,52 @@ PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
     records.clear();
   };
   const long total_todo = error ? 0 : static_cast<long>(todo.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (long k = 0; k < total_todo; ++k) {
-    if (stop) continue;
-    const Pair& p = todo[static_cast<size_t>(k)];
-    try {
-      PackRecord record{p.source, p.target, {}, {}};
-      ShapeDistance d =
-          aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
-                                 *prepared[static_cast<size_t>(p.target)], icp_options, &record.alignment);
-      record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
-      store(p.source, p.target, record.value);  // distinct entries per pair: no race
-      std::vector<PackRecord> full;
-      long done = 0;
+  // Blocks of pairs, each its own parallel region with the thread count chosen again before it
+  // (core/threads.h: refresh_threads), so a long run uses the cores that are free now. A pair is aligned by
+  // one thread, so its values do not depend on the count.
+  const long block_pairs = std::max<long>(64, 16L * threads);
+  for (long first = 0; first < total_todo && !stop; first += block_pairs) {
+    const long last = std::min(total_todo, first + block_pairs);
+    const int block_threads = options.threads > 0 ? options.threads : refresh_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(block_threads)
+    for (long k = first; k < last; ++k) {
+      if (stop) continue;
+      const Pair& p = todo[static_cast<size_t>(k)];
+      try {
+        PackRecord record{p.source, p.target, {}, {}};
+        ShapeDistance d =
+            aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
+                                   *prepared[static_cast<size_t>(p.target)], icp_options, &record.alignment);
+        record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
+        store(p.source, p.target, record.value);  // distinct entries per pair: no race
+        std::vector<PackRecord> full;
+        long done = 0;
 #pragma omp critical(cshapes_pairwise_pack)
-      {
-        pending.push_back(std::move(record));
-        done = ++computed;
-        if (static_cast<long>(pending.size()) >= options.pack_pairs ||
-            seconds_since(last_pack) >= options.pack_seconds) {
-          full.swap(pending);
-          last_pack = WallClock::now();
+        {
+          pending.push_back(std::move(record));
+          done = ++computed;
+          if (static_cast<long>(pending.size()) >= options.pack_pairs ||
+              seconds_since(last_pack) >= options.pack_seconds) {
+            full.swap(pending);
+            last_pack = WallClock::now();
+          }
         }
-      }
-      write_pending(full);
-      report_progress_in_parallel(options.progress, "distances", static_cast<double>(result.cached + done),
-                                  static_cast<double>(result.cached + total_todo));
-      if (options.fail_after_computed >= 0 && done >= options.fail_after_computed) {
-        // The hook simulates a kill after `done` stored pairs: store them now.
-        std::vector<PackRecord> rest;
+        write_pending(full);
+        report_progress_in_parallel(options.progress, "distances", static_cast<double>(result.cached + done),
+                                    static_cast<double>(result.cached + total_todo));
+        if (options.fail_after_computed >= 0 && done >= options.fail_after_computed) {
+          // The hook simulates a kill after `done` stored pairs: store them now.
+          std::vector<PackRecord> rest;
 #pragma omp critical(cshapes_pairwise_pack)
-        rest.swap(pending);
-        write_pending(rest);
-        fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");
-      }
-    } catch (...) {
+          rest.swap(pending);
+          write_pending(rest);
+          fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");
+        }
+      } catch (...) {
 #pragma omp critical(cshapes_pairwise_error)
-      if (!error) error = std::current_exception();
-      stop = true;
+        if (!error) error = std::current_exception();
+        stop = true;
+      }
     }
   }
   write_pending(pending);  // what is left, also after an error: finished pairs stay cached

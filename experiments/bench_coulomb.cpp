@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/io.h"
 #include "core/timing.h"
+#include "experiments/bench_support.h"
 
 namespace cshapes {
 
@@ -133,6 +134,7 @@ nlohmann::json to_json(const CoulombBenchResult& r) {
     j["direct_float_cpu_seconds"] = r.direct_float_cpu_seconds;
     j["speedup_vs_direct_float"] = r.speedup_vs_direct_float();
   }
+  j["build"] = build_json();
   return j;
 }
 

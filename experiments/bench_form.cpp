@@ -103,10 +103,13 @@ nlohmann::json to_json(const FormBenchResult& r) {
       {"peak_rss_mb", r.peak_rss_mb},
       {"reference", reference},
       {"note",
-       "one canonical form with the library's defaults and the experiments' heat geodesics, median of repeats; "
-       "precompute_seconds: geodesics, or the Laplacian and its eigenpairs; peak RSS of the process after the "
+       "one canonical form with the library's defaults and the experiments' heat geodesics, median of "
+       "repeats; "
+       "precompute_seconds: geodesics, or the Laplacian and its eigenpairs; peak RSS of the process after "
+       "the "
        "forms (rss_before_mb: after reading the mesh); reference: full classical MDS once, after the forms"}};
   if (r.reference_ran) j["speedup_vs_reference"] = r.reference_seconds / r.seconds;
+  j["build"] = build_json();
   return j;
 }
 

@@ -15,6 +15,7 @@
 #include "core/subdivide.h"
 #include "core/synthetic.h"
 #include "core/timing.h"
+#include "experiments/bench_support.h"
 
 namespace cshapes {
 
@@ -203,6 +204,7 @@ nlohmann::json to_json(const GeodesicsBenchResult& r) {
     out["anchor"]["note"] = "timed on " + std::to_string(r.anchor.sampled_sources) +
                             " random sources and extrapolated to n: set-up + n × seconds per source";
   if (r.paper_seconds > 0) out["paper_seconds"] = r.paper_seconds;
+  out["build"] = build_json();
   return out;
 }
 

@@ -236,6 +236,7 @@ nlohmann::json to_json(const IcpBenchResult& r) {
     j["open3d_ms_per_iteration"] = nullptr;
     j["open3d_skipped"] = r.open3d_skipped;
   }
+  j["build"] = build_json();
   return j;
 }
 

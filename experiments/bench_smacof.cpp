@@ -262,6 +262,7 @@ nlohmann::json to_json(const SmacofBenchResult& r) {
                             {to_string(SmacofAcceleration::Rre), accelerated_run_json(r.rre, r.plain)},
                             {to_string(SmacofAcceleration::Mpe), accelerated_run_json(r.mpe, r.plain)}};
   json["peak_rss_mb"] = r.peak_rss_mb;
+  json["build"] = build_json();
   return json;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "pipeline/experiment_kit.h"
 
 namespace cshapes {
 

@@ -462,6 +462,7 @@ void retrieval_stage(ExperimentRun& run) {
   }
   if (!run.comm.is_root()) return;
   metrics["class_names"] = run.class_names;
+  metrics["build"] = build_json();
   if (!run.summary.failures.empty()) metrics["failures"] = shape_failures_json(run.summary.failures);
   write_file_atomically((fs::path(o.out) / "metrics.json").string(),
                         [&](std::ostream& out) { out << metrics.dump(2) << '\n'; });

@@ -242,9 +242,8 @@ std::vector<LocatedSamples> resample_shapes(const PoseInvarianceOptions& o, cons
       row.off_part = l.carried.off_part;
       s.mesh = remeshed;
       s.path = r.file;
-      say(o.note,
-          detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
-                         carried_summary(l.carried)));
+      say(o.note, detail::concat("  ", s.name, ": ", row.samples, " samples located on the remesh, ",
+                                 carried_summary(l.carried)));
     }
     result.located.push_back(row);
   }
@@ -619,6 +618,7 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
 std::string pose_invariance_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
   std::ostringstream md;
   md << "# Pose invariance (" << label_of(o) << ")\n\n"
+     << build_sentence() << "\n\n"
      << "Data: `" << o.data << "`, " << count_form(result.shapes, "input") << " shapes, "
      << count_form(result.pairs, "input") << " pairs of poses, up to " << o.samples
      << " ground-truth correspondences per pair"

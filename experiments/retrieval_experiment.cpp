@@ -33,7 +33,8 @@ const Eigen::MatrixXd& distance_matrix(const PairwiseDistanceResult& d, const st
 // One method's matrices in every form and their measures, under each distance (rank 0).
 void write_method_files(const ExperimentFolder& folder, const RetrievalExperimentOptions& o,
                         const DatasetDistances& dd, RetrievalMethodResult& m) {
-  write_classification(folder.path(m.method + "/classes.cla"), classification_from_labels(m.names, m.classes));
+  write_classification(folder.path(m.method + "/classes.cla"),
+                       classification_from_labels(m.names, m.classes));
   for (const std::string& kind : retrieval_distances()) {
     const NamedDistances named{m.names, distance_matrix(dd.distances, kind)};
     const std::string base = m.method + "/" + kind;
@@ -77,14 +78,10 @@ json result_json(const RetrievalExperimentResult& r) {
                        {"seconds", m.seconds},
                        {"distances", distances}});
   }
-  json j{{"data", r.options.data},
-         {"read", r.data},
-         {"shapes", r.shapes},
-         {"classes", r.class_names},
-         {"class_sizes", r.class_sizes},
-         {"distances", retrieval_distances()},
-         {"methods", methods},
-         {"failures", shape_failures_json(r.failures)},
+  json j{{"data", r.options.data},       {"read", r.data},
+         {"shapes", r.shapes},           {"classes", r.class_names},
+         {"class_sizes", r.class_sizes}, {"distances", retrieval_distances()},
+         {"methods", methods},           {"failures", shape_failures_json(r.failures)},
          {"seconds", r.seconds}};
   if (r.resampled) {
     json shapes = json::array();
@@ -137,7 +134,8 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     names.push_back(e.name);
     classes.push_back(e.class_name);
   }
-  if (comm.is_root()) write_classification(folder.path("classes.cla"), classification_from_labels(names, classes));
+  if (comm.is_root())
+    write_classification(folder.path("classes.cla"), classification_from_labels(names, classes));
   std::set<std::string> unreadable;  // said once, not once per method
   for (const std::string& method : o.methods) {
     say(o.note, "== " + canonical_form_method_title(method) + ": canonical forms and ICP distances");
@@ -166,7 +164,11 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     r.methods.push_back(std::move(m));
   }
   r.seconds = seconds_since(start);
-  if (comm.is_root()) folder.write_json("retrieval.json", result_json(r));
+  if (comm.is_root()) {
+    json out = result_json(r);
+    out["build"] = build_json();
+    folder.write_json("retrieval.json", out);
+  }
   return r;
 }
 

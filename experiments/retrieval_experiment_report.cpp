@@ -106,7 +106,8 @@ void confusion_section(std::ostream& out, const RetrievalExperimentResult& r) {
 }
 
 void cost_section(std::ostream& out, const RetrievalExperimentResult& r) {
-  out << "## Cost\n\nMeasured under whatever else ran on the machine; cached items cost nothing on a rerun.\n\n"
+  out << "## Cost\n\nMeasured under whatever else ran on the machine; cached items cost nothing on a "
+         "rerun.\n\n"
          "| method | forms computed | forms cached | pairs computed | pairs cached | seconds |\n"
          "|---|---:|---:|---:|---:|---:|\n";
   for (const RetrievalMethodResult& m : r.methods)
@@ -122,6 +123,7 @@ void write_retrieval_report(const RetrievalExperimentResult& r, const std::strin
   std::ostringstream out;
   const RetrievalExperimentOptions& o = r.options;
   out << "# Retrieval experiment\n\n"
+      << build_sentence() << "\n\n"
       << "Collection: `" << o.data << "`: " << r.shapes << " shapes in " << r.class_names.size()
       << " classes (";
   for (size_t c = 0; c < r.class_names.size(); ++c)

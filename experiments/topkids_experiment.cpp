@@ -208,9 +208,8 @@ void resample_inputs(const TopkidsExperimentOptions& o, const ExperimentFolder& 
     row.relocated = p.carried.relocated;
     row.off_part = p.carried.off_part;
     r.carried.push_back(row);
-    say(o.note,
-        detail::concat("  ", p.name, ": ", row.vertices, " ground-truth vertices carried to the remesh, ",
-                       carried_summary(p.carried)));
+    say(o.note, detail::concat("  ", p.name, ": ", row.vertices,
+                               " ground-truth vertices carried to the remesh, ", carried_summary(p.carried)));
   }
 }
 
@@ -596,6 +595,7 @@ void write_topkids_json(const ExperimentFolder& folder, const TopkidsExperimentR
   }
   for (const TopkidsSummary& s : r.summaries) j["summary"].push_back(summary_json(s));
   for (const TopkidsRow& row : r.rows) j["rows"].push_back(row_json(row));
+  j["build"] = build_json();
   folder.write_json("topkids.json", j);
 }
 
@@ -689,6 +689,7 @@ std::string label(const std::string& m) {
 // The data, the alignment and the error protocol.
 void write_method(std::ostream& s, const TopkidsExperimentResult& r, const TopkidsExperimentOptions& o) {
   s << "# TOPKIDS: point maps under real topological noise\n\n";
+  s << build_sentence() << "\n\n";
   s << "Data: `" << o.data
     << "` (SHREC'16 \"Matching of deformable shapes with topological noise\", Lähner et al. 2016, low "
        "resolution). Reference `"

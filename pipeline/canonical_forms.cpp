@@ -7,6 +7,7 @@
 #include <typeinfo>
 
 #include "core/error.h"
+#include "core/threads.h"
 #include "core/timing.h"
 #include "pipeline/canonical_form_methods.h"
 
@@ -98,8 +99,8 @@ namespace {
 void require_landmark_memory(const Mesh& mesh, const CanonicalFormOptions& options) {
   const Index n = mesh.num_vertices(), count = std::min<Index>(options.mds_solver.landmarks, n);
   require_memory(4.0 * static_cast<double>(count) * static_cast<double>(n),
-                 detail::concat(options.name, ": ", options.method, "'s ", count, " landmark geodesic rows on ", n,
-                                " vertices"));
+                 detail::concat(options.name, ": ", options.method, "'s ", count,
+                                " landmark geodesic rows on ", n, " vertices"));
 }
 
 }  // namespace
@@ -253,6 +254,7 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
 
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
                              double D_seconds, const std::string& D_fallback) {
+  refresh_threads();  // each form with the cores free now (core/threads.h); forms do not depend on the count
   try {
     return canonical_form_of(mesh, options, D, D_seconds, D_fallback);
   } catch (const Error& error) {

@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/build_info.h"
 #include "core/error.h"
+#include "core/simd.h"
 
 namespace cshapes {
 
@@ -51,6 +53,15 @@ std::string format_number(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, value);
   return buffer;
+}
+
+nlohmann::json build_json() {
+  return {{"version", version()}, {"build", build_description()}, {"simd", to_string(simd_target())}};
+}
+
+std::string build_sentence() {
+  return "Computed by cshapes " + version() + " (" + build_description() + ") with the " +
+         simd_description() + " kernels.";
 }
 
 std::string fixed(double value, int decimals) {

@@ -4,6 +4,7 @@
 //   ExperimentFolder  the output folder of a run: paths in it, atomic writes of text/JSON/CSV, its caches
 //   Notes             the progress and note channels a front end listens to (say(), progress())
 //   fixed, percent    numbers in reports, one wording for "not measured" ("—")
+//   build_json        what produced a result (version, build, instruction set), for every report and JSON
 //
 // With pipeline/canonical_forms.h (methods and their cached forms), pipeline/glued_meshes.h (the one glued-
 // mesh cache), pipeline/shape_failures.h (per-shape failures) and experiments/figures.h (drawing), this is
@@ -54,6 +55,14 @@ class ExperimentFolder {
  private:
   std::string root_;
 };
+
+// What produced a result: {"version", "build", "simd"} (core/build_info.h, core/simd.h), in every bench JSON
+// and experiment JSON. Not the thread count: results do not depend on it, and it may change during a run
+// (core/threads.h).
+nlohmann::json build_json();
+// The same for a report, one sentence: "Computed by cshapes 0.1.0 (Release, g++ 12.2.0, OpenMP 4.5,
+// CHOLMOD) with the avx512 (best of baseline, avx2, avx512) kernels."
+std::string build_sentence();
 
 // A number in a report: printf-style `decimals` after the point; "—" when not finite (not measured).
 std::string fixed(double value, int decimals);

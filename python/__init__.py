@@ -27,6 +27,7 @@ from ._cshapes import (  # noqa: E402
     canonical_form,
     canonical_form_methods,
     classical_mds,
+    build_info,
     coulomb,
     distance_matrix,
     experiment_paper,
@@ -46,7 +47,7 @@ from ._cshapes import (  # noqa: E402
 
 __version__ = _cshapes.__version__
 __all__ = [
-    "Alignment", "CanonicalForm", "add_topological_noise", "canonical_form", "classical_mds", "coulomb",
+    "Alignment", "CanonicalForm", "add_topological_noise", "build_info", "canonical_form", "classical_mds", "coulomb",
     "distance_matrix", "experiment_paper", "experiment_retrieval", "generate", "geodesics", "get_num_threads",
     "icp", "mesh_info", "read_mesh",
     "retrieval_measures", "set_num_threads", "shape_distance", "smacof", "write_mesh",

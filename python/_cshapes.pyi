@@ -15,6 +15,9 @@ _Geodesics = Literal["fmm", "heat", "heat-cgal", "exact", "graph"]
 __version__: str
 GOMP_SPINCOUNT: int
 
+def build_info() -> dict[str, Any]:
+    """{'version', 'build', 'simd', 'simd_supported'}: the module's version, build and kernels' instruction set."""
+
 class CanonicalForm:
     """A canonical form: X (n, 3), valid (n,), torn (n,) or None, history, iterations, summary, seconds."""
     X: np.ndarray

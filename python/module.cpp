@@ -2,8 +2,10 @@
 // Python, numpy in and numpy out. A skin over the same library calls as the CLI (pipeline/, eval/, matching/,
 // canon/, core/): no pipeline logic of its own. Errors raise ValueError (cshapes::Error) or OSError
 // (cshapes::FileError) with the CLI's messages.
+#include "core/build_info.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/simd.h"
 #include "core/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -41,6 +43,22 @@ CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations r
       "OpenMP threads of every later call, from any Python thread; 0: the default (OMP_NUM_THREADS or all "
       "cores).");
   m.def("get_num_threads", &cshapes::python::threads, "OpenMP threads later calls use.");
+  m.def(
+      "build_info",
+      [] {
+        py::dict out;
+        out["version"] = cshapes::version();
+        out["build"] = cshapes::build_description();
+        out["simd"] = cshapes::to_string(cshapes::simd_target());
+        py::list supported;
+        for (cshapes::SimdTarget t : cshapes::supported_simd_targets())
+          supported.append(cshapes::to_string(t));
+        out["simd_supported"] = supported;
+        return out;
+      },
+      "What this module is: {'version', 'build', 'simd' (the instruction set its kernels run with: the best "
+      "this CPU supports, or the environment variable CSHAPES_SIMD=baseline|avx2|avx512 read at the first "
+      "call), 'simd_supported'}.");
   cshapes::python::bind_mesh(m);
   cshapes::python::bind_canon(m);
   cshapes::python::bind_matching(m);

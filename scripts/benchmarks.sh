@@ -1,29 +1,48 @@
 #!/usr/bin/env bash
 # Reruns every benchmark behind docs/benchmarks.md's table and writes one JSON file per row into OUT
 # (default: results/benchmarks), then prints every ratio (scripts/benchmark_ratios.py). Each benchmark measures
-# its reference in the same run. On a fresh Debian machine it first installs what is missing, the anchors
-# included (scikit-learn and Open3D, Debian's python3-sklearn and python3-open3d), and builds.
-#   scripts/benchmarks.sh [OUT] [--data DIR]     (DIR: tosca5k, default ../shared/data/tosca5k)
-# Takes a few minutes on 2 cores (remeshing included); run it on an otherwise idle machine. Exits 1 when an
-# anchor could not run.
+# its reference in the same run. The rows of the dispatched kernels (Coulomb, SMACOF) are then run again under
+# each instruction set this CPU supports (CSHAPES_SIMD=baseline|avx2|avx512, core/simd.h) into
+# OUT/simd-TARGET/, for the side-by-side table. On a fresh Debian machine it first installs what is missing,
+# the anchors included (scikit-learn and Open3D, Debian's python3-sklearn and python3-open3d), and builds.
+#   scripts/benchmarks.sh [OUT] [--data DIR] [--main-job]
+#     DIR: tosca5k, default ../shared/data/tosca5k
+#     --main-job: also time experiments/run_paper.sh on DIR (six methods, a fresh output folder, no cache)
+# Takes 15-20 minutes on 2 cores (remeshing included); run it on an otherwise idle machine. Exits 1 when an
+# anchor could not run. `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md` writes the page.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out="${1:-$root/results/benchmarks}"
 data="$root/../shared/data/tosca5k"
-[[ "${2:-}" == "--data" ]] && data="$3"
+main_job=0
+shift || true
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --data) data="$2"; shift 2 ;;
+    --main-job) main_job=1; shift ;;
+    *) echo "benchmarks: unknown argument $1 (see the header of $0)" >&2; exit 2 ;;
+  esac
+done
 cshapes="$root/build/cshapes"
 "$root/scripts/install-deps.sh" --with-anchors
 [[ -x "$cshapes" ]] || "$root/scripts/build.sh"
 [[ -d "$data" ]] || { echo "benchmarks: no data at $data (give --data DIR: TOSCA meshes cat0.off, cat1.off, michael0.off)" >&2; exit 1; }
 mkdir -p "$out"
 
-bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into OUT/NAME.json
-  local name=$1
+bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into DEST/NAME.json (DEST: OUT by default)
+  local name=$1 dest=${dest:-$out}
   shift
-  echo "== $name: cshapes bench $*" >&2
-  "$cshapes" -q bench "$@" --json >"$out/$name.json.tmp"
-  mv "$out/$name.json.tmp" "$out/$name.json"
+  echo "== $name${CSHAPES_SIMD:+ (CSHAPES_SIMD=$CSHAPES_SIMD)}: cshapes bench $*" >&2
+  "$cshapes" -q bench "$@" --json >"$dest/$name.json.tmp"
+  mv "$dest/$name.json.tmp" "$dest/$name.json"
 }
+converged_form() {  # the default Coulomb form of cat0, timed by its own summary, into DEST
+  local dest=${dest:-$out}
+  echo "== coulomb-cat0-converged${CSHAPES_SIMD:+ (CSHAPES_SIMD=$CSHAPES_SIMD)}: cshapes canon cat0.off --method coulomb" >&2
+  "$cshapes" -q canon "$data/cat0.off" -o "$dest/cat0-coulomb.ply" --method coulomb --json >"$dest/coulomb-cat0-converged.json.tmp"
+  mv "$dest/coulomb-cat0-converged.json.tmp" "$dest/coulomb-cat0-converged.json"
+}
+"$cshapes" --version >"$out/version.txt"
 
 # Shapes at the paper's sizes (Table 1), remeshed from TOSCA.
 [[ -f "$out/cat3505.off" ]] || "$cshapes" -q remesh "$data/cat0.off" -o "$out/cat3505.off" --vertices 3505
@@ -56,9 +75,32 @@ for method in cmds smacof lbo diffusion spectral-mds; do
   bench form-$method-50000 form --mesh "$out/michael50000.off" --method $method --repeats 1 --reference none
 done
 # A whole canonical form with the default options (not a bench: its JSON summary has seconds and iterations).
-echo "== coulomb-cat0-converged: cshapes canon cat0.off --method coulomb" >&2
-"$cshapes" -q canon "$data/cat0.off" -o "$out/cat0-coulomb.ply" --method coulomb --json >"$out/coulomb-cat0-converged.json.tmp"
-mv "$out/coulomb-cat0-converged.json.tmp" "$out/coulomb-cat0-converged.json"
+converged_form
+
+# The dispatched kernels' rows under every instruction set this CPU supports, one after the other.
+for target in $("$cshapes" --version | sed -n 's/^kernels: .*(\(best of\|.*this CPU:\) \(.*\))$/\2/p' | tr -d ','); do
+  dest="$out/simd-$target"
+  mkdir -p "$dest"
+  export CSHAPES_SIMD=$target
+  "$cshapes" --version >"$dest/version.txt"
+  bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
+  bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
+  bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
+  bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
+  bench smacof-3505 smacof --n 3505
+  converged_form
+  unset CSHAPES_SIMD dest
+done
+
+# The main job: the README's experiment on tosca5k, six methods, from nothing (no cache).
+if [[ $main_job -eq 1 ]]; then
+  rm -rf "$out/main-job"
+  echo "== main-job: experiments/run_paper.sh --data $data --out $out/main-job" >&2
+  start=$(date +%s.%N)
+  "$root/experiments/run_paper.sh" --data "$data" --out "$out/main-job" >"$out/main-job.log" 2>&1
+  end=$(date +%s.%N)
+  python3 -c "import json,sys; json.dump({'seconds': $end - $start, 'command': 'experiments/run_paper.sh --data $data'}, open('$out/main-job.json', 'w'))"
+fi
 echo "benchmarks: JSON in $out" >&2
 echo
 "$root/scripts/benchmark_ratios.py" "$out"

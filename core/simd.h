@@ -1,0 +1,46 @@
+// The instruction set the hot kernels run with, chosen at run time.
+//
+// One binary carries each hot kernel (the Coulomb near field and direct float sum, the SMACOF pass, the
+// metric projection sweep) compiled for several x86-64 instruction sets, and calls the best one this CPU
+// supports: Baseline (SSE2, every x86-64), Avx2 (AVX2 + FMA), Avx512 (AVX-512 F/VL/DQ/BW). Other processors
+// run Baseline. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
+// comparisons); forcing one the CPU lacks is an error, never a silent fallback.
+//
+// Results: each target is deterministic (the same bytes for any thread count). Targets differ from one
+// another in the last bits of the Coulomb and SMACOF sums (a hardware reciprocal square root estimate and
+// fused multiply-adds against an exact square root, separate multiply and add); docs/benchmarks.md states the
+// bound per method and tests/simd_test.cpp checks it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cshapes {
+
+enum class SimdTarget { Baseline = 0, Avx2 = 1, Avx512 = 2 };
+
+// "baseline", "avx2", "avx512".
+const char* to_string(SimdTarget target);
+
+// Whether this CPU (and operating system) can run the target's kernels.
+bool simd_supported(SimdTarget target);
+
+// The targets this CPU supports, lowest first (always starts with Baseline).
+std::vector<SimdTarget> supported_simd_targets();
+
+// The target the kernels use: set_simd_target's, else CSHAPES_SIMD's, else the best supported. Throws
+// cshapes::Error naming the variable when CSHAPES_SIMD holds an unknown name or a target this CPU lacks.
+SimdTarget simd_target();
+
+// Forces the kernels' target for this process (tests, `bench --simd`). Throws when the CPU lacks it.
+void set_simd_target(SimdTarget target);
+
+// Parses "baseline", "avx2" or "avx512"; throws listing them otherwise. `what` names the source in the
+// message (e.g. "CSHAPES_SIMD").
+SimdTarget parse_simd_target(const std::string& name, const std::string& what);
+
+// One line for --version and reports: "avx512 (best of baseline, avx2, avx512)" or
+// "avx2 (forced by CSHAPES_SIMD; this CPU: baseline, avx2, avx512)".
+std::string simd_description();
+
+}  // namespace cshapes
