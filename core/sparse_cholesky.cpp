@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "core/error.h"
+#include "core/simd.h"
 
 #ifdef CSHAPES_HAVE_CHOLMOD
 #include <cholmod.h>
@@ -34,6 +35,24 @@ cholmod_sparse sparse_view(SparseMatrix& lower) {
   return s;
 }
 #endif
+
+namespace baseline {
+#include "core/sparse_cholesky_simd.inl"
+}  // namespace baseline
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+#pragma GCC optimize("fp-contract=off")
+namespace avx2 {
+#include "core/sparse_cholesky_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+#pragma GCC optimize("fp-contract=off")
+namespace avx512 {
+#include "core/sparse_cholesky_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
 
 }  // namespace
 
@@ -89,31 +108,16 @@ void SparseCholesky::solve(Block& B, Block& work) const {
   work.resize(n_, k);
   double* __restrict y = work.data();
   for (Index r = 0; r < n_; ++r) work.row(r) = B.row(perm_[r]);
-  // L y = P b, column by column: each column of L updates the rows below its diagonal.
-  for (Index j = 0; j < n_; ++j) {
-    double* __restrict yj = y + j * k;
-    const double inv = 1.0 / value_[colptr_[j]];
-#pragma omp simd
-    for (Index c = 0; c < k; ++c) yj[c] *= inv;
-    for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
-      double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
-      const double v = value_[q];
-#pragma omp simd
-      for (Index c = 0; c < k; ++c) yi[c] -= v * yj[c];
-    }
-  }
-  // Lᵀ x = y, backwards: row j of Lᵀ is column j of L.
-  for (Index j = n_ - 1; j >= 0; --j) {
-    double* __restrict yj = y + j * k;
-    for (int q = colptr_[j] + 1; q < colptr_[j + 1]; ++q) {
-      const double* __restrict yi = y + static_cast<Index>(row_[q]) * k;
-      const double v = value_[q];
-#pragma omp simd
-      for (Index c = 0; c < k; ++c) yj[c] -= v * yi[c];
-    }
-    const double inv = 1.0 / value_[colptr_[j]];
-#pragma omp simd
-    for (Index c = 0; c < k; ++c) yj[c] *= inv;
+  switch (simd_target()) {
+    case SimdTarget::Avx512:
+      avx512::solve_in_place(y, n_, k, colptr_.data(), row_.data(), value_.data());
+      break;
+    case SimdTarget::Avx2:
+      avx2::solve_in_place(y, n_, k, colptr_.data(), row_.data(), value_.data());
+      break;
+    case SimdTarget::Baseline:
+      baseline::solve_in_place(y, n_, k, colptr_.data(), row_.data(), value_.data());
+      break;
   }
   for (Index r = 0; r < n_; ++r) B.row(perm_[r]) = work.row(r);
 }
