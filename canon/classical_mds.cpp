@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/serial_eigen_products.h"
+#include "core/simd.h"
 #include "core/timing.h"
 
 namespace cshapes {
@@ -73,6 +74,39 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
 // Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
 // third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
 // need.
+namespace baseline {
+#include "canon/classical_mds_simd.inl"
+}  // namespace baseline
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+#pragma GCC optimize("fp-contract=off")
+namespace avx2 {
+#include "canon/classical_mds_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+#pragma GCC optimize("fp-contract=off")
+namespace avx512 {
+#include "canon/classical_mds_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+
+// row_pass of the kernels' instruction set (the same bytes on each).
+template <typename Entry>
+double row_pass_kernel(SimdTarget target, const Entry* column, const double* v, double vi, Index ja, Index j1,
+                       double* sums) {
+  switch (target) {
+    case SimdTarget::Avx512:
+      return avx512::row_pass(column, v, vi, ja, j1, sums);
+    case SimdTarget::Avx2:
+      return avx2::row_pass(column, v, vi, ja, j1, sums);
+    case SimdTarget::Baseline:
+      break;
+  }
+  return baseline::row_pass(column, v, vi, ja, j1, sums);
+}
+
 template <typename Entry>
 class DoubleCentredOp {
  public:
@@ -100,6 +134,7 @@ class DoubleCentredOp {
     const Index blocks = (n + kTile - 1) / kTile;
     tile_rows_.resize(tiles_.size() * kTile);
     tile_columns_.resize(tiles_.size() * kTile);
+    const SimdTarget target = simd_target();
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t t = 0; t < tiles_.size(); ++t) {
       const Index i0 = tiles_[t].first * kTile, i1 = std::min(n, i0 + kTile);
@@ -117,17 +152,8 @@ class DoubleCentredOp {
           for (; next < end; next += 64) __builtin_prefetch(next, 0, 3);
         }
         const Entry* column = D_.data() + i * n;  // column i = row i
-        const double vi = v[i];
-        double row = 0;
         double* sums = column_sums - j0;
-#pragma omp simd reduction(+ : row)
-        for (Index j = ja; j < j1; ++j) {
-          const double d = static_cast<double>(column[j]);
-          const double a = d * d;
-          row += a * v[j];
-          sums[j] += a * vi;
-        }
-        row_sums[i - i0] = row;
+        row_sums[i - i0] = row_pass_kernel(target, column, v, v[i], ja, j1, sums);
       }
     }
     // Block b of the product: its row sums from tiles (b, b..), then its column sums from tiles (..b, b).

@@ -621,6 +621,8 @@ int main(int argc, char** argv) {
   } catch (const cshapes::Error& e) {
     return report(e.what(), kExitUsage);
   }
+  // A timing is read with the kernels that produced it (the JSON of every bench records them too).
+  if (g_command.rfind("bench", 0) == 0) note("kernels: " + cshapes::simd_description());
   set_threads(g_threads);
   cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
   int code = 0;

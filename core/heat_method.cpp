@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/fast_marching.h"
 #include "core/intrinsic_delaunay.h"
+#include "core/simd.h"
 #include "core/sparse_cholesky.h"
 
 namespace cshapes {
@@ -34,6 +35,26 @@ using Block = SparseCholesky::Block;
 constexpr double kHeatPeak = 1e150;
 constexpr double kTinySquare = 1e-290;  // |∇u|² below this is recomputed with scaling
 constexpr double kHeatFloor = 1e-280;
+
+namespace {
+namespace baseline {
+#include "core/heat_method_simd.inl"
+}  // namespace baseline
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+#pragma GCC optimize("fp-contract=off")
+namespace avx2 {
+#include "core/heat_method_simd.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
+#pragma GCC optimize("fp-contract=off")
+namespace avx512 {
+#include "core/heat_method_simd.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+}  // namespace
 
 struct HeatMethod::Impl {
   Mesh mesh;  // the input, for the fast-marching continuation
@@ -60,47 +81,22 @@ struct HeatMethod::Impl {
   void divergence(const Block& u, Block& b) const {
     const Index k = u.cols();
     b.setZero(u.rows(), k);
-    std::vector<double> gx(k), gy(k);
-    double* __restrict x = gx.data();
-    double* __restrict y = gy.data();
+    std::vector<double> x(k), y(k);
     const Index m = F.rows();
-    for (Index f = 0; f < m; ++f) {
-      const double* gf = &g[6 * f];
-      const double rho_f = rho[f];
-      const double* __restrict u0 = u.row(F(f, 0)).data();
-      const double* __restrict u1 = u.row(F(f, 1)).data();
-      const double* __restrict u2 = u.row(F(f, 2)).data();
-      int tiny = 0;
-#pragma omp simd reduction(| : tiny)
-      for (Index c = 0; c < k; ++c) {
-        const double ax = u0[c] * gf[0] + u1[c] * gf[2] + u2[c] * gf[4];
-        const double ay = u0[c] * gf[1] + u1[c] * gf[3] + u2[c] * gf[5];
-        const double norm2 = ax * ax + ay * ay;  // ≤ 9e300 since u ≤ kHeatPeak and |g| ≤ 1
-        // Where u underflowed, or is constant, there is no direction to follow: X = 0.
-        const bool trusted = std::min(std::min(u0[c], u1[c]), u2[c]) >= kHeatFloor;
-        const double scale = trusted && norm2 > 0 ? -rho_f / std::sqrt(norm2) : 0.0;
-        x[c] = ax * scale;
-        y[c] = ay * scale;
-        tiny |= trusted & (norm2 < kTinySquare);
-      }
-      if (tiny) {  // far from the source: |∇u|² lost precision to subnormals; normalise a / max|a_i| instead
-        for (Index c = 0; c < k; ++c) {
-          const double ax = u0[c] * gf[0] + u1[c] * gf[2] + u2[c] * gf[4];
-          const double ay = u0[c] * gf[1] + u1[c] * gf[3] + u2[c] * gf[5];
-          const double big = std::max(std::abs(ax), std::abs(ay));
-          const bool trusted = std::min(std::min(u0[c], u1[c]), u2[c]) >= kHeatFloor;
-          if (!trusted || !(ax * ax + ay * ay < kTinySquare) || big == 0) continue;
-          const double sx = ax / big, sy = ay / big, scale = -rho_f / std::sqrt(sx * sx + sy * sy);
-          x[c] = sx * scale;
-          y[c] = sy * scale;
-        }
-      }
-      for (int corner = 0; corner < 3; ++corner) {
-        double* __restrict bv = b.row(F(f, corner)).data();
-        const double gx_c = gf[2 * corner], gy_c = gf[2 * corner + 1];
-#pragma omp simd
-        for (Index c = 0; c < k; ++c) bv[c] += gx_c * x[c] + gy_c * y[c];
-      }
+    const int *F0 = F.col(0).data(), *F1 = F.col(1).data(), *F2 = F.col(2).data();
+    switch (simd_target()) {
+      case SimdTarget::Avx512:
+        avx512::divergence_faces(m, F0, F1, F2, g.data(), rho.data(), u.data(), b.data(), k, x.data(),
+                                 y.data());
+        break;
+      case SimdTarget::Avx2:
+        avx2::divergence_faces(m, F0, F1, F2, g.data(), rho.data(), u.data(), b.data(), k, x.data(),
+                               y.data());
+        break;
+      case SimdTarget::Baseline:
+        baseline::divergence_faces(m, F0, F1, F2, g.data(), rho.data(), u.data(), b.data(), k, x.data(),
+                                   y.data());
+        break;
     }
     for (int p : pinned) b.row(p).setZero();
   }
