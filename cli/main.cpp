@@ -428,12 +428,14 @@ void set_threads(int requested) {
   // R ranks of an MPI run on one node share its cores: by default each takes its part.
   if (!given && !std::getenv("OMP_NUM_THREADS"))
     requested = std::max(1, omp_get_max_threads() / cshapes::ranks_on_this_node());
+  // Long runs choose again before each form and block of pairs from this request, not from the count the
+  // load allows now (core/threads.h).
+  const int request =
+      std::min(requested > 0 ? requested : omp_get_max_threads(), 4 * std::max(1, omp_get_num_procs()));
   omp_set_num_threads(threads_for_computation(requested, 3, [given](const std::string& line) {
     warn((given ? "--threads " : "OMP_NUM_THREADS=") + line);
   }));
-  // Long runs choose again before each form and block of pairs, from the same request (core/threads.h).
-  cshapes::set_thread_request(
-      std::min(requested > 0 ? requested : omp_get_max_threads(), 4 * std::max(1, omp_get_num_procs())));
+  cshapes::set_thread_request(request);
 }
 
 // The command named on the command line ("canon", "bench coulomb"), found without the parser (which may
