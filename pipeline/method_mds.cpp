@@ -1,5 +1,6 @@
 // Methods cmds and smacof (pipeline/canonical_form_methods.h): MDS canonical forms (Elad & Kimmel) of a
 // mesh's all-pairs geodesic distances, by classical MDS (canon/classical_mds.h) and SMACOF (canon/smacof.h).
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -39,6 +40,18 @@ void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
   for (size_t k = 0; k < sr.stress_history.size(); ++k)
     form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
                                  sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
+}
+
+// form_quality, and what only the iteration knows: a normalised stress that is not a number (the last
+// entry of a SMACOF history) means the iteration broke down, however the coordinates look.
+FormQuality mds_form_quality(const Mesh& mesh, const Edges& E, const CanonicalForm& form) {
+  FormQuality quality = form_quality(mesh.V, E, form.X);
+  const auto& columns = form.history_columns;
+  const auto column = std::find(columns.begin(), columns.end(), "normalized_stress");
+  if (column == columns.end() || form.history_rows.empty()) return quality;
+  const double stress = form.history_rows.back()[static_cast<size_t>(column - columns.begin())];
+  if (!std::isfinite(stress)) fail_form_quality(quality, "normalised stress " + std::to_string(stress));
+  return quality;
 }
 
 nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
@@ -145,7 +158,7 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
                              {"seconds", r.seconds}};
   form.X = std::move(r.X);
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = form_quality(mesh.V, constraint_edges(mesh, options.knn), form.X);
+  const FormQuality quality = mds_form_quality(mesh, constraint_edges(mesh, options.knn), form);
   say(options.note, "form quality " + quality.description);
   summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
@@ -202,7 +215,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     summary["smacof"]["weights"] = to_string(options.smacof_weights);
   }
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = form_quality(mesh.V, E, form.X);
+  const FormQuality quality = mds_form_quality(mesh, E, form);
   say(options.note, "form quality " + quality.description);
   summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
@@ -296,6 +309,7 @@ CanonicalFormMethod smacof_method() {
   m.repair_purpose = "smacof (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
   m.options_not_read = {"coulomb", "lbo", "diffusion", "spectral_mds"};  // it reads cmds: classical MDS is its start
+  m.has_history = true;
   m.compute = smacof_compute;
   return m;
 }

@@ -318,7 +318,7 @@ void bind_canon(py::module_& m) {
       R"(A canonical form by any method, as `cshapes canon --method M` computes it.
 
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph; mds_solver ['auto']
+distances on the mesh; geodesics='heat' [as every command] | fmm [the paper's] | heat-cgal | exact | graph; mds_solver ['auto']
 | 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off). lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
