@@ -25,6 +25,11 @@ int run() {
   o.methods = methods_option(args.methods);
   o.poses = list_option("--poses", args.poses);
   try {
+    check_distinct(o.poses, "--poses");
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+  try {
     o.scoring_geodesics.method = parse_geodesic_method(args.scoring_geodesics);
   } catch (const Error& e) {
     usage_fail("--scoring-geodesics: ", e.what());
