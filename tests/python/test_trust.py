@@ -1,0 +1,35 @@
+"""Issue 36's Python cases: no crash, no silently wrong number (the CLI's limits hold in Python too).
+
+A call that used to crash the interpreter runs in a child interpreter, so a crash fails this test and not
+the whole session.
+"""
+import os
+import subprocess
+import sys
+import textwrap
+
+
+
+def run_python(code):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, env=env)
+
+
+def test_distance_matrix_caps_threads_as_the_cli_does():
+    # threads=100000 crashed inside the OpenMP runtime (SIGSEGV); the CLI caps --threads at 4 per core.
+    result = run_python(
+        """
+        import warnings
+        import numpy as np
+        import cshapes
+        rng = np.random.default_rng(0)
+        A = rng.standard_normal((60, 3))
+        B = A @ np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]]) + 0.5
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            D = cshapes.distance_matrix([A, B], threads=100000)
+        print(D.shape, bool(np.isfinite(D).all() and D[0, 0] == 0), any("4 per core" in str(w.message) for w in caught))
+        """
+    )
+    assert result.returncode == 0, f"exit {result.returncode}: {result.stderr}"
+    assert result.stdout.split() == ["(2,", "2)", "True", "True"], result.stdout + result.stderr
