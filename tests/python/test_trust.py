@@ -33,3 +33,36 @@ def test_distance_matrix_caps_threads_as_the_cli_does():
     )
     assert result.returncode == 0, f"exit {result.returncode}: {result.stderr}"
     assert result.stdout.split() == ["(2,", "2)", "True", "True"], result.stdout + result.stderr
+
+
+def _separated_classes():
+    import numpy as np
+
+    D = np.ones((6, 6)) - np.eye(6)
+    D[:3, :3] = D[3:, 3:] = 0.1
+    np.fill_diagonal(D, 0)
+    return D
+
+
+def test_retrieval_measures_applies_the_rules_of_evaluate():
+    import numpy as np
+    import pytest
+
+    import cshapes
+
+    D = _separated_classes()
+    labels = [0, 0, 0, 1, 1, 1]
+    negative = D.copy()
+    negative[0, 4] = negative[4, 0] = -1.0
+    with pytest.raises(ValueError, match="expected >= 0"):
+        cshapes.retrieval_measures(negative, labels)
+    with pytest.raises(ValueError, match="min_class_size"):
+        cshapes.retrieval_measures(D, labels, min_class_size=0)
+    with pytest.raises(ValueError, match="'a'"):
+        cshapes.retrieval_measures(D, labels, names=["a", "a", "b", "c", "d", "e"])
+    # A label is its value: 1 and 1.0 are one class, as 1 and "1" are.
+    as_floats = cshapes.retrieval_measures(D, [0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
+    as_text = cshapes.retrieval_measures(D, ["0", "0", "0", "1", "1", "1"])
+    assert as_floats["map"] == as_text["map"] == 1
+    assert as_floats["class_names"] == as_text["class_names"] == ["0", "1"]
+    assert np.isfinite(cshapes.retrieval_measures(D, labels)["map"])
