@@ -42,6 +42,20 @@ void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
                                  sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
 }
 
+// SMACOF's kernel (canon/smacof.h) works in single precision on squared distances: beyond about 1e19 they
+// overflow, below about 1e-19 they fall under FLT_MIN, and the form collapses to zeros (a mesh scaled by 1e20
+// gave rows of zeros). Distances whose largest entry lies outside [1e-15, 1e15] (a margin for the squares'
+// sums) are refused naming the mesh, as a scale the method cannot support.
+void require_smacof_range(const Eigen::MatrixXf& distances, const std::string& name) {
+  float largest = 0;  // of the finite entries: an infinite one is the distance checks' to name
+  for (Index j = 0; j < distances.cols(); ++j)
+    for (Index i = 0; i < distances.rows(); ++i)
+      if (std::isfinite(distances(i, j))) largest = std::max(largest, distances(i, j));
+  CSHAPES_REQUIRE(largest >= 1e-15f && largest <= 1e15f, name, ": smacof: the largest geodesic distance is ",
+                  largest, ", outside [1e-15, 1e15], the single-precision range of the SMACOF kernel; scale "
+                  "the mesh (its units are free) or use --method cmds");
+}
+
 // form_quality, and what only the iteration knows: a normalised stress that is not a number (the last
 // entry of a SMACOF history) means the iteration broke down, however the coordinates look.
 FormQuality mds_form_quality(const Mesh& mesh, const Edges& E, const CanonicalForm& form) {
@@ -130,6 +144,7 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
     graph.lengths.resize(graph.edges.rows());
     for (Index e = 0; e < graph.edges.rows(); ++e)
       graph.lengths[e] = (mesh.V.row(graph.edges(e, 0)) - mesh.V.row(graph.edges(e, 1))).norm();
+    require_smacof_range(lg.rows, options.name);
     r = landmark_smacof(lg.rows, lg.landmarks, so, options.mds_solver.interpolation_iterations,
                         landmark_start, graph);
     set_smacof_result(form, r.landmark_smacof);
@@ -204,6 +219,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     SmacofOptions so = options.smacof;
     if (!so.progress) so.progress = options.progress;
     if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
+    require_smacof_range(*given, options.name);
     SmacofResult sr = smacof(*given, X0, so);
     say(options.note, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
                           std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +

@@ -277,6 +277,23 @@ TEST(CanonicalFormsMemory, SpectralMdsRowsAreCheckedBeforeAnyWork) {
   }
 }
 
+// Issue 36: smacof on a mesh scaled by 1e20 returned rows of zeros (its single-precision kernel squares the
+// distances); a scale the kernel cannot hold is refused naming the mesh, one it can is computed.
+TEST(CanonicalFormsScale, SmacofRefusesDistancesBeyondItsKernelsRange) {
+  const Mesh sphere = icosphere(2);
+  CanonicalFormOptions o = quick("smacof");
+  o.name = "far.off";
+  for (double scale : {1e-20, 1e20}) {
+    try {
+      canonical_form(Mesh{sphere.V * scale, sphere.F}, o);
+      ADD_FAILURE() << scale << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("far.off: smacof: the largest geodesic distance", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_TRUE(canonical_form(Mesh{sphere.V * 1e12, sphere.F}, o).X.allFinite());
+}
+
 // SMACOF's start and weights: other choices change the cache key and the form; names are parsed strictly.
 TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
   const Mesh mesh = icosphere(2);
