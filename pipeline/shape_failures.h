@@ -39,7 +39,8 @@ struct ShapeFailure {
 // One line: "NAME left out: the METHOD canonical form failed: REASON", "NAME left out: FILE cannot be used:
 // REASON" or "NAME: METHOD: heat geodesics failed (...); fmm instead".
 std::string describe(const ShapeFailure& failure);
-// How many records are of shapes left out (not fallbacks).
+// How many shapes were left out (distinct name and path among the records that are not fallbacks): one shape
+// that failed for several methods counts once ("3 shapes were left out" said so of one shape).
 int count_left_out(const std::vector<ShapeFailure>& failures);
 // As JSON: [{name, path, method, stage, reason, fallback}], fallback null for shapes left out.
 nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures);
