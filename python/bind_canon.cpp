@@ -186,6 +186,9 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   CanonicalFormOptions o;
   o.method = method;
   o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);  // every method: a point cloud's neighbourhood graph
+  // As `cshapes canon --knn` on a mesh: the mesh's own edges are its graph, the keyword would be ignored.
+  if (k.given("knn") && mesh.num_faces() > 0)
+    fail("knn applies to point clouds (no faces) only; this mesh has ", mesh.num_faces(), " faces");
   if (method == "coulomb") read_coulomb_options(k, o);
   if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));

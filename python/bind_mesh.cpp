@@ -72,11 +72,18 @@ py::object mesh_info_py(const py::object& V, const py::object& F) {
 }
 
 py::object geodesics_py(const py::object& V, const py::object& F, const py::object& sources,
-                        const std::string& method, const std::string& heat_mode, bool strict) {
+                        const std::string& method, const py::object& heat_mode, bool strict) {
   const Mesh mesh = to_mesh(V, F);
   MeshGeodesicsOptions options;
   options.geodesics.method = parse_geodesic_method(method);
-  options.geodesics.heat_mode = parse_cgal_heat_mode(heat_mode);
+  // As `cshapes geodesics --heat-mode`: given with another method, it would be ignored.
+  if (!heat_mode.is_none()) {
+    const bool heat = options.geodesics.method == GeodesicMethod::Heat ||
+                      options.geodesics.method == GeodesicMethod::HeatCgal;
+    CSHAPES_REQUIRE(heat, "geodesics(): heat_mode applies to method 'heat' or 'heat-cgal' only, not '", method,
+                    "'");
+    options.geodesics.heat_mode = parse_cgal_heat_mode(py::str(heat_mode).cast<std::string>());
+  }
   options.strict = strict;
   options.geodesics.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   std::vector<int> rows;
@@ -246,13 +253,14 @@ nonmanifold_edges, euler_characteristic, genus (-1 when undefined), bbox_diagona
 isolated_vertices, duplicate_faces, repeated_vertex_faces, zero_area_faces, zero_length_edges, components,
 component_sizes, boundary_edges, boundary_loops}.)");
   m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(),
-        py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = "idt", py::arg("strict") = false,
+        py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = py::none(),
+        py::arg("strict") = false,
         R"(Geodesic distances on a triangle mesh, in mesh units.
 
 sources: None for all pairs ((n, n) float32, as the library stores them: n^2 * 4 bytes); a vertex index for
 one row ((n,) float64); a sequence of k indices for k rows ((k, n) float64, row r from sources[r]).
 method: heat (ours, the fastest), heat-cgal, fmm (fast marching), exact (slow), graph (Dijkstra on edges).
-heat_mode: idt (intrinsic Delaunay) or direct. A mesh that is not one manifold component is repaired
+heat_mode: idt (intrinsic Delaunay, when not given) or direct; heat and heat-cgal only. A mesh that is not one manifold component is repaired
 first (a warning says what) and the distances are given at the input's vertices: NaN where a vertex was
 dropped. strict=True refuses such a mesh instead (ValueError naming its defects).)");
   m.def("add_topological_noise", &add_topological_noise_py, py::arg("V"), py::arg("F"),

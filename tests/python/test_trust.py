@@ -66,3 +66,25 @@ def test_retrieval_measures_applies_the_rules_of_evaluate():
     assert as_floats["map"] == as_text["map"] == 1
     assert as_floats["class_names"] == as_text["class_names"] == ["0", "1"]
     assert np.isfinite(cshapes.retrieval_measures(D, labels)["map"])
+
+
+def test_keywords_a_call_would_ignore_are_refused_as_in_the_cli():
+    import numpy as np
+    import pytest
+
+    import cshapes
+
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    rows = [np.c_[np.cos(t) * r, np.sin(t) * r, np.full(12, z)] for r, z in ((1, 0), (1, 1), (1, 2))]
+    V = np.vstack(rows)
+    F = []
+    for ring in range(2):
+        for i in range(12):
+            a, b = ring * 12 + i, ring * 12 + (i + 1) % 12
+            F += [[a, b, b + 12], [a, b + 12, a + 12]]
+    F = np.array(F)
+    with pytest.raises(ValueError, match="heat_mode applies to method 'heat' or 'heat-cgal' only"):
+        cshapes.geodesics(V, F, 0, method="fmm", heat_mode="direct")
+    assert np.isfinite(cshapes.geodesics(V, F, 0, method="fmm")).all()
+    with pytest.raises(ValueError, match="knn applies to point clouds"):
+        cshapes.canonical_form(V, F, method="cmds", knn=6)
