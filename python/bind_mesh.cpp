@@ -87,9 +87,22 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
   options.strict = strict;
   options.geodesics.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   std::vector<int> rows;
-  const bool one = !sources.is_none() && py::hasattr(sources, "__index__");
+  // One index: an int, a numpy integer or a 0-d array; a numpy array of indices is a sequence of them (numpy
+  // arrays have __index__ too, which raised TypeError for np.array([0, 5])).
+  const bool array = py::isinstance<py::array>(sources);
+  const bool one = !sources.is_none() && (array ? py::array(sources.cast<py::array>()).ndim() == 0
+                                                : py::hasattr(sources, "__index__"));
   if (one) {
-    rows.push_back(sources.attr("__index__")().cast<int>());
+    const py::object index = sources.attr("__index__")();
+    const Index n = mesh.num_vertices();
+    long long value = -1;
+    try {
+      value = index.cast<long long>();
+    } catch (const py::cast_error&) {  // beyond 64 bits (2**63 gave "Unable to cast Python instance")
+    }
+    CSHAPES_REQUIRE(value >= 0 && value < n, "geodesics(): sources: ", py::str(index).cast<std::string>(),
+                    " is not a vertex index (expected 0..", n - 1, ")");
+    rows.push_back(static_cast<int>(value));
   } else if (!sources.is_none()) {
     for (const Eigen::VectorXd::Scalar s : to_vector(sources, "sources")) {
       CSHAPES_REQUIRE(s == std::floor(s), "sources: expected vertex indices, got ", s);

@@ -88,3 +88,21 @@ def test_keywords_a_call_would_ignore_are_refused_as_in_the_cli():
     assert np.isfinite(cshapes.geodesics(V, F, 0, method="fmm")).all()
     with pytest.raises(ValueError, match="knn applies to point clouds"):
         cshapes.canonical_form(V, F, method="cmds", knn=6)
+
+
+def test_sources_take_numpy_arrays_and_name_an_index_out_of_range():
+    import numpy as np
+    import pytest
+
+    import cshapes
+
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    V = np.vstack([np.c_[np.cos(t), np.sin(t), np.full(12, z)] for z in (0, 1, 2)])
+    F = np.array([[r * 12 + i, r * 12 + (i + 1) % 12, r * 12 + (i + 1) % 12 + 12] for r in range(2) for i in range(12)]
+                 + [[r * 12 + i, r * 12 + (i + 1) % 12 + 12, r * 12 + i + 12] for r in range(2) for i in range(12)])
+    rows = cshapes.geodesics(V, F, np.array([0, 5]), method="fmm")
+    assert rows.shape == (2, 36)
+    assert np.array_equal(rows, cshapes.geodesics(V, F, [0, 5], method="fmm"))
+    assert np.array_equal(cshapes.geodesics(V, F, np.int64(5), method="fmm"), rows[1])
+    with pytest.raises(ValueError, match="9223372036854775808 is not a vertex index"):
+        cshapes.geodesics(V, F, 2**63, method="fmm")
