@@ -22,6 +22,9 @@ CASES = [
     "Dataset\\.(TwoFilesOfTheSameContent|FolderEntriesThatAreNoMeshFile)",
     "CanonicalFormsFromADistanceFile\\.AsymmetricMatrices",
     "CanonicalFormsMemory\\.",
+    "CanonicalFormsScale\\.",                # smacof refuses a scale its kernel cannot hold
+    "ShapeFailures\\.AShapeFailingForSeveralMethods",
+    "ExactGeodesics\\.AllPairsReportsEverySource",
     "DistanceMatrixFile\\.",
     "DistanceCsv\\.ANulByte",
     "OptionsKey\\.ExperimentsStartFromTheLibraryDefaults",
