@@ -25,12 +25,13 @@ std::string q(const std::string& path) {
 }
 
 // A generated folder dataset (2 classes × 2 poses of about 300 vertices, read as a folder: no manifest)
-// with one more shape, odd.off: an icosphere of 162 vertices scaled by `scale`.
-std::string dataset_with_scaled_shape(const std::string& tag, double scale) {
+// with one more shape, odd.off: an icosphere (162 vertices; 642 with subdivisions = 3) scaled by `scale`.
+std::string dataset_with_scaled_shape(const std::string& tag, double scale, int subdivisions = 2) {
   const std::string dir = test::scratch_dir(tag);
   const std::string manifest = test::generated_dataset(dir + "/data", 2, 2, 300);
   fs::remove(manifest);
-  write_mesh(dir + "/data/odd.off", Mesh{icosphere(2).V * scale, icosphere(2).F});
+  const Mesh sphere = icosphere(subdivisions);
+  write_mesh(dir + "/data/odd.off", Mesh{sphere.V * scale, sphere.F});
   return dir;
 }
 
@@ -114,8 +115,9 @@ TEST(TrustCli, SpectralMethodsLeaveAnExtremeShapeOutByName) {
 TEST(TrustCli, AnExceptionOfASolverLibraryLeavesTheShapeOut) {
   // At 1e-155 classical MDS's Lanczos solver (Spectra) throws its own "TridiagEigen: eigen decomposition
   // failed", which ended distmat with exit 1 naming no shape; it is now that shape's failure. (Before the
-  // zero-area test was made scale-free, the repair dropped every face of this shape first.)
-  const std::string dir = dataset_with_scaled_shape("trust-library-exception", 1e-155);
+  // zero-area test was made scale-free, the repair dropped every face of this shape first.) 642 vertices:
+  // classical MDS decomposes fewer than 200 points densely, without Spectra.
+  const std::string dir = dataset_with_scaled_shape("trust-library-exception", 1e-155, 3);
   for (const char* method : {"cmds", "lbo"}) {
     SCOPED_TRACE(method);
     const test::CliResult r = test::run_cli(std::string("-q distmat ") + q(dir + "/data") + " --method " + method +
