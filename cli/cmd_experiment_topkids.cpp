@@ -35,6 +35,7 @@ int run() {
     usage_fail("--scoring-geodesics: ", e.what());
   }
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };

@@ -134,6 +134,10 @@ void require_output_directory(const std::string& path);
 // each output and all of its inputs (meshes, matrices, labels, a dataset's manifest or .cla).
 void require_output_not_input(const std::string& output, const std::vector<std::string>& inputs,
                               const std::string& option);
+// For the experiments, whose output folder holds many files (reports, matrices, .cla, caches): the folder
+// `out` may not be the dataset's own folder (`data` a folder, or the folder of its manifest or .cla), where
+// they would replace or mix with the dataset's files. UsageError naming both, before any work.
+void require_output_folder_apart(const std::string& out, const std::string& data);
 // The same for the files `names` that a command writes into the folder `folder`.
 void require_outputs_not_inputs(const std::string& folder, const std::vector<std::string>& names,
                                 const std::vector<std::string>& inputs, const std::string& option);

@@ -112,6 +112,25 @@ TEST(OutputNotInput, DistmatRefusesTheManifestAndTheReference) {
   fs::remove_all(dir);
 }
 
+// An experiment writes many files into --out (report.md, matrices, classes.cla, caches): the dataset's own
+// folder is refused as --out, whether --data names the folder or its manifest.
+TEST(OutputNotInput, ExperimentsRefuseTheDatasetsFolderAsOutput) {
+  const std::string dir = test::scratch_dir("output-not-input-experiments");
+  const std::string manifest = test::generated_dataset(dir + "/data", 2, 2, 300);
+  const std::string bytes = read_file(manifest);
+  for (const std::string& data : {dir + "/data", manifest}) {
+    for (const char* experiment : {"retrieval", "paper", "noise", "pose"}) {
+      SCOPED_TRACE(std::string(experiment) + " " + data);
+      const test::CliResult r = test::run_cli(std::string("-q experiment ") + experiment + " --data " + q(data) +
+                                              " --out " + q(dir + "/./data"));
+      EXPECT_EQ(r.exit_code, kUsage) << r.err;
+      EXPECT_NE(r.err.find("is the folder of the dataset"), std::string::npos) << r.err;
+      EXPECT_EQ(read_file(manifest), bytes);
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(OutputNotInput, EvaluateRefusesToReplaceItsMatrixOrLabels) {
   const std::string dir = test::scratch_dir("output-not-input-evaluate");
   const std::string matrix = dir + "/out/matrix.csv";
