@@ -69,11 +69,6 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
   return s;
 }
 
-// (B + sI)·v = −½ J (D∘D) J v + s v without forming B: centre v, one pass y = (D∘D) v over columns (= rows),
-// centre y. The shift s ≈ ‖B‖_F leaves the Krylov spaces (and so Lanczos' iterates) unchanged but makes
-// Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
-// third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
-// need.
 namespace baseline {
 #include "canon/classical_mds_simd.inl"
 }  // namespace baseline
@@ -107,6 +102,13 @@ double row_pass_kernel(SimdTarget target, const Entry* column, const double* v, 
   return baseline::row_pass(column, v, vi, ja, j1, sums);
 }
 
+// (B + sI)·v = −½ J (D∘D) J v + s v without forming B: centre v, one pass y = (D∘D) v over columns (= rows),
+// centre y. The shift s ≈ ‖B‖_F leaves the Krylov spaces (and so Lanczos' iterates) unchanged but makes
+// Spectra's test, relative to each |eigenvalue|, an absolute one at the scale of B: without it a near-zero
+// third eigenvalue (a flat shape) takes hundreds of products to pin down to a relative accuracy it does not
+// need. The product is also multiplied by a power of two (exact) that brings ‖B‖_F to about 1: Spectra's
+// test has an absolute floor (ε^{2/3} ≈ 4e-11 of each |eigenvalue|), so a mesh scaled by 1e-9 (‖B‖ ≈ 1e-18)
+// "converged" at once to a form 17% off. Lanczos' unit vectors are unchanged by the exact scaling.
 template <typename Entry>
 class DoubleCentredOp {
  public:
@@ -114,7 +116,7 @@ class DoubleCentredOp {
 
   DoubleCentredOp(const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D, double shift,
                   const ProgressFn& progress)
-      : D_(D), shift_(shift), progress_(progress), centred_(D.rows()) {
+      : D_(D), shift_(shift), scale_(unit_scale(shift)), progress_(progress), centred_(D.rows()) {
     const Index n = D.rows(), blocks = (n + kTile - 1) / kTile;
     for (Index bj = 0; bj < blocks; ++bj)
       for (Index bi = 0; bi <= bj; ++bi) tiles_.emplace_back(bi, bj);
@@ -178,17 +180,28 @@ class DoubleCentredOp {
     }
     std::copy(product.data(), product.data() + n, y_out);
     Eigen::Map<Eigen::VectorXd> y(y_out, n);
-    y = -0.5 * (y.array() - y.mean()) + shift_ * x.array();
+    y = scale_ * (-0.5 * (y.array() - y.mean()) + shift_ * x.array());
     ++products_;
     if (progress_) progress_("classical mds", products_, 0);
   }
   int products() const {
     return products_;
   }
+  // The factor of every product: Spectra's eigenvalues are scale() × (λ + shift).
+  double scale() const { return scale_; }
 
  private:
+  // The power of two 2^-e with 2^-e · norm in [0.5, 1); 1 for a zero or non-finite norm.
+  static double unit_scale(double norm) {
+    if (!(norm > 0) || !std::isfinite(norm)) return 1;
+    int exponent = 0;
+    std::frexp(norm, &exponent);
+    return std::ldexp(1.0, -exponent);
+  }
+
   const Eigen::Matrix<Entry, Eigen::Dynamic, Eigen::Dynamic>& D_;
   double shift_;
+  double scale_;
   const ProgressFn& progress_;
   mutable Eigen::VectorXd centred_;
   std::vector<std::pair<Index, Index>> tiles_;  // upper-triangle tiles (row block ≤ column block)
@@ -256,7 +269,7 @@ ClassicalMdsResult classical_mds_impl(const Eigen::Matrix<Scalar, Eigen::Dynamic
     if (eigs.info() != Spectra::CompInfo::Successful)
       fail("classical MDS: the Lanczos iteration did not converge in ", options.max_restarts,
            " restarts (raise lanczos_vectors or the tolerance)");
-    const Eigen::VectorXd values = eigs.eigenvalues().array() - shift;  // descending
+    const Eigen::VectorXd values = eigs.eigenvalues().array() / op.scale() - shift;  // descending
     const Eigen::MatrixXd vectors = eigs.eigenvectors();
     top_values = values.head(3);
     top_vectors = vectors.leftCols(3);

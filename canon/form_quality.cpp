@@ -32,6 +32,14 @@ std::string format(const char* pattern, double a, double b, double c) {
 
 }  // namespace
 
+void fail_form_quality(FormQuality& quality, const std::string& reason) {
+  quality.ok = false;
+  std::string rest = quality.description;
+  for (const char* prefix : {"ok: ", "NOT OK: "})
+    if (rest.rfind(prefix, 0) == 0) rest = rest.substr(std::string(prefix).size());
+  quality.description = "NOT OK: " + reason + "; " + rest;
+}
+
 std::vector<bool> torn_edge_flags(const Edges& E, const Edges& torn) {
   std::unordered_set<std::uint64_t> keys;
   auto key = [](int i, int j) {
@@ -61,7 +69,8 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
     return q;
   }
   auto torn = [&](Index e) { return torn_edges && (*torn_edges)[e]; };
-  std::vector<char> far(n, 0), stretched(n, 0), detached(n, 0);
+  std::vector<char> far(n, 0), stretched(n, 0), detached(n, 0), coincident(n, 0);
+  const double coincident_length = options.coincident_fraction * finite_bbox_diagonal(X);
 
   // Stretches over the kept edges.
   const Eigen::VectorXd input_lengths = edge_lengths(input_V, E);
@@ -79,6 +88,7 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
       stretched[i] = stretched[j] = 1;
     }
     if (input_lengths(e) <= 0) continue;
+    if (length <= coincident_length) coincident[i] = coincident[j] = 1;
     const double s = length / input_lengths(e);
     stretch.push_back(s);
     sum += s;
@@ -135,7 +145,8 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
     q.far_vertices += far[i];
     q.stretched_vertices += stretched[i];
     q.detached_vertices += detached[i];
-    if (far[i] || stretched[i] || detached[i]) {
+    q.coincident_vertices += coincident[i];
+    if (far[i] || stretched[i] || detached[i] || coincident[i]) {
       if (static_cast<int>(q.runaway_examples.size()) < options.listed) q.runaway_examples.push_back(i);
       ++q.runaway_vertices;
     }
@@ -148,7 +159,8 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
   } else {
     std::string what = std::to_string(q.runaway_vertices) + " runaway vertices (" +
                        std::to_string(q.far_vertices) + " far, " + std::to_string(q.stretched_vertices) +
-                       " on overstretched edges, " + std::to_string(q.detached_vertices) + " detached";
+                       " on overstretched edges, " + std::to_string(q.detached_vertices) + " detached, " +
+                       std::to_string(q.coincident_vertices) + " coincident with a neighbour";
     if (!finite) what += ", non-finite coordinates";
     what += format("; farthest %.3g bbox diagonals from the median", q.max_distance, 0, 0);
     if (!q.runaway_examples.empty()) what += "; first vertex " + std::to_string(q.runaway_examples.front());

@@ -16,6 +16,9 @@
 //   detached:   tearing cut it off: it lies outside the largest component, under the edges not torn, of the
 //               component of the input graph it belongs to. Nothing but repulsion acts on such a part (in the
 //               Coulomb iteration it drifts away for as long as the iteration runs).
+//   coincident: it ends an edge of positive input length whose ends coincide in the form (‖x_i − x_j‖ at
+//               most coincident_fraction × the form's bounding-box diagonal): a form collapsed to a point, or
+//               part of one, can never pass (all-zero rows have diagonal 0, so every edge counts).
 // Non-finite coordinates flag their vertex as far.
 //
 // Units: stretches are ratios; distances in the units of the input. Complexity: O(n + |E|) plus a partial
@@ -33,6 +36,9 @@ struct FormQualityOptions {
   double far_diagonals = 2.0;  // "far": beyond this many input bbox diagonals of the form's median
   double overstretch = 5.0;    // "stretched": a kept edge longer than this × max(own, mean) input length
   int listed = 10;             // how many runaway vertex indices FormQuality::runaway_examples keeps
+  // "coincident": an edge shorter than this × the form's bbox diagonal (a few thousand rounding errors of
+  // its coordinates: no isometry-seeking form brings two neighbours that close).
+  double coincident_fraction = 1e-12;
 };
 
 struct FormQuality {
@@ -47,7 +53,8 @@ struct FormQuality {
   Index far_vertices = 0;
   Index stretched_vertices = 0;  // endpoints of overstretched edges
   Index detached_vertices = 0;
-  Index runaway_vertices = 0;           // vertices with any of the three flags
+  Index coincident_vertices = 0;        // endpoints of edges whose ends coincide in the form
+  Index runaway_vertices = 0;           // vertices with any of the four flags
   std::vector<Index> runaway_examples;  // the first FormQualityOptions::listed of them, increasing
   bool ok = true;                       // no runaway vertex and finite coordinates
   std::string description;              // one line, e.g. "ok: stretch max 1.84, p99 1.52, mean 1.24"
@@ -59,6 +66,10 @@ struct FormQuality {
 FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
                          const std::vector<bool>* torn_edges = nullptr,
                          const FormQualityOptions& options = {});
+
+// Marks a form not ok for a reason form_quality cannot see (e.g. a NaN stress from the method that made it):
+// ok = false and the reason leads the description ("NOT OK: stress is NaN; ...").
+void fail_form_quality(FormQuality& quality, const std::string& reason);
 
 // The |E| torn flags of E for a list of torn edges (either orientation); edges of `torn` not in E are
 // ignored.

@@ -34,7 +34,10 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
 }
 
 int run() {
-  if (!args.output.empty()) require_mesh_output_path(args.output);
+  if (!args.output.empty()) {
+    require_mesh_output_path(args.output);
+    require_output_not_input(args.output, {args.source, args.target}, "-o");
+  }
   // Canonical forms keep their input's faces, which need not pass mesh validation: only points matter here.
   ReadOptions lenient;
   lenient.validate = false;

@@ -20,6 +20,7 @@ struct CanonArgs {
 
 int run() {
   // Everything the command line decides is checked before any work.
+  check_options_read_by(args.method, !args.history.empty());  // first: it names the options' own readers
   check_canon_method_options({args.method});
   CanonicalFormOptions options;
   options.method = args.method;
@@ -30,6 +31,9 @@ int run() {
   options.note = note;
   require_mesh_output_path(args.output);
   if (!args.history.empty()) require_output_path(args.history, {"csv"});
+  const std::vector<std::string> inputs{args.input, options.distances_file};
+  require_output_not_input(args.output, inputs, "-o");
+  require_output_not_input(args.history, inputs, "--history");
 
   const Mesh input = read_mesh(args.input);
   if (option_given("--knn") && input.num_faces() > 0)

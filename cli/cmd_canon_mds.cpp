@@ -11,7 +11,7 @@ namespace cshapes::cli {
 namespace {
 
 struct MdsArgs {
-  std::string geodesics;  // empty: the command's default (canon: fmm, the paper's; distmat, experiment: heat)
+  std::string geodesics;  // empty: the library's default (heat, in every command)
   std::string distances;
   int iterations = 300;
   double tolerance = 1e-5;
@@ -77,8 +77,8 @@ const bool cmds_registered = register_canon_method(
      [](CLI::Option_group& g) {
        g.add_option(
             "--geodesics", args.geodesics,
-            "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: fmm "
-            "(the paper's) in canon, heat in distmat and experiment paper")
+            "cmds/smacof: geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: heat "
+            "in every command and in Python (fmm is the paper's)")
            ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
        g.add_option("--distances", args.distances,
                     "cmds/smacof: read the n×n distance matrix (.bin, see `cshapes geodesics`) instead");

@@ -15,6 +15,7 @@ struct ConvertArgs {
 
 int run() {
   require_mesh_output_path(args.output);
+  require_output_not_input(args.output, {args.input}, "OUT");
   ReadOptions read_options;
   read_options.validate = !args.no_validate;
   MeshFile file = read_mesh_file(args.input, read_options);

@@ -17,6 +17,7 @@ struct DatasetListArgs {
 
 int run() {
   Dataset d = read_dataset(args.path);
+  for (const std::string& line : same_content_notes(d)) warn(line);
   const std::vector<int> labels = d.labels();
   if (args.json) {
     nlohmann::json entries = nlohmann::json::array();

@@ -6,8 +6,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "eval/distance_csv.h"
 #include "cli/command.h"
+#include "core/dataset.h"
+#include "eval/distance_csv.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/dataset_distances.h"
 #include "pipeline/distributed.h"
@@ -27,8 +28,12 @@ int run() {
   // The command line first: nothing is read or computed before it passes.
   const Communicator& comm = world_communicator();
   const bool root = comm.is_root();
-  check_canon_method_options({args.method});  // every rank: each must stop
+  check_options_read_by(args.method);  // every rank: each must stop
+  check_canon_method_options({args.method});
   require_output_path(args.output, {"csv"});
+  std::vector<std::string> inputs = dataset_description_files(args.data);
+  inputs.push_back(args.reference);
+  require_output_not_input(args.output, inputs, "-o");
   if (!args.reference.empty() && args.two_stage_k == 0)
     throw UsageError("--reference: applies to the two-stage mode only (--two-stage-k)");
   DatasetDistanceOptions o;

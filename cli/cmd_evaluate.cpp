@@ -22,6 +22,7 @@ struct EvaluateArgs {
 
 int run() {
   require_output_directory(args.output);
+  require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, args.labels}, "-o");
   const NamedDistances input = read_distance_csv(args.matrix);
   for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
   std::vector<std::string> classes;

@@ -42,6 +42,7 @@ int run() {
   if (o.levels.empty()) usage_fail("--levels: give at least one glue count (e.g. 0,1,2,4,8)");
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };

@@ -31,6 +31,7 @@ int run() {
     usage_fail("--figure-vertices: expected 0 (as it is) or at least 4, got ", o.figure_vertices);
   const Communicator& comm = world_communicator();
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.table1 = !args.no_table1;
   o.figures = !args.no_figures;
   o.draw = !args.no_draw;

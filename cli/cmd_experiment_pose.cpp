@@ -19,6 +19,7 @@ int run() {
   o.methods = methods_option(args.methods);
   o.shapes = list_option("--shapes", args.shapes);
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
   std::cout << pose_invariance_markdown(r, o);

@@ -22,6 +22,7 @@ int run() {
   o.methods = methods_option(args.methods);
   const Communicator& comm = world_communicator();
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.figures = !args.no_figures;
   if (comm.is_root()) {  // one voice: the other ranks work silently
     o.progress = progress_printer();

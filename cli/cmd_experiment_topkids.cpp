@@ -25,11 +25,17 @@ int run() {
   o.methods = methods_option(args.methods);
   o.poses = list_option("--poses", args.poses);
   try {
+    check_distinct(o.poses, "--poses");
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+  try {
     o.scoring_geodesics.method = parse_geodesic_method(args.scoring_geodesics);
   } catch (const Error& e) {
     usage_fail("--scoring-geodesics: ", e.what());
   }
   prepare_experiment(o.methods, o.out, o.canon);
+  require_output_folder_apart(o.out, o.data);
   o.figure = !args.no_figure;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };

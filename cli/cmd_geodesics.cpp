@@ -41,7 +41,10 @@ int run() {
     usage_fail(
         "--source i writes one row as CSV: give -o NAME.csv (or no -o for stdout); -o D.bin takes all "
         "pairs");
-  if (!to_stdout) require_output_path(args.output, {args.csv ? "csv" : "bin"});
+  if (!to_stdout) {
+    require_output_path(args.output, {args.csv ? "csv" : "bin"});
+    require_output_not_input(args.output, {args.input}, "-o");
+  }
   options.progress = progress_printer();
   Mesh input = read_mesh(args.input);
   // Repaired for geodesics unless --strict; the output is given at the input's vertices

@@ -26,6 +26,8 @@ struct NoiseArgs {
 int run() {
   require_mesh_output_path(args.output);
   if (!args.pairs_json.empty()) require_output_path(args.pairs_json, {"json"});
+  require_output_not_input(args.output, {args.input}, "-o");
+  require_output_not_input(args.pairs_json, {args.input}, "--pairs-json");
   Mesh mesh = read_mesh(args.input);
   TopologicalNoiseOptions o;
   o.glue_count = args.glue;

@@ -30,6 +30,7 @@ int run() {
   if (!(args.tolerance > 0 && args.tolerance < 0.5))
     usage_fail("--tolerance: expected a number in (0, 0.5), got ", args.tolerance);
   require_mesh_output_path(args.output);
+  require_output_not_input(args.output, {args.input}, "-o");
   require_memory(remesh_memory_bytes(args.vertices), "--vertices " + std::to_string(args.vertices));
   const long subdivided = args.vertices << (2 * args.subdivide);  // about: 4^K times the vertices
   if (args.subdivide > 0)

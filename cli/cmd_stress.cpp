@@ -32,6 +32,11 @@ int run() {
   corpus.min_vertices = args.min_vertices;
   corpus.max_vertices = args.max_vertices;
   corpus.tosca_folder = args.tosca;
+  try {
+    check_stress_corpus_options(corpus);
+  } catch (const Error& e) {
+    throw UsageError(std::string("--min-vertices, --max-vertices: ") + e.what());
+  }
   if (!args.mesh_out.empty()) {  // one case's mesh only
     require_mesh_output_path(args.mesh_out);
     StressCase c = stress_case(args.seed, args.first, corpus);

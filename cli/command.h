@@ -60,6 +60,11 @@ void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = 
 // takes method options (canon, distmat, the experiments). An option that one of several methods reads is
 // fine.
 void check_canon_method_options(const std::vector<std::string>& methods);
+// For a command that runs one method (canon, distmat): an option of a shared group (--geodesics, --distances,
+// --mds-solver, --landmarks, --eigenpairs, ...) that the method reads none of the fields of is refused
+// (UsageError naming the methods that read it), as is --history (history_given) for a method without
+// iterations. The table is the method registry's options_not_read (pipeline/canonical_form_methods.h).
+void check_options_read_by(const std::string& method, bool history_given = false);
 // What every experiment command does once its own options are parsed, before any work: the method options
 // given are checked against `methods` (check_canon_method_options), the output folder `out` is checked
 // (require_output_directory; created by the run when missing), and the method options given are applied to
@@ -123,6 +128,19 @@ CLI::Validator within(const Limit& limit);
 void require_output_path(const std::string& path, const std::vector<std::string>& extensions);
 void require_mesh_output_path(const std::string& path);
 void require_output_directory(const std::string& path);
+// No output may be an input: refuses (UsageError) an output path that is already one of the files the
+// command reads (check_output_not_input in core/atomic_file.h: "./X", links and hard links are X), before
+// any work. option: how the output was given ("-o", "OUT"). Every command that writes files calls it with
+// each output and all of its inputs (meshes, matrices, labels, a dataset's manifest or .cla).
+void require_output_not_input(const std::string& output, const std::vector<std::string>& inputs,
+                              const std::string& option);
+// For the experiments, whose output folder holds many files (reports, matrices, .cla, caches): the folder
+// `out` may not be the dataset's own folder (`data` a folder, or the folder of its manifest or .cla), where
+// they would replace or mix with the dataset's files. UsageError naming both, before any work.
+void require_output_folder_apart(const std::string& out, const std::string& data);
+// The same for the files `names` that a command writes into the folder `folder`.
+void require_outputs_not_inputs(const std::string& folder, const std::vector<std::string>& names,
+                                const std::vector<std::string>& inputs, const std::string& option);
 
 // Global options (given before or after the command).
 bool quiet();

@@ -223,6 +223,20 @@ void check_output_directory(const std::string& path) {
   check_folder_takes_files(path, fs::path(path));
 }
 
+void check_output_not_input(const std::string& output, const std::vector<std::string>& inputs,
+                            const std::string& option) {
+  std::error_code ec;
+  if (output.empty() || !fs::exists(output, ec)) return;
+  const std::string named = option.empty() ? output : option + " " + output;
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    std::error_code same_ec;
+    if (!fs::equivalent(output, input, same_ec) || same_ec) continue;
+    fail(named, ": is the input ", input, input == output ? "" : " (the same file)",
+         "; an output never replaces an input: write it to another path");
+  }
+}
+
 std::string read_file(const std::string& path) {
   // What the path is, decided before anything is opened: a FIFO would block, a device (/dev/zero) never
   // ends, a folder is no file.

@@ -42,6 +42,12 @@ void write_csv(const std::string& path, const std::vector<std::string>& columns,
 void check_output_path(const std::string& path, const std::vector<std::string>& extensions);
 // The same for an output folder: it is a writable folder, or can be created.
 void check_output_directory(const std::string& path);
+// The rule that no output may be an input, checked before any work: throws cshapes::Error naming both when
+// `output` already exists and is the same file as one of `inputs` (std::filesystem::equivalent: "./X", a
+// symbolic link to X and a hard link of X are all X). An output that does not exist yet is no input; empty
+// paths in `inputs` are ignored. `option` names the output in the message (e.g. "-o", "--history").
+void check_output_not_input(const std::string& output, const std::vector<std::string>& inputs,
+                            const std::string& option = "");
 
 // Reads a whole file into a string; throws cshapes::FileError naming the file when it cannot be read. Only a
 // regular file is read (symbolic links followed): a folder, a FIFO, a device (/dev/zero) or a socket is

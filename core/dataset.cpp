@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -39,11 +40,45 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return cells;
 }
 
+// What a folder entry named like a mesh is when it is not a regular file (links followed); "" for a regular
+// file. Asked with error codes: a loop of links is an answer, not a raw filesystem_error.
+std::string not_a_mesh_file(const fs::directory_entry& item) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(item.path(), ec);
+  if (ec && ec.value() == ELOOP) return "a loop of symbolic links";
+  if (ec || status.type() == fs::file_type::not_found)
+    return fs::is_symlink(fs::symlink_status(item.path(), ec)) ? "a symbolic link to nothing (dangling)"
+                                                               : "unreadable (" + ec.message() + ")";
+  switch (status.type()) {
+    case fs::file_type::regular:
+      return "";
+    case fs::file_type::directory:
+      return "a folder";
+    case fs::file_type::fifo:
+      return "a FIFO (named pipe)";
+    case fs::file_type::socket:
+      return "a socket";
+    case fs::file_type::character:
+    case fs::file_type::block:
+      return "a device";
+    default:
+      return "not a regular file";
+  }
+}
+
 Dataset read_folder(const fs::path& folder) {
   Dataset d;
   d.source = folder.string();
-  for (const auto& item : fs::directory_iterator(folder)) {
-    if (!item.is_regular_file() || !is_mesh_extension(file_extension(item.path().string()))) continue;
+  std::error_code ec;
+  fs::directory_iterator items(folder, ec);
+  CSHAPES_REQUIRE(!ec, folder.string(), ": cannot list the folder: ", ec.message());
+  // Every entry named like a mesh is a shape, or the folder is refused naming it: a shape is never skipped
+  // without a word.
+  for (const auto& item : items) {
+    if (!is_mesh_extension(file_extension(item.path().string()))) continue;
+    const std::string problem = not_a_mesh_file(item);
+    CSHAPES_REQUIRE(problem.empty(), item.path().string(), ": is ", problem,
+                    ", expected a mesh file; remove or rename it, or list the shapes in a manifest.csv");
     DatasetEntry e;
     e.path = item.path().string();
     e.name = item.path().stem().string();
@@ -53,6 +88,15 @@ Dataset read_folder(const fs::path& folder) {
   }
   CSHAPES_REQUIRE(!d.entries.empty(), folder.string(),
                   ": no mesh files (.off .ply .obj .stl .vert) in this folder");
+  // Shapes are named by their file's stem (reports, matrices, labels): x.off beside x.ply would be two
+  // shapes of one name, which `evaluate` refuses later.
+  std::map<std::string, std::string> by_name;
+  for (const DatasetEntry& e : d.entries) {
+    const auto [it, inserted] = by_name.emplace(e.name, e.path);
+    CSHAPES_REQUIRE(inserted, folder.string(), ": ", it->second, " and ", e.path, " are both shape '", e.name,
+                    "' (shapes are named by their file name without extension); keep one, or list them in "
+                    "a manifest.csv");
+  }
   std::sort(d.entries.begin(), d.entries.end(), [](const DatasetEntry& a, const DatasetEntry& b) {
     if (a.class_name != b.class_name) return a.class_name < b.class_name;
     if (a.pose != b.pose) return a.pose < b.pose;
@@ -191,9 +235,11 @@ std::vector<int> Dataset::labels() const {
 namespace {
 
 // A file listed twice would be compared with itself (distance 0) and count as a retrieval hit: refused,
-// naming both entries, whether the two paths name one file (links and "./" included) or two files hold the
-// same bytes. Cost: one stat per file, and reading only the files whose size another file shares.
-void refuse_files_listed_twice(const Dataset& d) {
+// naming both entries, when the two paths name one file (links and "./" included). Two files of the same
+// bytes under different names are two entries of the collection (a public benchmark holds such pairs): kept,
+// and recorded in d.same_content for the drivers to say. Cost: one stat per file, and reading only the files
+// whose size another file shares.
+void refuse_files_listed_twice(Dataset& d) {
   std::map<std::string, size_t> by_path;
   std::map<std::uintmax_t, std::vector<size_t>> by_size;
   for (size_t k = 0; k < d.entries.size(); ++k) {
@@ -214,9 +260,7 @@ void refuse_files_listed_twice(const Dataset& d) {
       const std::string content = read_file(d.entries[k].path);
       std::vector<size_t>& alike = by_hash[std::hash<std::string>{}(content)];
       for (size_t other : alike)
-        if (read_file(d.entries[other].path) == content)
-          fail(d.source, ": ", d.entries[other].path, " and ", d.entries[k].path,
-               " have the same content, a shape listed twice (each shape must appear once)");
+        if (read_file(d.entries[other].path) == content) d.same_content.emplace_back(other, k);
       alike.push_back(k);
     }
   }
@@ -243,6 +287,25 @@ Dataset read_dataset(const std::string& path) {
       d.classes.push_back(e.class_name);
   refuse_files_listed_twice(d);
   return d;
+}
+
+std::vector<std::string> same_content_notes(const Dataset& d) {
+  std::vector<std::string> notes;
+  for (const auto& [first, second] : d.same_content)
+    notes.push_back(d.entries[first].name + " and " + d.entries[second].name + " (" + d.entries[first].path +
+                    ", " + d.entries[second].path +
+                    ") have the same content: two entries of the collection, both kept as queries");
+  return notes;
+}
+
+std::vector<std::string> dataset_description_files(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    const fs::path manifest = fs::path(path) / "manifest.csv";
+    if (fs::exists(manifest, ec)) return {manifest.string()};
+    return {};
+  }
+  return {path};
 }
 
 void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries) {

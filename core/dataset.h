@@ -18,6 +18,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh.h"
@@ -36,12 +37,25 @@ struct Dataset {
   std::string source;                 // the folder or manifest read
   std::vector<DatasetEntry> entries;  // see the ordering above
   std::vector<std::string> classes;   // distinct class names, in order of first appearance
+  // Pairs of entries (indices, first < second) whose files hold the same bytes under different names: both
+  // kept (two queries of a benchmark), and said by the drivers (same_content_notes).
+  std::vector<std::pair<size_t, size_t>> same_content;
   // Class index (into `classes`) of each entry.
   std::vector<int> labels() const;
 };
 
-// Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem.
+// Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem: a file
+// listed twice (two paths of one file), two files of one shape name, or, in a folder, an entry named like a
+// mesh that is no regular file (a folder, a FIFO, a dangling link, a loop of links).
 Dataset read_dataset(const std::string& path);
+
+// One line per pair of Dataset::same_content ("bird02 and bird10 (paths) have the same content: ...").
+std::vector<std::string> same_content_notes(const Dataset& d);
+
+// The files that describe the dataset at `path` (what read_dataset reads besides the meshes): the manifest
+// .csv or the .cla file itself, or a folder's manifest.csv when it has one; empty for a plain folder of
+// meshes. No file is read: for checks before any work (check_output_not_input).
+std::vector<std::string> dataset_description_files(const std::string& path);
 
 // The class of a file name: the stem without trailing digits and a separator before them ("michael12" ->
 // "michael", "horse_7" -> "horse"); the whole stem when it has no non-digit character.

@@ -153,6 +153,13 @@ DistanceMatrix read_distance_matrix(const std::string& path) {
   in.read(reinterpret_cast<char*>(&n), 8);
   if (!in || std::memcmp(magic, kMagic, 8) != 0)
     fail(path, ": not a cshapes distance matrix (expected the CSHDIST1 header)");
+  // The declared size is checked before it sizes anything: a negative n (-600 read as 2^64 - 600) passed
+  // the file-size check after the cast to Index and ended in an unnamed "out of memory".
+  constexpr uint64_t kMaxPoints = uint64_t{1} << 31;  // 4·n² bytes far beyond any memory, still exact
+  if (n > kMaxPoints)
+    fail(path, ": header says n = ",
+         static_cast<int64_t>(n) < 0 ? std::to_string(static_cast<int64_t>(n)) : std::to_string(n),
+         ", expected a point count from 0 to ", kMaxPoints);
   in.seekg(0, std::ios::end);
   const double expected = 16.0 + distance_matrix_bytes(static_cast<Index>(n));
   if (static_cast<double>(in.tellg()) != expected)

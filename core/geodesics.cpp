@@ -16,13 +16,15 @@ namespace cshapes {
 
 namespace {
 
-// Reports progress from inside an OpenMP loop, every `every` sources and at the end.
+// Reports progress from inside an OpenMP loop, every `every` sources and at the end. The progress function
+// is also where a stop (Python's Ctrl-C) is heard, so `every` is one source for a method whose sources are
+// slow (exact: a stop waited for 64 of them) and 64 for the fast ones (a report costs a lock).
 class ProgressCounter {
  public:
-  ProgressCounter(const ProgressFn& fn, Index total) : fn_(fn), total_(total) {}
+  ProgressCounter(const ProgressFn& fn, Index total, Index every = 64) : fn_(fn), total_(total), every_(every) {}
   void add(Index count = 1) {
     Index finished = done_ += count;
-    if (fn_ && (finished % 64 < count || finished == total_))
+    if (fn_ && (finished % every_ < count || finished == total_))
       report_progress_in_parallel(fn_, "geodesics", static_cast<double>(finished),
                                   static_cast<double>(total_));
   }
@@ -30,6 +32,7 @@ class ProgressCounter {
  private:
   const ProgressFn& fn_;
   Index total_;
+  Index every_;
   std::atomic<Index> done_{0};
 };
 
@@ -299,7 +302,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");
   const double bound = distance_bound(mesh);
   DistanceMatrix D(n, n);
-  ProgressCounter progress(options.progress, n);
+  ProgressCounter progress(options.progress, n, options.method == GeodesicMethod::Exact ? 1 : 64);
 
   if (uses_cgal_heat(options)) {
     // One CGAL solver (mesh copy + two factorisations) per thread; CGAL's objects are not thread-safe.

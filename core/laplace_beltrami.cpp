@@ -23,16 +23,22 @@ constexpr Index kLanczosExtra = 6;  // eigenpairs computed beyond the wanted one
 
 // The shifted inverse of the symmetric form, y = M^{1/2} (L − σM)^{-1} M^{1/2} x, for Spectra: its
 // eigenvalues are 1/(λ − σ), so the largest are the λ nearest σ (the smallest, σ < 0).
+// Spectra sees it times a power of two c (exact), as the shift-invert of L/c at σ/c: λ ∝ 1/scale², and
+// Spectra's convergence test has an absolute floor (ε^{2/3} of each |1/(λ − σ)|), so a mesh scaled by 1e9
+// (1/(λ − σ) ≈ 1e18) converged to a form 10% off. With c ≈ |σ| the largest value is about 1 at any scale;
+// Spectra's eigenvalues are then λ/c (scale_eigenvalue() brings them back).
 class ShiftInvertOp {
  public:
   using Scalar = double;  // Spectra requires this name
-  ShiftInvertOp(const SparseMatrix& L, const Eigen::VectorXd& mass, std::string what)
-      : L_(L), sqrt_mass_(mass.cwiseSqrt()), what_(std::move(what)) {}
+  ShiftInvertOp(const SparseMatrix& L, const Eigen::VectorXd& mass, std::string what, double scale)
+      : L_(L), sqrt_mass_(mass.cwiseSqrt()), what_(std::move(what)), scale_(scale) {}
   Index rows() const { return L_.rows(); }
   Index cols() const { return L_.rows(); }
+  // sigma: Spectra's shift, of L/c.
   void set_shift(double sigma) {
     SparseMatrix A = L_;
-    for (Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= sigma * sqrt_mass_[i] * sqrt_mass_[i];
+    const double shift = scale_ * sigma;  // exact: the σ given to Spectra was σ/c
+    for (Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= shift * sqrt_mass_[i] * sqrt_mass_[i];
     cholesky_.factorize(A, what_, "shifted Laplacian (L - sigma M)");
   }
   void perform_op(const double* x_in, double* y_out) const {
@@ -40,8 +46,15 @@ class ShiftInvertOp {
     block_.resize(n, 1);
     for (Index i = 0; i < n; ++i) block_(i, 0) = sqrt_mass_[i] * x_in[i];
     cholesky_.solve(block_, work_);
-    for (Index i = 0; i < n; ++i) y_out[i] = sqrt_mass_[i] * block_(i, 0);
+    for (Index i = 0; i < n; ++i) y_out[i] = scale_ * (sqrt_mass_[i] * block_(i, 0));
     ++products_;
+  }
+  // The power of two nearest |sigma| (1 for 0 or non-finite): the c above.
+  static double scale_for(double sigma) {
+    if (!(std::abs(sigma) > 0) || !std::isfinite(sigma)) return 1;
+    int exponent = 0;
+    std::frexp(std::abs(sigma), &exponent);
+    return std::ldexp(1.0, exponent);
   }
   Index products() const { return products_; }
 
@@ -49,6 +62,7 @@ class ShiftInvertOp {
   const SparseMatrix& L_;
   Eigen::VectorXd sqrt_mass_;
   std::string what_;
+  double scale_;
   SparseCholesky cholesky_;
   mutable SparseCholesky::Block block_, work_;
   mutable Index products_ = 0;
@@ -222,15 +236,16 @@ LaplaceBeltramiEigen laplace_beltrami_eigen(const LaplacianMatrices& matrices,
   for (Index i = 0; i < n; ++i) mean_ratio += A.L.coeff(i, i) / A.mass[i];
   mean_ratio /= n;
   const double sigma = -kShiftFactor * mean_ratio / n;
-  ShiftInvertOp op(A.L, A.mass, what);
-  Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, nev, ncv, sigma);
+  const double scale = ShiftInvertOp::scale_for(sigma);
+  ShiftInvertOp op(A.L, A.mass, what, scale);
+  Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, nev, ncv, sigma / scale);
   eigs.init();
   // Selection by the transformed values 1/(λ − σ), largest first; sorted back to increasing λ.
   eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);
   CSHAPES_REQUIRE(eigs.info() == Spectra::CompInfo::Successful, what,
                   ": shift-invert Lanczos did not converge (", k, " eigenpairs, ", n, " vertices)");
   LaplaceBeltramiEigen e;
-  e.values = eigs.eigenvalues().head(k);
+  e.values = scale * eigs.eigenvalues().head(k);
   e.vectors = A.mass.cwiseSqrt().cwiseInverse().asDiagonal() * eigs.eigenvectors().leftCols(k);
   e.solver = "shift-invert lanczos (" + SparseCholesky::backend() + ")";
   e.operator_products = op.products();

@@ -1,6 +1,7 @@
 #include "core/mesh_defects.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <tuple>
@@ -35,8 +36,19 @@ bool face_repeats_vertex(const Faces& F, Index f) {
 
 bool face_has_zero_area(const Points& V, const Faces& F, Index f) {
   const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-  const double scale = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
-  return (b - a).cross(c - a).norm() <= 1e-12 * scale;
+  Eigen::Vector3d u = b - a, w = c - a;
+  // The test is a ratio: the edges are brought to unit size by an exact power of two first, as squares and
+  // cross products of a face scaled by 1e155 overflow (every face "zero-area") and by 1e-155 underflow.
+  const double largest = std::max(u.cwiseAbs().maxCoeff(), w.cwiseAbs().maxCoeff());
+  if (!(largest > 0)) return true;  // all three corners at one point
+  if (std::isfinite(largest)) {
+    int exponent = 0;
+    std::frexp(largest, &exponent);
+    u = u * std::ldexp(1.0, -exponent);
+    w = w * std::ldexp(1.0, -exponent);
+  }
+  const double scale = u.squaredNorm() + (w - u).squaredNorm() + w.squaredNorm();
+  return u.cross(w).norm() <= 1e-12 * scale;
 }
 
 std::array<int, 3> sorted_face(const Faces& F, Index f) {

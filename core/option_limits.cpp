@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include "core/error.h"
 
@@ -43,6 +44,12 @@ void check_limit(const Limit& limit, double value, const std::string& context) {
   if (limit.holds(value)) return;
   fail(context, context.empty() ? "" : ": ", limit.option, " must be ", limit.describe(), ", got ",
        format_limit_number(value));
+}
+
+void check_distinct(const std::vector<std::string>& items, const std::string& context) {
+  std::set<std::string> seen;
+  for (const std::string& item : items)
+    if (!seen.insert(item).second) fail(context, context.empty() ? "" : ": ", "'", item, "' is listed twice");
 }
 
 }  // namespace cshapes

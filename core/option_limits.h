@@ -11,6 +11,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace cshapes {
 
@@ -45,6 +46,10 @@ constexpr Limit number_limit(const char* option, double minimum,
 
 // Throws Error "<context>: <option> must be <describe>, got <value>" when value is outside (or NaN).
 void check_limit(const Limit& limit, double value, const std::string& context);
+
+// A list option names each item once (`--methods lbo,lbo` and `--poses kid07,kid07` counted twice): throws
+// Error "<context>: '<item>' is listed twice" at the first item repeated.
+void check_distinct(const std::vector<std::string>& items, const std::string& context);
 
 // A number as the messages print it: shortest form that reads back the same (0.99, 1e-12, 100000000).
 std::string format_limit_number(double value);

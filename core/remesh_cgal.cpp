@@ -21,6 +21,7 @@
 #include "core/locate_on_surface.h"
 #include "core/remesh.h"
 #include "core/surface_mesh_cgal.h"
+#include "core/unit_scale.h"
 
 namespace cshapes {
 namespace {
@@ -240,6 +241,11 @@ double remesh_memory_bytes(Index target_vertices) {
   return kRemeshBytesPerVertex * static_cast<double>(std::max<Index>(target_vertices, 0));
 }
 
+namespace {
+// remesh() on a mesh of about unit size (its options and the mesh already checked).
+RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o);
+}  // namespace
+
 RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   CSHAPES_REQUIRE(o.target_vertices >= 4, "remesh: target vertex count must be at least 4, got ",
                   o.target_vertices);
@@ -258,6 +264,20 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   CSHAPES_REQUIRE(!mesh.is_point_cloud(),
                   "remesh: the input has no faces (a point cloud cannot be remeshed)");
   validate_mesh(mesh, "remesh input");
+  // CGAL's predicates and the AABB tree overflow (1e100: SIGSEGV) or underflow (1e-100: SIGFPE) far from
+  // unit size: the work is done at unit size, scaled by an exact power of two, and scaled back.
+  const double scale = power_of_two_unit_scale(mesh.V);
+  if (scale == 1) return remesh_at_unit_size(mesh, o);
+  RemeshResult r = remesh_at_unit_size(Mesh{mesh.V * scale, mesh.F}, o);
+  r.mesh.V /= scale;
+  r.target_edge_length /= scale;
+  if (r.hausdorff >= 0) r.hausdorff /= scale;
+  return r;
+}
+
+namespace {
+
+RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
   SurfaceMesh input = cgal::to_surface_mesh(mesh, "remesh");
   // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times
   // the target: isotropic remeshing would otherwise spend most of its time collapsing tiny edges, once per
@@ -295,8 +315,15 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   return best;
 }
 
+}  // namespace
+
 double hausdorff_distance(const Mesh& a, const Mesh& b) {
   CSHAPES_REQUIRE(!a.is_point_cloud() && !b.is_point_cloud(), "hausdorff_distance: both inputs need faces");
+  // The AABB tree's squared distances leave the double range far from unit size: measured at unit size.
+  Points both(a.num_vertices() + b.num_vertices(), 3);
+  both << a.V, b.V;
+  const double scale = power_of_two_unit_scale(both);
+  if (scale != 1) return hausdorff_distance(Mesh{a.V * scale, a.F}, Mesh{b.V * scale, b.F}) / scale;
   return std::max(one_sided_distance(a, SurfaceLocator(b.V, b.F)),
                   one_sided_distance(b, SurfaceLocator(a.V, a.F)));
 }
@@ -304,6 +331,9 @@ double hausdorff_distance(const Mesh& a, const Mesh& b) {
 AngleStats angle_stats(const Mesh& mesh) {
   AngleStats s;
   if (mesh.num_faces() == 0) return s;
+  // Angles do not change with scale; the cross products' norms underflow or overflow far from unit size.
+  const double scale = power_of_two_unit_scale(mesh.V);
+  if (scale != 1) return angle_stats(Mesh{mesh.V * scale, mesh.F});
   constexpr double kDegrees = 180.0 / 3.14159265358979323846;
   s.min_angle = 180;
   double sum = 0;

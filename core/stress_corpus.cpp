@@ -302,10 +302,14 @@ std::string StressCase::describe() const {
   return out.str();
 }
 
-StressCase stress_case(std::uint64_t seed, Index index, const StressCorpusOptions& options) {
+void check_stress_corpus_options(const StressCorpusOptions& options) {
   CSHAPES_REQUIRE(options.min_vertices >= 50 && options.max_vertices >= options.min_vertices,
                   "stress corpus: need 50 <= min_vertices <= max_vertices, got ", options.min_vertices, " and ",
                   options.max_vertices);
+}
+
+StressCase stress_case(std::uint64_t seed, Index index, const StressCorpusOptions& options) {
+  check_stress_corpus_options(options);
   DeterministicRandom rng(mix(seed, index));
   StressCase c;
   c.seed = seed;

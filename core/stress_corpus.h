@@ -55,6 +55,9 @@ struct StressCase {
 
 // The parameters of case `index` of `seed` (no mesh is made).
 StressCase stress_case(std::uint64_t seed, Index index, const StressCorpusOptions& options = {});
+// The corpus options' own checks (50 <= min_vertices <= max_vertices), which stress_case applies: throws
+// Error naming both. For front ends, before any work (a case's error would only fail that case).
+void check_stress_corpus_options(const StressCorpusOptions& options);
 
 // The mesh of a case: deterministic for (seed, index, options).
 Mesh make_stress_mesh(const StressCase& c, const StressCorpusOptions& options = {});

@@ -18,10 +18,19 @@ namespace cshapes {
 
 namespace {
 
-// Format 2 (current): "CSHCACHE2 <size> <sha256 of the value>\n" then the value. Format 1 (before
-// checksums): "CSHCACHE1 <size>\n" then the value; still read, unverified.
-constexpr const char* kMagic = "CSHCACHE2 ";
+// Format 3 (current): "CSHCACHE3 <size> <checksum>\n" then the value, the checksum binding the value to
+// the key it was stored under (entry_checksum): an entry copied, swapped or renamed to another key's file
+// is a miss there, never another key's value. Format 2: "CSHCACHE2 <size> <sha256 of the value>\n" (value
+// verified, key not), and format 1 (before checksums): "CSHCACHE1 <size>\n" then the value; both still
+// read, said once per cache.
+constexpr const char* kMagic = "CSHCACHE3 ";
+constexpr const char* kMagicValueOnly = "CSHCACHE2 ";
 constexpr const char* kMagicUnverified = "CSHCACHE1 ";
+
+// SHA-256 over the key and the value's SHA-256 (no copy of a large value is made).
+std::string entry_checksum(const std::string& key, const std::string& value) {
+  return sha256_hex("cshapes-cache-entry;" + key + ";" + sha256_hex(value));
+}
 
 std::mutex g_warning_mutex;
 std::function<void(const std::string&)> g_warning_sink;
@@ -72,25 +81,31 @@ std::optional<std::string> DiskCache::get(const std::string& key) const {
       // Anything but a whole entry of a known format (a foreign, truncated or damaged file) is a miss.
       const size_t newline = content.find('\n');
       const std::string header = content.substr(0, newline == std::string::npos ? 0 : newline);
-      const std::string magic = kMagic, unverified = kMagicUnverified;
+      const std::string magic = kMagic, value_only = kMagicValueOnly, unverified = kMagicUnverified;
       unsigned long long size = 0;
-      if (header.compare(0, magic.size(), magic) == 0) {
+      const bool bound = header.compare(0, magic.size(), magic) == 0;
+      if (bound || header.compare(0, value_only.size(), value_only) == 0) {
         const std::string fields = header.substr(magic.size());
         const size_t space = fields.find(' ');
         const std::string checksum = space == std::string::npos ? "" : fields.substr(space + 1);
         if (space != std::string::npos && parse_size(fields.substr(0, space), size) &&
             content.size() - newline - 1 == size && checksum.size() == 64) {
           std::string value = content.substr(newline + 1);
-          if (sha256_hex(value) == checksum) {
+          if ((bound ? entry_checksum(key, value) : sha256_hex(value)) == checksum) {
+            if (!bound && !said_unverified_.exchange(true))
+              cache_warning("cache " + directory_ +
+                            ": reading entries of cache format 2, whose checksum does not cover their key; "
+                            "delete the folder to recompute them");
             ++hits_;
             return value;
           }
-          // Bytes changed after they were written: never served. The entry goes, so that the recomputed
-          // value replaces it (and a content-named entry, which is not rewritten under its name, stops
-          // warning).
+          // Bytes changed after they were written, or the entry is another key's: never served. The entry
+          // goes, so that the recomputed value replaces it (and a content-named entry, which is not
+          // rewritten under its name, stops warning).
           ++damaged_;
           cache_warning("cache entry " + path +
-                        ": content does not match its checksum (changed on disk), recomputing it");
+                        ": content does not match its checksum (changed on disk, or another key's entry), "
+                        "recomputing it");
           std::remove(path.c_str());
         }
       } else if (header.compare(0, unverified.size(), unverified) == 0 &&
@@ -110,7 +125,7 @@ std::optional<std::string> DiskCache::get(const std::string& key) const {
 
 void DiskCache::put(const std::string& key, const std::string& value) const {
   if (!enabled()) return;
-  const std::string checksum = sha256_hex(value);
+  const std::string checksum = entry_checksum(key, value);
   write_file_atomically(
       entry_path(key),
       [&](std::ostream& out) {

@@ -10,13 +10,15 @@
 // readable by any CBOR tool); get/put move the raw bytes.
 //
 // Layout: DIR/ab/abcdef….bin, one file per entry (the first two hex digits fan out the directory), each
-// "CSHCACHE2 <size> <SHA-256 of the value>\n" followed by the value. Entries are written to a temporary file
-// and renamed, so an entry exists completely or not at all: a process killed mid-write leaves at most a stray
-// "*.tmp.*" file, which is ignored. An entry whose header does not match its size is treated as missing and
-// rewritten. Every read verifies the checksum: an entry whose bytes changed after they were written is never
-// served; it is removed, counted (damaged()), reported through the warning sink naming the entry's file, and
-// the caller recomputes it. Entries of format 1 ("CSHCACHE1 <size>\n", before checksums) are still read,
-// unverified, said once per DiskCache through the sink.
+// "CSHCACHE3 <size> <checksum>\n" followed by the value, the checksum a SHA-256 over the entry's key and
+// the value's SHA-256: an entry copied, swapped or renamed under another key's name is a miss there.
+// Entries are written to a temporary file and renamed, so an entry exists completely or not at all: a
+// process killed mid-write leaves at most a stray "*.tmp.*" file, which is ignored. An entry whose header
+// does not match its size is treated as missing and rewritten. Every read verifies the checksum: an entry
+// whose bytes changed after they were written is never served; it is removed, counted (damaged()), reported
+// through the warning sink naming the entry's file, and the caller recomputes it. Entries of format 2
+// ("CSHCACHE2 <size> <SHA-256 of the value>\n": the value verified, not its key) and of format 1 ("CSHCACHE1
+// <size>\n", before checksums, unverified) are still read, said once per DiskCache through the sink.
 //
 // A write that fails (full disk, read-only folder, a cache folder that is a file) throws cshapes::WriteError
 // (core/error.h) with the path and the system's reason: callers that skip a failing item must rethrow it.

@@ -50,7 +50,8 @@ bool parse_number(const std::string& text, double& value) {
   if (text.empty()) return false;
   char* end = nullptr;
   value = std::strtod(text.c_str(), &end);
-  return end && *end == '\0';
+  // The whole field: strtod stops at a NUL byte inside it ("5\0448" was read as 5).
+  return end == text.c_str() + text.size();
 }
 
 std::vector<std::vector<std::string>> read_rows(const std::string& path, std::vector<int>& line_numbers) {
@@ -196,6 +197,7 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
                     " shapes (one class per line, in the matrix's order)");
     for (size_t i = 0; i < rows.size(); ++i) {
       CSHAPES_REQUIRE(rows[i].size() == 1, path, ":", line_of[i], ": expected one class name");
+      CSHAPES_REQUIRE(!rows[i][0].empty(), path, ":", line_of[i], ": empty class name");
       classes.push_back(rows[i][0]);
     }
     return classes;
@@ -205,6 +207,9 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
   for (size_t i = 0; i < rows.size(); ++i) {
     CSHAPES_REQUIRE(rows[i].size() == 2, path, ":", line_of[i], ": expected 'name,class', found ",
                     rows[i].size(), " fields");
+    // An empty class would put every such shape in class '' (all queries hits: mAP 1.0).
+    CSHAPES_REQUIRE(!rows[i][0].empty() && !rows[i][1].empty(), path, ":", line_of[i], ": empty ",
+                    rows[i][0].empty() ? "shape name" : "class name", ", expected 'name,class'");
     const auto [first, inserted] = row_of.emplace(rows[i][0], i);
     CSHAPES_REQUIRE(inserted || rows[first->second][1] == rows[i][1], path, ":", line_of[i], ": shape '",
                     rows[i][0], "' has class '", rows[i][1], "' here and '", rows[first->second][1],

@@ -40,6 +40,11 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
   return report;
 }
 
+std::vector<std::string> retrieval_report_files() {
+  return {"metrics.json",  "pr.csv", "queries.csv",   "matrix.csv",
+          "confusion.csv", "pr.png", "confusion.png", "matrix.png"};
+}
+
 void write_retrieval_report(const std::string& folder, const NamedDistances& input,
                             const RetrievalReport& report) {
   const RetrievalResult& r = report.result;

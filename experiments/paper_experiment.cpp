@@ -797,6 +797,7 @@ PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
   report.resampled = given.resample.vertices > 0;
   report.resampling = resampled;
   const Communicator& comm = run.comm;
+  for (const ShapeFailure& record : resample_records(resampled)) summary.failures.push_back(record);
 
   // 1.-2. The shapes and their canonical forms; the retrieval set.
   select_stage(run);

@@ -117,6 +117,7 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
                                     &comm, o.note);
     r.resampled = true;
     r.data = r.resampling.data;
+    for (const ShapeFailure& record : resample_records(r.resampling)) r.failures.push_back(record);
   }
   const Dataset data = read_dataset(r.data);
   r.shapes = static_cast<int>(data.entries.size());

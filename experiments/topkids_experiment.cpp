@@ -13,6 +13,7 @@
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/option_limits.h"
 #include "core/timing.h"
 #include "eval/cache.h"
 #include "eval/correspondence_error.h"
@@ -130,6 +131,7 @@ struct TopkidsInputs {
 
 void check_options(const TopkidsExperimentOptions& o) {
   require_canonical_form_methods(o.methods, "experiment topkids");
+  check_distinct(o.poses, "experiment topkids: poses");
   CSHAPES_REQUIRE(o.max_threshold > 0.25 && o.curve_points >= 2,
                   "experiment topkids: the curve must reach past 0.25 with at least 2 points");
 }

@@ -1,6 +1,7 @@
 #include "pipeline/canonical_form_methods.h"
 
 #include "core/error.h"
+#include "core/option_limits.h"
 
 namespace cshapes {
 
@@ -44,6 +45,7 @@ void require_canonical_form_methods(const std::vector<std::string>& methods, con
   for (const std::string& name : methods)
     if (!find_canonical_form_method(name))
       fail(context, ": unknown canonization method '", name, "'; known: ", canonical_form_method_list());
+  check_distinct(methods, context);
 }
 
 std::string canonical_form_method_title(const std::string& name) {
@@ -56,9 +58,7 @@ MeshRequirements canonical_form_requirements(const std::string& method) {
 }
 
 CanonicalFormOptions experiment_canonical_form_options() {
-  CanonicalFormOptions options;
-  options.geodesics.method = GeodesicMethod::Heat;
-  return options;
+  return CanonicalFormOptions{};
 }
 
 }  // namespace cshapes

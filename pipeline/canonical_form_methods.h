@@ -49,6 +49,12 @@ struct CanonicalFormMethod {
   // other field enters it, so a field added to CanonicalFormOptions reaches every method's key until a method
   // says it does not read it (at worst a cache miss, never a stale form).
   std::vector<std::string> options_not_read;
+  // Fills CanonicalForm::history_columns/rows (Coulomb's energy, SMACOF's stress per iteration): `canon
+  // --history` and Python's history are refused for the other methods, before any work.
+  bool has_history = false;
+  // The memory that grows with the input beyond the mesh (bytes, for n vertices), checked by
+  // canonical_form() before any work; null: nothing beyond what uses_geodesic_matrix covers.
+  double (*memory_bytes)(Index n, const CanonicalFormOptions& options) = nullptr;
   // The form of `mesh` (already repaired for the method: repair_for_canonical_form), in its vertex order.
   // given: the distances when the caller has them (methods that use the geodesic matrix; ignored otherwise).
   // canonical_form() places the result back at the input's vertices.
@@ -75,9 +81,8 @@ void require_canonical_form_methods(const std::vector<std::string>& methods, con
 std::string canonical_form_method_title(const std::string& name);
 
 // The canonical-form options every experiment (paper, noise, topkids, pose) starts from: the library's
-// defaults with our heat method for the MDS geodesics (9× the speed of CGAL's, about 1% from exact geodesics:
-// README), where a single canonical_form() call uses fast marching, as the paper did [KS98]. The CLI, C++ and
-// Python runs of an experiment start from these same options.
+// defaults (heat geodesics for MDS, as a single canonical_form() call uses). The CLI, C++ and Python runs of
+// an experiment start from these same options.
 CanonicalFormOptions experiment_canonical_form_options();
 
 // The registered methods (one file each; their only other mention is canonical_form_method_registry()).

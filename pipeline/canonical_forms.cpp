@@ -1,11 +1,14 @@
 #include "pipeline/canonical_forms.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <typeinfo>
 
+#include "canon/smacof.h"
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
@@ -211,6 +214,17 @@ void set_geodesics_test_hook(std::function<void(GeodesicMethod, const std::strin
 
 namespace {
 
+// A distance matrix read from a file, as every method that embeds one requires it (cmds accepted an
+// asymmetric matrix and a non-zero diagonal that SMACOF refused): square, n ≥ 4, finite and non-negative,
+// symmetric to float rounding (validate_distance_matrix), and a diagonal of zeros to the same rounding.
+void require_distance_matrix(const DistanceMatrix& D, const std::string& what) {
+  validate_distance_matrix(D, what);
+  const float largest = D.maxCoeff();
+  for (Index i = 0; i < D.rows(); ++i)
+    CSHAPES_REQUIRE(std::abs(D(i, i)) <= 1e-5f * largest, what, ": distance (", i, ", ", i, ") is ", D(i, i),
+                    "; a point's distance to itself must be 0");
+}
+
 CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options,
                                 const DistanceMatrix* D, double D_seconds, const std::string& D_fallback) {
   // Points all in one place have no shape to canonize (every method would return them as they are, "ok").
@@ -229,12 +243,17 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
     else
       require_landmark_memory(mesh, options);
   }
+  if (method.memory_bytes)
+    require_memory(
+        method.memory_bytes(mesh.num_vertices(), options),
+        detail::concat(options.name, ": ", options.method, " on ", mesh.num_vertices(), " vertices"));
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   DistanceMatrix from_file;
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
     const auto start = WallClock::now();
     from_file = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
                                            options.distances_file);
+    require_distance_matrix(from_file, options.distances_file);
     D = &from_file;
     D_seconds = seconds_since(start);
   }
@@ -263,6 +282,13 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
     const std::string message = error.what();
     if (typeid(error) != typeid(Error) || message.rfind(options.name, 0) == 0) throw;
     throw Error(options.name + ": " + message);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& error) {
+    // A library's own exception (Spectra's "TridiagEigen: eigen decomposition failed" on an extreme mesh)
+    // is this shape's failure, named, as cshapes::Error: the drivers leave the shape out and go on, where it
+    // ended the whole run with exit 1.
+    throw Error(options.name + ": " + options.method + ": " + error.what());
   }
 }
 

@@ -10,6 +10,7 @@
 #include "core/io.h"
 #include "eval/candidate_pairs.h"
 #include "eval/distance_csv.h"
+#include "matching/icp.h"
 #include "matching/shape_distance.h"
 #include "pipeline/distributed.h"
 #include "pipeline/shape_failures.h"
@@ -70,7 +71,15 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
         (std::filesystem::path(options.cache_dir) / ("resampled-" + std::to_string(options.resample.vertices)))
             .string(),
         DiskCache((std::filesystem::path(options.cache_dir) / "remeshed").string()), &comm, options.note);
+  for (const ShapeFailure& record : resample_records(result.resampling)) {
+    say(options.note, describe(record));
+    result.failures.push_back(record);
+  }
   const Dataset data = read_dataset(options.resample.vertices > 0 ? result.resampling.data : options.data);
+  for (const ShapeFailure& record : same_content_records(data)) {
+    say(options.note, describe(record));
+    result.failures.push_back(record);
+  }
   // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
   NamedDistances reference;
   if (options.two_stage_k > 0 && !options.reference.empty() && comm.is_root())
@@ -110,6 +119,19 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
       continue;
     }
     CachedForm& form = computed->front();
+    // A form ICP cannot take (points on a line, or too far from unit size for its squared distances) is
+    // this shape's failure, named, before the pairs: in the pairs it ended the whole run with exit 1.
+    try {
+      const IcpShape alignable(finite_rows(form.form.X), options.pairs.icp);
+    } catch (const Error& error) {
+      if (co.strict) throw;
+      result.failures.push_back({e.name, e.path, co.method, "alignment",
+                                 std::string("its form cannot be aligned: ") + error.what(), ""});
+      say(options.note, describe(result.failures.back()));
+      result.skipped.push_back(e.path);
+      result.skipped_reasons.push_back(result.failures.back().reason);
+      continue;
+    }
     if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
     const bool cached = form.cached;
     (cached ? result.forms_cached : result.forms_computed)++;

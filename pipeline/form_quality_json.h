@@ -22,6 +22,7 @@ inline nlohmann::json form_quality_json(const FormQuality& q) {
           {"far_vertices", q.far_vertices},
           {"stretched_vertices", q.stretched_vertices},
           {"detached_vertices", q.detached_vertices},
+          {"coincident_vertices", q.coincident_vertices},
           {"runaway_examples", q.runaway_examples},
           {"description", q.description}};
 }

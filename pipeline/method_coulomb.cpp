@@ -89,6 +89,7 @@ CanonicalFormMethod coulomb_method() {
   m.uses_geodesic_matrix = false;
   m.options_not_read = {"geodesics",      "cmds",           "smacof", "smacof_init", "smacof_weights",
                         "distances_file", "lbo",            "diffusion", "spectral_mds", "mds_solver"};
+  m.has_history = true;
   m.compute = coulomb_compute;
   return m;
 }

@@ -1,5 +1,6 @@
 // Methods cmds and smacof (pipeline/canonical_form_methods.h): MDS canonical forms (Elad & Kimmel) of a
 // mesh's all-pairs geodesic distances, by classical MDS (canon/classical_mds.h) and SMACOF (canon/smacof.h).
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -39,6 +40,32 @@ void set_smacof_result(CanonicalForm& form, const SmacofResult& sr) {
   for (size_t k = 0; k < sr.stress_history.size(); ++k)
     form.history_rows.push_back({static_cast<double>(k), static_cast<double>(sr.passes_history[k]),
                                  sr.stress_history[k], sr.extrapolated_history[k] ? 1.0 : 0.0});
+}
+
+// SMACOF's kernel (canon/smacof.h) works in single precision on squared distances: beyond about 1e19 they
+// overflow, below about 1e-19 they fall under FLT_MIN, and the form collapses to zeros (a mesh scaled by 1e20
+// gave rows of zeros). Distances whose largest entry lies outside [1e-15, 1e15] (a margin for the squares'
+// sums) are refused naming the mesh, as a scale the method cannot support.
+void require_smacof_range(const Eigen::MatrixXf& distances, const std::string& name) {
+  float largest = 0;  // of the finite entries: an infinite one is the distance checks' to name
+  for (Index j = 0; j < distances.cols(); ++j)
+    for (Index i = 0; i < distances.rows(); ++i)
+      if (std::isfinite(distances(i, j))) largest = std::max(largest, distances(i, j));
+  CSHAPES_REQUIRE(largest >= 1e-15f && largest <= 1e15f, name, ": smacof: the largest geodesic distance is ",
+                  largest, ", outside [1e-15, 1e15], the single-precision range of the SMACOF kernel; scale "
+                  "the mesh (its units are free) or use --method cmds");
+}
+
+// form_quality, and what only the iteration knows: a normalised stress that is not a number (the last
+// entry of a SMACOF history) means the iteration broke down, however the coordinates look.
+FormQuality mds_form_quality(const Mesh& mesh, const Edges& E, const CanonicalForm& form) {
+  FormQuality quality = form_quality(mesh.V, E, form.X);
+  const auto& columns = form.history_columns;
+  const auto column = std::find(columns.begin(), columns.end(), "normalized_stress");
+  if (column == columns.end() || form.history_rows.empty()) return quality;
+  const double stress = form.history_rows.back()[static_cast<size_t>(column - columns.begin())];
+  if (!std::isfinite(stress)) fail_form_quality(quality, "normalised stress " + std::to_string(stress));
+  return quality;
 }
 
 nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
@@ -117,6 +144,7 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
     graph.lengths.resize(graph.edges.rows());
     for (Index e = 0; e < graph.edges.rows(); ++e)
       graph.lengths[e] = (mesh.V.row(graph.edges(e, 0)) - mesh.V.row(graph.edges(e, 1))).norm();
+    require_smacof_range(lg.rows, options.name);
     r = landmark_smacof(lg.rows, lg.landmarks, so, options.mds_solver.interpolation_iterations,
                         landmark_start, graph);
     set_smacof_result(form, r.landmark_smacof);
@@ -145,7 +173,7 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
                              {"seconds", r.seconds}};
   form.X = std::move(r.X);
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = form_quality(mesh.V, constraint_edges(mesh, options.knn), form.X);
+  const FormQuality quality = mds_form_quality(mesh, constraint_edges(mesh, options.knn), form);
   say(options.note, "form quality " + quality.description);
   summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
@@ -191,6 +219,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     SmacofOptions so = options.smacof;
     if (!so.progress) so.progress = options.progress;
     if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
+    require_smacof_range(*given, options.name);
     SmacofResult sr = smacof(*given, X0, so);
     say(options.note, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
                           std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
@@ -202,7 +231,7 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     summary["smacof"]["weights"] = to_string(options.smacof_weights);
   }
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = form_quality(mesh.V, E, form.X);
+  const FormQuality quality = mds_form_quality(mesh, E, form);
   say(options.note, "form quality " + quality.description);
   summary["form_quality"] = form_quality_json(quality);
   form.summary_json = summary.dump();
@@ -296,6 +325,7 @@ CanonicalFormMethod smacof_method() {
   m.repair_purpose = "smacof (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
   m.options_not_read = {"coulomb", "lbo", "diffusion", "spectral_mds"};  // it reads cmds: classical MDS is its start
+  m.has_history = true;
   m.compute = smacof_compute;
   return m;
 }

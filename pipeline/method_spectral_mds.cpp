@@ -2,6 +2,8 @@
 // — classical MDS of the squared geodesic distances restricted to the span of the first k Laplace–Beltrami
 // eigenfunctions, fitted from L farthest-point geodesic rows (core/landmark_geodesics.h, options.geodesics):
 // the fast MDS the paper cites [AK13], O((L + k) n) memory.
+#include <algorithm>
+
 #include "core/error.h"
 #include "core/landmark_geodesics.h"
 #include "core/timing.h"
@@ -43,12 +45,21 @@ CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions&
   return form;
 }
 
+// The L × n geodesic rows (float) and their squares (double), and the k eigenfunctions (double): what grows
+// with --sources and the mesh (100,000 sources on 100,000 vertices ran 8 s, then an unnamed "out of memory").
+double spectral_mds_memory_bytes(Index n, const CanonicalFormOptions& options) {
+  const double rows = static_cast<double>(std::min<Index>(options.spectral_mds.sources, n));
+  const double basis = static_cast<double>(options.spectral_mds.laplacian.eigenpairs);
+  return 12.0 * rows * static_cast<double>(n) + 8.0 * basis * static_cast<double>(n);
+}
+
 }  // namespace
 
 CanonicalFormMethod spectral_mds_method() {
   CanonicalFormMethod m = spectral_method_base("spectral-mds");
   m.title = "spectral MDS";
   m.compute = spectral_mds_compute;
+  m.memory_bytes = spectral_mds_memory_bytes;
   // Reads geodesics (its rows' solver), not the other spectral methods' options.
   m.options_not_read = {"coulomb", "cmds", "smacof", "smacof_init", "smacof_weights", "distances_file",
                         "lbo", "diffusion", "mds_solver"};

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/dataset.h"
+#include "core/distance_matrix.h"
 #include "core/error.h"
 #include "core/io.h"
 #include "core/mesh_repair.h"
@@ -175,6 +176,9 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
                                   const DiskCache& cache, const Communicator* communicator,
                                   const NoteFn& note) {
   CSHAPES_REQUIRE(options.vertices >= 4, "resample: expected at least 4 vertices, got ", options.vertices);
+  // Checked here, before any work: inside remesh() the refusal would be each shape's, cached as "kept".
+  require_memory(remesh_memory_bytes(options.vertices),
+                 "resample: remeshing to " + std::to_string(options.vertices) + " vertices");
   const Communicator& comm = communicator ? *communicator : single_process();
   std::map<std::string, std::string> by_name;
   for (const DatasetEntry& e : d.entries) {
@@ -234,6 +238,16 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
   return r;
 }
 
+std::vector<ShapeFailure> resample_records(const ResampledDataset& r) {
+  std::vector<ShapeFailure> records;
+  for (const ResampledShape& s : r.shapes)
+    if (!s.remeshed)
+      records.push_back({s.name, s.source, "", "resample", s.note,
+                         "not resampled to " + std::to_string(r.options.vertices) + " vertices, " + s.note +
+                             " (" + std::to_string(s.input_vertices) + " vertices)"});
+  return records;
+}
+
 std::string resampling_markdown(const ResampledDataset& r) {
   std::string text;
   char line[512];
@@ -250,16 +264,26 @@ std::string resampling_markdown(const ResampledDataset& r) {
     fewest = fewest == 0 ? s.input_vertices : std::min(fewest, s.input_vertices);
     most = std::max(most, s.input_vertices);
   }
-  std::snprintf(line, sizeof line,
-                "Every shape was remeshed to about %ld vertices first (CGAL isotropic remeshing, core/remesh.h; "
-                "inputs of %ld to %ld vertices; cached by content: %ld computed, %ld cached). Largest "
-                "Hausdorff distance to the input %.3f%% of its bounding-box diagonal (symmetric, sampled at "
-                "vertices, edge midpoints and face centroids); smallest triangle angle %.1f deg.%s\n\n",
-                static_cast<long>(r.options.vertices), static_cast<long>(fewest), static_cast<long>(most),
-                r.computed, r.cached, 100 * worst_hausdorff, smallest_angle,
-                kept ? (" " + std::to_string(kept) + " shape(s) kept at their own resolution (see the table).")
-                           .c_str()
-                     : "");
+  if (kept == static_cast<int>(r.shapes.size())) {
+    // Nothing remeshed: no range of inputs, no Hausdorff distance, no angle to summarise.
+    std::snprintf(
+        line, sizeof line,
+        "No shape could be remeshed to about %ld vertices: all %d kept at their own resolution (see "
+        "the table).\n\n",
+        static_cast<long>(r.options.vertices), kept);
+  } else {
+    std::snprintf(
+        line, sizeof line,
+        "Every shape was remeshed to about %ld vertices first (CGAL isotropic remeshing, core/remesh.h; "
+        "inputs of %ld to %ld vertices; cached by content: %ld computed, %ld cached). Largest "
+        "Hausdorff distance to the input %.3f%% of its bounding-box diagonal (symmetric, sampled at "
+        "vertices, edge midpoints and face centroids); smallest triangle angle %.1f deg.%s\n\n",
+        static_cast<long>(r.options.vertices), static_cast<long>(fewest), static_cast<long>(most), r.computed,
+        r.cached, 100 * worst_hausdorff, smallest_angle,
+        kept
+            ? (" " + std::to_string(kept) + " shape(s) kept at their own resolution (see the table).").c_str()
+            : "");
+  }
   text += line;
   text += "| shape | input vertices | vertices | Hausdorff / diagonal | smallest angle (in → out) | mean smallest "
           "angle | note |\n|---|---:|---:|---:|---:|---:|---|\n";

@@ -29,6 +29,7 @@
 #include "core/progress.h"
 #include "core/types.h"
 #include "eval/cache.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -65,8 +66,9 @@ struct ResampledDataset {
 };
 
 // Remeshes every shape of `data` (a folder, manifest.csv or .cla: core/dataset.h) into `folder`, through
-// `cache`. options.vertices must be >= 4. Throws cshapes::Error for a dataset that cannot be read, and
-// cshapes::WriteError for a folder or cache that cannot be written.
+// `cache`. options.vertices must be >= 4, and a remesh of that size must fit in the memory available
+// (remesh_memory_bytes): refused before any work, never a fallback for every shape. Throws cshapes::Error for
+// a dataset that cannot be read, and cshapes::WriteError for a folder or cache that cannot be written.
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
                                   const Communicator* communicator = nullptr, const NoteFn& note = {});
@@ -75,6 +77,11 @@ ResampledDataset resample_dataset(const std::string& data, const ResampleOptions
 ResampledDataset resample_dataset(const Dataset& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
                                   const Communicator* communicator = nullptr, const NoteFn& note = {});
+
+// Each shape kept at its own resolution (a point cloud, a mesh remeshing fails on), as a kept record of the
+// run (pipeline/shape_failures.h, stage "resample", the reason in `fallback`): the drivers append these to
+// their failures, so that a fallback is said on stderr, in report.md and in the JSON, never silently.
+std::vector<ShapeFailure> resample_records(const ResampledDataset& r);
 
 // The measures of a resampled dataset as report text: a summary line (vertex counts, largest Hausdorff
 // distance, smallest angle) and a Markdown table, one row per shape. For the experiments' report.md.

@@ -1,21 +1,26 @@
 #include "pipeline/shape_failures.h"
 
+#include <set>
 #include <sstream>
+#include <utility>
 
 #include "core/error.h"
 
 namespace cshapes {
 
 std::string describe(const ShapeFailure& f) {
-  if (!f.left_out()) return f.name + ": " + f.method + ": " + f.fallback + " (kept)";
+  if (!f.left_out())
+    return f.name + ": " + (f.method.empty() ? "" : f.method + ": ") + f.fallback + " (kept)";
   if (f.stage == "read") return f.name + " left out: " + f.path + " cannot be used: " + f.reason;
   return f.name + " left out: the " + f.method + " canonical form failed: " + f.reason;
 }
 
 int count_left_out(const std::vector<ShapeFailure>& failures) {
-  int n = 0;
-  for (const ShapeFailure& f : failures) n += f.left_out();
-  return n;
+  // Shapes, not records: one shape that failed for three methods of a run is one shape left out.
+  std::set<std::pair<std::string, std::string>> shapes;
+  for (const ShapeFailure& f : failures)
+    if (f.left_out()) shapes.emplace(f.name, f.path);
+  return static_cast<int>(shapes.size());
 }
 
 nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures) {
@@ -69,6 +74,18 @@ std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures) {
        << " | " << f.stage << " | " << cell(f.left_out() ? "left out: " + f.reason : f.fallback) << " |\n";
   md << "\n";
   return md.str();
+}
+
+std::vector<ShapeFailure> same_content_records(const Dataset& data) {
+  std::vector<ShapeFailure> records;
+  for (const auto& [first, second] : data.same_content) {
+    const DatasetEntry& a = data.entries[first];
+    const DatasetEntry& b = data.entries[second];
+    records.push_back({b.name, b.path, "", "dataset", "the same content as " + a.name + " (" + a.path + ")",
+                       "the same content as " + a.name + " (" + a.path +
+                           "): two entries of the collection, both kept as queries"});
+  }
+  return records;
 }
 
 ShapeFailure read_failure(const std::string& name, const std::string& path, const Error& error) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dataset.h"
 #include "core/error.h"
 #include "core/mesh.h"
 #include "eval/cache.h"
@@ -27,7 +28,8 @@ struct ShapeFailure {
   std::string path;    // its file
   std::string method;  // the method whose form failed or fell back; "" when the file itself failed
   std::string stage;   // "read" (the file: unreadable, too few vertices, ...), "canonical form",
-                       // "geodesics" (a fallback), "form quality" (a form failing its check, kept)
+                       // "geodesics" (a fallback), "form quality" (a form failing its check, kept),
+                       // "dataset" (the same bytes as another entry, kept)
   std::string reason;  // the error's message
   std::string
       fallback;  // "": the shape was left out; else the fallback that kept it (its geodesics_fallback)
@@ -37,13 +39,19 @@ struct ShapeFailure {
 // One line: "NAME left out: the METHOD canonical form failed: REASON", "NAME left out: FILE cannot be used:
 // REASON" or "NAME: METHOD: heat geodesics failed (...); fmm instead".
 std::string describe(const ShapeFailure& failure);
-// How many records are of shapes left out (not fallbacks).
+// How many shapes were left out (distinct name and path among the records that are not fallbacks): one shape
+// that failed for several methods counts once ("3 shapes were left out" said so of one shape).
 int count_left_out(const std::vector<ShapeFailure>& failures);
 // As JSON: [{name, path, method, stage, reason, fallback}], fallback null for shapes left out.
 nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures);
 // report.md's section: "## Shapes left out and fallbacks", a table and a sentence on what it means; "" when
 // there is no record (a report of a run where nothing failed is unchanged).
 std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures);
+
+// One record per pair of entries whose files hold the same bytes (Dataset::same_content, stage "dataset"):
+// the second entry, kept ("fallback" says so), so that the run says it on stderr, in report.md and the JSON
+// while both stay queries. Drivers append them after reading the dataset.
+std::vector<ShapeFailure> same_content_records(const Dataset& data);
 
 // The record of a file that cannot be used (stage "read"), for drivers that skip such files (under strict
 // they rethrow instead).

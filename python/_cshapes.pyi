@@ -51,7 +51,7 @@ def write_mesh(path: _Path, V: _Array, F: _Array, *, binary: bool = False, **ver
 def mesh_info(V: _Array, F: _Array) -> dict[str, Any]: ...
 def geodesics(V: _Array, F: _Array, sources: int | Sequence[int] | None = None, *,
               method: Literal["heat", "heat-cgal", "fmm", "exact", "graph"] = "heat",
-              heat_mode: Literal["idt", "direct"] = "idt", strict: bool = False) -> np.ndarray: ...
+              heat_mode: Literal["idt", "direct"] | None = None, strict: bool = False) -> np.ndarray: ...
 def add_topological_noise(V: _Array, F: _Array, *, glue: int = 1, seed: int = 0, max_gap: float = 0.0,
                           gap_edges: float = 6.0, min_ratio: float = 5.0, min_fraction: float = 0.1,
                           separation: float = 0.15, relax: int = 0, geodesics: _Geodesics = "graph",
@@ -101,7 +101,7 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
                    coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 8000,
                    coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 20, knn: int = 8,
-                   geodesics: _Geodesics = "fmm",
+                   geodesics: _Geodesics = "heat",
                    mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300,
                    iters: int = 300, tolerance: float = 1e-05,
                    accelerate: Literal["none", "rre", "mpe"] = "none", window: int = 6,

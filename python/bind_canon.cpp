@@ -186,6 +186,9 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   CanonicalFormOptions o;
   o.method = method;
   o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);  // every method: a point cloud's neighbourhood graph
+  // As `cshapes canon --knn` on a mesh: the mesh's own edges are its graph, the keyword would be ignored.
+  if (k.given("knn") && mesh.num_faces() > 0)
+    fail("knn applies to point clouds (no faces) only; this mesh has ", mesh.num_faces(), " faces");
   if (method == "coulomb") read_coulomb_options(k, o);
   if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
@@ -318,7 +321,7 @@ void bind_canon(py::module_& m) {
       R"(A canonical form by any method, as `cshapes canon --method M` computes it.
 
 method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='fmm' [the paper's] | heat | heat-cgal | exact | graph; mds_solver ['auto']
+distances on the mesh; geodesics='heat' [as every command] | fmm [the paper's] | heat-cgal | exact | graph; mds_solver ['auto']
 | 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
 iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
 (with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off). lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion

@@ -3,7 +3,10 @@
 // (eval/retrieval_report.h, what `cshapes evaluate` writes to metrics.json).
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 #include "core/error.h"
+#include "core/threads.h"
 #include "eval/pairwise_distances.h"
 #include "eval/retrieval_report.h"
 #include "python/bindings.h"
@@ -35,6 +38,11 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
                   "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");
   CSHAPES_REQUIRE(o.threads >= 0, "distance_matrix(): threads: expected an integer >= 0, got ", o.threads);
+  // Capped as the CLI caps --threads (core/threads.h): 100,000 threads crashed inside the OpenMP runtime.
+  if (o.threads > 0)
+    o.threads = threads_for_computation(o.threads, 1, [](const std::string& line) {
+      py::module_::import("warnings").attr("warn")("cshapes.distance_matrix: threads: " + line);
+    });
   PairwiseDistanceResult r;
   {
     Computing computing;
@@ -50,8 +58,18 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
   const Index n = input.D.rows();
   CSHAPES_REQUIRE(static_cast<Index>(labels.size()) == n, "retrieval_measures(): labels: ", labels.size(),
                   " labels for a ", n, "x", n, " matrix");
+  // A label is its text, and a number its value: 1 and 1.0 are one class, as 1 and "1" are.
   std::vector<std::string> classes;
-  for (py::handle label : labels) classes.push_back(py::str(label).cast<std::string>());
+  for (py::handle label : labels) {
+    if (py::isinstance<py::float_>(label)) {
+      const double value = label.cast<double>();
+      if (std::isfinite(value) && value == std::floor(value) && std::abs(value) < 1e15) {
+        classes.push_back(std::to_string(static_cast<long long>(value)));
+        continue;
+      }
+    }
+    classes.push_back(py::str(label).cast<std::string>());
+  }
   if (names_in.is_none()) {
     for (Index i = 0; i < n; ++i) input.names.push_back(std::to_string(i));
   } else {
@@ -64,6 +82,12 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
     for (Index j = 0; j < n; ++j)
       CSHAPES_REQUIRE(std::isfinite(input.D(i, j)), "retrieval_measures(): D[", i, ", ", j, "] is ",
                       input.D(i, j), ", expected a finite distance");
+  // The rules `cshapes evaluate` applies (eval/distance_csv.h): negative distances and two shapes of one name
+  // refused, an asymmetric matrix and a non-zero diagonal warned; min_class_size as --min-class-size.
+  for (const std::string& line : check_distance_matrix(input, "retrieval_measures(): D"))
+    py::module_::import("warnings").attr("warn")("cshapes.retrieval_measures: " + line);
+  CSHAPES_REQUIRE(min_class_size >= 1, "retrieval_measures(): min_class_size: expected an integer >= 1, got ",
+                  min_class_size);
   RetrievalOptions options;
   options.min_class_size = min_class_size;
   RetrievalReport report;

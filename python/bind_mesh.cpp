@@ -72,17 +72,37 @@ py::object mesh_info_py(const py::object& V, const py::object& F) {
 }
 
 py::object geodesics_py(const py::object& V, const py::object& F, const py::object& sources,
-                        const std::string& method, const std::string& heat_mode, bool strict) {
+                        const std::string& method, const py::object& heat_mode, bool strict) {
   const Mesh mesh = to_mesh(V, F);
   MeshGeodesicsOptions options;
   options.geodesics.method = parse_geodesic_method(method);
-  options.geodesics.heat_mode = parse_cgal_heat_mode(heat_mode);
+  // As `cshapes geodesics --heat-mode`: given with another method, it would be ignored.
+  if (!heat_mode.is_none()) {
+    const bool heat = options.geodesics.method == GeodesicMethod::Heat ||
+                      options.geodesics.method == GeodesicMethod::HeatCgal;
+    CSHAPES_REQUIRE(heat, "geodesics(): heat_mode applies to method 'heat' or 'heat-cgal' only, not '", method,
+                    "'");
+    options.geodesics.heat_mode = parse_cgal_heat_mode(py::str(heat_mode).cast<std::string>());
+  }
   options.strict = strict;
   options.geodesics.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   std::vector<int> rows;
-  const bool one = !sources.is_none() && py::hasattr(sources, "__index__");
+  // One index: an int, a numpy integer or a 0-d array; a numpy array of indices is a sequence of them (numpy
+  // arrays have __index__ too, which raised TypeError for np.array([0, 5])).
+  const bool array = py::isinstance<py::array>(sources);
+  const bool one = !sources.is_none() && (array ? py::array(sources.cast<py::array>()).ndim() == 0
+                                                : py::hasattr(sources, "__index__"));
   if (one) {
-    rows.push_back(sources.attr("__index__")().cast<int>());
+    const py::object index = sources.attr("__index__")();
+    const Index n = mesh.num_vertices();
+    long long value = -1;
+    try {
+      value = index.cast<long long>();
+    } catch (const py::cast_error&) {  // beyond 64 bits (2**63 gave "Unable to cast Python instance")
+    }
+    CSHAPES_REQUIRE(value >= 0 && value < n, "geodesics(): sources: ", py::str(index).cast<std::string>(),
+                    " is not a vertex index (expected 0..", n - 1, ")");
+    rows.push_back(static_cast<int>(value));
   } else if (!sources.is_none()) {
     for (const Eigen::VectorXd::Scalar s : to_vector(sources, "sources")) {
       CSHAPES_REQUIRE(s == std::floor(s), "sources: expected vertex indices, got ", s);
@@ -246,13 +266,14 @@ nonmanifold_edges, euler_characteristic, genus (-1 when undefined), bbox_diagona
 isolated_vertices, duplicate_faces, repeated_vertex_faces, zero_area_faces, zero_length_edges, components,
 component_sizes, boundary_edges, boundary_loops}.)");
   m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(),
-        py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = "idt", py::arg("strict") = false,
+        py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = py::none(),
+        py::arg("strict") = false,
         R"(Geodesic distances on a triangle mesh, in mesh units.
 
 sources: None for all pairs ((n, n) float32, as the library stores them: n^2 * 4 bytes); a vertex index for
 one row ((n,) float64); a sequence of k indices for k rows ((k, n) float64, row r from sources[r]).
 method: heat (ours, the fastest), heat-cgal, fmm (fast marching), exact (slow), graph (Dijkstra on edges).
-heat_mode: idt (intrinsic Delaunay) or direct. A mesh that is not one manifold component is repaired
+heat_mode: idt (intrinsic Delaunay, when not given) or direct; heat and heat-cgal only. A mesh that is not one manifold component is repaired
 first (a warning says what) and the distances are given at the input's vertices: NaN where a vertex was
 dropped. strict=True refuses such a mesh instead (ValueError naming its defects).)");
   m.def("add_topological_noise", &add_topological_noise_py, py::arg("V"), py::arg("F"),

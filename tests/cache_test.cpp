@@ -129,6 +129,11 @@ std::string file_bytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// Replaces a file's bytes.
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
 // Changes the 8 bytes of the first CBOR float64 (major type 7, 0xfb) after `after` in the file, keeping its
 // size: what a flipped disk block or a hostile edit does to a cached number.
 void flip_first_double(const std::string& path, size_t after = 0) {
@@ -187,7 +192,48 @@ TEST(DiskCache, EntriesOfFormatOneAreStillReadAndSaidOnce) {
   EXPECT_NE(warnings.lines[0].find("format 1"), std::string::npos);
   // A new write is of the current format, with its checksum.
   cache.put(a, "hello");
-  EXPECT_EQ(file_bytes(cache.entry_path(a)).rfind("CSHCACHE2 5 " + sha256_hex("hello") + "\nhello", 0), 0u);
+  const std::string bound = sha256_hex("cshapes-cache-entry;" + a + ";" + sha256_hex("hello"));
+  EXPECT_EQ(file_bytes(cache.entry_path(a)).rfind("CSHCACHE3 5 " + bound + "\nhello", 0), 0u);
+  fs::remove_all(dir);
+}
+
+// Issue 36: two canonical-form entries swapped on disk gave a permuted distance matrix with exit 0 (the
+// checksum covered the value, not the key it was stored under). Swapped, copied or renamed entries are
+// misses, reported and removed; each key then gets its own value again.
+TEST(DiskCache, AnEntryUnderAnotherKeysNameIsAMiss) {
+  const std::string dir = test::scratch_dir("cache-swapped");
+  const DiskCache cache(dir);
+  const std::string a = cache_key({"form", "a"}), b = cache_key({"form", "b"}), c = cache_key({"form", "c"});
+  cache.put_json(a, nlohmann::json{{"X", {1.0, 2.0}}});
+  cache.put_json(b, nlohmann::json{{"X", {3.0, 4.0}}});
+  const std::string bytes_a = file_bytes(cache.entry_path(a)), bytes_b = file_bytes(cache.entry_path(b));
+  write_bytes(cache.entry_path(a), bytes_b);  // swapped
+  write_bytes(cache.entry_path(b), bytes_a);
+  fs::create_directories(fs::path(cache.entry_path(c)).parent_path());
+  fs::copy_file(cache.entry_path(a), cache.entry_path(c));  // copied under a third key
+  CapturedWarnings warnings;
+  EXPECT_FALSE(cache.get_json(a).has_value());
+  EXPECT_FALSE(cache.get_json(b).has_value());
+  EXPECT_FALSE(cache.get_json(c).has_value());
+  EXPECT_EQ(cache.damaged(), 3);
+  ASSERT_EQ(warnings.lines.size(), 3u);
+  EXPECT_NE(warnings.lines[0].find(cache.entry_path(a)), std::string::npos) << warnings.lines[0];
+  const nlohmann::json again = cache.get_or_compute_json(a, [] { return nlohmann::json{{"X", {1.0, 2.0}}}; });
+  EXPECT_EQ(cache.get_json(a).value()["X"][1], 2.0);
+  fs::remove_all(dir);
+}
+
+// Entries of format 2 (value checksum only) are still read, said once per cache.
+TEST(DiskCache, EntriesOfFormatTwoAreStillReadAndSaidOnce) {
+  const std::string dir = test::scratch_dir("cache-format2");
+  const DiskCache cache(dir);
+  const std::string a = cache_key({"a"});
+  test::write_text(cache.entry_path(a), "CSHCACHE2 5 " + sha256_hex("hello") + "\nhello");
+  CapturedWarnings warnings;
+  EXPECT_EQ(cache.get(a).value(), "hello");
+  EXPECT_EQ(cache.get(a).value(), "hello");
+  ASSERT_EQ(warnings.lines.size(), 1u);
+  EXPECT_NE(warnings.lines[0].find("format 2"), std::string::npos) << warnings.lines[0];
   fs::remove_all(dir);
 }
 

@@ -227,6 +227,73 @@ TEST(CanonicalFormsFromADistanceFile, InputSizedMatrixIsRestrictedToTheRepairedV
   EXPECT_NE(canonical_form_key(o), canonical_form_key(in_memory));
 }
 
+// A matrix read with --distances is checked as SMACOF checks one, for every method that embeds it: cmds
+// embedded an asymmetric matrix and one with a non-zero diagonal (issue 36).
+TEST(CanonicalFormsFromADistanceFile, AsymmetricMatricesAndNonZeroDiagonalsAreRefusedByEveryMethod) {
+  const Mesh mesh = icosphere(1);
+  CanonicalFormOptions o = quick("cmds");
+  const DistanceMatrix D = all_pairs_geodesics(mesh, o.geodesics);
+  const std::string dir = test::scratch_dir("canon_distances_checked");
+  DistanceMatrix asymmetric = D, diagonal = D;
+  asymmetric(3, 7) *= 1.5f;
+  diagonal(5, 5) = 0.25f * D.maxCoeff();
+  write_distance_matrix(dir + "/asymmetric.bin", asymmetric);
+  write_distance_matrix(dir + "/diagonal.bin", diagonal);
+  for (const char* method : {"cmds", "smacof"}) {
+    SCOPED_TRACE(method);
+    o = quick(method);
+    for (const auto& [file, needle] : {std::pair<std::string, std::string>{"asymmetric.bin", "not symmetric"},
+                                       {"diagonal.bin", "(5, 5)"}}) {
+      o.distances_file = dir + "/" + file;
+      try {
+        canonical_form(mesh, o);
+        ADD_FAILURE() << file << " accepted";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(o.distances_file), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+      }
+    }
+    o.distances_file = dir + "/good.bin";
+    write_distance_matrix(o.distances_file, D);
+    EXPECT_NO_THROW(canonical_form(mesh, o));
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 36: spectral-mds with 100,000 sources on a 100,000-vertex mesh ran for seconds, then failed with an
+// unnamed "out of memory"; its rows are checked against the memory before any work, as every other method's.
+TEST(CanonicalFormsMemory, SpectralMdsRowsAreCheckedBeforeAnyWork) {
+  const Mesh mesh = grid(320, 320);  // 102,400 vertices: 100,000 rows take about 120 GB
+  CanonicalFormOptions o = quick("spectral-mds");
+  o.name = "big.off";
+  o.spectral_mds.sources = 100000;
+  if (available_memory_bytes() > 2e11) GTEST_SKIP() << "this machine holds the rows";
+  try {
+    canonical_form(mesh, o);
+    ADD_FAILURE() << "not refused";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("big.off: spectral-mds on 102400 vertices needs", 0), 0u) << message;
+  }
+}
+
+// Issue 36: smacof on a mesh scaled by 1e20 returned rows of zeros (its single-precision kernel squares the
+// distances); a scale the kernel cannot hold is refused naming the mesh, one it can is computed.
+TEST(CanonicalFormsScale, SmacofRefusesDistancesBeyondItsKernelsRange) {
+  const Mesh sphere = icosphere(2);
+  CanonicalFormOptions o = quick("smacof");
+  o.name = "far.off";
+  for (double scale : {1e-20, 1e20}) {
+    try {
+      canonical_form(Mesh{sphere.V * scale, sphere.F}, o);
+      ADD_FAILURE() << scale << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("far.off: smacof: the largest geodesic distance", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_TRUE(canonical_form(Mesh{sphere.V * 1e12, sphere.F}, o).X.allFinite());
+}
+
 // SMACOF's start and weights: other choices change the cache key and the form; names are parsed strictly.
 TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
   const Mesh mesh = icosphere(2);

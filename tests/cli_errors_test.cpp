@@ -173,7 +173,21 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
   expect_refusal(test::run_cli(canon + " --method coulomb --accelerate rre"), kUsage, "canon",
                  {"--accelerate applies to --method smacof only"});
   expect_refusal(test::run_cli(canon + " --method coulomb --distances d.bin"), kUsage, "canon",
-                 {"--distances applies to --method cmds, smacof or spectral-mds only"});
+                 {"--distances applies to --method cmds or smacof only, not coulomb"});
+  // Issue 36: spectral-mds reads --geodesics of the cmds group, not its other options (they were ignored,
+  // the output byte-identical to the default run), nor lbo's --eigenpairs; --history is refused for the
+  // methods without iterations.
+  for (const std::string& option :
+       {"--distances d.bin", "--mds-solver full", "--landmarks 50", "--eigenpairs 12"}) {
+    const std::string name = option.substr(0, option.find(' '));
+    expect_refusal(test::run_cli(canon + " --method spectral-mds " + option), kUsage, "canon",
+                   {name + " applies to --method ", "only, not spectral-mds"});
+  }
+  expect_refusal(test::run_cli(canon + " --method coulomb --mds-solver full"), kUsage, "canon",
+                 {"--mds-solver applies to --method cmds or smacof only, not coulomb"});
+  for (const char* method : {"cmds", "lbo", "diffusion", "spectral-mds"})
+    expect_refusal(test::run_cli(canon + " --method " + method + " --history " + q(in.dir + "/h.csv")),
+                   kUsage, "canon", {"--history applies to --method coulomb or smacof only"});
   expect_refusal(test::run_cli(canon + " --method smacof --scheme paper"), kUsage, "canon",
                  {"--scheme applies to --method coulomb only"});
   expect_refusal(test::run_cli(canon + " --method smacof --tear-fraction 0.1"), kUsage, "canon",

@@ -94,6 +94,24 @@ TEST(DistanceCsv, ConflictingLabelsAreRefusedNamingBothLines) {
   std::filesystem::remove_all(dir);
 }
 
+// Issue 36: a NUL byte inside a number ("5\0448") was read as 5, and a labels file of empty classes put
+// every shape in class '' (mAP 1.0). Both are refused naming the file and line.
+TEST(DistanceCsv, ANulByteInANumberAndEmptyClassesAreRefused) {
+  const std::string dir = test::scratch_dir("nul-and-empty");
+  test::write_text(dir + "/nul.csv", std::string("a0,a1\n0,5") + '\0' + "448\n5,0\n");
+  const std::string nul = error_of([&] { read_distance_csv(dir + "/nul.csv"); });
+  EXPECT_NE(nul.find("nul.csv"), std::string::npos) << nul;
+  test::write_text(dir + "/ok.csv", "a0,a1\n0,5448\n5448,0\n");
+  EXPECT_EQ(read_distance_csv(dir + "/ok.csv").D(0, 1), 5448);
+  test::write_text(dir + "/empty_named.csv", "cat0,\ndog1,\n");
+  const std::string named = error_of([&] { read_labels_csv(dir + "/empty_named.csv", {"cat0", "dog1"}); });
+  EXPECT_NE(named.find("empty_named.csv:1: empty class name"), std::string::npos) << named;
+  test::write_text(dir + "/empty_name.csv", ",cat\ndog1,dog\n");
+  const std::string name = error_of([&] { read_labels_csv(dir + "/empty_name.csv", {"cat0", "dog1"}); });
+  EXPECT_NE(name.find("empty_name.csv:1: empty shape name"), std::string::npos) << name;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(DistanceCsv, MatrixChecksRefuseOrWarnByRule) {
   // Issue 22: `evaluate` accepted asymmetric, negative and non-zero-diagonal matrices and duplicate names.
   NamedDistances m;

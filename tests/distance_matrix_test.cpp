@@ -85,5 +85,31 @@ TEST(RequireMemory, AskingForMoreThanTheMachineHasIsRefused) {
   }
 }
 
+// A header's n is checked before it sizes anything: n = -600 (2^64 - 600 unsigned) in a file of the size
+// 600² floats would take ended in an unnamed "out of memory"; now a named error.
+TEST(DistanceMatrixFile, ANegativeOrHugeHeaderCountIsANamedError) {
+  const std::string dir = test::scratch_dir("distance-matrix-header");
+  for (const int64_t n : {int64_t{-600}, int64_t{1} << 40}) {
+    SCOPED_TRACE(n);
+    const std::string path = dir + "/bad.bin";
+    {
+      std::ofstream out(path, std::ios::binary);
+      out.write("CSHDIST1", 8);
+      out.write(reinterpret_cast<const char*>(&n), 8);
+      const std::string body(4 * 600 * 600, '\0');
+      out.write(body.data(), static_cast<std::streamsize>(body.size()));
+    }
+    try {
+      read_distance_matrix(path);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(path + ": header says n = ", 0), 0u) << message;
+      EXPECT_NE(message.find(std::to_string(n)), std::string::npos) << message;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace cshapes

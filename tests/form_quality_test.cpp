@@ -132,3 +132,44 @@ TEST(FormQuality, RejectsMismatchedSizes) {
 
 }  // namespace
 }  // namespace cshapes
+
+namespace cshapes {
+namespace {
+
+// A collapsed form can never pass: `canon --method smacof` on a mesh scaled by 1e20 gave 600 rows "0 0 0"
+// with "ok: stretch max 0". All-zero rows, a form shrunk to a point at any scale, and two neighbours
+// merged are each flagged; the intact form at the same scales passes.
+TEST(FormQuality, ACollapsedFormFailsAtAnyScale) {
+  const Mesh m = icosphere(2);
+  const Edges E = mesh_edges(m.F);
+  const FormQuality zero = form_quality(m.V, E, Points::Zero(m.V.rows(), 3));
+  EXPECT_FALSE(zero.ok) << zero.description;
+  EXPECT_EQ(zero.coincident_vertices, m.V.rows());
+  EXPECT_EQ(zero.description.rfind("NOT OK:", 0), 0u) << zero.description;
+  EXPECT_NE(zero.description.find("coincident"), std::string::npos) << zero.description;
+  for (double s : {1e-20, 1.0, 1e20}) {
+    SCOPED_TRACE(s);
+    const Points V = s * m.V;
+    EXPECT_TRUE(form_quality(V, E, V).ok);
+    const Points point = (Points::Ones(m.V.rows(), 3) * (3 * s)).eval();
+    EXPECT_FALSE(form_quality(V, E, point).ok);
+    Points merged = V;
+    merged.row(E(0, 1)) = merged.row(E(0, 0));
+    const FormQuality q = form_quality(V, E, merged);
+    EXPECT_FALSE(q.ok) << q.description;
+    EXPECT_EQ(q.coincident_vertices, 2);
+    EXPECT_EQ(q.runaway_examples.front(), std::min(E(0, 0), E(0, 1)));
+  }
+}
+
+TEST(FormQuality, AReasonFromTheMethodMakesItNotOk) {
+  const Mesh m = icosphere(1);
+  FormQuality q = form_quality(m.V, mesh_edges(m.F), m.V);
+  ASSERT_TRUE(q.ok);
+  fail_form_quality(q, "normalised stress nan");
+  EXPECT_FALSE(q.ok);
+  EXPECT_EQ(q.description.rfind("NOT OK: normalised stress nan; stretch max 1", 0), 0u) << q.description;
+}
+
+}  // namespace
+}  // namespace cshapes

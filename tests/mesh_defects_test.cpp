@@ -22,6 +22,23 @@ TEST(MeshDefects, CleanClosedMeshHasNone) {
   EXPECT_EQ(g.boundary_edges, 2 * (4 + 3));
 }
 
+// Issue 36: a mesh scaled by 1e155 had every face "zero-area" (squares overflow) and so did one scaled by
+// 1e-155 (they underflow): the repair left 0 vertices. The test is a ratio, the same at any finite scale.
+TEST(MeshDefects, ZeroAreaIsTheSameAtAnyScale) {
+  Points V(4, 3);
+  V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 1e-14, 0;  // face 0 a right triangle, face 1 a needle of zero area
+  Faces F(2, 3);
+  F << 0, 1, 2, 0, 1, 3;
+  for (double s : {1e-300, 1e-155, 1.0, 1e155, 1e300}) {
+    SCOPED_TRACE(s);
+    const Points scaled = V * s;
+    EXPECT_FALSE(face_has_zero_area(scaled, F, 0));
+    EXPECT_TRUE(face_has_zero_area(scaled, F, 1));
+  }
+  EXPECT_EQ(mesh_defects(Mesh{icosphere(2).V * 1e155, icosphere(2).F}).zero_area_faces, 0);
+  EXPECT_EQ(mesh_defects(Mesh{icosphere(2).V * 1e-155, icosphere(2).F}).zero_area_faces, 0);
+}
+
 TEST(MeshDefects, NonManifoldEdgeIsNamedWithItsFaces) {
   Mesh m = test::two_spheres_sharing(2);
   const test::EdgeAt e = test::rightmost_edge(icosphere(2));

@@ -37,6 +37,45 @@ TEST(Remesh, SphereCoarsenAndRefineHitTheCountAndStayOnTheSphere) {
   }
 }
 
+// Invariant: remeshing commutes with scaling, at any finite scale. 1e100 crashed inside CGAL (SIGSEGV) and
+// 1e-100 divided by zero (SIGFPE); the vertex count, the angles and the Hausdorff distance in units of the
+// bbox diagonal are those of the unscaled run, within the tolerances of the count and of the sag.
+TEST(Remesh, ExtremeScalesGiveTheUnscaledResultScaled) {
+  const Mesh sphere = icosphere(3);  // 642 vertices, radius 1
+  RemeshOptions o;
+  o.target_vertices = 300;
+  const RemeshResult unscaled = remesh(sphere, o);
+  const double unscaled_h = hausdorff_distance(sphere, unscaled.mesh) / bbox_diagonal(sphere.V);
+  const double unscaled_angle = angle_stats(unscaled.mesh).min_angle;
+  for (double s : {1e-300, 1e-100, 1e-12, 1e12, 1e100, 1e300}) {
+    SCOPED_TRACE(s);
+    const Mesh scaled{sphere.V * s, sphere.F};
+    const RemeshResult r = remesh(scaled, o);
+    expect_count_within(r.mesh.num_vertices(), 300, 0.01);
+    ASSERT_TRUE(r.mesh.V.allFinite());
+    // Norms in the unscaled units: squares of 1e±300 leave the double range.
+    EXPECT_NEAR((r.mesh.V / s).rowwise().norm().maxCoeff(), 1.0, 0.05);
+    const double h = hausdorff_distance(scaled, r.mesh) / s / bbox_diagonal(sphere.V);
+    EXPECT_NEAR(h, unscaled_h, 0.25 * unscaled_h + 1e-3);
+    EXPECT_NEAR(angle_stats(r.mesh).min_angle, unscaled_angle, 5.0);
+    EXPECT_NEAR(r.target_edge_length / s, unscaled.target_edge_length, 0.05 * unscaled.target_edge_length);
+  }
+}
+
+// Measures are scale-free too: the Hausdorff distance scales with the mesh, the angles do not change.
+TEST(Remesh, MeasuresHoldAtExtremeScales) {
+  Mesh a = grid(5, 5), b = grid(9, 9);
+  b.V.col(2).array() += 0.25;
+  const AngleStats unit = angle_stats(a);
+  for (double s : {1e-150, 1e-100, 1e100, 1e150}) {
+    SCOPED_TRACE(s);
+    const Mesh as{a.V * s, a.F}, bs{b.V * s, b.F};
+    EXPECT_NEAR(hausdorff_distance(as, bs) / s, 0.25, 1e-12);
+    EXPECT_NEAR(angle_stats(as).min_angle, unit.min_angle, 1e-9);
+    EXPECT_NEAR(angle_stats(as).max_angle, unit.max_angle, 1e-9);
+  }
+}
+
 TEST(Remesh, OpenSheetKeepsItsBoundaryLoop) {
   Mesh sheet = grid(30, 20, 3.0, 2.0);
   RemeshOptions o;

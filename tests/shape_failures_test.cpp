@@ -203,5 +203,16 @@ TEST(ShapeFailures, AFormFailingItsQualityCheckIsKeptAndRecorded) {
   EXPECT_TRUE(none.empty()) << describe(none.front());
 }
 
+// Issue 36: one shape failing for three methods was reported as "3 shapes were left out".
+TEST(ShapeFailures, AShapeFailingForSeveralMethodsCountsOnce) {
+  std::vector<ShapeFailure> failures = {{"cat9", "d/cat9.off", "cmds", "canonical form", "x", ""},
+                                        {"cat9", "d/cat9.off", "smacof", "canonical form", "x", ""},
+                                        {"cat9", "d/cat9.off", "lbo", "canonical form", "x", ""},
+                                        {"dog2", "d/dog2.off", "cmds", "geodesics", "y", "fmm instead"}};
+  EXPECT_EQ(count_left_out(failures), 1);
+  failures.push_back({"dog2", "d/dog2.off", "", "read", "z", ""});
+  EXPECT_EQ(count_left_out(failures), 2);
+}
+
 }  // namespace
 }  // namespace cshapes

@@ -51,7 +51,11 @@ std::string slurp(const std::string& path) {
 CliResult run_cli(const std::string& arguments) {
   std::string dir = scratch_dir("cli");
   std::string out = dir + "/stdout", err = dir + "/stderr";
-  std::string command = std::string("'") + CSHAPES_CLI + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
+  // $CSHAPES_CLI runs the tests against another build (e.g. to see a new test fail on an older one), as the
+  // Python tests' fixture does.
+  const char* env = std::getenv("CSHAPES_CLI");
+  const std::string cli = env && *env ? env : CSHAPES_CLI;
+  std::string command = "'" + cli + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
   int status = std::system(command.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

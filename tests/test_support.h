@@ -22,7 +22,7 @@ struct CliResult {
   std::string out;  // stdout
   std::string err;  // stderr
 };
-// Runs build/cshapes with the given argument string (shell-quoted by the caller).
+// Runs build/cshapes (or $CSHAPES_CLI when set) with the given argument string (shell-quoted by the caller).
 CliResult run_cli(const std::string& arguments);
 
 // Mean of |d - exact| / exact over the entries whose exact value exceeds min_distance (the error measure of the
