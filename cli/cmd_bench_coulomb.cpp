@@ -39,17 +39,23 @@ const bool registered = register_command(
     {{"bench", "coulomb"},
      "Coulomb gradient: seconds per evaluation, fast multipole vs direct summation, and the fast error",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "number of points (with --mesh: points sampled on its surface)");
+       app.add_option("--n", options.n, "number of points (with --mesh: points sampled on its surface)")
+           ->check(integer_in(0, 100000000));
        app.add_option("--distribution", distribution, "uniform (cube), sphere (surface) or clustered")
            ->check(one_of({"uniform", "sphere", "clustered"}));
        app.add_option("--mesh", options.mesh, "use a mesh's vertices (or points on its surface with --n)");
        app.add_option("--repeats", options.repeats, "timed runs per method; the median is reported")
            ->check(integer_at_least(1));
-       app.add_option("--accuracy", options.accuracy, "fast summation's target relative L2 gradient error");
-       app.add_option("--order", options.order, "override the expansion order (0: from --accuracy)");
-       app.add_option("--theta", options.opening_angle, "override the opening angle (0: from --accuracy)");
-       app.add_option("--leaf-size", options.leaf_size, "override the leaf size (0: from --accuracy)");
-       app.add_option("--sample", options.sample, "error targets when the full direct sum is skipped");
+       app.add_option("--accuracy", options.accuracy, "fast summation's target relative L2 gradient error")
+           ->check(number_above(0));
+       app.add_option("--order", options.order, "override the expansion order (0: from --accuracy)")
+           ->check(integer_in(0, 16));
+       app.add_option("--theta", options.opening_angle, "override the opening angle (0: from --accuracy)")
+           ->check(number_in(0, 0.999));
+       app.add_option("--leaf-size", options.leaf_size, "override the leaf size (0: from --accuracy)")
+           ->check(integer_in(0, 100000));
+       app.add_option("--sample", options.sample, "error targets when the full direct sum is skipped")
+           ->check(integer_at_least(1));
        app.add_option("--full-direct-max", options.full_direct_max,
                       "largest n summed completely by direct summation");
        app.add_option("--seed", options.seed, "random seed for points and the error sample");

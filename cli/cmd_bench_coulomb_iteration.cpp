@@ -30,7 +30,9 @@ const bool registered = register_command(
      "Seconds of one Coulomb outer iteration (1 gradient step + 1 projection sweep) vs the paper's Table 1",
      [](CLI::App& app) {
        app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
-       app.add_option("--n", options.n, "vertices of the generated torus")->capture_default_str();
+       app.add_option("--n", options.n, "vertices of the generated torus")
+           ->capture_default_str()
+           ->check(integer_in(16, 100000000));
        app.add_option("--repeats", options.repeats, "iterations timed (median reported)")
            ->capture_default_str();
        app.add_flag("--json", json, "print JSON");

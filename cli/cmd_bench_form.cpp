@@ -36,10 +36,13 @@ int run() {
 
 const bool registered = register_command(
     {{"bench", "form"},
-     "Seconds and peak memory of one canonical form by any method, against full classical MDS in the same run",
+     "Seconds and peak memory of one canonical form by any method, against full classical MDS in the same "
+     "run",
      [](CLI::App& app) {
        app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
-       app.add_option("--n", options.n, "vertices of the generated torus")->capture_default_str();
+       app.add_option("--n", options.n, "vertices of the generated torus")
+           ->capture_default_str()
+           ->check(integer_in(16, 100000000));
        std::vector<std::string> known;
        for (const CanonicalFormMethod& m : canonical_form_method_registry()) known.push_back(m.name);
        app.add_option("--method", options.method, "one of " + canonical_form_method_list())
@@ -48,7 +51,9 @@ const bool registered = register_command(
        app.add_option("--mds-solver", options.mds_solver,
                       "cmds, smacof: full, landmarks or auto (default: the library's, auto)")
            ->check(one_of(mds_solver_names()));
-       app.add_option("--repeats", options.repeats, "forms timed (median reported)")->capture_default_str();
+       app.add_option("--repeats", options.repeats, "forms timed (median reported)")
+           ->capture_default_str()
+           ->check(integer_at_least(1));
        app.add_option("--reference", reference,
                       "cmds: also time full classical MDS of heat geodesics once, after the forms (skipped, "
                       "with the reason, when its n × n matrix does not fit); none: do not")

@@ -32,7 +32,8 @@ const bool registered = register_command(
      "All-pairs geodesics: our block heat method vs CGAL's Heat_method_3 one source at a time, errors vs "
      "exact",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "generate a torus refined to exactly N vertices");
+       app.add_option("--n", options.n, "generate a torus refined to exactly N vertices")
+           ->check(integer_in(16, 100000000));
        app.add_option("--mesh", options.mesh, "benchmark this mesh");
        app.add_option(
            "--vertices", options.vertices,

@@ -31,13 +31,16 @@ const bool registered = register_command(
      "SMACOF seconds per iteration vs scikit-learn on the same geodesic distance matrix",
      [](CLI::App& app) {
        app.add_option("--n", options.n, "points of the generated Swiss-roll geodesic matrix")
-           ->capture_default_str();
+           ->capture_default_str()
+           ->check(integer_in(4, 100000000));
        app.add_option("--mesh", options.mesh,
                       "use the all-pairs geodesics of this mesh instead (start: the mesh)");
        app.add_option("--geodesics", geodesics, "geodesic method for --mesh")->capture_default_str();
        app.add_option("--distances", options.distances,
                       "use this distance matrix (.bin) instead (start: cmds)");
-       app.add_option("--iters", options.iterations, "timed iterations")->capture_default_str();
+       app.add_option("--iters", options.iterations, "timed iterations")
+           ->capture_default_str()
+           ->check(integer_at_least(1));
        app.add_option("--reference", reference, "auto (sklearn when it fits), sklearn or none")
            ->capture_default_str()
            ->check(one_of({"auto", "sklearn", "none"}));

@@ -18,6 +18,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "cli/command.h"
@@ -636,6 +637,9 @@ int main(int argc, char** argv) {
     code = report(e.what(), kExitDataError);
   } catch (const std::bad_alloc&) {
     code = report("out of memory", kExitDataError);
+  } catch (const std::length_error& e) {  // a container asked for more elements than it can hold
+    code = report(std::string("out of memory: a size beyond what can be allocated (") + e.what() + ")",
+                  kExitDataError);
   } catch (const std::exception& e) {
     code = report(e.what(), kExitDataError);
   }

@@ -1,9 +1,11 @@
 // The instruction set the hot kernels run with, chosen at run time.
 //
 // One binary carries each hot kernel (the Coulomb near field and direct float sum, the SMACOF pass, the
-// metric projection sweep) compiled for several x86-64 instruction sets, and calls the best one this CPU
-// supports: Baseline (SSE2, every x86-64), Avx2 (AVX2 + FMA), Avx512 (AVX-512 F/VL/DQ/BW). Other processors
-// run Baseline. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
+// metric projection sweep, the FMM's M2L, the heat method's solves and divergence, classical MDS's product)
+// compiled for several x86-64 instruction sets: Baseline (SSE2, every x86-64), Avx2 (AVX2 + FMA), Avx512
+// (AVX-512 F/VL/DQ/BW). The default is Avx2 where the CPU has it, else Baseline: AVX-512 was measured slower
+// than AVX2 on the machines here (its lower clock slows the code around the kernels too), so it runs only
+// when asked for. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
 // comparisons); forcing one the CPU lacks is an error, never a silent fallback.
 //
 // Results: each target is deterministic (the same bytes for any thread count). Targets differ from one
@@ -28,7 +30,7 @@ bool simd_supported(SimdTarget target);
 // The targets this CPU supports, lowest first (always starts with Baseline).
 std::vector<SimdTarget> supported_simd_targets();
 
-// The target the kernels use: set_simd_target's, else CSHAPES_SIMD's, else the best supported. Throws
+// The target the kernels use: set_simd_target's, else CSHAPES_SIMD's, else the default (above). Throws
 // cshapes::Error naming the variable when CSHAPES_SIMD holds an unknown name or a target this CPU lacks.
 SimdTarget simd_target();
 
@@ -39,8 +41,8 @@ void set_simd_target(SimdTarget target);
 // message (e.g. "CSHAPES_SIMD").
 SimdTarget parse_simd_target(const std::string& name, const std::string& what);
 
-// One line for --version and reports: "avx512 (best of baseline, avx2, avx512)" or
-// "avx2 (forced by CSHAPES_SIMD; this CPU: baseline, avx2, avx512)".
+// One line for --version and reports: "avx2 (the default; this CPU: baseline, avx2, avx512)" or
+// "avx512 (forced by CSHAPES_SIMD; this CPU: baseline, avx2, avx512)".
 std::string simd_description();
 
 }  // namespace cshapes

@@ -61,7 +61,7 @@ class ExperimentFolder {
 // (core/threads.h).
 nlohmann::json build_json();
 // The same for a report, one sentence: "Computed by cshapes 0.1.0 (Release, g++ 12.2.0, OpenMP 4.5,
-// CHOLMOD) with the avx512 (best of baseline, avx2, avx512) kernels."
+// CHOLMOD) with the avx2 (the default; this CPU: baseline, avx2, avx512) kernels."
 std::string build_sentence();
 
 // A number in a report: printf-style `decimals` after the point; "—" when not finite (not measured).

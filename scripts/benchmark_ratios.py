@@ -233,6 +233,16 @@ def markdown(out, rows):
     p("| forms of `coulomb` and `smacof` after the best rigid fit | RMS < 0.1% of the bounding-box diagonal |")
     p("| forms of `cmds`, `lbo`, `diffusion`, `spectral-mds` (no dispatched kernel) | identical bytes |")
     p("| `experiment paper` retrieval figures (mAP, NN, FT, ST, E, DCG) on a generated set | identical to 3 decimals |")
+    p("\n## How the rows are measured\n")
+    p("Each `cshapes bench X` command is a thin skin over a library function, `bench_X(XBenchOptions) → XBenchResult`")
+    p("with its JSON form `to_json` (`experiments/bench_*.h`), so a C++ program or a test measures what the command")
+    p("prints; every JSON names its build and kernels (`build`). An anchor that cannot run (no interpreter with")
+    p("scikit-learn or Open3D) is reported as skipped, with the reason. The error columns are relative L2 errors of")
+    p("the gradient against direct summation (Coulomb) and mean relative errors against CGAL's exact geodesics")
+    p("beyond three edge lengths (geodesics). The Coulomb iteration rows time the canonization's defaults, whose")
+    p("fast sum runs at 1e-2 in the iterations, and again at the library-wide 1e-3. The direct Coulomb sum, the")
+    p("reference of the fast one, runs with the same instruction set as the fast sum. Small workloads vary by up")
+    p("to 30% between runs on this machine; ratios measured in one run hold better than absolute times.")
 
 
 def main(argv):

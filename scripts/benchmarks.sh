@@ -78,7 +78,7 @@ done
 converged_form
 
 # The dispatched kernels' rows under every instruction set this CPU supports, one after the other.
-for target in $("$cshapes" --version | sed -n 's/^kernels: .*(\(best of\|.*this CPU:\) \(.*\))$/\2/p' | tr -d ','); do
+for target in $("$cshapes" --version | sed -n 's/^kernels: .*this CPU: \(.*\))$/\1/p' | tr -d ','); do
   dest="$out/simd-$target"
   mkdir -p "$dest"
   export CSHAPES_SIMD=$target

@@ -27,7 +27,7 @@ def supported_targets(cshapes):
     text = subprocess.run([cshapes, "--version"], capture_output=True, text=True, env=env, check=True).stdout
     line = next(l for l in text.splitlines() if l.startswith("kernels: "))
     inside = line[line.index("(") + 1:line.rindex(")")]
-    return [t.strip() for t in inside.split(":")[-1].replace("best of", "").split(",")]
+    return [t.strip() for t in inside.split(":")[-1].split(",")]
 
 
 def main():

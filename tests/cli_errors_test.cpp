@@ -177,7 +177,7 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
   // Issue 36: spectral-mds reads --geodesics of the cmds group, not its other options (they were ignored,
   // the output byte-identical to the default run), nor lbo's --eigenpairs; --history is refused for the
   // methods without iterations.
-  for (const std::string& option :
+  for (const std::string option :
        {"--distances d.bin", "--mds-solver full", "--landmarks 50", "--eigenpairs 12"}) {
     const std::string name = option.substr(0, option.find(' '));
     expect_refusal(test::run_cli(canon + " --method spectral-mds " + option), kUsage, "canon",
