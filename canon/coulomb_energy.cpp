@@ -12,22 +12,10 @@
 
 namespace cshapes {
 
-// Measured crossover: `cshapes bench coulomb --n N --repeats 9` (2 threads, default accuracy 1e-3) on the
-// 2-core development machine, median process CPU seconds per gradient, DirectFloat vs Fast (wall-clock
-// figures agreed but were noisy: the machine was shared by other jobs):
-//   uniform cube        n = 3000: 0.0038 vs 0.0048   4000: 0.0068 vs 0.0082   4500: 0.0087 vs 0.0094
-//                       n = 5000: 0.0105 vs 0.0099   6000: 0.0155 vs 0.0111   8000: 0.0269 vs 0.0142
-//   cat0 surface points n = 1500: 0.0010 vs 0.0014   2000: 0.0017 vs 0.0020   2500: 0.0027 vs 0.0023
-//                       n = 3000: 0.0038 vs 0.0028   4000: 0.0068 vs 0.0039
-//   tosca5k/cat0 vertices (n = 5000): 0.0106 vs 0.0053
-// Fast wins from ≈ 2,200 points on surfaces and ≈ 4,800 in a volume. Auto serves surfaces (meshes, point
-// clouds of surfaces) first, so it switches at 3,000.
-// Re-measured after the FMM's near field moved to local frames (same command, repeats 15, machine shared):
-//   uniform cube        n = 2500: 0.0027 vs 0.0034   3000: 0.0038 vs 0.0037   4000: 0.0066 vs 0.0066
-//                       n = 5000: 0.0101 vs 0.0079
-//   cat0 surface points n = 1500: 0.0009 vs 0.0011   2000: 0.0016 vs 0.0015   2500: 0.0025 vs 0.0018
-//                       n = 3000: 0.0036 vs 0.0021
-// The crossovers moved to ≈ 2,000 (surfaces) and ≈ 3,500 (volume): 3,000 still lies between them.
+// The crossover of `cshapes bench coulomb --n N` (process CPU seconds per gradient, DirectFloat against Fast,
+// at the default accuracy): the fast sum wins from about 2,000 points on surfaces and about 3,500 in a volume.
+// Auto serves surfaces (meshes, point clouds of surfaces) first and switches at 3,000, between the two; the
+// measured figures are in docs/changelog.md ("Benchmark history").
 const Index kAutoFastMinPoints = 3000;
 
 double default_min_distance(const Points& X) {

@@ -66,8 +66,8 @@ struct CoulombEvaluation {
       CoulombOptions::Summation::Direct;  // Direct, DirectFloat or Fast
 };
 
-// Below this many points Auto uses DirectFloat, at and above it Fast. Measured with
-// `cshapes bench coulomb` on the 2-core development machine (see coulomb_energy.cpp for the figures).
+// Below this many points Auto uses DirectFloat, at and above it Fast: the crossover of `cshapes bench
+// coulomb` (coulomb_energy.cpp says why 3,000).
 extern const Index kAutoFastMinPoints;
 
 // Energy and gradient by the summation the options pick.

@@ -454,7 +454,7 @@ constexpr int kMortonLevels = 21;  // Morton code bits per axis (core/morton.h)
 //      0.5) 4.5e-4 (5, 0.45) 1.2e-4  (6, 0.5) 2.3e-4   (6, 0.45) 6.1e-5   (6, 0.4) 4.1e-5
 //    and over the four worst of them (michael0, victoria10, cat2, cat3):
 //      (3, 0.6) 4.3e-3   (3, 0.4) 9.0e-4   (7, 0.4) 1.2e-5   (8, 0.35) 3.0e-6  (10, 0.35) 4.9e-7
-// 3. Re-measured with the framed near field (2 threads, --sample 500): at the default (4, 0.45, 48) tosca5k
+// 3. With the framed near field (2 threads, --sample 500): at the default (4, 0.45, 48) tosca5k
 //    worst 3.9e-4 (michael0); regular torus grids (vertices) 6.8e-4 at 225,000 and 6.9e-4 at 1,000,000
 //    points, where θ = 0.5 gives 1.1e-3 and 1.2e-3 (so a larger θ for large n is not safe); random points at
 //    1,000,000 (uniform, sphere, clustered, cat0 surface) 3.7e-5 … 1.4e-4.

@@ -15,9 +15,9 @@ constexpr SimdTarget kAll[] = {SimdTarget::Baseline, SimdTarget::Avx2, SimdTarge
 std::atomic<int> g_target{-1};
 std::atomic<bool> g_forced_by_environment{false};
 
-// The default: AVX2 where the CPU has it, else the baseline. AVX-512 only when asked for: measured on the
-// machines here (Xeon with AVX-512), its kernels were slower than AVX2's, and the lower clock that 512-bit
-// instructions bring slowed the code around them too (docs/benchmarks.md, the rows per instruction set).
+// The default: AVX2 where the CPU has it, else the baseline. AVX-512 only when asked for: its kernels were
+// measured no faster than AVX2's, and the lower clock of 512-bit instructions slowed the code around them
+// (docs/benchmarks.md, the rows per instruction set).
 SimdTarget default_target() {
   return simd_supported(SimdTarget::Avx2) ? SimdTarget::Avx2 : SimdTarget::Baseline;
 }

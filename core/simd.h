@@ -3,9 +3,9 @@
 // One binary carries each hot kernel (the Coulomb near field and direct float sum, the SMACOF pass, the
 // metric projection sweep, the FMM's M2L, the heat method's solves and divergence, classical MDS's product)
 // compiled for several x86-64 instruction sets: Baseline (SSE2, every x86-64), Avx2 (AVX2 + FMA), Avx512
-// (AVX-512 F/VL/DQ/BW). The default is Avx2 where the CPU has it, else Baseline: AVX-512 was measured slower
-// than AVX2 on the machines here (its lower clock slows the code around the kernels too), so it runs only
-// when asked for. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
+// (AVX-512 F/VL/DQ/BW). The default is Avx2 where the CPU has it, else Baseline: AVX-512's kernels were
+// measured no faster than AVX2's, and the lower clock of 512-bit instructions slows the code around them
+// (docs/benchmarks.md), so AVX-512 runs only when asked for. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
 // comparisons); forcing one the CPU lacks is an error, never a silent fallback.
 //
 // Results: each target is deterministic (the same bytes for any thread count). Targets differ from one
