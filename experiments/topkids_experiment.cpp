@@ -820,9 +820,10 @@ void write_figure(std::ostream& s, const TopkidsExperimentResult& r, const std::
   if (!r.figure.empty())
     s << "![cumulative error curves and per-pose errors](topkids.png)\n\nLeft: cumulative error curves "
          "(fraction of ground-truth vertices mapped within each error), pooled over the poses, the flip "
-         "forgiven per vertex, then per whole map; data in `curves.csv`. Right: each pose's mean error "
-         "against the truth alone (no flip forgiven), one dot per pose and method; crosses: mirrored maps, "
-         "which form their own cluster; data in `topkids.csv`.\n\n";
+         "forgiven per vertex, then per whole map; data in `curves.csv`. Right: each pose's mean error (flip "
+         "forgiven per vertex), a dot per pose and method, the bar at the median over poses: poses whose "
+         "alignment failed form their own cluster; a cross joined to a dot: a mirrored map's mean error "
+         "against the truth alone, what the flip costs unforgiven; data in `topkids.csv`.\n\n";
   else
     s << "No figure (" << r.figure_problem
       << "); draw it with `scripts/python.sh experiments/plots/topkids_figure.py " << folder

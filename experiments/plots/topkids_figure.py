@@ -6,9 +6,10 @@
 Reads OUT/curves.csv (method,forgiven,error,fraction: the fraction of ground-truth vertices mapped within each
 geodesic error, in units of sqrt(area) of the reference, pooled over the poses; forgiven = vertex or map, how a
 left-right flip is forgiven: one panel each) and OUT/topkids.json: the legend's means and medians, and its rows
-for the last panel, a strip of each pose's mean error against the truth alone (direct_mean_error, no flip
-forgiven) per method, a dot per pose, a cross where the map is mirrored (the row's "mirrored": clearly nearer
-the mirrored truth, experiments/topkids_experiment.h), so flipped poses show as their own cluster. Writes
+for the last panel, a strip per method of each pose's mean error (mean_error, flip forgiven per vertex), a dot
+per pose, so that poses whose alignment failed show as their own cluster; where the map is mirrored (the row's
+"mirrored": clearly nearer the mirrored truth, experiments/topkids_experiment.h) a cross at its mean error
+against the truth alone (direct_mean_error), which is what the flip costs when it is not forgiven. Writes
 OUT/topkids.png (and .pdf), through a temporary file renamed at the end.
 """
 import argparse
@@ -27,24 +28,26 @@ from figure_style import method_style, method_styles  # noqa: E402
 
 
 def draw_pose_strip(ax, rows, summary, styles):
-    """One column per method: each pose's mean error against the truth alone, a dot per pose (jittered
-    sideways so equal values stay visible), a cross for a mirrored map; a bar at the median over poses."""
+    """One column per method: each pose's mean error (flip forgiven per vertex, the benchmark's reading), a dot
+    per pose (spread sideways so equal values stay visible); where the map is mirrored, a cross at the same
+    map's mean error against the truth alone, joined to its dot; a bar at the median over poses."""
     methods = []
     for r in rows:
         if r["method"] not in methods:
             methods.append(r["method"])
     for x, method in enumerate(methods):
         _, colour = method_style(styles, method)
-        mine = [r for r in rows if r["method"] == method and r.get("direct_mean_error") is not None]
+        mine = [r for r in rows if r["method"] == method and r.get("mean_error") is not None]
         for k, r in enumerate(mine):
-            dx = 0.25 * ((k % 5) - 2) / 2
-            if r.get("mirrored"):
-                ax.plot(x + dx, r["direct_mean_error"], "x", color=colour, ms=8, mew=2)
-            else:
-                ax.plot(x + dx, r["direct_mean_error"], "o", color=colour, ms=6, alpha=0.8)
+            dx = 0.3 * ((k % 7) - 3) / 3
+            ax.plot(x + dx, r["mean_error"], "o", color=colour, ms=6, alpha=0.85)
+            if r.get("mirrored") and r.get("direct_mean_error") is not None:
+                ax.plot([x + dx, x + dx], [r["mean_error"], r["direct_mean_error"]], "-", color=colour, lw=0.8,
+                        alpha=0.6)
+                ax.plot(x + dx, r["direct_mean_error"], "x", color=colour, ms=7, mew=2)
         s = summary.get(method, {})
-        if s.get("median_pose_direct_error") is not None:
-            ax.hlines(s["median_pose_direct_error"], x - 0.3, x + 0.3, color=colour, lw=2)
+        if s.get("median_pose_mean_error") is not None:
+            ax.hlines(s["median_pose_mean_error"], x - 0.4, x + 0.4, color=colour, lw=2)
     labels = []
     for m in methods:
         label = method_style(styles, m)[0].replace(" (no canonical form)", "")
@@ -56,8 +59,9 @@ def draw_pose_strip(ax, rows, summary, styles):
     ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
     ax.set_xlim(-0.6, len(methods) - 0.4)
     ax.set_ylim(bottom=0)
-    ax.set_ylabel("pose's mean error against the truth alone / \u221aarea")
-    ax.set_title("per pose (\u00d7: mirrored map; bar: median over poses)", fontsize=10)
+    ax.set_ylabel("pose's mean error / \u221aarea")
+    ax.set_title("per pose: \u25cf flip forgiven per vertex, bar: median;\n"
+                 "\u00d7 a mirrored map against the truth alone", fontsize=9)
     ax.grid(alpha=0.3, axis="y")
 
 
