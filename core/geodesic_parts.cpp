@@ -53,10 +53,10 @@ Eigen::VectorXd maxima_persistence(const Adjacency& adj, const Eigen::VectorXd& 
 
 GeodesicPartsResult geodesic_parts(const Mesh& mesh, const GeodesicPartsOptions& o) {
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), "geodesic_parts: the mesh has no faces");
-  CSHAPES_REQUIRE(o.centre_sources >= 1 && o.max_extremities >= 1 && o.part_fraction > 0 &&
-                      o.min_persistence > 0,
-                  "geodesic_parts: centre_sources and max_extremities must be ≥ 1, part_fraction and "
-                  "min_persistence > 0");
+  CSHAPES_REQUIRE(
+      o.centre_sources >= 1 && o.max_extremities >= 1 && o.part_fraction > 0 && o.min_persistence > 0,
+      "geodesic_parts: centre_sources and max_extremities must be ≥ 1, part_fraction and "
+      "min_persistence > 0");
   RepairOptions ro;
   ro.name = "mesh";
   ro.purpose = "the part finder's geodesics";
@@ -86,7 +86,8 @@ GeodesicPartsResult geodesic_parts(const Mesh& mesh, const GeodesicPartsOptions&
   for (Index v = 0; v < n; ++v)
     if (persistence[v] >= o.min_persistence * reach) extremities.push_back(static_cast<int>(v));
   // The most persistent when there are too many, then farthest from the centre first.
-  std::sort(extremities.begin(), extremities.end(), [&](int a, int b) { return persistence[a] > persistence[b]; });
+  std::sort(extremities.begin(), extremities.end(),
+            [&](int a, int b) { return persistence[a] > persistence[b]; });
   if (static_cast<int>(extremities.size()) > o.max_extremities) extremities.resize(o.max_extremities);
   std::sort(extremities.begin(), extremities.end(),
             [&](int a, int b) { return d_centre[a] > d_centre[b] || (d_centre[a] == d_centre[b] && a < b); });

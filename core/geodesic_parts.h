@@ -16,8 +16,8 @@
 //      extremities were found (farthest first).
 //
 // Geodesics: options.geodesics (fast marching by default) on the mesh repaired to a manifold surface
-// (core/mesh_repair.h: largest component, non-manifold vertices split, zero-area faces dropped), placed back at
-// the input's vertices; a vertex the repair dropped has part −1 and infinite distances. Every threshold is
+// (core/mesh_repair.h: largest component, non-manifold vertices split, zero-area faces dropped), placed back
+// at the input's vertices; a vertex the repair dropped has part −1 and infinite distances. Every threshold is
 // relative to max d_c, so the parts are the same under a rigid motion or a scaling of the mesh (up to the
 // floating-point ties of the geodesics). Cost: centre_sources + 1 + (extremities) single-source runs,
 // O(n log n) each with fast marching, and one sort of the vertices.
@@ -35,9 +35,9 @@
 namespace cshapes {
 
 struct GeodesicPartsOptions {
-  int centre_sources = 32;     // evenly spaced vertices whose summed distances choose the centre (≥ 1)
+  int centre_sources = 32;        // evenly spaced vertices whose summed distances choose the centre (≥ 1)
   double min_persistence = 0.15;  // an extremity's persistence is at least this fraction of max d_c
-  int max_extremities = 12;    // at most this many extremities (≥ 1)
+  int max_extremities = 12;       // at most this many extremities (≥ 1)
   double part_fraction = 0.5;  // v in e's part when d(v, e) < part_fraction · d_c(e), e its nearest extremity
   // Geodesics for every distance above: fast marching (no set-up per source on a mesh this size).
   GeodesicOptions geodesics = [] {
@@ -48,14 +48,14 @@ struct GeodesicPartsOptions {
 };
 
 struct GeodesicPartsResult {
-  int centre = -1;                   // vertex of the input
-  std::vector<int> extremities;      // vertices of the input, in the order found (part k is extremities[k−1])
-  Eigen::VectorXi part;              // per input vertex: 0 core, k ≥ 1 extremity k's part, −1 dropped by repair
-  Eigen::VectorXd centre_distance;   // per input vertex: d_c, in the mesh's units (+inf where dropped)
-  std::vector<double> extremity_reach;        // per extremity: d_c(e) / max d_c
+  int centre = -1;               // vertex of the input
+  std::vector<int> extremities;  // vertices of the input, in the order found (part k is extremities[k−1])
+  Eigen::VectorXi part;  // per input vertex: 0 core, k ≥ 1 extremity k's part, −1 dropped by repair
+  Eigen::VectorXd centre_distance;      // per input vertex: d_c, in the mesh's units (+inf where dropped)
+  std::vector<double> extremity_reach;  // per extremity: d_c(e) / max d_c
   std::vector<double> extremity_persistence;  // per extremity: its persistence / max d_c
   double refused_persistence = 0;  // the largest persistence / max d_c of a maximum left out (0: none)
-  std::string repair_text;           // what the repair for the geodesics did ("" when nothing)
+  std::string repair_text;         // what the repair for the geodesics did ("" when nothing)
   int part_count() const { return static_cast<int>(extremities.size()) + 1; }  // with the core
 };
 

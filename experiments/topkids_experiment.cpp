@@ -522,9 +522,8 @@ void write_rows_csv(const ExperimentFolder& folder, const TopkidsExperimentResul
         << row.symmetric_chosen << ',' << (row.whole_map_mirrored ? 1 : 0) << ',' << row.whole_map_mean_error
         << ',' << row.whole_map_under_0_1 << ',' << row.whole_map_under_0_25 << ',' << row.direct_mean_error
         << ',' << row.mirrored_mean_error << ',' << row.mirror_ratio << ',' << (row.mirrored ? 1 : 0) << ','
-        << (row.reflected ? 1 : 0)
-        << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ',' << row.torn_edges << ",\"" << repair
-        << "\"\n";
+        << (row.reflected ? 1 : 0) << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ','
+        << row.torn_edges << ",\"" << repair << "\"\n";
     }
   });
 }
@@ -810,10 +809,10 @@ void write_pooled_table(std::ostream& s, const TopkidsExperimentResult& r) {
       << sm.mirrored_poses << " of " << sm.poses << " | " << fixed(sm.under_0_1, 3) << " | "
       << fixed(sm.under_0_25, 3) << " | " << fixed(sm.whole_map_mean_error, 3) << " | "
       << fixed(sm.whole_map_under_0_1, 3) << " | " << fixed(sm.whole_map_under_0_25, 3) << " |\n";
-  s << "\nMean and median error: over every scored vertex of every pose (flip forgiven per vertex); median of "
-       "pose means: the median over poses of each pose's mean error; mirrored poses: maps clearly nearer the "
-       "mirrored truth (above). `topkids.json`'s summary also has the median over poses of the error against "
-       "the truth alone (`median_pose_direct_error`).\n\n";
+  s << "\nMean and median error: over every scored vertex of every pose (flip forgiven per vertex); "
+       "median of pose means: the median over poses of each pose's mean error; mirrored poses: maps clearly "
+       "nearer the mirrored truth (above). `topkids.json`'s summary also has the median over poses of the "
+       "error against the truth alone (`median_pose_direct_error`).\n\n";
 }
 
 void write_figure(std::ostream& s, const TopkidsExperimentResult& r, const std::string& folder) {
@@ -843,8 +842,10 @@ void write_pose_table(std::ostream& s, const TopkidsExperimentResult& r) {
         if (row.pose == pose && row.method == m)
           s << " " << fixed(row.mean_error, 3) << " (" << fixed(row.under_0_25, 2) << ") | "
             << fixed(row.whole_map_mean_error, 3) << " (" << fixed(row.whole_map_under_0_25, 2) << ")"
-            << (row.mirrored ? " M" : row.whole_map_mirrored ? " m" : "") << (row.reflected ? " R" : "")
-            << " |";
+            << (row.mirrored             ? " M"
+                : row.whole_map_mirrored ? " m"
+                                         : "")
+            << (row.reflected ? " R" : "") << " |";
     s << "\n";
   }
   s << "\nM: the map is mirrored (mean error against the mirrored truth ≤ " << fixed(kMirroredErrorRatio, 2)

@@ -33,12 +33,12 @@
 // mapped samples. A map that mixes the sides, or one unrelated to the truth, is about as far from both and is
 // not counted; a pose without NAME_sym.txt is never mirrored. Per method the summary gives the share of poses
 // whose map is mirrored, and the median over poses of the pose's mean error beside the pooled mean: with a
-// few poses and bimodal errors (a flipped alignment costs 0.2-0.3 per pose) a pooled mean moves with one flip,
-// the medians and the share say whether it did.
+// few poses and bimodal errors (a flipped alignment costs 0.2-0.3 per pose) a pooled mean moves with one
+// flip, the medians and the share say whether it did.
 //
 // The mirror files: NAME_sym.txt pairs vertex a of the pose with its left-right mirror b on the pose itself
-// (both 1-based vertices of the pose), so a's mirrored truth on the reference is the truth of b (on the shared
-// data this equals kid00_sym.txt's mirror of a's truth for every listed vertex).
+// (both 1-based vertices of the pose), so a's mirrored truth on the reference is the truth of b (on the
+// shared data this equals kid00_sym.txt's mirror of a's truth for every listed vertex).
 //
 // Resampling (options.resample.vertices > 0, `--resample N`): the reference and every pose are remeshed to
 // about N vertices first (pipeline/resampled_dataset.h: cached under out/cache/remeshed, written to
@@ -90,10 +90,10 @@ struct TopkidsExperimentOptions {
   std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
   // Every registered method by default; empty: the inputs alone.
   std::vector<std::string> methods = canonical_form_methods();
-  int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
+  int samples = 1000;  // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
   // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
-  IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
+  IcpOptions icp;  // the retrieval's alignment (defaults: reflections allowed)
   // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
   GeodesicOptions scoring_geodesics = [] {
     GeodesicOptions g;

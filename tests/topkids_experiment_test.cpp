@@ -368,11 +368,12 @@ TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
   EXPECT_TRUE(contains(report, "100 ground-truth vertices per pose")) << report;
   // The pooled table: a row per method, "—" where nothing was measured.
   // Mean, median, median of the pose means and the mirrored poses side by side.
-  EXPECT_TRUE(contains(report,
-                       "| Coulomb | 200 | 0.110 | 0.100 | 0.110 | 1 of 2 | 0.600 | 0.850 | 0.220 | 0.300 | 0.425 |"))
+  EXPECT_TRUE(contains(
+      report, "| Coulomb | 200 | 0.110 | 0.100 | 0.110 | 1 of 2 | 0.600 | 0.850 | 0.220 | 0.300 | 0.425 |"))
       << report;
   EXPECT_TRUE(contains(
-      report, "| inputs (no canonical form) | 200 | — | — | — | 0 of 2 | 0.000 | 0.000 | — | 0.000 | 0.000 |"))
+      report,
+      "| inputs (no canonical form) | 200 | — | — | — | 0 of 2 | 0.000 | 0.000 | — | 0.000 | 0.000 |"))
       << report;
   EXPECT_TRUE(contains(report, "is at most 0.50 of its mean error against the truth alone")) << report;
   EXPECT_FALSE(contains(report, "nan")) << report;
