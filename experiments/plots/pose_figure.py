@@ -72,8 +72,12 @@ def main():
     image = None
     for k, form in enumerate(forms):
         ax = axes[k // cols][k % cols]
-        image = ax.scatter(S[order, 0], S[order, 1], c=R[order, k], cmap="viridis", vmin=0, vmax=top, s=size,
-                           linewidths=0)
+        shown = order[np.isfinite(R[order, k])]  # a sample the form dropped has no residual
+        if len(shown):
+            image = ax.scatter(S[shown, 0], S[shown, 1], c=R[shown, k], cmap="viridis", vmin=0, vmax=top, s=size,
+                               linewidths=0)
+        else:
+            ax.text(0.5, 0.5, "no residual", ha="center", va="center", transform=ax.transAxes)
         rms = meta.get("rms", {}).get(form)
         title = titles.get(form, form)
         ax.set_title(title + (f"\npose RMS {100 * rms:.2f}%" if rms is not None else ""), fontsize=9)
@@ -81,8 +85,9 @@ def main():
         ax.axis("off")
     for k in range(len(forms), rows * cols):
         axes[k // cols][k % cols].axis("off")
-    bar = fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, extend="max")
-    bar.set_label("residual, % of the diagonal")
+    if image is not None:
+        bar = fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, extend="max")
+        bar.set_label("residual, % of the diagonal")
     fig.suptitle(f"{meta['a']} against {meta['b']} (class {meta['class']}): {meta['chosen_by']}\n"
                  f"samples of {meta['b']} coloured by their residual", fontsize=10)
     save(fig, args.out, "pose_residuals", args.pdf)
