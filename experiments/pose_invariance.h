@@ -52,7 +52,11 @@
 // only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): run_pose_invariance
 // writes the data, OUT/pose_pairs.csv (one row per pair and form), OUT/pose_shapes.csv (one row per shape and
 // form), OUT/pose_summary.csv (per form: medians over pairs, overall and per class), OUT/pose_parts.csv (one
-// row per pair, form and part) and the figure's data; draw_pose_figure draws OUT/pose_residuals.png;
+// row per pair, form and part: config,a,b,class,form,part,parts_shape,extremity_vertex,samples,rms, the
+// PosePartRow fields with the shape the parts were found on and the part's extremity vertex there, 0-based,
+// empty for the core and the unassigned) and the figure's data (OUT/pose_residuals.csv:
+// sample,vertex,x,y,z,part and a residual column per form; OUT/pose_residuals.json: PoseFigurePair's a, b,
+// class, chosen_by, forms, titles and rms per form); draw_pose_figure draws OUT/pose_residuals.png;
 // write_pose_invariance_report writes OUT/pose.md (the summary as a table, the per-part table, the figure)
 // from the result.
 #pragma once

@@ -54,7 +54,10 @@
 //   run_topkids_experiment   the measurement; writes the data files into out/: topkids.csv (one row per
 //                            method and pose), curves.csv (cumulative error curve per method, pooled over
 //                            poses, flip forgiven per vertex and per map), topkids.json (everything, with the
-//                            per-method pooled summary)
+//                            per-method pooled summary). topkids.csv's columns and topkids.json's rows are
+//                            TopkidsRow's fields by name (under_0.1 for under_0_1, 0/1 for the booleans in
+//                            the CSV; torn_edges −1 for a method that does not tear), the summary's entries
+//                            TopkidsSummary's, with its curves as fraction and whole_map_fraction
 //   draw_topkids_figure      out/topkids.png from curves.csv and topkids.json (experiments/figures.h), its
 //                            outcome recorded in the result and topkids.json
 //   write_topkids_report     out/report.md (the table, the figure, how it was made) from the result and
