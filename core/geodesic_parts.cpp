@@ -86,8 +86,9 @@ GeodesicPartsResult geodesic_parts(const Mesh& mesh, const GeodesicPartsOptions&
   for (Index v = 0; v < n; ++v)
     if (persistence[v] >= o.min_persistence * reach) extremities.push_back(static_cast<int>(v));
   // The most persistent when there are too many, then farthest from the centre first.
-  std::sort(extremities.begin(), extremities.end(),
-            [&](int a, int b) { return persistence[a] > persistence[b]; });
+  std::sort(extremities.begin(), extremities.end(), [&](int a, int b) {
+    return persistence[a] > persistence[b] || (persistence[a] == persistence[b] && a < b);
+  });
   if (static_cast<int>(extremities.size()) > o.max_extremities) extremities.resize(o.max_extremities);
   std::sort(extremities.begin(), extremities.end(),
             [&](int a, int b) { return d_centre[a] > d_centre[b] || (d_centre[a] == d_centre[b] && a < b); });
