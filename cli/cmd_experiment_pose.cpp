@@ -12,16 +12,20 @@ struct PoseArgs {
   PoseInvarianceOptions options;
   std::string methods;  // add_methods_option: every registered method
   std::string shapes;
+  bool no_figure = false, no_parts = false;
 } args;
 
 int run() {
   PoseInvarianceOptions o = args.options;
   o.methods = methods_option(args.methods);
   o.shapes = list_option("--shapes", args.shapes);
+  o.figure = !args.no_figure;
+  o.parts = !args.no_parts;
   prepare_experiment(o.methods, o.out, o.canon);
   require_output_folder_apart(o.out, o.data);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
+  if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
   std::cout << pose_invariance_markdown(r, o);
   return exit_code_for(r.failures);
 }
@@ -49,6 +53,20 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(0, 100000));
        app.add_option("--label", o.label, "name of this configuration in the CSV rows and the table");
+       app.add_option(
+              "--part-persistence", o.part_finder.min_persistence,
+              "parts: an extremity is a maximum of the geodesic distance from the centre persisting over "
+              "at least this fraction of the largest distance")
+           ->capture_default_str()
+           ->check(number_in(0.001, 1.0));
+       app.add_option(
+              "--part-fraction", o.part_finder.part_fraction,
+              "parts: a vertex is in its nearest extremity's part when nearer than this fraction of the "
+              "extremity's distance to the centre")
+           ->capture_default_str()
+           ->check(number_in(0.001, 1.0));
+       app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
+       app.add_flag("--no-figure", args.no_figure, "do not draw pose_residuals.png");
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "core/csv.h"
 #include "core/dataset.h"
 #include "core/error.h"
@@ -18,6 +20,7 @@
 #include "core/rigid_transform.h"
 #include "core/timing.h"
 #include "eval/correspondence_error.h"
+#include "experiments/figures.h"
 #include "pipeline/experiment_kit.h"
 #include "pipeline/remesh_samples.h"
 
@@ -173,8 +176,15 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
   CSHAPES_REQUIRE(!pairs.empty(), "experiment pose: no two poses of one class in ", o.data);
 }
 
-double pose_rms(const FormAtSamples& A, const FormAtSamples& B, const PosePair& pair,
-                const std::vector<size_t>& keep) {
+// One form's whole-shape rigid fit of a pair: the pose RMS (see the header) and each kept sample's residual
+// ‖R·a_s + t − b_s‖ after that fit, both over the mean diagonal; NaN where a sample is not finite in both.
+struct PairFit {
+  double rms = 0;
+  Eigen::VectorXd residuals;  // per kept sample
+};
+
+PairFit pair_fit(const FormAtSamples& A, const FormAtSamples& B, const PosePair& pair,
+                 const std::vector<size_t>& keep) {
   Points SA(static_cast<Index>(keep.size()), 3), SB(static_cast<Index>(keep.size()), 3);
   for (size_t k = 0; k < keep.size(); ++k) {
     SA.row(static_cast<Index>(k)) = A.X.row(pair.va[keep[k]]);
@@ -183,8 +193,12 @@ double pose_rms(const FormAtSamples& A, const FormAtSamples& B, const PosePair& 
   RigidFitOptions fit;
   fit.determinant = 0;
   fit.skip_nonfinite_rows = true;
-  const double rms = fit_rigid_transform(SA, SB, fit).rms;
-  return rms / (0.5 * (A.diagonal + B.diagonal));
+  const RigidFitResult r = fit_rigid_transform(SA, SB, fit);
+  const double scale = 0.5 * (A.diagonal + B.diagonal);
+  PairFit out;
+  out.rms = r.rms / scale;
+  out.residuals = (r.transform.apply(SA) - SB).rowwise().norm() / scale;
+  return out;
 }
 
 // ---- Resampling -------------------------------------------------------------------------------------------
@@ -351,6 +365,114 @@ double measured_stress(double stress) {
   return stress >= 0 ? stress : NAN;
 }
 
+// ---- Parts ------------------------------------------------------------------------------------------------
+
+// Per shape, per input vertex: its part (−1: unknown). Each class's parts are found on its first pose and
+// carried to the other poses through the pairs with the first pose (every correspondence of the pair, not
+// only the kept samples). result.classes gets one entry per class.
+std::vector<std::vector<int>> find_parts(const PoseInvarianceOptions& o, const std::vector<PoseShape>& shapes,
+                                         const std::vector<PosePair>& pairs, PoseInvarianceResult& result) {
+  std::vector<std::vector<int>> part_of(shapes.size());
+  for (size_t i = 0; i < shapes.size(); ++i)
+    part_of[i].assign(static_cast<size_t>(shapes[i].mesh.num_vertices()), -1);
+  if (!o.parts) return part_of;
+  std::map<std::string, size_t> first_of_class;
+  for (size_t i = 0; i < shapes.size(); ++i) first_of_class.emplace(shapes[i].class_name, i);
+  std::vector<size_t> firsts;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (first_of_class.at(shapes[i].class_name) == i) firsts.push_back(i);
+  for (size_t f : firsts) {
+    const PoseShape& s = shapes[f];
+    PoseClassParts c;
+    c.class_name = s.class_name;
+    c.shape = s.name;
+    try {
+      const GeodesicPartsResult parts = geodesic_parts(s.mesh, o.part_finder);
+      c.centre = parts.centre;
+      c.extremities = parts.extremities;
+      c.reach = parts.extremity_reach;
+      c.persistence = parts.extremity_persistence;
+      c.repair_text = parts.repair_text;
+      part_of[f].assign(parts.part.data(), parts.part.data() + parts.part.size());
+    } catch (const Error& e) {
+      c.problem = e.what();
+    }
+    say(o.note, c.problem.empty() ? detail::concat("  parts of ", c.class_name, " on ", s.name, ": ",
+                                                   c.extremities.size(), " extremities and the core")
+                                  : detail::concat("  parts of ", c.class_name, ": none (", c.problem, ")"));
+    result.classes.push_back(c);
+  }
+  for (const PosePair& p : pairs) {
+    const size_t f = first_of_class.at(shapes[p.a].class_name);
+    if (static_cast<size_t>(p.a) == f)
+      for (size_t k = 0; k < p.va.size(); ++k) part_of[p.b][p.vb[k]] = part_of[f][p.va[k]];
+    else if (static_cast<size_t>(p.b) == f)
+      for (size_t k = 0; k < p.vb.size(); ++k) part_of[p.a][p.va[k]] = part_of[f][p.vb[k]];
+  }
+  return part_of;
+}
+
+// The part of each kept sample of a pair: its vertex's part on a, else on b, else −1.
+std::vector<int> sample_parts(const PosePair& p, const std::vector<size_t>& keep,
+                              const std::vector<std::vector<int>>& part_of) {
+  std::vector<int> parts(keep.size(), -1);
+  for (size_t k = 0; k < keep.size(); ++k) {
+    const int on_a = part_of[p.a][p.va[keep[k]]];
+    parts[k] = on_a >= 0 ? on_a : part_of[p.b][p.vb[keep[k]]];
+  }
+  return parts;
+}
+
+// One pair and form: a row per part that has samples (finite residuals), the unassigned ones as part −1.
+void add_part_rows(const PosePairRow& pair_row, const Eigen::VectorXd& residuals,
+                   const std::vector<int>& parts, PoseInvarianceResult& result) {
+  std::map<int, std::pair<double, int>> squares;  // part → (Σ residual², samples)
+  for (Index k = 0; k < residuals.size(); ++k) {
+    if (!std::isfinite(residuals[k])) continue;
+    auto& [sum, count] = squares[parts[static_cast<size_t>(k)]];
+    sum += residuals[k] * residuals[k];
+    ++count;
+  }
+  for (const auto& [part, sum_count] : squares) {
+    PosePartRow row;
+    row.a = pair_row.a;
+    row.b = pair_row.b;
+    row.class_name = pair_row.class_name;
+    row.form = pair_row.form;
+    row.part = part;
+    row.samples = sum_count.second;
+    row.rms = std::sqrt(sum_count.first / sum_count.second);
+    result.parts.push_back(row);
+  }
+}
+
+// Medians over the pairs per class, part and form, in the order of result.classes, parts −1 (when any), 0,
+// 1, ..., forms in run order.
+void summarise_parts(const std::vector<std::string>& forms, PoseInvarianceResult& result) {
+  for (const PoseClassParts& c : result.classes) {
+    std::set<int> parts;
+    for (const PosePartRow& r : result.parts)
+      if (r.class_name == c.class_name) parts.insert(r.part);
+    for (int part : parts)
+      for (const std::string& f : forms) {
+        PosePartSummaryRow row;
+        row.class_name = c.class_name;
+        row.form = f;
+        row.part = part;
+        std::vector<double> rms, samples;
+        for (const PosePartRow& r : result.parts)
+          if (r.class_name == c.class_name && r.form == f && r.part == part) {
+            rms.push_back(r.rms);
+            samples.push_back(r.samples);
+          }
+        row.pairs = static_cast<int>(rms.size());
+        row.median_rms = rms.empty() ? NAN : median(rms);
+        row.median_samples = samples.empty() ? 0 : median(samples);
+        result.part_summary.push_back(row);
+      }
+  }
+}
+
 // ---- Measurement ------------------------------------------------------------------------------------------
 
 // The forms the run measures: "input" (the meshes themselves), then the options' methods.
@@ -411,29 +533,83 @@ bool measure_shape(const PoseShape& s, size_t i, const LocatedSamples& located, 
 }
 
 // Every pair of two measured shapes: one row per form, said in a note.
+// Every pair of two measured shapes: one row per form (and per part, with parts), said in a note.
 void measure_pairs(const std::vector<PoseShape>& shapes, const std::vector<PosePair>& pairs,
-                   const std::vector<char>& failed, const FormPoints& X, const PoseInvarianceOptions& o,
+                   const std::vector<char>& failed, const FormPoints& X,
+                   const std::vector<std::vector<int>>& part_of, const PoseInvarianceOptions& o,
                    PoseInvarianceResult& result) {
   const std::vector<std::string> forms = forms_of_run(o);
   for (const PosePair& p : pairs) {
     if (failed[p.a] || failed[p.b]) continue;
     const std::vector<size_t> keep = thin(p.va.size(), o.samples);
-    const double input_rms = pose_rms(X.at("input")[p.a], X.at("input")[p.b], p, keep);
+    const std::vector<int> parts = sample_parts(p, keep, part_of);
+    const double input_rms = pair_fit(X.at("input")[p.a], X.at("input")[p.b], p, keep).rms;
     std::string line = "  " + shapes[p.a].name + "-" + shapes[p.b].name + ":";
     for (const std::string& f : forms) {
+      const PairFit fit = pair_fit(X.at(f)[p.a], X.at(f)[p.b], p, keep);
       PosePairRow row;
       row.a = shapes[p.a].name;
       row.b = shapes[p.b].name;
       row.class_name = shapes[p.a].class_name;
       row.form = f;
-      row.rms = f == "input" ? input_rms : pose_rms(X.at(f)[p.a], X.at(f)[p.b], p, keep);
+      row.rms = fit.rms;
       row.input_rms = input_rms;
       row.samples = static_cast<int>(keep.size());
       result.pairs.push_back(row);
+      if (o.parts) add_part_rows(row, fit.residuals, parts, result);
       line += " " + f + " " + percent(row.rms);
     }
     say(o.note, line);
   }
+}
+
+// The figure's pair: the one with the median pose RMS of Coulomb (else of the first method, else of the
+// input; the lower middle one for an even count), its samples at pose b's input positions and each form's
+// residuals there. inputs: per shape, its input vertex positions (before any resampling).
+PoseFigurePair figure_pair(const std::vector<PoseShape>& shapes, const std::vector<PosePair>& pairs,
+                           const FormPoints& X, const std::vector<std::vector<int>>& part_of,
+                           const std::vector<Points>& inputs, const PoseInvarianceOptions& o,
+                           const PoseInvarianceResult& result) {
+  PoseFigurePair fig;
+  const std::vector<std::string> forms = forms_of_run(o);
+  const std::string by = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end()
+                             ? "coulomb"
+                         : forms.size() > 1 ? forms[1]
+                                            : "input";
+  std::vector<const PosePairRow*> rows;
+  for (const PosePairRow& r : result.pairs)
+    if (r.form == by) rows.push_back(&r);
+  if (rows.empty()) return fig;
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const PosePairRow* x, const PosePairRow* y) { return x->rms < y->rms; });
+  const size_t middle = (rows.size() - 1) / 2;
+  const PosePairRow& chosen = *rows[middle];
+  const std::string by_title = by == "input" ? "input" : canonical_form_method_title(by);
+  fig.a = chosen.a;
+  fig.b = chosen.b;
+  fig.class_name = chosen.class_name;
+  fig.chosen_by = detail::concat("the pair with the median ", by_title, " pose RMS (", middle + 1, " of ",
+                                 rows.size(), " pairs by increasing RMS)");
+  const PosePair* pair = nullptr;
+  for (const PosePair& p : pairs)
+    if (shapes[p.a].name == chosen.a && shapes[p.b].name == chosen.b) pair = &p;
+  CSHAPES_REQUIRE(pair != nullptr, "experiment pose: the figure's pair ", chosen.a, "-", chosen.b,
+                  " is gone");
+  const std::vector<size_t> keep = thin(pair->va.size(), o.samples);
+  fig.parts = sample_parts(*pair, keep, part_of);
+  fig.positions.resize(static_cast<Index>(keep.size()), 3);
+  for (size_t k = 0; k < keep.size(); ++k) {
+    fig.vertices.push_back(pair->vb[keep[k]]);
+    fig.positions.row(static_cast<Index>(k)) = inputs[pair->b].row(pair->vb[keep[k]]);
+  }
+  fig.forms = forms;
+  fig.residuals.resize(static_cast<Index>(keep.size()), static_cast<Index>(forms.size()));
+  for (size_t f = 0; f < forms.size(); ++f) {
+    const PairFit fit = pair_fit(X.at(forms[f])[pair->a], X.at(forms[f])[pair->b], *pair, keep);
+    fig.rms.push_back(fit.rms);
+    fig.residuals.col(static_cast<Index>(f)) = fit.residuals;
+  }
+  return fig;
 }
 
 // ---- Summary ----------------------------------------------------------------------------------------------
@@ -522,6 +698,50 @@ void write_summary_csv(const ExperimentFolder& folder, const std::string& label,
   folder.write_text("pose_summary.csv", csv.str());
 }
 
+void write_parts_csv(const ExperimentFolder& folder, const std::string& label,
+                     const PoseInvarianceResult& result) {
+  std::map<std::string, const PoseClassParts*> class_parts;
+  for (const PoseClassParts& c : result.classes) class_parts[c.class_name] = &c;
+  std::ostringstream csv;
+  csv << "config,a,b,class,form,part,parts_shape,extremity_vertex,samples,rms\n";
+  for (const PosePartRow& r : result.parts) {
+    const PoseClassParts& c = *class_parts.at(r.class_name);
+    csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
+        << csv_field(r.class_name) << "," << csv_field(r.form) << "," << r.part << "," << csv_field(c.shape)
+        << "," << (r.part >= 1 ? std::to_string(c.extremities[static_cast<size_t>(r.part - 1)]) : "") << ","
+        << r.samples << "," << csv_number(r.rms) << "\n";
+  }
+  folder.write_text("pose_parts.csv", csv.str());
+}
+
+// The figure's data: pose_residuals.csv (a row per sample: its vertex of b, position, part, and per form the
+// residual) and pose_residuals.json (the pair, why, the forms and their pose RMS).
+void write_figure_data(const ExperimentFolder& folder, const PoseFigurePair& fig) {
+  std::ostringstream csv;
+  csv << "sample,vertex,x,y,z,part";
+  for (const std::string& f : fig.forms) csv << "," << csv_field(f);
+  csv << "\n";
+  for (Index k = 0; k < fig.positions.rows(); ++k) {
+    csv << k << "," << fig.vertices[static_cast<size_t>(k)];
+    for (int c = 0; c < 3; ++c) csv << "," << csv_number(fig.positions(k, c), 9);
+    csv << "," << fig.parts[static_cast<size_t>(k)];
+    for (Index f = 0; f < fig.residuals.cols(); ++f) csv << "," << csv_number(fig.residuals(k, f));
+    csv << "\n";
+  }
+  folder.write_text("pose_residuals.csv", csv.str());
+  nlohmann::json rms = nlohmann::json::object();
+  for (size_t f = 0; f < fig.forms.size(); ++f) rms[fig.forms[f]] = fig.rms[f];
+  nlohmann::json titles = nlohmann::json::object();
+  for (const std::string& f : fig.forms) titles[f] = f == "input" ? "input" : canonical_form_method_title(f);
+  folder.write_json("pose_residuals.json", {{"a", fig.a},
+                                            {"b", fig.b},
+                                            {"class", fig.class_name},
+                                            {"chosen_by", fig.chosen_by},
+                                            {"forms", fig.forms},
+                                            {"titles", titles},
+                                            {"rms", rms}});
+}
+
 std::string label_of(const PoseInvarianceOptions& o) {
   return o.label.empty() ? "default" : o.label;
 }
@@ -581,6 +801,91 @@ std::string located_markdown(const PoseInvarianceResult& result) {
   return md.str();
 }
 
+// The per-part section: the parts of each class, and per part the median RMS over pairs of each form.
+std::string parts_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
+  std::ostringstream md;
+  md << "\n## Where the pose stays: per part\n\n"
+     << "Parts found on each class's first pose from its geometry alone (core/geodesic_parts.h): a centre "
+        "(the "
+        "vertex of least summed geodesic distance to "
+     << o.part_finder.centre_sources
+     << " evenly spaced vertices), the extremities (the local maxima of the geodesic distance from the "
+        "centre whose topological persistence is at least "
+     << fixed(o.part_finder.min_persistence, 2)
+     << " of the largest distance: tips of limbs, not bumps), and each vertex in the part of its nearest "
+        "extremity when nearer than "
+     << fixed(o.part_finder.part_fraction, 2)
+     << " of that extremity's distance to the centre, else in the core; carried to the other poses through "
+        "the ground truth. Per part: the RMS of the residuals of its samples after the pair's whole-shape "
+        "rigid fit (the fit of the pose RMS above, not one per part), over the mean diagonal; medians over "
+        "pairs. The parts' mean squares, weighted by their samples, add up to the pose RMS². Parts are named "
+        "by their extremity's vertex (0-based) on the class's first pose: which is a hand is not known. Per "
+        "pair and form in `pose_parts.csv`.\n";
+  const std::vector<std::string> forms = forms_of_run(o);
+  for (const PoseClassParts& c : result.classes) {
+    md << "\n**" << c.class_name << "** (parts found on " << c.shape << "): ";
+    if (!c.problem.empty()) {
+      md << "none (" << c.problem << ").\n";
+      continue;
+    }
+    md << c.extremities.size() << " extremities";
+    for (size_t e = 0; e < c.extremities.size(); ++e)
+      md << (e ? "; " : ": ") << "part " << e + 1 << " at vertex " << c.extremities[e] << " (distance "
+         << fixed(c.reach[e], 2) << ", persistence " << fixed(c.persistence[e], 2) << ")";
+    md << "; centre: vertex " << c.centre << (c.repair_text.empty() ? "" : "; " + c.repair_text) << ".\n\n";
+    md << "| part | samples per pair |";
+    for (const std::string& f : forms)
+      md << " " << (f == "input" ? "input" : canonical_form_method_title(f)) << " |";
+    md << "\n| --- | --- |";
+    for (size_t f = 0; f < forms.size(); ++f) md << " --- |";
+    md << "\n";
+    std::set<int> parts;
+    for (const PosePartSummaryRow& r : result.part_summary)
+      if (r.class_name == c.class_name) parts.insert(r.part);
+    for (int part : parts) {
+      std::string name =
+          part < 0    ? "unassigned"
+          : part == 0 ? "core"
+                      : detail::concat("part ", part, " (extremity at vertex ",
+                                       c.extremities[static_cast<size_t>(part - 1)], " of ", c.shape, ")");
+      std::ostringstream cells;
+      double samples = 0;
+      for (const std::string& f : forms)
+        for (const PosePartSummaryRow& r : result.part_summary)
+          if (r.class_name == c.class_name && r.part == part && r.form == f) {
+            cells << " " << percent(r.median_rms) << " |";
+            if (f == "input") samples = r.median_samples;
+          }
+      md << "| " << name << " | " << fixed(samples, 0) << " |" << cells.str() << "\n";
+    }
+  }
+  return md.str();
+}
+
+// The figure, or why there is none, and how to draw it.
+std::string figure_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
+  const PoseFigurePair& fig = result.figure_pair;
+  if (fig.a.empty()) return "";
+  std::ostringstream md;
+  md << "\n## Residuals of one pair\n\n";
+  if (!result.figure.empty())
+    md << "![residuals of " << fig.a << "-" << fig.b << "](" << result.figure << ")\n\n";
+  else
+    md << "No figure (" << result.figure_problem << ").\n\n";
+  md << fig.a << " against " << fig.b << " (class " << fig.class_name << "), " << fig.chosen_by
+     << ": each sample of " << fig.b
+     << " at its input position, coloured by its residual after the pair's "
+        "whole-shape rigid fit, in % of the mean diagonal, one colour scale for every panel. Pose RMS:";
+  for (size_t f = 0; f < fig.forms.size(); ++f)
+    md << (f ? "," : "") << " "
+       << (fig.forms[f] == "input" ? "input" : canonical_form_method_title(fig.forms[f])) << " "
+       << percent(fig.rms[f]);
+  md << ". Data: `pose_residuals.csv`, `pose_residuals.json`; redraw with `scripts/python.sh "
+        "experiments/plots/pose_figure.py "
+     << o.out << "`.\n";
+  return md.str();
+}
+
 }  // namespace
 
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
@@ -594,6 +899,10 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   const ExperimentFolder folder(o.out);
   const DiskCache cache = folder.cache("forms");
   PoseInvarianceResult result;
+  // On the inputs, before any resampling: the parts, and the positions the figure shows.
+  const std::vector<std::vector<int>> part_of = find_parts(o, shapes, pairs, result);
+  std::vector<Points> inputs;
+  for (const PoseShape& s : shapes) inputs.push_back(s.mesh.V);
   std::vector<LocatedSamples> located(shapes.size());
   if (o.resample.vertices > 0) located = resample_shapes(o, folder, pairs, shapes, result);
   FormPoints X;
@@ -601,7 +910,9 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   std::vector<char> failed(shapes.size(), 0);
   for (size_t i = 0; i < shapes.size(); ++i)
     failed[i] = !measure_shape(shapes[i], i, located[i], cache, o, X, result);
-  measure_pairs(shapes, pairs, failed, X, o, result);
+  measure_pairs(shapes, pairs, failed, X, part_of, o, result);
+  summarise_parts(forms_of_run(o), result);
+  result.figure_pair = figure_pair(shapes, pairs, X, part_of, inputs, o, result);
 
   std::map<std::string, std::string> class_of;
   for (const PoseShape& s : shapes) class_of[s.name] = s.class_name;
@@ -612,6 +923,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   write_pairs_csv(folder, label_of(o), result);
   write_shapes_csv(folder, label_of(o), result);
   write_summary_csv(folder, label_of(o), result);
+  if (o.parts) write_parts_csv(folder, label_of(o), result);
+  if (!result.figure_pair.a.empty()) write_figure_data(folder, result.figure_pair);
   return result;
 }
 
@@ -638,6 +951,8 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result, const P
        << percent(r.removed, 0) << " | " << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
        << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(measured_stress(r.stress), 3)
        << " |\n";
+  if (o.parts && !result.classes.empty()) md << parts_markdown(result, o);
+  md << figure_markdown(result, o);
   if (result.resampled)
     md << "\n## Resampling\n\n" << resampling_markdown(result.resampling) << "\n" << located_markdown(result);
   if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);
@@ -649,8 +964,23 @@ void write_pose_invariance_report(const PoseInvarianceResult& result, const Pose
   ExperimentFolder(folder).write_text("pose.md", pose_invariance_markdown(result, options));
 }
 
+void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions& options) {
+  result.figure = "";
+  if (result.figure_pair.a.empty()) {
+    result.figure_problem = "no pair was measured";
+  } else if (!options.figure) {
+    result.figure_problem = "not requested (--no-figure)";
+  } else {
+    const FigureRun drawn = draw_figure("pose_figure.py", {options.out},
+                                        ExperimentFolder(options.out).path("pose_residuals.png"));
+    if (drawn.drawn) result.figure = "pose_residuals.png";
+    result.figure_problem = drawn.problem;
+  }
+}
+
 PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options) {
   PoseInvarianceResult result = run_pose_invariance(options);
+  draw_pose_figure(result, options);
   write_pose_invariance_report(result, options, options.out);
   return result;
 }

@@ -31,17 +31,41 @@
 // the input vertices. What this separates: the pose invariance of a form at another resolution, on the same
 // surfaces and truth.
 //
+// Where the pose stays (options.parts): the parts of each class are found on its first pose (in shape order;
+// TOPKIDS: kid00) from its geometry alone (core/geodesic_parts.h: a geodesic centre, the extremities as the
+// persistent maxima of the distance from it, each vertex in its nearest extremity's part when within half
+// that extremity's distance to the centre, else in the core), and carried to the other poses through the
+// ground truth: a sample's part is that of its vertex on the first pose (through the pairs with the first
+// pose; a sample the truth does not reach has part −1, "unassigned"). Per pair, form and part: the RMS of the
+// residuals ‖R·a_s + t − b_s‖ of the part's samples after the pair's whole-shape rigid fit (the same fit as
+// the pose RMS, not one per part), over the same mean diagonal; so the parts' mean squares, weighted by their
+// samples, add up to the whole pose RMS². Parts are named by index and by their extremity's vertex on the
+// first pose ("part 2 (extremity at vertex 1234 of cat0)"); nothing says which is a hand.
+//
+// The figure (draw_pose_figure, experiments/plots/pose_figure.py): for one pair, the pair with the median
+// Coulomb pose RMS (the first method's when Coulomb is not run, the input's when no method is), one panel per
+// form, pose b's samples at its input positions coloured by their residual after the fit, one colour scale,
+// % of the mean diagonal. Its data: OUT/pose_residuals.csv (a row per sample) and OUT/pose_residuals.json
+// (the pair, why it was chosen, each form's pose RMS).
+//
 // Canonical forms are cached under OUT/cache (a rerun, or a second run with other Coulomb options, computes
 // only what changed); MDS methods share one geodesic matrix per shape. Outputs (atomic): run_pose_invariance
 // writes the data, OUT/pose_pairs.csv (one row per pair and form), OUT/pose_shapes.csv (one row per shape and
-// form) and OUT/pose_summary.csv (per form: medians over pairs, overall and per class);
-// write_pose_invariance_report writes OUT/pose.md (the summary as a table) from the result.
+// form), OUT/pose_summary.csv (per form: medians over pairs, overall and per class), OUT/pose_parts.csv (one
+// row per pair, form and part: config,a,b,class,form,part,parts_shape,extremity_vertex,samples,rms, the
+// PosePartRow fields with the shape the parts were found on and the part's extremity vertex there, 0-based,
+// empty for the core and the unassigned) and the figure's data (OUT/pose_residuals.csv:
+// sample,vertex,x,y,z,part and a residual column per form; OUT/pose_residuals.json: PoseFigurePair's a, b,
+// class, chosen_by, forms, titles and rms per form); draw_pose_figure draws OUT/pose_residuals.png;
+// write_pose_invariance_report writes OUT/pose.md (the summary as a table, the per-part table, the figure)
+// from the result.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "core/geodesic_parts.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/resampled_dataset.h"
 #include "pipeline/shape_failures.h"
@@ -54,15 +78,56 @@ struct PoseInvarianceOptions {
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.
   std::vector<std::string> shapes;
-  int samples = 1000;        // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
-  int stress_sources = 16;   // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
+  int samples = 1000;       // ground-truth correspondences per pair, evenly spaced; ≤ 0: all
+  int stress_sources = 16;  // sources of the geodesic stress (evenly spaced vertex indices); 0: skip
   // vertices > 0: every shape remeshed to about that many vertices first, the samples carried to the remesh
   // (see above; the report's "Resampling" section); 0: the shapes as they are.
   ResampleOptions resample;
-  std::string label;         // a name for this run's configuration, written into every CSV row
+  std::string label;  // a name for this run's configuration, written into every CSV row
   // Method options (the method field is set per method; MDS geodesics: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
+  bool parts = true;                 // the per-part breakdown (see above); false: none
+  GeodesicPartsOptions part_finder;  // how the parts are found on each class's first pose
+  // draw_pose_figure draws OUT/pose_residuals.png; false: it records "not requested (--no-figure)" instead.
+  bool figure = true;
   std::function<void(const std::string&)> note;  // one line per shape and pair
+};
+
+// One class's parts, found on its first pose (core/geodesic_parts.h).
+struct PoseClassParts {
+  std::string class_name, shape;           // shape: the class's first pose, where the parts were found
+  int centre = -1;                         // vertex of `shape` (0-based)
+  std::vector<int> extremities;            // vertices of `shape` (0-based); part k is extremities[k − 1]
+  std::vector<double> reach, persistence;  // per extremity, over the largest distance from the centre
+  std::string repair_text;                 // what the repair for the part finder's geodesics did
+  std::string problem;                     // why the class has no parts ("" when it has)
+};
+
+struct PosePartRow {  // one pair, one form, one part
+  std::string a, b, class_name, form;
+  int part = 0;     // 0 the core, k ≥ 1 extremity k's part, −1 samples with no part (unassigned)
+  int samples = 0;  // the pair's samples in the part, finite in both forms
+  double rms = 0;   // RMS residual after the pair's whole-shape rigid fit, over the mean diagonal
+};
+
+struct PosePartSummaryRow {  // one class, form and part, over the pairs
+  std::string class_name, form;
+  int part = 0;
+  int pairs = 0;
+  double median_samples = 0;  // median over pairs of the part's samples
+  double median_rms = 0;      // median over pairs of the part's RMS
+};
+
+// The pair the figure shows and its per-sample residuals.
+struct PoseFigurePair {
+  std::string a, b, class_name;
+  std::string chosen_by;  // "the pair with the median Coulomb pose RMS (4th of 9)"
+  std::vector<std::string> forms;
+  std::vector<double> rms;    // per form: its pose RMS
+  std::vector<int> vertices;  // per sample: vertex of b's input
+  Points positions;           // per sample: b's input position there
+  std::vector<int> parts;     // per sample: its part (−1 unassigned)
+  Eigen::MatrixXd residuals;  // samples × forms: residual after the fit, over the mean diagonal (NaN: none)
 };
 
 struct PosePairRow {
@@ -85,7 +150,7 @@ struct PoseSummaryRow {
   std::string form, class_name;  // class_name "all" for every pair
   int pairs = 0;
   double median_rms = 0, mean_rms = 0, median_input_rms = 0;
-  double removed = 0;  // 1 − median_rms / median_input_rms
+  double removed = 0;                                         // 1 − median_rms / median_input_rms
   double mean_abs_stretch = 0, max_stretch = 0, stress = -1;  // medians over the shapes (max: the worst)
 };
 
@@ -94,7 +159,7 @@ struct PoseLocatedRow {
   std::string shape;
   int samples = 0;           // input vertices that are a sample of some pair (each located once)
   double mean_distance = 0;  // mean ‖input vertex − located point‖ over the input's bounding-box diagonal
-  double max_distance = 0;   // the largest, likewise
+  double max_distance = 0;  // the largest, likewise
   // Samples closest to another part of the surface (an arm lying against the body), located on their own
   // part instead (relocated), or left there for want of a triangle of their own within reach
   // (pipeline/remesh_samples.h).
@@ -109,9 +174,15 @@ struct PoseInvarianceResult {
   // Shapes whose canonical form failed by some method, left out with every pair they are in, and geodesic
   // fallbacks (kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
   std::vector<ShapeFailure> failures;
-  bool resampled = false;               // options.resample.vertices > 0
-  ResampledDataset resampling;          // when resampled: the remeshes and their measures
-  std::vector<PoseLocatedRow> located;  // when resampled: per shape, in shape order
+  bool resampled = false;                        // options.resample.vertices > 0
+  ResampledDataset resampling;                   // when resampled: the remeshes and their measures
+  std::vector<PoseLocatedRow> located;           // when resampled: per shape, in shape order
+  std::vector<PoseClassParts> classes;           // options.parts: per class, in shape order
+  std::vector<PosePartRow> parts;                // options.parts: per pair, form and part
+  std::vector<PosePartSummaryRow> part_summary;  // per class, part and form
+  PoseFigurePair figure_pair;                    // empty a, b when no pair was measured
+  std::string figure;          // "pose_residuals.png" when draw_pose_figure drew it, else ""
+  std::string figure_problem;  // why it was not drawn
 };
 
 // The measurement (see above): discovers the shapes and pairs (throws on a malformed folder or
@@ -129,8 +200,13 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result,
 void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
                                   const std::string& folder);
 
-// The experiment as `cshapes experiment pose` runs it: run_pose_invariance, then write_pose_invariance_report
-// into options.out.
+// Draws options.out/pose_residuals.png from the data files run_pose_invariance wrote, when options.figure,
+// and records the outcome in result.figure / result.figure_problem (a figure that cannot be drawn is not an
+// error: figure_problem says why).
+void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions& options);
+
+// The experiment as `cshapes experiment pose` runs it: run_pose_invariance, draw_pose_figure, then
+// write_pose_invariance_report into options.out.
 PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options);
 
 }  // namespace cshapes

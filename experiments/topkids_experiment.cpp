@@ -151,8 +151,8 @@ Pose read_pose(const TopkidsExperimentOptions& o, const std::string& name, const
   p.measured_path = p.mesh_path;
   // Checked now (the scoring reads them again, from its cache or not).
   read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.num_vertices());
-  if (!p.sym_path.empty())
-    read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
+  if (!p.sym_path.empty())  // both columns are vertices of the pose (see mirrored_truth)
+    read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), p.mesh.num_vertices());
   else
     say(o.note, p.name + ": no " + name + "_sym.txt: symmetric flips are not forgiven for this pose");
   return p;
@@ -289,7 +289,7 @@ std::string scoring_entry(const TopkidsExperimentOptions& o, const Reference& re
                           const MethodForms& forms) {
   std::ostringstream key;
   key.precision(17);
-  key << "topkids-score;v2;reference=" << reference.content_key << ";pose=" << mesh_content_key(p.mesh)
+  key << "topkids-score;v3;reference=" << reference.content_key << ";pose=" << mesh_content_key(p.mesh)
       << ";ref=" << file_content_hash(p.ref_path)
       << ";sym=" << (p.sym_path.empty() ? "" : file_content_hash(p.sym_path)) << ";samples=" << o.samples
       << ";geodesics=" << to_string(o.scoring_geodesics.method) << ","
@@ -303,14 +303,18 @@ std::string scoring_entry(const TopkidsExperimentOptions& o, const Reference& re
 }
 
 // Per ground-truth vertex of the pose: its mirrored truth on the reference, −1 where there is none; empty
-// when the pose has no _sym.txt.
-std::vector<int> mirrored_truth(const Pose& p, const CorrespondencePairs& truth, const Mesh& reference) {
+// when the pose has no _sym.txt. NAME_sym.txt pairs a vertex a of the pose with its mirror b on the pose
+// itself (eval/correspondence_error.h), so a's mirrored truth is b's truth: ref(b).
+std::vector<int> mirrored_truth(const Pose& p, const CorrespondencePairs& truth) {
   std::vector<int> symmetric;
   if (p.sym_path.empty()) return symmetric;
   const CorrespondencePairs sym =
-      read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), reference.num_vertices());
-  std::vector<int> mirror_of(static_cast<size_t>(p.mesh.num_vertices()), -1);
-  for (size_t k = 0; k < sym.from.size(); ++k) mirror_of[static_cast<size_t>(sym.from[k])] = sym.to[k];
+      read_correspondence_pairs(p.sym_path, p.mesh.num_vertices(), p.mesh.num_vertices());
+  const size_t n = static_cast<size_t>(p.mesh.num_vertices());
+  std::vector<int> truth_of(n, -1), mirror_of(n, -1);
+  for (size_t k = 0; k < truth.from.size(); ++k) truth_of[static_cast<size_t>(truth.from[k])] = truth.to[k];
+  for (size_t k = 0; k < sym.from.size(); ++k)
+    mirror_of[static_cast<size_t>(sym.from[k])] = truth_of[static_cast<size_t>(sym.to[k])];
   for (int a : truth.from) symmetric.push_back(mirror_of[static_cast<size_t>(a)]);
   return symmetric;
 }
@@ -322,7 +326,7 @@ json score_pose(const TopkidsExperimentOptions& o, const std::vector<std::string
                 const Reference& reference, const Pose& p, const MethodForms& forms) {
   const CorrespondencePairs truth =
       read_correspondence_pairs(p.ref_path, p.mesh.num_vertices(), reference.mesh.num_vertices());
-  const std::vector<int> symmetric = mirrored_truth(p, truth, reference.mesh);
+  const std::vector<int> symmetric = mirrored_truth(p, truth);
   // Without resampling every vertex of the pose is mapped; with it, the carried ground-truth vertices.
   auto map = [&](const Points& source, const Points& target) {
     return o.resample.vertices > 0
@@ -381,7 +385,11 @@ TopkidsRow pose_row(const json& jm, const std::string& pose, const std::string& 
   row.under_0_25 = fraction_within(e, 0.25);
   const Eigen::VectorXd direct = errors_from_json(jm.at("direct_errors"));
   const Eigen::VectorXd mirrored = errors_from_json(jm.at("mirrored_errors"));
-  row.whole_map_mirrored = finite_mean(mirrored) < finite_mean(direct);
+  row.direct_mean_error = finite_mean(direct);
+  row.mirrored_mean_error = finite_mean(mirrored);
+  row.whole_map_mirrored = row.mirrored_mean_error < row.direct_mean_error;
+  row.mirror_ratio = row.mirrored_mean_error / row.direct_mean_error;
+  row.mirrored = row.whole_map_mirrored && row.mirror_ratio <= kMirroredErrorRatio;
   const Eigen::VectorXd& whole = row.whole_map_mirrored ? mirrored : direct;
   row.whole_map_mean_error = finite_mean(whole);
   row.whole_map_under_0_1 = fraction_within(whole, 0.1);
@@ -476,13 +484,35 @@ TopkidsSummary summarise(const std::string& method, const PooledErrors& pooled,
   return s;
 }
 
+// The median of the finite values; NaN when there is none.
+double finite_median(const std::vector<double>& values) {
+  std::vector<double> finite;
+  for (double v : values)
+    if (std::isfinite(v)) finite.push_back(v);
+  return finite.empty() ? NAN : error_median(Eigen::Map<const Eigen::VectorXd>(finite.data(), finite.size()));
+}
+
+// The per-pose statistics of a method's summary (TopkidsSummary::poses ...) from its rows.
+void add_per_pose_statistics(TopkidsSummary& s, const std::vector<TopkidsRow>& rows) {
+  std::vector<double> means, direct;
+  for (const TopkidsRow& row : rows) {
+    if (row.method != s.method) continue;
+    ++s.poses;
+    if (row.mirrored) ++s.mirrored_poses;
+    means.push_back(row.mean_error);
+    direct.push_back(row.direct_mean_error);
+  }
+  s.median_pose_mean_error = finite_median(means);
+  s.median_pose_direct_error = finite_median(direct);
+}
+
 // ---- Data files -------------------------------------------------------------------------------------------
 
 void write_rows_csv(const ExperimentFolder& folder, const TopkidsExperimentResult& r) {
   folder.write("topkids.csv", [&](std::ostream& s) {
     s << "pose,method,samples,mean_error,median_error,under_0.1,under_0.25,unmapped,symmetric_chosen,"
-         "whole_map_mirrored,whole_map_mean_error,whole_map_under_0.1,whole_map_under_0.25,reflected,"
-         "icp_rmse,icp_rmse_relative,torn_edges,repair\n";
+         "whole_map_mirrored,whole_map_mean_error,whole_map_under_0.1,whole_map_under_0.25,direct_mean_error,"
+         "mirrored_mean_error,mirror_ratio,mirrored,reflected,icp_rmse,icp_rmse_relative,torn_edges,repair\n";
     s.precision(6);
     for (const TopkidsRow& row : r.rows) {
       std::string repair = row.repair;
@@ -490,9 +520,10 @@ void write_rows_csv(const ExperimentFolder& folder, const TopkidsExperimentResul
       s << row.pose << ',' << row.method << ',' << row.samples << ',' << row.mean_error << ','
         << row.median_error << ',' << row.under_0_1 << ',' << row.under_0_25 << ',' << row.unmapped << ','
         << row.symmetric_chosen << ',' << (row.whole_map_mirrored ? 1 : 0) << ',' << row.whole_map_mean_error
-        << ',' << row.whole_map_under_0_1 << ',' << row.whole_map_under_0_25 << ',' << (row.reflected ? 1 : 0)
-        << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ',' << row.torn_edges << ",\"" << repair
-        << "\"\n";
+        << ',' << row.whole_map_under_0_1 << ',' << row.whole_map_under_0_25 << ',' << row.direct_mean_error
+        << ',' << row.mirrored_mean_error << ',' << row.mirror_ratio << ',' << (row.mirrored ? 1 : 0) << ','
+        << (row.reflected ? 1 : 0) << ',' << row.icp_rmse << ',' << row.icp_rmse_relative << ','
+        << row.torn_edges << ",\"" << repair << "\"\n";
     }
   });
 }
@@ -528,7 +559,11 @@ json summary_json(const TopkidsSummary& s) {
           {"whole_map_mean_error", finite_or_null(s.whole_map_mean_error)},
           {"whole_map_under_0.1", s.whole_map_under_0_1},
           {"whole_map_under_0.25", s.whole_map_under_0_25},
-          {"whole_map_fraction", vector_of(s.whole_map_fraction)}};
+          {"whole_map_fraction", vector_of(s.whole_map_fraction)},
+          {"poses", s.poses},
+          {"mirrored_poses", s.mirrored_poses},
+          {"median_pose_mean_error", finite_or_null(s.median_pose_mean_error)},
+          {"median_pose_direct_error", finite_or_null(s.median_pose_direct_error)}};
 }
 
 json row_json(const TopkidsRow& row) {
@@ -545,6 +580,10 @@ json row_json(const TopkidsRow& row) {
           {"whole_map_mean_error", finite_or_null(row.whole_map_mean_error)},
           {"whole_map_under_0.1", row.whole_map_under_0_1},
           {"whole_map_under_0.25", row.whole_map_under_0_25},
+          {"direct_mean_error", finite_or_null(row.direct_mean_error)},
+          {"mirrored_mean_error", finite_or_null(row.mirrored_mean_error)},
+          {"mirror_ratio", finite_or_null(row.mirror_ratio)},
+          {"mirrored", row.mirrored},
           {"reflected", row.reflected},
           {"icp_rmse", row.icp_rmse},
           {"icp_rmse_relative", row.icp_rmse_relative},
@@ -656,7 +695,10 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   CSHAPES_REQUIRE(!r.poses.empty(), "experiment topkids: every pose was left out (see above)");
 
   r.thresholds = Eigen::VectorXd::LinSpaced(o.curve_points, 0.0, o.max_threshold);
-  for (const std::string& m : r.methods) r.summaries.push_back(summarise(m, pooled, r.thresholds));
+  for (const std::string& m : r.methods) {
+    r.summaries.push_back(summarise(m, pooled, r.thresholds));
+    add_per_pose_statistics(r.summaries.back(), r.rows);
+  }
 
   write_rows_csv(folder, r);
   write_curves_csv(folder, r);
@@ -720,7 +762,14 @@ void write_method(std::ostream& s, const TopkidsExperimentResult& r, const Topki
        "The per-vertex minimum also rewards maps that mix the sides: a map unrelated to the truth has about "
        "half its vertices nearer the mirrored truth. The *whole map* columns forgive the flip only for a map "
        "as a whole (the better of truth and mirrored truth for all its vertices together, as Kim, Lipman & "
-       "Funkhouser 2011 score symmetric shapes): the stricter reading.\n\n";
+       "Funkhouser 2011 score symmetric shapes): the stricter reading.\n\n"
+       "A pose's map is *mirrored* when it is clearly nearer the mirrored truth than the truth: its mean "
+       "error against the mirrored truth (`NAME_sym.txt` gives each vertex's mirror on the pose, whose truth "
+       "is the mirrored truth; the truth where there is none) is at most "
+    << fixed(kMirroredErrorRatio, 2)
+    << " of its mean error against the truth alone. Maps that mix the sides, or unrelated to the truth, are "
+       "about as far from both and are not counted. With few poses and bimodal errors a pooled mean moves "
+       "with one flipped pose; the medians and the share of mirrored poses say whether it did.\n\n";
   if (r.resampled)
     s << "Resampled: the reference and every pose were remeshed to about " << o.resample.vertices
       << " vertices first, and the forms and ICP computed on the remeshes; the ground truth and the scoring "
@@ -751,22 +800,29 @@ void write_resampling(std::ostream& s, const TopkidsExperimentResult& r) {
 }
 
 void write_pooled_table(std::ostream& s, const TopkidsExperimentResult& r) {
-  s << "## Pooled over poses\n\n| method | samples | mean error | median error | ≤ 0.1 | ≤ 0.25 | "
-       "whole map: mean error | ≤ 0.1 | ≤ 0.25 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  s << "## Pooled over poses\n\n| method | samples | mean error | median error | median of pose means | "
+       "mirrored poses | ≤ 0.1 | ≤ 0.25 | whole map: mean error | ≤ 0.1 | ≤ 0.25 |\n| --- | --- | --- | --- "
+       "| --- | --- | --- | --- | --- | --- | --- |\n";
   for (const TopkidsSummary& sm : r.summaries)
     s << "| " << label(sm.method) << " | " << sm.samples << " | " << fixed(sm.mean_error, 3) << " | "
-      << fixed(sm.median_error, 3) << " | " << fixed(sm.under_0_1, 3) << " | " << fixed(sm.under_0_25, 3)
-      << " | " << fixed(sm.whole_map_mean_error, 3) << " | " << fixed(sm.whole_map_under_0_1, 3) << " | "
-      << fixed(sm.whole_map_under_0_25, 3) << " |\n";
-  s << "\n";
+      << fixed(sm.median_error, 3) << " | " << fixed(sm.median_pose_mean_error, 3) << " | "
+      << sm.mirrored_poses << " of " << sm.poses << " | " << fixed(sm.under_0_1, 3) << " | "
+      << fixed(sm.under_0_25, 3) << " | " << fixed(sm.whole_map_mean_error, 3) << " | "
+      << fixed(sm.whole_map_under_0_1, 3) << " | " << fixed(sm.whole_map_under_0_25, 3) << " |\n";
+  s << "\nMean and median error: over every scored vertex of every pose (flip forgiven per vertex); "
+       "median of pose means: the median over poses of each pose's mean error; mirrored poses: maps clearly "
+       "nearer the mirrored truth (above). `topkids.json`'s summary also has the median over poses of the "
+       "error against the truth alone (`median_pose_direct_error`).\n\n";
 }
 
 void write_figure(std::ostream& s, const TopkidsExperimentResult& r, const std::string& folder) {
   if (!r.figure.empty())
-    s << "![cumulative error curves](topkids.png)\n\nCumulative error curves (fraction of ground-truth "
-         "vertices mapped within each error), pooled over the poses: left the flip forgiven per vertex, "
-         "right "
-         "per whole map; data in `curves.csv`.\n\n";
+    s << "![cumulative error curves and per-pose errors](topkids.png)\n\nLeft: cumulative error curves "
+         "(fraction of ground-truth vertices mapped within each error), pooled over the poses, the flip "
+         "forgiven per vertex, then per whole map; data in `curves.csv`. Right: each pose's mean error (flip "
+         "forgiven per vertex), a dot per pose and method, the bar at the median over poses: poses whose "
+         "alignment failed form their own cluster; a cross joined to a dot: a mirrored map's mean error "
+         "against the truth alone, what the flip costs unforgiven; data in `topkids.csv`.\n\n";
   else
     s << "No figure (" << r.figure_problem
       << "); draw it with `scripts/python.sh experiments/plots/topkids_figure.py " << folder
@@ -786,13 +842,18 @@ void write_pose_table(std::ostream& s, const TopkidsExperimentResult& r) {
         if (row.pose == pose && row.method == m)
           s << " " << fixed(row.mean_error, 3) << " (" << fixed(row.under_0_25, 2) << ") | "
             << fixed(row.whole_map_mean_error, 3) << " (" << fixed(row.whole_map_under_0_25, 2) << ")"
-            << (row.whole_map_mirrored ? " M" : "") << (row.reflected ? " R" : "") << " |";
+            << (row.mirrored             ? " M"
+                : row.whole_map_mirrored ? " m"
+                                         : "")
+            << (row.reflected ? " R" : "") << " |";
     s << "\n";
   }
-  s << "\nM: the whole map is scored against the mirrored truth (it is nearer). R: the ICP alignment is a "
-       "reflection. `topkids.csv` has per pose and method: median, unmapped vertices, vertices scored "
-       "against "
-       "the mirrored truth, ICP RMSE, torn edges (Coulomb) and repairs.\n\n";
+  s << "\nM: the map is mirrored (mean error against the mirrored truth ≤ " << fixed(kMirroredErrorRatio, 2)
+    << " × against the truth; the whole map is scored against the mirrored truth); m: the mirrored truth is "
+       "nearer, but not clearly (the whole map is scored against it, the map is not counted as mirrored). R: "
+       "the ICP alignment is a reflection. `topkids.csv` has per pose and method: median, unmapped vertices, "
+       "vertices scored against the mirrored truth, the mean errors against the truth and the mirrored truth "
+       "and their ratio, ICP RMSE, torn edges (Coulomb) and repairs.\n\n";
 }
 
 void write_repairs(std::ostream& s, const TopkidsExperimentResult& r) {

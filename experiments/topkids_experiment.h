@@ -27,6 +27,19 @@
 // The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported
 // beside.
 //
+// Mirrored maps. A map is *mirrored* (TopkidsRow::mirrored) when it is clearly nearer the mirrored truth than
+// the truth: its mean error against the mirrored truth (NAME_sym.txt's mirror where there is one, the truth
+// elsewhere) is at most kMirroredErrorRatio = ½ of its mean error against the truth alone, both over the same
+// mapped samples. A map that mixes the sides, or one unrelated to the truth, is about as far from both and is
+// not counted; a pose without NAME_sym.txt is never mirrored. Per method the summary gives the share of poses
+// whose map is mirrored, and the median over poses of the pose's mean error beside the pooled mean: with a
+// few poses and bimodal errors (a flipped alignment costs 0.2-0.3 per pose) a pooled mean moves with one
+// flip, the medians and the share say whether it did.
+//
+// The mirror files: NAME_sym.txt pairs vertex a of the pose with its left-right mirror b on the pose itself
+// (both 1-based vertices of the pose), so a's mirrored truth on the reference is the truth of b (on the
+// shared data this equals kid00_sym.txt's mirror of a's truth for every listed vertex).
+//
 // Resampling (options.resample.vertices > 0, `--resample N`): the reference and every pose are remeshed to
 // about N vertices first (pipeline/resampled_dataset.h: cached under out/cache/remeshed, written to
 // out/resampled), and the forms and ICP are computed on the remeshes; the ground truth and the scoring stay
@@ -41,7 +54,10 @@
 //   run_topkids_experiment   the measurement; writes the data files into out/: topkids.csv (one row per
 //                            method and pose), curves.csv (cumulative error curve per method, pooled over
 //                            poses, flip forgiven per vertex and per map), topkids.json (everything, with the
-//                            per-method pooled summary)
+//                            per-method pooled summary). topkids.csv's columns and topkids.json's rows are
+//                            TopkidsRow's fields by name (under_0.1 for under_0_1, 0/1 for the booleans in
+//                            the CSV; torn_edges −1 for a method that does not tear), the summary's entries
+//                            TopkidsSummary's, with its curves as fraction and whole_map_fraction
 //   draw_topkids_figure      out/topkids.png from curves.csv and topkids.json (experiments/figures.h), its
 //                            outcome recorded in the result and topkids.json
 //   write_topkids_report     out/report.md (the table, the figure, how it was made) from the result and
@@ -66,6 +82,10 @@
 
 namespace cshapes {
 
+// A map is mirrored when its mean error against the mirrored truth is at most this fraction of its mean error
+// against the truth (see above).
+constexpr double kMirroredErrorRatio = 0.5;
+
 struct TopkidsExperimentOptions {
   std::string data;                 // the folder (see above)
   std::string out;                  // output folder; out/cache makes reruns resume
@@ -73,10 +93,10 @@ struct TopkidsExperimentOptions {
   std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
   // Every registered method by default; empty: the inputs alone.
   std::vector<std::string> methods = canonical_form_methods();
-  int samples = 1000;          // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
+  int samples = 1000;  // ground-truth vertices per pose, evenly spaced over NAME_ref.txt; ≤ 0: all
   // Method options (canon.method is set per method; MDS geodesics: canon.geodesics, heat by default).
   CanonicalFormOptions canon = experiment_canonical_form_options();
-  IcpOptions icp;              // the retrieval's alignment (defaults: reflections allowed)
+  IcpOptions icp;  // the retrieval's alignment (defaults: reflections allowed)
   // Geodesics on the reference for the errors: fast marching (stencils built once, ~1-2% relative error).
   GeodesicOptions scoring_geodesics = [] {
     GeodesicOptions g;
@@ -108,8 +128,13 @@ struct TopkidsRow {
   double under_0_25 = 0;  // ≤ 0.25
   // The same with the flip forgiven for the whole map only (the better of truth and mirrored truth for all
   // samples together, eval/correspondence_error.h): stricter, a map mixing the sides is not forgiven.
-  bool whole_map_mirrored = false;  // the mirrored truth was the better one
+  bool whole_map_mirrored = false;  // the mirrored truth was the better one (by any margin)
   double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
+  // Mean error against the truth alone (no flip forgiven), and against the mirrored truth (the truth where a
+  // vertex has no mirror: both the same without NAME_sym.txt), their ratio (NaN when both are 0); mirrored:
+  // ratio ≤ kMirroredErrorRatio.
+  double direct_mean_error = 0, mirrored_mean_error = 0, mirror_ratio = 0;
+  bool mirrored = false;
   bool reflected = false;        // the ICP alignment is a reflection (det R = −1)
   double icp_rmse = 0;           // of the alignment, in the reference form's units
   double icp_rmse_relative = 0;  // over the reference form's bounding-box diagonal
@@ -125,6 +150,10 @@ struct TopkidsSummary {  // one method, pooled over poses
   // Flip forgiven per map (TopkidsRow::whole_map_*), pooled likewise.
   double whole_map_mean_error = 0, whole_map_under_0_1 = 0, whole_map_under_0_25 = 0;
   Eigen::VectorXd whole_map_fraction;
+  // Per pose instead of pooled: the median over poses of the pose's mean error (flip forgiven per vertex), of
+  // its mean error against the truth alone, and the poses whose map is mirrored (TopkidsRow::mirrored).
+  int poses = 0, mirrored_poses = 0;
+  double median_pose_mean_error = 0, median_pose_direct_error = 0;
 };
 
 // With resampling: one pose's ground-truth vertices carried to its remesh (pipeline/remesh_samples.h).

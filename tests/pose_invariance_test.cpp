@@ -10,6 +10,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -18,6 +19,7 @@
 #include "core/io.h"
 #include "core/rigid_transform.h"
 #include "core/synthetic.h"
+#include "experiments/figures.h"
 #include "pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
@@ -269,6 +271,102 @@ TEST(PoseInvariance, DatasetWithSharedFacesPairsVertexIWithVertexI) {
     EXPECT_NE(what.find("ring_noisy.off"), std::string::npos) << what;
     EXPECT_NE(what.find("do not share their faces"), std::string::npos) << what;
   }
+}
+
+// Per part on generated bipeds: the parts of the first pose (head, hands, feet and the core) carried to the
+// others by the shared vertex order; the parts' residuals, weighted by their samples, recombine to the pose
+// RMS of the same whole-shape fit; the figure's pair is the one with the median Coulomb RMS.
+TEST(PoseInvariance, PartsOfGeneratedBipedsRecombineToTheWholeRms) {
+  const std::string dir = test::scratch_dir("pose_parts");
+  PoseInvarianceOptions o;
+  o.data = test::generated_dataset(dir + "/gen", 1, 3, 1200);
+  o.out = dir + "/out";
+  o.methods = {"coulomb", "cmds"};
+  o.samples = 400;
+  o.stress_sources = 0;
+  const PoseInvarianceResult r = run_pose_invariance(o);
+  ASSERT_EQ(r.classes.size(), 1u);
+  const PoseClassParts& c = r.classes[0];
+  EXPECT_EQ(c.class_name, "biped");
+  EXPECT_EQ(c.shape, "biped0");
+  EXPECT_TRUE(c.problem.empty()) << c.problem;
+  EXPECT_EQ(c.extremities.size(), 5u);
+  ASSERT_EQ(r.pairs.size(), 9u);  // 3 pairs × (input, coulomb, cmds)
+  for (const PosePairRow& p : r.pairs) {
+    double squares = 0;
+    int samples = 0;
+    std::set<int> parts;
+    for (const PosePartRow& q : r.parts)
+      if (q.a == p.a && q.b == p.b && q.form == p.form) {
+        squares += q.samples * q.rms * q.rms;
+        samples += q.samples;
+        parts.insert(q.part);
+      }
+    EXPECT_EQ(samples, p.samples) << p.a << "-" << p.b << " " << p.form;  // every sample in one part
+    EXPECT_EQ(parts, (std::set<int>{0, 1, 2, 3, 4, 5})) << p.a << "-" << p.b << " " << p.form;
+    EXPECT_NEAR(std::sqrt(squares / samples), p.rms, 1e-9 * p.rms) << p.a << "-" << p.b << " " << p.form;
+  }
+  // Medians per part and form, and the data files.
+  EXPECT_EQ(r.part_summary.size(), 6u * 3u);
+  const std::string csv = read_file(o.out + "/pose_parts.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "config,a,b,class,form,part,parts_shape,extremity_vertex,samples,rms");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), static_cast<long>(r.parts.size()) + 1);
+  // The figure's pair: the median of the three Coulomb RMS, its residuals those of the same fit.
+  std::vector<double> coulomb;
+  for (const PosePairRow& p : r.pairs)
+    if (p.form == "coulomb") coulomb.push_back(p.rms);
+  std::sort(coulomb.begin(), coulomb.end());
+  const PoseFigurePair& fig = r.figure_pair;
+  ASSERT_EQ(fig.forms, (std::vector<std::string>{"input", "coulomb", "cmds"}));
+  EXPECT_DOUBLE_EQ(fig.rms[1], coulomb[1]);
+  EXPECT_TRUE(contains(fig.chosen_by, "median Coulomb pose RMS (2 of 3")) << fig.chosen_by;
+  ASSERT_EQ(fig.residuals.rows(), 400);
+  EXPECT_NEAR(std::sqrt(fig.residuals.col(1).squaredNorm() / 400), fig.rms[1], 1e-9 * fig.rms[1]);
+  EXPECT_TRUE(fs::exists(o.out + "/pose_residuals.csv"));
+  EXPECT_TRUE(fs::exists(o.out + "/pose_residuals.json"));
+
+  // The report: the per-part table, named by extremity vertex; the figure or why not.
+  PoseInvarianceResult drawn = r;
+  o.figure = false;
+  draw_pose_figure(drawn, o);
+  EXPECT_EQ(drawn.figure_problem, "not requested (--no-figure)");
+  const std::string md = pose_invariance_markdown(drawn, o);
+  EXPECT_TRUE(contains(md, "## Where the pose stays: per part")) << md;
+  EXPECT_TRUE(
+      contains(md, "| part 1 (extremity at vertex " + std::to_string(c.extremities[0]) + " of biped0) |"))
+      << md;
+  EXPECT_TRUE(contains(md, "No figure (not requested (--no-figure))")) << md;
+
+  // Without parts: no part rows, no pose_parts.csv section.
+  o.parts = false;
+  o.out = dir + "/no_parts";
+  const PoseInvarianceResult none = run_pose_invariance(o);
+  EXPECT_TRUE(none.parts.empty());
+  EXPECT_TRUE(none.classes.empty());
+  EXPECT_FALSE(contains(pose_invariance_markdown(none, o), "per part"));
+  fs::remove_all(dir);
+}
+
+// The figure script draws pose_residuals.png from a small generated run (skipped without matplotlib).
+TEST(PoseInvariance, FigureScriptDrawsTheResidualsOfTheChosenPair) {
+  if (find_python("matplotlib, numpy").empty()) GTEST_SKIP() << "no Python with matplotlib and numpy";
+  const std::string dir = test::scratch_dir("pose_figure");
+  PoseInvarianceOptions o;
+  o.data = test::generated_dataset(dir + "/gen", 1, 2, 800);
+  o.out = dir + "/out";
+  o.methods = {"cmds"};
+  o.samples = 200;
+  o.stress_sources = 0;
+  const PoseInvarianceResult r = pose_experiment(o);
+  EXPECT_EQ(r.figure, "pose_residuals.png") << r.figure_problem;
+  EXPECT_TRUE(fs::exists(o.out + "/pose_residuals.png"));
+  EXPECT_TRUE(contains(r.figure_pair.chosen_by, "median classical MDS pose RMS (1 of 1"))
+      << r.figure_pair.chosen_by;
+  const std::string md = read_file(o.out + "/pose.md");
+  EXPECT_TRUE(contains(md, "![residuals of biped0-biped1](pose_residuals.png)")) << md;
+  EXPECT_TRUE(contains(md, "experiments/plots/pose_figure.py " + o.out)) << md;
+  fs::remove_all(dir);
 }
 
 TEST(PoseInvariance, AShapeWhoseFormFailsIsLeftOutWithItsPairsAndNamed) {

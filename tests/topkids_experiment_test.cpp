@@ -154,6 +154,47 @@ TEST(TopkidsExperiment, IdenticalPairMapsWithoutErrorAndRerunsFromCache) {
   fs::remove_all(k.dir);
 }
 
+// A pose that is the reference itself, with a ground truth that sends vertex v to π(v) = v + n/2 (mod n),
+// and a mirror file that pairs v with σ(v) = π⁻¹(v) on the pose: the identity map ICP finds is far from the
+// truth and exactly on the mirrored truth ref(σ(v)) = v. Read the other way (σ(v) a vertex of the
+// reference) the mirrored truth would be v − n/2, as far as the truth: the map would not be mirrored.
+TEST(TopkidsExperiment, MirrorFilePairsPoseVerticesAndAMirroredMapIsCounted) {
+  SyntheticKids k = make_kids("topkids_mirrored");
+  const Index n = k.reference.num_vertices();
+  write_mesh(k.dir + "/swapped.off", k.reference);
+  std::ostringstream truth, mirror;
+  for (Index v = 0; v < n; ++v) {
+    truth << v + 1 << " " << (v + n / 2) % n + 1 << "\n";
+    mirror << v + 1 << " " << (v - n / 2 + n) % n + 1 << "\n";
+  }
+  test::write_text(k.dir + "/swapped_ref.txt", truth.str());
+  test::write_text(k.dir + "/swapped_sym.txt", mirror.str());
+  TopkidsExperimentOptions o = options_for(k, k.dir + "/out");
+  o.methods = {};  // the inputs alone
+  o.poses = {"moved", "swapped"};
+  const TopkidsExperimentResult r = run_topkids_experiment(o);
+  const TopkidsRow& swapped = row_of(r, "swapped", "inputs");
+  EXPECT_GT(swapped.direct_mean_error, 0.1);
+  EXPECT_NEAR(swapped.mirrored_mean_error, 0.0, 1e-12);
+  EXPECT_NEAR(swapped.mean_error, 0.0, 1e-12);  // forgiven per vertex
+  EXPECT_TRUE(swapped.mirrored);
+  EXPECT_TRUE(swapped.whole_map_mirrored);
+  const TopkidsRow& moved = row_of(r, "moved", "inputs");  // exact, its mirror file the identity
+  EXPECT_FALSE(moved.mirrored);
+  EXPECT_FALSE(moved.whole_map_mirrored);
+  ASSERT_EQ(r.summaries.size(), 1u);
+  EXPECT_EQ(r.summaries[0].poses, 2);
+  EXPECT_EQ(r.summaries[0].mirrored_poses, 1);
+  EXPECT_NEAR(r.summaries[0].median_pose_mean_error, 0.0, 1e-12);
+  EXPECT_NEAR(r.summaries[0].median_pose_direct_error, swapped.direct_mean_error / 2, 1e-12);
+  // The CSV documents the new columns.
+  const std::string csv = read_file(o.out + "/topkids.csv");
+  EXPECT_TRUE(contains(csv, "direct_mean_error,mirrored_mean_error,mirror_ratio,mirrored,")) << csv;
+  const nlohmann::json j = nlohmann::json::parse(read_file(o.out + "/topkids.json"));
+  EXPECT_EQ(j["summary"][0]["mirrored_poses"], 1);
+  fs::remove_all(k.dir);
+}
+
 TEST(TopkidsExperiment, MissingOrMalformedFilesAreNamed) {
   SyntheticKids k = make_kids("topkids_bad");
   TopkidsExperimentOptions o = options_for(k, k.dir + "/out");
@@ -279,7 +320,10 @@ TopkidsExperimentResult hand_made_result() {
   r.rows = {row("kid07", "inputs", 0.3, 0.5, -1), row("kid07", "coulomb", 0.1, 0.9, 3),
             row("kid08", "inputs", 0.35, 0.4, -1), row("kid08", "coulomb", 0.12, 0.8, 5)};
   r.rows[1].whole_map_mirrored = true;
+  r.rows[1].mirrored = true;
   r.rows[1].reflected = true;
+  r.rows[3].whole_map_mirrored = true;  // nearer the mirrored truth, not clearly: "m"
+  r.rows[3].mirrored = false;
   r.rows[3].repair = "removed 2 duplicate faces";
   TopkidsSummary inputs;
   inputs.method = "inputs";
@@ -295,6 +339,11 @@ TopkidsExperimentResult hand_made_result() {
   coulomb.whole_map_mean_error = 0.22;
   coulomb.whole_map_under_0_1 = 0.3;
   coulomb.whole_map_under_0_25 = 0.425;
+  coulomb.poses = 2;
+  coulomb.mirrored_poses = 1;
+  coulomb.median_pose_mean_error = 0.11;
+  inputs.poses = 2;
+  inputs.median_pose_mean_error = nan;
   r.summaries = {inputs, coulomb};
   r.reference_repair = {{"coulomb", "split 1 non-manifold edge"}};
   r.reference_sqrt_area = 97.94;
@@ -318,11 +367,15 @@ TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
   EXPECT_TRUE(contains(report, "over √area of the reference (97.94)")) << report;
   EXPECT_TRUE(contains(report, "100 ground-truth vertices per pose")) << report;
   // The pooled table: a row per method, "—" where nothing was measured.
-  EXPECT_TRUE(contains(report, "| Coulomb | 200 | 0.110 | 0.100 | 0.600 | 0.850 | 0.220 | 0.300 | 0.425 |"))
+  // Mean, median, median of the pose means and the mirrored poses side by side.
+  EXPECT_TRUE(contains(
+      report, "| Coulomb | 200 | 0.110 | 0.100 | 0.110 | 1 of 2 | 0.600 | 0.850 | 0.220 | 0.300 | 0.425 |"))
       << report;
-  EXPECT_TRUE(
-      contains(report, "| inputs (no canonical form) | 200 | — | — | 0.000 | 0.000 | — | 0.000 | 0.000 |"))
+  EXPECT_TRUE(contains(
+      report,
+      "| inputs (no canonical form) | 200 | — | — | — | 0 of 2 | 0.000 | 0.000 | — | 0.000 | 0.000 |"))
       << report;
+  EXPECT_TRUE(contains(report, "is at most 0.50 of its mean error against the truth alone")) << report;
   EXPECT_FALSE(contains(report, "nan")) << report;
   EXPECT_TRUE(contains(report,
                        "No figure (not requested (--no-figure)); draw it with "
@@ -337,7 +390,7 @@ TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
   // Per pose: mean (≤ 0.25) per vertex | per whole map, M and R marks.
   EXPECT_TRUE(contains(report, "| kid07 | 0.300 (0.50) | 0.600 (0.25) | 0.100 (0.90) | 0.200 (0.45) M R |"))
       << report;
-  EXPECT_TRUE(contains(report, "| kid08 | 0.350 (0.40) | 0.700 (0.20) | 0.120 (0.80) | 0.240 (0.40) |"))
+  EXPECT_TRUE(contains(report, "| kid08 | 0.350 (0.40) | 0.700 (0.20) | 0.120 (0.80) | 0.240 (0.40) m |"))
       << report;
   EXPECT_TRUE(contains(report, "- Coulomb, reference: split 1 non-manifold edge\n")) << report;
   EXPECT_TRUE(contains(report, "- Coulomb: removed 2 duplicate faces\n")) << report;
@@ -352,7 +405,7 @@ TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
   r.failures.clear();
   write_topkids_report(r, o, out);
   const std::string drawn = read_file(out + "/report.md");
-  EXPECT_TRUE(contains(drawn, "![cumulative error curves](topkids.png)")) << drawn;
+  EXPECT_TRUE(contains(drawn, "![cumulative error curves and per-pose errors](topkids.png)")) << drawn;
   EXPECT_FALSE(contains(drawn, "No figure")) << drawn;
   EXPECT_FALSE(contains(drawn, "Shapes left out")) << drawn;
   fs::remove_all(out);
