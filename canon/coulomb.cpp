@@ -6,6 +6,8 @@
 #include <memory>
 #include <numeric>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/timing.h"
@@ -200,6 +202,20 @@ double edge_scale(const Eigen::VectorXd& rest, CoulombStepRule rule) {
   return rest.mean();
 }
 
+// Moves every row of Y towards the plane through the centroid spanned by Y's two directions of largest
+// spread, by `fraction` of its distance from that plane (CoulombCanonOptions::flatten). O(n).
+void flatten_towards_plane(Points& Y, double fraction) {
+  const Eigen::RowVector3d centroid = Y.colwise().mean();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (Index i = 0; i < Y.rows(); ++i) {
+    const Eigen::Vector3d d = (Y.row(i) - centroid).transpose();
+    scatter.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  const Eigen::RowVector3d normal = eigen.eigenvectors().col(0).transpose();  // least spread
+  for (Index i = 0; i < Y.rows(); ++i) Y.row(i) -= fraction * (Y.row(i) - centroid).dot(normal) * normal;
+}
+
 void check_options(const CoulombCanonOptions& o) {
   using namespace coulomb_limits;
   check_limit(kStepFactor, o.step_factor, "coulomb");
@@ -214,6 +230,8 @@ void check_options(const CoulombCanonOptions& o) {
   check_limit(kTolerance, o.stop_tolerance, "coulomb");
   check_limit(kMomentum, o.momentum, "coulomb");
   check_limit(kAccuracy, o.energy.accuracy, "coulomb");
+  check_limit(kStartLandmarks, static_cast<double>(o.start_landmarks), "coulomb");
+  check_limit(kFlatten, o.flatten, "coulomb");
   CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
@@ -247,10 +265,13 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
   std::iota(original_row.begin(), original_row.end(), Index(0));
   result.torn_vertices = Eigen::VectorXd::Zero(n);
 
+  CoulombStartResult start_at = coulomb_start(X0, E, options.start, options.start_landmarks);
+  result.start = start_at.note;
+
   // All work arrays are allocated once: an iteration at 5,000 vertices takes a few milliseconds, and fresh
   // n×3 matrices (120 kB, above malloc's mmap threshold) would be mapped and faulted in every time.
-  Points X = X0, X_prev = X0, Y(n, 3), Y_extrapolated(momentum ? n : 0, 3);
-  Points snapshot = X0;
+  Points X = std::move(start_at.X), X_prev = X, Y(n, 3), Y_extrapolated(momentum ? n : 0, 3);
+  Points snapshot = X;
   int snapshot_iteration = 0;
   int since_restart = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
   double shape_change = -1;
@@ -330,6 +351,7 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
       record.step = c;
       record.max_move = c * gmax;
     }
+    if (options.flatten > 0) flatten_towards_plane(Y, options.flatten);
     // The violation is measured inside the projection's pass (rigid motion below does not change it).
     RelativeViolation violation;
     projection->project(Y, &violation);

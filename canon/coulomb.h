@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "canon/coulomb_energy.h"
+#include "canon/coulomb_start.h"
 #include "canon/form_quality.h"
 #include "canon/metric_projection.h"
 #include "core/option_fields.h"
@@ -92,6 +93,8 @@ inline constexpr Limit kAccuracy = number_limit("coulomb-accuracy", 1e-12, 1);
 inline constexpr Limit kMultiresolutionAbove = integer_limit("coulomb-multiresolution-above", 0, 2e9);
 inline constexpr Limit kCoarseVertices = integer_limit("coulomb-coarse-vertices", 4, 1e9);
 inline constexpr Limit kTearRounds = integer_limit("coulomb-tear-rounds", 0, 1e6);
+inline constexpr Limit kStartLandmarks = integer_limit("start-landmarks", 4, 1e6);
+inline constexpr Limit kFlatten = number_limit("flatten", 0, 0.5);
 }  // namespace coulomb_limits
 
 // Meshes finer than the resolution the defaults were chosen at are canonized through a coarse version of
@@ -125,6 +128,22 @@ struct CoulombCanonOptions {
   // energy in 74 iterations, the paper's scheme in 827; after 2,000 iterations both end at the same energy
   // (0.04% apart) and mean violation (0.2500 vs 0.2498).
   CoulombScheme scheme = CoulombScheme::Momentum;
+  // Where the iteration starts (canon/coulomb_start.h). The input (the paper) keeps the pose on bodies: each
+  // limb stays at about the angle it started at. Measured on the tuning data (KIDS poses 0–7 remeshed to
+  // 5,000 vertices; a generated set, seed 11), median pose RMS with flatten 0.001: KIDS 4.02% against 8.06%
+  // from the input (classical MDS 4.04%), generated 0.82% against 2.02% (classical MDS 1.53%):
+  // docs/coulomb-defaults.md.
+  CoulombStart start = CoulombStart::LandmarkMds;
+  Index start_landmarks = 50;  // L of the landmark MDS start (50, 100 and 300 measured alike)
+  // Each iteration moves every point towards the plane of the form's two directions of largest spread by
+  // this fraction of its distance from it (after the Coulomb step, before the projection). Why: Coulomb
+  // repulsion spreads four limbs in three dimensions (two in one plane, two across it), an arrangement that
+  // is not mirror-symmetric, so a left–right symmetric body has two mirror-twin forms and each pose falls
+  // into one of them (KIDS: poses 0, 4, 6 in one, the others in the other, 5% apart where each half agreed
+  // within 1–2%). A slight pull towards a plane makes the symmetric, planar arrangement the stable one. Too
+  // strong a pull folds four-legged shapes into a plane whichever way (generated quadrupeds: 7.7% at 0.01
+  // against 1.5% at 0.001). 0: off (the paper).
+  double flatten = 0.001;
   // c = 0.1 · mean edge / mean_i ‖∇_i E‖: a typical vertex moves a tenth of a mean edge per step. The
   // paper's rule (max-edge, max gradient) depends on the two most extreme values of the mesh — its longest
   // edge and its fastest vertex — which differ between poses of one shape (TOSCA: the longest edge is 4.4 to
@@ -190,6 +209,9 @@ struct CoulombCanonOptions {
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("scheme", o.scheme);
+    visit("start", o.start);
+    visit("start_landmarks", o.start_landmarks);
+    visit("flatten", o.flatten);
     visit("step_rule", o.step_rule);
     visit("step_factor", o.step_factor);
     visit("step_gradient", o.step_gradient);
@@ -242,7 +264,8 @@ struct CoulombCanonResult {
   // Stretch of the edges not torn relative to X0 (not to given rest lengths) and runaway vertices
   // (form_quality.h); quality.ok is false when a vertex ran away.
   FormQuality quality;
-  double seconds = 0;
+  std::string start;  // where the iteration started (coulomb_start's note)
+  double seconds = 0;  // the start included
 };
 
 // X0: n×3 initial (and reference) shape; E: |E|×2 edges; rest_lengths: |E| values, or empty for the edge

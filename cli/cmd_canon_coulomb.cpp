@@ -11,6 +11,7 @@ namespace {
 struct CoulombArgs {
   CoulombCanonOptions options;
   std::string scheme = to_string(CoulombCanonOptions{}.scheme);
+  std::string start = to_string(CoulombCanonOptions{}.start);
   std::string step_rule = to_string(CoulombCanonOptions{}.step_rule);
   std::string step_gradient = to_string(CoulombCanonOptions{}.step_gradient);
   std::string norm = to_string(CoulombCanonOptions{}.projection.norm);
@@ -24,6 +25,16 @@ void add_options(CLI::Option_group& g) {
                "paper: plain alternation of §2.1; momentum: Nesterov with restart (same "
                "fixed point, fewer iterations)")
       ->check(one_of({"paper", "momentum"}));
+  g.add_option("--coulomb-start", args.start,
+               "where the iteration starts: landmark-mds (an embedding of graph geodesics, the same for every "
+               "pose) or input (the paper: the input's coordinates)")
+      ->check(one_of({"landmark-mds", "input"}));
+  g.add_option("--start-landmarks", o.start_landmarks, "landmarks of --coulomb-start landmark-mds")
+      ->check(within(coulomb_limits::kStartLandmarks));
+  g.add_option("--flatten", o.flatten,
+               "per iteration, pull every point this fraction of the way towards the form's plane of largest "
+               "spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)")
+      ->check(within(coulomb_limits::kFlatten));
   g.add_option("--step-rule", args.step_rule,
                "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), "
                "mean-edge, median-edge; or fixed")
@@ -95,6 +106,7 @@ void add_options(CLI::Option_group& g) {
 CoulombCanonOptions parsed_options() {
   CoulombCanonOptions options = args.options;
   options.scheme = parse_coulomb_scheme(args.scheme);
+  options.start = parse_coulomb_start(args.start);
   options.step_rule = parse_coulomb_step_rule(args.step_rule);
   options.step_gradient = parse_step_gradient(args.step_gradient);
   options.projection.norm = parse_projection_norm(args.norm);
@@ -112,6 +124,8 @@ void validate() {
     usage_fail("--l1-floor applies to --projection l1 only");
   if (canon_option_given("--momentum") && options.scheme != CoulombScheme::Momentum)
     usage_fail("--momentum applies to --scheme momentum only");
+  if (canon_option_given("--start-landmarks") && options.start != CoulombStart::LandmarkMds)
+    usage_fail("--start-landmarks applies to --coulomb-start landmark-mds only");
   if (options.multiresolution.above_vertices == 0)
     for (const char* fine : {"--coulomb-coarse-vertices", "--coulomb-tear-rounds"})
       if (canon_option_given(fine))

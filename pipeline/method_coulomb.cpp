@@ -64,12 +64,15 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"median_length_ratio", r.violation.median_length_ratio},
                                      {"seconds", r.seconds},
                                      {"scheme", to_string(co.scheme)},
+                                     {"start", r.start},
+                                     {"flatten", co.flatten},
                                      {"step_rule", to_string(co.step_rule)},
                                      {"step_gradient", to_string(co.step_gradient)},
                                      {"projection", to_string(co.projection.norm)},
                                      {"projection_steps", co.projection.steps},
                                      {"form_quality", form_quality_json(r.quality)}}
                           .dump();
+  say(options.note, "coulomb: started at " + r.start);
   say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
                         std::to_string(r.seconds) + " s; mean violation " +
                         std::to_string(r.violation.mean_relative) + ", " +

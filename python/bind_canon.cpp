@@ -31,7 +31,9 @@ struct PyCanonicalForm {
   double seconds = 0;  // wall time: geodesics or graph set-up plus the solve
 };
 
-const std::vector<std::string> kCoulombOptions = {"scheme",           "step_rule",
+const std::vector<std::string> kCoulombOptions = {"scheme",           "coulomb_start",
+                                                  "start_landmarks",  "flatten",
+                                                  "step_rule",
                                                   "step_gradient",    "step_factor",
                                                   "fixed_step",       "coulomb_steps",
                                                   "projection_steps", "projection",
@@ -82,6 +84,12 @@ void read_spectral_options(Kwargs& k, CanonicalFormOptions& o) {
 void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
   CoulombCanonOptions& c = o.coulomb;
   c.scheme = parse_coulomb_scheme(k.text("scheme", to_string(c.scheme)));
+  c.start = parse_coulomb_start(k.text("coulomb_start", to_string(c.start)));
+  c.start_landmarks =
+      k.int32("start_landmarks", static_cast<int>(c.start_landmarks), coulomb_limits::kStartLandmarks);
+  c.flatten = k.number("flatten", c.flatten, coulomb_limits::kFlatten);
+  if (k.given("start_landmarks") && c.start != CoulombStart::LandmarkMds)
+    fail("start_landmarks applies to coulomb_start='landmark-mds' only");
   c.step_rule = parse_coulomb_step_rule(k.text("step_rule", to_string(c.step_rule)));
   c.step_gradient = parse_step_gradient(k.text("step_gradient", to_string(c.step_gradient)));
   c.step_factor = k.number("step_factor", c.step_factor, coulomb_limits::kStepFactor);
@@ -262,6 +270,8 @@ std::string coulomb_doc() {
        "V (n, 3) coordinates, F (m, 3) vertex indices (an empty F: a point cloud, joined by its kNN graph).\n"
        "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n"
     << "  scheme ['" << to_string(c.scheme) << "'] paper | momentum\n"
+    << "  coulomb_start ['" << to_string(c.start) << "'] landmark-mds | input (the paper), start_landmarks ["
+    << c.start_landmarks << "], flatten [" << c.flatten << "] (0: off, the paper)\n"
     << "  step_rule ['" << to_string(c.step_rule) << "'] max-edge | mean-edge | median-edge | fixed\n"
     << "  step_gradient ['" << to_string(c.step_gradient) << "'] max | mean\n"
     << "  step_factor [" << c.step_factor << "], fixed_step [" << c.fixed_step << "] (step_rule='fixed')\n"

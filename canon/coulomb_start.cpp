@@ -1,0 +1,66 @@
+#include "canon/coulomb_start.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "canon/landmark_mds.h"
+#include "core/error.h"
+#include "core/landmark_geodesics.h"
+#include "core/mesh.h"
+#include "core/rigid_transform.h"
+#include "core/timing.h"
+
+namespace cshapes {
+
+CoulombStart parse_coulomb_start(const std::string& name) {
+  if (name == "input") return CoulombStart::Input;
+  if (name == "landmark-mds") return CoulombStart::LandmarkMds;
+  fail("unknown Coulomb start '", name, "'; known: landmark-mds, input");
+}
+
+std::string to_string(CoulombStart start) {
+  return start == CoulombStart::Input ? "input" : "landmark-mds";
+}
+
+CoulombStartResult coulomb_start(const Points& X0, const Edges& E, CoulombStart start, Index landmarks) {
+  const auto begin = WallClock::now();
+  CoulombStartResult result;
+  auto input = [&](const std::string& why) {
+    result.X = X0;
+    result.used = start == CoulombStart::Input;
+    result.note = why;
+    result.seconds = seconds_since(begin);
+    return result;
+  };
+  if (start == CoulombStart::Input) return input("the input's coordinates");
+  const Index n = X0.rows();
+  CSHAPES_REQUIRE(landmarks >= 4, "coulomb start: need at least 4 landmarks, not ", landmarks);
+  if (n < 4) return input("the input's coordinates (fewer than 4 points for a landmark MDS start)");
+  const Components components = connected_components(n, E);
+  if (components.count != 1)
+    return input("the input's coordinates (the edge graph has " + std::to_string(components.count) +
+                 " components: no geodesic distance between them)");
+  const SingleSourceGeodesics graph(X0, E);
+  const LandmarkGeodesics rows = landmark_geodesics(graph, std::min(landmarks, n));
+  if (!rows.rows.allFinite())
+    return input("the input's coordinates (a landmark's graph distances are not finite)");
+  const LandmarkMdsResult mds = landmark_classical_mds(rows.rows, rows.landmarks);
+  if (!(mds.eigenvalues(2) > 0) || !mds.X.allFinite())
+    return input("the input's coordinates (the landmarks' distances span fewer than three dimensions)");
+  // The input's mean edge length: the embedding of graph distances is a little larger than the surface
+  // (graph paths zigzag) and its edges are distorted, so its scale is set by the edges it will be held to.
+  const double target = edge_lengths(X0, E).mean();
+  const double current = edge_lengths(mds.X, E).mean();
+  if (!(current > 0) || !(target > 0))
+    return input("the input's coordinates (edges of length zero in the landmark MDS embedding)");
+  Points X = mds.X * (target / current);
+  X = best_rigid_transform(X, X0, /*determinant=*/0).apply(X);
+  result.X = std::move(X);
+  result.used = true;
+  result.seconds = seconds_since(begin);
+  result.note = "landmark MDS of graph geodesics from " + std::to_string(rows.landmarks.size()) +
+                " landmarks (" + std::to_string(result.seconds) + " s)";
+  return result;
+}
+
+}  // namespace cshapes
