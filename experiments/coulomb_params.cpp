@@ -42,10 +42,19 @@ const std::vector<CoulombParamsConfig>& coulomb_params_configs() {
       {"paper-1/1",
        [](CoulombCanonOptions& o) {
          o.scheme = CoulombScheme::Paper;
+         o.start = CoulombStart::Input;
+         o.flatten = 0;
          o.step_rule = CoulombStepRule::MaxEdge;
          o.projection.steps = 1;
        }},
       {"scheme=paper", [](CoulombCanonOptions& o) { o.scheme = CoulombScheme::Paper; }},
+      {"start=input", [](CoulombCanonOptions& o) { o.start = CoulombStart::Input; }},
+      {"flatten=0", [](CoulombCanonOptions& o) { o.flatten = 0; }},
+      {"start=input,flatten=0",
+       [](CoulombCanonOptions& o) {
+         o.start = CoulombStart::Input;
+         o.flatten = 0;
+       }},
       {"k=1", [](CoulombCanonOptions& o) { o.projection.steps = 1; }},
       {"k=3", [](CoulombCanonOptions& o) { o.projection.steps = 3; }},
       {"k=30", [](CoulombCanonOptions& o) { o.projection.steps = 30; }},

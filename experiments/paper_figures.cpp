@@ -167,6 +167,10 @@ void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, co
       } else if (target > done) {
         CoulombCanonOptions co = o.canon.coulomb;
         co.scheme = CoulombScheme::Paper;
+        // The paper's iteration from the input; each chunk continues from the last one's X, so it must not
+        // start again elsewhere.
+        co.start = CoulombStart::Input;
+        co.flatten = 0;
         co.stop_tolerance = 0;  // no early stop: the figure shows the iterations
         co.max_iterations = target - done;
         co.progress = {};
@@ -211,6 +215,8 @@ void figure5_convergence(const PaperExperimentOptions& o, PaperReport& report, c
       CanonicalFormOptions co = o.canon;
       co.method = "coulomb";
       co.coulomb.scheme = CoulombScheme::Paper;
+      co.coulomb.start = CoulombStart::Input;  // the paper's iteration, from the input
+      co.coulomb.flatten = 0;
       co.coulomb.projection.steps = k;
       co.coulomb.tear_fraction = 0;  // the curves of one constraint set
       co.coulomb.stop_tolerance = 0;

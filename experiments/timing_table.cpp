@@ -14,6 +14,8 @@ double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy)
   CoulombCanonOptions o;
   o.scheme = CoulombScheme::Paper;  // Table 1: a single Coulomb step and a single projection step
   o.step_rule = CoulombStepRule::MaxEdge;
+  o.start = CoulombStart::Input;  // the paper's iteration, from the input
+  o.flatten = 0;
   o.coulomb_steps = 1;
   o.projection.steps = 1;
   o.tear_fraction = 0;

@@ -402,6 +402,8 @@ TEST(CoulombCanon, StepGradientRuleSetsTheMeanOrTheLargestMove) {
   o.max_iterations = 1;
   o.tear_fraction = 0;
   o.remove_rigid_motion = false;
+  o.start = CoulombStart::Input;  // one step from the input, nothing else moving it
+  o.flatten = 0;
   o.step_factor = 0.1;
   o.energy.summation = CoulombOptions::Summation::Direct;
   for (StepGradient g : {StepGradient::Mean, StepGradient::Max}) {
