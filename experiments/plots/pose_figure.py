@@ -9,7 +9,8 @@ forms in run order and each one's pose RMS, a fraction of the mean diagonal) and
 after the pair's whole-shape rigid fit, a fraction of the mean diagonal, empty where the form has none).
 Draws one panel per form, the samples seen along the direction of least spread of pose b (render_mesh's pca
 view), nearest on top, coloured by residual in % of the diagonal on one colour scale for every panel (up to
-the 98th percentile over all panels; larger values in the top colour). Writes OUT/pose_residuals.png (and
+the 98th percentile over the methods' panels, the input left out: its residuals would darken every other
+panel; larger values, most of the input's, in the top colour). Writes OUT/pose_residuals.png (and
 .pdf), through a temporary file renamed at the end.
 """
 import argparse
@@ -57,7 +58,11 @@ def main():
     frame = view_frame(P, "pca")
     S = (P - P.mean(axis=0)) @ frame.T  # screen x, screen y, towards the viewer
     order = np.argsort(S[:, 2])         # far first, so the near samples are drawn on top
-    finite = R[np.isfinite(R)]
+    # The scale is the methods' (the input's residuals are 5-10x larger and would leave every method's panel
+    # in the darkest colour); the input panel saturates in the top colour.
+    methods = [k for k, form in enumerate(forms) if form != "input"]
+    scaled = R[:, methods] if methods else R
+    finite = scaled[np.isfinite(scaled)]
     top = float(np.percentile(finite, 98)) if finite.size else 1.0
     top = top if top > 0 else 1.0
 
