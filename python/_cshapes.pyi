@@ -72,6 +72,8 @@ def generate(kind: Literal["dataset"], *, classes: int = 4, poses: int = 5, nois
 # Canonical forms
 def canonical_form_methods() -> list[dict[str, Any]]: ...
 def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "momentum",
+            coulomb_start: Literal["landmark-mds", "input"] = "landmark-mds", start_landmarks: int = 50,
+            flatten: float = 0.001,
             step_rule: Literal["max-edge", "mean-edge", "median-edge", "fixed"] = "mean-edge",
             step_gradient: Literal["max", "mean"] = "mean", step_factor: float = 0.1, fixed_step: float = 0.0,
             coulomb_steps: int = 1, projection_steps: int = 10, projection: Literal["l2", "l1"] = "l2",
@@ -90,6 +92,8 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
 # another method's.
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    scheme: Literal["paper", "momentum"] = "momentum",
+                   coulomb_start: Literal["landmark-mds", "input"] = "landmark-mds", start_landmarks: int = 50,
+                   flatten: float = 0.001,
                    step_rule: Literal["max-edge", "mean-edge", "median-edge", "fixed"] = "mean-edge",
                    step_gradient: Literal["max", "mean"] = "mean", step_factor: float = 0.1,
                    fixed_step: float = 0.0, coulomb_steps: int = 1, projection_steps: int = 10,

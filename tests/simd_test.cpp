@@ -178,12 +178,15 @@ TEST(Simd, MetricProjectionIsDeterministicPerTargetAndAgreesAcrossTargets) {
   }
 }
 
-// Every method's form under every target, after the best rigid fit to the baseline's form, on a generated
-// biped (a body without the symmetries of a torus, which let a form turn freely).
+// Every method's form under every target, after the best rigid fit to the baseline's form, on a posed
+// generated biped (a body without the symmetries of a torus, which let a form turn freely, and not exactly
+// mirror-symmetric: see the next test).
 TEST(Simd, FormsOfEveryMethodAgreeAcrossTargets) {
-  RestMeshOptions rest;
-  rest.target_vertices = 800;
-  const Mesh mesh = articulated_rest_mesh(articulated_skeleton("biped"), rest);
+  ArticulatedOptions ao;
+  ao.poses = 1;
+  ao.seed = 4;
+  ao.rest.target_vertices = 800;
+  const Mesh mesh = generate_articulated("biped", ao).poses[0];
   const double diagonal = bbox_diagonal(mesh.V);
   for (const std::string method : {"coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"}) {
     CanonicalFormOptions o;
@@ -205,6 +208,31 @@ TEST(Simd, FormsOfEveryMethodAgreeAcrossTargets) {
       EXPECT_LT(rms, 1e-3 * diagonal) << method;
     });
   }
+}
+
+// An exactly mirror-symmetric input (the biped's rest mesh) starts Coulomb's iteration (the landmark MDS start)
+// on a symmetric configuration, which the iteration leaves the way rounding tips it: there the instruction
+// sets' last-bit differences grow to 0.3% of the diagonal (the bound stated on the benchmarks page is 1%).
+TEST(Simd, CoulombFormsOfAMirrorSymmetricInputAgreeWithinTheStatedBound) {
+  RestMeshOptions rest;
+  rest.target_vertices = 800;
+  const Mesh mesh = articulated_rest_mesh(articulated_skeleton("biped"), rest);
+  const double diagonal = bbox_diagonal(mesh.V);
+  CanonicalFormOptions o;
+  o.method = "coulomb";
+  Points baseline;
+  for_each_target([&](SimdTarget t) {
+    const Points X = canonical_form(mesh, o).X;
+    if (t == SimdTarget::Baseline) {
+      baseline = X;
+      return;
+    }
+    const Points aligned = rigid_align(X, baseline);
+    const double rms = std::sqrt((aligned - baseline).rowwise().squaredNorm().mean());
+    std::printf("[ info ] %s: %.4f%% of the diagonal from the baseline's form\n", to_string(t),
+                100 * rms / diagonal);
+    EXPECT_LT(rms, 1e-2 * diagonal);
+  });
 }
 
 // The paper experiment's retrieval figures on a generated set: the same to 3 decimals under every target.
