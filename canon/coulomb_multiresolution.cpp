@@ -46,78 +46,6 @@ Eigen::Matrix3d triangle_frame(const Eigen::Vector3d& a, const Eigen::Vector3d& 
 
 }  // namespace
 
-Index replace_misplaced_vertices(Points& X, const Edges& E, const Eigen::VectorXd& rest, double limit) {
-  const Index n = X.rows();
-  CSHAPES_REQUIRE(rest.size() == E.rows(), "replace_misplaced_vertices: ", rest.size(), " lengths for ",
-                  E.rows(), " edges");
-  const double mean_rest = rest.size() ? rest.mean() : 0;
-  std::vector<std::vector<int>> neighbours(static_cast<size_t>(n));
-  std::vector<int> over(static_cast<size_t>(n), 0);
-  for (Index e = 0; e < E.rows(); ++e) {
-    const int a = E(e, 0), b = E(e, 1);
-    neighbours[a].push_back(b);
-    neighbours[b].push_back(a);
-    if ((X.row(a) - X.row(b)).norm() > limit * std::max(rest[e], mean_rest)) {
-      ++over[a];
-      ++over[b];
-    }
-  }
-  // Misplaced: more than half of the vertex's edges overstretched. A vertex beside a gap that a coarse tear
-  // opened has a few such edges (those across the gap) and stays where it is, for the tearing below.
-  // A patch of several vertices carried together keeps its inner edges and is cut off from the rest by
-  // overstretched ones: every vertex outside the largest component of the edges not overstretched is
-  // misplaced too.
-  Edges kept(E.rows(), 2);
-  Index k = 0;
-  for (Index e = 0; e < E.rows(); ++e)
-    if ((X.row(E(e, 0)) - X.row(E(e, 1))).norm() <= limit * std::max(rest[e], mean_rest)) kept.row(k++) = E.row(e);
-  kept.conservativeResize(k, 2);
-  const Components parts = connected_components(n, kept);
-  const int largest = parts.largest();
-  std::vector<char> misplaced(static_cast<size_t>(n), 0);
-  Index count = 0;
-  for (Index v = 0; v < n; ++v)
-    if (2 * over[v] > static_cast<int>(neighbours[v].size()) || parts.label[v] != largest) {
-      misplaced[v] = 1;
-      ++count;
-    }
-  if (count == 0 || count == n) return 0;
-  // Placed again layer by layer from the well-placed vertices: each at the mean of its neighbours placed
-  // so far. Order: by vertex index within a layer, and a layer is computed from the previous one only, so
-  // the result does not depend on the thread count. Vertices no placed neighbour reaches stay.
-  std::vector<Index> layer;
-  for (Index v = 0; v < n; ++v)
-    if (misplaced[v]) layer.push_back(v);
-  Index replaced = 0;
-  while (!layer.empty()) {
-    std::vector<Index> next, placed_now;
-    std::vector<Eigen::RowVector3d> positions;
-    for (Index v : layer) {
-      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-      int k = 0;
-      for (int u : neighbours[v])
-        if (!misplaced[u]) {
-          sum += X.row(u);
-          ++k;
-        }
-      if (k == 0) {
-        next.push_back(v);
-        continue;
-      }
-      placed_now.push_back(v);
-      positions.push_back(sum / k);
-    }
-    if (placed_now.empty()) break;
-    for (size_t i = 0; i < placed_now.size(); ++i) {
-      X.row(placed_now[i]) = positions[i];
-      misplaced[placed_now[i]] = 0;
-    }
-    replaced += static_cast<Index>(placed_now.size());
-    layer.swap(next);
-  }
-  return replaced;
-}
-
 Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const Points& Yc, const Points& N) {
   CSHAPES_REQUIRE(Vc.rows() == Yc.rows() && Fc.rows() > 0, "prolongation: ", Vc.rows(), " coarse vertices, ",
                   Yc.rows(), " form points, ", Fc.rows(), " faces");
@@ -220,11 +148,10 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   out.coarse_torn_edges = coarse_form.torn_edges.rows();
 
   start = WallClock::now();
-  Points X = prolong_to_fine(mesh.V, coarse.V, coarse.F, coarse_form.X,
-                             mr.facing_triangles ? vertex_normals(mesh) : Points());
+  const Points X = prolong_to_fine(mesh.V, coarse.V, coarse.F, coarse_form.X,
+                                   mr.facing_triangles ? vertex_normals(mesh) : Points());
   const Edges E = mesh_edges(mesh.F);
   const Eigen::VectorXd rest = edge_lengths(mesh.V, E);
-  out.replaced_vertices = replace_misplaced_vertices(X, E, rest, FormQualityOptions{}.overstretch);
   // As many fine edges torn as keep the cut's length: a cut across the surface crosses ∝ 1/h edges.
   const double coarse_edge = edge_lengths(coarse.V, mesh_edges(coarse.F)).mean();
   const Index fine_tears = static_cast<Index>(
@@ -305,7 +232,6 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
              " s, coarse " + std::to_string(out.coarse_iterations) + " iterations " +
              std::to_string(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
              " coarse edges torn -> " + std::to_string(torn.size()) + " fine (" +
-             std::to_string(out.replaced_vertices) + " fine vertices placed again from their neighbours, " +
              std::to_string(out.extra_tears) + " of them overstretched after the sweeps), " +
              std::to_string(mr.refine_iterations) + " fine projections × " + std::to_string(out.refine_rounds) +
              " rounds " +

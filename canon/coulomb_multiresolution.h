@@ -46,9 +46,6 @@ struct CoulombMultiresolutionResult {
   Index coarse_torn_edges = 0;
   int refine_rounds = 0;   // rounds of refine_iterations sweeps (1 + one per round of extra tears)
   Index extra_tears = 0;  // fine edges still overstretched after the sweeps, torn in later rounds (asked)
-  // Fine vertices the prolongation put on another part (more than half their edges overstretched), placed
-  // again at the mean of their neighbours (replace_misplaced_vertices).
-  Index replaced_vertices = 0;
   double remesh_seconds = 0, coarse_seconds = 0, prolong_seconds = 0, refine_seconds = 0;
   std::string note;  // one line: what was done, or why not
 };
@@ -65,15 +62,5 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
 // vertices on edges stretched up to 700× without it, 240 with it: docs/results.md).
 Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const Points& Yc,
                        const Points& N = {});
-
-// Fine vertices that the prolongation carried to another part of the form: more than half of their edges
-// longer than limit × max(rest length, mean rest length). Each is placed again at the mean of its neighbours
-// that are not misplaced, layer by layer from the well-placed ones (a vertex no well-placed neighbour
-// reaches stays). Returns how many were placed again. Where parts almost touch in the input, the closest
-// coarse triangle can be the other part's even when it faces the vertex's way; with the coarse form far from
-// the input pose (the landmark MDS start moves limbs by a body length), such a vertex lands a limb away and
-// pulls its edges along (KIDS kid7 at 59,727 vertices: 5 vertices left on edges stretched 17.8× after 20
-// rounds of tears). O(|E|) per layer.
-Index replace_misplaced_vertices(Points& X, const Edges& E, const Eigen::VectorXd& rest, double limit);
 
 }  // namespace cshapes
