@@ -2,7 +2,9 @@
 // constraints of eq. (2)/(3), by alternating gradient steps (eq. 4) with projections on the constraints (eq.
 // 6 or 8–9), and tearing the most violated edges (§2.2).
 //
-// One outer iteration: m Coulomb steps X ← X − c ∇E(X) (eq. 4), then k projection sweeps
+// The iteration starts at canon/coulomb_start.h's start (by default a landmark MDS embedding, the same for
+// every pose; the paper's is the input). One outer iteration: m Coulomb steps X ← X − c ∇E(X) (eq. 4), an
+// optional slight pull towards the form's plane of largest spread (flatten), then k projection sweeps
 // (metric_projection.h). The result is the fixed point of that map, and it is defined by the step rule and by
 // k: the Coulomb step inflates the shape by about c·‖∇E‖, the k sweeps pull it back, so the final violation
 // grows with c/k (the paper's Fig. 5). Acceleration (momentum, Anderson) reaches the same fixed point in
