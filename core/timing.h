@@ -1,8 +1,8 @@
 // Clocks for the timings cshapes reports, and the one median rule of every "median of repeats".
 //
 // Wall time is the monotonic std::chrono::steady_clock (never the calendar clock, which may jump).
-// CPU time is CLOCK_PROCESS_CPUTIME_ID: the CPU seconds of all threads of the process, so on a machine shared
-// with other jobs it shows the work done independently of the share of the cores obtained (with t threads
+// CPU time is CLOCK_PROCESS_CPUTIME_ID: the CPU seconds of all threads of the process, so when other jobs
+// share the cores it shows the work done independently of the share obtained (with t threads
 // busy it runs up to t times faster than wall time). Reading it is a system call (~0.1-0.5 µs); read the wall
 // clock alone (WallClock::now, seconds_since) inside loops that run per task.
 //

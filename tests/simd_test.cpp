@@ -203,9 +203,7 @@ TEST(Simd, FormsOfEveryMethodAgreeAcrossTargets) {
         EXPECT_EQ(std::memcmp(X.data(), baseline.data(), sizeof(double) * X.size()), 0) << method;
         return;
       }
-      const Points aligned = rigid_align(X, baseline);
-      const double rms = std::sqrt((aligned - baseline).rowwise().squaredNorm().mean());
-      EXPECT_LT(rms, 1e-3 * diagonal) << method;
+      EXPECT_LT(aligned_rms(X, baseline, /*allow_reflection=*/false), 1e-3 * diagonal) << method;
     });
   }
 }
@@ -227,8 +225,7 @@ TEST(Simd, CoulombFormsOfAMirrorSymmetricInputAgreeWithinTheStatedBound) {
       baseline = X;
       return;
     }
-    const Points aligned = rigid_align(X, baseline);
-    const double rms = std::sqrt((aligned - baseline).rowwise().squaredNorm().mean());
+    const double rms = aligned_rms(X, baseline, /*allow_reflection=*/false);
     std::printf("[ info ] %s: %.4f%% of the diagonal from the baseline's form\n", to_string(t),
                 100 * rms / diagonal);
     EXPECT_LT(rms, 1e-2 * diagonal);
