@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/fast_marching.h"
 #include "core/heat_method.h"
+#include "core/unit_scale.h"
 
 namespace cshapes {
 
@@ -262,6 +263,16 @@ Eigen::VectorXd unchecked_geodesic_distances(const Mesh& mesh, const std::vector
 
 Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
                                    const GeodesicOptions& options) {
+  // Computed at unit size (core/unit_scale.h): every method is scale-equivariant there, and none underflows
+  // or overflows at any finite scale (fast marching returned zeros at 1e-300 and infinities at 1e154).
+  if (const double scale = power_of_two_unit_scale(mesh.V); scale != 1) {
+    Eigen::VectorXd d = geodesic_distances(Mesh{mesh.V * scale, mesh.F}, sources, options) / scale;
+    for (Index i = 0; i < d.size(); ++i)
+      CSHAPES_REQUIRE(!std::isinf(d[i]) || std::isinf(d[i] * scale), "geodesics: the distance to vertex ", i,
+                      " exceeds the largest double (the mesh's coordinates reach ", mesh.V.cwiseAbs().maxCoeff(),
+                      "); scale the mesh down");
+    return d;
+  }
   Eigen::VectorXd d = unchecked_geodesic_distances(mesh, sources, options);
   require_finite(d, connected_components(mesh.num_vertices(), mesh_edges(mesh.F)).label, sources,
                  options.method, distance_bound(mesh));
@@ -290,6 +301,26 @@ void symmetrize_distances(DistanceMatrix& D) {
 DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& options) {
   const Index n = mesh.num_vertices();
   CSHAPES_REQUIRE(n > 0, "all-pairs geodesics: the mesh has no vertices");
+  // Computed at unit size, as geodesic_distances; the matrix holds float32, so distances outside its normal
+  // range (about 1.2e-38 … 3.4e38) are refused up front rather than stored as 0 or infinity.
+  if (const double scale = power_of_two_unit_scale(mesh.V); scale != 1) {
+    const Mesh unit{mesh.V * scale, mesh.F};
+    const Eigen::VectorXd lengths = edge_lengths(unit.V, mesh_edges(unit.F));
+    double shortest = std::numeric_limits<double>::infinity();
+    for (Index e = 0; e < lengths.size(); ++e)
+      if (lengths[e] > 0) shortest = std::min(shortest, lengths[e]);
+    const double longest = lengths.sum();  // no distance along the mesh exceeds all edges together
+    if (lengths.size() && (shortest / scale < std::numeric_limits<float>::min() ||
+                           longest / scale > std::numeric_limits<float>::max()))
+      fail("all-pairs geodesics: this mesh's distances (edges of ", shortest / scale, " to paths of up to ",
+           longest / scale, ") lie outside the range of float32, which the distance matrix stores (",
+           std::numeric_limits<float>::min(), " to ", std::numeric_limits<float>::max(), "); ",
+           longest / shortest < 1e70 ? "scale the mesh (one source's distances work at any scale)"
+                                     : "its edge lengths span more orders of magnitude than float32 holds");
+    DistanceMatrix D = all_pairs_geodesics(unit, options);
+    D *= static_cast<float>(1 / scale);  // a power of two: exact in float within the range checked above
+    return D;
+  }
   {
     Components comp = connected_components(n, mesh_edges(mesh.F));
     if (comp.count > 1)

@@ -13,6 +13,7 @@
 #include "core/intrinsic_delaunay.h"
 #include "core/simd.h"
 #include "core/sparse_cholesky.h"
+#include "core/unit_scale.h"
 
 namespace cshapes {
 
@@ -368,6 +369,9 @@ Eigen::VectorXd heat_method(const Mesh& mesh, const std::vector<int>& sources,
 std::string heat_method_warning(const Mesh& mesh) {
   const Index n = mesh.num_vertices(), m = mesh.num_faces();
   if (n == 0 || m == 0) return "";
+  // A ratio of lengths, measured at unit size: the norms underflow or overflow far from it.
+  if (const double scale = power_of_two_unit_scale(mesh.V); scale != 1)
+    return heat_method_warning(Mesh{mesh.V * scale, mesh.F});
   double length_sum = 0;
   for (Index f = 0; f < m; ++f)
     for (int c = 0; c < 3; ++c)

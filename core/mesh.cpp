@@ -1,6 +1,7 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 
@@ -134,9 +135,20 @@ double surface_area(const Points& V, const Faces& F) {
   return area;
 }
 
+namespace {
+
+// The length of a box's diagonal: norm() where its squares stay within the range of a double (the same bits
+// as always there), stableNorm() where they underflow or overflow (a box of 1e-300 or 1e300).
+double diagonal_length(const Eigen::RowVector3d& extent) {
+  const double plain = extent.norm();
+  return plain > 0 && std::isfinite(plain) ? plain : extent.stableNorm();
+}
+
+}  // namespace
+
 double bbox_diagonal(const Points& V) {
   if (V.rows() == 0) return 0;
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  return diagonal_length(V.colwise().maxCoeff() - V.colwise().minCoeff());
 }
 
 double finite_bbox_diagonal(const Points& V) {
@@ -149,7 +161,7 @@ double finite_bbox_diagonal(const Points& V) {
     hi = hi.cwiseMax(V.row(i));
     any = true;
   }
-  return any ? (hi - lo).norm() : 0.0;
+  return any ? diagonal_length(hi - lo) : 0.0;
 }
 
 MeshInfo mesh_info(const Mesh& mesh) {

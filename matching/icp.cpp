@@ -46,6 +46,12 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
   CSHAPES_REQUIRE(points.allFinite(), "ICP: the point set has non-finite coordinates");
   centroid_ = points.colwise().mean().transpose();
   Points centred = points.rowwise() - centroid_.transpose();
+  // ICP works on squared distances: beyond these sizes they overflow or underflow (a shape of size 1e154
+  // was refused as "points on a line"). Refused by its size, so that the caller can name the shape.
+  const double radius = centred.cwiseAbs().maxCoeff();
+  CSHAPES_REQUIRE(radius >= kIcpSmallestSize && radius <= kIcpLargestSize, "ICP: the points reach ", radius,
+                  " from their centroid, outside the sizes whose squared distances a double holds (",
+                  kIcpSmallestSize, " to ", kIcpLargestSize, "); scale the shapes");
   Eigen::Matrix3d covariance;  // six dot products of columns (cheaper than a general matrix product here)
   for (int a = 0; a < 3; ++a)
     for (int b = a; b < 3; ++b)

@@ -117,13 +117,18 @@ struct IcpOptions {
   }
 };
 
+// The sizes (largest distance of a point from the centroid) ICP accepts: squared distances of a million
+// points summed stay within the range of a double.
+inline constexpr double kIcpSmallestSize = 1e-140;
+inline constexpr double kIcpLargestSize = 1e140;
+
 // A point set prepared for ICP: centroid, principal axes, a KD-tree, and nested random subsamples of the
 // sizes in options.pyramid (queries on the coarse levels; partners are always searched among all points).
 // Build once per shape, reuse for every alignment (the all-pairs distance matrix aligns each shape n−1
 // times). Immutable after construction; thread-safe.
 class IcpShape {
  public:
-  // points: n×3, n ≥ 4, finite, not all on one line. Uses options.pyramid and options.seed.
+  // points: n×3, n ≥ 4, finite, of a size within [kIcpSmallestSize, kIcpLargestSize], not all on one line. Uses options.pyramid and options.seed.
   explicit IcpShape(const Points& points, const IcpOptions& options = {});
 
   Index size() const { return points_.rows(); }

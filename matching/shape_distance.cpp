@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/unit_scale.h"
 #include "matching/nearest_neighbors.h"
 
 namespace cshapes {
@@ -52,9 +53,47 @@ ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const
   return d;
 }
 
+namespace {
+
+// Whether ICP takes X as it is (matching/icp.h: kIcpSmallestSize … kIcpLargestSize from the centroid).
+bool within_icp_sizes(const Points& X) {
+  if (X.rows() == 0) return true;
+  const double radius = (X.rowwise() - X.colwise().mean()).cwiseAbs().maxCoeff();
+  return radius >= kIcpSmallestSize && radius <= kIcpLargestSize;
+}
+
+// An alignment computed on both sets multiplied by `scale`, in the units of the sets themselves.
+void unscale(IcpResult& r, double scale) {
+  r.transform.translation /= scale;
+  r.rmse /= scale;
+  for (RigidTransform& T : r.start_transforms) T.translation /= scale;
+  for (double& x : r.start_rmse) x /= scale;
+  for (double& x : r.rmse_history) x /= scale;
+  r.source_to_target_distance /= scale;
+  r.target_to_source_distance /= scale;
+}
+
+}  // namespace
+
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options,
                                      IcpResult* alignment) {
-  IcpShape a(finite_rows(A), options), b(finite_rows(B), options);
+  const Points a_points = finite_rows(A), b_points = finite_rows(B);
+  if (!within_icp_sizes(a_points) || !within_icp_sizes(b_points)) {
+    // Sets too small or too large for squared distances: aligned together at unit size (a power of two:
+    // exact), then measured in their own units. A shared IcpShape stays at its own size (the caller's).
+    Points both(a_points.rows() + b_points.rows(), 3);
+    both << a_points, b_points;
+    const double scale = power_of_two_unit_scale(both);
+    IcpOptions scaled = options;
+    scaled.max_correspondence_distance *= scale;  // absolute_tolerance is relative to the target's radius
+    IcpResult r;
+    ShapeDistance d = aligned_shape_distance(a_points * scale, b_points * scale, scaled, &r);
+    unscale(r, scale);
+    for (double* x : {&d.hausdorff, &d.chamfer, &d.rmse, &d.directed_ab, &d.directed_ba}) *x /= scale;
+    if (alignment) *alignment = std::move(r);
+    return d;
+  }
+  IcpShape a(a_points, options), b(b_points, options);
   return aligned_shape_distance(a, b, options, alignment);
 }
 

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/threads.h"
 #include "core/timing.h"
+#include "core/unit_scale.h"
 #include "pipeline/canonical_form_methods.h"
 
 namespace cshapes {
@@ -127,6 +128,11 @@ LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const Cano
   });
 }
 
+double canonical_form_scale(const Mesh& mesh) {
+  const double scale = power_of_two_unit_scale(mesh.V);
+  return scale >= kCanonicalFormLowestScale && scale <= kCanonicalFormHighestScale ? 1 : scale;
+}
+
 bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n) {
   return options.distances_file.empty() &&
          mds_uses_landmarks(options.mds_solver, n, available_memory_bytes());
@@ -225,13 +231,24 @@ void require_distance_matrix(const DistanceMatrix& D, const std::string& what) {
                     "; a point's distance to itself must be 0");
 }
 
-CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options,
+// Distances of a mesh, in the units of its copy scaled by `scale` (a power of two: exact unless the result
+// leaves float's range, which a matrix consistent with its mesh does not).
+void scale_distances(DistanceMatrix& D, double scale) {
+  for (Index j = 0; j < D.cols(); ++j)
+    for (Index i = 0; i < D.rows(); ++i) D(i, j) = static_cast<float>(static_cast<double>(D(i, j)) * scale);
+}
+
+CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& options,
                                 const DistanceMatrix* D, double D_seconds, const std::string& D_fallback) {
   // Points all in one place have no shape to canonize (every method would return them as they are, "ok").
   CSHAPES_REQUIRE(
-      mesh.num_vertices() == 0 || (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff() > 0,
-      options.name, ": all ", mesh.num_vertices(),
+      input.num_vertices() == 0 || (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).maxCoeff() > 0,
+      options.name, ": all ", input.num_vertices(),
       " points coincide (a degenerate point set): nothing to canonize");
+  // Far from unit size, on a copy scaled by a power of two (exact), and the form scaled back.
+  const double scale = canonical_form_scale(input);
+  const Mesh scaled = scale == 1 ? Mesh{} : Mesh{input.V * scale, input.F};
+  const Mesh& mesh = scale == 1 ? input : scaled;
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
   // So are landmark MDS's L rows.
@@ -248,19 +265,34 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
         method.memory_bytes(mesh.num_vertices(), options),
         detail::concat(options.name, ": ", options.method, " on ", mesh.num_vertices(), " vertices"));
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
-  DistanceMatrix from_file;
+  DistanceMatrix owned;  // read from distances_file, or the given D at unit size
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
     const auto start = WallClock::now();
-    from_file = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
+    owned = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
                                            options.distances_file);
-    require_distance_matrix(from_file, options.distances_file);
-    D = &from_file;
+    require_distance_matrix(owned, options.distances_file);
+    if (scale != 1) scale_distances(owned, scale);
+    D = &owned;
     D_seconds = seconds_since(start);
+  } else if (D && scale != 1) {
+    require_memory(distance_matrix_bytes(D->rows()), options.name + ": the distance matrix at unit size");
+    owned = *D;
+    scale_distances(owned, scale);
+    D = &owned;
   }
   CanonicalForm form =
       method.compute(repaired.mesh, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
+  if (scale != 1) {
+    form.X /= scale;  // a power of two: exact
+    nlohmann::json summary = nlohmann::json::parse(form.summary_json.empty() ? "{}" : form.summary_json);
+    summary["computed_at_scale"] = scale;
+    form.summary_json = summary.dump();
+    say(options.note, options.name + ": computed on a copy scaled by " + std::to_string(scale) +
+                          " (its size was far from 1); the form is scaled back, while its summary's energies, "
+                          "steps and stresses are the copy's");
+  }
   // Back to the input's vertices (a copy when nothing was repaired).
-  const Index n = mesh.num_vertices();
+  const Index n = input.num_vertices();
   form.X = to_input_vertices(form.X, repaired.vertex_map, n);
   if (form.torn.size()) form.torn = to_input_vertices(form.torn, repaired.vertex_map, n, 0.0);
   form.valid = valid_input_vertices(repaired.vertex_map, n);
@@ -374,8 +406,9 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
     if (at) *at = k;
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
+    // A shared matrix only at the mesh's own size (a scaled form computes its geodesics on its scaled copy).
     const bool mds = canonical_form_method(co.method).uses_geodesic_matrix && co.distances_file.empty() &&
-                     !mds_uses_landmarks(co, mesh.num_vertices());
+                     !mds_uses_landmarks(co, mesh.num_vertices()) && canonical_form_scale(mesh) == 1;
     if (mds && !(D_for && same_geodesics(*D_for, co)) &&
         !std::filesystem::exists(cache.entry_path(out.key))) {
       D_fallback.clear();

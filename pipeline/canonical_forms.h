@@ -127,6 +127,14 @@ DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const Repaire
 // matrix).
 bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n);
 
+// The power of two a canonical form of `mesh` is computed at (the form is scaled back): 1 for a mesh whose
+// largest bounding-box extent lies within [2^-20, 2^20]; otherwise the factor that brings it into [0.5, 1)
+// (core/unit_scale.h). Every method is scale-equivariant to rounding within that range (tests/
+// scale_invariance_test.cpp); beyond it float distances, squared lengths and areas underflow or overflow.
+inline constexpr double kCanonicalFormLowestScale = 0x1p-21;
+inline constexpr double kCanonicalFormHighestScale = 0x1p19;
+double canonical_form_scale(const Mesh& mesh);
+
 // Every method name canonical_form accepts, in registration order (pipeline/canonical_form_methods.h).
 const std::vector<std::string>& canonical_form_methods();
 

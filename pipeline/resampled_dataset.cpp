@@ -25,10 +25,6 @@ using nlohmann::json;
 
 namespace {
 
-double bbox_diagonal(const Mesh& mesh) {
-  return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
-}
-
 // What remeshing needs (a manifold triangle mesh), and nothing more: every component is kept.
 MeshRequirements remesh_requirements() {
   MeshRequirements r;
@@ -59,7 +55,7 @@ json compute_remesh(const Mesh& input, const ResampleOptions& options, const std
     const AngleStats out = angle_stats(r.mesh);
     value["V"] = points_to_json(r.mesh.V);
     value["F"] = faces_to_json(r.mesh.F);
-    value["hausdorff"] = hausdorff_distance(input, r.mesh) / bbox_diagonal(input);
+    value["hausdorff"] = hausdorff_distance(input, r.mesh) / bbox_diagonal(input.V);
     value["min_angle"] = out.min_angle;
     value["mean_min_angle"] = out.mean_min_angle;
     value["note"] = repaired.text;

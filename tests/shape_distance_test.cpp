@@ -103,6 +103,34 @@ TEST(ShapeDistance, AlignedDistanceIsInvariantToRigidMotionAndSymmetric) {
   EXPECT_NEAR(direct.rmse, d.rmse, 1e-9 * scale);
 }
 
+// Invariant: the aligned distance scales with the sets, at any finite scale. ICP's squared distances leave
+// the double range beyond 1e±140; `cshapes align` of two shapes of 1e300 refused them as "points on a line".
+// A prepared IcpShape refuses such a set by its size (so that a dataset names the shape).
+TEST(ShapeDistance, AlignedDistanceScalesWithTheSetsAtAnyFiniteScale) {
+  const Points A = random_points(600, 5), B = random_rigid_transform(3, 5.0, false).apply(random_points(500, 6));
+  IcpOptions o;
+  IcpResult unit_alignment;
+  const ShapeDistance unit = aligned_shape_distance(A, B, o, &unit_alignment);
+  for (double s : {1e-300, 1e-200, 1e-150, 1e150, 1e200, 1e300}) {
+    SCOPED_TRACE(s);
+    IcpResult r;
+    const ShapeDistance d = aligned_shape_distance(A * s, B * s, o, &r);
+    EXPECT_NEAR(d.hausdorff / s, unit.hausdorff, 1e-9 * unit.hausdorff);
+    EXPECT_NEAR(d.chamfer / s, unit.chamfer, 1e-9 * unit.chamfer);
+    EXPECT_NEAR(d.rmse / s, unit.rmse, 1e-9 * unit.rmse);
+    EXPECT_NEAR(r.rmse / s, unit_alignment.rmse, 1e-9 * unit_alignment.rmse);
+    EXPECT_LE((r.transform.rotation - unit_alignment.transform.rotation).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LE((r.transform.translation / s - unit_alignment.transform.translation).norm(),
+              1e-9 * unit_alignment.transform.translation.norm());
+    try {
+      IcpShape too_far(A * s, o);
+      ADD_FAILURE() << "an IcpShape of size " << s << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("squared distances"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(ShapeDistance, RejectsEmpty) {
   EXPECT_THROW(shape_distance_from_nearest(Eigen::VectorXd(0), Eigen::VectorXd::Ones(3)), Error);
 }
