@@ -237,11 +237,9 @@ namespace {
 // A file listed twice would be compared with itself (distance 0) and count as a retrieval hit: refused,
 // naming both entries, when the two paths name one file (links and "./" included). Two files of the same
 // bytes under different names are two entries of the collection (a public benchmark holds such pairs): kept,
-// and recorded in d.same_content for the drivers to say. Cost: one stat per file, and reading only the files
-// whose size another file shares.
+// and recorded in d.same_content for the drivers to say. Cost: one stat per file (and same_content_pairs).
 void refuse_files_listed_twice(Dataset& d) {
   std::map<std::string, size_t> by_path;
-  std::map<std::uintmax_t, std::vector<size_t>> by_size;
   for (size_t k = 0; k < d.entries.size(); ++k) {
     const std::string& file = d.entries[k].path;
     std::error_code ec;
@@ -250,23 +248,35 @@ void refuse_files_listed_twice(Dataset& d) {
     if (!inserted)
       fail(d.source, ": ", d.entries[it->second].path, " and ", file,
            " are the same file, listed twice (each shape must appear once)");
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (!ec) by_size[size].push_back(k);
   }
-  for (const auto& [size, same_size] : by_size) {
-    if (same_size.size() < 2) continue;
-    std::map<size_t, std::vector<size_t>> by_hash;  // one file in memory at a time
-    for (size_t k : same_size) {
-      const std::string content = read_file(d.entries[k].path);
-      std::vector<size_t>& alike = by_hash[std::hash<std::string>{}(content)];
-      for (size_t other : alike)
-        if (read_file(d.entries[other].path) == content) d.same_content.emplace_back(other, k);
-      alike.push_back(k);
-    }
-  }
+  d.same_content = same_content_pairs(d.entries);
 }
 
 }  // namespace
+
+std::vector<std::pair<size_t, size_t>> same_content_pairs(const std::vector<DatasetEntry>& entries) {
+  // Only files whose size another file shares are read, one at a time beside those of the same hash.
+  std::map<std::uintmax_t, std::vector<size_t>> by_size;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(entries[k].path, ec);
+    if (!ec) by_size[size].push_back(k);
+  }
+  std::vector<std::pair<size_t, size_t>> pairs;
+  for (const auto& [size, same_size] : by_size) {
+    if (same_size.size() < 2) continue;
+    std::map<size_t, std::vector<size_t>> by_hash;
+    for (size_t k : same_size) {
+      const std::string content = read_file(entries[k].path);
+      std::vector<size_t>& alike = by_hash[std::hash<std::string>{}(content)];
+      for (size_t other : alike)
+        if (read_file(entries[other].path) == content) pairs.emplace_back(other, k);
+      alike.push_back(k);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
 
 Dataset read_dataset(const std::string& path) {
   fs::path p(path);

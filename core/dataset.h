@@ -49,6 +49,12 @@ struct Dataset {
 // mesh that is no regular file (a folder, a FIFO, a dangling link, a loop of links).
 Dataset read_dataset(const std::string& path);
 
+// The pairs of entries (indices, first < second) whose files hold the same bytes (what read_dataset records in
+// Dataset::same_content), in index order: for drivers that gather their shapes without read_dataset (a
+// TOPKIDS or TOSCA folder with its truth files) or choose some of a dataset's. Reads only the files whose
+// size another file shares; a file that cannot be read throws cshapes::Error.
+std::vector<std::pair<size_t, size_t>> same_content_pairs(const std::vector<DatasetEntry>& entries);
+
 // One line per pair of Dataset::same_content ("bird02 and bird10 (paths) have the same content: ...").
 std::vector<std::string> same_content_notes(const Dataset& d);
 

@@ -559,8 +559,14 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
   result.options.progress = {};
   result.options.note = {};
 
+  // A shape --resample kept at its own resolution, and two poses of the same bytes under different names
+  // (both stay queries): said on stderr, in report.md and in the JSON.
+  add_records(result.failures, resample_records(resampled), o.note);
   say(o.note, "== poses from " + o.data);
   run.poses = select_poses(o, result.skipped, result.failures);
+  std::vector<DatasetEntry> chosen;
+  for (const Pose& p : run.poses) chosen.push_back({p.path, p.name, p.class_name, -1, false});
+  add_records(result.failures, same_content_records(chosen), o.note);
   glue_every_pose(run);
   canonize_every_variant(run);
   result.poses = static_cast<int>(run.poses.size());

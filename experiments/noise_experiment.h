@@ -120,8 +120,9 @@ struct NoiseExperimentResult {
   std::string figure_note;  // why not, when not
   double seconds = 0;
   // Poses that could not be read and shapes (clean poses or glued versions) whose form failed by some method,
-  // left out by every method (a clean pose with its glued versions); geodesic fallbacks (kept). In report.md
-  // and noise.json when not empty (pipeline/shape_failures.h).
+  // left out by every method (a clean pose with its glued versions); geodesic fallbacks, shapes --resample
+  // kept at their own resolution and poses of the same bytes as another (each kept). In report.md and
+  // noise.json when not empty (pipeline/shape_failures.h).
   std::vector<ShapeFailure> failures;
   std::vector<std::string> skipped;              // files that could not be read, with the reason
   std::map<std::string, double> pose_variation;  // per method: median ICP RMSE of two clean poses of a class

@@ -76,8 +76,9 @@ struct PaperExperimentSummary {
   long pairs_computed = 0, pairs_cached = 0;                      // over all ranks
   bool figures_drawn = false;  // the PNGs beside report.md (PaperReport::figures_note says why not)
   // Files that could not be used (stage "read") and shapes whose canonical form failed by some method, each
-  // left out by every method; and geodesic fallbacks (the shape kept). Empty when nothing failed (rank 0's
-  // account; pipeline/shape_failures.h).
+  // left out by every method; and, each shape kept, geodesic fallbacks, shapes --resample kept at their own
+  // resolution (stage "resample") and queries of the same bytes as another (stage "dataset"). Empty when
+  // nothing failed (rank 0's account; pipeline/shape_failures.h).
   std::vector<ShapeFailure> failures;
 };
 

@@ -899,12 +899,21 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   const ExperimentFolder folder(o.out);
   const DiskCache cache = folder.cache("forms");
   PoseInvarianceResult result;
+  // Two poses of the same bytes under different names: both kept (their pair shows no pose variation), and
+  // said on stderr and in pose.md.
+  std::vector<DatasetEntry> entries;
+  for (const PoseShape& s : shapes) entries.push_back({s.path, s.name, s.class_name, -1, false});
+  add_records(result.failures, same_content_records(entries, "poses"), o.note);
   // On the inputs, before any resampling: the parts, and the positions the figure shows.
   const std::vector<std::vector<int>> part_of = find_parts(o, shapes, pairs, result);
   std::vector<Points> inputs;
   for (const PoseShape& s : shapes) inputs.push_back(s.mesh.V);
   std::vector<LocatedSamples> located(shapes.size());
-  if (o.resample.vertices > 0) located = resample_shapes(o, folder, pairs, shapes, result);
+  if (o.resample.vertices > 0) {
+    located = resample_shapes(o, folder, pairs, shapes, result);
+    // A shape kept at its own resolution, with the reason.
+    add_records(result.failures, resample_records(result.resampling), o.note);
+  }
   FormPoints X;
   for (const std::string& f : forms_of_run(o)) X[f].resize(shapes.size());
   std::vector<char> failed(shapes.size(), 0);

@@ -171,8 +171,9 @@ struct PoseInvarianceResult {
   std::vector<PosePairRow> pairs;
   std::vector<PoseShapeRow> shapes;
   std::vector<PoseSummaryRow> summary;  // per form ("input" first, then the methods), "all" and per class
-  // Shapes whose canonical form failed by some method, left out with every pair they are in, and geodesic
-  // fallbacks (kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
+  // Shapes whose canonical form failed by some method, left out with every pair they are in; geodesic
+  // fallbacks, shapes --resample kept at their own resolution and poses of the same bytes as another (each
+  // kept): pipeline/shape_failures.h; listed at the end of pose.md when not empty.
   std::vector<ShapeFailure> failures;
   bool resampled = false;                        // options.resample.vertices > 0
   ResampledDataset resampling;                   // when resampled: the remeshes and their measures

@@ -676,9 +676,17 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   r.methods = {kInputs};
   r.methods.insert(r.methods.end(), o.methods.begin(), o.methods.end());
   TopkidsInputs inputs = read_inputs(o, r.poses);
+  // Two poses (the reference among them) of the same bytes under different names: both kept, and said on
+  // stderr, in report.md and in the JSON.
+  std::vector<DatasetEntry> entries{{inputs.reference_path, o.reference, "kid", 0, false}};
+  for (const Pose& p : inputs.poses) entries.push_back({p.mesh_path, p.name, "kid", -1, false});
+  add_records(r.failures, same_content_records(entries, "poses"), o.note);
 
   const ExperimentFolder folder(o.out);
-  if (o.resample.vertices > 0) resample_inputs(o, folder, inputs, r);
+  if (o.resample.vertices > 0) {
+    resample_inputs(o, folder, inputs, r);
+    add_records(r.failures, resample_records(r.resampling), o.note);  // shapes kept at their own resolution
+  }
   const DiskCache form_cache = folder.cache("forms"), misc_cache = folder.cache("misc");
   const Reference reference = reference_forms(inputs, form_cache, o, r);
   PooledErrors pooled;

@@ -179,8 +179,9 @@ struct TopkidsExperimentResult {
   std::string figure_problem;  // why it was not drawn (set by draw_topkids_figure)
   long forms_computed = 0, forms_cached = 0, scorings_computed = 0, scorings_cached = 0;
   double seconds = 0;
-  // Query poses whose canonical form failed by some method, left out (not in `poses`), and geodesic
-  // fallbacks (kept): pipeline/shape_failures.h. The reference's failure ends the run.
+  // Query poses whose canonical form failed by some method, left out (not in `poses`); geodesic fallbacks,
+  // shapes --resample kept at their own resolution and poses (the reference among them) of the same bytes as
+  // another (each kept): pipeline/shape_failures.h. The reference's failure ends the run.
   std::vector<ShapeFailure> failures;
   bool resampled = false;                  // options.resample.vertices > 0
   ResampledDataset resampling;             // when resampled: the remeshes and their measures

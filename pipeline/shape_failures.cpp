@@ -55,11 +55,23 @@ std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures) {
        << " left out of every measurement, by every method (so that the methods are compared on the same "
           "shapes); the run went on with the others and ends with exit code 3 (partial result). `--strict` "
           "stops at the first failure instead.\n\n";
-  int fallbacks = 0, poor_forms = 0;
+  int fallbacks = 0, poor_forms = 0, same_content = 0, not_resampled = 0;
   for (const ShapeFailure& f : failures) {
     fallbacks += !f.left_out() && f.stage == "geodesics";
     poor_forms += !f.left_out() && f.stage == "form quality";
+    same_content += !f.left_out() && f.stage == "dataset";
+    not_resampled += !f.left_out() && f.stage == "resample";
   }
+  if (same_content > 0)
+    md << same_content << (same_content == 1 ? " entry holds" : " entries hold")
+       << " the same bytes as another entry under a different name; both are kept as two entries of the "
+          "collection (a public benchmark may hold such pairs): in a retrieval each finds the other at "
+          "distance 0.\n\n";
+  if (not_resampled > 0)
+    md << not_resampled << (not_resampled == 1 ? " shape" : " shapes")
+       << " could not be remeshed by `--resample` and " << (not_resampled == 1 ? "was" : "were")
+       << " kept at " << (not_resampled == 1 ? "its" : "their")
+       << " own resolution (the reason in the table).\n\n";
   if (fallbacks > 0)
     md << "A geodesic method that failed on a shape fell back to the next (heat → fast marching); those "
           "shapes were kept.\n\n";
@@ -76,16 +88,37 @@ std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures) {
   return md.str();
 }
 
-std::vector<ShapeFailure> same_content_records(const Dataset& data) {
+namespace {
+std::vector<ShapeFailure> records_of_pairs(const std::vector<DatasetEntry>& entries,
+                                           const std::vector<std::pair<size_t, size_t>>& pairs,
+                                           const std::string& kept_as) {
   std::vector<ShapeFailure> records;
-  for (const auto& [first, second] : data.same_content) {
-    const DatasetEntry& a = data.entries[first];
-    const DatasetEntry& b = data.entries[second];
+  for (const auto& [first, second] : pairs) {
+    const DatasetEntry& a = entries[first];
+    const DatasetEntry& b = entries[second];
     records.push_back({b.name, b.path, "", "dataset", "the same content as " + a.name + " (" + a.path + ")",
                        "the same content as " + a.name + " (" + a.path +
-                           "): two entries of the collection, both kept as queries"});
+                           "): two entries of the collection, both kept as " + kept_as});
   }
   return records;
+}
+}  // namespace
+
+std::vector<ShapeFailure> same_content_records(const Dataset& data) {
+  return records_of_pairs(data.entries, data.same_content, "queries");
+}
+
+std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& entries,
+                                               const std::string& kept_as) {
+  return records_of_pairs(entries, same_content_pairs(entries), kept_as);
+}
+
+void add_records(std::vector<ShapeFailure>& failures, const std::vector<ShapeFailure>& records,
+                 const NoteFn& note) {
+  for (const ShapeFailure& record : records) {
+    say(note, describe(record));
+    failures.push_back(record);
+  }
 }
 
 ShapeFailure read_failure(const std::string& name, const std::string& path, const Error& error) {

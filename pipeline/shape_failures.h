@@ -18,6 +18,7 @@
 #include "core/dataset.h"
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/progress.h"
 #include "eval/cache.h"
 #include "pipeline/canonical_forms.h"
 
@@ -29,7 +30,8 @@ struct ShapeFailure {
   std::string method;  // the method whose form failed or fell back; "" when the file itself failed
   std::string stage;   // "read" (the file: unreadable, too few vertices, ...), "canonical form",
                        // "geodesics" (a fallback), "form quality" (a form failing its check, kept),
-                       // "dataset" (the same bytes as another entry, kept)
+                       // "dataset" (the same bytes as another entry, kept), "resample" (kept at its
+                       // own resolution: pipeline/resampled_dataset.h), "alignment" (a form ICP cannot take)
   std::string reason;  // the error's message
   std::string
       fallback;  // "": the shape was left out; else the fallback that kept it (its geodesics_fallback)
@@ -52,6 +54,17 @@ std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures);
 // the second entry, kept ("fallback" says so), so that the run says it on stderr, in report.md and the JSON
 // while both stay queries. Drivers append them after reading the dataset.
 std::vector<ShapeFailure> same_content_records(const Dataset& data);
+// The same for the shapes a driver gathered or chose itself (the poses an experiment selected from its
+// dataset, a TOPKIDS or TOSCA folder read with its truth files): the pairs of `entries` whose files hold the
+// same bytes (core/dataset.h same_content_pairs). kept_as: what both stay in the run ("queries", "poses").
+std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& entries,
+                                               const std::string& kept_as = "queries");
+
+// Appends kept records of the data (same_content_records, resample_records) to a run's failures, each said
+// through `note` as it is added: with them in the failures, the CLI says them on stderr (exit_code_for) and
+// the report and the JSON list them (shape_failures_markdown, shape_failures_json).
+void add_records(std::vector<ShapeFailure>& failures, const std::vector<ShapeFailure>& records,
+                 const NoteFn& note);
 
 // The record of a file that cannot be used (stage "read"), for drivers that skip such files (under strict
 // they rethrow instead).

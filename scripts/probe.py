@@ -15,6 +15,7 @@ import sys
 CASES = [
     "OutputNotInput\\.",                      # no output may be an input (every command)
     "TrustCli\\.",                            # remesh at 1e±100, --resample, spectral failures, list options
+    "TrustExperiments\\.",                    # paper, noise, pose, topkids say same content and --resample fallbacks
     "ScaleInvariance\\.",                     # every method's form at 1e-300 … 1e300
     "Geodesics\\.DistancesScaleWithTheMeshAtAnyFiniteScale",
     "ShapeDistance\\.AlignedDistanceScalesWithTheSetsAtAnyFiniteScale",
