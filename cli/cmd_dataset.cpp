@@ -6,6 +6,7 @@
 
 #include "core/dataset.h"
 #include "cli/command.h"
+#include "pipeline/shape_failures.h"
 
 namespace cshapes::cli {
 namespace {
@@ -30,15 +31,20 @@ int run() {
                          {"pose", e.pose},
                          {"noisy", e.noisy}});
     }
-    std::cout << nlohmann::json{{"source", d.source}, {"classes", d.classes}, {"shapes", entries}}.dump(2)
+    std::cout << nlohmann::json{{"source", d.source},
+                                {"classes", d.classes},
+                                {"shapes", entries},
+                                {"left_out", shape_failures_json(left_out_records(d))}}
+                     .dump(2)
               << std::endl;
-    return 0;
+    return exit_code_for(left_out_records(d));
   }
   std::printf("%s: %zu shapes, %zu classes\n", d.source.c_str(), d.entries.size(), d.classes.size());
   for (const DatasetEntry& e : d.entries)
     std::printf("  %-12s pose %-3d %s %s\n", e.class_name.c_str(), e.pose, e.noisy ? "noisy" : "     ",
                 e.path.c_str());
-  return 0;
+  // Folder entries that are no shape: said, and the exit code of a partial result (as every command).
+  return exit_code_for(left_out_records(d));
 }
 
 const bool registered =

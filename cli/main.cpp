@@ -24,8 +24,10 @@
 #include "cli/command.h"
 #include "core/atomic_file.h"
 #include "core/build_info.h"
+#include "core/distance_matrix.h"
 #include "core/error.h"
 #include "core/knn_graph.h"
+#include "core/remesh.h"
 #include "core/simd.h"
 #include "core/threads.h"
 #include "core/timing.h"
@@ -371,6 +373,16 @@ void add_resample_option(CLI::App& app, Index& vertices) {
             long long n = 0;
             if (!parse_integer(text, n) || (n != 0 && (n < 4 || n > 100000000)))
               return "expected 0 (off) or a vertex count from 4 to 100000000, got " + in_quotes(text);
+            // A remesh of N vertices that cannot fit is a usage error in every command (exit 2), before
+            // any work: the library's own check (pipeline/resampled_dataset.h) is the same figure.
+            if (n > 0) {
+              try {
+                require_memory(remesh_memory_bytes(static_cast<Index>(n)),
+                               "remeshing to " + std::to_string(n) + " vertices");
+              } catch (const Error& e) {
+                return e.what();
+              }
+            }
             return {};
           },
           "0 or 4..100000000"));

@@ -72,31 +72,45 @@ Dataset read_folder(const fs::path& folder) {
   std::error_code ec;
   fs::directory_iterator items(folder, ec);
   CSHAPES_REQUIRE(!ec, folder.string(), ": cannot list the folder: ", ec.message());
-  // Every entry named like a mesh is a shape, or the folder is refused naming it: a shape is never skipped
-  // without a word.
+  // Every entry named like a mesh is a shape, or it is left out with its reason (never skipped without a
+  // word, never the end of the run).
+  std::vector<fs::path> paths;
   for (const auto& item : items) {
     if (!is_mesh_extension(file_extension(item.path().string()))) continue;
     const std::string problem = not_a_mesh_file(item);
-    CSHAPES_REQUIRE(problem.empty(), item.path().string(), ": is ", problem,
-                    ", expected a mesh file; remove or rename it, or list the shapes in a manifest.csv");
+    if (!problem.empty()) {
+      d.left_out.push_back({item.path().string(), item.path().stem().string(),
+                            "is " + problem + ", expected a mesh file; remove or rename it"});
+      continue;
+    }
+    paths.push_back(item.path());
+  }
+  // Shapes are named by their file's stem (reports, matrices, labels): of x.off beside x.ply, which
+  // `evaluate` would refuse as two shapes of one name, the first path in byte order is the shape.
+  std::sort(paths.begin(), paths.end());
+  std::map<std::string, std::string> by_name;
+  for (const fs::path& path : paths) {
     DatasetEntry e;
-    e.path = item.path().string();
-    e.name = item.path().stem().string();
+    e.path = path.string();
+    e.name = path.stem().string();
+    const auto [it, inserted] = by_name.emplace(e.name, e.path);
+    if (!inserted) {
+      d.left_out.push_back({e.path, e.name,
+                            "is a second file of shape '" + e.name + "' (" + it->second +
+                                " is that shape: shapes are named by their file name without extension); "
+                                "rename it, or list the shapes in a manifest.csv"});
+      continue;
+    }
     e.class_name = class_from_name(e.name);
     e.pose = pose_from_name(e.name);
     d.entries.push_back(e);
   }
-  CSHAPES_REQUIRE(!d.entries.empty(), folder.string(),
-                  ": no mesh files (.off .ply .obj .stl .vert) in this folder");
-  // Shapes are named by their file's stem (reports, matrices, labels): x.off beside x.ply would be two
-  // shapes of one name, which `evaluate` refuses later.
-  std::map<std::string, std::string> by_name;
-  for (const DatasetEntry& e : d.entries) {
-    const auto [it, inserted] = by_name.emplace(e.name, e.path);
-    CSHAPES_REQUIRE(inserted, folder.string(), ": ", it->second, " and ", e.path, " are both shape '", e.name,
-                    "' (shapes are named by their file name without extension); keep one, or list them in "
-                    "a manifest.csv");
-  }
+  std::sort(d.left_out.begin(), d.left_out.end(),
+            [](const DatasetLeftOut& a, const DatasetLeftOut& b) { return a.path < b.path; });
+  CSHAPES_REQUIRE(!d.entries.empty(), folder.string(), ": no mesh files (.off .ply .obj .stl .vert) in this folder",
+                  d.left_out.empty() ? "" : " (" + std::to_string(d.left_out.size()) +
+                                                " entries named like one are not: the first " +
+                                                d.left_out.front().path + " " + d.left_out.front().reason + ")");
   std::sort(d.entries.begin(), d.entries.end(), [](const DatasetEntry& a, const DatasetEntry& b) {
     if (a.class_name != b.class_name) return a.class_name < b.class_name;
     if (a.pose != b.pose) return a.pose < b.pose;

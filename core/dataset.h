@@ -33,9 +33,20 @@ struct DatasetEntry {
   bool noisy = false;      // topological noise (manifest column "noisy")
 };
 
+// A folder entry named like a mesh that is not a shape of the dataset: a loop of links, a dangling link, a
+// FIFO, a folder, or a second file of one shape name (x.ply beside x.off: the first path in byte order is
+// kept). The drivers leave it out and say so (pipeline/shape_failures.h: left_out_records; exit 3), the
+// rest of the folder is read.
+struct DatasetLeftOut {
+  std::string path;
+  std::string name;
+  std::string reason;
+};
+
 struct Dataset {
   std::string source;                 // the folder or manifest read
   std::vector<DatasetEntry> entries;  // see the ordering above
+  std::vector<DatasetLeftOut> left_out;  // folder entries that are no shape of it, with the reason
   std::vector<std::string> classes;   // distinct class names, in order of first appearance
   // Pairs of entries (indices, first < second) whose files hold the same bytes under different names: both
   // kept (two queries of a benchmark), and said by the drivers (same_content_notes).
@@ -45,8 +56,8 @@ struct Dataset {
 };
 
 // Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem: a file
-// listed twice (two paths of one file), two files of one shape name, or, in a folder, an entry named like a
-// mesh that is no regular file (a folder, a FIFO, a dangling link, a loop of links).
+// listed twice (two paths of one file), two files of one shape name in a manifest, a folder without a mesh
+// file. In a folder, entries named like a mesh that are no shape (see DatasetLeftOut) go to left_out.
 Dataset read_dataset(const std::string& path);
 
 // The pairs of entries (indices, first < second) whose files hold the same bytes (what read_dataset records in

@@ -74,8 +74,10 @@ std::string stem_of(const fs::path& p) {
 // A class whose poses do not share faces is refused: nothing tells which vertices correspond.
 void discover_shared_connectivity(const PoseInvarianceOptions& o,
                                   const std::function<bool(const std::string&)>& wanted,
-                                  std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs) {
+                                  std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs,
+                                  std::vector<ShapeFailure>& left_out) {
   const Dataset data = read_dataset(o.data);
+  left_out = left_out_records(data, o.canon.strict);  // folder entries that are no shape
   for (const DatasetEntry& e : data.entries)
     if (!e.noisy && wanted(e.name)) shapes.push_back({e.name, e.class_name, e.path, read_mesh(e.path), {}});
   CSHAPES_REQUIRE(
@@ -107,12 +109,14 @@ void discover_shared_connectivity(const PoseInvarianceOptions& o,
 }
 
 // The shapes and pairs of the folder (see the header), restricted to `only` when not empty.
-void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs) {
+// left_out: the folder's entries that are no shape (core/dataset.h), for the run's failures.
+void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs,
+              std::vector<ShapeFailure>& left_out) {
   const fs::path dir(o.data);
   const std::set<std::string> only(o.shapes.begin(), o.shapes.end());
   auto wanted = [&](const std::string& name) { return only.empty() || only.count(name); };
   if (fs::is_regular_file(dir)) {  // a manifest.csv
-    discover_shared_connectivity(o, wanted, shapes, pairs);
+    discover_shared_connectivity(o, wanted, shapes, pairs, left_out);
     return;
   }
   CSHAPES_REQUIRE(fs::is_directory(dir), "experiment pose: ", o.data, " is neither a folder nor a manifest");
@@ -146,7 +150,7 @@ void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, st
     return;
   }
   if (!fs::is_directory(dir / "corres")) {
-    discover_shared_connectivity(o, wanted, shapes, pairs);
+    discover_shared_connectivity(o, wanted, shapes, pairs, left_out);
     return;
   }
   // TOSCA: NAME.off with corres/NAME.vts; pairs within a class.
@@ -892,7 +896,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   check_methods(o);
   std::vector<PoseShape> shapes;
   std::vector<PosePair> pairs;
-  discover(o, shapes, pairs);
+  std::vector<ShapeFailure> left_out;
+  discover(o, shapes, pairs, left_out);
   say(o.note,
       detail::concat("experiment pose: ", shapes.size(), " shapes, ", pairs.size(), " pairs of poses"));
 
@@ -904,6 +909,7 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   std::vector<DatasetEntry> entries;
   for (const PoseShape& s : shapes) entries.push_back({s.path, s.name, s.class_name, -1, false});
   add_records(result.failures, same_content_records(entries, "poses"), o.note);
+  add_records(result.failures, left_out, o.note);
   // On the inputs, before any resampling: the parts, and the positions the figure shows.
   const std::vector<std::vector<int>> part_of = find_parts(o, shapes, pairs, result);
   std::vector<Points> inputs;

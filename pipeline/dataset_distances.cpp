@@ -76,10 +76,9 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
     result.failures.push_back(record);
   }
   const Dataset data = read_dataset(options.resample.vertices > 0 ? result.resampling.data : options.data);
-  for (const ShapeFailure& record : same_content_records(data)) {
-    say(options.note, describe(record));
-    result.failures.push_back(record);
-  }
+  // The folder's entries that are no shape (resampled: in resample_records above), then same-content pairs.
+  add_records(result.failures, left_out_records(data, options.canon.strict), options.note);
+  add_records(result.failures, same_content_records(data), options.note);
   // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
   NamedDistances reference;
   if (options.two_stage_k > 0 && !options.reference.empty() && comm.is_root())

@@ -190,6 +190,7 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
   ResampledDataset r;
   r.options = options;
   r.folder = folder;
+  r.left_out = d.left_out;
   r.data = (fs::path(folder) / "manifest.csv").string();
   std::vector<DatasetEntry> entries;
   say(note, "== resampling " + std::to_string(d.entries.size()) + " shapes to about " +
@@ -236,6 +237,7 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
 
 std::vector<ShapeFailure> resample_records(const ResampledDataset& r) {
   std::vector<ShapeFailure> records;
+  for (const DatasetLeftOut& entry : r.left_out) records.push_back({entry.name, entry.path, "", "read", entry.reason, ""});
   for (const ResampledShape& s : r.shapes)
     if (!s.remeshed)
       records.push_back({s.name, s.source, "", "resample", s.note,

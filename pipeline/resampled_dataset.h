@@ -63,6 +63,7 @@ struct ResampledDataset {
   std::string data;  // folder/manifest.csv: what to read instead of the input
   std::vector<ResampledShape> shapes;
   long computed = 0, cached = 0;  // remeshes computed here (over all ranks) and read from the cache
+  std::vector<DatasetLeftOut> left_out;  // the input's folder entries that are no shape (core/dataset.h)
 };
 
 // Remeshes every shape of `data` (a folder, manifest.csv or .cla: core/dataset.h) into `folder`, through
@@ -80,7 +81,9 @@ ResampledDataset resample_dataset(const Dataset& data, const ResampleOptions& op
 
 // Each shape kept at its own resolution (a point cloud, a mesh remeshing fails on), as a kept record of the
 // run (pipeline/shape_failures.h, stage "resample", the reason in `fallback`): the drivers append these to
-// their failures, so that a fallback is said on stderr, in report.md and in the JSON, never silently.
+// their failures, so that a fallback is said on stderr, in report.md and in the JSON, never silently. With
+// them, the input folder's entries that are no shape (left out, stage "read"): the resampled manifest the
+// drivers read next does not list them.
 std::vector<ShapeFailure> resample_records(const ResampledDataset& r);
 
 // The measures of a resampled dataset as report text: a summary line (vertex counts, largest Hausdorff

@@ -113,6 +113,15 @@ std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& 
   return records_of_pairs(entries, same_content_pairs(entries), kept_as);
 }
 
+std::vector<ShapeFailure> left_out_records(const Dataset& data, bool strict) {
+  std::vector<ShapeFailure> records;
+  for (const DatasetLeftOut& entry : data.left_out) {
+    CSHAPES_REQUIRE(!strict, entry.path, ": ", entry.reason, " (--strict: a dataset entry that is no shape stops the run)");
+    records.push_back({entry.name, entry.path, "", "read", entry.reason, ""});
+  }
+  return records;
+}
+
 void add_records(std::vector<ShapeFailure>& failures, const std::vector<ShapeFailure>& records,
                  const NoteFn& note) {
   for (const ShapeFailure& record : records) {

@@ -133,7 +133,10 @@ TEST(Dataset, TwoFilesOfTheSameContentAreBothKeptAndRecorded) {
 // Issue 36: a loop of links ended the scan with a raw "filesystem error"; dangling links, FIFOs and folders
 // named *.off were skipped without a word; x.off beside x.ply gave two shapes of one name. Each is refused
 // naming the entry and what it is.
-TEST(Dataset, FolderEntriesThatAreNoMeshFileAreRefusedByName) {
+// A folder entry named like a mesh that is no shape is left out with its reason and the rest is read: a loop
+// of links ended the scan with a raw filesystem_error, dangling links, FIFOs and folders named *.off were
+// skipped without a word, and cat0.off beside cat0.ply gave two shapes of one name.
+TEST(Dataset, FolderEntriesThatAreNoMeshFileAreLeftOutByName) {
   struct Case {
     const char* entry;
     const char* needle;
@@ -149,7 +152,7 @@ TEST(Dataset, FolderEntriesThatAreNoMeshFileAreRefusedByName) {
        [](const std::string& p) { std::filesystem::create_symlink("gone.off", p); }},
       {"pipe.off", "FIFO", [](const std::string& p) { ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0); }},
       {"folder.off", "a folder", [](const std::string& p) { std::filesystem::create_directories(p); }},
-      {"cat0.ply", "are both shape 'cat0'", [](const std::string& p) { write_mesh(p, icosphere(0, 5.0)); }},
+      {"cat0.ply", "second file of shape 'cat0'", [](const std::string& p) { write_mesh(p, icosphere(0, 5.0)); }},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.entry);
@@ -157,10 +160,20 @@ TEST(Dataset, FolderEntriesThatAreNoMeshFileAreRefusedByName) {
     write_mesh(folder + "/cat0.off", icosphere(0, 1.0));
     write_mesh(folder + "/cat1.off", icosphere(0, 2.0));
     c.make(folder + "/" + c.entry);
-    expect_error_mentioning(folder, c.needle);
-    expect_error_mentioning(folder, c.entry == std::string("cat0.ply") ? "cat0.off" : c.entry);
+    const Dataset d = read_dataset(folder);
+    ASSERT_EQ(d.entries.size(), 2u);
+    EXPECT_EQ(d.entries[0].path, folder + "/cat0.off");  // of cat0.off and cat0.ply, the first path
+    EXPECT_EQ(d.entries[1].path, folder + "/cat1.off");
+    ASSERT_EQ(d.left_out.size(), c.entry == std::string("loop.off") ? 2u : 1u);
+    EXPECT_EQ(d.left_out[0].path, folder + "/" + c.entry);
+    EXPECT_NE(d.left_out[0].reason.find(c.needle), std::string::npos) << d.left_out[0].reason;
     std::filesystem::remove_all(folder);
   }
+  // Nothing but such entries: refused, naming the first.
+  const std::string folder = test::scratch_dir("dataset_scan_none");
+  std::filesystem::create_symlink("gone.off", folder + "/dangling.off");
+  expect_error_mentioning(folder, "dangling.off");
+  std::filesystem::remove_all(folder);
 }
 
 TEST(Dataset, AManifestWithAByteOrderMarkIsRead) {

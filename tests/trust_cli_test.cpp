@@ -2,6 +2,7 @@
 // options name each item once. Each case once crashed or exited 0 with a wrong result; small generated meshes
 // keep the whole file to seconds.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -90,11 +91,16 @@ TEST(TrustCli, ResampleNeverFallsBackSilently) {
   EXPECT_EQ(j["failures"][0]["name"], "odd");
   EXPECT_EQ(j["failures"][0]["stage"], "resample");
   EXPECT_FALSE(j["failures"][0]["left_out"].get<bool>());
-  // A size no memory holds: refused before any work, naming the option's value.
+  // A size no memory holds: refused before any work, naming the option's value, as a usage error in every
+  // command (distmat said exit 1, experiment retrieval exit 2).
   r = test::run_cli(base + "100000000 -o " + q(dir + "/huge.csv"));
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("100000000 vertices"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, kUsage) << r.err;
+  EXPECT_NE(r.err.find("--resample: remeshing to 100000000 vertices"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir + "/huge.csv"));
+  r = test::run_cli("-q experiment retrieval --data " + q(dir + "/data") + " --methods cmds --out " +
+                    q(dir + "/huge") + " --resample 100000000");
+  EXPECT_EQ(r.exit_code, kUsage) << r.err;
+  EXPECT_NE(r.err.find("--resample: remeshing to 100000000 vertices"), std::string::npos) << r.err;
   fs::remove_all(dir);
 }
 
@@ -113,10 +119,11 @@ TEST(TrustCli, SpectralMethodsLeaveAnExtremeShapeOutByName) {
 }
 
 TEST(TrustCli, AnExceptionOfASolverLibraryLeavesTheShapeOut) {
-  // At 1e-155 classical MDS's Lanczos solver (Spectra) throws its own "TridiagEigen: eigen decomposition
-  // failed", which ended distmat with exit 1 naming no shape; it is now that shape's failure. (Before the
-  // zero-area test was made scale-free, the repair dropped every face of this shape first.) 642 vertices:
-  // classical MDS decomposes fewer than 200 points densely, without Spectra.
+  // At 1e-155 classical MDS's Lanczos solver (Spectra) threw its own "TridiagEigen: eigen decomposition
+  // failed", which ended distmat with exit 1 naming no shape; canonical_form makes any library exception
+  // that shape's failure. Forms far from unit size are now computed on a scaled copy, so here the form is
+  // computed and the shape is left out, named, because ICP cannot take a form of 1e-155 (its squared
+  // distances underflow). 642 vertices: classical MDS decomposes fewer than 200 points densely.
   const std::string dir = dataset_with_scaled_shape("trust-library-exception", 1e-155, 3);
   for (const char* method : {"cmds", "lbo"}) {
     SCOPED_TRACE(method);
@@ -124,6 +131,32 @@ TEST(TrustCli, AnExceptionOfASolverLibraryLeavesTheShapeOut) {
                                             " -o " + q(dir + "/d.csv") + " --cache " + q(dir + "/cache"));
     EXPECT_EQ(expect_complete_or_odd_left_out(r), kPartial) << r.err;
   }
+  fs::remove_all(dir);
+}
+
+// A folder entry that is no shape (a FIFO named like a mesh; a second file of one shape name) is left out
+// and named, exit 3, and the run goes on with the others: both ended the scan with exit 1.
+TEST(TrustCli, FolderEntriesThatAreNoShapeAreLeftOutAndTheRunGoesOn) {
+  const std::string dir = dataset_with_scaled_shape("trust-scan", 1.0);
+  ASSERT_EQ(::mkfifo((dir + "/data/pipe.off").c_str(), 0600), 0);
+  write_mesh(dir + "/data/odd.ply", read_mesh(dir + "/data/odd.off"));
+  const test::CliResult listed = test::run_cli("dataset " + q(dir + "/data"));
+  EXPECT_EQ(listed.exit_code, kPartial) << listed.err;
+  const test::CliResult r = test::run_cli("-q distmat " + q(dir + "/data") + " --method cmds -o " +
+                                          q(dir + "/d.csv") + " --cache " + q(dir + "/cache") + " --json");
+  EXPECT_EQ(r.exit_code, kPartial) << r.err;
+  EXPECT_NE(r.err.find("pipe left out"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("FIFO"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("odd left out"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("second file of shape 'odd'"), std::string::npos) << r.err;
+  const std::string matrix = read_file(dir + "/d.csv");
+  const std::string header = matrix.substr(0, matrix.find('\n'));
+  EXPECT_NE(header.find("odd"), std::string::npos) << header;  // odd.off is the shape
+  EXPECT_EQ(header.find("pipe"), std::string::npos) << header;
+  const nlohmann::json j = nlohmann::json::parse(r.out.empty() ? "{}" : r.out);
+  int left_out = 0;
+  for (const auto& f : j["failures"]) left_out += f["fallback"].is_null();
+  EXPECT_EQ(left_out, 2) << j.dump(2);
   fs::remove_all(dir);
 }
 
