@@ -409,6 +409,7 @@ ProgressFn progress_printer() {
   };
   auto state = std::make_shared<State>();
   return [state, terminal](const std::string& stage, double done, double total) {
+    if (stage.empty()) return;  // a poll (core/progress.h): nothing to report
     auto now = WallClock::now();
     bool first = false;
     if (stage != state->stage) {

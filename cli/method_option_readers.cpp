@@ -1,7 +1,7 @@
 // Which method reads which option of the shared groups, derived from the method registry's own table
-// (CanonicalFormMethod::options_not_read): an option given to a single method that reads none of the fields
-// it sets is refused (command.h: check_options_read_by).
-#include <algorithm>
+// (CanonicalFormMethod::options_not_read, through pipeline's reads_any_option, the helpers Python's
+// canonical_form() uses too): an option given to a single method that reads none of the fields it sets is
+// refused (command.h: check_options_read_by).
 #include <utility>
 
 #include "cli/command.h"
@@ -19,7 +19,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& shared_opti
       {"--distances", {"distances_file"}},
       {"--mds-solver", {"mds_solver"}},
       {"--landmarks", {"mds_solver"}},
-      {"--fold-overstretch", {"mds_solver"}},
+      {"--fold-overstretch", {"mds_solver.fold_overstretch"}},
       {"--eigenpairs", {"lbo", "diffusion"}},
       {"--laplacian", {"lbo", "diffusion", "spectral_mds"}},
       {"--near-multiple-gap", {"lbo", "diffusion", "spectral_mds"}},
@@ -27,41 +27,19 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& shared_opti
   return table;
 }
 
-// "a", "a or b", "a, b or c": the methods for which `predicate` holds, in registration order.
-template <class Predicate>
-std::string method_names(Predicate predicate) {
-  std::vector<std::string> names;
-  for (const CanonicalFormMethod& m : canonical_form_method_registry())
-    if (predicate(m)) names.push_back(m.name);
-  std::string text;
-  for (size_t k = 0; k < names.size(); ++k)
-    text += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + names[k];
-  return text;
-}
-
-bool reads_any(const CanonicalFormMethod& method, const std::vector<std::string>& fields) {
-  for (const std::string& field : fields)
-    if (std::find(method.options_not_read.begin(), method.options_not_read.end(), field) ==
-        method.options_not_read.end())
-      return true;
-  return false;
-}
-
 }  // namespace
 
 void check_options_read_by(const std::string& method_name, bool history_given) {
   const CanonicalFormMethod& method = canonical_form_method(method_name);
-  for (const auto& [option, fields] : shared_option_fields()) {
-    if (!canon_option_given(option) || reads_any(method, fields)) continue;
-    const std::vector<std::string>& read = fields;  // a structured binding cannot be captured in C++17
-    usage_fail(option, " applies to --method ",
-               method_names([&read](const CanonicalFormMethod& m) { return reads_any(m, read); }),
-               " only, not ", method_name);
-  }
+  for (const auto& [option, fields] : shared_option_fields())
+    if (canon_option_given(option) && !reads_any_option(method, fields))
+      usage_fail(option, " applies to --method ", either_of(canonical_form_methods_reading(fields)),
+                 " only, not ", method_name);
   if (history_given && !method.has_history)
-    usage_fail("--history applies to --method ",
-               method_names([](const CanonicalFormMethod& m) { return m.has_history; }), " only (",
-               method_name, " has no iterations)");
+    usage_fail(
+        "--history applies to --method ",
+        either_of(canonical_form_methods_where([](const CanonicalFormMethod& m) { return m.has_history; })),
+        " only (", method_name, " has no iterations)");
 }
 
 }  // namespace cshapes::cli

@@ -227,7 +227,7 @@ double skeleton_field(const Skeleton& s, const Eigen::Vector3d& x) {
   return hard - s.blend * std::log(sum);
 }
 
-Mesh articulated_rest_mesh(const Skeleton& s, const RestMeshOptions& o) {
+Mesh articulated_rest_mesh(const Skeleton& s, const RestMeshOptions& o, const ProgressFn& progress) {
   CSHAPES_REQUIRE(s.joints.size() >= 2 && s.joints.size() <= 128,
                   "articulated: a skeleton needs 2..128 joints");
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -246,8 +246,10 @@ Mesh articulated_rest_mesh(const Skeleton& s, const RestMeshOptions& o) {
   // Marching tetrahedra may leave tiny bubbles where the field grazes zero; keep the main surface.
   Components comps = connected_components(raw.num_vertices(), mesh_edges(raw.F));
   if (comps.count > 1) raw = extract_component(raw, comps, comps.largest()).mesh;
+  if (progress) progress("", 0, 0);  // a poll (core/progress.h) between the two long steps
   if (o.target_vertices <= 0) return raw;
   RemeshOptions ro;
+  ro.progress = progress;
   ro.target_vertices = o.target_vertices;
   ro.feature_angle_deg = 0;  // a smooth surface: the slivers' creases are not features
   return remesh(raw, ro).mesh;
@@ -345,7 +347,7 @@ ArticulatedClass generate_articulated(const std::string& class_name, const Artic
   check_limit(generate_limits::kVertices, static_cast<double>(o.rest.target_vertices), "articulated");
   ArticulatedClass c;
   c.skeleton = articulated_skeleton(class_name);
-  c.rest = articulated_rest_mesh(c.skeleton, o.rest);
+  c.rest = articulated_rest_mesh(c.skeleton, o.rest, polls_of(o.progress));
   const Eigen::MatrixXd W = skinning_weights(c.skeleton, c.rest.V);
   for (int p = 0; p < o.poses; ++p) {
     for (int attempt = 0;; ++attempt) {
@@ -355,7 +357,9 @@ ArticulatedClass generate_articulated(const std::string& class_name, const Artic
       // needed.
       PoseAngles angles = random_pose(c.skeleton, derive_seed(o.seed, 1000003ULL * p + attempt), o.amplitude);
       Mesh posed{pose_mesh(c.skeleton, c.rest.V, W, angles), c.rest.F};
-      if (self_intersects(posed)) {
+      const bool intersects = self_intersects(posed);
+      if (o.progress) o.progress("articulated", p + (intersects ? 0 : 1), o.poses);
+      if (intersects) {
         ++c.redraws;
         continue;
       }
@@ -407,11 +411,18 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
   check_limit(generate_limits::kGlue, o.glue_count, "dataset");
   CSHAPES_REQUIRE(o.poses >= 0 && o.noisy >= 0 && o.poses + o.noisy >= 1, "dataset: needs at least one pose");
   std::vector<ArticulatedShape> shapes;
+  const double total = static_cast<double>(o.classes) * (o.poses + o.noisy);
+  // The stop without the classes' own reports, which would restart the count.
+  const ProgressFn poll = polls_of(o.progress);
+  auto report = [&] {
+    if (o.progress) o.progress("dataset", static_cast<double>(shapes.size()), total);
+  };
   for (int c = 0; c < o.classes; ++c) {
     ArticulatedOptions ao;
     ao.poses = o.poses;
     ao.seed = derive_seed(o.seed, static_cast<std::uint64_t>(c));
     ao.rest = o.rest;
+    ao.progress = poll;
     ArticulatedClass cls = generate_articulated(names[c], ao);
     for (int p = 0; p < o.poses; ++p) {
       ArticulatedShape s;
@@ -421,6 +432,7 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
       s.mesh = cls.poses[p];
       s.isometry = cls.isometry[p];
       shapes.push_back(std::move(s));
+      report();
     }
     if (o.noisy == 0) continue;
     const Eigen::MatrixXd W = skinning_weights(cls.skeleton, cls.rest.V);
@@ -436,7 +448,9 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
         PoseAngles angles = random_pose(
             cls.skeleton, derive_seed(ao.seed, 7777777ULL + 1000003ULL * k + attempt), ao.amplitude);
         Mesh posed{pose_mesh(cls.skeleton, cls.rest.V, W, angles), cls.rest.F};
-        if (self_intersects(posed)) continue;
+        const bool intersects = self_intersects(posed);
+        if (poll) poll("", 0, 0);
+        if (intersects) continue;
         // Prefer poses whose parts almost touch at the default gap; widen the gap only after many draws.
         TopologicalNoiseOptions no;
         no.glue_count = o.glue_count;
@@ -444,6 +458,7 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
         no.gap_edge_lengths *= attempt < 10 ? 1.0 : attempt < 20 ? 1.5 : 2.0;
         // Shapes whose parts rarely come close (the spider's legs): after 30 draws, let gluing relax too.
         no.relax_steps = attempt < 30 ? 0 : 3;
+        no.geodesic.progress = poll;
         try {
           TopologicalNoiseResult r = glue_topological_noise(posed, no);
           s.mesh = r.mesh;
@@ -457,6 +472,7 @@ std::vector<ArticulatedShape> make_articulated_dataset(const ArticulatedDatasetO
       CSHAPES_REQUIRE(done, "dataset: no pose of class ", names[c], " could be glued ", o.glue_count,
                       " times in ", max_draws, " draws");
       shapes.push_back(std::move(s));
+      report();
     }
   }
   return shapes;

@@ -19,6 +19,7 @@
 
 #include "core/mesh.h"
 #include "core/option_limits.h"
+#include "core/progress.h"
 
 namespace cshapes {
 
@@ -55,7 +56,10 @@ struct RestMeshOptions {
 };
 
 // Rest mesh of a skeleton: marching tetrahedra over the smooth union, then isotropic remeshing.
-Mesh articulated_rest_mesh(const Skeleton& skeleton, const RestMeshOptions& options = {});
+// progress: the remesh's, per attempt (core/remesh.h), and a poll after the surface is extracted: where a
+// stop (Ctrl-C in Python) is heard.
+Mesh articulated_rest_mesh(const Skeleton& skeleton, const RestMeshOptions& options = {},
+                           const ProgressFn& progress = {});
 
 // Skinning weights: |V| × |joints| (column j: the bone ending at joint j; the root's column weighs the root's
 // own frame), rows summing to 1.
@@ -96,6 +100,9 @@ struct ArticulatedOptions {
   double amplitude = 1.0;  // scales the joint ranges about their middles (see random_pose)
   int max_redraws = 30;    // self-intersecting poses redrawn at most this many times each
   RestMeshOptions rest;    // how the rest mesh is made
+  // Stage "articulated": (poses done, poses), after every pose drawn and every redraw; also where a stop
+  // (Ctrl-C in Python) is heard.
+  ProgressFn progress;
 };
 
 struct ArticulatedClass {
@@ -130,6 +137,9 @@ struct ArticulatedDatasetOptions {
   int glue_count = 2;      // glues per noisy pose
   std::uint64_t seed = 0;  // everything follows from it
   RestMeshOptions rest;    // rest mesh size
+  // Stage "dataset": (shapes done, shapes), after every shape, every pose drawn and every gluing attempt (the
+  // gluing's geodesics report per source); also where a stop (Ctrl-C in Python) is heard.
+  ProgressFn progress;
 };
 struct ArticulatedShape {
   std::string name;        // "biped3"

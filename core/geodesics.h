@@ -53,7 +53,7 @@ struct GeodesicOptions {
   CgalHeatMode heat_mode =
       CgalHeatMode::IntrinsicDelaunay;  // heat and heat-cgal: Direct or IntrinsicDelaunay
   double heat_time_factor = 1.0;        // heat (ours): t = factor · h²
-  ProgressFn progress;                  // all-pairs only: called as sources finish
+  ProgressFn progress;  // all pairs: called as sources finish; one source: polled first (core/progress.h)
 
   // Every field by name, for cache keys (core/option_fields.h). Self: GeodesicOptions, const or not.
   template <class Self, class Visit>

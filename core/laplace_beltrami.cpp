@@ -30,8 +30,9 @@ constexpr Index kLanczosExtra = 6;  // eigenpairs computed beyond the wanted one
 class ShiftInvertOp {
  public:
   using Scalar = double;  // Spectra requires this name
-  ShiftInvertOp(const SparseMatrix& L, const Eigen::VectorXd& mass, std::string what, double scale)
-      : L_(L), sqrt_mass_(mass.cwiseSqrt()), what_(std::move(what)), scale_(scale) {}
+  ShiftInvertOp(const SparseMatrix& L, const Eigen::VectorXd& mass, std::string what, double scale,
+                const ProgressFn& progress)
+      : L_(L), sqrt_mass_(mass.cwiseSqrt()), what_(std::move(what)), scale_(scale), progress_(progress) {}
   Index rows() const { return L_.rows(); }
   Index cols() const { return L_.rows(); }
   // sigma: Spectra's shift, of L/c.
@@ -42,6 +43,7 @@ class ShiftInvertOp {
     cholesky_.factorize(A, what_, "shifted Laplacian (L - sigma M)");
   }
   void perform_op(const double* x_in, double* y_out) const {
+    if (progress_) progress_("", 0, 0);  // a poll: a stop ends Spectra's iteration by the exception
     const Index n = rows();
     block_.resize(n, 1);
     for (Index i = 0; i < n; ++i) block_(i, 0) = sqrt_mass_[i] * x_in[i];
@@ -63,6 +65,7 @@ class ShiftInvertOp {
   Eigen::VectorXd sqrt_mass_;
   std::string what_;
   double scale_;
+  const ProgressFn& progress_;
   SparseCholesky cholesky_;
   mutable SparseCholesky::Block block_, work_;
   mutable Index products_ = 0;
@@ -237,7 +240,7 @@ LaplaceBeltramiEigen laplace_beltrami_eigen(const LaplacianMatrices& matrices,
   mean_ratio /= n;
   const double sigma = -kShiftFactor * mean_ratio / n;
   const double scale = ShiftInvertOp::scale_for(sigma);
-  ShiftInvertOp op(A.L, A.mass, what, scale);
+  ShiftInvertOp op(A.L, A.mass, what, scale, options.progress);
   Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, nev, ncv, sigma / scale);
   eigs.init();
   // Selection by the transformed values 1/(λ − σ), largest first; sorted back to increasing λ.

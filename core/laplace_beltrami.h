@@ -43,6 +43,7 @@
 #include "core/mesh.h"
 #include "core/option_fields.h"
 #include "core/option_limits.h"
+#include "core/progress.h"
 
 namespace cshapes {
 
@@ -67,6 +68,9 @@ struct LaplaceBeltramiOptions {
   // eigenvalue error of a 5,000-vertex mesh is ~0.1-1% (tests/spectral_test.cpp), so closer pairs may be
   // exact multiples split by discretisation, whose eigenvectors mix freely.
   double near_multiple_gap = 0.02;
+  // Polled (core/progress.h) before each Lanczos product, one sparse triangular solve pair: where a stop
+  // (Ctrl-C in Python) is heard. The factorisation before them is not interrupted.
+  ProgressFn progress;
 
   // Every field by name, for cache keys (core/option_fields.h).
   template <class Self, class Visit>
@@ -75,6 +79,7 @@ struct LaplaceBeltramiOptions {
     visit("intrinsic_delaunay", o.intrinsic_delaunay);
     // Changes only the report (near_multiple, the warning), but that is part of the cached summary.
     visit("near_multiple_gap", o.near_multiple_gap);
+    visit("progress", o.progress, kNoEffect);  // hears a stop, computes nothing
   }
 };
 

@@ -18,4 +18,9 @@ void report_progress_in_parallel(const ProgressFn& fn, const std::string& stage,
   if (stop) std::rethrow_exception(stop);
 }
 
+ProgressFn polls_of(const ProgressFn& fn) {
+  if (!fn) return {};
+  return [fn](const std::string&, double, double) { fn("", 0, 0); };
+}
+
 }  // namespace cshapes

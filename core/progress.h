@@ -22,11 +22,20 @@ inline void say(const NoteFn& note, const std::string& line) {
   if (note) note(line);
 }
 
-// What a progress callback throws to stop a computation at the user's request (Ctrl-C in Python).
-class Cancelled : public Error {
+// What a progress callback throws to stop a computation at the user's request (Ctrl-C in Python). Not a
+// cshapes::Error, nor a std::exception: the handlers that take an error for this input's failure (a geodesic
+// method's fallback, an experiment's skipped shape, a glue spot tried in vain) must not take the user's stop
+// for one and go on. Only catch (...) sees it, and every such handler rethrows.
+class Cancelled {
  public:
-  Cancelled() : Error("stopped at the user's request") {}
+  const char* what() const noexcept { return "stopped at the user's request"; }
 };
+
+// A progress call with an empty stage is a poll: it reports nothing (a printer ignores it) but may throw
+// Cancelled. polls_of(fn) gives the inner stages of a run that reports its own progress (an experiment's
+// per-shape forms, whose reports would interleave with the run's) the caller's stop without the reports;
+// empty when fn is.
+ProgressFn polls_of(const ProgressFn& fn);
 
 // Calls fn (when set) from inside an OpenMP parallel region, one thread at a time. An exception it throws
 // leaves the critical section before it propagates (an exception must not cross one), so the loop's own

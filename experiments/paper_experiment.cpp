@@ -61,7 +61,7 @@ CanonicalFormOptions method_options(const PaperExperimentOptions& o, const std::
   CanonicalFormOptions co = o.canon;
   co.method = method;
   co.name = name;
-  co.progress = {};
+  co.progress = polls_of(o.canon.progress);  // the stop, not per-form reports (the run reports per shape)
   return co;
 }
 
@@ -101,6 +101,7 @@ Shape make_noisy(const Shape& source, const PaperExperimentOptions& o, const Dis
   no.glue_count = o.glue;
   no.seed = o.seed + static_cast<std::uint64_t>(index);
   no.relax_steps = 3;  // shapes with few almost-touching spots: widen the gap rather than give up
+  no.geodesic.progress = o.canon.progress;  // the run's stop, polled before each geodesic test
   GluedMesh g = cached_glued_mesh(cache, source.mesh, no);
   if (!g.ok()) throw Error(g.error);
   Shape s;
@@ -135,6 +136,7 @@ struct ShapeSelection {
     s.source_path = e.path;
     s.noisy = e.noisy;
     s.in_retrieval = in_retrieval;
+    if (o.canon.progress) o.canon.progress("", 0, 0);  // a poll (core/progress.h): a stop between shapes
     try {
       load_and_check(s, e.path, o);
     } catch (const WriteError&) {
@@ -720,7 +722,7 @@ void canonical_form_stage(ExperimentRun& run) {
     std::vector<char> mine(run.shapes.size(), 0);
     for (size_t i = 0; i < run.shapes.size(); ++i) mine[i] = owner[i] == comm.rank();
     PaperExperimentOptions quiet = o;
-    quiet.progress = {};
+    quiet.progress = polls_of(o.progress);
     quiet.note = {};
     PaperExperimentSummary share;
     std::vector<ShapeFailure> said_in_the_full_pass;
@@ -793,6 +795,8 @@ PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
   ExperimentFolder folder(given.out);
   // --resample: the run reads the remeshed collection; the report names the data given.
   PaperExperimentOptions o = given;
+  // Every form, figure and timing the run computes hears its stop (Ctrl-C in Python) without reporting.
+  if (!o.canon.progress) o.canon.progress = polls_of(o.progress);
   ResampledDataset resampled;
   if (o.resample.vertices > 0) {
     resampled = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),

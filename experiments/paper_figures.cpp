@@ -173,7 +173,7 @@ void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, co
         co.flatten = 0;
         co.stop_tolerance = 0;  // no early stop: the figure shows the iterations
         co.max_iterations = target - done;
-        co.progress = {};
+        co.progress = polls_of(o.canon.progress);
         co.tear_times = 1;  // the figure tears once, at tear_after
         if (torn_already) {
           co.tear_fraction = 0;

@@ -218,6 +218,7 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   d2_ts.resize(o.symmetric ? Tg.rows() : 0);
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
+    report_progress_in_parallel(o.progress, "", 0, 0);  // a poll: the step's searches are the long part
     // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
     // neighbour (the pose moved a little); on the first, the previous query's neighbour (queries are in
     // Morton order, so consecutive ones are close).

@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "core/option_fields.h"
+#include "core/progress.h"
 #include "core/rigid_transform.h"
 #include "core/types.h"
 #include "matching/nearest_neighbors.h"
@@ -92,6 +93,9 @@ struct IcpOptions {
   // Run the starts on OpenMP threads (never inside a parallel region). Off by default: one alignment takes
   // ~12 ms, and on a loaded machine waiting threads cost more than they save; parallelise over pairs instead.
   bool parallel = false;
+  // Polled (core/progress.h) before every ICP step and the final distances: where a stop (Ctrl-C in Python)
+  // is heard. A step on all points of a million-point pair takes about a second, so a poll per step.
+  ProgressFn progress;
 
   // Every field by name, for cache keys (core/option_fields.h). Self: IcpOptions, const or not.
   template <class Self, class Visit>
@@ -114,6 +118,7 @@ struct IcpOptions {
     // Each start is iterated on its own and the winner chosen in a fixed order (rmse, then index): the same
     // result on one thread or many.
     visit("parallel", o.parallel, kNoEffect);
+    visit("progress", o.progress, kNoEffect);  // hears a stop, computes nothing
   }
 };
 

@@ -1,5 +1,7 @@
 #include "pipeline/canonical_form_methods.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "core/option_limits.h"
 
@@ -51,6 +53,37 @@ void require_canonical_form_methods(const std::vector<std::string>& methods, con
 std::string canonical_form_method_title(const std::string& name) {
   const CanonicalFormMethod* method = find_canonical_form_method(name);
   return method ? method->title : name;
+}
+
+bool reads_any_option(const CanonicalFormMethod& method, const std::vector<std::string>& fields) {
+  const std::vector<std::string>& not_read = method.options_not_read;
+  for (const std::string& field : fields) {
+    const std::string top = field.substr(0, field.find('.'));
+    if (std::find(not_read.begin(), not_read.end(), field) == not_read.end() &&
+        std::find(not_read.begin(), not_read.end(), top) == not_read.end())
+      return true;
+  }
+  return false;
+}
+
+std::vector<std::string> canonical_form_methods_where(
+    const std::function<bool(const CanonicalFormMethod&)>& predicate) {
+  std::vector<std::string> names;
+  for (const CanonicalFormMethod& m : canonical_form_method_registry())
+    if (predicate(m)) names.push_back(m.name);
+  return names;
+}
+
+std::vector<std::string> canonical_form_methods_reading(const std::vector<std::string>& fields) {
+  return canonical_form_methods_where(
+      [&fields](const CanonicalFormMethod& m) { return reads_any_option(m, fields); });
+}
+
+std::string either_of(const std::vector<std::string>& names, const std::string& quote) {
+  std::string text;
+  for (size_t k = 0; k < names.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + quote + names[k] + quote;
+  return text;
 }
 
 MeshRequirements canonical_form_requirements(const std::string& method) {

@@ -17,6 +17,7 @@
 // registers in cli/ (cli/command.h: register_canon_method).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,9 @@ struct CanonicalFormMethod {
   bool uses_geodesic_matrix = false;
   // The top-level CanonicalFormOptions fields the method does not read: left out of its cache key. Every
   // other field enters it, so a field added to CanonicalFormOptions reaches every method's key until a method
-  // says it does not read it (at worst a cache miss, never a stale form).
+  // says it does not read it (at worst a cache miss, never a stale form). A nested field ("mds_solver.
+  // fold_overstretch": cmds reads the solver, not SMACOF's fold repair) refines the refusals of the options
+  // that set it; the key keeps it (at worst a cache miss).
   std::vector<std::string> options_not_read;
   // Fills CanonicalForm::history_columns/rows (Coulomb's energy, SMACOF's stress per iteration): `canon
   // --history` and Python's history are refused for the other methods, before any work.
@@ -79,6 +82,21 @@ std::string canonical_form_method_list(const std::string& separator = ", ");
 void require_canonical_form_methods(const std::vector<std::string>& methods, const std::string& context);
 // A method's title ("classical MDS" for cmds); a name that is no method's (e.g. "inputs") as it is.
 std::string canonical_form_method_title(const std::string& name);
+
+// Which method reads which option, from the one table: options_not_read. An option (a CLI flag, a Python
+// keyword) names the top-level CanonicalFormOptions fields it sets (for_each_field's names: "geodesics",
+// "mds_solver", "lbo", ...); a method that reads none of them would ignore it, so the front ends refuse it.
+// Whether `method` reads any of `fields` (one not in its options_not_read, nor inside one that is: "a.b" is
+// not read when "a" is not).
+bool reads_any_option(const CanonicalFormMethod& method, const std::vector<std::string>& fields);
+// The registered methods for which `predicate` holds, in registration order.
+std::vector<std::string> canonical_form_methods_where(
+    const std::function<bool(const CanonicalFormMethod&)>& predicate);
+// The registered methods that read any of `fields`, in registration order: {"cmds", "smacof", "spectral-mds"}
+// for {"geodesics"}.
+std::vector<std::string> canonical_form_methods_reading(const std::vector<std::string>& fields);
+// Names as a message says them: "a", "a or b", "a, b or c", each between `quote`s.
+std::string either_of(const std::vector<std::string>& names, const std::string& quote = "");
 
 // The canonical-form options every experiment (paper, noise, topkids, pose) starts from: the library's
 // defaults (heat geodesics for MDS, as a single canonical_form() call uses). The CLI, C++ and Python runs of

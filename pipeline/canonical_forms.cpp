@@ -380,7 +380,7 @@ std::vector<CanonicalFormOptions> options_per_method(const CanonicalFormOptions&
     CanonicalFormOptions co = base;
     co.method = m;
     co.name = name;
-    co.progress = {};
+    co.progress = polls_of(base.progress);  // the caller's stop, not per-form reports
     co.note = {};
     out.push_back(std::move(co));
   }

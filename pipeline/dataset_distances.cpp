@@ -37,7 +37,7 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
   comm.sum_to_all(vertices.data(), vertices.size());
   const std::vector<int> owner = canonical_form_owners(vertices, {co.method}, comm.size());
   co.note = {};
-  co.progress = {};
+  co.progress = polls_of(co.progress);
   long computed = 0;
   for (size_t i = 0; i < n; ++i) {
     if (owner[i] != comm.rank() || vertices[i] == 0) continue;
@@ -93,6 +93,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   const std::filesystem::path cache_dir(options.cache_dir);
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
+  if (!co.progress) co.progress = polls_of(options.progress);  // the run's stop, in each form
   const long computed_by_ranks = comm.size() > 1 ? canonize_share(data, cache, co, comm) : 0;
   std::vector<Points> forms;
   std::vector<std::string> keys;

@@ -312,7 +312,9 @@ CanonicalFormMethod cmds_method() {
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = "cmds (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
-  m.options_not_read = {"coulomb", "smacof", "smacof_init", "smacof_weights", "lbo", "diffusion", "spectral_mds"};
+  // The fold repair is SMACOF's (on landmark rows): classical MDS interpolates without one.
+  m.options_not_read = {"coulomb", "smacof",    "smacof_init",  "smacof_weights",
+                        "lbo",     "diffusion", "spectral_mds", "mds_solver.fold_overstretch"};
   m.compute = cmds_compute;
   return m;
 }

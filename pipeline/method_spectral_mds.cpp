@@ -25,6 +25,7 @@ CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions&
   LandmarkGeodesicsOptions lo;
   lo.count = std::min<Index>(so.sources, mesh.num_vertices());
   lo.geodesics = options.geodesics;
+  if (!lo.geodesics.progress) lo.geodesics.progress = options.progress;  // reports per row, hears a stop
   const LandmarkGeodesics rows = landmark_geodesics(mesh, lo);
   form.precompute_seconds = s.seconds + seconds_since(start);
   start = WallClock::now();

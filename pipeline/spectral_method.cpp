@@ -18,7 +18,9 @@ SpectralSolve spectral_eigenpairs(const Mesh& mesh, const LaplaceBeltramiOptions
                     " components (its Laplacian has as many zero eigenvalues): raise --knn");
   }
   SpectralSolve s;
-  s.eigen = laplace_beltrami_eigen(laplace_beltrami_matrices(mesh, laplacian, options.knn), laplacian,
+  LaplaceBeltramiOptions lo = laplacian;
+  if (!lo.progress) lo.progress = polls_of(options.progress);  // the form's stop, in each Lanczos product
+  s.eigen = laplace_beltrami_eigen(laplace_beltrami_matrices(mesh, lo, options.knn), lo,
                                    options.name + ": " + method);
   s.seconds = seconds_since(start);
   const LaplaceBeltramiEigen& e = s.eigen;

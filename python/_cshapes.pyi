@@ -86,10 +86,10 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 20, knn: int = 8,
             strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); cmds, smacof and spectral-mds: geodesics;
-# cmds and smacof: mds_solver, landmarks;
-# smacof: iters to fold_overstretch; lbo, diffusion, spectral-mds: laplacian, near_multiple_gap; lbo and diffusion:
-# eigenpairs; diffusion: diffusion_time; spectral-mds: basis, sources; every method: knn, strict) and refuses
-# another method's.
+# cmds and smacof: mds_solver, landmarks; smacof: fold_overstretch to weights; lbo, diffusion,
+# spectral-mds: laplacian, near_multiple_gap; lbo and diffusion: eigenpairs; diffusion: diffusion_time;
+# spectral-mds: basis, sources; every method: knn, strict) and refuses the others, naming the methods that read
+# them (the method registry's table: help(cshapes.canonical_form) lists it).
 def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    scheme: Literal["paper", "momentum"] = "momentum",
                    coulomb_start: Literal["landmark-mds", "input"] = "landmark-mds", start_landmarks: int = 50,
@@ -107,10 +107,9 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 20, knn: int = 8,
                    geodesics: _Geodesics = "heat",
                    mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300,
-                   iters: int = 300, tolerance: float = 1e-05,
+                   fold_overstretch: float = 3.0, iters: int = 300, tolerance: float = 1e-05,
                    accelerate: Literal["none", "rre", "mpe"] = "none", window: int = 6,
                    init: Literal["cmds", "mesh"] = "cmds", weights: Literal["uniform", "area"] = "uniform",
-                   fold_overstretch: float = 3.0,
                    laplacian: Literal["intrinsic-delaunay", "cotangent"] = "intrinsic-delaunay",
                    eigenpairs: int = 10, near_multiple_gap: float = 0.02, diffusion_time: float = 1.0,
                    basis: int = 40, sources: int = 120,

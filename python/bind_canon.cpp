@@ -3,6 +3,8 @@
 // caller has (canon/classical_mds.h, canon/smacof.h). Option names and defaults are the CLI's.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <iterator>
 #include <sstream>
 
 #include "canon/classical_mds.h"
@@ -31,48 +33,75 @@ struct PyCanonicalForm {
   double seconds = 0;  // wall time: geodesics or graph set-up plus the solve
 };
 
-const std::vector<std::string> kCoulombOptions = {"scheme",           "coulomb_start",
-                                                  "start_landmarks",  "flatten",
-                                                  "step_rule",
-                                                  "step_gradient",    "step_factor",
-                                                  "fixed_step",       "coulomb_steps",
-                                                  "projection_steps", "projection",
-                                                  "l1_floor",         "dilation",
-                                                  "tear_fraction",    "tear_after",
-                                                  "tear_times",       "tear_interval",
-                                                  "tear_guard",       "coulomb_max_iterations",
-                                                  "coulomb_window",   "coulomb_tolerance",
-                                                  "momentum",         "coulomb_summation",
-                                                  "coulomb_accuracy", "coulomb_multiresolution_above",
-                                                  "coulomb_coarse_vertices", "coulomb_tear_rounds"};
-const std::vector<std::string> kMdsOptions = {"geodesics", "mds_solver", "landmarks"};
-const std::vector<std::string> kSmacofOptions = {"iters",  "tolerance", "init",           "accelerate",
-                                                 "window", "weights",   "fold_overstretch"};
-// lbo and diffusion: their Laplace–Beltrami eigenpairs; diffusion: its time.
-const std::vector<std::string> kSpectralOptions = {"laplacian", "eigenpairs", "near_multiple_gap"};
-const std::vector<std::string> kDiffusionOptions = {"diffusion_time"};
-const std::vector<std::string> kSpectralMdsOptions = {"basis", "sources"};
+// The keywords of the `coulomb options` group (read_coulomb_options).
+// clang-format off
+const char* const kCoulombKeywords[] = {
+    "scheme", "coulomb_start", "start_landmarks", "flatten", "step_rule", "step_gradient", "step_factor",
+    "fixed_step", "coulomb_steps", "projection_steps", "projection", "l1_floor", "dilation", "tear_fraction",
+    "tear_after", "tear_times", "tear_interval", "tear_guard", "coulomb_max_iterations", "coulomb_window",
+    "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy", "coulomb_multiresolution_above",
+    "coulomb_coarse_vertices", "coulomb_tear_rounds"};
+// clang-format on
 
-bool is_spectral(const std::string& method) {
-  return method == "lbo" || method == "diffusion" || method == "spectral-mds";
+// Every keyword of canonical_form() but method, with the top-level CanonicalFormOptions fields it sets (as
+// the CLI's options: cli/method_option_readers.cpp). Which methods read a keyword is not written here: a
+// method reads it when it reads any of those fields (its registration's options_not_read, the table its cache
+// key, the CLI's refusals and these use), and a keyword no reader of which is the method given is refused.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& keyword_fields() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> table = [] {
+    std::vector<std::pair<std::string, std::vector<std::string>>> t;
+    for (const char* name : kCoulombKeywords) t.push_back({name, {"coulomb"}});
+    t.push_back({"geodesics", {"geodesics"}});
+    for (const char* name : {"mds_solver", "landmarks"}) t.push_back({name, {"mds_solver"}});
+    t.push_back({"fold_overstretch", {"mds_solver.fold_overstretch"}});
+    for (const char* name : {"iters", "tolerance", "accelerate", "window"}) t.push_back({name, {"smacof"}});
+    t.push_back({"init", {"smacof_init"}});
+    t.push_back({"weights", {"smacof_weights"}});
+    t.push_back({"eigenpairs", {"lbo", "diffusion"}});  // spectral-mds's eigenpairs are its basis
+    for (const char* name : {"laplacian", "near_multiple_gap"})
+      t.push_back({name, {"lbo", "diffusion", "spectral_mds"}});
+    t.push_back({"diffusion_time", {"diffusion"}});
+    for (const char* name : {"basis", "sources"}) t.push_back({name, {"spectral_mds"}});
+    t.push_back({"knn", {"knn"}});
+    t.push_back({"strict", {"strict"}});
+    return t;
+  }();
+  return table;
 }
 
-// The `lbo options` and `diffusion options` groups of `cshapes canon`.
-void read_spectral_options(Kwargs& k, CanonicalFormOptions& o) {
-  LaplaceBeltramiOptions& l = o.method == "lbo"         ? o.lbo.laplacian
-                              : o.method == "diffusion" ? o.diffusion.laplacian
-                                                        : o.spectral_mds.laplacian;
-  const std::string laplacian = k.text("laplacian", l.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent");
+bool reads(const CanonicalFormMethod& method, const char* field) {
+  return reads_any_option(method, {field});
+}
+
+// The Laplace–Beltrami options (the `lbo options` and `diffusion options` groups of `cshapes canon`, and
+// spectral-mds's), set in each spectral group of CanonicalFormOptions the method reads.
+void read_spectral_options(Kwargs& k, const CanonicalFormMethod& method, CanonicalFormOptions& o) {
+  std::vector<LaplaceBeltramiOptions*> eigenmaps;  // the groups whose eigenpairs are `eigenpairs`
+  if (reads(method, "lbo")) eigenmaps.push_back(&o.lbo.laplacian);
+  if (reads(method, "diffusion")) eigenmaps.push_back(&o.diffusion.laplacian);
+  std::vector<LaplaceBeltramiOptions*> all = eigenmaps;
+  if (reads(method, "spectral_mds")) all.push_back(&o.spectral_mds.laplacian);
+  if (all.empty()) return;
+  const LaplaceBeltramiOptions& first = *all.front();
+  const std::string laplacian =
+      k.text("laplacian", first.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent");
   if (laplacian != "intrinsic-delaunay" && laplacian != "cotangent")
     fail("laplacian: unknown '", laplacian, "'; known: intrinsic-delaunay, cotangent");
-  l.intrinsic_delaunay = laplacian == "intrinsic-delaunay";
-  if (o.method != "spectral-mds")
-    l.eigenpairs = k.int32("eigenpairs", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
-  l.near_multiple_gap =
-      k.number("near_multiple_gap", l.near_multiple_gap, laplace_beltrami_limits::kNearMultipleGap);
-  if (o.method == "diffusion")
+  if (!eigenmaps.empty()) {
+    const int eigenpairs =
+        k.int32("eigenpairs", eigenmaps.front()->eigenpairs, laplace_beltrami_limits::kEigenpairs);
+    for (LaplaceBeltramiOptions* l : eigenmaps) l->eigenpairs = eigenpairs;
+  }
+  const double gap =
+      k.number("near_multiple_gap", first.near_multiple_gap, laplace_beltrami_limits::kNearMultipleGap);
+  for (LaplaceBeltramiOptions* l : all) {
+    l->intrinsic_delaunay = laplacian == "intrinsic-delaunay";
+    l->near_multiple_gap = gap;
+  }
+  if (reads(method, "diffusion"))
     o.diffusion.time = k.number("diffusion_time", o.diffusion.time, spectral_limits::kDiffusionTime);
-  if (o.method == "spectral-mds") {
+  if (reads(method, "spectral_mds")) {
+    LaplaceBeltramiOptions& l = o.spectral_mds.laplacian;
     l.eigenpairs = k.int32("basis", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
     o.spectral_mds.sources = k.integer("sources", o.spectral_mds.sources, 10, 100000);
     if (o.spectral_mds.sources < l.eigenpairs)
@@ -138,34 +167,25 @@ void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
     fail("window applies to accelerate='rre' or 'mpe' only");
 }
 
-// canonical_form(method='smacof'): the solver's options, and its start and weights from the mesh.
-void read_smacof_options(Kwargs& k, CanonicalFormOptions& o) {
-  read_smacof_solver_options(k, o.smacof);
-  o.smacof_init = parse_smacof_init(k.text("init", to_string(o.smacof_init)));
-  o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
-  o.mds_solver.fold_overstretch =
-      k.number("fold_overstretch", o.mds_solver.fold_overstretch, landmark_limits::kFoldOverstretch);
-  if (o.mds_solver.fold_overstretch > 0 && o.mds_solver.fold_overstretch <= 1)
-    fail("fold_overstretch: expected 0 (no repair) or a number above 1, got ", o.mds_solver.fold_overstretch);
-  if (k.given("fold_overstretch") && o.mds_solver.solver == MdsSolver::Full)
+// The MDS solver of the methods that embed the geodesic matrix: full or landmark rows, and the landmark
+// form's fold repair.
+void read_mds_solver_options(Kwargs& k, MdsSolverOptions& m) {
+  m.solver = parse_mds_solver(k.text("mds_solver", to_string(m.solver)));
+  m.landmarks = k.integer("landmarks", m.landmarks, 4, 1000000);
+  m.fold_overstretch = k.number("fold_overstretch", m.fold_overstretch, landmark_limits::kFoldOverstretch);
+  if (m.fold_overstretch > 0 && m.fold_overstretch <= 1)
+    fail("fold_overstretch: expected 0 (no repair) or a number above 1, got ", m.fold_overstretch);
+  if (k.given("fold_overstretch") && m.solver == MdsSolver::Full)
     fail("fold_overstretch applies to mds_solver='landmarks' or 'auto' only");
 }
 
-// Refuses, by name, the options of another method (as `cshapes canon --method` does).
-void refuse_other_methods(const Kwargs& k, const std::string& method) {
-  auto refuse = [&](const std::vector<std::string>& names, const char* owner) {
-    for (const std::string& name : names)
-      if (k.given(name)) fail(name, " applies to method ", owner, " only, not '", method, "'");
-  };
-  if (method != "coulomb") refuse(kCoulombOptions, "'coulomb'");
-  const bool reads_geodesics = canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds";
-  if (!reads_geodesics) refuse({"geodesics"}, "'cmds', 'smacof' or 'spectral-mds'");
-  if (!canonical_form_method(method).uses_geodesic_matrix) refuse({"mds_solver", "landmarks"}, "'cmds' or 'smacof'");
-  if (method != "smacof") refuse(kSmacofOptions, "'smacof'");
-  if (!is_spectral(method)) refuse(kSpectralOptions, "'lbo', 'diffusion' or 'spectral-mds'");
-  if (method == "spectral-mds" && k.given("eigenpairs")) fail("eigenpairs: spectral-mds takes basis");
-  if (method != "spectral-mds") refuse(kSpectralMdsOptions, "'spectral-mds'");
-  if (method != "diffusion") refuse(kDiffusionOptions, "'diffusion'");
+// Refuses, by name, a keyword the method would ignore (as `cshapes canon --method` does), naming the methods
+// that read it.
+void refuse_unread_keywords(const Kwargs& k, const CanonicalFormMethod& method) {
+  for (const auto& [name, fields] : keyword_fields())
+    if (k.given(name) && !reads_any_option(method, fields))
+      fail(name, " applies to method ", either_of(canonical_form_methods_reading(fields), "'"),
+           " only, not '", method.name, "'");
 }
 
 PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) {
@@ -190,22 +210,23 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, function);
   require_canonical_form_methods({method}, std::string(function) + "()");
-  refuse_other_methods(k, method);
+  const CanonicalFormMethod& m = canonical_form_method(method);
+  refuse_unread_keywords(k, m);
   CanonicalFormOptions o;
   o.method = method;
   o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);  // every method: a point cloud's neighbourhood graph
   // As `cshapes canon --knn` on a mesh: the mesh's own edges are its graph, the keyword would be ignored.
   if (k.given("knn") && mesh.num_faces() > 0)
     fail("knn applies to point clouds (no faces) only; this mesh has ", mesh.num_faces(), " faces");
-  if (method == "coulomb") read_coulomb_options(k, o);
-  if (canonical_form_method(method).uses_geodesic_matrix || method == "spectral-mds")
+  if (reads(m, "coulomb")) read_coulomb_options(k, o);
+  if (reads(m, "geodesics"))
     o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
-  if (canonical_form_method(method).uses_geodesic_matrix) {
-    o.mds_solver.solver = parse_mds_solver(k.text("mds_solver", to_string(o.mds_solver.solver)));
-    o.mds_solver.landmarks = k.integer("landmarks", o.mds_solver.landmarks, 4, 1000000);
-  }
-  if (method == "smacof") read_smacof_options(k, o);
-  if (is_spectral(method)) read_spectral_options(k, o);
+  if (reads(m, "mds_solver")) read_mds_solver_options(k, o.mds_solver);
+  if (reads(m, "smacof")) read_smacof_solver_options(k, o.smacof);
+  if (reads(m, "smacof_init")) o.smacof_init = parse_smacof_init(k.text("init", to_string(o.smacof_init)));
+  if (reads(m, "smacof_weights"))
+    o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
+  read_spectral_options(k, m, o);
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
@@ -299,6 +320,42 @@ std::string coulomb_doc() {
   return d.str();
 }
 
+// canonical_form()'s help: the methods' keywords, then which method reads which, from the same table the
+// refusals use (keyword_fields and the registry).
+std::string canonical_form_doc() {
+  std::ostringstream d;
+  d << R"(A canonical form by any method, as `cshapes canon --method M` computes it.
+
+method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
+distances on the mesh; geodesics='heat' [as every command] | fmm [the paper's] | heat-cgal | exact | graph;
+mds_solver ['auto'] | 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof
+also takes iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window
+[6] (with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off).
+lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion map at t = c/lambda_1) take laplacian
+['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap [0.02]; diffusion also
+diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the first eigenfunctions) takes
+laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. Every method: knn [8] (point clouds:
+the kNN graph standing in for the edges), strict [False].
+A keyword the method does not read is refused, naming the methods that read it. Which reads which (the
+method registry's table):
+)";
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    std::string line;
+    bool coulomb_keywords = false;
+    for (const auto& [name, fields] : keyword_fields()) {
+      if (!reads_any_option(method, fields)) continue;
+      const bool coulomb = std::find(std::begin(kCoulombKeywords), std::end(kCoulombKeywords), name) !=
+                           std::end(kCoulombKeywords);
+      if (coulomb && coulomb_keywords) continue;
+      line += (line.empty() ? "" : ", ") + (coulomb ? std::string("coulomb()'s keywords") : name);
+      coulomb_keywords = coulomb_keywords || coulomb;
+    }
+    d << "  " << method.name << ": " << line << "\n";
+  }
+  d << "Returns a CanonicalForm.";
+  return d.str();
+}
+
 }  // namespace
 
 void bind_canon(py::module_& m) {
@@ -327,20 +384,7 @@ void bind_canon(py::module_& m) {
       [](const py::object& V, const py::object& F, const std::string& method, const py::kwargs& kwargs) {
         return canonical_form_py(V, F, method, kwargs, "canonical_form");
       },
-      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb",
-      R"(A canonical form by any method, as `cshapes canon --method M` computes it.
-
-method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='heat' [as every command] | fmm [the paper's] | heat-cgal | exact | graph; mds_solver ['auto']
-| 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof also takes
-iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window [6]
-(with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off). lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion
-map at t = c/lambda_1) take laplacian ['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap
-[0.02]; diffusion also diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the
-first eigenfunctions) takes laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. Every
-method: knn [8] (point clouds: the kNN graph standing in for the edges), strict [False]. An option of another
-method is refused.
-Returns a CanonicalForm.)");
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb", canonical_form_doc().c_str());
   m.def(
       "canonical_form_methods",
       [] {

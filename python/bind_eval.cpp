@@ -33,7 +33,8 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   const py::object cache = k.object("cache");
   o.cache_dir = cache.is_none() ? "" : to_path(cache, "cache");
   o.threads = k.int32("threads", 0);
-  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
+  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h), between pairs and in each
+  o.icp.progress = o.progress;            // and each pair's ICP steps
   k.done();
   CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
                   "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");

@@ -5,6 +5,7 @@
 #include "matching/shape_distance.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/interrupt.h"
 #include "python/kwargs.h"
 
 namespace cshapes::python {
@@ -22,8 +23,9 @@ struct PyAlignment {
 PyAlignment icp_py(const py::object& A_in, const py::object& B_in, const py::kwargs& kwargs) {
   const Points A = to_points(A_in, "A"), B = to_points(B_in, "B");
   Kwargs k(kwargs, "icp");
-  const IcpOptions options = read_icp_options(k);
+  IcpOptions options = read_icp_options(k);
   k.done();
+  options.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   IcpResult r;
   ShapeDistance d;
   {
@@ -55,8 +57,9 @@ double shape_distance_py(const py::object& A_in, const py::object& B_in, const s
   CSHAPES_REQUIRE(kind == "hausdorff" || kind == "chamfer" || kind == "rmse",
                   "shape_distance(): kind: expected 'hausdorff', 'chamfer' or 'rmse', got '", kind, "'");
   Kwargs k(kwargs, "shape_distance");
-  const IcpOptions options = read_icp_options(k);
+  IcpOptions options = read_icp_options(k);
   k.done();
+  options.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   CSHAPES_REQUIRE(align || kwargs.size() == 0, "shape_distance(): ICP options need align=True");
   ShapeDistance d;
   {

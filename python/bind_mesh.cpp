@@ -183,6 +183,7 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
         k.int32("vertices", static_cast<int>(o.rest.target_vertices), generate_limits::kVertices);
     o.amplitude = k.number("amplitude", o.amplitude, generate_limits::kAmplitude);
     k.done();
+    o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
     ArticulatedClass c;
     {
       Computing computing;
@@ -217,6 +218,7 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
     o.rest.target_vertices =
         k.int32("vertices", static_cast<int>(o.rest.target_vertices), generate_limits::kVertices);
     k.done();
+    o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
     std::vector<ArticulatedShape> shapes;
     {
       Computing computing;

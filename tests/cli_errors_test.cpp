@@ -185,6 +185,9 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
   }
   expect_refusal(test::run_cli(canon + " --method coulomb --mds-solver full"), kUsage, "canon",
                  {"--mds-solver applies to --method cmds or smacof only, not coulomb"});
+  // The fold repair of landmark forms is SMACOF's: classical MDS interpolates without one (it was ignored).
+  expect_refusal(test::run_cli(canon + " --method cmds --fold-overstretch 2"), kUsage, "canon",
+                 {"--fold-overstretch applies to --method smacof only, not cmds"});
   for (const char* method : {"cmds", "lbo", "diffusion", "spectral-mds"})
     expect_refusal(test::run_cli(canon + " --method " + method + " --history " + q(in.dir + "/h.csv")),
                    kUsage, "canon", {"--history applies to --method coulomb or smacof only"});

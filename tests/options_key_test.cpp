@@ -266,10 +266,14 @@ TEST(OptionsKey, EveryFieldReachesTheCanonicalFormKey) {
     base.method = method.name;
     for_each_leaf(base, Populate{dir + "/D.bin"});
     // The fields a method does not read are fields.
-    std::set<std::string> tops;
-    for_each_leaf(base, [&](const Leaf& leaf, auto&) { tops.insert(leaf.top); });
+    std::set<std::string> tops, paths;
+    for_each_leaf(base, [&](const Leaf& leaf, auto&) {
+      tops.insert(leaf.top);
+      paths.insert(leaf.path);
+    });
     for (const std::string& name : method.options_not_read)
-      EXPECT_TRUE(tops.count(name)) << method.name << ": options_not_read names no field: " << name;
+      EXPECT_TRUE(tops.count(name) || paths.count(name))
+          << method.name << ": options_not_read names no field: " << name;
     const auto reads = [&](const Leaf& leaf) {
       return leaf.changes_result && std::find(method.options_not_read.begin(), method.options_not_read.end(),
                                               leaf.top) == method.options_not_read.end();
@@ -282,6 +286,33 @@ TEST(OptionsKey, EveryFieldReachesTheCanonicalFormKey) {
     EXPECT_TRUE(std::count(visited.begin(), visited.end(), "coulomb.projection.steps"));
     EXPECT_TRUE(std::count(visited.begin(), visited.end(), "geodesics.heat_time_factor"));
   }
+}
+
+// Which methods read an option, from the registry's options_not_read (pipeline/canonical_form_methods.h): the
+// answers the CLI's refusals gave before the helpers moved to the pipeline for Python's refusals too
+// (tests/cli_errors_test.cpp holds the CLI's messages).
+TEST(OptionsReadBy, TheRegistryNamesTheMethodsThatReadAField) {
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(canonical_form_methods_reading({"geodesics"}), (Names{"cmds", "smacof", "spectral-mds"}));
+  EXPECT_EQ(canonical_form_methods_reading({"distances_file"}), (Names{"cmds", "smacof"}));
+  EXPECT_EQ(canonical_form_methods_reading({"mds_solver"}), (Names{"cmds", "smacof"}));
+  // A nested field: SMACOF's fold repair, not classical MDS's (cmds names it in options_not_read).
+  EXPECT_EQ(canonical_form_methods_reading({"mds_solver.fold_overstretch"}), (Names{"smacof"}));
+  EXPECT_EQ(canonical_form_methods_reading({"lbo", "diffusion"}), (Names{"lbo", "diffusion"}));
+  EXPECT_EQ(canonical_form_methods_reading({"lbo", "diffusion", "spectral_mds"}),
+            (Names{"lbo", "diffusion", "spectral-mds"}));
+  EXPECT_EQ(canonical_form_methods_reading({"coulomb"}), (Names{"coulomb"}));
+  EXPECT_EQ(canonical_form_methods_reading({"smacof", "smacof_init", "smacof_weights"}), (Names{"smacof"}));
+  EXPECT_EQ(canonical_form_methods_reading({"knn"}), canonical_form_methods());  // every method
+  EXPECT_EQ(canonical_form_methods_where([](const CanonicalFormMethod& m) { return m.has_history; }),
+            (Names{"coulomb", "smacof"}));
+  EXPECT_TRUE(reads_any_option(canonical_form_method("spectral-mds"), {"lbo", "spectral_mds"}));
+  EXPECT_FALSE(reads_any_option(canonical_form_method("spectral-mds"), {"lbo", "diffusion"}));
+  EXPECT_FALSE(reads_any_option(canonical_form_method("coulomb"), {"geodesics", "mds_solver"}));
+  // As the CLI's messages say them: "--geodesics applies to --method cmds, smacof or spectral-mds only".
+  EXPECT_EQ(either_of(canonical_form_methods_reading({"geodesics"})), "cmds, smacof or spectral-mds");
+  EXPECT_EQ(either_of(canonical_form_methods_reading({"mds_solver"}), "'"), "'cmds' or 'smacof'");
+  EXPECT_EQ(either_of({"coulomb"}), "coulomb");
 }
 
 TEST(OptionsKey, EveryFieldReachesTheGluedMeshKey) {

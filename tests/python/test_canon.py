@@ -99,7 +99,7 @@ def test_spectral_options_are_checked_by_name(shapes):
     V, F = cshapes.read_mesh(shapes[0])
     with pytest.raises(ValueError, match="diffusion_time applies to method 'diffusion' only"):
         cshapes.canonical_form(V, F, method="lbo", diffusion_time=2.0)
-    with pytest.raises(ValueError, match="eigenpairs applies to method 'lbo', 'diffusion' or 'spectral-mds' only"):
+    with pytest.raises(ValueError, match="eigenpairs applies to method 'lbo' or 'diffusion' only, not 'cmds'"):
         cshapes.canonical_form(V, F, method="cmds", eigenpairs=12)
     with pytest.raises(ValueError, match="laplacian: unknown 'graph'; known: intrinsic-delaunay, cotangent"):
         cshapes.canonical_form(V, F, method="lbo", laplacian="graph")
