@@ -39,6 +39,15 @@ std::vector<int> spatial_order(const Points& X) {
 
 }  // namespace
 
+std::string icp_size_refusal(const Points& points) {
+  if (points.rows() == 0) return "";
+  const double radius = (points.rowwise() - points.colwise().mean()).cwiseAbs().maxCoeff();
+  if (radius >= kIcpSmallestSize && radius <= kIcpLargestSize) return "";
+  return detail::concat("ICP: the points reach ", radius,
+                        " from their centroid, outside the sizes whose squared distances a double holds (",
+                        kIcpSmallestSize, " to ", kIcpLargestSize, "); scale the shapes");
+}
+
 IcpShape::IcpShape(const Points& points, const IcpOptions& options)
     : points_(points), pyramid_(options.pyramid), seed_(options.seed) {
   const Index n = points.rows();
@@ -48,10 +57,7 @@ IcpShape::IcpShape(const Points& points, const IcpOptions& options)
   Points centred = points.rowwise() - centroid_.transpose();
   // ICP works on squared distances: beyond these sizes they overflow or underflow (a shape of size 1e154
   // was refused as "points on a line"). Refused by its size, so that the caller can name the shape.
-  const double radius = centred.cwiseAbs().maxCoeff();
-  CSHAPES_REQUIRE(radius >= kIcpSmallestSize && radius <= kIcpLargestSize, "ICP: the points reach ", radius,
-                  " from their centroid, outside the sizes whose squared distances a double holds (",
-                  kIcpSmallestSize, " to ", kIcpLargestSize, "); scale the shapes");
+  if (std::string refusal = icp_size_refusal(points); !refusal.empty()) fail(refusal);
   Eigen::Matrix3d covariance;  // six dot products of columns (cheaper than a general matrix product here)
   for (int a = 0; a < 3; ++a)
     for (int b = a; b < 3; ++b)

@@ -126,6 +126,9 @@ struct IcpOptions {
 // points summed stay within the range of a double.
 inline constexpr double kIcpSmallestSize = 1e-140;
 inline constexpr double kIcpLargestSize = 1e140;
+// Why ICP cannot take `points` by their size ("" when it can): the largest distance from their centroid
+// outside [kIcpSmallestSize, kIcpLargestSize]. IcpShape throws it; drivers ask first, to name the shape.
+std::string icp_size_refusal(const Points& points);
 
 // A point set prepared for ICP: centroid, principal axes, a KD-tree, and nested random subsamples of the
 // sizes in options.pyramid (queries on the coarse levels; partners are always searched among all points).

@@ -245,10 +245,7 @@ CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& o
       input.num_vertices() == 0 || (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).maxCoeff() > 0,
       options.name, ": all ", input.num_vertices(),
       " points coincide (a degenerate point set): nothing to canonize");
-  // Far from unit size, on a copy scaled by a power of two (exact), and the form scaled back.
-  const double scale = canonical_form_scale(input);
-  const Mesh scaled = scale == 1 ? Mesh{} : Mesh{input.V * scale, input.F};
-  const Mesh& mesh = scale == 1 ? input : scaled;
+  const Mesh& mesh = input;
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
   // So are landmark MDS's L rows.
@@ -265,6 +262,10 @@ CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& o
         method.memory_bytes(mesh.num_vertices(), options),
         detail::concat(options.name, ": ", options.method, " on ", mesh.num_vertices(), " vertices"));
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
+  // Far from unit size, the repaired mesh (a dropped stray vertex no longer sets the size) on a copy scaled
+  // by a power of two (exact), and the form scaled back.
+  const double scale = canonical_form_scale(repaired.mesh);
+  const Mesh scaled = scale == 1 ? Mesh{} : Mesh{repaired.mesh.V * scale, repaired.mesh.F};
   DistanceMatrix owned;  // read from distances_file, or the given D at unit size
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
     const auto start = WallClock::now();
@@ -280,8 +281,8 @@ CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& o
     scale_distances(owned, scale);
     D = &owned;
   }
-  CanonicalForm form =
-      method.compute(repaired.mesh, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
+  CanonicalForm form = method.compute(scale == 1 ? repaired.mesh : scaled, options,
+                                      GivenDistances{D, D_seconds, D ? D_fallback : ""});
   if (scale != 1) {
     form.X /= scale;  // a power of two: exact
     nlohmann::json summary = nlohmann::json::parse(form.summary_json.empty() ? "{}" : form.summary_json);
@@ -406,15 +407,20 @@ std::vector<CachedForm> cached_canonical_forms(const DiskCache& cache, const Mes
     if (at) *at = k;
     const auto start = WallClock::now();
     out.key = canonical_form_cache_key(mesh, co);
-    // A shared matrix only at the mesh's own size (a scaled form computes its geodesics on its scaled copy).
     const bool mds = canonical_form_method(co.method).uses_geodesic_matrix && co.distances_file.empty() &&
-                     !mds_uses_landmarks(co, mesh.num_vertices()) && canonical_form_scale(mesh) == 1;
+                     !mds_uses_landmarks(co, mesh.num_vertices());
     if (mds && !(D_for && same_geodesics(*D_for, co)) &&
         !std::filesystem::exists(cache.entry_path(out.key))) {
       D_fallback.clear();
-      D = canonical_form_geodesics(repair_for_canonical_form(mesh, co).mesh, co, &D_fallback);
-      D_seconds = seconds_since(start);
-      D_for = &co;
+      const Mesh repaired = repair_for_canonical_form(mesh, co).mesh;
+      // A shared matrix only at the mesh's own size: a form far from unit size computes its geodesics on
+      // its scaled copy (float32 distances would leave their range here).
+      D_for = nullptr;
+      if (canonical_form_scale(repaired) == 1) {
+        D = canonical_form_geodesics(repaired, co, &D_fallback);
+        D_seconds = seconds_since(start);
+        D_for = &co;
+      }
     }
     const bool use_D = mds && D_for && same_geodesics(*D_for, co);
     out.form = cached_canonical_form(cache, mesh, co, &out.cached, use_D ? &D : nullptr, D_seconds,

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "matching/shape_distance.h"
 
 namespace cshapes {
 
@@ -153,6 +154,16 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
     const std::string method = at < options.size() ? options[at].method : "";
     failures.push_back(
         {name, options.empty() ? name : options.front().name, method, "canonical form", error.what(), ""});
+    return std::nullopt;
+  }
+  // A form ICP cannot take (too far from unit size for its squared distances) leaves the shape out, named,
+  // here, before any alignment: in the pairs it ended the whole run.
+  for (size_t k = 0; k < forms.size(); ++k) {
+    const std::string refusal = icp_size_refusal(finite_rows(forms[k].form.X));
+    if (refusal.empty()) continue;
+    if (options[k].strict) fail(options[k].name, ": its ", options[k].method, " form cannot be aligned: ", refusal);
+    failures.push_back({name, options[k].name, options[k].method, "alignment",
+                        "its form cannot be aligned: " + refusal, ""});
     return std::nullopt;
   }
   for (size_t k = 0; k < forms.size(); ++k) {
