@@ -286,8 +286,8 @@ TEST(NoiseExperimentCli, ALevelNoPoseOffersIsReportedNotInvented) {
 }
 
 TEST(NoiseExperimentCli, APoseEveryMethodFailsOnIsLeftOutWithItsGluedVersions) {
-  // A third pose of the first class that cannot be used (scaled to 1e150, one vertex at 1e300: its edge
-  // lengths span more orders of magnitude than float32 distances hold), added to the manifest.
+  // A third pose of the first class that cannot be used (scaled to 1e150, one vertex at 1e300: its forms lie
+  // beyond the sizes ICP's squared distances hold), added to the manifest.
   const std::string dir = small_dataset("noise-unusable");
   Mesh broken = icosphere(2);
   broken.V *= 1e150;
