@@ -79,7 +79,7 @@ Dataset read_folder(const fs::path& folder) {
     if (!is_mesh_extension(file_extension(item.path().string()))) continue;
     const std::string problem = not_a_mesh_file(item);
     if (!problem.empty()) {
-      d.left_out.push_back({item.path().string(), item.path().stem().string(),
+      d.left_out.push_back({item.path().string(), item.path().filename().string(),
                             "is " + problem + ", expected a mesh file; remove or rename it"});
       continue;
     }
@@ -95,7 +95,7 @@ Dataset read_folder(const fs::path& folder) {
     e.name = path.stem().string();
     const auto [it, inserted] = by_name.emplace(e.name, e.path);
     if (!inserted) {
-      d.left_out.push_back({e.path, e.name,
+      d.left_out.push_back({e.path, path.filename().string(),  // the file's name: its stem is the shape's
                             "is a second file of shape '" + e.name + "' (" + it->second +
                                 " is that shape: shapes are named by their file name without extension); "
                                 "rename it, or list the shapes in a manifest.csv"});

@@ -39,7 +39,7 @@ struct DatasetEntry {
 // rest of the folder is read.
 struct DatasetLeftOut {
   std::string path;
-  std::string name;
+  std::string name;  // the file's name with its extension (x.ply: its stem may be a shape's name)
   std::string reason;
 };
 
