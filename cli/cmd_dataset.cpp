@@ -18,6 +18,7 @@ struct DatasetListArgs {
 
 int run() {
   Dataset d = read_dataset(args.path);
+  const std::vector<ShapeFailure> left_out = left_out_records(d.left_out);
   for (const std::string& line : same_content_notes(d)) warn(line);
   const std::vector<int> labels = d.labels();
   if (args.json) {
@@ -34,17 +35,17 @@ int run() {
     std::cout << nlohmann::json{{"source", d.source},
                                 {"classes", d.classes},
                                 {"shapes", entries},
-                                {"left_out", shape_failures_json(left_out_records(d))}}
+                                {"left_out", shape_failures_json(left_out)}}
                      .dump(2)
               << std::endl;
-    return exit_code_for(left_out_records(d));
+    return exit_code_for(left_out);
   }
   std::printf("%s: %zu shapes, %zu classes\n", d.source.c_str(), d.entries.size(), d.classes.size());
   for (const DatasetEntry& e : d.entries)
     std::printf("  %-12s pose %-3d %s %s\n", e.class_name.c_str(), e.pose, e.noisy ? "noisy" : "     ",
                 e.path.c_str());
   // Folder entries that are no shape: said, and the exit code of a partial result (as every command).
-  return exit_code_for(left_out_records(d));
+  return exit_code_for(left_out);
 }
 
 const bool registered =

@@ -92,6 +92,8 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
 std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std::string>& skipped,
                                std::vector<ShapeFailure>& failures) {
   const Dataset data = read_dataset(o.data);
+  // The folder's entries that are no shape (a loop of links, a FIFO, a second file of one name): left out.
+  add_records(failures, left_out_records(data.left_out, o.canon.strict), o.note);
   std::vector<Pose> poses;
   for (const std::string& cls : data.classes) {
     int taken = 0;
@@ -567,8 +569,6 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
   std::vector<DatasetEntry> chosen;
   for (const Pose& p : run.poses) chosen.push_back({p.path, p.name, p.class_name, -1, false});
   add_records(result.failures, same_content_records(chosen), o.note);
-  // The folder's entries that are no shape (a loop of links, a FIFO, a second file of one name): left out.
-  add_records(result.failures, left_out_records(read_dataset(o.data), o.canon.strict), o.note);
   glue_every_pose(run);
   canonize_every_variant(run);
   result.poses = static_cast<int>(run.poses.size());

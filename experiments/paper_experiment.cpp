@@ -255,9 +255,12 @@ struct ShapeSelection {
   }
 };
 
+// left_out: the records of the folder's entries that are no shape (under strict, the first one throws).
 std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
-                                 std::vector<PaperReport::Skipped>& skipped, bool write_files) {
+                                 std::vector<PaperReport::Skipped>& skipped, bool write_files,
+                                 std::vector<ShapeFailure>& left_out) {
   const Dataset data = read_dataset(o.data);
+  left_out = left_out_records(data.left_out, o.canon.strict);
   ShapeSelection selection{o, noise_cache, skipped, write_files, correspondence_folder(o.data), {}, 0};
   for (const std::string& cls : data.classes) selection.select_class(data, cls);
   CSHAPES_REQUIRE(!selection.shapes.empty(), o.data, ": no shapes selected");
@@ -686,9 +689,10 @@ void select_stage(ExperimentRun& run) {
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
   say(o.note, "== shapes from " + o.data);
-  if (comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, true);
+  std::vector<ShapeFailure> left_out;
+  if (comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, true, left_out);
   comm.barrier();
-  if (!comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, false);
+  if (!comm.is_root()) run.shapes = select_shapes(o, run.misc_cache, report.skipped, false, left_out);
   for (const PaperReport::Skipped& k : report.skipped)
     summary.failures.push_back(read_failure(fs::path(k.file).stem().string(), k.file, Error(k.reason)));
   // Two queries of the data with the same bytes under different names: both stay in the retrieval set (a
@@ -699,7 +703,7 @@ void select_stage(ExperimentRun& run) {
       queries.push_back({s.source_path, s.name, s.class_name, -1, s.noisy});
   add_records(summary.failures, same_content_records(queries), o.note);
   // The folder's entries that are no shape (a loop of links, a FIFO, a second file of one name): left out.
-  add_records(summary.failures, left_out_records(read_dataset(o.data), o.canon.strict), o.note);
+  add_records(summary.failures, left_out, o.note);
 }
 
 // 2. Canonical forms. Distributed: each rank first canonizes its share into the cache (longest first by

@@ -77,7 +77,7 @@ void discover_shared_connectivity(const PoseInvarianceOptions& o,
                                   std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs,
                                   std::vector<ShapeFailure>& left_out) {
   const Dataset data = read_dataset(o.data);
-  left_out = left_out_records(data, o.canon.strict);  // folder entries that are no shape
+  left_out = left_out_records(data.left_out, o.canon.strict);  // folder entries that are no shape
   for (const DatasetEntry& e : data.entries)
     if (!e.noisy && wanted(e.name)) shapes.push_back({e.name, e.class_name, e.path, read_mesh(e.path), {}});
   CSHAPES_REQUIRE(

@@ -55,13 +55,6 @@ ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const
 
 namespace {
 
-// Whether ICP takes X as it is (matching/icp.h: kIcpSmallestSize … kIcpLargestSize from the centroid).
-bool within_icp_sizes(const Points& X) {
-  if (X.rows() == 0) return true;
-  const double radius = (X.rowwise() - X.colwise().mean()).cwiseAbs().maxCoeff();
-  return radius >= kIcpSmallestSize && radius <= kIcpLargestSize;
-}
-
 // An alignment computed on both sets multiplied by `scale`, in the units of the sets themselves.
 void unscale(IcpResult& r, double scale) {
   r.transform.translation /= scale;
@@ -78,7 +71,7 @@ void unscale(IcpResult& r, double scale) {
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options,
                                      IcpResult* alignment) {
   const Points a_points = finite_rows(A), b_points = finite_rows(B);
-  if (!within_icp_sizes(a_points) || !within_icp_sizes(b_points)) {
+  if (!icp_size_refusal(a_points).empty() || !icp_size_refusal(b_points).empty()) {
     // Sets too small or too large for squared distances: aligned together at unit size (a power of two:
     // exact), then measured in their own units. A shared IcpShape stays at its own size (the caller's).
     Points both(a_points.rows() + b_points.rows(), 3);

@@ -238,14 +238,13 @@ void scale_distances(DistanceMatrix& D, double scale) {
     for (Index i = 0; i < D.rows(); ++i) D(i, j) = static_cast<float>(static_cast<double>(D(i, j)) * scale);
 }
 
-CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& options,
+CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& options,
                                 const DistanceMatrix* D, double D_seconds, const std::string& D_fallback) {
   // Points all in one place have no shape to canonize (every method would return them as they are, "ok").
   CSHAPES_REQUIRE(
-      input.num_vertices() == 0 || (input.V.colwise().maxCoeff() - input.V.colwise().minCoeff()).maxCoeff() > 0,
-      options.name, ": all ", input.num_vertices(),
+      mesh.num_vertices() == 0 || (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).maxCoeff() > 0,
+      options.name, ": all ", mesh.num_vertices(),
       " points coincide (a degenerate point set): nothing to canonize");
-  const Mesh& mesh = input;
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   // The n×n matrix of the methods that embed it is checked against the memory before anything else is done.
   // So are landmark MDS's L rows.
@@ -293,7 +292,7 @@ CanonicalForm canonical_form_of(const Mesh& input, const CanonicalFormOptions& o
                           "steps and stresses are the copy's");
   }
   // Back to the input's vertices (a copy when nothing was repaired).
-  const Index n = input.num_vertices();
+  const Index n = mesh.num_vertices();
   form.X = to_input_vertices(form.X, repaired.vertex_map, n);
   if (form.torn.size()) form.torn = to_input_vertices(form.torn, repaired.vertex_map, n, 0.0);
   form.valid = valid_input_vertices(repaired.vertex_map, n);

@@ -77,7 +77,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   }
   const Dataset data = read_dataset(options.resample.vertices > 0 ? result.resampling.data : options.data);
   // The folder's entries that are no shape (resampled: in resample_records above), then same-content pairs.
-  add_records(result.failures, left_out_records(data, options.canon.strict), options.note);
+  add_records(result.failures, left_out_records(data.left_out, options.canon.strict), options.note);
   add_records(result.failures, same_content_records(data), options.note);
   // The reference is read before any work: a missing or malformed file fails now, not after the alignments.
   NamedDistances reference;
@@ -118,20 +118,8 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
       result.skipped_reasons.push_back(result.failures.back().reason);
       continue;
     }
+    // A form ICP cannot take was left out by shape_canonical_forms (stage "alignment").
     CachedForm& form = computed->front();
-    // A form ICP cannot take (points on a line, or too far from unit size for its squared distances) is
-    // this shape's failure, named, before the pairs: in the pairs it ended the whole run with exit 1.
-    try {
-      const IcpShape alignable(finite_rows(form.form.X), options.pairs.icp);
-    } catch (const Error& error) {
-      if (co.strict) throw;
-      result.failures.push_back({e.name, e.path, co.method, "alignment",
-                                 std::string("its form cannot be aligned: ") + error.what(), ""});
-      say(options.note, describe(result.failures.back()));
-      result.skipped.push_back(e.path);
-      result.skipped_reasons.push_back(result.failures.back().reason);
-      continue;
-    }
     if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
     const bool cached = form.cached;
     (cached ? result.forms_cached : result.forms_computed)++;

@@ -236,8 +236,7 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
 }
 
 std::vector<ShapeFailure> resample_records(const ResampledDataset& r) {
-  std::vector<ShapeFailure> records;
-  for (const DatasetLeftOut& entry : r.left_out) records.push_back({entry.name, entry.path, "", "read", entry.reason, ""});
+  std::vector<ShapeFailure> records = left_out_records(r.left_out);
   for (const ResampledShape& s : r.shapes)
     if (!s.remeshed)
       records.push_back({s.name, s.source, "", "resample", s.note,

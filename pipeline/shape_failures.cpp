@@ -114,10 +114,11 @@ std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& 
   return records_of_pairs(entries, same_content_pairs(entries), kept_as);
 }
 
-std::vector<ShapeFailure> left_out_records(const Dataset& data, bool strict) {
+std::vector<ShapeFailure> left_out_records(const std::vector<DatasetLeftOut>& left_out, bool strict) {
   std::vector<ShapeFailure> records;
-  for (const DatasetLeftOut& entry : data.left_out) {
-    CSHAPES_REQUIRE(!strict, entry.path, ": ", entry.reason, " (--strict: a dataset entry that is no shape stops the run)");
+  for (const DatasetLeftOut& entry : left_out) {
+    CSHAPES_REQUIRE(!strict, entry.path, ": ", entry.reason,
+                    " (--strict: a dataset entry that is no shape stops the run)");
     records.push_back({entry.name, entry.path, "", "read", entry.reason, ""});
   }
   return records;
@@ -156,15 +157,17 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
         {name, options.empty() ? name : options.front().name, method, "canonical form", error.what(), ""});
     return std::nullopt;
   }
-  // A form ICP cannot take (too far from unit size for its squared distances) leaves the shape out, named,
-  // here, before any alignment: in the pairs it ended the whole run.
+  // A form ICP cannot take (points on a line, or too far from unit size for its squared distances) leaves
+  // the shape out, named, here, before any alignment: in the pairs it ended the whole run (exit 1).
   for (size_t k = 0; k < forms.size(); ++k) {
-    const std::string refusal = icp_size_refusal(finite_rows(forms[k].form.X));
-    if (refusal.empty()) continue;
-    if (options[k].strict) fail(options[k].name, ": its ", options[k].method, " form cannot be aligned: ", refusal);
-    failures.push_back({name, options[k].name, options[k].method, "alignment",
-                        "its form cannot be aligned: " + refusal, ""});
-    return std::nullopt;
+    try {
+      const IcpShape alignable(finite_rows(forms[k].form.X));
+    } catch (const Error& error) {
+      if (options[k].strict) throw;
+      failures.push_back({name, options[k].name, options[k].method, "alignment",
+                          std::string("its form cannot be aligned: ") + error.what(), ""});
+      return std::nullopt;
+    }
   }
   for (size_t k = 0; k < forms.size(); ++k) {
     const std::string& text = forms[k].form.geodesics_fallback;

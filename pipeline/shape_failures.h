@@ -62,7 +62,7 @@ std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& 
 
 // One record per folder entry the dataset left out (Dataset::left_out: a loop of links, a dangling link, a
 // FIFO, a second file of one shape name; stage "read", left out). Under strict, throws for the first.
-std::vector<ShapeFailure> left_out_records(const Dataset& data, bool strict = false);
+std::vector<ShapeFailure> left_out_records(const std::vector<DatasetLeftOut>& left_out, bool strict = false);
 // Appends kept records of the data (same_content_records, resample_records) to a run's failures, each said
 // through `note` as it is added: with them in the failures, the CLI says them on stderr (exit_code_for) and
 // the report and the JSON list them (shape_failures_markdown, shape_failures_json).
