@@ -37,7 +37,7 @@ struct RemeshOptions {
       0.01;  // Hausdorff goal (× bbox diagonal) that triggers the feature-line fallback
   double presimplify_factor =
       6;  // input with more than this × target vertices: collapse to half of that first; 0: never
-  ProgressFn progress;  // called after every attempt (stage "remesh")
+  ProgressFn progress;  // called after every attempt (stage "remesh"), and polled (an empty stage) within one
 };
 
 struct RemeshResult {

@@ -61,12 +61,47 @@ Mesh from_cgal(const SurfaceMesh& sm) {
 }
 
 // Stops the collapse when the mesh has no more than `target` vertices (exact, unlike an edge-count ratio).
+// CGAL's remeshing and edge collapse run for seconds without a callback of their own; a stop (Ctrl-C in
+// Python, core/progress.h) must be heard within a fraction of a second. A Poller calls the progress function
+// as a poll (empty stage) every kPollEvery ticks; the calls below tick it once per collapse and once per point
+// CGAL writes, which leaves the results bit for bit what they are without it.
+class Poller {
+ public:
+  explicit Poller(const ProgressFn& fn) : fn_(fn) {}
+  void tick() const {
+    if (fn_ && ++ticks_ % kPollEvery == 0) fn_("", 0, 0);
+  }
+
+ private:
+  static constexpr std::size_t kPollEvery = 4096;
+  const ProgressFn& fn_;
+  mutable std::size_t ticks_ = 0;
+};
+
 struct VertexCountStop {
   const SurfaceMesh* mesh;
   std::size_t target;
+  const Poller* poller = nullptr;
   template <typename Cost, typename Profile>
   bool operator()(const Cost&, const Profile&, std::size_t, std::size_t) const {
+    if (poller) poller->tick();
     return mesh->number_of_vertices() <= target;
+  }
+};
+
+// The mesh's point map, with a tick of the poller on every write (isotropic remeshing writes a point for
+// every split, collapse, relaxation and projection).
+struct PollingPointMap {
+  using key_type = SurfaceMesh::Vertex_index;
+  using value_type = Point3;
+  using reference = const Point3&;
+  using category = boost::read_write_property_map_tag;
+  SurfaceMesh::Property_map<SurfaceMesh::Vertex_index, Point3> points;
+  const Poller* poller;
+  friend reference get(const PollingPointMap& m, key_type v) { return m.points[v]; }
+  friend void put(const PollingPointMap& m, key_type v, const value_type& p) {
+    m.poller->tick();
+    m.points[v] = p;
   }
 };
 
@@ -186,6 +221,7 @@ RemeshResult remesh_once(const SurfaceMesh& input, const Mesh& mesh, const Remes
   double length = std::sqrt(2 * area / (std::sqrt(3.0) * aim));
   SurfaceMesh best;
   Index best_count = -1;
+  const Poller poller(o.progress);
   for (int attempt = 0; attempt < o.max_attempts; ++attempt) {
     SurfaceMesh sm = input;
     // Sharp edges (thin fins such as ears, crease lines) are kept as polylines that may be split but not
@@ -193,7 +229,8 @@ RemeshResult remesh_once(const SurfaceMesh& input, const Mesh& mesh, const Remes
     auto sharp = sm.add_property_map<SurfaceMesh::Edge_index, bool>("e:sharp", false).first;
     if (feature_angle_deg > 0) PMP::detect_sharp_edges(sm, feature_angle_deg, sharp);
     PMP::isotropic_remeshing(faces(sm), length, sm,
-                             PMP::parameters::number_of_iterations(o.relaxation_iterations)
+                             PMP::parameters::vertex_point_map(PollingPointMap{sm.points(), &poller})
+                                 .number_of_iterations(o.relaxation_iterations)
                                  .protect_constraints(o.protect_border)
                                  .edge_is_constrained_map(sharp)
                                  .number_of_relaxation_steps(1));
@@ -219,7 +256,7 @@ RemeshResult remesh_once(const SurfaceMesh& input, const Mesh& mesh, const Remes
   result.remeshed_vertices = best_count;
 
   if (best_count > o.target_vertices) {
-    VertexCountStop stop{&best, static_cast<std::size_t>(o.target_vertices)};
+    VertexCountStop stop{&best, static_cast<std::size_t>(o.target_vertices), &poller};
     SMS::LindstromTurk_cost<SurfaceMesh> cost;
     SMS::LindstromTurk_placement<SurfaceMesh> placement;
     result.collapsed_edges =
@@ -286,8 +323,10 @@ RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
                                       o.presimplify_factor * static_cast<double>(o.target_vertices)) {
     // Shortest edge first, collapsed to its midpoint: several times cheaper than Lindstrom-Turk, and on a
     // surface this dense (edges far below the target length) the midpoints stay within a tiny distance of it.
+    const Poller poller(o.progress);
     VertexCountStop stop{
-        &input, static_cast<std::size_t>(o.presimplify_factor / 2 * static_cast<double>(o.target_vertices))};
+        &input, static_cast<std::size_t>(o.presimplify_factor / 2 * static_cast<double>(o.target_vertices)),
+        &poller};
     SMS::edge_collapse(input, stop,
                        CGAL::parameters::get_cost(SMS::Edge_length_cost<SurfaceMesh>())
                            .get_placement(SMS::Midpoint_placement<SurfaceMesh>()));

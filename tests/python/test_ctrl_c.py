@@ -93,14 +93,7 @@ def delays(cli, tmp_path_factory):
     return found, result.stderr
 
 
-# Heard between poses, glues and remesh attempts, but a stop waits for the CGAL remeshing of each class's
-# rest mesh under way (1-2 s, inside CGAL's isotropic_remeshing, whatever the vertex count asked for).
-NOT_YET = {"generate dataset": "a stop waits for CGAL's isotropic remeshing of the rest mesh (1-2 s)"}
-
-
-@pytest.mark.parametrize(
-    "case", [pytest.param(c, marks=pytest.mark.xfail(reason=NOT_YET[c])) if c in NOT_YET else c
-             for c in sorted(CASES)])
+@pytest.mark.parametrize("case", sorted(CASES))
 def test_ctrl_c_reaches_python_within_a_second(delays, case):
     found, stderr = delays
     assert case in found, f"the child ended before this case: {stderr[-2000:]}"
