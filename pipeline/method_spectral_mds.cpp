@@ -19,6 +19,10 @@ CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions&
   CSHAPES_REQUIRE(!mesh.is_point_cloud(), options.name,
                   ": spectral-mds needs a mesh with faces (its geodesic rows and its Laplacian)");
   const SpectralMdsOptions& so = options.spectral_mds;
+  const Index n = mesh.num_vertices(), k = so.laplacian.eigenpairs;
+  CSHAPES_REQUIRE(k < n, options.name, ": spectral-mds fits its distances in a basis of ", k,
+                  " eigenfunctions (basis), which needs more than ", k, " vertices; this mesh has ", n,
+                  ". On a mesh this small, method cmds uses the whole geodesic matrix at little cost");
   SpectralSolve s = spectral_eigenpairs(mesh, so.laplacian, options, "spectral-mds");
   CanonicalForm form;
   auto start = WallClock::now();

@@ -228,6 +228,24 @@ TEST(SpectralMds, IsClassicalMdsFromAFewGeodesicRows) {
   EXPECT_THROW(canonical_form(biped, o), Error);
 }
 
+TEST(SpectralMds, AMeshNoLargerThanItsBasisIsRefusedNamingTheBasisAndTheWayOn) {
+  // icosphere(1): 42 vertices; a basis of 40 fits, one of 42 needs more vertices than the mesh has.
+  CanonicalFormOptions o;
+  o.method = "spectral-mds";
+  o.spectral_mds.sources = 42;
+  EXPECT_TRUE(canonical_form(icosphere(1), o).X.allFinite());
+  o.spectral_mds.laplacian.eigenpairs = 42;
+  try {
+    canonical_form(icosphere(1), o);
+    ADD_FAILURE() << "a basis of 42 on 42 vertices was accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("basis of 42"), std::string::npos) << what;
+    EXPECT_NE(what.find("this mesh has 42"), std::string::npos) << what;
+    EXPECT_NE(what.find("method cmds"), std::string::npos) << what;
+  }
+}
+
 TEST(SpectralForms, BitIdenticalForAnyThreadCount) {
   // The paper experiment's CLI and C++ runs differed in spectral-mds's last bits: Eigen's parallel products
   // block by the thread count. A 900-vertex biped takes the shift-invert path (above kDenseEigenVertices).
