@@ -612,18 +612,22 @@ void point_map_stage(ExperimentRun& run) {
   report.stage_seconds["correspondence"] = seconds_since(t);
 }
 
-// 6. The figures' data (Figures 2-8), unless o.figures is off: figures.json and the meshes behind it.
+// 6. The figures' data: the meshes of Figures 2-6 unless o.figures is off, and figures.json, which names
+// the figures of this run (drawn by paper_figures.py, linked by report.md) and its methods: a figure or a
+// method of an earlier run into the same folder is neither drawn nor linked.
 void figure_stage(ExperimentRun& run) {
   const PaperExperimentOptions& o = run.o;
   const std::vector<Shape>& shapes = run.shapes;
   PaperReport& report = run.report;
   const DiskCache& misc_cache = run.misc_cache;
   const DiskCache& form_cache = run.form_cache;
+  const bool has_coulomb = std::find(o.methods.begin(), o.methods.end(), "coulomb") != o.methods.end();
+  json grids = json::object();
   if (o.figures) {
     say(o.note, "== data for the figures");
     const auto t = WallClock::now();
     write_figure_data(o, report, misc_cache, form_cache);
-    json grids = report.figure_grids;
+    grids = report.figure_grids;
     // Fig. 6 / Fig. 4: clean pose beside its noisy version, per class.
     json fig6{
         {"title",
@@ -673,12 +677,27 @@ void figure_stage(ExperimentRun& run) {
     fig4["cells"] = fig4_cells;
     if (!classes_shown.empty()) {
       grids["fig6_noisy_shapes"] = fig6;
-      grids["fig4_tearing"] = fig4;
+      if (has_coulomb) grids["fig4_tearing"] = fig4;  // Coulomb's tears: nothing to show without it
     }
-    write_file_atomically((fs::path(o.out) / "figures.json").string(),
-                          [&](std::ostream& out) { out << grids.dump(2) << '\n'; });
     report.stage_seconds["figures"] = seconds_since(t);
   }
+  std::vector<std::string>& figures = report.figures;
+  figures.clear();
+  for (const char* grid : {"fig2_hand", "fig3_iterations", "fig4_tearing"})
+    if (grids.contains(grid)) figures.push_back(grid);
+  if (o.figures && !report.convergence.empty()) figures.push_back("fig5_convergence");
+  if (grids.contains("fig6_noisy_shapes")) figures.push_back("fig6_noisy_shapes");
+  std::vector<std::string> methods;  // the methods with a distance matrix (not left out as a whole)
+  for (const std::string& m : o.methods)
+    if (report.retrieval.count(m)) methods.push_back(m);
+  if (!methods.empty()) {
+    figures.push_back("fig7_distance_matrices");
+    figures.push_back("fig8_pr");
+  }
+  if (report.correspondence_pairs > 0) figures.push_back("fig9_correspondence");
+  const json spec{{"methods", methods}, {"draw", figures}, {"grids", grids}};
+  write_file_atomically((fs::path(o.out) / "figures.json").string(),
+                        [&](std::ostream& out) { out << spec.dump(2) << '\n'; });
 }
 
 // 1. Shapes. Rank 0 first (it glues the noisy shapes into the cache and writes them out); then the others,
@@ -848,8 +867,14 @@ PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
 
 void draw_paper_figures(PaperReport& report) {
   const std::string out = report.options.out;
+  // The first figure of the run stands for all (draw_figure checks that it was written).
+  if (report.figures.empty()) {
+    report.figures_drawn = false;
+    report.figures_note = "this run has no figure to draw";
+    return;
+  }
   const FigureRun drawn =
-      draw_figure("paper_figures.py", {out}, (fs::path(out) / "fig7_distance_matrices.png").string());
+      draw_figure("paper_figures.py", {out}, (fs::path(out) / (report.figures.front() + ".png")).string());
   report.figures_drawn = drawn.drawn;
   report.figures_note = drawn.problem;
 }

@@ -130,6 +130,9 @@ struct PaperReport {
   std::vector<Convergence> convergence;
   std::string figure_shape;                                // the shape of Figures 3 and 5
   nlohmann::json figure_grids = nlohmann::json::object();  // Fig. 2, 3 mesh grids for paper_figures.py
+  // The figures this run has data for ("fig2_hand", …, "fig9_correspondence"), in order: what
+  // paper_figures.py draws (figures.json "draw") and what report.md may link.
+  std::vector<std::string> figures;
   bool figures_drawn = false;  // the PNGs exist (paper_experiment drew them)
   std::string figures_note;    // why not, and how to draw them, when not drawn
   std::map<std::string, double> stage_seconds;

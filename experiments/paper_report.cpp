@@ -6,6 +6,7 @@
 #include "pipeline/experiment_kit.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -60,6 +61,50 @@ struct ReportText {
   std::map<std::string, double> noise_rms;  // per method: median RMS noisy vs clean (the noise section's)
 };
 
+// A figure of this run that was drawn: its PNG beside report.md is linked; one that was not drawn (no
+// --draw, no matplotlib, no data for it in this run) is not, so that every link resolves.
+bool drawn(const ReportText& t, const std::string& name) {
+  const auto& f = t.r.figures;
+  return t.r.figures_drawn && std::find(f.begin(), f.end(), name) != f.end() &&
+         std::filesystem::exists(std::filesystem::path(t.r.options.out) / (name + ".png"));
+}
+
+// The links of the drawn figures among `figures` ({file name, caption}).
+void figure_links(ReportText& t, const std::vector<std::pair<std::string, std::string>>& figures) {
+  for (const auto& [name, caption] : figures)
+    if (drawn(t, name)) t.md << "![" << caption << "](" << name << ".png)\n\n";
+}
+
+// " (Fig. 7, Fig. 8)" for the figures of this run among `figures`, "" when none.
+std::string figure_references(const ReportText& t,
+                              const std::vector<std::pair<std::string, std::string>>& figures) {
+  std::string refs;
+  const auto& f = t.r.figures;
+  for (const auto& [name, caption] : figures)
+    if (std::find(f.begin(), f.end(), name) != f.end()) refs += (refs.empty() ? "" : ", ") + caption;
+  return refs.empty() ? "" : " (" + refs + ")";
+}
+
+std::string capitalized(std::string text) {
+  if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
+bool ran(const ReportText& t, const std::string& method) {
+  const auto& m = t.r.options.methods;
+  return std::find(m.begin(), m.end(), method) != m.end();
+}
+
+// A table: its header and rows, or, when it has no row, the sentence that says why instead of an empty
+// table.
+void table_or_sentence(std::ostringstream& md, const std::string& header, const std::string& rows,
+                       const std::string& when_empty) {
+  if (rows.empty())
+    md << when_empty << "\n";
+  else
+    md << header << rows;
+}
+
 void header_and_setup(ReportText& t) {
   const PaperReport& r = t.r;
   const PaperExperimentOptions& o = r.options;
@@ -93,14 +138,20 @@ void header_and_setup(ReportText& t) {
           "compared with.\n";
   md << "- Methods: ";
   for (size_t k = 0; k < o.methods.size(); ++k) md << (k ? ", " : "") << method_title(o.methods[k]);
-  md << ". MDS uses all-pairs geodesics by `" << to_string(o.canon.geodesics.method)
-     << "` (the paper used fast marching; `--geodesics fmm` does too). SMACOF starts from classical MDS.\n";
-  md << "- Coulomb: scheme `" << to_string(o.canon.coulomb.scheme) << "`, step rule `"
-     << to_string(o.canon.coulomb.step_rule) << "`, " << o.canon.coulomb.projection.steps
-     << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100
-     << "% of the edges in " << o.canon.coulomb.tear_times << " rounds from iteration "
-     << o.canon.coulomb.tear_after << " (or convergence), " << o.canon.coulomb.tear_interval
-     << " iterations apart (docs/coulomb-defaults.md: how these defaults were chosen).\n";
+  md << ".";
+  if (!t.mds_methods.empty())
+    md << " " << (t.mds_methods.size() == 1 ? capitalized(method_title(t.mds_methods[0])) : std::string("MDS"))
+       << " uses all-pairs geodesics by `" << to_string(o.canon.geodesics.method)
+       << "` (the paper used fast marching; `--geodesics fmm` does too).";
+  if (ran(t, "smacof")) md << " SMACOF starts from Torgerson's classical scaling.";
+  md << "\n";
+  if (ran(t, "coulomb"))
+    md << "- Coulomb: scheme `" << to_string(o.canon.coulomb.scheme) << "`, step rule `"
+       << to_string(o.canon.coulomb.step_rule) << "`, " << o.canon.coulomb.projection.steps
+       << " projection steps per Coulomb step, tearing " << o.canon.coulomb.tear_fraction * 100
+       << "% of the edges in " << o.canon.coulomb.tear_times << " rounds from iteration "
+       << o.canon.coulomb.tear_after << " (or convergence), " << o.canon.coulomb.tear_interval
+       << " iterations apart (docs/coulomb-defaults.md: how these defaults were chosen).\n";
   md << "- Distance between shapes: ICP alignment of the canonical forms (principal-axis starts, reflections "
         "allowed), then the maximum distance between corresponding points (symmetric Hausdorff), as in "
         "§3; retrieval is also reported under the Chamfer and RMSE distances of the same alignment.\n\n";
@@ -118,13 +169,19 @@ void data_quality(ReportText& t) {
     bool any = false;
     for (const auto& s : r.shapes) any = any || s.defects != "none" || !s.repairs.empty();
     if (any) {
-      md << "## Data quality and repairs\n\nMeshes are read as they are; each method repairs what it needs "
-            "(Coulomb: the largest component's edge graph; MDS: one manifold component without zero-area "
-            "faces, "
-            "non-manifold vertices split per fan) and the canonical forms keep the input's vertices (dropped "
-            "ones: "
-            "NaN rows with `valid` = 0 in `canon/*/*.ply`, left out of ICP). `--strict` refuses such meshes "
-            "instead.\n\n| shape | defects | repairs |\n| --- | --- | --- |\n";
+      std::vector<std::string> needs;  // what the methods of this run repair
+      if (ran(t, "coulomb")) needs.push_back("Coulomb: the largest component's edge graph");
+      if (!t.mds_methods.empty())
+        needs.push_back("MDS: one manifold component without zero-area faces, non-manifold vertices split "
+                        "per fan");
+      std::string what;
+      for (const std::string& n : needs) what += (what.empty() ? " (" : "; ") + n;
+      if (!what.empty()) what += ")";
+      md << "## Data quality and repairs\n\nMeshes are read as they are; each method repairs what it needs"
+         << what
+         << " and the canonical forms keep the input's vertices (dropped ones: NaN rows with `valid` = 0 in "
+            "`canon/*/*.ply`, left out of ICP). `--strict` refuses such meshes instead.\n\n| shape | defects | "
+            "repairs |\n| --- | --- | --- |\n";
       for (const auto& s : r.shapes) {
         if (s.defects == "none" && s.repairs.empty()) continue;
         std::string repairs;
@@ -145,9 +202,8 @@ void cost(ReportText& t) {
   std::ostringstream& md = t.md;
   md << "## Cost of the canonical forms\n\nMean per shape of the retrieval set, as computed (cached forms "
         "keep the "
-        "times of the run that computed them):\n\n| method | pre-computation (s) | embedding (s) | "
-        "iterations |\n"
-        "| --- | --- | --- | --- |\n";
+        "times of the run that computed them):\n\n";
+  std::ostringstream rows;
   for (const std::string& m : o.methods) {
     if (!r.cost.count(m)) continue;
     const auto& c = r.cost.at(m);
@@ -158,9 +214,12 @@ void cost(ReportText& t) {
       it += c.iterations[k];
     }
     const double n = std::max<double>(1, c.solve.size());
-    md << "| " << method_title(m) << " | " << format_number("%.2f", pre / n) << " | "
-       << format_number("%.2f", solve / n) << " | " << format_number("%.0f", it / n) << " |\n";
+    rows << "| " << method_title(m) << " | " << format_number("%.2f", pre / n) << " | "
+         << format_number("%.2f", solve / n) << " | " << format_number("%.0f", it / n) << " |\n";
   }
+  table_or_sentence(md,
+                    "| method | pre-computation (s) | embedding (s) | iterations |\n| --- | --- | --- | --- |\n",
+                    rows.str(), "No canonical form was computed (every shape was left out: see above).");
   md << "\n";
 }
 
@@ -169,14 +228,15 @@ void retrieval(ReportText& t) {
   const PaperExperimentOptions& o = r.options;
   std::ostringstream& md = t.md;
   const std::vector<std::string>& classes = t.classes;
-  md << "## Retrieval (Fig. 7, Fig. 8)\n\n";
+  const std::vector<std::pair<std::string, std::string>> figures = {{"fig7_distance_matrices", "Fig. 7"},
+                                                                      {"fig8_pr", "Fig. 8"}};
+  md << "## Retrieval" << figure_references(t, figures) << "\n\n";
   md << "Every measure under the three distances between ICP-aligned canonical forms "
         "(matching/shape_distance.h): "
         "Hausdorff (the paper's, the largest nearest-point distance: one stray vertex can set it), Chamfer "
         "(the "
         "mean nearest-point distance) and RMSE (their root mean square).\n\n";
-  md << "| method | distance | mAP | NN | 1st tier | 2nd tier | E (32) | DCG | NN of noisy queries |\n";
-  md << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  std::ostringstream rows;
   for (const std::string& m : o.methods) {
     if (!r.retrieval.count(m)) continue;
     for (const char* kind : kDistanceKinds) {
@@ -186,13 +246,17 @@ void retrieval(ReportText& t) {
       else if (std::string(kind) == "hausdorff")
         x = &r.retrieval.at(m);
       if (!x) continue;
-      md << "| " << method_title(m) << " | " << distance_title(kind) << " | " << format_number("%.3f", x->map)
-         << " | " << format_number("%.3f", x->nn) << " | " << format_number("%.3f", x->ft) << " | "
-         << format_number("%.3f", x->st) << " | " << format_number("%.3f", x->e) << " | "
-         << format_number("%.3f", x->dcg) << " | "
-         << (x->noisy_query_nn >= 0 ? format_number("%.2f", x->noisy_query_nn) : "—") << " |\n";
+      rows << "| " << method_title(m) << " | " << distance_title(kind) << " | "
+           << format_number("%.3f", x->map) << " | " << format_number("%.3f", x->nn) << " | "
+           << format_number("%.3f", x->ft) << " | " << format_number("%.3f", x->st) << " | "
+           << format_number("%.3f", x->e) << " | " << format_number("%.3f", x->dcg) << " | "
+           << (x->noisy_query_nn >= 0 ? format_number("%.2f", x->noisy_query_nn) : "—") << " |\n";
     }
   }
+  table_or_sentence(md,
+                    "| method | distance | mAP | NN | 1st tier | 2nd tier | E (32) | DCG | NN of noisy queries "
+                    "|\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+                    rows.str(), "No method has a distance matrix (every method failed: see above).");
   // The methods ordered by mAP under each distance: whether the conclusion depends on the distance.
   if (r.retrieval.size() > 1 && !r.retrieval_by_distance.empty()) {
     md << "\nMethods by mAP (ties within 0.01 marked ≈):";
@@ -229,22 +293,22 @@ void retrieval(ReportText& t) {
         "`by_distance`); "
         "distance matrices: `distances/*.csv` (Hausdorff), `distances/chamfer/*.csv`, "
         "`distances/rmse/*.csv`.\n\n";
-  md << "![Fig. 7](fig7_distance_matrices.png)\n\n![Fig. 8](fig8_pr.png)\n\n";
+  figure_links(t, figures);
 }
 
 void topological_noise(ReportText& t) {
   const PaperReport& r = t.r;
   const PaperExperimentOptions& o = r.options;
   std::ostringstream& md = t.md;
-  md << "## Topological noise (Fig. 2, Fig. 4, Fig. 6)\n\n";
+  const std::vector<std::pair<std::string, std::string>> figures = {
+      {"fig2_hand", "Fig. 2"}, {"fig6_noisy_shapes", "Fig. 6"}, {"fig4_tearing", "Fig. 4"}};
+  md << "## Topological noise" << figure_references(t, figures) << "\n\n";
   md << "Each noisy shape against its own clean pose (same vertices): RMS distance between their canonical "
         "forms "
         "after the best rigid fit (reflections allowed), and the ICP Hausdorff distance, both in % of the "
         "bounding-box diagonal. For scale, the last column is the median ICP RMSE between canonical forms of "
         "two different clean poses of one class.\n\n";
-  md << "| method | median RMS, noisy vs clean | median Hausdorff, noisy vs clean | pose variation (RMSE) | "
-        "noise / pose variation |\n";
-  md << "| --- | --- | --- | --- | --- |\n";
+  std::ostringstream rows;
   std::map<std::string, double>& noise_rms = t.noise_rms;
   for (const std::string& m : o.methods) {
     std::vector<double> rms, haus;
@@ -256,12 +320,19 @@ void topological_noise(ReportText& t) {
     if (rms.empty()) continue;
     noise_rms[m] = median(rms);
     const double pose = r.pose_variation.count(m) ? r.pose_variation.at(m) : 0;
-    md << "| " << method_title(m) << " | " << format_number("%.2f%%", 100 * median(rms)) << " | "
-       << format_number("%.2f%%", 100 * median(haus)) << " | " << format_number("%.2f%%", 100 * pose) << " | "
-       << (pose > 0 ? format_number("%.2f", median(rms) / pose) : "—") << " |\n";
+    rows << "| " << method_title(m) << " | " << format_number("%.2f%%", 100 * median(rms)) << " | "
+         << format_number("%.2f%%", 100 * median(haus)) << " | " << format_number("%.2f%%", 100 * pose)
+         << " | " << (pose > 0 ? format_number("%.2f", median(rms) / pose) : "—") << " |\n";
   }
-  md << "\nPer shape: `noise_effect.csv`.\n\n";
-  md << "![Fig. 2](fig2_hand.png)\n\n![Fig. 6](fig6_noisy_shapes.png)\n\n![Fig. 4](fig4_tearing.png)\n\n";
+  table_or_sentence(md,
+                    "| method | median RMS, noisy vs clean | median Hausdorff, noisy vs clean | pose variation "
+                    "(RMSE) | noise / pose variation |\n| --- | --- | --- | --- | --- |\n",
+                    rows.str(),
+                    "No noisy shape has a clean pose in this run (`--noisy-per-class 0`, or none could be "
+                    "glued), so the effect of topological noise was not measured.");
+  if (!rows.str().empty()) md << "\nPer shape: `noise_effect.csv`.\n";
+  md << "\n";
+  figure_links(t, figures);
 }
 
 void convergence(ReportText& t) {
@@ -269,14 +340,17 @@ void convergence(ReportText& t) {
   const PaperExperimentOptions& o = r.options;
   std::ostringstream& md = t.md;
   if (!r.convergence.empty()) {
-    md << "## Convergence (Fig. 3, Fig. 5)\n\n";
+    const std::vector<std::pair<std::string, std::string>> figures = {{"fig3_iterations", "Fig. 3"},
+                                                                        {"fig5_convergence", "Fig. 5"}};
+    md << "## Convergence" << figure_references(t, figures) << "\n\n";
     md << "On " << r.figure_shape << ", the paper's plain scheme (no tearing), after " << o.fig5_iterations
        << " outer iterations:\n\n| projection steps | energy | mean relative violation |\n"
        << "| --- | --- | --- |\n";
     for (const auto& c : r.convergence)
       md << "| " << c.projection_steps << " | " << format_number("%.6g", c.final_energy) << " | "
          << format_number("%.4f", c.final_violation) << " |\n";
-    md << "\n![Fig. 3](fig3_iterations.png)\n\n![Fig. 5](fig5_convergence.png)\n\n";
+    md << "\n";
+    figure_links(t, figures);
   }
 }
 
@@ -300,7 +374,8 @@ void point_maps(ReportText& t) {
       md << "| " << method_title(m) << " | " << format_number("%.3f", mean / v.size()) << " | "
          << format_number("%.3f", median(v)) << " |\n";
     }
-    md << "\n![point maps](fig9_correspondence.png)\n\n";
+    md << "\n";
+    figure_links(t, {{"fig9_correspondence", "point maps"}});
   }
 }
 
@@ -336,13 +411,11 @@ void table1(ReportText& t) {
 
 void claims(ReportText& t) {
   const PaperReport& r = t.r;
-  std::ostringstream& md = t.md;
+  std::ostringstream md;  // the rows of the claims table
   const bool has_coulomb = t.has_coulomb;
   const std::vector<std::string>& mds_methods = t.mds_methods;
   std::map<std::string, double>& noise_rms = t.noise_rms;
   // Claims.
-  md << "## The paper's claims beside our measurements\n\n";
-  md << "| claim (paper) | measured here | verdict |\n| --- | --- | --- |\n";
   if (has_coulomb && !mds_methods.empty()) {
     // Under each distance, Coulomb against the better MDS method (by that distance's mAP).
     auto best_mds_by = [&](const std::string& kind) {
@@ -433,6 +506,21 @@ void claims(ReportText& t) {
       md << " " << format_number("%.3g", c.final_violation) << " (k=" << c.projection_steps << ")";
     md << " | " << (decreasing ? "holds" : "does not hold") << " |\n";
   }
+  t.md << "## The paper's claims beside our measurements\n\n";
+  std::vector<std::string> missing;  // what the run would need for a claim
+  if (!has_coulomb) missing.push_back("the paper's method (`--methods` with `coulomb`)");
+  if (mds_methods.empty()) missing.push_back("an MDS method (`--methods` with `cmds` or `smacof`)");
+  if (r.table1.size() < 3 || !r.table1[2].mds_measured)
+    missing.push_back("Table 1 with its MDS timings (without `--no-table1`, and memory for the matrix)");
+  if (r.convergence.size() < 2) missing.push_back("Figure 5's data (the paper's method, without `--no-figures`)");
+  std::string need;
+  for (size_t k = 0; k < missing.size(); ++k)
+    need += (k == 0 ? "" : k + 1 == missing.size() ? " and " : ", ") + missing[k];
+  table_or_sentence(t.md, "| claim (paper) | measured here | verdict |\n| --- | --- | --- |\n", md.str(),
+                    "No claim of the paper can be checked by this run: its claims compare the paper's "
+                    "canonical forms with MDS, and it would need " + need + ".");
+  if (!md.str().empty() && !missing.empty())
+    t.md << "\nNot checked by this run, for want of " << need << ".\n";
 }
 
 void stage_times(ReportText& t) {

@@ -4,6 +4,7 @@
 // where nothing fails has no failures section.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@
 #include "experiments/figures.h"
 #include "experiments/paper_experiment.h"
 #include "experiments/paper_report.h"
+#include "pipeline/canonical_form_methods.h"
 #include "pipeline/shape_failures.h"
 #include "test_support.h"
 
@@ -118,6 +120,81 @@ TEST(PaperExperiment, DrawsItsFiguresOrSaysWhyNot) {
   EXPECT_NE(report.find("**The figures were not drawn**: the figure script paper_figures.py was not found"),
             std::string::npos)
       << report;
+}
+
+// report.md describes the run it comes from: every link resolves to a file beside it, no table is empty (a
+// sentence says why instead), and no method that did not run is named (the paper's title on the first line
+// aside). `ran`: the methods of the run.
+void expect_report_fits_the_run(const std::string& out, const std::vector<std::string>& ran) {
+  const std::string report = read_file(out + "/report.md");
+  std::vector<std::string> lines;
+  for (std::istringstream in(report); in.good();) {
+    std::string line;
+    std::getline(in, line);
+    lines.push_back(line);
+  }
+  for (size_t k = 0; k < lines.size(); ++k) {
+    const std::string& line = lines[k];
+    for (size_t at = line.find("]("); at != std::string::npos; at = line.find("](", at + 2)) {
+      const size_t end = line.find(')', at);
+      const std::string target = line.substr(at + 2, end - at - 2);
+      EXPECT_TRUE(fs::exists(fs::path(out) / target)) << out << ": report.md:" << k + 1 << " links " << target
+                                                        << ", which is not there";
+    }
+    const bool separator = line.rfind("| ---", 0) == 0;
+    if (separator)
+      EXPECT_TRUE(k + 1 < lines.size() && lines[k + 1].rfind("|", 0) == 0)
+          << out << ": report.md:" << k << " is a table without rows: " << lines[k - 1];
+    if (k == 0) continue;  // "# Coulomb shapes: …", the paper's title
+    for (const CanonicalFormMethod& m : canonical_form_method_registry()) {
+      if (std::find(ran.begin(), ran.end(), m.name) != ran.end()) continue;
+      EXPECT_EQ(line.find(m.title), std::string::npos)
+          << out << ": report.md:" << k + 1 << " names " << m.title << ", which did not run: " << line;
+    }
+  }
+}
+
+TEST(PaperExperiment, TheReportFitsTheRun) {
+  const std::string dir = test::scratch_dir("paper_fits");
+  test::CliResult g = test::run_cli("-q generate dataset -o '" + dir +
+                                    "/data' --classes 2 --poses 3 --noisy 1 --vertices 400");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const bool can_draw = !find_python("matplotlib, numpy").empty();
+  auto run = [&](const std::vector<std::string>& methods, bool figures, bool draw) {
+    PaperExperimentOptions o = small_run(dir, "out");
+    o.methods = methods;
+    o.noisy_per_class = 1;
+    o.figures = figures;
+    o.draw = draw;
+    o.fig3_iterations = {10, 20};
+    o.fig5_iterations = 20;
+    paper_experiment(o);
+    return nlohmann::json::parse(read_file(o.out + "/figures.json"));
+  };
+  // Every figure's data, not drawn: no link at all.
+  nlohmann::json spec = run({"coulomb", "cmds"}, true, false);
+  EXPECT_EQ(spec.at("draw"), nlohmann::json({"fig2_hand", "fig3_iterations", "fig4_tearing", "fig5_convergence",
+                                              "fig6_noisy_shapes", "fig7_distance_matrices", "fig8_pr"}));
+  expect_report_fits_the_run(dir + "/out", {"coulomb", "cmds"});
+  EXPECT_EQ(read_file(dir + "/out/report.md").find(".png)"), std::string::npos);
+
+  // A subset without Coulomb and without the figures' data, drawn, in a folder that holds an earlier run's
+  // Fig. 4: Fig. 7 and 8 only, no Coulomb settings, no empty claims table, the old figure not linked.
+  write_file_atomically(dir + "/out/fig4_tearing.png", [](std::ostream& out) { out << "an earlier run's"; });
+  spec = run({"cmds", "diffusion"}, false, true);
+  EXPECT_EQ(spec.at("draw"), nlohmann::json({"fig7_distance_matrices", "fig8_pr"}));
+  EXPECT_EQ(spec.at("methods"), nlohmann::json({"cmds", "diffusion"}));
+  expect_report_fits_the_run(dir + "/out", {"cmds", "diffusion"});
+  const std::string report = read_file(dir + "/out/report.md");
+  EXPECT_NE(report.find("No claim of the paper can be checked by this run"), std::string::npos) << report;
+  if (can_draw) EXPECT_NE(report.find("](fig8_pr.png)"), std::string::npos) << report;
+  EXPECT_EQ(report.find("fig4_tearing.png"), std::string::npos) << report;
+
+  // The figures' data without Coulomb: no Fig. 3, 4, 5 (Coulomb's iterations and tears).
+  spec = run({"lbo"}, true, false);
+  EXPECT_EQ(spec.at("draw"),
+            nlohmann::json({"fig2_hand", "fig6_noisy_shapes", "fig7_distance_matrices", "fig8_pr"}));
+  expect_report_fits_the_run(dir + "/out", {"lbo"});
 }
 
 TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {

@@ -3,8 +3,10 @@
 
   scripts/python.sh experiments/plots/paper_figures.py OUT [--pdf]
 
-Reads (each optional; a missing input skips its figure):
-  figures.json                  which meshes go in Fig. 2/3/4/6 (written by the C++ driver)
+Reads:
+  figures.json                  written by the C++ driver: "draw", the figures of this run (only these are
+                                drawn: files of an earlier run into the same folder are not taken for this
+                                run's); "methods", the methods of this run; "grids", the meshes of Fig. 2/3/4/6
   convergence.csv               projection_steps,iteration,energy,mean_violation         -> fig5_convergence
   distances/<method>.csv        distance matrix, header "shape,<names...>"                -> fig7_distance_matrices
   labels.csv                    shape,class
@@ -108,15 +110,11 @@ def read_matrix(path):
     return names, D
 
 
-def fig_distance_matrices(out, pdf):
-    """Fig. 7: one panel per method, all on one colour scale (the 95th percentile of every method's distances
-    between different shapes), so the methods can be compared by eye: a method whose distances are smaller
-    across the board looks brighter everywhere, not just rescaled."""
+def fig_distance_matrices(out, pdf, methods):
+    """Fig. 7: one panel per method of the run, all on one colour scale (the 95th percentile of every method's
+    distances between different shapes), so the methods can be compared by eye: a method whose distances are
+    smaller across the board looks brighter everywhere, not just rescaled."""
     folder = os.path.join(out, "distances")
-    if not os.path.isdir(folder):
-        return
-    methods = [m for m in ["cmds", "smacof", "coulomb"] if os.path.exists(os.path.join(folder, m + ".csv"))]
-    methods += sorted(f[:-4] for f in os.listdir(folder) if f.endswith(".csv") and f[:-4] not in methods)
     if not methods:
         return
     styles = method_styles(out)
@@ -194,15 +192,24 @@ def main():
     p.add_argument("--pdf", action="store_true")
     args = p.parse_args()
     spec_path = os.path.join(args.out, "figures.json")
-    if os.path.exists(spec_path):
-        with open(spec_path) as f:
-            spec = json.load(f)
-        for name, grid in spec.items():
-            mesh_grid(args.out, name, grid, args.pdf)
-    fig_convergence(args.out, args.pdf)
-    fig_distance_matrices(args.out, args.pdf)
-    fig_pr(args.out, args.pdf)
-    fig_correspondence(args.out, args.pdf)
+    if not os.path.exists(spec_path):
+        sys.exit(f"paper_figures.py: {spec_path} is missing: run `cshapes experiment paper --out {args.out}` first")
+    with open(spec_path) as f:
+        spec = json.load(f)
+    draw = spec.get("draw", [])
+    for name in draw:
+        if name in spec.get("grids", {}):
+            mesh_grid(args.out, name, spec["grids"][name], args.pdf)
+        elif name == "fig5_convergence":
+            fig_convergence(args.out, args.pdf)
+        elif name == "fig7_distance_matrices":
+            fig_distance_matrices(args.out, args.pdf, spec.get("methods", []))
+        elif name == "fig8_pr":
+            fig_pr(args.out, args.pdf)
+        elif name == "fig9_correspondence":
+            fig_correspondence(args.out, args.pdf)
+        else:
+            sys.exit(f"paper_figures.py: {spec_path} asks for '{name}', which this script does not draw")
 
 
 if __name__ == "__main__":
