@@ -70,7 +70,7 @@ int run() {
 
 const bool registered = register_command(
     {{"canon"},
-     "Compute a canonical form (Coulomb shape, classical MDS or SMACOF), written with the input's faces "
+     "Compute a canonical form (Coulomb, classical MDS, SMACOF, LBO eigenmap, diffusion map or spectral MDS), written with the input's faces "
      "and vertex order",
      [](CLI::App& app) {
        app.add_option("MESH", args.input, "input mesh")->required();

@@ -17,12 +17,12 @@ struct EvaluateArgs {
   std::string matrix, labels, output;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
-  bool json = false, no_figures = false;
+  bool json = false, no_draw = false;
 } args;
 
 int run() {
   require_output_directory(args.output);
-  require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, args.labels}, "-o");
+  require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, args.labels}, "--out");
   const NamedDistances input = read_distance_csv(args.matrix);
   for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
   std::vector<std::string> classes;
@@ -46,7 +46,7 @@ int run() {
                 r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
   }
   note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
-  if (!args.no_figures) {
+  if (!args.no_draw) {
     const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr.png");
     if (figures.drawn)
       note("wrote " + args.output + "/pr.png, confusion.png, matrix.png");
@@ -68,15 +68,16 @@ const bool registered = register_command(
            "--labels", args.labels,
            "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat); a "
            "name given two classes is refused");
-       app.add_option("-o,--output", args.output, "output directory")->required();
+       app.add_option("--out", args.output, "output folder, created when missing")->required();
+       add_renamed(app, "-o", "--out", true, "an output folder is --out in every command, -o a file");
+       add_renamed(app, "--output", "--out", true, "an output folder is --out in every command, -o a file");
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")
            ->check(integer_at_least(1));
        app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
-       app.add_flag("--no-figures", args.no_figures,
-                    "do not draw pr.png, confusion.png and matrix.png (drawing needs Python with matplotlib)");
+       add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
      },
      run});
 

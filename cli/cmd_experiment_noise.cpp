@@ -18,7 +18,7 @@ struct NoiseArgs {
   std::string methods;  // add_methods_option: every registered method
   std::string levels = "0,1,2,4,8";
   std::string poses = "all";
-  bool no_figure = false, json = false;
+  bool no_draw = false, json = false;
 } args;
 
 int run() {
@@ -43,7 +43,7 @@ int run() {
   o.poses_per_class = integer_or_word("--poses-per-class", args.poses, 1, INT_MAX, "all", 0);
   prepare_experiment(o.methods, o.out, o.canon);
   require_output_folder_apart(o.out, o.data);
-  o.figure = !args.no_figure;
+  o.figure = !args.no_draw;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
   NoiseExperimentResult r = noise_experiment(o);
@@ -103,7 +103,7 @@ const bool registered = register_command(
                       "where a pose offers too few spots: widen the gap (×1.5) up to this many times")
            ->capture_default_str()
            ->check(within(noise_limits::kRelax));
-       app.add_flag("--no-figure", args.no_figure, "do not draw noise.png");
+       add_no_draw_flag(app, args.no_draw, "noise.png");
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

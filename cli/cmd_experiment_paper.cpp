@@ -93,7 +93,10 @@ const bool registered = register_command(
            ->check(integer_in(1, 1000));
        app.add_flag("--no-table1", args.no_table1,
                     "skip Table 1 (its 22,738-vertex geodesic matrix takes a while)");
-       app.add_flag("--no-figures", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       app.add_flag("--no-figure-data", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       add_renamed(app, "--no-figures", "--no-figure-data", false,
+                   "it skips the data of Figures 2-6; --no-draw only skips the drawing");
+       add_renamed(app, "--no-figure", "--no-draw", false);
        app.add_flag("--no-draw", args.no_draw,
                     "write the figures' data but do not draw them (drawing needs Python with matplotlib)");
        app.add_option("--figure-vertices", o.figure_vertices,

@@ -12,20 +12,20 @@ struct PoseArgs {
   PoseInvarianceOptions options;
   std::string methods;  // add_methods_option: every registered method
   std::string shapes;
-  bool no_figure = false, no_parts = false;
+  bool no_draw = false, no_parts = false;
 } args;
 
 int run() {
   PoseInvarianceOptions o = args.options;
   o.methods = methods_option(args.methods);
   o.shapes = list_option("--shapes", args.shapes);
-  o.figure = !args.no_figure;
+  o.figure = !args.no_draw;
   o.parts = !args.no_parts;
   prepare_experiment(o.methods, o.out, o.canon);
   require_output_folder_apart(o.out, o.data);
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
-  if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
+  if (!r.figure_problem.empty() && !args.no_draw) warn("no figure: " + r.figure_problem);
   std::cout << pose_invariance_markdown(r, o);
   return exit_code_for(r.failures);
 }
@@ -66,7 +66,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(number_in(0.001, 1.0));
        app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
-       app.add_flag("--no-figure", args.no_figure, "do not draw pose_residuals.png");
+       add_no_draw_flag(app, args.no_draw, "pose_residuals.png");
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

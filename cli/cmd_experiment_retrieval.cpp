@@ -14,7 +14,7 @@ namespace {
 struct RetrievalArgs {
   RetrievalExperimentOptions options;
   std::string methods;  // add_methods_option: every registered method
-  bool no_figures = false, json = false;
+  bool no_draw = false, json = false;
 } args;
 
 int run() {
@@ -23,7 +23,7 @@ int run() {
   const Communicator& comm = world_communicator();
   prepare_experiment(o.methods, o.out, o.canon);
   require_output_folder_apart(o.out, o.data);
-  o.figures = !args.no_figures;
+  o.figures = !args.no_draw;
   if (comm.is_root()) {  // one voice: the other ranks work silently
     o.progress = progress_printer();
     o.note = [](const std::string& line) { note(line); };
@@ -83,7 +83,7 @@ const bool registered = register_command(
                       "classes with fewer shapes give no queries (their shapes are still results)")
            ->capture_default_str()
            ->check(integer_in(2, 1000000));
-       app.add_flag("--no-figures", args.no_figures, "do not draw the figures");
+       add_no_draw_flag(app, args.no_draw, "the figures");
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);

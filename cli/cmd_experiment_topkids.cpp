@@ -17,7 +17,7 @@ struct TopkidsArgs {
   std::string methods;  // add_methods_option: every registered method
   std::string poses;    // empty: all
   std::string scoring_geodesics = "fmm";
-  bool no_figure = false, json = false;
+  bool no_draw = false, json = false;
 } args;
 
 int run() {
@@ -36,11 +36,11 @@ int run() {
   }
   prepare_experiment(o.methods, o.out, o.canon);
   require_output_folder_apart(o.out, o.data);
-  o.figure = !args.no_figure;
+  o.figure = !args.no_draw;
   o.progress = progress_printer();
   o.note = [](const std::string& line) { note(line); };
   TopkidsExperimentResult r = topkids_experiment(o);
-  if (!r.figure_problem.empty() && !args.no_figure) warn("no figure: " + r.figure_problem);
+  if (!r.figure_problem.empty() && !args.no_draw) warn("no figure: " + r.figure_problem);
   if (args.json) {
     nlohmann::json j{{"out", o.out},
                      {"poses", r.poses.size()},
@@ -101,7 +101,7 @@ const bool registered = register_command(
            "stop at the first pose that fails (exit code 1) instead of leaving it out (exit code 3), "
            "with no geodesic fallback; and refuse a mesh a method would have to repair (kid00's "
            "non-manifold edge, ...)");
-       app.add_flag("--no-figure", args.no_figure, "do not draw topkids.png");
+       add_no_draw_flag(app, args.no_draw, "topkids.png");
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);

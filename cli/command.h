@@ -76,6 +76,13 @@ void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out
 // --resample N (pipeline/resampled_dataset.h): every shape of the dataset remeshed to about N vertices first
 // (cached by content); 0, the default: the shapes as they are. On every command that takes a dataset.
 void add_resample_option(CLI::App& app, Index& vertices);
+// One name per meaning in every command: `--out DIR` for an output folder, `-o, --output FILE` for an output
+// file, `--no-draw` for "do not draw the figures", `--json` for JSON on stdout. add_no_draw_flag declares
+// `--no-draw`; add_renamed keeps an old spelling only to refuse it (exit 2) with a hint naming the new one;
+// `takes_value`: whether the old spelling took a value.
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures);
+void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
+                 const std::string& why = "");
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
 // The experiments' --methods: canonical-form methods (pipeline/canonical_form_methods.h), comma-separated;

@@ -363,6 +363,23 @@ void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out
       ->required();
 }
 
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) {
+  app.add_flag("--no-draw", no_draw, "do not draw " + figures + " (drawing needs Python with matplotlib)");
+  add_renamed(app, "--no-figures", "--no-draw", false);
+  add_renamed(app, "--no-figure", "--no-draw", false);
+}
+
+void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
+                 const std::string& why) {
+  const std::string message = old_name + " is now " + new_name +
+                              (why.empty() ? " (one name per meaning in every command)" : " (" + why + ")");
+  CLI::Option* option =
+      takes_value ? app.add_option_function<std::string>(
+                        old_name, [message](const std::string&) { throw CLI::ValidationError(message); })
+                  : app.add_flag_callback(old_name, [message] { throw CLI::ValidationError(message); });
+  option->group("");  // not in --help
+}
+
 void add_resample_option(CLI::App& app, Index& vertices) {
   app.add_option("--resample", vertices,
                  "remesh every shape to about N vertices first (CGAL isotropic remeshing, cached by content; "
@@ -561,7 +578,7 @@ int main(int argc, char** argv) {
   bound_the_spin(argv);
   CLI::App app{
       "cshapes " CSHAPES_VERSION
-      ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF), ICP matching "
+      ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF, LBO eigenmap, diffusion map, spectral MDS), ICP matching "
       "and shape-retrieval evaluation"};
   app.require_subcommand(1);
   app.fallthrough();

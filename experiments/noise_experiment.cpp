@@ -657,7 +657,7 @@ NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   NoiseExperimentResult result = run_noise_experiment(o);
   write_noise_outputs(result, o.out);
   if (!o.figure) {
-    result.figure_note = "not requested (`--no-figure`).";
+    result.figure_note = "not requested (`--no-draw`).";
   } else {
     const FigureRun drawn = draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise.png").string());
     result.figure = drawn.drawn;

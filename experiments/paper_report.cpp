@@ -512,7 +512,8 @@ void claims(ReportText& t) {
   if (mds_methods.empty()) missing.push_back("an MDS method (`--methods` with `cmds` or `smacof`)");
   if (r.table1.size() < 3 || !r.table1[2].mds_measured)
     missing.push_back("Table 1 with its MDS timings (without `--no-table1`, and memory for the matrix)");
-  if (r.convergence.size() < 2) missing.push_back("Figure 5's data (the paper's method, without `--no-figures`)");
+  if (r.convergence.size() < 2)
+    missing.push_back("Figure 5's data (the paper's method, without `--no-figure-data`)");
   std::string need;
   for (size_t k = 0; k < missing.size(); ++k)
     need += (k == 0 ? "" : k + 1 == missing.size() ? " and " : ", ") + missing[k];

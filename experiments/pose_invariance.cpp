@@ -984,7 +984,7 @@ void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions&
   if (result.figure_pair.a.empty()) {
     result.figure_problem = "no pair was measured";
   } else if (!options.figure) {
-    result.figure_problem = "not requested (--no-figure)";
+    result.figure_problem = "not requested (--no-draw)";
   } else {
     const FigureRun drawn = draw_figure("pose_figure.py", {options.out},
                                         ExperimentFolder(options.out).path("pose_residuals.png"));

@@ -88,7 +88,7 @@ struct PoseInvarianceOptions {
   CanonicalFormOptions canon = experiment_canonical_form_options();
   bool parts = true;                 // the per-part breakdown (see above); false: none
   GeodesicPartsOptions part_finder;  // how the parts are found on each class's first pose
-  // draw_pose_figure draws OUT/pose_residuals.png; false: it records "not requested (--no-figure)" instead.
+  // draw_pose_figure draws OUT/pose_residuals.png; false: it records "not requested (--no-draw)" instead.
   bool figure = true;
   std::function<void(const std::string&)> note;  // one line per shape and pair
 };

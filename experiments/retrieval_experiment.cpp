@@ -195,7 +195,7 @@ RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions&
     draw_retrieval_figures(r, options.out);
     if (!r.figures_note.empty()) say(options.note, "no figures: " + r.figures_note);
   } else {
-    r.figures_note = "not requested (--no-figures)";
+    r.figures_note = "not requested (--no-draw)";
   }
   write_retrieval_report(r, options.out);
   return r;

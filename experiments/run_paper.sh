@@ -49,7 +49,7 @@ if [[ -z "$data" ]]; then
   data="$out/data/synthetic"
   if [[ ! -f "$data/manifest.csv" ]]; then
     echo "== no --data given: generating the synthetic dataset into $data" >&2
-    "$cshapes" generate dataset -o "$data" --classes 4 --poses 5 --noisy 1 --seed 1
+    "$cshapes" generate dataset --out "$data" --classes 4 --poses 5 --noisy 1 --seed 1
   fi
   data="$data/manifest.csv"
   echo "   (for the paper's TOSCA shapes: experiments/run_paper.sh --data ../shared/data/tosca5k)" >&2

@@ -723,7 +723,7 @@ void draw_topkids_figure(TopkidsExperimentResult& r, const TopkidsExperimentOpti
     r.figure_problem = drawn.problem;
   } else {
     r.figure = "";
-    r.figure_problem = "not requested (--no-figure)";
+    r.figure_problem = "not requested (--no-draw)";
   }
   write_topkids_json(folder, r, o);
 }

@@ -109,7 +109,7 @@ struct TopkidsExperimentOptions {
   double max_threshold = 0.5;  // curves: thresholds 0 .. max_threshold (units of √area of the reference)
   int curve_points = 101;      // points of each curve
   // draw_topkids_figure draws out/topkids.png (experiments/plots/topkids_figure.py); false: it records
-  // "not requested (--no-figure)" instead.
+  // "not requested (--no-draw)" instead.
   bool figure = true;
   ProgressFn progress;                           // stage "topkids" per pose
   std::function<void(const std::string&)> note;  // one line of progress text (repairs, timings)

@@ -134,11 +134,11 @@ def retrieval_measures(D: _Array, labels: Sequence[Any], *, names: Sequence[str]
 
 # Experiments
 def experiment_paper(data: _Path, out: _Path, methods: Sequence[str] | None = None, poses_per_class: int = 4,
-                     noisy_per_class: int = 1, table1: bool = True, figures: bool = True, draw: bool = True, *,
+                     noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, timing_repeats: int = 5, correspondence_samples: int = 300,
                      strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0) -> dict[str, Any]: ...
 def experiment_retrieval(data: _Path, out: _Path, methods: Sequence[str] | None = None, resample: int = 0,
-                         figures: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
+                         draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
                          e_depth: int = 32, min_class_size: int = 3) -> dict[str, Any]: ...
 
 # Threads

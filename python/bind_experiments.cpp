@@ -69,7 +69,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
 }
 
 py::dict experiment_retrieval_py(const py::object& data, const py::object& out, const py::object& methods,
-                                 long long resample, bool figures, const py::kwargs& kwargs) {
+                                 long long resample, bool draw, const py::kwargs& kwargs) {
   RetrievalExperimentOptions o;
   o.data = to_path(data, "data");
   o.out = to_path(out, "out");
@@ -81,7 +81,7 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
                   "experiment_retrieval(): resample: expected 0 (off) or a vertex count from 4 to 100000000, got ",
                   resample);
   o.resample.vertices = static_cast<Index>(resample);
-  o.figures = figures;
+  o.figures = draw;
   Kwargs k(kwargs, "experiment_retrieval");
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method =
@@ -119,25 +119,26 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
 void bind_experiments(py::module_& m) {
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
-        py::arg("table1") = true, py::arg("figures") = true, py::arg("draw") = true,
+        py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
         R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
 
 data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
 folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figures [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
+figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
 matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
 correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
 (remesh every shape to about this many vertices first, as the CLI's --resample).
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
-        py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("figures") = true,
+        py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("draw") = true,
         R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.
 
 data: a folder of meshes, a manifest.csv or a Princeton .cla file; out: the output folder (its cache/ makes
 reruns resume). methods [all registered]; resample [0]: remesh every shape to about this many vertices first
-(cached by content; the report gives each remesh's Hausdorff distance and smallest angle); figures [True].
+(cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
+the figures.
 Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3].
 Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},

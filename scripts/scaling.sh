@@ -43,7 +43,7 @@ for n in "$@"; do
   if [[ ! -f "$work/gen$n/manifest.csv" ]]; then
     classes=4; (( n % 4 == 0 )) || classes=2
     per=$(( n / classes )); noisy=$(( per / 10 )); (( noisy > 0 )) || noisy=1
-    "$cli" --quiet generate dataset -o "$work/gen$n" --classes "$classes" --poses $(( per - noisy )) \
+    "$cli" --quiet generate dataset --out "$work/gen$n" --classes "$classes" --poses $(( per - noisy )) \
       --noisy "$noisy" --vertices 1000 --seed 1 >/dev/null
   fi
   run "$n" 1 R1

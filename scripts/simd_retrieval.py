@@ -3,7 +3,7 @@
 
   scripts/simd_retrieval.py [--data DIR] [--out OUT] [--methods M,M] [--cshapes PATH]
 
-Runs `cshapes experiment paper --data DIR --out OUT/TARGET --methods M --no-table1 --no-figures --no-draw
+Runs `cshapes experiment paper --data DIR --out OUT/TARGET --methods M --no-table1 --no-figure-data --no-draw
 --correspondence-samples 0` (the retrieval stages only) once per target
 (CSHAPES_SIMD=baseline|avx2|avx512, core/simd.h), each from an empty folder (no shared cache), then prints one
 row per method and distance with mAP, NN, FT, ST, E and DCG per target, and whether they agree to 3 decimals.
@@ -44,7 +44,7 @@ def main():
         shutil.rmtree(out, ignore_errors=True)
         env = dict(os.environ, CSHAPES_SIMD=target)
         command = [args.cshapes, "-q", "experiment", "paper", "--data", args.data, "--out", out, "--methods",
-                   args.methods, "--no-table1", "--no-figures", "--no-draw", "--correspondence-samples", "0"]
+                   args.methods, "--no-table1", "--no-figure-data", "--no-draw", "--correspondence-samples", "0"]
         print("==", f"CSHAPES_SIMD={target}", " ".join(command), file=sys.stderr, flush=True)
         status = subprocess.run(command, env=env).returncode
         if status not in (0, 3):

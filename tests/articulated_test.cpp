@@ -150,7 +150,7 @@ std::map<std::string, std::string> folder_bytes(const std::string& dir) {
 
 TEST(Articulated, SameSeedGivesByteIdenticalDatasetsWhateverTheThreads) {
   std::string a = test::scratch_dir("gen_a"), b = test::scratch_dir("gen_b"), c = test::scratch_dir("gen_c");
-  const std::string args = " -q generate dataset --poses 2 --noisy 1 --vertices 1000 -o ";
+  const std::string args = " -q generate dataset --poses 2 --noisy 1 --vertices 1000 --out ";
   ASSERT_EQ(test::run_cli("--threads 1" + args + a + " --seed 5 --classes 2").exit_code, 0);
   ASSERT_EQ(test::run_cli("--threads 2" + args + b + " --seed 5 --classes 2").exit_code, 0);
   auto fa = folder_bytes(a), fb = folder_bytes(b);

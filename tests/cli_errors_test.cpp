@@ -345,14 +345,14 @@ TEST(CliRefusals, EvaluateChecksTheMatrixByItsStatedRules) {
   // Issue 22: `evaluate` accepted asymmetric, negative and non-zero-diagonal matrices, duplicate names.
   const std::string dir = test::scratch_dir("cli-evaluate");
   test::write_text(dir + "/negative.csv", "a0,a1,b0\n0,1,2\n1,0,-3\n2,-3,0\n");
-  expect_refusal(test::run_cli("evaluate " + q(dir + "/negative.csv") + " -o " + q(dir + "/out1")), kData,
+  expect_refusal(test::run_cli("evaluate " + q(dir + "/negative.csv") + " --out " + q(dir + "/out1")), kData,
                  "evaluate", {"negative.csv", "'a1' to 'b0'", ">= 0"});
   test::write_text(dir + "/twice.csv", "a0,a1,a0\n0,1,2\n1,0,3\n2,3,0\n");
-  expect_refusal(test::run_cli("evaluate " + q(dir + "/twice.csv") + " -o " + q(dir + "/out2")), kData,
+  expect_refusal(test::run_cli("evaluate " + q(dir + "/twice.csv") + " --out " + q(dir + "/out2")), kData,
                  "evaluate", {"'a0' appears twice"});
   test::write_text(dir + "/asymmetric.csv", "a0,a1,b0,b1\n0,1,2,2\n1,0,3,2\n2,3.5,0,1\n2,2,1,0.5\n");
   const test::CliResult r = test::run_cli("-q evaluate " + q(dir + "/asymmetric.csv") +
-                                          " --min-class-size 2 -o " + q(dir + "/out3"));
+                                          " --min-class-size 2 --out " + q(dir + "/out3"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: " + dir + "/asymmetric.csv: not symmetric"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("non-zero diagonal"), std::string::npos) << r.err;

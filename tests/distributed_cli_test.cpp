@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 // Ten generated shapes of 400 vertices (2 classes × 4 poses + 1 noisy each): seconds per run.
 std::string small_dataset(const std::string& tag) {
   const std::string dir = test::scratch_dir(tag);
-  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+  test::CliResult r = test::run_cli("-q generate dataset --out '" + dir +
                                     "/data' --classes 2 --poses 4 --noisy 1 "
                                     "--vertices 400");
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -146,7 +146,7 @@ TEST(DistributedCli, PaperExperimentOfTwoAndThreeRanksEqualsOneProcess) {
   for (int ranks : {0, 2, 3}) {
     const std::string out = dir + "/out" + std::to_string(ranks);
     const nlohmann::json j = run_json(
-        ranks, "-q experiment paper --data '" + dir + "/data' --out '" + out + "' --no-table1 --no-figures");
+        ranks, "-q experiment paper --data '" + dir + "/data' --out '" + out + "' --no-table1 --no-figure-data");
     EXPECT_EQ(j["canonical_forms_cached"], 0);
     EXPECT_EQ(j["pairs_cached"], 0);
     if (ranks == 0) {
@@ -173,7 +173,7 @@ TEST(DistributedCli, RetrievalExperimentOfTwoRanksEqualsOneProcess) {
   for (int ranks : {0, 2}) {
     const std::string out = dir + "/out" + std::to_string(ranks);
     test::CliResult r = run_ranks(ranks, "-q experiment retrieval --data '" + dir + "/data' --out '" + out +
-                                             "' --methods coulomb,cmds --resample 300 --no-figures");
+                                             "' --methods coulomb,cmds --resample 300 --no-draw");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   for (const char* f : {"classes.cla", "resampled/manifest.csv", "resampled/biped0.off", "coulomb/hausdorff.csv",

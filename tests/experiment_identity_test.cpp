@@ -41,7 +41,7 @@ TEST(ExperimentDefaults, CliAndCppRunsOfThePaperExperimentWriteTheSameFiles) {
   const std::string dir = test::scratch_dir("paper-identity");
   const std::string manifest = test::generated_dataset(dir, 2, 3, 400);
   const test::CliResult cli = test::run_cli("-q experiment paper --data '" + manifest + "' --out '" + dir +
-                                            "/cli' --no-table1 --no-figures");
+                                            "/cli' --no-table1 --no-figure-data");
   ASSERT_EQ(cli.exit_code, 0) << cli.err;
 
   PaperExperimentOptions o;  // the library's defaults, as a C++ caller gets them

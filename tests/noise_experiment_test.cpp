@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 // 2 classes × 3 clean poses of 400 vertices (no noisy shapes): a few seconds per run.
 std::string small_dataset(const std::string& tag) {
   const std::string dir = test::scratch_dir(tag);
-  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+  test::CliResult r = test::run_cli("-q generate dataset --out '" + dir +
                                     "/data' --classes 2 --poses 3 --noisy 0 --vertices 400");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return dir;
@@ -246,7 +246,7 @@ TEST(NoiseExperimentCli, StructureChiLevelZeroAndResume) {
 
   // A rerun computes nothing and writes the same table.
   const std::string csv = read_file(out + "/noise.csv");
-  const nlohmann::json again = run_json(command + " --no-figure");
+  const nlohmann::json again = run_json(command + " --no-draw");
   EXPECT_EQ(again["glued_computed"], 0);
   EXPECT_EQ(again["glued_cached"], 12);
   EXPECT_EQ(again["canonical_forms_computed"], 0);
@@ -334,7 +334,7 @@ TEST(NoiseExperimentCli, RefusesBadLevels) {
 TEST(PaperExperimentCli, NoisyPerClassAllAndEveryDistance) {
   const std::string dir = small_dataset("paper-noisy-all");
   const std::string base = "-q experiment paper --data '" + dir +
-                           "/data' --methods coulomb --no-table1 --no-figures --correspondence-samples 0 ";
+                           "/data' --methods coulomb --no-table1 --no-figure-data --correspondence-samples 0 ";
   // 'all' with 2 poses per class in the retrieval set: every clean pose (the spare one too) gets a glued
   // version, so 2 classes × (2 clean + 3 noisy) shapes are compared.
   const std::string out = dir + "/all";

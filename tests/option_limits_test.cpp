@@ -99,12 +99,12 @@ TEST(OptionLimits, TheLibraryTheHelpAndTheCliRefusalSayTheSameLimit) {
       {noise, noise_limits::kRelax},
       {"align " + q + " " + q, icp_limits::kTrim},
       {"align " + q + " " + q, icp_limits::kTolerance},
-      {"generate articulated -o '" + dir + "/a'", generate_limits::kPoses},
-      {"generate articulated -o '" + dir + "/a'", generate_limits::kAmplitude},
-      {"generate articulated -o '" + dir + "/a'", generate_limits::kVertices},
-      {"generate dataset -o '" + dir + "/d'", generate_limits::kClasses},
-      {"generate dataset -o '" + dir + "/d'", generate_limits::kNoisy},
-      {"generate dataset -o '" + dir + "/d'", generate_limits::kGlue},
+      {"generate articulated --out '" + dir + "/a'", generate_limits::kPoses},
+      {"generate articulated --out '" + dir + "/a'", generate_limits::kAmplitude},
+      {"generate articulated --out '" + dir + "/a'", generate_limits::kVertices},
+      {"generate dataset --out '" + dir + "/d'", generate_limits::kClasses},
+      {"generate dataset --out '" + dir + "/d'", generate_limits::kNoisy},
+      {"generate dataset --out '" + dir + "/d'", generate_limits::kGlue},
   };
   for (const Case& c : cases) {
     const std::string option = std::string("--") + c.limit.option;

@@ -136,18 +136,18 @@ TEST(OutputNotInput, EvaluateRefusesToReplaceItsMatrixOrLabels) {
   const std::string matrix = dir + "/out/matrix.csv";
   const std::string text = "a0,a1,b0,b1\n0,1,2,2\n1,0,2,2\n2,2,0,1\n2,2,1,0\n";
   test::write_text(matrix, text);
-  expect_input_kept(test::run_cli("-q evaluate " + q(matrix) + " -o " + q(dir + "/out") + " --no-figures"),
+  expect_input_kept(test::run_cli("-q evaluate " + q(matrix) + " --out " + q(dir + "/out") + " --no-draw"),
                     "evaluate", matrix, text);
   const std::string labels = dir + "/out/pr.csv";
   test::write_text(labels, "a0,a\na1,a\nb0,b\nb1,b\n");
   const std::string other = dir + "/m.csv";
   test::write_text(other, text);
-  expect_input_kept(test::run_cli("-q evaluate " + q(other) + " --labels " + q(labels) + " -o " +
-                                  q(dir + "/out") + " --no-figures"),
+  expect_input_kept(test::run_cli("-q evaluate " + q(other) + " --labels " + q(labels) + " --out " +
+                                  q(dir + "/out") + " --no-draw"),
                     "evaluate", labels, "a0,a\na1,a\nb0,b\nb1,b\n");
   // A matrix outside the output folder is fine.
   test::CliResult ok =
-      test::run_cli("-q evaluate " + q(other) + " -o " + q(dir + "/fresh") + " --no-figures --min-class-size 2");
+      test::run_cli("-q evaluate " + q(other) + " --out " + q(dir + "/fresh") + " --no-draw --min-class-size 2");
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   fs::remove_all(dir);
 }

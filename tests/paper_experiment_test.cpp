@@ -40,7 +40,7 @@ Mesh unusable_mesh() {
 // the first class, in the manifest.
 std::string dataset_with_an_unusable_shape(const std::string& tag, bool with_unusable = true) {
   const std::string dir = test::scratch_dir(tag);
-  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+  test::CliResult r = test::run_cli("-q generate dataset --out '" + dir +
                                     "/data' --classes 2 --poses 3 --noisy 0 --vertices 400");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   if (!with_unusable) return dir;
@@ -156,7 +156,7 @@ void expect_report_fits_the_run(const std::string& out, const std::vector<std::s
 
 TEST(PaperExperiment, TheReportFitsTheRun) {
   const std::string dir = test::scratch_dir("paper_fits");
-  test::CliResult g = test::run_cli("-q generate dataset -o '" + dir +
+  test::CliResult g = test::run_cli("-q generate dataset --out '" + dir +
                                     "/data' --classes 2 --poses 3 --noisy 1 --vertices 400");
   ASSERT_EQ(g.exit_code, 0) << g.err;
   const bool can_draw = !find_python("matplotlib, numpy").empty();

@@ -25,7 +25,7 @@ namespace {
 // length).
 std::string data_with_unusable_shape(const std::string& tag) {
   const std::string dir = test::scratch_dir(tag);
-  test::CliResult r = test::run_cli("-q generate dataset -o '" + dir +
+  test::CliResult r = test::run_cli("-q generate dataset --out '" + dir +
                                     "/gen' --classes 2 --poses 3 --noisy 0 --vertices 400");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   std::istringstream manifest(read_file(dir + "/gen/manifest.csv"));
@@ -53,7 +53,7 @@ TEST(PartialResultsCli, ExperimentPaperLeavesTheShapeOutAndExitsWithThree) {
   const std::string dir = data_with_unusable_shape("partial_paper");
   const std::string base = "experiment paper --data '" + dir +
                            "/data' --methods coulomb,cmds --poses-per-class all --noisy-per-class 0 "
-                           "--no-table1 --no-figures --correspondence-samples 0 --coulomb-max-iterations 60 ";
+                           "--no-table1 --no-figure-data --correspondence-samples 0 --coulomb-max-iterations 60 ";
   test::CliResult r = test::run_cli(base + "--out '" + dir + "/out' --json");
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("9 left out: the coulomb canonical form failed"), std::string::npos) << r.err;

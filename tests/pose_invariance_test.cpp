@@ -330,13 +330,13 @@ TEST(PoseInvariance, PartsOfGeneratedBipedsRecombineToTheWholeRms) {
   PoseInvarianceResult drawn = r;
   o.figure = false;
   draw_pose_figure(drawn, o);
-  EXPECT_EQ(drawn.figure_problem, "not requested (--no-figure)");
+  EXPECT_EQ(drawn.figure_problem, "not requested (--no-draw)");
   const std::string md = pose_invariance_markdown(drawn, o);
   EXPECT_TRUE(contains(md, "## Where the pose stays: per part")) << md;
   EXPECT_TRUE(
       contains(md, "| part 1 (extremity at vertex " + std::to_string(c.extremities[0]) + " of biped0) |"))
       << md;
-  EXPECT_TRUE(contains(md, "No figure (not requested (--no-figure))")) << md;
+  EXPECT_TRUE(contains(md, "No figure (not requested (--no-draw))")) << md;
 
   // Without parts: no part rows, no pose_parts.csv section.
   o.parts = false;

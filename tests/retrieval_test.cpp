@@ -217,7 +217,7 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
   // The hand matrix with names whose prefixes give the classes (man0 alone: skipped as a query).
   std::string dir = test::scratch_dir("evaluate");
   write_distance_csv(dir + "/d.csv", {"cat0", "cat1", "cat2", "dog0", "dog1", "dog2", "man0"}, hand_matrix());
-  test::CliResult r = test::run_cli("evaluate '" + dir + "/d.csv' -o '" + dir + "/out' --json -q");
+  test::CliResult r = test::run_cli("evaluate '" + dir + "/d.csv' --out '" + dir + "/out' --json -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json m = nlohmann::json::parse(r.out);
   EXPECT_NEAR(m["map"].get<double>(), (0.75 + 1 + 7.0 / 12 + 0.7 + 1 + 0.7) / 6, 1e-12);
@@ -241,14 +241,14 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
   }
   // Labels from a file override the names: all seven in one class → every result relevant.
   test::write_text(dir + "/labels.csv", "a\na\na\na\na\na\na\n");
-  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' -o '" + dir +
-                    "/out2' --json -q --no-figures");
+  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' --out '" + dir +
+                    "/out2' --json -q --no-draw");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out2/pr.png"));
   EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
   // A broken file: a one-line error, non-zero exit.
   test::write_text(dir + "/bad.csv", "a,b\n0,1\n");
-  r = test::run_cli("evaluate '" + dir + "/bad.csv' -o '" + dir + "/out3' -q");
+  r = test::run_cli("evaluate '" + dir + "/bad.csv' --out '" + dir + "/out3' -q");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("bad.csv"), std::string::npos);
   std::filesystem::remove_all(dir);

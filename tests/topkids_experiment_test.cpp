@@ -277,9 +277,9 @@ TEST(TopkidsExperiment, FigureOutcomeIsRecordedInTheResultAndTheJson) {
   o.figure = false;
   draw_topkids_figure(r, o);
   EXPECT_EQ(r.figure, "");
-  EXPECT_EQ(r.figure_problem, "not requested (--no-figure)");
+  EXPECT_EQ(r.figure_problem, "not requested (--no-draw)");
   nlohmann::json j = nlohmann::json::parse(read_file(out + "/topkids.json"));
-  EXPECT_EQ(j.at("figure_problem"), "not requested (--no-figure)");
+  EXPECT_EQ(j.at("figure_problem"), "not requested (--no-draw)");
   EXPECT_EQ(j.at("data"), "DATA");
 
   // Asked for, but its script is not where $CSHAPES_PLOTS says: not drawn, and why, never an error.
@@ -347,7 +347,7 @@ TopkidsExperimentResult hand_made_result() {
   r.summaries = {inputs, coulomb};
   r.reference_repair = {{"coulomb", "split 1 non-manifold edge"}};
   r.reference_sqrt_area = 97.94;
-  r.figure_problem = "not requested (--no-figure)";
+  r.figure_problem = "not requested (--no-draw)";
   r.failures.push_back({"kid09", "DATA/kid09.off", "coulomb", "canonical form", "it diverged", ""});
   return r;
 }
@@ -378,7 +378,7 @@ TEST(TopkidsExperiment, ReportSaysTheTablesTheFailuresAndWhatWasNotMeasured) {
   EXPECT_TRUE(contains(report, "is at most 0.50 of its mean error against the truth alone")) << report;
   EXPECT_FALSE(contains(report, "nan")) << report;
   EXPECT_TRUE(contains(report,
-                       "No figure (not requested (--no-figure)); draw it with "
+                       "No figure (not requested (--no-draw)); draw it with "
                        "`scripts/python.sh experiments/plots/topkids_figure.py " +
                            out + "`"))
       << report;

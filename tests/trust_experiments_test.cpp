@@ -105,7 +105,7 @@ TEST(TrustExperiments, PaperSaysTheSameContentAndTheShapesNotResampled) {
   const std::string data = data_with_copy_and_dust(dir), out = dir + "/out";
   const test::CliResult r = test::run_cli(
       "experiment paper --data " + q(data) + " --out " + q(out) +
-      " --methods cmds --resample 300 --poses-per-class all --noisy-per-class 0 --no-table1 --no-figures "
+      " --methods cmds --resample 300 --poses-per-class all --noisy-per-class 0 --no-table1 --no-figure-data "
       "--no-draw --correspondence-samples 0 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -121,7 +121,7 @@ TEST(TrustExperiments, NoiseSaysTheSameContentAndTheShapesNotResampled) {
   const std::string dir = test::scratch_dir("trust-exp-noise");
   const std::string data = data_with_copy_and_dust(dir), out = dir + "/out";
   const test::CliResult r = test::run_cli("experiment noise --data " + q(data) + " --out " + q(out) +
-                                          " --methods cmds --levels 0,1 --resample 300 --no-figure --json");
+                                          " --methods cmds --levels 0,1 --resample 300 --no-draw --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["poses"], 8);
@@ -138,7 +138,7 @@ TEST(TrustExperiments, PoseSaysTheSameContentAndTheShapesNotResampled) {
   const std::string data = data_with_copy_and_dust(dir), out = dir + "/out";
   const test::CliResult r =
       test::run_cli("experiment pose --data " + q(data) + " --out " + q(out) +
-                    " --methods cmds --resample 300 --samples 100 --stress-sources 2 --no-parts --no-figure");
+                    " --methods cmds --resample 300 --samples 100 --stress-sources 2 --no-parts --no-draw");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // Both copies are poses: their pair with each other and with every other biped is measured.
   const std::string pairs = read_file(out + "/pose_pairs.csv");
@@ -165,7 +165,7 @@ TEST(TrustExperiments, TopkidsSaysTheSameContentAndTheShapesNotResampled) {
   for (const char* pose : {"a", "b", "dust"}) test::write_text(data + "/" + pose + "_ref.txt", truth.str());
   const test::CliResult r =
       test::run_cli("experiment topkids --data " + q(data) + " --out " + q(out) +
-                    " --reference ref --methods cmds --samples 50 --resample 300 --no-figure --json");
+                    " --reference ref --methods cmds --samples 50 --resample 300 --no-draw --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["poses"], 3);

@@ -38,5 +38,5 @@ def shapes(cli, tmp_path_factory):
     """Two poses of a generated biped (~900 vertices, same vertex order) as OFF files."""
     folder = tmp_path_factory.mktemp("biped")
     cli("generate", "articulated", "--class", "biped", "--poses", "2", "--vertices", "900", "--seed", "3",
-        "-o", folder)
+        "--out", folder)
     return [folder / "biped0.off", folder / "biped1.off"]

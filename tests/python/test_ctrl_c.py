@@ -36,7 +36,7 @@ CASES = {
     "add_topological_noise": "cshapes.add_topological_noise(V, F, glue=2, geodesics='heat')",
     "generate dataset": "cshapes.generate('dataset')",
     "experiment_paper": "cshapes.experiment_paper(DATA, OUT + '/paper', draw=False)",
-    "experiment_retrieval": "cshapes.experiment_retrieval(DATA, OUT + '/retrieval', figures=False)",
+    "experiment_retrieval": "cshapes.experiment_retrieval(DATA, OUT + '/retrieval', draw=False)",
 }
 
 CHILD = r"""
@@ -80,7 +80,7 @@ for name, call in cases.items():
 @pytest.fixture(scope="module")
 def delays(cli, tmp_path_factory):
     data = tmp_path_factory.mktemp("ctrl_c_data")
-    cli("generate", "dataset", "--output", data, "--classes", "2", "--poses", "3", "--noisy", "0",
+    cli("generate", "dataset", "--out", data, "--classes", "2", "--poses", "3", "--noisy", "0",
         "--vertices", "1500")
     out = tmp_path_factory.mktemp("ctrl_c_out")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))

@@ -18,11 +18,11 @@ def _outputs(root: Path):
 
 def test_python_and_cli_runs_of_the_paper_experiment_write_the_same_files(cli, tmp_path):
     data = tmp_path / "data"
-    cli("generate", "dataset", "-o", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
+    cli("generate", "dataset", "--out", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
     cli("experiment", "paper", "--data", data / "manifest.csv", "--out", tmp_path / "cli", "--no-table1",
-        "--no-figures")
+        "--no-figure-data")
     summary = cshapes.experiment_paper(str(data / "manifest.csv"), str(tmp_path / "py"), table1=False,
-                                       figures=False)
+                                       figure_data=False)
     assert summary["shapes"] == 8 and not summary["failures"]
     a, b = _outputs(tmp_path / "cli"), _outputs(tmp_path / "py")
     assert len(a) > 10 and "metrics.json" in a and "distances/smacof.csv" in a
@@ -38,11 +38,11 @@ def test_python_and_cli_runs_of_the_retrieval_experiment_write_the_same_files(cl
     import json
 
     data = tmp_path / "data"
-    cli("generate", "dataset", "-o", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
+    cli("generate", "dataset", "--out", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "400")
     cli("experiment", "retrieval", "--data", data / "manifest.csv", "--out", tmp_path / "cli", "--methods",
-        "coulomb", "--resample", "300", "--no-figures")
+        "coulomb", "--resample", "300", "--no-draw")
     result = cshapes.experiment_retrieval(str(data / "manifest.csv"), str(tmp_path / "py"), methods=["coulomb"],
-                                          resample=300, figures=False)
+                                          resample=300, draw=False)
     assert result["shapes"] == 6 and result["resampled"] and not result["failures"]
 
     def files(root):

@@ -43,7 +43,7 @@ def test_shape_distance_is_the_cli_align(cli, shapes):
 
 def test_distance_matrix_and_retrieval_measures_match_distmat_and_evaluate(cli, tmp_path):
     data = tmp_path / "data"
-    cli("generate", "dataset", "-o", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "500")
+    cli("generate", "dataset", "--out", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "500")
     cli("distmat", data, "-o", tmp_path / "D.csv", "--method", "coulomb")
     header = (tmp_path / "D.csv").read_text().splitlines()[0].split(",")
     D_cli = np.loadtxt(tmp_path / "D.csv", delimiter=",", skiprows=1)
@@ -58,7 +58,7 @@ def test_distance_matrix_and_retrieval_measures_match_distmat_and_evaluate(cli, 
 
     classes = [name.rstrip("0123456789") for name in header]
     measures = cshapes.retrieval_measures(D_cli, classes, names=header)
-    expected = cli.json("evaluate", tmp_path / "D.csv", "-o", tmp_path / "eval", "--json")
+    expected = cli.json("evaluate", tmp_path / "D.csv", "--out", tmp_path / "eval", "--json")
     for key in ["map", "nn", "ft", "st", "e", "dcg", "pr", "classes", "queries"]:
         assert measures[key] == expected[key], key
     assert np.array(measures["confusion"]).sum() == 6
