@@ -98,6 +98,8 @@ void show_meshes(const Mesh& mesh, const Mesh* form, const std::string& picture,
   if (form && form->V.rows() != mesh.V.rows())
     fail("the form has ", form->V.rows(), " vertices but the mesh has ", mesh.V.rows(),
          ": a canonical form keeps its mesh's vertices, one row each");
+  if (form && form->F.rows() > 0 && (form->F.minCoeff() < 0 || form->F.maxCoeff() >= form->V.rows()))
+    fail("the form's faces use vertex indices outside 0..", form->V.rows() - 1);
   std::error_code ec;
   const fs::path folder = fs::temp_directory_path() / ("cshapes-show" + unique_suffix());
   fs::create_directories(folder);
