@@ -33,9 +33,10 @@ const bool registered = register_command(
                       "coordinates as red, green, blue)")
            ->required();
        app.add_option("--title", args.options.title, "a line above the picture");
-       app.add_option("--view", args.options.view,
-                      "pca: look along the direction of least spread, the longest extent horizontal; x, y, z: "
-                      "along that axis")
+       app.add_option(
+              "--view", args.options.view,
+              "pca: look along the direction of least spread, the longest extent horizontal; x, y, z: "
+              "along that axis")
            ->capture_default_str()
            ->check(one_of(show_views()));
      },

@@ -117,8 +117,8 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
   std::error_code ec;
   fs::remove(expected, ec);
   static std::atomic<long> counter{0};
-  const fs::path errors = fs::temp_directory_path(ec) / ("cshapes-figure-" + std::to_string(::getpid()) + "-" +
-                                                         std::to_string(counter++) + ".err");
+  const fs::path errors = fs::temp_directory_path(ec) / ("cshapes-figure-" + std::to_string(::getpid()) +
+                                                         "-" + std::to_string(counter++) + ".err");
   std::string command = shell_quote(python) + " " + shell_quote(path);
   for (const std::string& a : args) command += " " + shell_quote(a);
   command += " >/dev/null 2>" + shell_quote(errors.string());

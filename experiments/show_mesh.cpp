@@ -37,8 +37,8 @@ void draw(const std::string& mesh, const std::string& form, const std::string& p
   // renamed into place once drawn; a symbolic link is written through, as write_file_atomically does.
   std::error_code ec;
   const fs::path target = fs::is_symlink(picture, ec) ? fs::weakly_canonical(picture, ec) : fs::path(picture);
-  const fs::path temporary =
-      target.parent_path() / ("." + target.stem().string() + ".tmp" + unique_suffix() + target.extension().string());
+  const fs::path temporary = target.parent_path() / ("." + target.stem().string() + ".tmp" + unique_suffix() +
+                                                     target.extension().string());
   std::vector<std::string> args = {mesh};
   if (!form.empty()) args.push_back(form);
   args.insert(args.end(), {"-o", temporary.string(), "--view", options.view});

@@ -16,9 +16,10 @@
 namespace cshapes {
 
 struct ShowOptions {
-  std::string title;         // a line above the picture; "" for none (each panel is titled on its own)
-  std::string view = "pca";  // one of show_views(): "pca" looks along the least spread, the longest extent
-                             // horizontal; "x", "y", "z" along that axis (shapes with a meaningful orientation)
+  std::string title;  // a line above the picture; "" for none (each panel is titled on its own)
+  // One of show_views(): "pca" looks along the least spread, the longest extent horizontal; "x", "y", "z"
+  // along that axis (shapes with a meaningful orientation).
+  std::string view = "pca";
 };
 
 // The values ShowOptions::view takes ("pca", "x", "y", "z"): the renderer's own (render_mesh.py --view).
@@ -37,8 +38,9 @@ void show_mesh_files(const std::string& mesh, const std::string& form, const std
                      const ShowOptions& options = {});
 
 // The same for meshes in memory: `form` may be null (the mesh alone); form->V has as many rows as mesh.V and
-// may hold non-finite rows (vertices a method dropped, not drawn); form->F empty: the mesh's faces. Written to
-// temporary PLY files first; the panels are titled "mesh" and "canonical form".
-void show_meshes(const Mesh& mesh, const Mesh* form, const std::string& picture, const ShowOptions& options = {});
+// may hold non-finite rows (vertices a method dropped, not drawn); form->F empty: the mesh's faces. Written
+// to temporary PLY files first; the panels are titled "mesh" and "canonical form".
+void show_meshes(const Mesh& mesh, const Mesh* form, const std::string& picture,
+                 const ShowOptions& options = {});
 
 }  // namespace cshapes
