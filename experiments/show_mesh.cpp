@@ -39,11 +39,12 @@ void draw(const std::string& mesh, const std::string& form, const std::string& p
   const fs::path target = fs::is_symlink(picture, ec) ? fs::weakly_canonical(picture, ec) : fs::path(picture);
   const fs::path temporary = target.parent_path() / ("." + target.stem().string() + ".tmp" + unique_suffix() +
                                                      target.extension().string());
-  std::vector<std::string> args = {mesh};
+  // Options as --name=value and the files after "--": a title, a label or a file name may start with '-'.
+  std::vector<std::string> args = {"--output=" + temporary.string(), "--view=" + options.view};
+  for (const std::string& label : labels) args.push_back("--label=" + label);
+  if (!options.title.empty()) args.push_back("--title=" + options.title);
+  args.insert(args.end(), {"--", mesh});
   if (!form.empty()) args.push_back(form);
-  args.insert(args.end(), {"-o", temporary.string(), "--view", options.view});
-  for (const std::string& label : labels) args.insert(args.end(), {"--label", label});
-  if (!options.title.empty()) args.insert(args.end(), {"--title", options.title});
   const FigureRun run = run_figure_script("show_figure.py", args, temporary.string());
   if (!run.drawn) {
     fs::remove(temporary, ec);
@@ -58,8 +59,11 @@ void draw(const std::string& mesh, const std::string& form, const std::string& p
 
 void check_view(const std::string& view) {
   const std::vector<std::string>& views = show_views();
-  if (std::find(views.begin(), views.end(), view) == views.end())
-    fail("view: expected one of pca, x, y, z, got '", view, "'");
+  if (std::find(views.begin(), views.end(), view) == views.end()) {
+    std::string known;
+    for (const std::string& v : views) known += (known.empty() ? "" : ", ") + v;
+    fail("view: expected one of ", known, ", got '", view, "'");
+  }
 }
 
 }  // namespace
