@@ -1,9 +1,12 @@
 #include "experiments/figures.h"
 
 #include <dlfcn.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
@@ -71,19 +74,39 @@ void write_method_titles(const std::string& folder) {
                         [&](std::ostream& out) { out << titles.dump(2) << "\n"; });
 }
 
-FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& expected) {
-  FigureRun run;
+namespace {
+
+// The path of a figure script in plot_scripts_directory(); "" when it is not there.
+std::string figure_script_path(const std::string& script) {
   const std::string dir = plot_scripts_directory();
-  const std::string path = dir.empty() ? std::string() : (fs::path(dir) / script).string();
-  std::string by_hand = "python3 " + (path.empty() ? script : path);
-  for (const std::string& a : args) by_hand += " " + shell_quote(a);
-  if (path.empty() || !fs::exists(path)) {
+  if (dir.empty()) return "";
+  const fs::path path = fs::path(dir) / script;
+  std::error_code ec;
+  return fs::exists(path, ec) ? path.string() : "";
+}
+
+// The last non-empty line of a text file; "" when there is none.
+std::string last_line_of(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  return last;
+}
+
+}  // namespace
+
+FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
+                            const std::string& expected) {
+  FigureRun run;
+  const std::string path = figure_script_path(script);
+  if (path.empty()) {
     run.problem = "the figure script " + script +
                   " was not found (looked beside the binary in share/cshapes/plots; set $CSHAPES_PLOTS)";
     return run;
   }
-  write_method_titles(fs::path(expected).parent_path().string());
+  std::string by_hand = "python3 " + path;
+  for (const std::string& a : args) by_hand += " " + shell_quote(a);
   const std::string python = find_python("matplotlib, numpy");
   if (python.empty()) {
     run.problem =
@@ -93,15 +116,27 @@ FigureRun draw_figure(const std::string& script, const std::vector<std::string>&
   }
   std::error_code ec;
   fs::remove(expected, ec);
+  static std::atomic<long> counter{0};
+  const fs::path errors = fs::temp_directory_path(ec) / ("cshapes-figure-" + std::to_string(::getpid()) +
+                                                         "-" + std::to_string(counter++) + ".err");
   std::string command = shell_quote(python) + " " + shell_quote(path);
   for (const std::string& a : args) command += " " + shell_quote(a);
-  command += " >/dev/null 2>&1";
+  command += " >/dev/null 2>" + shell_quote(errors.string());
   const int status = std::system(command.c_str());
-  run.drawn = status == 0 && fs::exists(expected);
-  if (!run.drawn)
+  run.drawn = status == 0 && fs::exists(expected, ec);
+  if (!run.drawn) {
+    const std::string said = last_line_of(errors.string());
     run.problem = "`" + python + " " + path + "` failed (exit status " + std::to_string(status) +
-                  "); run it by hand to see why";
+                  (said.empty() ? std::string() : ": " + said) + "); run it by hand to see why";
+  }
+  fs::remove(errors, ec);
   return run;
+}
+
+FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
+                      const std::string& expected) {
+  if (!figure_script_path(script).empty()) write_method_titles(fs::path(expected).parent_path().string());
+  return run_figure_script(script, args, expected);
 }
 
 }  // namespace cshapes

@@ -37,7 +37,11 @@ struct FigureRun {
 };
 // Runs `PYTHON SCRIPT ARGS...` (script: a file name in plot_scripts_directory(), e.g. "noise_figure.py"),
 // quietly; drawn when it exits 0 and `expected` (a file it writes) exists afterwards. `expected` is removed
-// first, so an old figure is never taken for a new one. Writes methods.json beside `expected` first
+// first, so an old figure is never taken for a new one. When the script fails, `problem` quotes the last
+// line it printed on stderr.
+FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
+                            const std::string& expected);
+// run_figure_script for the experiments' figures: writes methods.json beside `expected` first
 // (write_method_titles), so the script names every method as the tables do.
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
                       const std::string& expected);

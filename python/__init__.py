@@ -41,6 +41,7 @@ from ._cshapes import (  # noqa: E402
     retrieval_measures,
     set_num_threads,
     shape_distance,
+    show,
     smacof,
     write_mesh,
 )
@@ -50,5 +51,5 @@ __all__ = [
     "Alignment", "CanonicalForm", "add_topological_noise", "build_info", "canonical_form", "classical_mds", "coulomb",
     "distance_matrix", "experiment_paper", "experiment_retrieval", "generate", "geodesics", "get_num_threads",
     "icp", "mesh_info", "read_mesh",
-    "retrieval_measures", "set_num_threads", "shape_distance", "smacof", "write_mesh",
+    "retrieval_measures", "set_num_threads", "shape_distance", "show", "smacof", "write_mesh",
 ]

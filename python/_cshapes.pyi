@@ -140,6 +140,9 @@ def experiment_paper(data: _Path, out: _Path, methods: Sequence[str] | None = No
 def experiment_retrieval(data: _Path, out: _Path, methods: Sequence[str] | None = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
                          e_depth: int = 32, min_class_size: int = 3) -> dict[str, Any]: ...
+# Pictures
+def show(mesh: _Path | tuple[_Array, _Array], form: _Path | _Array | tuple[_Array, _Array] | CanonicalForm | None = None,
+         *, out: _Path, title: str | None = None, view: Literal["pca", "x", "y", "z"] = "pca") -> str: ...
 
 # Threads
 def set_num_threads(n: int) -> None: ...

@@ -1,10 +1,12 @@
 // cshapes.experiment_paper and cshapes.experiment_retrieval: the experiments (experiments/paper_experiment.h,
 // experiments/retrieval_experiment.h) from Python, with the library's defaults, so a run from Python, from C++ and
-// `cshapes experiment paper|retrieval` with the same options writes the same files.
+// `cshapes experiment paper|retrieval` with the same options writes the same files. cshapes.show: the picture of
+// `cshapes show` (experiments/show_mesh.h).
 #include <pybind11/stl.h>
 
 #include "experiments/paper_experiment.h"
 #include "experiments/retrieval_experiment.h"
+#include "experiments/show_mesh.h"
 #include "pipeline/shape_failures.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -114,9 +116,74 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   return result;
 }
 
+bool is_path(const py::handle& object) {
+  return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
+}
+
+// A (V, F) pair as a Mesh; name: the argument.
+Mesh mesh_pair(const py::handle& pair, const std::string& name) {
+  if (!py::isinstance<py::tuple>(pair) && !py::isinstance<py::list>(pair))
+    fail("show(): ", name, ": expected a path or a (V, F) pair, got ", py::repr(pair).cast<std::string>());
+  const py::sequence items = py::reinterpret_borrow<py::sequence>(pair);
+  if (items.size() != 2) fail("show(): ", name, ": expected a path or a (V, F) pair, got ", items.size(), " items");
+  return to_mesh(items[0], items[1]);
+}
+
+// A form in memory: a CanonicalForm, an (n, 3) array (the mesh's faces) or a (V, F) pair; NaN rows pass.
+Mesh form_in_memory(const py::handle& form) {
+  if (py::hasattr(form, "X") && !py::isinstance<py::array>(form))
+    return Mesh{to_points(form.attr("X"), "form.X", true), Faces(0, 3)};
+  if (py::isinstance<py::tuple>(form) || py::isinstance<py::list>(form)) {
+    const py::sequence items = py::reinterpret_borrow<py::sequence>(form);
+    if (items.size() == 2 && !py::isinstance<py::float_>(items[0]) && !py::isinstance<py::int_>(items[0]))
+      return Mesh{to_points(items[0], "form V", true), to_faces(items[1], "form F")};
+  }
+  return Mesh{to_points(form, "form", true), Faces(0, 3)};
+}
+
+std::string show_py(const py::object& mesh, const py::object& form, const py::object& out,
+                    const py::object& title, const std::string& view) {
+  const std::string picture = to_path(out, "out");
+  ShowOptions options;
+  if (!title.is_none()) options.title = py::str(title).cast<std::string>();
+  options.view = view;
+  if (is_path(mesh) && (form.is_none() || is_path(form))) {
+    const std::string mesh_path = to_path(mesh, "mesh");
+    const std::string form_path = form.is_none() ? "" : to_path(form, "form");
+    py::gil_scoped_release release;
+    show_mesh_files(mesh_path, form_path, picture, options);
+    return picture;
+  }
+  CSHAPES_REQUIRE(!is_path(mesh) && !is_path(form),
+                  "show(): mesh and form: expected two paths or two arrays, got a path and an array (read the "
+                  "file with read_mesh)");
+  const Mesh in_memory = mesh_pair(mesh, "mesh");
+  if (form.is_none()) {
+    py::gil_scoped_release release;
+    show_meshes(in_memory, nullptr, picture, options);
+  } else {
+    const Mesh form_mesh = form_in_memory(form);
+    py::gil_scoped_release release;
+    show_meshes(in_memory, &form_mesh, picture, options);
+  }
+  return picture;
+}
+
 }  // namespace
 
 void bind_experiments(py::module_& m) {
+  m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
+        py::arg("title") = py::none(), py::arg("view") = "pca",
+        R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
+
+mesh: a mesh file, or a (V, F) pair. form [None]: its canonical form, a file as `cshapes canon` writes it
+(dropped vertices: NaN rows with valid = 0), or in memory: a CanonicalForm, an (n, 3) array (drawn with the
+mesh's faces) or a (V, F) pair; NaN rows are not drawn. Both files or both in memory. The form has the mesh's
+vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates as
+red, green and blue). out: the picture, .png or .pdf, never one of the inputs; written atomically. title
+[None]: a line above the picture. view ['pca']: look along the least spread, or 'x', 'y', 'z' along that axis.
+Needs a Python with matplotlib and numpy (/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it
+cannot draw. Returns out as a str.)");
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
         py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,

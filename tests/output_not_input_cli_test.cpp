@@ -88,6 +88,8 @@ TEST(OutputNotInput, MeshCommandsRefuseToOverwriteTheirInput) {
     expect_input_kept(test::run_cli("-q convert " + q(m.a) + " " + q(output)), "convert", m.a, m.a_bytes);
     expect_input_kept(test::run_cli("-q noise " + q(m.a) + " -o " + q(output) + " --glue 1"), "noise", m.a,
                       m.a_bytes);
+    expect_input_kept(test::run_cli("-q show " + q(m.a) + " " + q(m.b) + " -o " + q(output)), "show", m.a,
+                      m.a_bytes);
   }
   // align's target is an input too.
   expect_input_kept(test::run_cli("-q align " + q(m.a) + " " + q(m.b) + " -o " + q(m.b)), "align", m.b,

@@ -10,7 +10,7 @@
                      vertex index (e.g. the glued pairs written by `cshapes noise`).
 --view               pca (default): look along the direction of least spread, the longest extent horizontal;
                      x|y|z: look along that axis (for shapes with a meaningful original orientation).
-Also importable: draw_mesh(ax, V, F, red=None, title=None, view="pca").
+Also importable: draw_mesh(ax, V, F, red=None, title=None, view="pca", vertex_colors=None).
 """
 import argparse
 import json
@@ -52,8 +52,12 @@ def view_frame(V, view="pca"):
     return tilt_x @ tilt_y @ R
 
 
-def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72, 0.86)):
+def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72, 0.86), vertex_colors=None):
+    """vertex_colors: n x 3 RGB in [0, 1], one per vertex (a face takes its vertices' mean) instead of
+    base_color."""
     V = np.asarray(V, dtype=float)
+    if vertex_colors is not None:
+        vertex_colors = np.asarray(vertex_colors, dtype=float).reshape(len(V), 3)
     P = (V - V.mean(axis=0)) @ view_frame(V, view).T
     ax.set_aspect("equal")
     ax.axis("off")
@@ -61,7 +65,7 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
         ax.set_title(title, fontsize=10)
     if len(F) == 0:  # point cloud
         order = np.argsort(P[:, 2])
-        colors = np.tile(base_color, (len(P), 1))
+        colors = np.tile(base_color, (len(P), 1)) if vertex_colors is None else vertex_colors.copy()
         if red is not None:
             colors[np.asarray(red, bool)] = (0.85, 0.1, 0.1)
         ax.scatter(P[order, 0], P[order, 1], s=2, c=colors[order], linewidths=0)
@@ -81,7 +85,10 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
     light /= np.linalg.norm(light)
     # Two-sided Lambert shading: canonical forms may be reflected, so the orientation of faces is not trusted.
     shade = 0.25 + 0.75 * np.abs(normals @ light)
-    color = np.tile(np.array(base_color), (len(F), 1))
+    if vertex_colors is None:
+        color = np.tile(np.array(base_color), (len(F), 1))
+    else:
+        color = vertex_colors[F].mean(axis=1)
     if red is not None:
         color[red[F].any(axis=1)] = (0.9, 0.1, 0.1)
     color = np.clip(color * shade[:, None], 0, 1)
