@@ -35,7 +35,7 @@ struct Biped {
 Biped biped(const std::string& tag) {
   Biped b;
   b.dir = test::scratch_dir(tag);
-  const std::string generate = "-q generate articulated --class biped --poses 1 --vertices 600 --seed 3 -o ";
+  const std::string generate = "-q generate articulated --class biped --poses 1 --vertices 600 --seed 3 --out ";
   const test::CliResult generated = test::run_cli(generate + q(b.dir));
   EXPECT_EQ(generated.exit_code, 0) << generated.err;
   b.mesh = b.dir + "/biped0.off";
