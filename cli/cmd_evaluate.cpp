@@ -2,6 +2,7 @@
 // eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their figures
 // pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with matplotlib is
 // found.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -40,8 +41,12 @@ int run() {
   if (args.json) {
     std::cout << report.metrics.dump(2) << std::endl;
   } else {
-    std::printf("%zu shapes, %zu classes, %zu queries (%d skipped)\n", input.names.size(),
-                report.class_names.size(), r.queries.size(), r.skipped);
+    std::printf("%zu shapes, %zu classes, %zu queries", input.names.size(), report.class_names.size(),
+                r.queries.size());
+    if (r.skipped > 0)  // the one reason a shape is not a query
+      std::printf(" (%d skipped: their class has fewer than %d shapes; --min-class-size)", r.skipped,
+                  std::max(args.min_class_size, 2));
+    std::printf("\n");
     std::printf("  mAP %.4f   NN %.4f   FT %.4f   ST %.4f   E %.4f   DCG %.4f\n", r.mean.ap, r.mean.nn,
                 r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
   }

@@ -64,15 +64,21 @@ void write_retrieval_report(const std::string& folder, const NamedDistances& inp
   std::vector<std::string> ordered_names;
   for (int k : report.image.order) ordered_names.push_back(input.names[static_cast<size_t>(k)]);
   write_distance_csv(folder + "/matrix.csv", ordered_names, report.image.values);
+  // The queries' nearest neighbours, as NN counts them: a row per class with queries (a class below
+  // min_class_size has none), a column per class (any shape may be a nearest neighbour).
+  const Index num_classes = static_cast<Index>(report.class_names.size());
+  Eigen::MatrixXi confusion = Eigen::MatrixXi::Zero(num_classes, num_classes);
+  for (const QueryResult& q : r.queries)
+    ++confusion(q.label, report.labels[static_cast<size_t>(q.ranking.front())]);
   write_file_atomically(folder + "/confusion.csv", [&](std::ostream& s) {
     // Says what its rows and columns are: the query's class down, its nearest neighbour's class across.
     s << "query class / nearest neighbour class";
     for (const std::string& c : report.class_names) s << ',' << c;
     s << '\n';
-    for (size_t a = 0; a < report.class_names.size(); ++a) {
-      s << report.class_names[a];
-      for (size_t b = 0; b < report.class_names.size(); ++b)
-        s << ',' << report.image.confusion(static_cast<Index>(a), static_cast<Index>(b));
+    for (Index a = 0; a < num_classes; ++a) {
+      if (r.class_queries[static_cast<size_t>(a)] == 0) continue;
+      s << report.class_names[static_cast<size_t>(a)];
+      for (Index b = 0; b < num_classes; ++b) s << ',' << confusion(a, b);
       s << '\n';
     }
   });

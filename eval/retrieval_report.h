@@ -5,8 +5,9 @@
 //   pr.csv         recall, precision (interpolated, 11 points)
 //   queries.csv    per query: shape, class, nn, ft, st, e, dcg, ap
 //   matrix.csv     the matrix grouped by class and normalised (the paper's Fig. 7 image)
-//   confusion.csv  nearest-neighbour class counts: row = the query's class, column = its nearest neighbour's
-//                  (the header's first cell says so), every shape a query
+//   confusion.csv  the queries' nearest-neighbour class counts, as NN counts them: a row per class with
+//                  queries (the query's class), a column per class (its nearest neighbour's); the header's
+//                  first cell says so
 #pragma once
 
 #include <nlohmann/json.hpp>

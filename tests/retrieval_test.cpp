@@ -231,7 +231,7 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
   // The confusion matrix says what its rows and columns are.
   EXPECT_EQ(read_file(dir + "/out/confusion.csv"),
-            "query class / nearest neighbour class,cat,dog,man\ncat,2,0,1\ndog,0,3,0\nman,1,0,0\n");
+            "query class / nearest neighbour class,cat,dog,man\ncat,2,0,1\ndog,0,3,0\n");  // man0: no query
   // Its figures, drawn when Python has matplotlib; otherwise a warning says why.
   if (find_python("matplotlib, numpy").empty()) {
     EXPECT_NE(r.err.find("no figures"), std::string::npos) << r.err;
@@ -246,6 +246,12 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out2/pr.png"));
   EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
+  // The summary says why a shape is not a query (man0: a class of one).
+  r = test::run_cli("evaluate '" + dir + "/d.csv' --out '" + dir + "/out4' -q --no-draw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("6 queries (1 skipped: their class has fewer than 3 shapes; --min-class-size)"),
+            std::string::npos)
+      << r.out;
   // A broken file: a one-line error, non-zero exit.
   test::write_text(dir + "/bad.csv", "a,b\n0,1\n");
   r = test::run_cli("evaluate '" + dir + "/bad.csv' --out '" + dir + "/out3' -q");

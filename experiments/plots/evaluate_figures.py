@@ -29,6 +29,23 @@ def read_rows(path):
         return [r for r in csv.reader(f) if r]
 
 
+def input_name(out):
+    """The matrix evaluated (metrics.json "input"), to name in the titles: its file name usually says the method
+    and the distance (distmat's output, e.g. coulomb-hausdorff.csv)."""
+    path = os.path.join(out, "metrics.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            source = json.load(f).get("input", "")
+        if source:
+            return os.path.basename(source)
+    return ""
+
+
+def titled(title, out):
+    name = input_name(out)
+    return f"{title}\n{name}" if name else title
+
+
 def fig_pr(out, pdf):
     rows = read_rows(os.path.join(out, "pr.csv"))[1:]
     recall = [float(r[0]) for r in rows]
@@ -48,30 +65,31 @@ def fig_pr(out, pdf):
     ax.set_ylim(0, 1.02)
     ax.grid(alpha=0.3)
     ax.legend(loc="lower left", fontsize=8)
-    ax.set_title("precision-recall, averaged over the queries")
+    ax.set_title(titled("precision-recall, averaged over the queries", out), fontsize=10)
     save(fig, out, "pr", pdf)
 
 
 def fig_confusion(out, pdf):
     rows = read_rows(os.path.join(out, "confusion.csv"))
-    classes = rows[0][1:]
-    C = np.array([[float(x) for x in r[1:]] for r in rows[1:]])
-    fig, ax = plt.subplots(figsize=(1.2 + 0.45 * len(classes), 1.0 + 0.45 * len(classes)))
+    classes = rows[0][1:]  # every class: a nearest neighbour may be of any
+    query_classes = [r[0] for r in rows[1:]]  # the classes with queries (at least min_class_size shapes)
+    C = np.array([[float(x) for x in r[1:]] for r in rows[1:]]).reshape(len(query_classes), len(classes))
+    fig, ax = plt.subplots(figsize=(1.2 + 0.45 * len(classes), 1.0 + 0.45 * max(len(query_classes), 1)))
     ax.imshow(C, cmap="Blues", vmin=0)
     ax.set_xticks(range(len(classes)))
-    ax.set_yticks(range(len(classes)))
+    ax.set_yticks(range(len(query_classes)))
     ax.set_xticklabels(classes, rotation=90, fontsize=8)
-    ax.set_yticklabels(classes, fontsize=8)
+    ax.set_yticklabels(query_classes, fontsize=8)
     ax.set_xlabel("class of the nearest neighbour")
     ax.set_ylabel("class of the query")
     if len(classes) <= 30:
         top = C.max() if C.size else 0
-        for i in range(len(classes)):
+        for i in range(len(query_classes)):
             for j in range(len(classes)):
                 if C[i, j]:
                     ax.text(j, i, f"{C[i, j]:.0f}", ha="center", va="center", fontsize=7,
                             color="white" if C[i, j] > 0.6 * top else "black")
-    ax.set_title("nearest-neighbour confusion (queries)")
+    ax.set_title(titled("nearest-neighbour confusion of the queries", out), fontsize=10)
     save(fig, out, "confusion", pdf)
 
 
@@ -87,7 +105,7 @@ def fig_matrix(out, pdf):
         ax.set_xticklabels(names, rotation=90, fontsize=5)
         ax.set_yticklabels(names, fontsize=5)
     fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="distance (normalised, grouped by class)")
-    ax.set_title("distance matrix")
+    ax.set_title(titled("distance matrix", out), fontsize=10)
     save(fig, out, "matrix", pdf)
 
 
