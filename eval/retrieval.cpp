@@ -61,6 +61,7 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
   result.pr.precision.assign(result.pr.recall.size(), 0.0);
   result.class_mean.assign(static_cast<size_t>(num_classes), RetrievalScores{});
   result.class_queries.assign(static_cast<size_t>(num_classes), 0);
+  result.confusion = Eigen::MatrixXi::Zero(num_classes, num_classes);
 
   const int depth = std::min(options.e_measure_depth, n - 1);
   for (int q = 0; q < n; ++q) {
@@ -109,6 +110,7 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
     RetrievalScores& c = result.class_mean[static_cast<size_t>(label)];
     c.nn += s.nn, c.ft += s.ft, c.st += s.st, c.e += s.e, c.dcg += s.dcg, c.ap += s.ap;
     ++result.class_queries[static_cast<size_t>(label)];
+    ++result.confusion(label, labels[static_cast<size_t>(query.ranking.front())]);
     result.queries.push_back(std::move(query));
   }
   CSHAPES_REQUIRE(!result.queries.empty(), "retrieval: no class has at least ", options.min_class_size,
@@ -190,11 +192,6 @@ DistanceMatrixImage distance_matrix_image(const Eigen::MatrixXd& D, const std::v
       image.class_starts.push_back(k);
   image.class_starts.push_back(n);
 
-  image.confusion = Eigen::MatrixXi::Zero(num_classes, num_classes);
-  for (int q = 0; q < n; ++q) {
-    int nearest = rank_others(D, q).front();
-    ++image.confusion(labels[static_cast<size_t>(q)], labels[static_cast<size_t>(nearest)]);
-  }
   image.class_mean_distance = Eigen::MatrixXd::Zero(num_classes, num_classes);
   Eigen::MatrixXd count = Eigen::MatrixXd::Zero(num_classes, num_classes);
   for (int i = 0; i < n; ++i)

@@ -63,6 +63,9 @@ struct RetrievalResult {
   PrecisionRecallCurve pr;
   std::vector<QueryResult> queries;  // the evaluated queries, in row order
   int skipped = 0;                   // shapes not used as queries (class too small)
+  // confusion(a, b): how many queries of class a have their nearest neighbour in class b, as NN counts them
+  // (a class below min_class_size has a zero row: its shapes are no queries).
+  Eigen::MatrixXi confusion;
 };
 
 // D: N×N distances (N ≥ 2, finite, need not be symmetric); labels: N class labels in [0, #classes).
@@ -82,14 +85,11 @@ double average_precision(const std::vector<double>& distances, const std::vector
 std::vector<int> labels_from_classes(const std::vector<std::string>& classes,
                                      std::vector<std::string>* names_out = nullptr);
 
-// The data of the distance-matrix figure (paper Fig. 7) and of a confusion matrix.
+// The data of the distance-matrix figure (paper Fig. 7).
 struct DistanceMatrixImage {
   std::vector<int> order;         // rows of D grouped by class (stable: within a class, input order)
   Eigen::MatrixXd values;         // D reordered by `order`, divided by its largest finite off-diagonal entry
   std::vector<int> class_starts;  // first row of each class block in `order`, plus N at the end
-  // confusion(a, b): how many queries of class a have their nearest neighbour in class b (every shape
-  // a query here, whatever its class size).
-  Eigen::MatrixXi confusion;
   // class_mean_distance(a, b): mean of D over rows of class a and columns of class b (diagonal excluded).
   Eigen::MatrixXd class_mean_distance;
 };

@@ -64,12 +64,10 @@ void write_retrieval_report(const std::string& folder, const NamedDistances& inp
   std::vector<std::string> ordered_names;
   for (int k : report.image.order) ordered_names.push_back(input.names[static_cast<size_t>(k)]);
   write_distance_csv(folder + "/matrix.csv", ordered_names, report.image.values);
-  // The queries' nearest neighbours, as NN counts them: a row per class with queries (a class below
-  // min_class_size has none), a column per class (any shape may be a nearest neighbour).
+  // A row per class with queries (a class below min_class_size has none), a column per class (any shape
+  // may be a nearest neighbour).
   const Index num_classes = static_cast<Index>(report.class_names.size());
-  Eigen::MatrixXi confusion = Eigen::MatrixXi::Zero(num_classes, num_classes);
-  for (const QueryResult& q : r.queries)
-    ++confusion(q.label, report.labels[static_cast<size_t>(q.ranking.front())]);
+  const Eigen::MatrixXi& confusion = r.confusion;
   write_file_atomically(folder + "/confusion.csv", [&](std::ostream& s) {
     // Says what its rows and columns are: the query's class down, its nearest neighbour's class across.
     s << "query class / nearest neighbour class";

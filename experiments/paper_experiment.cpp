@@ -435,10 +435,9 @@ void retrieval_stage(ExperimentRun& run) {
               {"e", rr.mean.e},
               {"dcg", rr.mean.dcg},
               {"pr", {{"recall", rr.pr.recall}, {"precision", rr.pr.precision}}}};
-      DistanceMatrixImage image = distance_matrix_image(*D, labels);
-      std::vector<std::vector<int>> confusion(image.confusion.rows());
-      for (Index r = 0; r < image.confusion.rows(); ++r)
-        for (Index c = 0; c < image.confusion.cols(); ++c) confusion[r].push_back(image.confusion(r, c));
+      std::vector<std::vector<int>> confusion(rr.confusion.rows());
+      for (Index r = 0; r < rr.confusion.rows(); ++r)
+        for (Index c = 0; c < rr.confusion.cols(); ++c) confusion[r].push_back(rr.confusion(r, c));
       jk["nn_confusion"] = confusion;
       // Noisy shapes as queries: are they still retrieved with their class?
       double noisy_nn = 0;

@@ -65,7 +65,7 @@ json result_json(const RetrievalExperimentResult& r) {
     for (const auto& [kind, report] : m.by_distance) {
       json entry = report.metrics;
       entry["class_names"] = report.class_names;
-      entry["confusion"] = confusion_json(report.image.confusion);
+      entry["confusion"] = confusion_json(report.result.confusion);
       distances[kind] = entry;
     }
     methods.push_back({{"method", m.method},

@@ -96,7 +96,7 @@ void confusion_section(std::ostream& out, const RetrievalExperimentResult& r) {
     for (size_t a = 0; a < rep.class_names.size(); ++a) {
       out << "| " << rep.class_names[a] << " |";
       for (size_t b = 0; b < rep.class_names.size(); ++b) {
-        const int n = rep.image.confusion(static_cast<Index>(a), static_cast<Index>(b));
+        const int n = rep.result.confusion(static_cast<Index>(a), static_cast<Index>(b));
         out << ' ' << (a == b ? "**" + std::to_string(n) + "**" : std::to_string(n)) << " |";
       }
       out << '\n';

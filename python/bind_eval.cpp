@@ -98,9 +98,9 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
   }
   nlohmann::json j = report.metrics;
   nlohmann::json confusion = nlohmann::json::array();
-  for (Index a = 0; a < report.image.confusion.rows(); ++a) {
+  for (Index a = 0; a < report.result.confusion.rows(); ++a) {
     nlohmann::json row = nlohmann::json::array();
-    for (Index b = 0; b < report.image.confusion.cols(); ++b) row.push_back(report.image.confusion(a, b));
+    for (Index b = 0; b < report.result.confusion.cols(); ++b) row.push_back(report.result.confusion(a, b));
     confusion.push_back(row);
   }
   j["confusion"] = confusion;

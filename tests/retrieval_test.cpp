@@ -193,15 +193,17 @@ TEST(Retrieval, DistanceMatrixImageAndConfusion) {
   EXPECT_EQ(image.class_starts, (std::vector<int>{0, 3, 6, 7}));
   EXPECT_DOUBLE_EQ(image.values(0, 1), D(1, 2) / 19.0);  // normalised by the largest distance, 19
   EXPECT_DOUBLE_EQ(image.values.maxCoeff(), 1.0);
-  // With these labels (class in brackets): 0(1)→1(0), 1(0)→0(1), 2(0)→6(2), 3(1)→4(1), 4(1)→3(1),
-  // 5(0)→4(1), 6(2)→2(0); rows the query's class, columns the neighbour's:
-  //   class 0 (1, 2, 5): →1, →2, →1 = (0, 2, 1);  class 1 (0, 3, 4): →0, →1, →1 = (1, 2, 0);  class 2: (1, 0,
-  //   0)
+  // The queries' nearest neighbours (class in brackets): 0(1)→1(0), 1(0)→0(1), 2(0)→6(2), 3(1)→4(1),
+  // 4(1)→3(1), 5(0)→4(1); rows the query's class, columns the neighbour's: class 0 (1, 2, 5): →1, →2, →1 =
+  // (0, 2, 1); class 1 (0, 3, 4): →0, →1, →1 = (1, 2, 0); class 2 (shape 6 alone) has no query: a zero row.
   Eigen::MatrixXi expected(3, 3);
   expected << 0, 2, 1,  //
       1, 2, 0,          //
-      1, 0, 0;
-  EXPECT_EQ(image.confusion, expected);
+      0, 0, 0;
+  const RetrievalResult r = evaluate_retrieval(D, labels);
+  EXPECT_EQ(r.confusion, expected);
+  // Its diagonal over the queries is NN.
+  EXPECT_DOUBLE_EQ(r.confusion.trace() / static_cast<double>(r.queries.size()), r.mean.nn);
   // Mean distance between class 2 (shape 6) and class 0 (shapes 1, 2, 5): (11 + 0.5 + 19)/3.
   EXPECT_DOUBLE_EQ(image.class_mean_distance(2, 0), (11 + 0.5 + 19) / 3.0);
   EXPECT_TRUE(std::isnan(image.class_mean_distance(2, 2)));  // a single shape: no pair
