@@ -7,6 +7,7 @@
 #include <nanoflann.hpp>
 #include <vector>
 
+#include "core/format.h"
 #include "core/error.h"
 #include "core/locate_on_surface.h"
 #include "core/remesh.h"
@@ -228,14 +229,14 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   out.result = std::move(fine);
   out.used = true;
   out.note = "multiresolution: " + std::to_string(n) + " vertices through " +
-             std::to_string(out.coarse_vertices) + " (remesh " + std::to_string(out.remesh_seconds) +
+             std::to_string(out.coarse_vertices) + " (remesh " + significant(out.remesh_seconds) +
              " s, coarse " + std::to_string(out.coarse_iterations) + " iterations " +
-             std::to_string(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
+             significant(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
              " coarse edges torn -> " + std::to_string(torn.size()) + " fine (" +
              std::to_string(out.extra_tears) + " of them overstretched after the sweeps), " +
              std::to_string(mr.refine_iterations) + " fine projections × " + std::to_string(out.refine_rounds) +
              " rounds " +
-             std::to_string(out.refine_seconds) + " s)";
+             significant(out.refine_seconds) + " s)";
   return out;
 }
 

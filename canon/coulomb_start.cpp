@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "canon/landmark_mds.h"
+#include "core/format.h"
 #include "core/error.h"
 #include "core/landmark_geodesics.h"
 #include "core/mesh.h"
@@ -59,7 +60,7 @@ CoulombStartResult coulomb_start(const Points& X0, const Edges& E, CoulombStart 
   result.used = true;
   result.seconds = seconds_since(begin);
   result.note = "landmark MDS of graph geodesics from " + std::to_string(rows.landmarks.size()) +
-                " landmarks (" + std::to_string(result.seconds) + " s)";
+                " landmarks (" + significant(result.seconds) + " s)";
   return result;
 }
 

@@ -153,7 +153,8 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
   }
   q.ok = q.runaway_vertices == 0 && finite;
   q.description =
-      format("stretch max %.3g, p99 %.3g, mean %.3g", q.max_stretch, q.p99_stretch, q.mean_stretch);
+      format("edge stretch (form length / input length) max %.3g, p99 %.3g, mean %.3g", q.max_stretch,
+             q.p99_stretch, q.mean_stretch);
   if (q.ok) {
     q.description = "ok: " + q.description;
   } else {

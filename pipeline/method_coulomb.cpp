@@ -4,6 +4,7 @@
 
 #include "canon/coulomb.h"
 #include "canon/coulomb_multiresolution.h"
+#include "core/format.h"
 #include "core/error.h"
 #include "core/timing.h"
 #include "pipeline/canonical_form_methods.h"
@@ -74,8 +75,8 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                           .dump();
   say(options.note, "coulomb: started at " + r.start);
   say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
-                        std::to_string(r.seconds) + " s; mean violation " +
-                        std::to_string(r.violation.mean_relative) + ", " +
+                        significant(r.seconds) + " s; edge lengths off their rest lengths by " +
+                        significant(100 * r.violation.mean_relative) + "% on average, " +
                         std::to_string(r.torn_edges.rows()) + " edges torn");
   say(options.note, "coulomb: form quality " + r.quality.description);
   return form;

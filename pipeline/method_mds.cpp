@@ -6,6 +6,7 @@
 
 #include "canon/form_quality.h"
 #include "canon/landmark_mds.h"
+#include "core/format.h"
 #include "core/error.h"
 #include "core/heat_method.h"
 #include "core/timing.h"
@@ -83,12 +84,11 @@ nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
 
 ClassicalMdsResult run_classical_mds(const DistanceMatrix& D, const CanonicalFormOptions& options) {
   ClassicalMdsResult r = classical_mds(D, options.cmds);
-  say(options.note, "classical MDS: eigenvalues " + std::to_string(r.eigenvalues[0]) + ", " +
-                        std::to_string(r.eigenvalues[1]) + ", " + std::to_string(r.eigenvalues[2]) +
-                        "; 3-D keeps " + std::to_string(100 * r.explained_energy) +
-                        "% of the spectrum's energy; most negative " + "eigenvalue " +
-                        std::to_string(r.most_negative_eigenvalue) + " in " + std::to_string(r.seconds) +
-                        " s");
+  say(options.note, "classical MDS: eigenvalues " + significant(r.eigenvalues[0]) + ", " +
+                        significant(r.eigenvalues[1]) + ", " + significant(r.eigenvalues[2]) + "; 3-D keeps " +
+                        significant(100 * r.explained_energy) +
+                        "% of the spectrum's energy; most negative eigenvalue " +
+                        significant(r.most_negative_eigenvalue) + " in " + significant(r.seconds) + " s");
   return r;
 }
 
@@ -164,9 +164,8 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
                             std::to_string(r.overstretched_edges) + " edges still overstretched" +
                             (r.repair_kept ? ")" : "; not kept: no fewer than before)"));
     say(options.note, "landmark SMACOF: landmarks' normalised stress " +
-                          std::to_string(r.landmark_normalized_stress) + "; other points' stress " +
-                          std::to_string(r.start_point_stress) + " -> " +
-                          std::to_string(r.interpolated_point_stress));
+                          significant(r.landmark_normalized_stress) + "; other points' stress " +
+                          significant(r.start_point_stress) + " -> " + significant(r.interpolated_point_stress));
   }
   summary["landmark_mds"] = {{"eigenvalues", {r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2]}},
                              {"explained_energy", r.explained_energy},
@@ -221,10 +220,10 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     if (options.smacof_weights == SmacofWeights::Area) so.vertex_weights = vertex_area_weights(mesh);
     require_smacof_range(*given, options.name);
     SmacofResult sr = smacof(*given, X0, so);
-    say(options.note, "SMACOF: normalised stress " + std::to_string(sr.stress_history.front()) + " -> " +
-                          std::to_string(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
-                          " iterations (" + sr.stop_reason + "), " +
-                          std::to_string(sr.seconds_per_iteration) + " s per iteration");
+    say(options.note, "SMACOF: normalised stress " + significant(sr.stress_history.front()) + " -> " +
+                          significant(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
+                          " iterations (" + sr.stop_reason + "), " + significant(sr.seconds_per_iteration) +
+                          " s per iteration");
     set_smacof_result(form, sr);
     summary["smacof"] = smacof_summary(sr, so);
     summary["smacof"]["init"] = to_string(options.smacof_init);

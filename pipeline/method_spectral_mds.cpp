@@ -4,6 +4,7 @@
 // the fast MDS the paper cites [AK13], O((L + k) n) memory.
 #include <algorithm>
 
+#include "core/format.h"
 #include "core/error.h"
 #include "core/landmark_geodesics.h"
 #include "core/timing.h"
@@ -44,8 +45,8 @@ CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions&
   s.summary["fit_residual"] = r.fit_residual;
   say(options.note, "spectral-mds: " + std::to_string(rows.landmarks.size()) + " geodesic rows (" +
                         to_string(options.geodesics.method) + ", coverage radius " +
-                        std::to_string(rows.coverage_radius) + "); the basis misses " +
-                        std::to_string(100 * r.fit_residual) + "% of their squared distances");
+                        significant(rows.coverage_radius) + "); the basis misses " +
+                        significant(100 * r.fit_residual) + "% of their squared distances");
   form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "spectral-mds");
   return form;
 }

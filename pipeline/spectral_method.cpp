@@ -1,6 +1,7 @@
 #include "pipeline/spectral_method.h"
 
 #include "canon/form_quality.h"
+#include "core/format.h"
 #include "core/error.h"
 #include "core/timing.h"
 #include "pipeline/canonical_form_methods.h"
@@ -35,9 +36,9 @@ SpectralSolve spectral_eigenpairs(const Mesh& mesh, const LaplaceBeltramiOptions
                {"near_multiple_gap", laplacian.near_multiple_gap},
                {"eigen_seconds", e.seconds}};
   say(options.note, method + ": " + std::to_string(e.values.size()) + " eigenpairs of the " + e.laplacian +
-                        " Laplacian by " + e.solver + " in " + std::to_string(s.seconds) + " s; λ1..λ3 " +
-                        std::to_string(e.values[1]) + ", " + std::to_string(e.values[2]) + ", " +
-                        std::to_string(e.values[3]));
+                        " Laplacian by " + e.solver + " in " + significant(s.seconds) + " s; λ1..λ3 " +
+                        significant(e.values[1]) + ", " + significant(e.values[2]) + ", " +
+                        significant(e.values[3]));
   const std::string near = near_multiple_description(e);
   if (!near.empty()) say(options.note, method + ": " + near);
   for (const std::vector<int>& group : e.near_multiple) {

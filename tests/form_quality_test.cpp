@@ -168,7 +168,7 @@ TEST(FormQuality, AReasonFromTheMethodMakesItNotOk) {
   ASSERT_TRUE(q.ok);
   fail_form_quality(q, "normalised stress nan");
   EXPECT_FALSE(q.ok);
-  EXPECT_EQ(q.description.rfind("NOT OK: normalised stress nan; stretch max 1", 0), 0u) << q.description;
+  EXPECT_EQ(q.description.rfind("NOT OK: normalised stress nan; edge stretch (form length / input length) max 1", 0), 0u) << q.description;
 }
 
 }  // namespace
