@@ -12,7 +12,7 @@ struct PoseArgs {
   PoseInvarianceOptions options;
   std::string methods;  // add_methods_option: every registered method
   std::string shapes;
-  bool no_draw = false, no_parts = false;
+  bool no_draw = false, no_parts = false, json = false;
 } args;
 
 int run() {
@@ -26,7 +26,10 @@ int run() {
   o.note = [](const std::string& line) { note(line); };
   const PoseInvarianceResult r = pose_experiment(o);
   if (!r.figure_problem.empty() && !args.no_draw) warn("no figure: " + r.figure_problem);
-  std::cout << pose_invariance_markdown(r, o);
+  if (args.json)
+    std::cout << pose_invariance_json(r).dump(2) << std::endl;
+  else
+    std::cout << pose_invariance_markdown(r, o);
   return exit_code_for(r.failures);
 }
 
@@ -67,6 +70,7 @@ const bool registered = register_command(
            ->check(number_in(0.001, 1.0));
        app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
        add_no_draw_flag(app, args.no_draw, "pose_residuals.png");
+       app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\") instead of pose.md");
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

@@ -943,6 +943,27 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   return result;
 }
 
+nlohmann::json pose_invariance_json(const PoseInvarianceResult& result) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const PoseSummaryRow& r : result.summary)
+    rows.push_back({{"form", r.form},
+                    {"class", r.class_name},
+                    {"pairs", r.pairs},
+                    {"median_rms", r.median_rms},
+                    {"mean_rms", r.mean_rms},
+                    {"median_input_rms", r.median_input_rms},
+                    {"removed", r.removed},
+                    {"mean_abs_stretch", r.mean_abs_stretch},
+                    {"max_stretch", r.max_stretch},
+                    {"stress", r.stress >= 0 ? nlohmann::json(r.stress) : nlohmann::json(nullptr)}});
+  return {{"shapes", result.shapes.size()},
+          {"pairs", result.pairs.size()},
+          {"summary", rows},
+          {"figure", result.figure},
+          {"figure_problem", result.figure_problem},
+          {"failures", shape_failures_json(result.failures)}};
+}
+
 std::string pose_invariance_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
   std::ostringstream md;
   md << "# Pose invariance (" << label_of(o) << ")\n\n"

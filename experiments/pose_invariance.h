@@ -62,6 +62,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -197,6 +198,10 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& options);
 // counts are those of the result (shapes left out are not).
 std::string pose_invariance_markdown(const PoseInvarianceResult& result,
                                      const PoseInvarianceOptions& options);
+// The summary as JSON (`cshapes experiment pose --json`): {"shapes", "pairs", "summary": [{form, class,
+// pairs, median_rms, mean_rms, median_input_rms, removed, mean_abs_stretch, max_stretch, stress (null: not
+// measured)}], "figure", "figure_problem", "failures"}; rms values are fractions of the bounding-box diagonal.
+nlohmann::json pose_invariance_json(const PoseInvarianceResult& result);
 // Writes it to folder/pose.md.
 void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
                                   const std::string& folder);

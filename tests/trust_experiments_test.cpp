@@ -1,9 +1,9 @@
 // Issue 36 for the experiments beside `distmat` and `experiment retrieval`: two files of the same bytes under
 // different names are two entries of the data, kept and said; a shape `--resample` cannot remesh is kept at
 // its own resolution and said with the reason. Each experiment runs through the CLI on small generated
-// meshes, and both notes must reach stderr, the report and the JSON summary (experiment pose has no JSON:
-// stderr and pose.md). Before, `experiment paper` said no same-content pair, and `noise`, `pose` and
-// `topkids` said neither note (the remesh fallback only as a progress line and a table cell).
+// meshes, and both notes must reach stderr, the report and the JSON summary. Before, `experiment paper` said
+// no same-content pair, and `noise`, `pose` and `topkids` said neither note (the remesh fallback only as a
+// progress line and a table cell).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -132,7 +132,7 @@ TEST(TrustExperiments, NoiseSaysTheSameContentAndTheShapesNotResampled) {
   fs::remove_all(dir);
 }
 
-// experiment pose writes no JSON summary (its data are CSV files): stderr and pose.md.
+// experiment pose: stderr, pose.md and, with --json, its JSON summary.
 TEST(TrustExperiments, PoseSaysTheSameContentAndTheShapesNotResampled) {
   const std::string dir = test::scratch_dir("trust-exp-pose");
   const std::string data = data_with_copy_and_dust(dir), out = dir + "/out";
@@ -145,6 +145,19 @@ TEST(TrustExperiments, PoseSaysTheSameContentAndTheShapesNotResampled) {
   EXPECT_TRUE(contains(pairs, "biped1,biped7,biped,cmds")) << pairs;
   expect_notes_in_text(r.err, read_file(out + "/pose.md"), "biped7", "biped1", "dust0");
   EXPECT_TRUE(contains(r.out, "| dataset | the same content as biped1")) << r.out;  // pose.md on stdout too
+  // --json: the summary and the failures as JSON on stdout, from the cache.
+  const test::CliResult j =
+      test::run_cli("-q experiment pose --data " + q(data) + " --out " + q(out) +
+                    " --methods cmds --resample 300 --samples 100 --stress-sources 2 --no-parts --no-draw --json");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const nlohmann::json summary = nlohmann::json::parse(j.out);
+  EXPECT_GT(summary.at("pairs").get<int>(), 0);
+  bool cmds_all = false;
+  for (const nlohmann::json& row : summary.at("summary"))
+    cmds_all = cmds_all || (row.at("form") == "cmds" && row.at("class") == "all" &&
+                            row.at("median_rms").get<double>() > 0);
+  EXPECT_TRUE(cmds_all) << summary.dump(2);
+  expect_notes_in_json(summary.at("failures"), "biped7", "biped1", "dust0", "stdout");
   fs::remove_all(dir);
 }
 
