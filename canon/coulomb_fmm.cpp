@@ -459,7 +459,7 @@ constexpr int kMortonLevels = 21;  // Morton code bits per axis (core/morton.h)
 //    points, where θ = 0.5 gives 1.1e-3 and 1.2e-3 (so a larger θ for large n is not safe); random points at
 //    1,000,000 (uniform, sphere, clustered, cat0 surface) 3.7e-5 … 1.4e-4.
 // Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
-// default 1e-3 on the sets above, 1.45× on the torus grids found later). The float near field limits the
+// default 1e-3 on the sets of 1 and 2, 1.45× on the torus grids of 3). The float near field limits the
 // attainable error to ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35)
 // gave 1.1e-6 on 3,000 uniform points): requests below 3e-6 get the last row; use Summation::Direct for more.
 // Energy errors were ≤ accuracy/10 except at 1e-2 (1.5e-4 on victoria10).

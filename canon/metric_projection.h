@@ -90,7 +90,7 @@ struct RelativeViolation {
 // w_ij. The vertices are renumbered internally in breadth-first order (memory locality); every vertex's sum
 // is formed in a fixed order (its neighbours by that numbering), so the result is bit-identical for identical
 // inputs and does not depend on the number of threads. Per sweep at 5,000 vertices (one thread): ≈ 0.05
-// ms, 2.7× faster than the previous one-pass sweep over the adjacency.
+// ms, 2.7× faster than a single pass over the adjacency (which computes each edge once per endpoint).
 class MetricProjection {
  public:
   // n vertices; E |E|×2 edges (0-based, either orientation); rest_lengths |E| values d_ij ≥ 0 (zeros are

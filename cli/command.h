@@ -1,4 +1,4 @@
-// The cshapes command registry. Each experiments/cmd_*.cpp registers its sub-commands with a static
+// The cshapes command registry. Each cli/cmd_*.cpp registers its sub-commands with a static
 // registrar, so adding a command touches no shared file:
 //
 //   static const bool registered = cshapes::cli::register_command(

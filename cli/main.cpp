@@ -551,9 +551,9 @@ std::string group_description(const std::string& name) {
 }
 
 // OpenMP threads that wait by spinning keep their cores busy between parallel loops, and on a loaded machine
-// they take the core from the thread that has work (README, "Threads"); a wait that only sleeps costs each
-// of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
-// (GOMP_SPINCOUNT=1000; scripts/busy_canon.py, README "Benchmarks"). libgomp reads its variables once, when
+// they take the core from the thread that has work (docs/cli.md, "Threads"); a wait that only sleeps costs
+// each of the canonization's many short loops a wake-up. The measured middle: spin briefly, then sleep
+// (GOMP_SPINCOUNT=1000; scripts/busy_canon.py, docs/cli.md "Threads"). libgomp reads its variables once, when
 // it loads, before main: so unless the user chose (OMP_WAIT_POLICY or GOMP_SPINCOUNT), the process runs
 // itself again with GOMP_SPINCOUNT set (once: the new process sees the variable). If exec fails, it goes on.
 void bound_the_spin(char** argv) {

@@ -1,5 +1,5 @@
 // One source for each limit of a user option. The library checks its options against it (check_limit, in
-// each validate), the CLI's help shows it and its parser applies it (experiments/command.h: within), and
+// each validate), the CLI's help shows it and its parser applies it (cli/command.h: within), and
 // the Python module checks each keyword against it (python/kwargs.h) — so the help, the CLI's refusal,
 // the Python refusal and the library's own check can never disagree. A limit is named as the user types
 // the option on the command line (without "--"); the Python keyword names it in snake_case.

@@ -346,9 +346,9 @@ std::string mesh_content_key(const Mesh& mesh) {
 }
 
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
-  // v2: the key built from the options' field lists (core/option_fields.h): every field by value, SMACOF's
-  // vertex weights included (v1 counted them only). Entries of v1 are not found: their forms are computed
-  // again, once.
+  // Built from the options' field lists (core/option_fields.h): every field by value, SMACOF's vertex weights
+  // included. The tag's version changes with what the key covers, so entries under an older key are not
+  // found and their forms are computed again, once (the versions: docs/design.md, "Caches").
   return cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(options)});
 }
 

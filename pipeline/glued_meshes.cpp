@@ -11,8 +11,9 @@ namespace cshapes {
 using nlohmann::json;
 
 std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& options) {
-  // v2: the options' own field list (core/option_fields.h) names every field; entries of v1 (hand-written
-  // list) are not found and are glued again, once.
+  // The options' own field list (core/option_fields.h) names every field. The tag's version changes with
+  // what the key covers: entries under an older key are not found and are glued again, once (docs/design.md,
+  // "Caches").
   return cache_key({"glued-mesh-v2", mesh_content_key(mesh), options_key(options)});
 }
 

@@ -67,8 +67,9 @@ json compute_remesh(const Mesh& input, const ResampleOptions& options, const std
   return value;
 }
 
-// v2: the Hausdorff distance measures non-manifold inputs (v1 kept them at their own resolution: TOPKIDS's
-// kid00 "cannot be remeshed"), so v1's entries of such inputs are stale.
+// A remesh's key: the file's content and the options. Non-manifold inputs are remeshed too, their Hausdorff
+// distance measured; the tag's version changes with what an entry holds, so entries under an older key are
+// not found and are remeshed again, once (docs/design.md, "Caches").
 std::string remesh_key(const std::string& path, const ResampleOptions& options) {
   return cache_key({"resampled-mesh-v2", file_content_hash(path), options_key(options)});
 }
