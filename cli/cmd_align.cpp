@@ -4,9 +4,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli/command.h"
+#include "core/format.h"
 #include "core/io.h"
 #include "core/mesh.h"
-#include "cli/command.h"
 #include "matching/icp.h"
 #include "matching/shape_distance.h"
 
@@ -105,8 +106,14 @@ int run() {
   std::printf("  distances after alignment (%% of B's bounding-box diagonal, %.6g):\n", diagonal);
   std::printf("    hausdorff  %-12.6g (%.3f%%)\n    chamfer    %-12.6g (%.3f%%)\n    rmse       %-12.6g (%.3f%%)\n",
               d.hausdorff, share(d.hausdorff), d.chamfer, share(d.chamfer), d.rmse, share(d.rmse));
-  std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3f s\n", r.iterations,
-              r.total_iterations, r.start_transforms.size(), r.stop_reason.c_str(), r.seconds);
+  // Why ICP stopped, in words with the threshold: "relative change" alone says neither what changed nor by how
+  // little.
+  const std::string why = r.stop_reason == "relative change"
+                              ? "stopped when the RMSE changed by less than " + significant(args.tolerance) +
+                                    " of itself"
+                              : "stopped: " + r.stop_reason;
+  std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3g s\n", r.iterations,
+              r.total_iterations, r.start_transforms.size(), why.c_str(), r.seconds);
   return 0;
 }
 
