@@ -153,7 +153,7 @@ struct CoulombCanonOptions {
   // (mean |stretch − 1| 0.035 on the dogs, 0.22 on the cats). Chosen on half of tosca5k's poses by the
   // pose-invariance measure (`experiment pose`): median pose RMS 3.90% of the diagonal against 4.71% with
   // the paper's rule; on 4 glued shapes 30/32 bridges torn against 28/32 and the same glued-vs-clean
-  // distance (README, "Coulomb canonization").
+  // distance (docs/coulomb-defaults.md).
   CoulombStepRule step_rule = CoulombStepRule::MeanEdge;
   double step_factor = 0.1;  // the paper's factor
   StepGradient step_gradient = StepGradient::Mean;
@@ -168,7 +168,7 @@ struct CoulombCanonOptions {
   // tear_fraction is the total share of the edges, split evenly over tear_times tears, tear_interval
   // iterations (or convergence) apart; each tear removes ceil(tear_fraction / tear_times · |E|) edges. Three
   // tears of 1/3 % caught 8/8 glued bridges on cat0 and michael0 where one tear of 1% caught 4/8 and 6/8
-  // (README, coulomb-params): a bridge is stretched most once the edges torn before it have let the shape
+  // (docs/coulomb-defaults.md): a bridge is stretched most once the edges torn before it have let the shape
   // relax.
   double tear_fraction = 0.01;  // p; 0 disables tearing
   int tear_after = 300;         // T (outer iterations); converged runs tear earlier
@@ -195,7 +195,7 @@ struct CoulombCanonOptions {
   // Summation of eq. (1) in the iterations: direct / fast / auto (fast from 3,000 points). The fast
   // summation's accuracy here is 1e-2 (relative L2 error of the gradient; coulomb_energy_gradient's own
   // default is 1e-3): the gradient only sets a direction and, through the step rule, a step, and the
-  // iteration's fixed point absorbs the error. Measured on tosca5k (README, coulomb-params): with 1e-2 the
+  // iteration's fixed point absorbs the error. Measured on tosca5k (docs/coulomb-defaults.md): with 1e-2 the
   // converged forms of cat0, michael0 and victoria0 lie within 0.05% (of the bbox diagonal) of the forms with
   // 1e-3, energies within 0.02%, the same bridges torn (8/8 on cat0 and michael0), the same glued-vs-clean
   // and pose distances; dog0's tearing takes a different branch (0.6% apart, energy 0.18% lower), as it

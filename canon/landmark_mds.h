@@ -67,8 +67,9 @@ const std::vector<std::string>& mds_solver_names();
 struct MdsSolverOptions {
   MdsSolver solver = MdsSolver::Auto;  // auto: full matrix up to auto_full_max_vertices, landmarks beyond
   Index landmarks = 300;               // L, landmarks by farthest-point sampling (clamped to n)
-  // auto: landmarks above this many vertices (the full path then needs ≥ 0.58 GB and minutes: README), or
-  // whenever n² floats would take more than half the memory this process may still use.
+  // auto: landmarks above this many vertices (the full path then needs ≥ 0.58 GB and minutes:
+  // docs/benchmarks.md), or whenever n² floats would take more than half the memory this process may still
+  // use.
   Index auto_full_max_vertices = 12000;
   int interpolation_iterations = 30;  // smacof on landmarks: Guttman steps of each other point
   // smacof on landmarks: edges longer than this × max(input length, mean input length) mark points

@@ -16,7 +16,7 @@
 // because the graph Laplacian is bounded by twice its degree matrix. The L1 sweep is the same step for the
 // reweighted residual (iteratively reweighted least squares) and carries no such guarantee for eq. (5).
 //
-// Known limitation (measured, see README): the averaged projection barely pulls back a uniformly dilated
+// Known limitation (measured: docs/results.md): the averaged projection barely pulls back a uniformly dilated
 // smooth surface — the pulls of opposite neighbours cancel — so after Coulomb steps the violation never
 // returns to 0.
 //
@@ -56,7 +56,7 @@ inline constexpr Limit kDilation = number_limit("dilation", 1);
 struct MetricProjectionOptions {
   ProjectionNorm norm =
       ProjectionNorm::L2;  // L2: the paper's default scheme; L1 for topological noise (§2.2)
-  int steps = 10;          // k: Jacobi sweeps per call of project() (measured, see README)
+  int steps = 10;          // k: Jacobi sweeps per call of project() (measured: docs/coulomb-defaults.md)
   // L1 only: |r_ij − d_ij| is floored at l1_floor · d_ij before inverting. The paper's absolute 1e-16 lets
   // one barely-violated edge take all the weight of its vertex, which made the projection weaker (measured in
   // the prototype); a relative floor makes edges violated by less than it count equally (a Huber-like norm).

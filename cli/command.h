@@ -92,7 +92,7 @@ void add_methods_option(CLI::App& app, std::string& methods);
 // known ones otherwise.
 std::vector<std::string> methods_option(const std::string& text);
 
-// Exit codes of every command (README, "The CLI"): every failure prints one line
+// Exit codes of every command (docs/cli.md): every failure prints one line
 // "cshapes <command>: error: <what>" on stderr.
 enum ExitCode : int {
   kExitOk = 0,

@@ -54,10 +54,10 @@ std::string to_string(SmacofWeights weights);
 
 struct CanonicalFormOptions {
   std::string method = "coulomb";  // a registered method's name: canonical_form_methods()
-  CoulombCanonOptions coulomb;     // method coulomb (its defaults are the measured ones, see README)
+  CoulombCanonOptions coulomb;     // method coulomb (its defaults: docs/coulomb-defaults.md)
   // MDS: the geodesics behind them. Our heat method, the same default in `canon`, `distmat`, every
   // experiment and Python, so that one method gives one form from every command (9× the speed of CGAL's,
-  // about 1% from exact geodesics: README); fmm is the paper's [KS98].
+  // about 1% from exact geodesics: docs/results.md); fmm is the paper's [KS98].
   GeodesicOptions geodesics = [] {
     GeodesicOptions g;
     g.method = GeodesicMethod::Heat;

@@ -3,7 +3,7 @@
 // on the same shapes) with its reason; a geodesic method that fails on a shape falls back to the next one
 // (heat → fast marching, pipeline/canonical_forms.h) and the shape stays. Every driver (`experiment paper`,
 // `noise`, `topkids`, `pose`, `distmat`) carries these records in its result; the CLI ends a run that left a
-// shape out with its own exit code (README, "The CLI"), and `--strict` (CanonicalFormOptions::strict) stops
+// shape out with its own exit code (docs/cli.md), and `--strict` (CanonicalFormOptions::strict) stops
 // at the first failure instead, as before.
 //
 // Never a shape's failure: IoError and FileError raised while computing forms (the run's own files: the
