@@ -221,8 +221,18 @@ int exit_code_for(const std::vector<ShapeFailure>& failures) {
   for (const ShapeFailure& f : failures) warn(describe(f));
   const int left_out = count_left_out(failures);
   if (left_out == 0) return kExitOk;
-  warn(std::to_string(left_out) + (left_out == 1 ? " shape was" : " shapes were") +
-       " left out: a partial result (exit code " + std::to_string(kExitPartial) + ")");
+  // A file the data could not use (stage "read": unreadable, or a folder entry that is no mesh) is counted
+  // as a file, not as a shape: a FIFO in the folder never was one.
+  std::vector<ShapeFailure> unusable_files;
+  for (const ShapeFailure& f : failures)
+    if (f.stage == "read") unusable_files.push_back(f);
+  const int files = count_left_out(unusable_files), shapes = left_out - files;
+  std::string what;
+  if (files > 0) what = std::to_string(files) + (files == 1 ? " file" : " files");
+  if (shapes > 0)
+    what += (what.empty() ? "" : " and ") + std::to_string(shapes) + (shapes == 1 ? " shape" : " shapes");
+  warn(what + (left_out == 1 ? " was" : " were") + " left out: a partial result (exit code " +
+       std::to_string(kExitPartial) + ")");
   return kExitPartial;
 }
 

@@ -149,6 +149,8 @@ TEST(TrustCli, FolderEntriesThatAreNoShapeAreLeftOutAndTheRunGoesOn) {
   EXPECT_NE(r.err.find("FIFO"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("odd.ply left out"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("second file of shape 'odd'"), std::string::npos) << r.err;
+  // Two folder entries, counted as the files they are (not as shapes).
+  EXPECT_NE(r.err.find("2 files were left out: a partial result"), std::string::npos) << r.err;
   const std::string matrix = read_file(dir + "/d.csv");
   const std::string header = matrix.substr(0, matrix.find('\n'));
   EXPECT_NE(header.find("odd"), std::string::npos) << header;  // odd.off is the shape
