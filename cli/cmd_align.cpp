@@ -103,8 +103,9 @@ int run() {
   std::printf("  transform (x -> R x + t)%s\n", r.transform.is_reflection() ? ", a reflection" : "");
   for (int i = 0; i < 4; ++i)
     std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
-  std::printf("  distances after alignment (%% of B's bounding-box diagonal, %.6g):\n", diagonal);
-  std::printf("    hausdorff  %-12.6g (%.3f%%)\n    chamfer    %-12.6g (%.3f%%)\n    rmse       %-12.6g (%.3f%%)\n",
+  // Three significant figures for people; --json has every digit.
+  std::printf("  distances after alignment, in A's units (%% of B's bounding-box diagonal, %.4g):\n", diagonal);
+  std::printf("    hausdorff  %-10.3g (%.3g%%)\n    chamfer    %-10.3g (%.3g%%)\n    rmse       %-10.3g (%.3g%%)\n",
               d.hausdorff, share(d.hausdorff), d.chamfer, share(d.chamfer), d.rmse, share(d.rmse));
   // Why ICP stopped, in words with the threshold: "relative change" alone says neither what changed nor by how
   // little.
