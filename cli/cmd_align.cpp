@@ -104,9 +104,12 @@ int run() {
   for (int i = 0; i < 4; ++i)
     std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
   // Three significant figures for people; --json has every digit.
-  std::printf("  distances after alignment, in A's units (%% of B's bounding-box diagonal, %.4g):\n", diagonal);
-  std::printf("    hausdorff  %-10.3g (%.3g%%)\n    chamfer    %-10.3g (%.3g%%)\n    rmse       %-10.3g (%.3g%%)\n",
-              d.hausdorff, share(d.hausdorff), d.chamfer, share(d.chamfer), d.rmse, share(d.rmse));
+  std::printf("  distances after alignment, in A's units (%% of B's bounding-box diagonal, %.4g):\n",
+              diagonal);
+  for (const auto& [label, value] : {std::pair<const char*, double>{"hausdorff", d.hausdorff},
+                                     {"chamfer", d.chamfer},
+                                     {"rmse", d.rmse}})
+    std::printf("    %-10s %-10.3g (%.3g%%)\n", label, value, share(value));
   // Why ICP stopped, in words with the threshold: "relative change" alone says neither what changed nor by how
   // little.
   const std::string why = r.stop_reason == "relative change"

@@ -70,8 +70,7 @@ int run() {
 
 const bool registered = register_command(
     {{"canon"},
-     "Compute a canonical form (Coulomb, classical MDS, SMACOF, LBO eigenmap, diffusion map or spectral MDS), written with the input's faces "
-     "and vertex order",
+     "Compute a canonical form (" + method_titles(" or ") + "), written with the input's faces and vertex order",
      [](CLI::App& app) {
        app.add_option("MESH", args.input, "input mesh")->required();
        app.add_option("-o,--output", args.output, "output mesh (.ply keeps per-vertex flags such as 'torn')")

@@ -73,9 +73,7 @@ const bool registered = register_command(
            "--labels", args.labels,
            "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat); a "
            "name given two classes is refused");
-       app.add_option("--out", args.output, "output folder, created when missing")->required();
-       add_renamed(app, "-o", "--out", true, "an output folder is --out in every command, -o a file");
-       add_renamed(app, "--output", "--out", true, "an output folder is --out in every command, -o a file");
+       add_out_folder_option(app, args.output, "output folder, created when missing")->required();
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")
            ->check(integer_at_least(1));

@@ -111,9 +111,7 @@ const bool registered_articulated = register_command(
                    generate_limits::kVertices);
        add_limited(app, "--amplitude", articulated.amplitude, "fraction of the joint ranges used (0..1)",
                    generate_limits::kAmplitude);
-       add_renamed(app, "-o", "--out", true, "an output folder is --out in every command, -o a file");
-       add_renamed(app, "--output", "--out", true, "an output folder is --out in every command, -o a file");
-       app.add_option("--out", articulated_output, "output folder")->capture_default_str();
+       add_out_folder_option(app, articulated_output, "output folder")->capture_default_str();
        app.add_flag("--json", articulated_json, "print the summary as JSON");
      },
      run_articulated});
@@ -124,9 +122,7 @@ const bool registered_hand = register_command(
      [](CLI::App& app) {
        app.add_option("--seed", hand_seed, "random seed of the gluing")->capture_default_str();
        add_limited(app, "--glue", hand_glues, "number of glues", generate_limits::kGlue);
-       add_renamed(app, "-o", "--out", true, "an output folder is --out in every command, -o a file");
-       add_renamed(app, "--output", "--out", true, "an output folder is --out in every command, -o a file");
-       app.add_option("--out", hand_output, "output folder")->capture_default_str();
+       add_out_folder_option(app, hand_output, "output folder")->capture_default_str();
      },
      run_hand});
 
@@ -134,9 +130,7 @@ const bool registered_dataset = register_command(
     {{"generate", "dataset"},
      "A synthetic retrieval dataset (articulated classes, clean and noisy poses) with manifest.csv",
      [](CLI::App& app) {
-       add_renamed(app, "-o", "--out", true, "an output folder is --out in every command, -o a file");
-       add_renamed(app, "--output", "--out", true, "an output folder is --out in every command, -o a file");
-       app.add_option("--out", dataset_output, "output folder")->required();
+       add_out_folder_option(app, dataset_output, "output folder")->required();
        add_limited(app, "--classes", dataset.classes, "number of classes (1..4)", generate_limits::kClasses);
        add_limited(app, "--poses", dataset.poses, "clean poses per class", generate_limits::kPoses);
        add_limited(app, "--noisy", dataset.noisy, "noisy (glued) poses per class", generate_limits::kNoisy);

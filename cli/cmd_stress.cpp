@@ -141,8 +141,10 @@ const bool registered = register_command(
        app.add_flag("--no-canon", args.no_canon, "skip the canonical forms");
        app.add_flag("--no-icp", args.no_icp, "skip ICP");
        app.add_option("--save-failures", args.save_failures, "write each failing mesh here as CASE.off");
-       app.add_option("-o,--output", args.out, "write the JSON lines to this file (.jsonl) instead of stdout");
-       add_renamed(app, "--out", "-o/--output", true, "an output file is -o in every command, --out a folder");
+       app.add_option("-o,--output", args.out,
+                      "write the JSON lines to this file (.jsonl) instead of stdout");
+       add_renamed(app, "--out", "-o/--output", true,
+                   "an output file is -o in every command, --out a folder");
        app.add_option("--mesh-out", args.mesh_out, "only write the mesh of case --first to this file");
      },
      run});

@@ -81,6 +81,11 @@ void add_resample_option(CLI::App& app, Index& vertices);
 // `--no-draw`; add_renamed keeps an old spelling only to refuse it (exit 2) with a hint naming the new one;
 // `takes_value`: whether the old spelling took a value.
 void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures);
+// `--out DIR` for a command whose output is a folder, with its old spellings `-o` and `--output` refused.
+CLI::Option* add_out_folder_option(CLI::App& app, std::string& folder, const std::string& help);
+// The titles of the registered methods, "Coulomb, classical MDS, …" (`separator` between them, " or " before
+// the last when `last` is given): help texts name every method from the registry, never a copy of it.
+std::string method_titles(const std::string& last = ", ");
 void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
                  const std::string& why = "");
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.

@@ -379,6 +379,20 @@ void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) 
   add_renamed(app, "--no-figure", "--no-draw", false);
 }
 
+CLI::Option* add_out_folder_option(CLI::App& app, std::string& folder, const std::string& help) {
+  for (const char* old : {"-o", "--output"})
+    add_renamed(app, old, "--out", true, "an output folder is --out in every command, -o a file");
+  return app.add_option("--out", folder, help);
+}
+
+std::string method_titles(const std::string& last) {
+  const std::vector<CanonicalFormMethod>& methods = canonical_form_method_registry();
+  std::string text;
+  for (size_t k = 0; k < methods.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == methods.size() ? last : ", ") + methods[k].title;
+  return text;
+}
+
 void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
                  const std::string& why) {
   const std::string message = old_name + " is now " + new_name +
@@ -586,10 +600,8 @@ int report(const std::string& what, int code) {
 int main(int argc, char** argv) {
   using namespace cshapes::cli;
   bound_the_spin(argv);
-  CLI::App app{
-      "cshapes " CSHAPES_VERSION
-      ": deformation-invariant canonical forms (Coulomb shapes, classical MDS, SMACOF, LBO eigenmap, diffusion map, spectral MDS), ICP matching "
-      "and shape-retrieval evaluation"};
+  CLI::App app{std::string("cshapes ") + CSHAPES_VERSION + ": deformation-invariant canonical forms (" +
+               method_titles() + "), ICP matching and shape-retrieval evaluation"};
   app.require_subcommand(1);
   app.fallthrough();
   app.set_version_flag("--version", [] {

@@ -35,12 +35,17 @@ def method_style(styles, m):
     return styles.get(m, (m, None))
 
 
+def save_to(fig, path, **savefig_options):
+    """Writes the figure to PATH (its format by extension) through a temporary file beside it, so a killed run
+    leaves no partial picture."""
+    tmp = path + ".tmp" + os.path.splitext(path)[1]
+    fig.savefig(tmp, dpi=150, **savefig_options)
+    os.replace(tmp, path)
+
+
 def save(fig, out, name, pdf):
     """Writes OUT/NAME.png (and .pdf) through a temporary file, so a killed run leaves no partial figure."""
     for ext in ["png"] + (["pdf"] if pdf else []):
-        path = os.path.join(out, f"{name}.{ext}")
-        tmp = path + ".tmp." + ext
-        fig.savefig(tmp, dpi=150, bbox_inches="tight")
-        os.replace(tmp, path)
+        save_to(fig, os.path.join(out, f"{name}.{ext}"), bbox_inches="tight")
     plt.close(fig)
     print(f"wrote {name}.png", file=sys.stderr)

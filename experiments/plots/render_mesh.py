@@ -25,6 +25,7 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figure_style import save_to  # noqa: E402
 from meshio import read_mesh  # noqa: E402
 
 
@@ -150,9 +151,7 @@ def main():
     for k in range(n, rows * cols):
         axes[k // cols][k % cols].axis("off")
     fig.tight_layout()
-    tmp = args.output + ".tmp" + os.path.splitext(args.output)[1]
-    fig.savefig(tmp, dpi=150)
-    os.replace(tmp, args.output)
+    save_to(fig, args.output)
 
 
 if __name__ == "__main__":

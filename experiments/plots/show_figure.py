@@ -22,6 +22,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
+from figure_style import save_to  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
 
 
@@ -87,9 +88,7 @@ def main():
     if args.title:
         fig.suptitle(args.title)
     fig.tight_layout()
-    tmp = args.output + ".tmp" + os.path.splitext(args.output)[1]
-    fig.savefig(tmp, dpi=150)
-    os.replace(tmp, args.output)
+    save_to(fig, args.output)
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import method_style, method_styles  # noqa: E402
+from figure_style import method_style, method_styles, save_to  # noqa: E402
 
 
 def draw_pose_strip(ax, rows, summary, styles):
@@ -126,10 +126,7 @@ def main():
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     for ext in ["png"] + (["pdf"] if args.pdf else []):
-        target = os.path.join(args.out, f"topkids.{ext}")
-        tmp = target + ".tmp." + ext
-        fig.savefig(tmp, dpi=150)
-        os.replace(tmp, target)
+        save_to(fig, os.path.join(args.out, f"topkids.{ext}"))
     plt.close(fig)
     print("wrote topkids.png", file=sys.stderr)
 
