@@ -38,12 +38,11 @@ timed() {  # NAME COMMAND...: runs the command, its log in OUT/NAME.log, its wal
   "$@" > "$out/$name.log" 2>&1 || { local rc=$?; echo "$name failed (exit $rc), see $out/$name.log" >&2; return $rc; }
   echo $((SECONDS - start)) > "$out/$name.seconds"
 }
-copy() { [[ -f "$1" ]] && cp "$1" "$images/$2"; }
+copy() { if [[ -f "$1" ]]; then cp "$1" "$images/$2"; else echo "results_runs.sh: $1 was not drawn" >&2; fi; }
 
 if wanted paper; then
   timed paper "$here/experiments/run_paper.sh" --data "$data/tosca5k" --out "$out/paper"
-  for f in fig2_hand fig3_iterations fig4_tearing fig5_distortion fig6_noisy_shapes fig7_distance_matrices \
-           fig8_pr_curves fig9_correspondence; do copy "$out/paper/$f.png" "paper_$f.png"; done
+  for f in "$out"/paper/fig*.png; do copy "$f" "paper_$(basename "$f")"; done
 fi
 if wanted noise; then
   timed noise "$cshapes" experiment noise --data "$data/tosca5k" --out "$out/noise" --levels 0,1,2,3,4
@@ -68,6 +67,6 @@ if wanted pose-generated; then
 fi
 if wanted retrieval; then
   timed retrieval "$cshapes" experiment retrieval --data "$data/tosca5k" --out "$out/retrieval"
-  for f in "$out"/retrieval/*.png; do [[ -f "$f" ]] && copy "$f" "retrieval_$(basename "$f")"; done
+  for f in "$out"/retrieval/*.png; do copy "$f" "retrieval_$(basename "$f")"; done
 fi
 echo "results in $out; figures copied to docs/images/results/"
