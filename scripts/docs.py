@@ -7,14 +7,22 @@
   scripts/docs.py check-commands CSHAPES FILE...    every `cshapes COMMAND --option` the FILEs show exists
   scripts/docs.py run-shell FILE.md WORKDIR CSHAPES run a page's ```sh blocks in WORKDIR, in order
   scripts/docs.py run-python FILE.md WORKDIR        run a page's ```python blocks in WORKDIR, as one program
+  scripts/docs.py site CSHAPES                      the site, in build/site: the tutorials run in build/docs-work,
+                                                    the pictures they show copied into a copy of docs/ (build/
+                                                    docs-src), then mkdocs build --strict (PYTHONPATH as above)
 
-The generated pages are committed (docs/reference/), so the site builds without a build of cshapes; the tests
-regenerate them and fail, naming the command that refreshes them, when they differ: the reference cannot
-drift from the code. Standard library only.
+A ```sh or ```python block may be followed by an ```output block showing what it prints, trimmed: run-shell and
+run-python fail when a block's output differs (see OUTPUT below for how lines match).
+
+The generated reference pages are committed (docs/reference/); the tests regenerate them and fail, naming the
+command that refreshes them, when they differ: the reference cannot drift from the code. The tutorials' pictures
+are not committed: the site build makes them with the tutorials' own commands, so it needs a build of cshapes.
+Standard library only.
 """
 import inspect
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -175,24 +183,134 @@ def check_commands(cshapes, files):
     return 0
 
 
-def blocks(markdown, language):
-    """The fenced blocks of one language, in order."""
-    out, current = [], None
-    for line in markdown.splitlines():
+def fences(markdown):
+    """Every fenced block of a page, in order, as (info string, text, line number of its opening fence)."""
+    out, info, current, start = [], None, None, 0
+    for number, line in enumerate(markdown.splitlines(), 1):
         stripped = line.strip()
-        if current is None and stripped.startswith("```") and stripped[3:].strip() == language:
-            current = []
-        elif current is not None and stripped.startswith("```"):
-            out.append("\n".join(current))
+        if current is None and stripped.startswith("```"):
+            info, current, start = stripped[3:].strip(), [], number
+        elif current is not None and stripped == "```":
+            out.append((info, "\n".join(current), start))
             current = None
         elif current is not None:
             current.append(line)
     return out
 
 
+def blocks(markdown, language):
+    """The fenced blocks of one language, in order."""
+    return [text for info, text, _ in fences(markdown) if info == language]
+
+
+def steps(markdown, language):
+    """The blocks of one language, each with the ```output block that shows what it prints (None if it has none),
+    as (code, expected, line number). An output block belongs to the nearest code block above it; prose between
+    them is allowed."""
+    out = []
+    for info, text, line in fences(markdown):
+        if info == language:
+            out.append([text, None, line])
+        elif info == OUTPUT:
+            if not out or out[-1][1] is not None:
+                raise ValueError(f"line {line}: an ```{OUTPUT} block with no ```{language} block of its own above it")
+            out[-1][1] = text
+    return [tuple(step) for step in out]
+
+
+# Expected output, under a code block:
+#   ```output
+#   a line the block prints, whitespace-normalised   (blank lines are ignored on both sides)
+#   a line with … in it                              (… stands for any text: seconds, paths)
+#   ...                                              (a line of its own: any number of lines, none included)
+#   ```
+# Lines must follow one another as shown, from the output's first line; the output may go on after the last
+# expected line only when the block ends with `...`.
+OUTPUT = "output"
+SKIP_LINES = {"...", "…"}
+ANY_TEXT = "…"
+
+
+def normalise(line):
+    return " ".join(line.split())
+
+
+def line_matches(expected, actual):
+    """Whether one normalised actual line is what one expected line shows, `…` standing for any text."""
+    pattern = ".*".join(re.escape(part) for part in expected.split(ANY_TEXT))
+    return re.fullmatch(pattern, actual) is not None
+
+
+def segments(expected_text):
+    """The expected lines as runs that must follow one another: [(may start later, [lines])], and whether the
+    output may go on after the last run."""
+    runs, skip = [], False
+    for line in filter(None, map(normalise, expected_text.splitlines())):
+        if line in SKIP_LINES:
+            skip = True
+        elif skip or not runs:
+            runs.append((skip, [line]))
+            skip = False
+        else:
+            runs[-1][1].append(line)
+    return runs, skip
+
+
+def matching_lines(run, actual, start):
+    """How many lines of a run of expected lines match the actual lines from `start` on, one after another."""
+    n = 0
+    while n < len(run) and start + n < len(actual) and line_matches(run[n], actual[start + n]):
+        n += 1
+    return n
+
+
+def output_mismatch(expected_text, actual_text):
+    """None when the output is what the expected block shows, else a sentence saying which expected line is not
+    where it should be."""
+    actual = list(filter(None, map(normalise, actual_text.splitlines())))
+    runs, open_end = segments(expected_text)
+    if not runs:
+        return None if open_end or not actual else f"expected no output, got {len(actual)} line(s)"
+    pos = 0
+    for k, (may_start_later, run) in enumerate(runs):
+        starts = range(pos, len(actual) + 1) if may_start_later else [pos]
+        found = [s for s in starts if matching_lines(run, actual, s) == len(run)]
+        if k == len(runs) - 1 and not open_end:
+            at_end = [s for s in found if s + len(run) == len(actual)]
+            if found and not at_end:
+                return (f"the output goes on after the expected line {run[-1]!r} (end the expected block with "
+                        f"`...` if that is meant)")
+            found = at_end
+        if not found:
+            best = max(starts, key=lambda s: matching_lines(run, actual, s))
+            n = matching_lines(run, actual, best)
+            if may_start_later and n == 0:
+                return f"expected the line {run[0]!r}, not found after the expected lines above it"
+            there = repr(actual[best + n]) if best + n < len(actual) else "the end of the output"
+            return f"expected the line {run[n]!r}, found {there}"
+        pos = found[0] + len(run)
+    return None
+
+
+def check_output(page, k, line, expected, actual):
+    """0 when block k's output (opened on `line` of the page) is what its ```output block shows, else 1, with
+    the difference and the whole output on stderr."""
+    if expected is None:
+        return 0
+    problem = output_mismatch(expected, actual)
+    if problem is None:
+        return 0
+    print(f"{page}:{line}: block {k}'s output is not what the page shows under it: {problem}\n"
+          f"--- the block printed:\n{actual.rstrip()}\n---", file=sys.stderr)
+    return 1
+
+
 def run_shell(page, workdir, cshapes):
+    """Run a page's ```sh blocks in WORKDIR, in order, with `cshapes` on the PATH, each in `bash -euo pipefail`;
+    each block's output (stdout and stderr together, as a terminal shows them) must be what the ```output block
+    under it shows."""
     with open(page) as f:
-        code = blocks(f.read(), "sh")
+        code = steps(f.read(), "sh")
     os.makedirs(workdir, exist_ok=True)
     env = dict(os.environ)
     bindir = os.path.join(workdir, "bin")
@@ -202,24 +320,111 @@ def run_shell(page, workdir, cshapes):
         os.remove(link)
     os.symlink(os.path.abspath(cshapes), link)
     env["PATH"] = bindir + os.pathsep + env["PATH"]
-    for k, block in enumerate(code, 1):
+    failed = 0
+    for k, (block, expected, line) in enumerate(code, 1):
         print(f"== {page}: block {k} of {len(code)}", file=sys.stderr)
-        r = subprocess.run(["bash", "-euo", "pipefail", "-c", block], cwd=workdir, env=env)
+        r = subprocess.run(["bash", "-euo", "pipefail", "-c", block], cwd=workdir, env=env,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        print(r.stdout, end="", flush=True)
         if r.returncode != 0:
-            print(f"{page}: block {k} failed (exit {r.returncode}):\n{block}", file=sys.stderr)
+            print(f"{page}:{line}: block {k} failed (exit {r.returncode}):\n{block}", file=sys.stderr)
             return 1
-    return 0 if code else 1
+        failed += check_output(page, k, line, expected, r.stdout)
+    return 1 if failed or not code else 0
+
+
+BLOCK_MARK = "\x1e== docs.py: the next block's output ==\x1e"
+
+# Runs the blocks in one namespace, as one program, with a line on stdout where each block's output begins.
+PYTHON_DRIVER = """
+namespace = {"__name__": "__main__"}
+for name, code in BLOCKS:
+    print(MARK, flush=True)
+    exec(compile(code, name, "exec"), namespace)
+"""
 
 
 def run_python(page, workdir):
+    """Run a page's ```python blocks in WORKDIR as one program; each block's output (stdout and stderr together)
+    must be what the ```output block under it shows."""
     with open(page) as f:
-        code = blocks(f.read(), "python")
+        code = steps(f.read(), "python")
     os.makedirs(workdir, exist_ok=True)
-    program = "\n\n".join(code)
-    r = subprocess.run([sys.executable, "-c", program], cwd=workdir)
+    env = dict(os.environ)  # PYTHONPATH absolute, so the module is found from WORKDIR too
+    env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)
+    named = [(f"{page}, block {k} (line {line})", block) for k, (block, _, line) in enumerate(code, 1)]
+    program = f"BLOCKS = {named!r}\nMARK = {BLOCK_MARK!r}\n{PYTHON_DRIVER}"
+    r = subprocess.run([sys.executable, "-u", "-c", program], cwd=workdir, env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    before, *outputs = r.stdout.split(BLOCK_MARK + "\n")
+    print(before, end="")
+    for k, out in enumerate(outputs, 1):
+        print(f"== {page}: block {k} of {len(code)}\n{out}", end="", flush=True)
     if r.returncode != 0:
         print(f"{page}: its Python blocks failed (exit {r.returncode})", file=sys.stderr)
-    return r.returncode if code else 1
+        return r.returncode
+    failed = sum(check_output(page, k, line, expected, out)
+                 for (_, expected, line), k, out in zip(code, range(1, len(code) + 1), outputs))
+    return 1 if failed or not code else 0
+
+
+# The tutorials, each with the language of the blocks it runs. A tutorial's pictures are made by its own
+# commands: the page shows images/<page>/PATH, PATH being where its commands wrote the picture in their work folder.
+TUTORIALS = {"tutorial-cli.md": "sh", "tutorial-python.md": "python"}
+
+
+def pictures(markdown, page):
+    """The pictures a tutorial page shows from its own commands: its images/<page name>/... references."""
+    folder = "images/" + os.path.splitext(page)[0] + "/"
+    return [ref for ref in re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", markdown) if ref.startswith(folder)]
+
+
+def site_config(root, docs_dir, site_dir):
+    """mkdocs.yml with docs_dir and site_dir replaced, as text (mkdocs.yml sets both, each on a line of its own)."""
+    with open(os.path.join(root, "mkdocs.yml")) as f:
+        text = f.read()
+    for key, value in (("docs_dir", docs_dir), ("site_dir", site_dir)):
+        text, n = re.subn(rf"^{key}:.*$", f"{key}: {value}", text, flags=re.MULTILINE)
+        if n != 1:
+            raise ValueError(f"mkdocs.yml: expected one {key}: line")
+    return text
+
+
+def without_tutorial_pictures(folder, names):
+    """For copytree: leave out images/tutorial-*/ (pictures a tutorial made earlier; the build makes them anew)."""
+    return [n for n in names if os.path.basename(folder) == "images" and n.startswith("tutorial-")]
+
+
+def site(cshapes):
+    """The documentation site: docs/ copied to build/docs-src, each tutorial run in build/docs-work/<page>/ (its
+    expected outputs checked), the pictures it shows copied from there into the copy, then `mkdocs build --strict`
+    from the copy into build/site. The tutorials' pictures are never committed, so they cannot drift."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    build = os.path.join(root, "build")
+    staging, work = os.path.join(build, "docs-src"), os.path.join(build, "docs-work")
+    for folder in (staging, work):
+        shutil.rmtree(folder, ignore_errors=True)
+    shutil.copytree(os.path.join(root, "docs"), staging, ignore=without_tutorial_pictures)
+    for page, language in TUTORIALS.items():
+        path, workdir = os.path.join(root, "docs", page), os.path.join(work, os.path.splitext(page)[0])
+        status = run_shell(path, workdir, cshapes) if language == "sh" else run_python(path, workdir)
+        if status != 0:
+            print(f"site: docs/{page} did not run as written", file=sys.stderr)
+            return 1
+        with open(path) as f:
+            refs = pictures(f.read(), page)
+        for ref in refs:
+            made = os.path.join(workdir, ref.split("/", 2)[2])
+            if not os.path.isfile(made):
+                print(f"site: docs/{page} shows {ref}, but its commands did not write {os.path.relpath(made, root)}",
+                      file=sys.stderr)
+                return 1
+            os.makedirs(os.path.dirname(os.path.join(staging, ref)), exist_ok=True)
+            shutil.copyfile(made, os.path.join(staging, ref))
+        print(f"site: docs/{page} ran; {len(refs)} picture(s) from {os.path.relpath(workdir, root)}", file=sys.stderr)
+    config = os.path.join(build, "mkdocs-site.yml")
+    write_atomically(config, site_config(root, staging, os.path.join(build, "site")))
+    return subprocess.run(["mkdocs", "build", "--strict", "-q", "-f", config]).returncode
 
 
 def main(argv):
@@ -239,6 +444,8 @@ def main(argv):
         return run_shell(*args)
     if what == "run-python" and len(args) == 2:
         return run_python(*args)
+    if what == "site" and len(args) == 1:
+        return site(*args)
     print(__doc__, file=sys.stderr)
     return 2
 

@@ -2,7 +2,8 @@
 # The documentation against the program (scripts/docs.py), one CTest test per mode:
 #   tests/check_docs.sh reference BUILD   docs/reference/cli.md is what the commands' --help say now
 #   tests/check_docs.sh commands BUILD    every `cshapes COMMAND --option` in README.md and docs/ exists
-#   tests/check_docs.sh tutorial BUILD    docs/tutorial-cli.md runs from top to bottom in an empty folder
+#   tests/check_docs.sh tutorial BUILD    docs/tutorial-cli.md runs from top to bottom in an empty folder, each
+#                                         step printing what the page shows under it
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 mode=$1

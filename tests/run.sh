@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds into build/, runs every test with CTest,
 # then the Python module's tests (pytest, tests/python) with the interpreter it was built for, the documentation
-# site (mkdocs build --strict), then each mesh
+# site (scripts/docs.py site: the tutorials run and draw their pictures, then mkdocs build --strict), then each mesh
 # reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with one
 # summary line "tests: N passed, N failed" (CTest tests, Python tests and fuzzers together).
 #   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 20, at most 30; 0 skips fuzzing)
@@ -42,14 +42,17 @@ else
   py_failed=1
 fi
 
-# The documentation site (mkdocs.yml, docs/): a page missing from the navigation, a broken link or image fails.
+# The documentation site (mkdocs.yml, docs/), built by scripts/docs.py site: the tutorials run (their outputs
+# checked) and draw the pictures they show, which are not committed; then mkdocs build --strict from a copy of
+# docs/ with those pictures (build/docs-src): a page missing from the navigation, a broken link or image fails.
 docs_passed=0
 docs_failed=0
-if mkdocs build --strict -q -f "$root/mkdocs.yml" 2>&1 | tee "$log"; then
-  echo "docs: mkdocs build --strict passed (build/site)"
+if PYTHONPATH="$root/build/python${PYTHONPATH:+:$PYTHONPATH}" "${interpreter:-/usr/bin/python3}" \
+     scripts/docs.py site build/cshapes 2>&1 | tee "$log"; then
+  echo "docs: the site built, tutorials included (build/site)"
   docs_passed=1
 else
-  echo "docs: mkdocs build --strict FAILED"
+  echo "docs: the site build FAILED (scripts/docs.py site)"
   docs_failed=1
 fi
 

@@ -1,5 +1,6 @@
 """The Python side of the documentation (scripts/docs.py): the API reference page is what the module's
-docstrings say now, and the Python tutorial runs from top to bottom."""
+docstrings say now, and the Python tutorial runs from top to bottom, each block printing what the page shows
+under it."""
 import os
 import subprocess
 import sys
