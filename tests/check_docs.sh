@@ -4,6 +4,8 @@
 #   tests/check_docs.sh commands BUILD    every `cshapes COMMAND --option` in README.md and docs/ exists
 #   tests/check_docs.sh tutorial BUILD    docs/tutorial-cli.md runs from top to bottom in an empty folder, each
 #                                         step printing what the page shows under it
+#   tests/check_docs.sh history BUILD     the Results section of the site holds under 5% dated or history text
+#   tests/check_docs.sh readme-table BUILD  README.md's "Results at a glance" table is the results page's
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 mode=$1
@@ -23,7 +25,11 @@ case "$mode" in
     "$python" "$root/scripts/docs.py" check-commands "$build/cshapes" "$root/README.md" "$root"/docs/*.md ;;
   tutorial)
     "$python" "$root/scripts/docs.py" run-shell "$root/docs/tutorial-cli.md" "$scratch/tutorial" "$build/cshapes" ;;
+  history)
+    "$python" "$root/scripts/check_pages.py" results ;;
+  readme-table)
+    "$python" "$root/scripts/check_pages.py" readme-table "$root/README.md" "$root/docs/results.md" ;;
   *)
-    echo "usage: tests/check_docs.sh reference|commands|tutorial BUILD" >&2
+    echo "usage: tests/check_docs.sh reference|commands|tutorial|history|readme-table BUILD" >&2
     exit 2 ;;
 esac
