@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "core/format.h"
 #include "experiments/bench_coulomb.h"
 
 namespace cshapes::cli {
@@ -25,11 +26,13 @@ int run() {
     return 0;
   }
   std::printf("n %ld (%s), %d threads\n", static_cast<long>(r.n), r.distribution.c_str(), r.threads);
-  std::printf("  direct  %.4g s%s\n", r.direct_seconds,
+  std::printf("  direct  %s%s\n", seconds_text(r.direct_seconds).c_str(),
               r.direct_extrapolated ? " (extrapolated from the sample)" : "");
-  if (r.direct_float_measured) std::printf("  direct (float)  %.4g s\n", r.direct_float_seconds);
-  std::printf("  fast    %.4g s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n", r.fast_seconds,
-              r.stats.order, r.stats.opening_angle, r.stats.leaf_size, r.speedup());
+  if (r.direct_float_measured)
+    std::printf("  direct (float)  %s\n", seconds_text(r.direct_float_seconds).c_str());
+  std::printf("  fast    %s  (order %d, theta %.3g, leaf %d)  speed-up %.3g\n",
+              seconds_text(r.fast_seconds).c_str(), r.stats.order, r.stats.opening_angle, r.stats.leaf_size,
+              r.speedup());
   std::printf("  relative L2 error: gradient %.3g, energy %.3g (over %ld targets)\n", r.gradient_rel_error,
               r.energy_rel_error, static_cast<long>(r.error_targets));
   return 0;

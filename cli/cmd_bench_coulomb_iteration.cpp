@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "core/format.h"
 #include "experiments/bench_coulomb_iteration.h"
 
 namespace cshapes::cli {
@@ -18,10 +19,10 @@ int run() {
   if (json)
     std::cout << to_json(r).dump(2) << std::endl;
   else
-    std::printf(
-        "%s: %ld vertices, %.4g s per iteration (paper %.3g s): %.1fx; fast sum at 1e-3: %.4g s, %.1fx\n",
-        r.source.c_str(), static_cast<long>(r.vertices), r.seconds, r.paper_seconds, r.speedup_vs_paper(),
-        r.seconds_accuracy_1e3, r.speedup_vs_paper_accuracy_1e3());
+    std::printf("%s: %ld vertices, %s per iteration (paper %s): %.3gx; fast sum at 1e-3: %s, %.3gx\n",
+                r.source.c_str(), static_cast<long>(r.vertices), seconds_text(r.seconds).c_str(),
+                seconds_text(r.paper_seconds).c_str(), r.speedup_vs_paper(),
+                seconds_text(r.seconds_accuracy_1e3).c_str(), r.speedup_vs_paper_accuracy_1e3());
   return 0;
 }
 

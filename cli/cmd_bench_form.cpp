@@ -6,6 +6,7 @@
 
 #include "canon/landmark_mds.h"
 #include "cli/command.h"
+#include "core/format.h"
 #include "experiments/bench_form.h"
 #include "pipeline/canonical_form_methods.h"
 
@@ -23,12 +24,14 @@ int run() {
     std::cout << to_json(r).dump(2) << std::endl;
     return 0;
   }
-  std::printf("%s: %ld vertices, %s form %.4g s (precompute %.4g s), peak RSS %.0f MB (%.0f before); %s\n",
-              r.source.c_str(), static_cast<long>(r.vertices), r.options.method.c_str(), r.seconds,
-              r.precompute_seconds, r.peak_rss_mb, r.rss_before_mb, r.quality.c_str());
+  std::printf("%s: %ld vertices, %s form %s (precompute %s), peak RSS %.0f MB (%.0f before); %s\n",
+              r.source.c_str(), static_cast<long>(r.vertices), r.options.method.c_str(),
+              seconds_text(r.seconds).c_str(), seconds_text(r.precompute_seconds).c_str(), r.peak_rss_mb,
+              r.rss_before_mb, r.quality.c_str());
   if (r.reference_ran)
-    std::printf("reference, full classical MDS: %.4g s (%.3gx), peak RSS %.0f MB\n", r.reference_seconds,
-                r.reference_seconds / r.seconds, r.reference_peak_rss_mb);
+    std::printf("reference, full classical MDS: %s (%.3gx), peak RSS %.0f MB\n",
+                seconds_text(r.reference_seconds).c_str(), r.reference_seconds / r.seconds,
+                r.reference_peak_rss_mb);
   else
     std::printf("reference skipped: %s\n", r.reference_skipped.c_str());
   return 0;

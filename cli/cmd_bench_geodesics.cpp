@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "core/format.h"
 #include "experiments/bench_geodesics.h"
 
 namespace cshapes::cli {
@@ -20,10 +21,13 @@ int run() {
   if (json)
     std::cout << to_json(r).dump(2) << std::endl;
   else
-    std::cout << "ours " << r.ours.seconds << " s, anchor " << r.anchor.seconds << " s"
-              << (r.anchor_extrapolated ? " (extrapolated)" : "") << ", speedup " << r.speedup_vs_anchor()
-              << "; mean relative error ours " << r.ours.mean_relative_error << ", anchor "
-              << r.anchor.mean_relative_error << ", fmm " << r.fmm.mean_relative_error << std::endl;
+    // Three significant figures, the errors in % of the exact distances; --json has every digit.
+    std::cout << "ours " << seconds_text(r.ours.seconds) << ", anchor " << seconds_text(r.anchor.seconds)
+              << (r.anchor_extrapolated ? " (extrapolated)" : "") << ", speedup "
+              << significant(r.speedup_vs_anchor()) << "; mean relative error vs exact: ours "
+              << significant(100 * r.ours.mean_relative_error) << "%, anchor "
+              << significant(100 * r.anchor.mean_relative_error) << "%, fmm "
+              << significant(100 * r.fmm.mean_relative_error) << "%" << std::endl;
   return 0;
 }
 

@@ -1,6 +1,7 @@
 // cshapes bench icp [--n 5000] [--a A --b B] [--json]: ICP of two ~5,000-point shapes with every starting
 // pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the same
 // points (experiments/bench_icp.h).
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -23,15 +24,23 @@ int run() {
   }
   std::printf("ICP %s: %ld vs %ld points, %zu starts\n", r.shapes.c_str(), static_cast<long>(r.source_points),
               static_cast<long>(r.target_points), r.starts);
-  std::printf("  total (build + align, one thread): CPU %.2f ms, wall %.2f ms (goal 20; load average %.1f)\n",
-              r.total_cpu_ms, r.total_wall_ms, r.load_average);
-  std::printf("  without refinement on all points: CPU %.2f ms, wall %.2f ms, hausdorff %.4g\n",
-              r.no_refine_total_cpu_ms, r.no_refine_total_wall_ms, r.no_refine_hausdorff);
-  std::printf("  rmse %.4g, hausdorff %.4g, reflection %d\n", r.rmse, r.hausdorff, r.reflection ? 1 : 0);
-  std::printf("  per iteration (wall / CPU): ours %.3f / %.3f ms", r.ours_ms_per_iteration,
+  // Three significant figures, distances in B's units with their share of B's bounding-box diagonal (as
+  // align prints them); --json has every digit.
+  const double diagonal = r.target_bbox_diagonal;
+  const auto share = [&](double x) { return diagonal > 0 ? 100 * x / diagonal : std::nan(""); };
+  std::printf(
+      "  total (build + align, one thread): CPU %.3g ms, wall %.3g ms (goal 20 ms; load average %.1f)\n",
+      r.total_cpu_ms, r.total_wall_ms, r.load_average);
+  std::printf("  distances in B's units (%% of B's bounding-box diagonal, %.3g)\n", diagonal);
+  std::printf("  without refinement on all points: CPU %.3g ms, wall %.3g ms, hausdorff %.3g (%.3g%%)\n",
+              r.no_refine_total_cpu_ms, r.no_refine_total_wall_ms, r.no_refine_hausdorff,
+              share(r.no_refine_hausdorff));
+  std::printf("  rmse %.3g (%.3g%%), hausdorff %.3g (%.3g%%), reflection %d\n", r.rmse, share(r.rmse),
+              r.hausdorff, share(r.hausdorff), r.reflection ? 1 : 0);
+  std::printf("  per iteration (wall / CPU): ours %.3g / %.3g ms", r.ours_ms_per_iteration,
               r.ours_cpu_ms_per_iteration);
   if (r.open3d_measured)
-    std::printf(", Open3D %.3f / %.3f ms, ratio %.2f / %.2f", r.open3d_ms_per_iteration,
+    std::printf(", Open3D %.3g / %.3g ms, ratio %.3g / %.3g", r.open3d_ms_per_iteration,
                 r.open3d_cpu_ms_per_iteration, r.ratio_open3d_over_ours(), r.ratio_open3d_over_ours_cpu());
   std::printf("\n");
   return 0;

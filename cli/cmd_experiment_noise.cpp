@@ -7,6 +7,7 @@
 
 #include "cli/command.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/topological_noise.h"
 #include "experiments/noise_experiment.h"
 
@@ -74,11 +75,11 @@ int run() {
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf(
-        "experiment noise: %d poses × %zu levels in %.1f s (%ld canonical forms computed, %ld cached; %ld "
+        "experiment noise: %d poses × %zu levels in %s (%ld canonical forms computed, %ld cached; %ld "
         "ICP "
         "pairs computed, %ld cached); report: %s/report.md\n",
-        r.poses, o.levels.size(), r.seconds, r.canonical_forms_computed, r.canonical_forms_cached,
-        r.pairs_computed, r.pairs_cached, o.out.c_str());
+        r.poses, o.levels.size(), seconds_text(r.seconds).c_str(), r.canonical_forms_computed,
+        r.canonical_forms_cached, r.pairs_computed, r.pairs_cached, o.out.c_str());
   }
   return exit_code_for(r.failures);
 }

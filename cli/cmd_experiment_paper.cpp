@@ -7,6 +7,7 @@
 
 #include "cli/command.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "experiments/paper_experiment.h"
 #include "pipeline/distributed.h"
 
@@ -55,10 +56,10 @@ int run() {
     std::cout << j.dump(2) << std::endl;
   } else {
     std::printf(
-        "experiment paper: %d shapes in %.1f s (%ld canonical forms computed, %ld cached; %ld ICP pairs "
+        "experiment paper: %d shapes in %s (%ld canonical forms computed, %ld cached; %ld ICP pairs "
         "computed, %ld cached); report: %s/report.md\n",
-        s.shapes, s.seconds, s.canonical_forms_computed, s.canonical_forms_cached, s.pairs_computed,
-        s.pairs_cached, o.out.c_str());
+        s.shapes, seconds_text(s.seconds).c_str(), s.canonical_forms_computed, s.canonical_forms_cached,
+        s.pairs_computed, s.pairs_cached, o.out.c_str());
   }
   return exit_code_for(s.failures);
 }

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "core/format.h"
 #include "experiments/retrieval_experiment.h"
 #include "pipeline/distributed.h"
 
@@ -49,8 +50,8 @@ int run() {
                      .dump(2)
               << std::endl;
   } else {
-    std::printf("experiment retrieval: %d shapes in %zu classes, %.1f s; report: %s/report.md\n", r.shapes,
-                r.class_names.size(), r.seconds, o.out.c_str());
+    std::printf("experiment retrieval: %d shapes in %zu classes, %s; report: %s/report.md\n", r.shapes,
+                r.class_names.size(), seconds_text(r.seconds).c_str(), o.out.c_str());
     for (const RetrievalMethodResult& m : r.methods) {
       const RetrievalScores& s = m.by_distance.at("hausdorff").result.mean;
       std::printf("  %-14s mAP %.3f  NN %.3f  FT %.3f  ST %.3f  (Hausdorff)\n",

@@ -51,7 +51,7 @@ int run_articulated() {
               articulated_class.c_str(), static_cast<long>(c.rest.num_vertices()), c.poses.size(),
               articulated_output.c_str(), c.redraws);
   for (size_t p = 0; p < c.poses.size(); ++p)
-    std::printf("  pose %zu: edge length change mean %.2f%%, max %.1f%%\n", p, 100 * c.isometry[p].mean,
+    std::printf("  pose %zu: edge length change mean %.3g%%, max %.3g%%\n", p, 100 * c.isometry[p].mean,
                 100 * c.isometry[p].max);
   return 0;
 }

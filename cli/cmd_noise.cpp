@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/io.h"
 #include "core/topological_noise.h"
 #include "cli/command.h"
@@ -41,8 +42,9 @@ int run() {
   o.relax_steps = args.relax;
   TopologicalNoiseResult r = glue_topological_noise(mesh, o);
   if (r.relax_steps_used > 0)
-    note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + std::to_string(r.max_gap) +
-         ", min ratio " + std::to_string(r.min_ratio));
+    note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + significant(r.max_gap) + " (" +
+         significant(r.max_gap / r.mean_edge_length) + " × the mean edge length), min ratio " +
+         significant(r.min_ratio));
   write_mesh(args.output, r.mesh);
   nlohmann::json j = topological_noise_json(r);
   j["input"] = args.input;
@@ -64,15 +66,19 @@ int run() {
   std::printf("%s -> %s: %zu glue(s), euler characteristic %ld -> %ld, genus %ld -> %ld, %d component(s)\n",
               args.input.c_str(), args.output.c_str(), r.pairs.size(), before.euler_characteristic,
               after.euler_characteristic, before.genus, after.genus, after.components);
+  // Three significant figures; lengths in the mesh's units with a reference (× the mean edge length, % of the
+  // geodesic diameter). --json has every digit.
   std::printf(
-      "  max gap %.4g, min ratio %.3g (mean edge %.4g), geodesic diameter %.4g, %ld candidate pairs, %d "
-      "geodesic checks\n",
-      r.max_gap, o.min_ratio, r.mean_edge_length, r.geodesic_diameter, static_cast<long>(r.candidates),
-      r.geodesic_checks);
+      "  max gap %.3g (%.3g × the mean edge length %.3g), min ratio %.3g, geodesic diameter %.3g, %ld "
+      "candidate pairs, %d geodesic checks\n",
+      r.max_gap, r.max_gap / r.mean_edge_length, r.mean_edge_length, o.min_ratio, r.geodesic_diameter,
+      static_cast<long>(r.candidates), r.geodesic_checks);
   for (const GluedPair& p : r.pairs)
-    std::printf("  glued %d - %d: euclidean %.4g, geodesic %.4g (ratio %.1f, %.0f%% of the diameter)\n", p.a,
-                p.b, p.euclidean, p.geodesic, p.geodesic / p.euclidean,
-                100 * p.geodesic / r.geodesic_diameter);
+    std::printf(
+        "  glued %d - %d: euclidean %.3g (%.3g × the mean edge length), geodesic %.3g (ratio %.3g, %.3g%% of "
+        "the diameter)\n",
+        p.a, p.b, p.euclidean, p.euclidean / r.mean_edge_length, p.geodesic, p.geodesic / p.euclidean,
+        100 * p.geodesic / r.geodesic_diameter);
   return 0;
 }
 

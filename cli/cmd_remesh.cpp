@@ -2,6 +2,7 @@
 // or finer), then K 1-to-4 midpoint subdivisions if asked (a mesh of about 4^K·N vertices on the remesh's
 // surface: how the million-vertex benchmark input is made, where remeshing itself would take long),
 // reporting the Hausdorff distance to the input and the triangle angles.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -81,7 +82,11 @@ int run() {
     return 0;
   }
   std::printf("%s -> %s\n", args.input.c_str(), args.output.c_str());
-  std::printf("  vertices        %ld -> %ld (target %ld, %+.2f%%)\n", static_cast<long>(before.vertices),
+  // Three significant figures; lengths in the input's units with their share of its bounding-box diagonal
+  // (as align and info print them). --json has every digit.
+  const double diagonal = before.bbox_diagonal;
+  const auto share = [&](double x) { return diagonal > 0 ? 100 * x / diagonal : std::nan(""); };
+  std::printf("  vertices        %ld -> %ld (target %ld, %+.3g%%)\n", static_cast<long>(before.vertices),
               static_cast<long>(remeshed_vertices), args.vertices,
               100 * j["relative_count_error"].get<double>());
   if (args.subdivide > 0)
@@ -90,12 +95,13 @@ int run() {
   std::printf("  euler char.     %ld -> %ld, %d component(s), %ld boundary edges\n",
               before.euler_characteristic, after.euler_characteristic, after.components,
               static_cast<long>(after.boundary_edges));
-  std::printf("  hausdorff       %.4g (%.3f%% of the bbox diagonal %.4g)\n", hausdorff,
-              100 * hausdorff / before.bbox_diagonal, before.bbox_diagonal);
-  std::printf("  min angle       %.2f deg (input %.2f), mean smallest angle %.2f deg\n", angles_out.min_angle,
-              angles_in.min_angle, angles_out.mean_min_angle);
-  std::printf("  edge length     %.4g after %d attempt(s), %ld edges collapsed\n", r.target_edge_length,
-              r.attempts, static_cast<long>(r.collapsed_edges));
+  std::printf("  hausdorff       %.3g (%.3g%% of the bbox diagonal %.3g)\n", hausdorff, share(hausdorff),
+              diagonal);
+  std::printf("  min angle       %.3g deg (input %.3g deg), mean smallest angle %.3g deg\n",
+              angles_out.min_angle, angles_in.min_angle, angles_out.mean_min_angle);
+  std::printf(
+      "  edge length     %.3g (%.3g%% of the bbox diagonal) after %d attempt(s), %ld edges collapsed\n",
+      r.target_edge_length, share(r.target_edge_length), r.attempts, static_cast<long>(r.collapsed_edges));
   if (r.feature_lines)
     std::printf("  feature lines   edges sharper than %.0f deg kept\n", r.feature_angle_deg);
   return 0;

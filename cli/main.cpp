@@ -26,6 +26,7 @@
 #include "core/build_info.h"
 #include "core/distance_matrix.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/knn_graph.h"
 #include "core/remesh.h"
 #include "core/simd.h"
@@ -469,7 +470,8 @@ ProgressFn progress_printer() {
     // An estimate only once it means something: after 3 s and 5% of the stage.
     if (!finished && elapsed >= 3 && fraction >= 0.05)
       std::fprintf(stderr, " (about %.0f s left)%s", elapsed * (1 / fraction - 1), terminal ? "   " : "");
-    if (finished) std::fprintf(stderr, " in %.2f s%s", elapsed, terminal ? "            " : "");
+    if (finished)
+      std::fprintf(stderr, " in %s%s", seconds_text(elapsed).c_str(), terminal ? "            " : "");
     if (finished || !terminal) std::fprintf(stderr, "\n");
     std::fflush(stderr);
     g_progress_open = terminal && !finished;

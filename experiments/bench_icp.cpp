@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/io.h"
+#include "core/mesh.h"
 #include "core/rigid_transform.h"
 #include "core/synthetic.h"
 #include "core/timing.h"
@@ -150,6 +151,7 @@ IcpBenchResult bench_icp(const IcpBenchOptions& options) {
   B = random_rigid_transform(2024, scale, true).apply(B);
   result.source_points = A.rows();
   result.target_points = B.rows();
+  result.target_bbox_diagonal = finite_bbox_diagonal(B);
 
   IcpOptions with_refinement;
   const AlignmentTimings full = time_alignment(A, B, with_refinement, options.repeats);

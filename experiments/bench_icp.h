@@ -45,6 +45,7 @@ struct IcpBenchResult {
          no_refine_chamfer = 0;
   double rmse = 0, hausdorff = 0,
          chamfer = 0;       // of the full alignment (matching/shape_distance.h), B's units
+  double target_bbox_diagonal = 0;  // B's, as aligned onto: the reference the console gives the distances
   bool reflection = false;  // the alignment found includes a reflection
   int iterations_all_points = 0, iterations_total = 0;
   double ours_ms_per_iteration = 0, ours_cpu_ms_per_iteration = 0;  // medians

@@ -10,6 +10,7 @@
 #include "canon/smacof.h"
 #include "core/distance_matrix.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/io.h"
 #include "core/synthetic.h"
 #include "experiments/bench_support.h"
@@ -50,7 +51,7 @@ void measure_sklearn(const DistanceMatrix& D, const Points& X0, SmacofBenchResul
   }
   if (options.reference == SmacofBenchReference::Auto && n > 12000) {
     result.reference_skipped =
-        "scikit-learn needs about " + std::to_string(sklearn_bytes / 1e9) +
+        "scikit-learn needs about " + significant(sklearn_bytes / 1e9) +
         " GB at this size (six n×n float64 arrays); run with --reference sklearn to force";
     return;
   }
@@ -148,7 +149,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
   result.cmds_eigenvalues = cmds.eigenvalues;
   result.cmds_most_negative_eigenvalue = cmds.most_negative_eigenvalue;
   result.cmds_explained_energy = cmds.explained_energy;
-  notes.say("classical MDS: " + std::to_string(cmds.seconds) + " s (" + std::to_string(cmds.matrix_products) +
+  notes.say("classical MDS: " + seconds_text(cmds.seconds) + " (" + std::to_string(cmds.matrix_products) +
             " products B·v)");
   if (X0.rows() == 0) X0 = cmds.X;
 
@@ -160,7 +161,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
   result.cpu_seconds_per_iteration = ours.cpu_seconds_per_iteration;
   result.normalized_stress_start = ours.stress_history.front();
   result.normalized_stress_end = ours.normalized_stress;
-  notes.say("SMACOF: " + std::to_string(ours.seconds_per_iteration) + " s per iteration");
+  notes.say("SMACOF: " + seconds_text(ours.seconds_per_iteration) + " per iteration");
   const int threads = omp_get_max_threads();
   result.threads = threads;
   if (threads > 1) {
@@ -170,7 +171,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
     result.single_thread_measured = true;
     result.single_thread_seconds_per_iteration = single.seconds_per_iteration;
     result.single_thread_cpu_seconds_per_iteration = single.cpu_seconds_per_iteration;
-    notes.say("SMACOF, one thread: " + std::to_string(single.seconds_per_iteration) + " s per iteration");
+    notes.say("SMACOF, one thread: " + seconds_text(single.seconds_per_iteration) + " per iteration");
   }
   if (n == 3505) result.paper_seconds_per_iteration = 1.59;
   if (n == 22738) result.paper_seconds_per_iteration = 277.5;
@@ -187,8 +188,8 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
           std::abs(result.reference_stress - ours.stress_history[k] * energy) /
           (ours.stress_history[k] * energy);
     }
-    notes.say("scikit-learn: " + std::to_string(result.reference_seconds_per_iteration) +
-              " s per iteration; cshapes is " + std::to_string(result.speedup_vs_reference()) + "x faster");
+    notes.say("scikit-learn: " + seconds_text(result.reference_seconds_per_iteration) +
+              " per iteration; cshapes is " + significant(result.speedup_vs_reference()) + "x faster");
   } else {
     notes.say("scikit-learn reference skipped: " + result.reference_skipped);
   }

@@ -5,6 +5,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/geodesics.h"
 #include "core/io.h"
 #include "core/rigid_transform.h"
@@ -161,10 +162,10 @@ std::vector<CoulombParamsRow> run_coulomb_params(const CoulombParamsOptions& opt
       std::ostringstream where;
       for (Index k = 0; k < bridges.rows(); ++k)
         where << " (" << bridges(k, 0) << "," << bridges(k, 1) << ": "
-              << (mesh.V.row(bridges(k, 0)) - mesh.V.row(bridges(k, 1))).norm() << ")";
+              << significant((mesh.V.row(bridges(k, 0)) - mesh.V.row(bridges(k, 1))).norm()) << ")";
       say(options.note, shape + ": " + std::to_string(bridges.rows()) +
                             " bridges glued between vertices (i,j: length)" + where.str() + "; mean edge " +
-                            std::to_string(edge_lengths(mesh.V, clean).mean()));
+                            significant(edge_lengths(mesh.V, clean).mean()));
     }
     for (const CoulombParamsConfig& config : configs) {
       CoulombCanonOptions o;

@@ -7,6 +7,7 @@
 
 #include "core/deterministic_random.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/geodesics.h"
 #include "core/heat_method.h"
 #include "core/rigid_transform.h"
@@ -120,8 +121,8 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
       o.exempt = heat && coarse;
       if (!(o.mean_error <= geodesic_tolerance(method)) && !o.exempt) {
         o.failed = true;
-        o.error = "mean relative error " + std::to_string(o.mean_error) + " against " + result.reference +
-                  " exceeds the tolerance " + std::to_string(geodesic_tolerance(method));
+        o.error = "mean relative error " + significant(o.mean_error) + " against " + result.reference +
+                  " exceeds the tolerance " + significant(geodesic_tolerance(method));
       }
     } catch (const std::exception& e) {
       o.failed = true;
@@ -177,8 +178,8 @@ StressCaseResult run_stress_case(const StressCase& c, const Mesh& mesh, const Ge
       o.mean_error = d.hausdorff / diagonal;
       if (!(o.mean_error <= 1e-3)) {
         o.failed = true;
-        o.error = "Hausdorff distance after ICP " + std::to_string(o.mean_error) +
-                  " of the diagonal against a moved copy of the mesh";
+        o.error = "Hausdorff distance after ICP " + significant(100 * o.mean_error) +
+                  "% of the diagonal against a moved copy of the mesh";
       }
     } catch (const std::exception& e) {
       o.failed = true;

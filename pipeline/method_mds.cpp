@@ -9,6 +9,7 @@
 #include "core/format.h"
 #include "core/error.h"
 #include "core/heat_method.h"
+#include "core/mesh.h"
 #include "core/timing.h"
 #include "pipeline/canonical_form_methods.h"
 #include "pipeline/form_quality_json.h"
@@ -114,8 +115,13 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
   const LandmarkGeodesics lg = canonical_form_landmark_geodesics(mesh, options, &form.geodesics_fallback);
   form.precompute_seconds = seconds_since(start);
   const Index L = lg.rows.rows(), n = lg.rows.cols();
+  const double diagonal = finite_bbox_diagonal(mesh.V);
   say(options.note, "landmark geodesics: " + std::to_string(L) + " landmarks, covering radius " +
-                        std::to_string(lg.coverage_radius) + ", in " + std::to_string(lg.seconds) + " s");
+                        significant(lg.coverage_radius) +
+                        (diagonal > 0 ? " (" + significant(100 * lg.coverage_radius / diagonal) +
+                                            "% of the bbox diagonal)"
+                                      : std::string()) +
+                        ", in " + seconds_text(lg.seconds));
   nlohmann::json summary = nlohmann::json::object();
   note_geodesics(mesh, options, form, summary);
   summary["mds_solver"] = {{"solver", "landmarks"},

@@ -213,11 +213,13 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
     (cached ? r.cached : r.computed)++;
     if (comm.is_root() && remeshed) write_mesh(out.path, Mesh{points_from_json(value->at("V")),
                                                              faces_from_json(value->at("F"))});
+    // A progress note for people: three significant figures (report.md's table and resample.csv keep theirs).
     char line[256];
-    std::snprintf(line, sizeof line, "  [%zu/%zu] %s: %ld -> %ld vertices, Hausdorff %.3f%% of the diagonal, "
-                  "smallest angle %.1f deg%s", i + 1, d.entries.size(), e.name.c_str(),
-                  static_cast<long>(s.input_vertices), static_cast<long>(s.vertices), 100 * s.hausdorff,
-                  s.min_angle, cached ? " (cached)" : "");
+    std::snprintf(line, sizeof line,
+                  "  [%zu/%zu] %s: %ld -> %ld vertices, Hausdorff %.3g%% of the diagonal, "
+                  "smallest angle %.3g deg%s",
+                  i + 1, d.entries.size(), e.name.c_str(), static_cast<long>(s.input_vertices),
+                  static_cast<long>(s.vertices), 100 * s.hausdorff, s.min_angle, cached ? " (cached)" : "");
     say(note, remeshed ? std::string(line) : "  " + e.name + ": " + s.note);
     if (remeshed && !s.note.empty()) say(note, "    " + s.note);
     r.shapes.push_back(std::move(s));

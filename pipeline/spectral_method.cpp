@@ -44,7 +44,7 @@ SpectralSolve spectral_eigenpairs(const Mesh& mesh, const LaplaceBeltramiOptions
   for (const std::vector<int>& group : e.near_multiple) {
     if (group.front() <= 3 && group.back() >= 4) {
       const std::string warning =
-          "λ3 and λ4 are near-multiple (relative gap below " + std::to_string(laplacian.near_multiple_gap) +
+          "λ3 and λ4 are near-multiple (relative gap below " + significant(laplacian.near_multiple_gap) +
           "): the form's third axis is one direction of a near-degenerate eigenspace, not set by the shape";
       s.summary["warning"] = warning;
       say(options.note, "warning: " + method + ": " + warning);

@@ -1,0 +1,109 @@
+// Numbers the CLI prints for people: three significant figures with a unit or a reference (a length with its
+// share of the bounding-box diagonal or in mean edge lengths, a time in seconds), retrieval measures with the
+// field's three decimals. --json, CSV and report files keep every digit and are not read here.
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <string>
+
+#include "core/format.h"
+#include "test_support.h"
+
+namespace cshapes {
+namespace {
+
+std::string q(const std::string& path) {
+  return "'" + path + "'";
+}
+
+// Significant digits of a printed number: "0.0138" → 3, "39.5" → 3, "3.441" → 4, "1.23e+05" → 3.
+int significant_digits(const std::string& number) {
+  std::string digits;
+  for (const char c : number.substr(0, number.find_first_of("eE")))
+    if (c >= '0' && c <= '9') digits += c;
+  const size_t first = digits.find_first_not_of('0');
+  return first == std::string::npos ? 1 : static_cast<int>(digits.size() - first);
+}
+
+// The groups of the first match of `pattern` in `text`; fails the test when there is none.
+std::smatch find(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(text, m, std::regex(pattern))) << pattern << " not in:\n" << text;
+  return m;
+}
+
+void expect_three_figures(const std::smatch& m, const std::string& where) {
+  for (size_t i = 1; i < m.size(); ++i)
+    EXPECT_LE(significant_digits(m[i].str()), 3) << m[i].str() << " in " << where << ": " << m[0].str();
+}
+
+const std::string kNumber = R"(([0-9.e+-]+))";
+
+TEST(ConsoleFigures, SecondsTextHasThreeFiguresAndItsUnit) {
+  EXPECT_EQ(seconds_text(5.1342), "5.13 s");
+  EXPECT_EQ(seconds_text(0.013812), "0.0138 s");
+  EXPECT_EQ(seconds_text(98.553), "98.6 s");
+  EXPECT_EQ(seconds_text(4677.3), "4677 s");  // whole seconds, not "4.68e+03 s"
+}
+
+TEST(ConsoleFigures, RemeshGivesLengthsWithTheirShareOfTheDiagonalAndAnglesInDegrees) {
+  const std::string dir = test::scratch_dir("console-figures-remesh");
+  ASSERT_EQ(test::run_cli("-q generate swissroll -o " + q(dir + "/roll.off")).exit_code, 0);
+  const test::CliResult r =
+      test::run_cli("remesh " + q(dir + "/roll.off") + " -o " + q(dir + "/out.off") + " --vertices 500");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_three_figures(find(r.out, "hausdorff +" + kNumber + R"( \()" + kNumber + "% of the bbox diagonal " +
+                                       kNumber + R"(\))"),
+                       "remesh");
+  expect_three_figures(find(r.out, "edge length +" + kNumber + R"( \()" + kNumber + "% of the bbox diagonal"),
+                       "remesh");
+  expect_three_figures(find(r.out, "min angle +" + kNumber + R"( deg \(input )" + kNumber +
+                                       R"( deg\), mean smallest angle )" + kNumber + " deg"),
+                       "remesh");
+  // A stage's end in progress: seconds to three figures.
+  expect_three_figures(find(r.err, R"(\[remesh\] 100\.0% in )" + kNumber + " s"), "progress");
+}
+
+TEST(ConsoleFigures, EvaluatePrintsRetrievalMeasuresWithThreeDecimals) {
+  const std::string dir = test::scratch_dir("console-figures-evaluate");
+  test::write_text(dir + "/m.csv",
+                   "a0,a1,a2,b0,b1,b2\n0,1,5,2,6,7\n1,0,2,3,1.5,8\n5,2,0,1,4,6\n2,3,1,0,2,9\n"
+                   "6,1.5,4,2,0,3\n7,8,6,9,3,0\n");
+  const test::CliResult r =
+      test::run_cli("-q evaluate " + q(dir + "/m.csv") + " --out " + q(dir + "/out") + " --no-draw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  find(r.out, R"(  mAP [01]\.\d{3}   NN [01]\.\d{3}   FT [01]\.\d{3}   ST [01]\.\d{3}   E [01]\.\d{3}   )"
+              R"(DCG [01]\.\d{3}\n)");
+}
+
+TEST(ConsoleFigures, NoiseGivesGapsInMeanEdgeLengthsAndGeodesicsAsAShareOfTheDiameter) {
+  const std::string dir = test::scratch_dir("console-figures-noise");
+  ASSERT_EQ(test::run_cli("-q generate swissroll -o " + q(dir + "/roll.off")).exit_code, 0);
+  const test::CliResult r =
+      test::run_cli("noise " + q(dir + "/roll.off") + " -o " + q(dir + "/glued.off") + " --glue 1 --relax 3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_three_figures(
+      find(r.out, "max gap " + kNumber + R"( \()" + kNumber + " × the mean edge length " + kNumber +
+                      R"(\), min ratio )" + kNumber + ", geodesic diameter " + kNumber),
+      "noise");
+  expect_three_figures(find(r.out, "glued \\d+ - \\d+: euclidean " + kNumber + R"( \()" + kNumber +
+                                       " × the mean edge length\\), geodesic " + kNumber + R"( \(ratio )" +
+                                       kNumber + ", " + kNumber + "% of the diameter\\)"),
+                       "noise");
+}
+
+TEST(ConsoleFigures, BenchIcpGivesMillisecondsAndDistancesWithTheirShareOfTheDiagonal) {
+  const test::CliResult r = test::run_cli("-q bench icp --n 300 --repeats 1 --no-open3d");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_three_figures(find(r.out, "CPU " + kNumber + " ms, wall " + kNumber + " ms \\(goal 20 ms"),
+                       "bench icp");
+  expect_three_figures(find(r.out, "% of B's bounding-box diagonal, " + kNumber + "\\)"), "bench icp");
+  expect_three_figures(find(r.out, "rmse " + kNumber + R"( \()" + kNumber + R"(%\), hausdorff )" + kNumber +
+                                       R"( \()" + kNumber + "%\\)"),
+                       "bench icp");
+  expect_three_figures(
+      find(r.out, "per iteration \\(wall / CPU\\): ours " + kNumber + " / " + kNumber + " ms"), "bench icp");
+}
+
+}  // namespace
+}  // namespace cshapes
