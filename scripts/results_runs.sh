@@ -67,6 +67,6 @@ if wanted pose-generated; then
 fi
 if wanted retrieval; then
   timed retrieval "$cshapes" experiment retrieval --data "$data/tosca5k" --out "$out/retrieval"
-  for f in "$out"/retrieval/*.png; do copy "$f" "retrieval_$(basename "$f")"; done
+  for f in "$out"/retrieval/figures/*.png; do copy "$f" "retrieval_$(basename "$f")"; done
 fi
 echo "results in $out; figures copied to docs/images/results/"

@@ -76,7 +76,7 @@ def per_class_figure(data, out, pdf):
     ax.set_ylim(0, 1.05)
     ax.set_title("Per-class mean average precision (Hausdorff distance)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1))  # outside: no bar hidden
     save(fig, out, "per_class", pdf)
 
 
