@@ -1,6 +1,6 @@
 // cshapes experiment coulomb-params --data DIR --out DIR [--shapes cat0,michael0] [--configs a,b] [--bridges
 // K]: the parameter study behind the Coulomb defaults (experiments/coulomb_params.h). Writes
-// OUT/coulomb_params.csv and OUT/coulomb_params.md (also printed).
+// OUT/coulomb_params.csv and OUT/coulomb_params.md (also printed; --json: the rows as JSON).
 #include <iostream>
 
 #include "cli/command.h"
@@ -17,6 +17,7 @@ struct StudyArgs {
   std::string configs = "all";
   int bridges = 8;
   int max_iterations = 600;
+  bool json = false;
 } args;
 
 int run() {
@@ -28,7 +29,12 @@ int run() {
   o.bridges = args.bridges;
   o.max_iterations = args.max_iterations;
   o.note = note;
-  std::cout << write_coulomb_params(args.out, run_coulomb_params(o));
+  const std::vector<CoulombParamsRow> rows = run_coulomb_params(o);
+  const std::string table = write_coulomb_params(args.out, rows);
+  if (args.json)
+    std::cout << coulomb_params_json(rows).dump(2) << std::endl;
+  else
+    std::cout << table;
   return 0;
 }
 const bool registered = register_command(
@@ -46,6 +52,7 @@ const bool registered = register_command(
        app.add_option("--bridges", args.bridges, "bridge edges glued per shape")->capture_default_str();
        app.add_option("--max-iterations", args.max_iterations, "iteration cap per run")
            ->capture_default_str();
+       app.add_flag("--json", args.json, "print the rows as JSON (full precision) instead of the table");
      },
      run});
 

@@ -238,4 +238,26 @@ std::string write_coulomb_params(const std::string& out, const std::vector<Coulo
   return md.str();
 }
 
+nlohmann::json coulomb_params_json(const std::vector<CoulombParamsRow>& rows) {
+  auto optional = [](double v) { return v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json out = nlohmann::json::array();
+  for (const CoulombParamsRow& r : rows)
+    out.push_back({{"shape", r.shape},
+                   {"config", r.config},
+                   {"iterations", r.iterations},
+                   {"seconds", r.seconds},
+                   {"converged", r.converged},
+                   {"energy", r.energy},
+                   {"mean_violation", r.mean_violation},
+                   {"max_violation", r.max_violation},
+                   {"glued_iterations", r.glued_iterations},
+                   {"glued_seconds", r.glued_seconds},
+                   {"bridges", r.bridges},
+                   {"bridges_torn", r.bridges_torn},
+                   {"glued_rms_to_clean", r.glued_rms_to_clean},
+                   {"pose_rms", optional(r.pose_rms)},
+                   {"input_pose_rms", optional(r.input_pose_rms)}});
+  return {{"rows", out}};
+}
+
 }  // namespace cshapes

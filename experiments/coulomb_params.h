@@ -12,6 +12,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -55,5 +56,9 @@ std::vector<CoulombParamsRow> run_coulomb_params(const CoulombParamsOptions& opt
 
 // OUT/coulomb_params.csv and OUT/coulomb_params.md (written atomically); returns the Markdown table.
 std::string write_coulomb_params(const std::string& out, const std::vector<CoulombParamsRow>& rows);
+
+// The rows as JSON (what `experiment coulomb-params --json` prints): every column of coulomb_params.csv at full
+// precision, pose distances null where a shape has no partner.
+nlohmann::json coulomb_params_json(const std::vector<CoulombParamsRow>& rows);
 
 }  // namespace cshapes

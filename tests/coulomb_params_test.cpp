@@ -78,6 +78,17 @@ TEST(CoulombParams, GluedBridgesAreMeasuredOnAToscaShape) {
   EXPECT_EQ(header.rfind("shape,config,iterations,", 0), 0u) << header;
   EXPECT_EQ(line.rfind("cat0,default,", 0), 0u) << line;
   std::filesystem::remove_all(dir);
+
+  // --json prints the same rows at full precision; a partner-less shape's pose distances are null.
+  const nlohmann::json j = coulomb_params_json(rows);
+  ASSERT_EQ(j.at("rows").size(), 1u);
+  EXPECT_EQ(j["rows"][0].at("shape"), "cat0");
+  EXPECT_EQ(j["rows"][0].at("bridges_torn").get<int>(), r.bridges_torn);
+  EXPECT_DOUBLE_EQ(j["rows"][0].at("energy").get<double>(), r.energy);
+  EXPECT_DOUBLE_EQ(j["rows"][0].at("pose_rms").get<double>(), r.pose_rms);
+  CoulombParamsRow alone = r;
+  alone.pose_rms = alone.input_pose_rms = -1;
+  EXPECT_TRUE(coulomb_params_json({alone})["rows"][0].at("pose_rms").is_null());
 }
 
 }  // namespace
