@@ -177,7 +177,7 @@ def fig_correspondence(out, pdf):
         sel = [r for r in rows if r["method"] == m]
         label, color = method_style(styles, m)
         ax.plot([float(r["error"]) for r in sel], [float(r["fraction"]) for r in sel], color=color, label=label)
-    ax.set_xlabel("geodesic error (fraction of the geodesic diameter)")
+    ax.set_xlabel("geodesic error on the target pose / √area")  # eval/correspondence_error.h normalises so
     ax.set_ylabel("fraction of correspondences")
     ax.set_ylim(0, 1.02)
     ax.grid(alpha=0.3)
