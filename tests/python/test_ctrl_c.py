@@ -43,6 +43,9 @@ CHILD = r"""
 import json, os, signal, sys, threading, time
 import numpy as np
 import cshapes
+# A shell without job control starts background jobs with SIGINT ignored, and children inherit that;
+# the test is about what cshapes does with a Ctrl-C the interpreter hears, so hear it.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 DATA, OUT = sys.argv[1], sys.argv[2]
 cases = json.loads(sys.argv[3])
