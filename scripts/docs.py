@@ -7,17 +7,19 @@
   scripts/docs.py check-commands CSHAPES FILE...    every `cshapes COMMAND --option` the FILEs show exists
   scripts/docs.py run-shell FILE.md WORKDIR CSHAPES run a page's ```sh blocks in WORKDIR, in order
   scripts/docs.py run-python FILE.md WORKDIR        run a page's ```python blocks in WORKDIR, as one program
-  scripts/docs.py site CSHAPES                      the site, in build/site: the tutorials run in build/docs-work,
-                                                    the pictures they show copied into a copy of docs/ (build/
-                                                    docs-src), then mkdocs build --strict (PYTHONPATH as above)
+  scripts/docs.py site CSHAPES [--update-pictures]  the site, in build/site: the tutorials run in build/docs-work,
+                                                    the pictures they show checked against docs/images/tutorial-*/
+                                                    (--update-pictures: written there) and copied into a copy of
+                                                    docs/ (build/docs-src), then mkdocs build --strict
 
 A ```sh or ```python block may be followed by an ```output block showing what it prints, trimmed: run-shell and
 run-python fail when a block's output differs (see OUTPUT below for how lines match).
 
 The generated reference pages are committed (docs/reference/); the tests regenerate them and fail, naming the
 command that refreshes them, when they differ: the reference cannot drift from the code. The tutorials' pictures
-are not committed: the site build makes them with the tutorials' own commands, so it needs a build of cshapes.
-Standard library only.
+are committed too (so a plain `mkdocs build` works), and the site build draws them again with the tutorials' own
+commands and fails, naming the picture and --update-pictures, when one differs. Standard library only, but for
+the picture comparison (numpy and matplotlib, as the figures).
 """
 import inspect
 import os
@@ -390,21 +392,26 @@ def site_config(root, docs_dir, site_dir):
     return text
 
 
-def without_tutorial_pictures(folder, names):
-    """For copytree: leave out images/tutorial-*/ (pictures a tutorial made earlier; the build makes them anew)."""
-    return [n for n in names if os.path.basename(folder) == "images" and n.startswith("tutorial-")]
+def same_picture(a, b, tolerance=0.01):
+    """Whether two PNGs show the same picture: the same size and a mean pixel difference below the tolerance (of
+    the 0-1 range), so a renderer's last-bit changes pass and a changed figure does not."""
+    import numpy as np
+    from matplotlib import image
+    x, y = image.imread(a), image.imread(b)
+    return x.shape == y.shape and float(np.abs(x.astype(float) - y.astype(float)).mean()) <= tolerance
 
 
-def site(cshapes):
+def site(cshapes, update_pictures=False):
     """The documentation site: docs/ copied to build/docs-src, each tutorial run in build/docs-work/<page>/ (its
-    expected outputs checked), the pictures it shows copied from there into the copy, then `mkdocs build --strict`
-    from the copy into build/site. The tutorials' pictures are never committed, so they cannot drift."""
+    expected outputs checked), the pictures it shows drawn there, compared with the committed ones in docs/ (or
+    written there with update_pictures) and copied into the copy, then `mkdocs build --strict` from the copy into
+    build/site. A committed picture that its tutorial no longer draws fails the build: it cannot drift."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     build = os.path.join(root, "build")
     staging, work = os.path.join(build, "docs-src"), os.path.join(build, "docs-work")
     for folder in (staging, work):
         shutil.rmtree(folder, ignore_errors=True)
-    shutil.copytree(os.path.join(root, "docs"), staging, ignore=without_tutorial_pictures)
+    shutil.copytree(os.path.join(root, "docs"), staging)
     for page, language in TUTORIALS.items():
         path, workdir = os.path.join(root, "docs", page), os.path.join(work, os.path.splitext(page)[0])
         status = run_shell(path, workdir, cshapes) if language == "sh" else run_python(path, workdir)
@@ -417,6 +424,15 @@ def site(cshapes):
             made = os.path.join(workdir, ref.split("/", 2)[2])
             if not os.path.isfile(made):
                 print(f"site: docs/{page} shows {ref}, but its commands did not write {os.path.relpath(made, root)}",
+                      file=sys.stderr)
+                return 1
+            committed = os.path.join(root, "docs", ref)
+            if update_pictures:
+                os.makedirs(os.path.dirname(committed), exist_ok=True)
+                shutil.copyfile(made, committed)
+            elif not os.path.isfile(committed) or not same_picture(made, committed):
+                print(f"site: docs/{page} draws {ref} differently from docs/{ref} (or it is missing): look at "
+                      f"{os.path.relpath(made, root)}, then run scripts/docs.py site CSHAPES --update-pictures",
                       file=sys.stderr)
                 return 1
             os.makedirs(os.path.dirname(os.path.join(staging, ref)), exist_ok=True)
@@ -444,8 +460,8 @@ def main(argv):
         return run_shell(*args)
     if what == "run-python" and len(args) == 2:
         return run_python(*args)
-    if what == "site" and len(args) == 1:
-        return site(*args)
+    if what == "site" and len(args) in (1, 2) and args[1:] in ([], ["--update-pictures"]):
+        return site(args[0], update_pictures=len(args) == 2)
     print(__doc__, file=sys.stderr)
     return 2
 

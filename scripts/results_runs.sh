@@ -38,7 +38,20 @@ timed() {  # NAME COMMAND...: runs the command, its log in OUT/NAME.log, its wal
   "$@" > "$out/$name.log" 2>&1 || { local rc=$?; echo "$name failed (exit $rc), see $out/$name.log" >&2; return $rc; }
   echo $((SECONDS - start)) > "$out/$name.seconds"
 }
-copy() { if [[ -f "$1" ]]; then cp "$1" "$images/$2"; else echo "results_runs.sh: $1 was not drawn" >&2; fi; }
+# A figure wider than 1,600 pixels is scaled down to that width for the page (Fig. 6 is drawn at 3,100, over
+# 1 MiB); the run's own folder keeps the full-size picture.
+copy() {
+  if [[ ! -f "$1" ]]; then echo "results_runs.sh: $1 was not drawn" >&2; return 0; fi
+  /usr/bin/python3 - "$1" "$images/$2" <<'PY'
+import sys
+from PIL import Image
+src, dst = sys.argv[1], sys.argv[2]
+im = Image.open(src)
+if im.size[0] > 1600:
+    im = im.resize((1600, round(im.size[1] * 1600 / im.size[0])), Image.LANCZOS)
+im.save(dst, optimize=True)
+PY
+}
 
 if wanted paper; then
   timed paper "$here/experiments/run_paper.sh" --data "$data/tosca5k" --out "$out/paper"

@@ -43,8 +43,9 @@ else
 fi
 
 # The documentation site (mkdocs.yml, docs/), built by scripts/docs.py site: the tutorials run (their outputs
-# checked) and draw the pictures they show, which are not committed; then mkdocs build --strict from a copy of
-# docs/ with those pictures (build/docs-src): a page missing from the navigation, a broken link or image fails.
+# checked) and draw the pictures they show, each compared with the committed one; then mkdocs build --strict
+# from a copy of docs/ with those pictures (build/docs-src): a page missing from the navigation, a broken link
+# or image, or a picture the tutorial no longer draws fails.
 docs_passed=0
 docs_failed=0
 if PYTHONPATH="$root/build/python${PYTHONPATH:+:$PYTHONPATH}" "${interpreter:-/usr/bin/python3}" \
