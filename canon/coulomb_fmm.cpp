@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "canon/coulomb_p2p.h"
@@ -440,6 +442,14 @@ M2LCellFunction m2l_cell_kernel(int order) {
 
 constexpr int kMortonLevels = 21;  // Morton code bits per axis (core/morton.h)
 
+// The tables of each order, built on first use and shared (read-only) by every later evaluation.
+const MultiIndexTables& tables_of_order(int order) {
+  static std::array<std::once_flag, 17> once;
+  static std::array<std::unique_ptr<const MultiIndexTables>, 17> tables;
+  std::call_once(once[order], [&] { tables[order] = std::make_unique<const MultiIndexTables>(order); });
+  return *tables[order];
+}
+
 // The accuracy → (order, θ, leaf size) table, measured with `cshapes bench coulomb --threads 1` (relative L2
 // gradient error against exact direct summation).
 // 1. Synthetic sets, n = 50,000 (--full-direct-max 0 --sample 500), worst of uniform cube, sphere, clustered
@@ -501,19 +511,39 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
   return chosen;
 }
 
+// The interaction lists of the calling thread's evaluations, kept between them for their capacity. Released
+// when an evaluation needed more than kKeptListCells cells (a million points), so a single large evaluation
+// does not hold its lists' memory afterwards.
+struct ListStore {
+  std::vector<std::vector<int32_t>> m2l, p2p;
+};
+constexpr size_t kKeptListCells = 100000;
+ListStore& list_store() {
+  thread_local ListStore store;
+  return store;
+}
+
 class Fmm {
  public:
-  Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats)
+  // time_kernels: also time the M2L and P2P work of every cell (stats.seconds_m2l, seconds_p2p), two clock
+  // reads per cell, for benchmarks; the phases are always timed.
+  Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats,
+      bool time_kernels)
       : X_(X),
         n_(X.rows()),
-        tables_(parameters.order),
+        tables_(tables_of_order(parameters.order)),
         stride_((tables_.count + 3) / 4 * 4),
         zero_moments_(stride_, 0.0),
         theta_(parameters.opening_angle),
         leaf_size_(parameters.leaf_size),
         framed_near_field_(parameters.framed_near_field),
-        stats_(stats) {
+        stats_(stats),
+        time_kernels_(time_kernels) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
+  }
+
+  ~Fmm() {
+    if (cells_.size() > kKeptListCells) list_store() = ListStore{};
   }
 
   CoulombEvaluation run(bool want_potentials) {
@@ -524,13 +554,19 @@ class Fmm {
     upward_pass();
     stats_.seconds_upward = seconds_since(t);
     t = WallClock::now();
-    m2l_lists_.assign(cells_.size(), {});
-    p2p_lists_.assign(cells_.size(), {});
-    // One allocation per list instead of a growth sequence (typical lists: ~60 M2L sources per cell, ~30
-    // near-field leaves per leaf at the default accuracy).
+    // The lists live in a per-thread store that keeps their capacity from one evaluation to the next (the
+    // Coulomb iteration evaluates thousands of times at one size): cleared, not freed. A first evaluation
+    // allocates each list once instead of through a growth sequence (typical lists: ~60 M2L sources per cell,
+    // ~30 near-field leaves per leaf at the default accuracy).
+    if (m2l_lists_.size() < cells_.size()) {
+      m2l_lists_.resize(cells_.size());
+      p2p_lists_.resize(cells_.size());
+    }
     for (size_t c = 0; c < cells_.size(); ++c) {
-      m2l_lists_[c].reserve(64);
-      if (cells_[c].leaf()) p2p_lists_[c].reserve(32);
+      m2l_lists_[c].clear();
+      p2p_lists_[c].clear();
+      if (m2l_lists_[c].capacity() == 0) m2l_lists_[c].reserve(64);
+      if (cells_[c].leaf() && p2p_lists_[c].capacity() == 0) p2p_lists_[c].reserve(32);
     }
     traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
@@ -548,14 +584,18 @@ class Fmm {
     // Morton keys on a 2^21 grid over the normalized cube [-1, 1]³; sorting by (key, index) is deterministic.
     std::vector<std::pair<uint64_t, int32_t>> keyed(n_);
     const double cells_per_unit = 0.5 * double(1 << kMortonLevels);
+    // The normalized coordinates in input order (reordered below, not computed twice).
+    std::vector<double> unit(3 * static_cast<size_t>(n_));
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n_; ++i) {
       uint64_t key = 0;
       for (int c = 0; c < 3; ++c) {
         const double u = (X_(i, c) - norm_.center[c]) / norm_.scale;
-        const double g =
-            std::clamp(std::floor((u + 1) * cells_per_unit), 0.0, double((1 << kMortonLevels) - 1));
-        key |= morton_spread_bits(static_cast<uint64_t>(g)) << (2 - c);
+        unit[3 * i + c] = u;
+        // floor, then clamp to the grid: for a finite value the same as clamping first and truncating
+        // (which is floor on [0, max]), without SSE2's slow floor and unsigned conversion.
+        const double g = std::clamp((u + 1) * cells_per_unit, 0.0, double((1 << kMortonLevels) - 1));
+        key |= morton_spread_bits(static_cast<uint64_t>(static_cast<int64_t>(g))) << (2 - c);
       }
       keyed[i] = {key, static_cast<int32_t>(i)};
     }
@@ -573,9 +613,7 @@ class Fmm {
       const Index i = keyed[s].second;
       order_[s] = static_cast<int32_t>(i);
       keys_[s] = keyed[s].first;
-      xd_[s] = (X_(i, 0) - norm_.center[0]) / norm_.scale;
-      yd_[s] = (X_(i, 1) - norm_.center[1]) / norm_.scale;
-      zd_[s] = (X_(i, 2) - norm_.center[2]) / norm_.scale;
+      xd_[s] = unit[3 * i], yd_[s] = unit[3 * i + 1], zd_[s] = unit[3 * i + 2];
       if (!framed_near_field_) {
         coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
         coulomb_detail::split_float(yd_[s], yf_[s], yl_[s]);
@@ -768,8 +806,7 @@ class Fmm {
     }
     const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
                  dz = A.center[2] - B.center[2];
-    const double distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (A.radius + B.radius < theta_ * distance) {
+    if (well_separated(A.radius + B.radius, dx * dx + dy * dy + dz * dz)) {
       m2l_lists_[a].push_back(b);
       return;
     }
@@ -782,6 +819,18 @@ class Fmm {
     } else {
       for (int32_t cb = B.child_begin; cb < B.child_begin + B.child_count; ++cb) traverse(a, cb);
     }
+  }
+
+  // Whether r_A + r_B < θ·√d2, exactly as that expression evaluates (the traversal's lists, and so every bit
+  // of the sum, are those of the square-root test): squares decide when they are farther apart than their
+  // rounding (a few ulps) could move them, the square root only in between or near underflow.
+  bool well_separated(double radii, double d2) const {
+    const double lhs = radii * radii, rhs = theta2_ * d2;
+    if (rhs > 1e-280) {
+      if (lhs < rhs * (1 - 1e-12)) return true;
+      if (lhs > rhs * (1 + 1e-12)) return false;
+    }
+    return radii < theta_ * std::sqrt(d2);
   }
 
   void interactions() {
@@ -801,7 +850,7 @@ class Fmm {
         // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
         // the lanes are summed at the end in a fixed order (canon/coulomb_m2l_simd.inl for orders ≤ 6).
         const std::vector<int32_t>& list = m2l_lists_[a];
-        const auto m2l_start = WallClock::now();
+        const auto m2l_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
         if (!list.empty() && fixed_m2l) {
           fixed_m2l(A.center, list.data(), list.size(), cells_.data(), multipoles_.data(), stride_, local(a));
         } else if (!list.empty()) {  // orders above 6: the table-driven loop
@@ -847,9 +896,9 @@ class Fmm {
             L[m] += (accumulated[m][0] + accumulated[m][1]) + (accumulated[m][2] + accumulated[m][3]);
         }
         m2l_total += static_cast<Index>(m2l_lists_[a].size());
-        m2l_seconds += seconds_since(m2l_start);
+        if (time_kernels_) m2l_seconds += seconds_since(m2l_start);
         if (!A.leaf() || p2p_lists_[a].empty()) continue;
-        const auto p2p_start = WallClock::now();
+        const auto p2p_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
         ranges.clear(), exact_ranges.clear();
         Index sources = 0;
         int self_range = -1;
@@ -885,7 +934,7 @@ class Fmm {
                 static_cast<int>(ranges.size()), self_range, xs_.data(), ys_.data(), zs_.data(), norm_.floor2,
                 potential_.data(), fx_.data(), fy_.data(), fz_.data());
         }
-        p2p_seconds += seconds_since(p2p_start);
+        if (time_kernels_) p2p_seconds += seconds_since(p2p_start);
       }
     }
     stats_.seconds_m2l = m2l_seconds;
@@ -949,9 +998,10 @@ class Fmm {
     if (want_potentials) result.potential.resize(n_);
     const double gradient_scale = -2 / (norm_.scale * norm_.scale);
     double energy = 0;
+    for (Index s = 0; s < n_; ++s) energy += potential_[s];  // in Morton order, as always
+#pragma omp parallel for schedule(static)
     for (Index s = 0; s < n_; ++s) {
       const Index i = order_[s];
-      energy += potential_[s];
       result.gradient(i, 0) = gradient_scale * fx_[s];
       result.gradient(i, 1) = gradient_scale * fy_[s];
       result.gradient(i, 2) = gradient_scale * fz_[s];
@@ -963,13 +1013,15 @@ class Fmm {
 
   const Points& X_;
   const Index n_;
-  const MultiIndexTables tables_;
+  const MultiIndexTables& tables_;
   const int stride_;  // doubles per cell's expansion: count rounded up to a multiple of 4
   const std::vector<double> zero_moments_;  // the moments of an empty M2L lane
   const double theta_;
+  const double theta2_ = theta_ * theta_;
   const int leaf_size_;
   const bool framed_near_field_;
   CoulombFmmStats& stats_;
+  const bool time_kernels_;
   coulomb_detail::NormalizedPoints norm_;
   std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
   std::vector<uint64_t> keys_;
@@ -980,7 +1032,9 @@ class Fmm {
   std::vector<int32_t> leaves_;
   std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
   std::vector<double> multipoles_, locals_;
-  std::vector<std::vector<int32_t>> m2l_lists_, p2p_lists_;
+  // Indexed by cell; only the first cells_.size() are this evaluation's (see run()).
+  std::vector<std::vector<int32_t>>& m2l_lists_ = list_store().m2l;
+  std::vector<std::vector<int32_t>>& p2p_lists_ = list_store().p2p;
   std::vector<std::vector<int32_t>> deferred_;  // traverse_parallel's deferred pairs, by target
   int32_t deferred_cut_ = 0;
   bool deferring_ = false;
@@ -1006,7 +1060,7 @@ CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options,
     if (options.want_potentials) empty.potential.resize(0);
     return empty;
   }
-  Fmm fmm(X, parameters, options.min_distance, s);
+  Fmm fmm(X, parameters, options.min_distance, s, stats != nullptr);
   return fmm.run(options.want_potentials);
 }
 

@@ -139,6 +139,23 @@ TEST(CoulombFmm, ReportsWhatItDid) {
   EXPECT_GE(stats.p2p_interactions, 5000);
 }
 
+// A thread keeps its interaction lists' storage from one evaluation to the next: evaluations of other point
+// sets in between (other sizes, other accuracies, so other trees and orders) leave no trace in the result.
+TEST(CoulombFmm, AnEvaluationIsTheSameAfterOthersOnTheSameThread) {
+  const Points X = make_points(6000, "clustered", 3);
+  CoulombFmmOptions options;
+  options.accuracy = 1e-2;
+  const CoulombEvaluation first = coulomb_fmm(X, options);
+  for (const auto& [n, accuracy] : {std::pair<Index, double>{20000, 1e-3}, {500, 1e-2}, {6000, 1e-4}}) {
+    CoulombFmmOptions other;
+    other.accuracy = accuracy;
+    coulomb_fmm(make_points(n, "uniform", 4), other);
+  }
+  const CoulombEvaluation again = coulomb_fmm(X, options);
+  EXPECT_EQ(first.energy, again.energy);
+  EXPECT_TRUE(first.gradient == again.gradient);
+}
+
 TEST(CoulombFmm, RejectsBadOptions) {
   const Points X = make_points(100, "uniform", 6);
   CoulombFmmOptions o;
