@@ -4,6 +4,8 @@
 // Never a speed: the timings of a shared test machine are not a property of the code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -121,13 +123,27 @@ TEST(BenchCoulombIteration, TorusSizesAndThePapersPowerLaw) {
   CoulombIterationBenchOptions o;
   o.n = 300;
   o.repeats = 3;
+  o.windows = 3;
   const CoulombIterationBenchResult r = bench_coulomb_iteration(o);
   EXPECT_EQ(r.source, "torus 30x10");
+  // The figure is the median of the windows' medians, each window kept.
+  ASSERT_EQ(r.window_seconds.size(), 3u);
+  ASSERT_EQ(r.window_seconds_accuracy_1e3.size(), 3u);
+  std::vector<double> sorted = r.window_seconds;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(r.seconds, sorted[1]);
+  sorted = r.window_seconds_accuracy_1e3;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(r.seconds_accuracy_1e3, sorted[1]);
   EXPECT_EQ(r.vertices, 300);
   EXPECT_EQ(r.edges, 3 * r.vertices);  // a closed torus: V − E + F = 0 with F = 2V
   const nlohmann::json j = to_json(r);
   expect_time(j["seconds_per_iteration"].get<double>(), "seconds_per_iteration");
   expect_time(j["seconds_per_iteration_accuracy_1e-3"].get<double>(), "at 1e-3");
+  EXPECT_EQ(j["windows"].get<int>(), 3);
+  EXPECT_EQ(j["seconds_per_iteration_windows"].get<std::vector<double>>(), r.window_seconds);
+  EXPECT_EQ(j["seconds_per_iteration_accuracy_1e-3_windows"].get<std::vector<double>>(),
+            r.window_seconds_accuracy_1e3);
   EXPECT_DOUBLE_EQ(j["paper_seconds_per_iteration"].get<double>(), paper_coulomb_iteration_seconds(300));
   EXPECT_DOUBLE_EQ(j["speedup_vs_paper"].get<double>(),
                    j["paper_seconds_per_iteration"].get<double>() / j["seconds_per_iteration"].get<double>());
