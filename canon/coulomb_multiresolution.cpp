@@ -4,34 +4,20 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <nanoflann.hpp>
 #include <vector>
 
 #include "core/format.h"
 #include "core/error.h"
+#include "core/point_kdtree.h"
 #include "core/locate_on_surface.h"
+#include "core/mesh.h"
 #include "core/remesh.h"
 #include "core/timing.h"
-#include "core/topological_noise.h"
 
 namespace cshapes {
 
 namespace {
 
-struct PointsAdaptor {
-  const Points& P;
-  size_t kdtree_get_point_count() const { return static_cast<size_t>(P.rows()); }
-  double kdtree_get_pt(size_t i, size_t dim) const {
-    return P(static_cast<Index>(i), static_cast<Index>(dim));
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox&) const {
-    return false;
-  }
-};
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor, double, uint32_t>,
-                                        PointsAdaptor, 3, uint32_t>;
 
 // The frame [b − a, c − a, n·scale] of a triangle, n its unit normal (zero for a degenerate one).
 Eigen::Matrix3d triangle_frame(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
@@ -56,8 +42,8 @@ Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const
   std::vector<std::vector<int>> faces_of(nc);
   for (Index f = 0; f < Fc.rows(); ++f)
     for (int k = 0; k < 3; ++k) faces_of[Fc(f, k)].push_back(static_cast<int>(f));
-  PointsAdaptor adaptor{Vc};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  PointsKdAdaptor adaptor{Vc};
+  PointsKdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   const size_t neighbours = std::min<size_t>(N.rows() ? 16 : 8, static_cast<size_t>(nc));
   Points X(P.rows(), 3);
 #pragma omp parallel

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "canon/classical_mds.h"
+#include "core/cotangent_operator.h"
 #include "core/error.h"
 #include "core/simd.h"
 #include "core/timing.h"
@@ -474,13 +475,7 @@ SmacofResult smacof(const DistanceMatrix& D, const SmacofOptions& options) {
 
 Eigen::VectorXd vertex_area_weights(const Mesh& mesh) {
   const Index n = mesh.num_vertices();
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                          c = mesh.V.row(mesh.F(f, 2));
-    const double third = (b - a).cross(c - a).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) area[mesh.F(f, k)] += third;
-  }
+  const Eigen::VectorXd area = lumped_mass(mesh);  // core/cotangent_operator.h
   for (Index i = 0; i < n; ++i)
     CSHAPES_REQUIRE(area[i] > 0, "SMACOF area weights: vertex ", i, " is in no triangle of positive area");
   return area / area.mean();

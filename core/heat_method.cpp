@@ -8,6 +8,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "core/cotangent_operator.h"
 #include "core/error.h"
 #include "core/fast_marching.h"
 #include "core/intrinsic_delaunay.h"
@@ -66,6 +67,8 @@ struct HeatMethod::Impl {
   // 6 values per face (2-D: an intrinsic triangle has no embedding, only a layout from its edge lengths).
   std::vector<double> g;
   std::vector<double> rho;
+  SparseMatrix L;              // the cotangent stiffness (core/cotangent_operator.h)
+  Eigen::VectorXd mass;        // the lumped mass
   std::vector<int> component;  // connected component of each vertex; -1 for a vertex in no face
   std::vector<int> pinned;     // one vertex per component: φ = 0 there
   double source_heat = 1;      // right-hand side at a source vertex (see kHeatPeak)
@@ -149,9 +152,13 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   im.mesh = mesh;
   im.g.resize(6 * m);
   im.rho.resize(m);
-  std::vector<Eigen::Triplet<double>> stiffness;
-  stiffness.reserve(9 * m);
-  Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
+  // L and M: the cotangent operator (core/cotangent_operator.h), the same matrices as the Laplace–Beltrami
+  // eigensolver's. The layout below gives the gradients of the hat functions (step 2).
+  CotangentOperator op = cotangent_operator(T, n);
+  im.L = std::move(op.L);
+  im.mass = std::move(op.mass);
+  const SparseMatrix& L = im.L;
+  const Eigen::VectorXd& mass = im.mass;
   double length_sum = 0;
   for (Index f = 0; f < m; ++f) {
     const int v[3] = {T.F(f, 0), T.F(f, 1), T.F(f, 2)};
@@ -172,19 +179,13 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
       const Eigen::Vector2d e = x[(c + 2) % 3] - x[(c + 1) % 3];
       rc[c] = 0.5 * Eigen::Vector2d(-e.y(), e.x());
       rho = std::max(rho, rc[c].cwiseAbs().maxCoeff());
-      mass[v[c]] += area / 3;  // lumped (barycentric) mass: a third of each incident triangle
     }
     im.rho[f] = rho;
     for (int c = 0; c < 3; ++c) {
       im.g[6 * f + 2 * c] = rc[c].x() / rho;
       im.g[6 * f + 2 * c + 1] = rc[c].y() / rho;
     }
-    // L_ab = Σ_f A_f ∇ψ_a·∇ψ_b = Σ_f r_a·r_b / A_f: the cotangent Laplacian.
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) stiffness.emplace_back(v[a], v[b], rc[a].dot(rc[b]) / area);
   }
-  SparseMatrix L(n, n);
-  L.setFromTriplets(stiffness.begin(), stiffness.end());
 
   // Components (through faces) and the pinned vertex of each.
   Components comp = connected_components(n, mesh_edges(mesh.F));
@@ -236,6 +237,14 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
 }
 
 HeatMethod::~HeatMethod() = default;
+
+const Eigen::SparseMatrix<double>& HeatMethod::laplacian() const {
+  return impl_->L;
+}
+
+const Eigen::VectorXd& HeatMethod::mass() const {
+  return impl_->mass;
+}
 
 Index HeatMethod::fast_marching_continuations() const {
   return impl_->continuations;

@@ -42,6 +42,7 @@
 // Cost: factorisation ~O(n^1.5) once; per source two triangular solves (O(nnz(L factor))) plus O(m).
 #pragma once
 
+#include <Eigen/SparseCore>
 #include <functional>
 #include <memory>
 #include <string>
@@ -93,6 +94,10 @@ class HeatMethod {
   // triangles; core/intrinsic_delaunay.h).
   double mollification() const { return mollification_; }
   Index num_vertices() const { return num_vertices_; }
+  // L and M as built (core/cotangent_operator.h: the Laplace–Beltrami eigensolver's matrices on the same
+  // triangulation).
+  const Eigen::SparseMatrix<double>& laplacian() const;
+  const Eigen::VectorXd& mass() const;
   // Source sets so far whose heat underflowed somewhere, their far distances continued by fast marching.
   Index fast_marching_continuations() const;
   // "cholmod" or "eigen-ldlt": which factorisation is used.

@@ -5,30 +5,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/cotangent_operator.h"
 #include "core/error.h"
 
 namespace cshapes {
 
 namespace {
 
-// Heron's formula with the sides sorted (Kahan's stable form); 0 for a degenerate or impossible triangle.
-double heron(double a, double b, double c) {
-  if (a < b) std::swap(a, b);
-  if (a < c) std::swap(a, c);
-  if (b < c) std::swap(b, c);
-  double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0 ? 0.25 * std::sqrt(p) : 0.0;
-}
-
 // min(b + c - a, a + c - b, a + b - c): how far the lengths are from a degenerate triangle.
 double margin_of(double a, double b, double c) {
   return std::min({b + c - a, a + c - b, a + b - c});
-}
-
-// Cotangent of the angle facing the side of length `opposite` in a triangle with sides `x`, `y` beside it.
-double cotangent(double opposite, double x, double y) {
-  double area = heron(opposite, x, y);
-  return (x * x + y * y - opposite * opposite) / (4 * std::max(area, 1e-300));
 }
 
 // Twin of each half-edge 3f+k: the half-edge in the neighbouring face that runs the other way between the
@@ -66,7 +52,7 @@ std::vector<int> twins(const Faces& F) {
 }  // namespace
 
 double intrinsic_face_area(const IntrinsicTriangulation& T, Index f) {
-  return heron(T.length(f, 0), T.length(f, 1), T.length(f, 2));
+  return heron_area(T.length(f, 0), T.length(f, 1), T.length(f, 2));
 }
 
 double triangle_inequality_margin(const IntrinsicTriangulation& T, Index f) {

@@ -2,34 +2,13 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <nanoflann.hpp>
 #include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "core/point_kdtree.h"
 
 namespace cshapes {
-
-namespace {
-
-// nanoflann reads the points in place through this adaptor (no copy into its own format).
-struct PointsAdaptor {
-  const Points& P;
-  size_t kdtree_get_point_count() const { return static_cast<size_t>(P.rows()); }
-  double kdtree_get_pt(size_t i, size_t dim) const {
-    return P(static_cast<Index>(i), static_cast<Index>(dim));
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox&) const {
-    return false;  // let nanoflann compute it
-  }
-};
-
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor, double, uint32_t>,
-                                        PointsAdaptor, 3, uint32_t>;
-
-}  // namespace
 
 Edges knn_graph(const Points& P, const KnnGraphOptions& options) {
   check_limit(kKnnLimit, options.k, "knn_graph");
@@ -40,8 +19,8 @@ Edges knn_graph(const Points& P, const KnnGraphOptions& options) {
   if (n < 2) return Edges(0, 2);
 
   const Index k = std::min<Index>(options.k, n - 1);
-  PointsAdaptor adaptor{P};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  PointsKdAdaptor adaptor{P};
+  PointsKdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   std::vector<std::pair<int, int>> pairs(static_cast<size_t>(n * k));
 
 #pragma omp parallel

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/cotangent_operator.h"
 #include "core/error.h"
 #include "core/serial_eigen_products.h"
 #include "core/intrinsic_delaunay.h"
@@ -118,30 +119,9 @@ LaplacianMatrices cotangent_laplacian(const Mesh& mesh, bool intrinsic_delaunay_
   out.kind = intrinsic_delaunay_triangulation ? "intrinsic-delaunay" : "cotangent";
   out.flips = T.flips;
   out.mollification = T.mollification;
-  out.mass = Eigen::VectorXd::Zero(n);
-  Triplets stiffness;
-  stiffness.reserve(9 * m);
-  for (Index f = 0; f < m; ++f) {
-    const int v[3] = {T.F(f, 0), T.F(f, 1), T.F(f, 2)};
-    const double area = intrinsic_face_area(T, f);
-    // l(f, k) is the edge from corner k to k+1, so the edge opposite corner c is length(f, (c+1) % 3).
-    double l2[3];
-    for (int c = 0; c < 3; ++c) l2[c] = std::pow(T.length(f, (c + 1) % 3), 2);
-    for (int c = 0; c < 3; ++c) {
-      out.mass[v[c]] += area / 3;
-      // cot of the angle at corner c = (a² + b² − o²) / (4 area), o the opposite edge; the edge (a, b) it
-      // faces gets half of it (the cotangent formula, L_ab = −½ Σ cot).
-      const int a = (c + 1) % 3, b = (c + 2) % 3;
-      const double w = (l2[a] + l2[b] - l2[c]) / (8 * area);
-      // l2[a] is opposite a: the sides at corner c are the edges opposite a and b.
-      stiffness.emplace_back(v[a], v[b], -w);
-      stiffness.emplace_back(v[b], v[a], -w);
-      stiffness.emplace_back(v[a], v[a], w);
-      stiffness.emplace_back(v[b], v[b], w);
-    }
-  }
-  out.L.resize(n, n);
-  out.L.setFromTriplets(stiffness.begin(), stiffness.end());
+  CotangentOperator op = cotangent_operator(T, n);
+  out.L = std::move(op.L);
+  out.mass = std::move(op.mass);
   return out;
 }
 

@@ -79,6 +79,8 @@ MeshInfo mesh_info(const Mesh& mesh);
 
 // Total surface area of the triangles.
 double surface_area(const Points& V, const Faces& F);
+// Area-weighted vertex normals (unit length; zero for isolated vertices and where the faces' normals cancel).
+Points vertex_normals(const Mesh& mesh);
 // Length of the diagonal of the axis-aligned bounding box.
 double bbox_diagonal(const Points& V);
 // The same over the rows with finite coordinates only (a canonical form marks the vertices a repair dropped with

@@ -14,20 +14,6 @@
 
 namespace cshapes {
 
-Points vertex_normals(const Mesh& mesh) {
-  Points N = Points::Zero(mesh.num_vertices(), 3);
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    Eigen::Vector3d n = (b - a).cross(c - a);  // length = 2 × area: area weighting for free
-    for (int k = 0; k < 3; ++k) N.row(mesh.F(f, k)) += n.transpose();
-  }
-  for (Index i = 0; i < N.rows(); ++i) {
-    double len = N.row(i).norm();
-    if (len > 0) N.row(i) /= len;
-  }
-  return N;
-}
-
 namespace {
 
 struct Candidate {

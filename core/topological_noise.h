@@ -123,7 +123,5 @@ TopologicalNoiseResult glue_topological_noise(const Mesh& mesh, const Topologica
 // scan of later vertices per vertex, O(n²) distance tests, plus one Dijkstra per pair examined.
 Edges glue_bridges(const Points& V, const Edges& E, int count);
 
-// Area-weighted vertex normals (unit length; zero for isolated vertices).
-Points vertex_normals(const Mesh& mesh);
 
 }  // namespace cshapes
