@@ -211,6 +211,9 @@ def markdown(out, rows):
     p("JSON file per row and prints every ratio. `cat3505`, `michael22738` and `michael50000` are tosca5k's cat0 and")
     p("michael0 remeshed by `cshapes remesh … --vertices N`. Dated history is in the [changelog](changelog.md).\n")
     p(f"**Build:** {version[0] if version else 'cshapes'}, {build}, the default build (`scripts/build.sh`).  ")
+    machine = load(out, "machine")
+    if machine:
+        p(f"**Processor:** {machine['processor']}, {machine['cores']} cores.  ")
     p(f"**Kernels:** {kernels} — chosen at run time (`cshapes --version`; `CSHAPES_SIMD` forces one).\n")
     p("| what | command (`cshapes -q bench … --json` unless said) | ours | reference, same run | ratio | goal |")
     p("| --- | --- | --- | --- | --- | --- |")

@@ -28,6 +28,8 @@ cshapes="$root/build/cshapes"
 [[ -x "$cshapes" ]] || "$root/scripts/build.sh"
 [[ -d "$data" ]] || { echo "benchmarks: no data at $data (give --data DIR: TOSCA meshes cat0.off, cat1.off, michael0.off)" >&2; exit 1; }
 mkdir -p "$out"
+# The processor: the Coulomb and SMACOF kernels' last bits depend on its maker (docs/benchmarks.md).
+python3 -c "import json, os; model = next((l.split(':', 1)[1].strip() for l in open('/proc/cpuinfo') if l.startswith('model name')), 'unknown'); json.dump({'processor': model, 'cores': os.cpu_count()}, open('$out/machine.json', 'w'))"
 
 bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into DEST/NAME.json (DEST: OUT by default)
   local name=$1 dest=${dest:-$out}
