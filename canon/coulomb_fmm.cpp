@@ -512,8 +512,8 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
 }
 
 // The interaction lists of the calling thread's evaluations, kept between them for their capacity. Released
-// when an evaluation needed more than kKeptListCells cells (a million points), so a single large evaluation
-// does not hold its lists' memory afterwards.
+// when an evaluation needed more than kKeptListCells cells (about 1.5 million points at leaves of 48), so a
+// single large evaluation does not hold its lists' memory afterwards.
 struct ListStore {
   std::vector<std::vector<int32_t>> m2l, p2p;
 };
