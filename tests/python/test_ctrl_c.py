@@ -15,8 +15,11 @@ import textwrap
 import pytest
 
 CASES = {
-    # name: the call (V, F: a biped of about 4,000 vertices; V2 another pose of it; D its geodesic matrix)
-    "geodesics heat": "cshapes.geodesics(V, F, method='heat')",
+    # name: the call (V, F: a biped of about 4,000 vertices; V2 another pose of it; D its geodesic matrix;
+    # BIG: a biped of 9,000 vertices)
+    # The heat method solves a source in about a ten-thousandth of a second at 4,000 vertices, and the whole
+    # matrix took 0.37 s there on a fast processor (before the signal): these two cases use 9,000 vertices.
+    "geodesics heat": "cshapes.geodesics(*BIG, method='heat')",
     "geodesics fmm": "cshapes.geodesics(V, F, method='fmm')",
     # Exact geodesics on the sphere of 2,562 vertices: one source (the unit a stop waits for, in each thread)
     # takes a tenth of a second there, several on a loaded machine at 4,000.
@@ -25,7 +28,7 @@ CASES = {
     "geodesics heat-cgal": "cshapes.geodesics(V, F, method='heat-cgal')",
     "canonical_form coulomb": "cshapes.canonical_form(V, F, method='coulomb', coulomb_tolerance=0)",
     "canonical_form cmds": "cshapes.canonical_form(V, F, method='cmds', geodesics='fmm')",
-    "canonical_form cmds heat": "cshapes.canonical_form(V, F, method='cmds')",
+    "canonical_form cmds heat": "cshapes.canonical_form(*BIG, method='cmds')",
     "canonical_form smacof": "cshapes.canonical_form(V, F, method='smacof', tolerance=0, iters=100000)",
     "canonical_form lbo": "cshapes.canonical_form(V, F, method='lbo', eigenpairs=300)",
     "canonical_form diffusion": "cshapes.canonical_form(V, F, method='diffusion', eigenpairs=300)",
@@ -51,6 +54,7 @@ DATA, OUT = sys.argv[1], sys.argv[2]
 cases = json.loads(sys.argv[3])
 (V, F), (V2, _) = cshapes.generate("articulated", class_="biped", poses=2, vertices=4000, seed=3)
 SPHERE = cshapes.generate("icosphere", subdivisions=4)
+BIG = cshapes.generate("articulated", class_="biped", poses=1, vertices=9000, seed=3)[0]
 D = np.load(os.path.join(OUT, "D.npy")) if os.path.exists(os.path.join(OUT, "D.npy")) else None
 if D is None:
     D = cshapes.geodesics(V, F, method="heat")
