@@ -1,4 +1,4 @@
-#include "canon/classical_mds.h"
+#include "cshapes/canon/classical_mds.h"
 
 #include <Spectra/SymEigsSolver.h>
 #include <omp.h>
@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
-#include "core/serial_eigen_products.h"
-#include "core/simd.h"
-#include "core/timing.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/serial_eigen_products.h"
+#include "cshapes/support/simd.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 namespace {
@@ -70,20 +70,20 @@ SquaredDistanceSums squared_distance_sums(const Eigen::Matrix<Scalar, Eigen::Dyn
 }
 
 namespace baseline {
-#include "canon/classical_mds_simd.inl"
+#include "cshapes/canon/classical_mds_simd.inl"
 }  // namespace baseline
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 #pragma GCC optimize("fp-contract=off")
 namespace avx2 {
-#include "canon/classical_mds_simd.inl"
+#include "cshapes/canon/classical_mds_simd.inl"
 }  // namespace avx2
 #pragma GCC pop_options
 #pragma GCC push_options
 #pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
 #pragma GCC optimize("fp-contract=off")
 namespace avx512 {
-#include "canon/classical_mds_simd.inl"
+#include "cshapes/canon/classical_mds_simd.inl"
 }  // namespace avx512
 #pragma GCC pop_options
 

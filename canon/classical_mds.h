@@ -21,10 +21,10 @@
 // infinite entry (a disconnected mesh) is refused with the pair's indices.
 #pragma once
 
-#include "core/distance_matrix.h"
-#include "core/option_fields.h"
-#include "core/progress.h"
-#include "core/types.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 
@@ -38,7 +38,7 @@ struct ClassicalMdsOptions {
   Index dense_below = 200;  // fewer points: dense eigendecomposition of B (no products, no Lanczos)
   ProgressFn progress;      // stage "classical mds": called after each product B·v (total unknown: 0)
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: ClassicalMdsOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: ClassicalMdsOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("lanczos_vectors", o.lanczos_vectors);

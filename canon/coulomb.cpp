@@ -1,4 +1,4 @@
-#include "canon/coulomb.h"
+#include "cshapes/canon/coulomb.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/timing.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -237,184 +237,234 @@ void check_options(const CoulombCanonOptions& o) {
 
 }  // namespace
 
-CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
-                                          const CoulombCanonOptions& options,
-                                          const Eigen::VectorXd& rest_lengths) {
-  const WallClock::time_point start = WallClock::now();
-  auto elapsed = [&] { return seconds_since(start); };
-  check_options(options);
-  const Index n = X0.rows();
-  CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);
-  CSHAPES_REQUIRE(X0.allFinite(), "coulomb: the input coordinates contain NaN or infinity");
-  CSHAPES_REQUIRE(E.rows() > 0, "coulomb: the edge graph is empty (a mesh without faces needs a kNN graph)");
+namespace {
 
-  CoulombCanonResult result;
-  Edges edges = E;
-  Eigen::VectorXd rest = rest_lengths.size() ? rest_lengths : edge_lengths(X0, E);
-  CSHAPES_REQUIRE(rest.size() == E.rows(), "coulomb: ", rest.size(), " rest lengths for ", E.rows(),
-                  " edges");
-  auto projection = std::make_unique<MetricProjection>(n, edges, rest, options.projection);
-  const double scale = edge_scale(rest, options.step_rule);
-  double fixed_c = options.fixed_step;
+// One run of the iteration from its start to convergence (or max_iterations): the state an outer iteration
+// hands to the next.
+class CoulombRun {
+ public:
+  CoulombRun(const Points& X0, const Edges& E, const CoulombCanonOptions& options,
+             const Eigen::VectorXd& rest_lengths, WallClock::time_point start)
+      : X0_(X0),
+        E_(E),
+        o_(options),
+        start_(start),
+        n_(X0.rows()),
+        momentum_(options.scheme == CoulombScheme::Momentum),
+        tearing_(options.tear_fraction > 0 && options.tear_times > 0),
+        edges_(E),
+        rest_(rest_lengths.size() ? rest_lengths : edge_lengths(X0, E)) {
+    CSHAPES_REQUIRE(rest_.size() == E.rows(), "coulomb: ", rest_.size(), " rest lengths for ", E.rows(),
+                    " edges");
+    projection_ = std::make_unique<MetricProjection>(n_, edges_, rest_, o_.projection);
+    scale_ = edge_scale(rest_, o_.step_rule);
+    fixed_c_ = o_.fixed_step;
+    next_tear_ = o_.tear_after;
+    original_row_.resize(E.rows());
+    std::iota(original_row_.begin(), original_row_.end(), Index(0));
+    result_.torn_vertices = Eigen::VectorXd::Zero(n_);
+    CoulombStartResult start_at = coulomb_start(X0, E, o_.start, o_.start_landmarks);
+    result_.start = start_at.note;
+    // All work arrays are allocated once: an iteration at 5,000 vertices takes a few milliseconds, and fresh
+    // n×3 matrices (120 kB, above malloc's mmap threshold) would be mapped and faulted in every time.
+    X_ = std::move(start_at.X);
+    X_prev_ = X_;
+    Y_.resize(n_, 3);
+    Y_extrapolated_.resize(momentum_ ? n_ : 0, 3);
+    snapshot_ = X_;
+    result_.history.reserve(static_cast<size_t>(std::min(o_.max_iterations, 100000)));
+  }
 
-  const bool momentum = options.scheme == CoulombScheme::Momentum;
-  const bool tearing = options.tear_fraction > 0 && options.tear_times > 0;
-  int tears_done = 0, next_tear = options.tear_after;
-  std::vector<Index> torn_rows;  // row indices into the ORIGINAL E
-  std::vector<Index> original_row(E.rows());
-  std::iota(original_row.begin(), original_row.end(), Index(0));
-  result.torn_vertices = Eigen::VectorXd::Zero(n);
+  CoulombCanonResult run() {
+    int t = 0;
+    for (t = 1; t <= o_.max_iterations; ++t)
+      if (iterate(t)) {
+        result_.converged = true;
+        break;
+      }
+    finish(t);
+    return std::move(result_);
+  }
 
-  CoulombStartResult start_at = coulomb_start(X0, E, options.start, options.start_landmarks);
-  result.start = start_at.note;
-
-  // All work arrays are allocated once: an iteration at 5,000 vertices takes a few milliseconds, and fresh
-  // n×3 matrices (120 kB, above malloc's mmap threshold) would be mapped and faulted in every time.
-  Points X = std::move(start_at.X), X_prev = X, Y(n, 3), Y_extrapolated(momentum ? n : 0, 3);
-  Points snapshot = X;
-  int snapshot_iteration = 0;
-  int since_restart = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
-  double shape_change = -1;
-  result.history.reserve(static_cast<size_t>(std::min(options.max_iterations, 100000)));
-
-  auto tear_now = [&](int iteration) {
-    const double share = options.tear_fraction / options.tear_times;
-    const Index count = static_cast<Index>(std::ceil(share * static_cast<double>(E.rows())));
-    std::vector<Index> chosen = select_edges_to_tear(X, edges, rest, n, count, options.tear_guard);
-    std::vector<char> remove(edges.rows(), 0);
-    for (Index e : chosen) {
-      remove[e] = 1;
-      torn_rows.push_back(original_row[e]);
-      result.torn_vertices(edges(e, 0)) = 1;
-      result.torn_vertices(edges(e, 1)) = 1;
-    }
-    Edges kept(edges.rows() - static_cast<Index>(chosen.size()), 2);
-    Eigen::VectorXd kept_rest(kept.rows());
-    std::vector<Index> kept_original;
-    kept_original.reserve(kept.rows());
-    Index k = 0;
-    for (Index e = 0; e < edges.rows(); ++e) {
-      if (remove[e]) continue;
-      kept.row(k) = edges.row(e);
-      kept_rest(k) = rest(e);
-      kept_original.push_back(original_row[e]);
-      ++k;
-    }
-    edges = std::move(kept);
-    rest = std::move(kept_rest);
-    original_row = std::move(kept_original);
-    projection = std::make_unique<MetricProjection>(n, edges, rest, options.projection);
-    ++tears_done;
-    next_tear = iteration + options.tear_interval;
-    // The tear changes the fixed point: momentum built towards the old one would overshoot (it overflowed to
-    // NaN in the prototype), and the stopping window starts again.
-    X_prev = X;
-    since_restart = 1;
-    snapshot = X;
-    snapshot_iteration = iteration;
-  };
-
-  int t = 0;
-  for (t = 1; t <= options.max_iterations; ++t) {
+ private:
+  // Outer iteration t: momentum's extrapolation, the Coulomb steps, the flattening, the projection, the rigid
+  // alignment, the stopping test and the tears; its record into the history. Returns whether it converged.
+  bool iterate(int t) {
     CoulombIterationRecord record;
     record.iteration = t;
     double beta = 0;
-    if (momentum) {
-      beta = std::min(options.momentum, (since_restart - 1.0) / (since_restart + 2.0));
-      Y.noalias() = X + beta * (X - X_prev);
-      Y_extrapolated = Y;
+    if (momentum_) {
+      beta = std::min(o_.momentum, (since_restart_ - 1.0) / (since_restart_ + 2.0));
+      Y_.noalias() = X_ + beta * (X_ - X_prev_);
+      Y_extrapolated_ = Y_;
     }
-    for (int s = 0; s < options.coulomb_steps; ++s) {
-      // The plain scheme's first step starts at X itself: Y = X − c∇E(X) in one pass, no copy of X first.
-      const bool from_x = s == 0 && !momentum;
-      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X : Y, options.energy);
-      if (s == 0) record.energy = eval.energy;
-      const double gmax = max_row_norm(eval.gradient);
-      CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
-                      " (coincident or diverging vertices?)");
-      const double g = options.step_gradient == StepGradient::Max ? gmax : mean_row_norm(eval.gradient);
-      double c = 0;
-      if (g > 0) {
-        if (options.step_rule == CoulombStepRule::Fixed) {
-          if (fixed_c == 0) fixed_c = options.step_factor * scale / g;
-          c = fixed_c;
-        } else {
-          // Step rule after eq. (4): the fastest vertex moves step_factor · (edge scale).
-          c = options.step_factor * scale / g;
-        }
-      }
-      // eq. (4)
-      if (from_x)
-        Y.noalias() = X - c * eval.gradient;
-      else
-        Y -= c * eval.gradient;
-      record.step = c;
-      record.max_move = c * gmax;
-    }
-    if (options.flatten > 0) flatten_towards_plane(Y, options.flatten);
+    coulomb_steps(t, record);
+    if (o_.flatten > 0) flatten_towards_plane(Y_, o_.flatten);
     // The violation is measured inside the projection's pass (rigid motion below does not change it).
     RelativeViolation violation;
-    projection->project(Y, &violation);
-    if (!Y.allFinite())
-      fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(options.scheme),
-           ", step ", record.step, "); try --scheme paper or a smaller --step-factor");
-    if (options.remove_rigid_motion) rigid_align_in_place(Y, X);
+    projection_->project(Y_, &violation);
+    if (!Y_.allFinite())
+      fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(o_.scheme), ", step ",
+           record.step, "); try --scheme paper or a smaller --step-factor");
+    if (o_.remove_rigid_motion) rigid_align_in_place(Y_, X_);
     bool restart = false;
-    if (momentum) {
+    if (momentum_) {
       // Gradient-mapping restart: the step from the extrapolated point goes back against the momentum.
-      restart = ((Y_extrapolated - Y).cwiseProduct(Y - X)).sum() > 0;
+      restart = ((Y_extrapolated_ - Y_).cwiseProduct(Y_ - X_)).sum() > 0;
     }
-    X_prev.swap(X);
-    X.swap(Y);
-    since_restart = restart ? 1 : since_restart + 1;
+    X_prev_.swap(X_);
+    X_.swap(Y_);
+    since_restart_ = restart ? 1 : since_restart_ + 1;
     record.momentum = beta;
-
     record.mean_violation = violation.mean;
     record.max_violation = violation.max;
 
     // Stopping on the change of the shape over a window, after rigid alignment.
     bool converged = false;
-    if (t - snapshot_iteration >= options.stop_window) {
-      shape_change = rigid_rms_distance(X, snapshot) / std::max(bbox_diagonal(X), 1e-300);
-      snapshot = X;
-      snapshot_iteration = t;
-      converged = shape_change < options.stop_tolerance;
+    if (t - snapshot_iteration_ >= o_.stop_window) {
+      shape_change_ = rigid_rms_distance(X_, snapshot_) / std::max(bbox_diagonal(X_), 1e-300);
+      snapshot_ = X_;
+      snapshot_iteration_ = t;
+      converged = shape_change_ < o_.stop_tolerance;
     }
-    const bool tear_pending = tearing && tears_done < options.tear_times;
-    if (tear_pending && (t >= next_tear || converged)) {
+    const bool tear_pending = tearing_ && tears_done_ < o_.tear_times;
+    if (tear_pending && (t >= next_tear_ || converged)) {
       // Converged before T: nothing would change until T, so tearing now gives the same result sooner.
-      tear_now(t);
+      tear(t);
       converged = false;
     }
-    record.torn_edges = static_cast<int>(torn_rows.size());
-    record.shape_change = shape_change;
-    record.seconds = elapsed();
-    result.history.push_back(record);
-    if (options.progress) options.progress("coulomb", t, options.max_iterations);
-    if (converged) {
-      result.converged = true;
-      break;
+    record.torn_edges = static_cast<int>(torn_rows_.size());
+    record.shape_change = shape_change_;
+    record.seconds = seconds_since(start_);
+    result_.history.push_back(record);
+    if (o_.progress) o_.progress("coulomb", t, o_.max_iterations);
+    return converged;
+  }
+
+  // The iteration's m Coulomb steps (eq. 4) into Y_, from X_ (plain scheme) or from the extrapolated Y_.
+  void coulomb_steps(int t, CoulombIterationRecord& record) {
+    for (int s = 0; s < o_.coulomb_steps; ++s) {
+      // The plain scheme's first step starts at X itself: Y = X − c∇E(X) in one pass, no copy of X first.
+      const bool from_x = s == 0 && !momentum_;
+      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X_ : Y_, o_.energy);
+      if (s == 0) record.energy = eval.energy;
+      const double gmax = max_row_norm(eval.gradient);
+      CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
+                      " (coincident or diverging vertices?)");
+      const double g = o_.step_gradient == StepGradient::Max ? gmax : mean_row_norm(eval.gradient);
+      double c = 0;
+      if (g > 0) {
+        if (o_.step_rule == CoulombStepRule::Fixed) {
+          if (fixed_c_ == 0) fixed_c_ = o_.step_factor * scale_ / g;
+          c = fixed_c_;
+        } else {
+          // Step rule after eq. (4): the fastest vertex moves step_factor · (edge scale).
+          c = o_.step_factor * scale_ / g;
+        }
+      }
+      // eq. (4)
+      if (from_x)
+        Y_.noalias() = X_ - c * eval.gradient;
+      else
+        Y_ -= c * eval.gradient;
+      record.step = c;
+      record.max_move = c * gmax;
     }
   }
-  result.iterations = std::min(t, options.max_iterations);
-  result.stop_reason = result.converged ? "converged" : "max_iterations";
-  if (options.progress) options.progress("coulomb", options.max_iterations, options.max_iterations);
 
-  CoulombOptions final_energy = options.energy;
-  final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);
-  result.energy = coulomb_energy_gradient(X, final_energy).energy;
-  result.violation = metric_violation(X, edges, rest);
-  std::vector<bool> torn_flags(E.rows(), false);
-  for (Index e : torn_rows) torn_flags[e] = true;
-  result.quality = form_quality(X0, E, X, &torn_flags);
-  result.X = std::move(X);
-  result.edges = std::move(edges);
-  result.rest_lengths = std::move(rest);
-  result.torn_edges.resize(static_cast<Index>(torn_rows.size()), 2);
-  for (size_t k = 0; k < torn_rows.size(); ++k)
-    result.torn_edges.row(static_cast<Index>(k)) = E.row(torn_rows[k]);
-  result.seconds = elapsed();
-  return result;
+  // One tear at `iteration`: the share of the edges the guard allows, by deviation, leaves the edge graph
+  // (and the projection); momentum and the stopping window start again.
+  void tear(int iteration) {
+    const double share = o_.tear_fraction / o_.tear_times;
+    const Index count = static_cast<Index>(std::ceil(share * static_cast<double>(E_.rows())));
+    std::vector<Index> chosen = select_edges_to_tear(X_, edges_, rest_, n_, count, o_.tear_guard);
+    std::vector<char> remove(edges_.rows(), 0);
+    for (Index e : chosen) {
+      remove[e] = 1;
+      torn_rows_.push_back(original_row_[e]);
+      result_.torn_vertices(edges_(e, 0)) = 1;
+      result_.torn_vertices(edges_(e, 1)) = 1;
+    }
+    Edges kept(edges_.rows() - static_cast<Index>(chosen.size()), 2);
+    Eigen::VectorXd kept_rest(kept.rows());
+    std::vector<Index> kept_original;
+    kept_original.reserve(kept.rows());
+    Index k = 0;
+    for (Index e = 0; e < edges_.rows(); ++e) {
+      if (remove[e]) continue;
+      kept.row(k) = edges_.row(e);
+      kept_rest(k) = rest_(e);
+      kept_original.push_back(original_row_[e]);
+      ++k;
+    }
+    edges_ = std::move(kept);
+    rest_ = std::move(kept_rest);
+    original_row_ = std::move(kept_original);
+    projection_ = std::make_unique<MetricProjection>(n_, edges_, rest_, o_.projection);
+    ++tears_done_;
+    next_tear_ = iteration + o_.tear_interval;
+    // The tear changes the fixed point: momentum built towards the old one would overshoot (it overflowed to
+    // NaN in the prototype), and the stopping window starts again.
+    X_prev_ = X_;
+    since_restart_ = 1;
+    snapshot_ = X_;
+    snapshot_iteration_ = iteration;
+  }
+
+  // The result after the last iteration t: the energy at the result's accuracy, the violation, the quality,
+  // the edges left and torn.
+  void finish(int t) {
+    result_.iterations = std::min(t, o_.max_iterations);
+    result_.stop_reason = result_.converged ? "converged" : "max_iterations";
+    if (o_.progress) o_.progress("coulomb", o_.max_iterations, o_.max_iterations);
+    CoulombOptions final_energy = o_.energy;
+    final_energy.accuracy = std::min(o_.energy.accuracy, o_.result_accuracy);
+    result_.energy = coulomb_energy_gradient(X_, final_energy).energy;
+    result_.violation = metric_violation(X_, edges_, rest_);
+    std::vector<bool> torn_flags(E_.rows(), false);
+    for (Index e : torn_rows_) torn_flags[e] = true;
+    result_.quality = form_quality(X0_, E_, X_, &torn_flags);
+    result_.X = std::move(X_);
+    result_.edges = std::move(edges_);
+    result_.rest_lengths = std::move(rest_);
+    result_.torn_edges.resize(static_cast<Index>(torn_rows_.size()), 2);
+    for (size_t k = 0; k < torn_rows_.size(); ++k)
+      result_.torn_edges.row(static_cast<Index>(k)) = E_.row(torn_rows_[k]);
+    result_.seconds = seconds_since(start_);
+  }
+
+  const Points& X0_;
+  const Edges& E_;
+  const CoulombCanonOptions& o_;
+  const WallClock::time_point start_;
+  const Index n_;
+  const bool momentum_, tearing_;
+  CoulombCanonResult result_;
+  Edges edges_;                  // the edges left
+  Eigen::VectorXd rest_;         // their rest lengths
+  std::vector<Index> original_row_;  // per edge left: its row in E
+  std::vector<Index> torn_rows_;     // rows of E torn, in order
+  std::unique_ptr<MetricProjection> projection_;
+  double scale_ = 0, fixed_c_ = 0;
+  int tears_done_ = 0, next_tear_ = 0;
+  Points X_, X_prev_, Y_, Y_extrapolated_, snapshot_;
+  int snapshot_iteration_ = 0;
+  int since_restart_ = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
+  double shape_change_ = -1;
+};
+
+}  // namespace
+
+CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
+                                          const CoulombCanonOptions& options,
+                                          const Eigen::VectorXd& rest_lengths) {
+  const WallClock::time_point start = WallClock::now();
+  check_options(options);
+  const Index n = X0.rows();
+  CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);
+  CSHAPES_REQUIRE(X0.allFinite(), "coulomb: the input coordinates contain NaN or infinity");
+  CSHAPES_REQUIRE(E.rows() > 0, "coulomb: the edge graph is empty (a mesh without faces needs a kNN graph)");
+  return CoulombRun(X0, E, options, rest_lengths, start).run();
 }
 
 }  // namespace cshapes

@@ -15,18 +15,18 @@
 // m gradient evaluations (coulomb_energy.h: O(n²) direct, O(n log n) fast) + O(k·|E|) projection.
 #pragma once
 
-#include "core/option_limits.h"
+#include "cshapes/support/option_limits.h"
 
 #include <string>
 #include <vector>
 
-#include "canon/coulomb_energy.h"
-#include "canon/coulomb_start.h"
-#include "canon/form_quality.h"
-#include "canon/metric_projection.h"
-#include "core/option_fields.h"
-#include "core/progress.h"
-#include "core/rigid_transform.h"
+#include "cshapes/canon/coulomb_energy.h"
+#include "cshapes/canon/coulomb_start.h"
+#include "cshapes/canon/form_quality.h"
+#include "cshapes/canon/metric_projection.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/mesh/rigid_transform.h"
 
 namespace cshapes {
 
@@ -77,7 +77,7 @@ inline CoulombOptions coulomb_canon_summation() {
   return o;
 }
 
-// The limits of the options a user sets (core/option_limits.h: the library's check, the CLI's help and
+// The limits of the options a user sets (support/option_limits.h: the library's check, the CLI's help and
 // parser and the Python keywords all read these), named as on the command line.
 namespace coulomb_limits {
 inline constexpr Limit kStepFactor = number_limit("step-factor", 0, kNoLimit, /*minimum_open=*/true);
@@ -114,7 +114,7 @@ struct CoulombMultiresolutionOptions {
   // than the closest: where two parts almost touch, a vertex follows its own part.
   bool facing_triangles = true;
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombMultiresolutionOptions.
+  // Every field by name, for cache keys (support/option_fields.h). Self: CoulombMultiresolutionOptions.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("above_vertices", o.above_vertices);
@@ -207,7 +207,7 @@ struct CoulombCanonOptions {
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
   ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombCanonOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: CoulombCanonOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("scheme", o.scheme);
@@ -289,6 +289,6 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
                                         TearGuard guard = TearGuard::Connected);
 
 // rigid_align, rigid_align_in_place and rigid_rms_distance (Kabsch, same vertex order, reflections
-// excluded), which the iteration uses to remove rigid motion, live in core/rigid_transform.h.
+// excluded), which the iteration uses to remove rigid motion, live in mesh/rigid_transform.h.
 
 }  // namespace cshapes

@@ -1,14 +1,14 @@
-#include "canon/coulomb_energy.h"
+#include "cshapes/canon/coulomb_energy.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "canon/coulomb_fmm.h"
-#include "canon/coulomb_p2p.h"
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/simd.h"
+#include "cshapes/canon/coulomb_fmm.h"
+#include "cshapes/canon/coulomb_p2p.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/simd.h"
 
 namespace cshapes {
 
@@ -36,24 +36,24 @@ double effective_min_distance(const Points& X, double min_distance) {
 
 namespace {
 namespace baseline {
-#include "canon/coulomb_direct_simd.inl"
+#include "cshapes/canon/coulomb_direct_simd.inl"
 }  // namespace baseline
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 namespace avx2 {
-#include "canon/coulomb_direct_simd.inl"
+#include "cshapes/canon/coulomb_direct_simd.inl"
 }  // namespace avx2
 #pragma GCC pop_options
 #pragma GCC push_options
 #pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
 namespace avx512 {
-#include "canon/coulomb_direct_simd.inl"
+#include "cshapes/canon/coulomb_direct_simd.inl"
 }  // namespace avx512
 #pragma GCC pop_options
 
 using DirectSum = void (*)(Index, const double*, const double*, const double*, Index, double, double&,
                            double&, double&, double&);
-// direct_sum_at for the kernels' instruction set (core/simd.h).
+// direct_sum_at for the kernels' instruction set (support/simd.h).
 DirectSum direct_sum_kernel() {
   switch (simd_target()) {
     case SimdTarget::Avx512:

@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "core/option_fields.h"
-#include "core/types.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 
@@ -43,7 +43,7 @@ struct CoulombOptions {
   double min_distance = 0;       // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
   bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: CoulombOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: CoulombOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("summation", o.summation);

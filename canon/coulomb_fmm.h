@@ -25,7 +25,7 @@
 // inputs, and independent of the number of OpenMP threads.
 #pragma once
 
-#include "canon/coulomb_energy.h"
+#include "cshapes/canon/coulomb_energy.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "canon/coulomb_multiresolution.h"
+#include "cshapes/canon/coulomb_multiresolution.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,13 @@
 #include <limits>
 #include <vector>
 
-#include "core/format.h"
-#include "core/error.h"
-#include "core/point_kdtree.h"
-#include "core/locate_on_surface.h"
-#include "core/mesh.h"
-#include "core/remesh.h"
-#include "core/timing.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/point_kdtree.h"
+#include "cshapes/mesh/locate_on_surface.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -90,6 +90,75 @@ Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const
   return X;
 }
 
+namespace {
+
+// Projection sweeps only on the fine edges not torn (is_torn): they restore what the prolongation distorted
+// locally (shear and uneven stretch within a coarse triangle, kinks across coarse edges) and leave the
+// shape-wide form, the coarse one's, as it is (the averaged projection does not pull back a smooth dilation).
+// Coulomb steps here would start the fine level's own inflation (measured: mean stretch 1.31 after 40 fine
+// iterations at 10,000 vertices, against 1.21 for the coarse form). Where a coarse gap crosses the fine mesh,
+// edges the count did not tear stay stretched across it: after the sweeps, the kept edges still beyond the
+// form quality's limit are torn too (by the same guard, into is_torn) and the sweeps repeated, up to
+// tear_rounds times. The kept edges and their rest lengths of the last round are returned.
+void refine(const Edges& E, const Eigen::VectorXd& rest, const CoulombCanonOptions& options, Points& X,
+            std::vector<char>& is_torn, Edges& kept, Eigen::VectorXd& kept_rest,
+            CoulombMultiresolutionResult& out) {
+  const CoulombMultiresolutionOptions& mr = options.multiresolution;
+  const Index n = X.rows();
+  const double limit = FormQualityOptions{}.overstretch, mean_rest = rest.mean();
+  for (int round = 0;; ++round) {
+    std::vector<Index> kept_index;
+    for (Index e = 0; e < E.rows(); ++e)
+      if (!is_torn[e]) kept_index.push_back(e);
+    kept.resize(static_cast<Index>(kept_index.size()), 2);
+    kept_rest.resize(kept.rows());
+    for (Index k = 0; k < kept.rows(); ++k) {
+      kept.row(k) = E.row(kept_index[static_cast<size_t>(k)]);
+      kept_rest[k] = rest[kept_index[static_cast<size_t>(k)]];
+    }
+    const MetricProjection projection(n, kept, kept_rest, options.projection);
+    for (int it = 0; it < mr.refine_iterations; ++it) projection.project(X);
+    Index over = 0;
+    for (Index k = 0; k < kept.rows(); ++k)
+      over += (X.row(kept(k, 0)) - X.row(kept(k, 1))).norm() > limit * std::max(kept_rest[k], mean_rest);
+    out.refine_rounds = round + 1;
+    if (over == 0 || round >= mr.tear_rounds) break;
+    const std::vector<Index> more = select_edges_to_tear(X, kept, kept_rest, n, over, options.tear_guard);
+    if (more.empty()) break;  // the guard refuses every one: sweeps alone would change nothing
+    out.extra_tears += static_cast<Index>(more.size());
+    for (Index k : more) is_torn[kept_index[static_cast<size_t>(k)]] = 1;
+  }
+}
+
+// The torn fine edges (rows of E) into the form's torn_edges and torn_vertices; returns a flag per edge of E.
+std::vector<bool> record_torn_edges(const Edges& E, const std::vector<Index>& torn, Index n,
+                                    CoulombCanonResult& fine) {
+  std::vector<bool> torn_flags(E.rows(), false);
+  Edges torn_edges(static_cast<Index>(torn.size()), 2);
+  fine.torn_vertices = Eigen::VectorXd::Zero(n);
+  for (size_t k = 0; k < torn.size(); ++k) {
+    torn_flags[torn[k]] = true;
+    torn_edges.row(static_cast<Index>(k)) = E.row(torn[k]);
+    fine.torn_vertices(E(torn[k], 0)) = 1;
+    fine.torn_vertices(E(torn[k], 1)) = 1;
+  }
+  fine.torn_edges = std::move(torn_edges);
+  return torn_flags;
+}
+
+std::string multiresolution_note(const CoulombMultiresolutionResult& out, Index n, size_t fine_torn,
+                                 int refine_iterations) {
+  return "multiresolution: " + std::to_string(n) + " vertices through " + std::to_string(out.coarse_vertices) +
+         " (remesh " + significant(out.remesh_seconds) + " s, coarse " + std::to_string(out.coarse_iterations) +
+         " iterations " + significant(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
+         " coarse edges torn -> " + std::to_string(fine_torn) + " fine (" + std::to_string(out.extra_tears) +
+         " of them overstretched after the sweeps), " + std::to_string(refine_iterations) +
+         " fine projections × " + std::to_string(out.refine_rounds) + " rounds " +
+         significant(out.refine_seconds) + " s)";
+}
+
+}  // namespace
+
 CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const CoulombCanonOptions& options) {
   const CoulombMultiresolutionOptions& mr = options.multiresolution;
   const Index n = mesh.num_vertices();
@@ -148,55 +217,17 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   out.prolong_seconds = seconds_since(start);
 
   start = WallClock::now();
-  // Projection sweeps only: they restore what the prolongation distorted locally (shear and uneven stretch
-  // within a coarse triangle, kinks across coarse edges) and leave the shape-wide form, the coarse one's,
-  // as it is (the averaged projection does not pull back a smooth dilation). Coulomb steps here would
-  // start the fine level's own inflation (measured: mean stretch 1.31 after 40 fine iterations at 10,000
-  // vertices, against 1.21 for the coarse form). Where a coarse gap crosses the fine mesh, edges the count
-  // above did not tear stay stretched across it: after the sweeps, the kept edges still beyond the form
-  // quality's limit are torn too (by the same guard) and the sweeps repeated, up to tear_rounds times.
-  const double limit = FormQualityOptions{}.overstretch, mean_rest = rest.mean();
   CoulombCanonResult fine;
   fine.X = X;
   Edges kept;
   Eigen::VectorXd kept_rest;
-  for (int round = 0;; ++round) {
-    std::vector<Index> kept_index;
-    for (Index e = 0; e < E.rows(); ++e)
-      if (!is_torn[e]) kept_index.push_back(e);
-    kept.resize(static_cast<Index>(kept_index.size()), 2);
-    kept_rest.resize(kept.rows());
-    for (Index k = 0; k < kept.rows(); ++k) {
-      kept.row(k) = E.row(kept_index[static_cast<size_t>(k)]);
-      kept_rest[k] = rest[kept_index[static_cast<size_t>(k)]];
-    }
-    const MetricProjection projection(n, kept, kept_rest, options.projection);
-    for (int it = 0; it < mr.refine_iterations; ++it) projection.project(fine.X);
-    Index over = 0;
-    for (Index k = 0; k < kept.rows(); ++k)
-      over += (fine.X.row(kept(k, 0)) - fine.X.row(kept(k, 1))).norm() > limit * std::max(kept_rest[k], mean_rest);
-    out.refine_rounds = round + 1;
-    if (over == 0 || round >= mr.tear_rounds) break;
-    const std::vector<Index> more = select_edges_to_tear(fine.X, kept, kept_rest, n, over, options.tear_guard);
-    if (more.empty()) break;  // the guard refuses every one: sweeps alone would change nothing
-    out.extra_tears += static_cast<Index>(more.size());
-    for (Index k : more) is_torn[kept_index[static_cast<size_t>(k)]] = 1;
-  }
+  refine(E, rest, options, fine.X, is_torn, kept, kept_rest, out);
   std::vector<Index> torn;
   for (Index e = 0; e < E.rows(); ++e)
     if (is_torn[e]) torn.push_back(e);
   CSHAPES_REQUIRE(fine.X.allFinite(), "coulomb multiresolution: non-finite coordinates after the refinement");
   out.refine_seconds = seconds_since(start);
-  std::vector<bool> torn_flags(E.rows(), false);
-  Edges torn_edges(static_cast<Index>(torn.size()), 2);
-  fine.torn_vertices = Eigen::VectorXd::Zero(n);
-  for (size_t k = 0; k < torn.size(); ++k) {
-    torn_flags[torn[k]] = true;
-    torn_edges.row(static_cast<Index>(k)) = E.row(torn[k]);
-    fine.torn_vertices(E(torn[k], 0)) = 1;
-    fine.torn_vertices(E(torn[k], 1)) = 1;
-  }
-  fine.torn_edges = std::move(torn_edges);
+  const std::vector<bool> torn_flags = record_torn_edges(E, torn, n, fine);
   fine.quality = form_quality(mesh.V, E, fine.X, &torn_flags);
   fine.violation = metric_violation(fine.X, kept, kept_rest);
   CoulombOptions final_energy = options.energy;
@@ -214,15 +245,7 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   fine.seconds = out.remesh_seconds + out.coarse_seconds + out.prolong_seconds + out.refine_seconds;
   out.result = std::move(fine);
   out.used = true;
-  out.note = "multiresolution: " + std::to_string(n) + " vertices through " +
-             std::to_string(out.coarse_vertices) + " (remesh " + significant(out.remesh_seconds) +
-             " s, coarse " + std::to_string(out.coarse_iterations) + " iterations " +
-             significant(out.coarse_seconds) + " s, " + std::to_string(out.coarse_torn_edges) +
-             " coarse edges torn -> " + std::to_string(torn.size()) + " fine (" +
-             std::to_string(out.extra_tears) + " of them overstretched after the sweeps), " +
-             std::to_string(mr.refine_iterations) + " fine projections × " + std::to_string(out.refine_rounds) +
-             " rounds " +
-             significant(out.refine_seconds) + " s)";
+  out.note = multiresolution_note(out, n, torn.size(), mr.refine_iterations);
   return out;
 }
 

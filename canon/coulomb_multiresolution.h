@@ -11,7 +11,7 @@
 // h/R instead would need O(n) iterations, and scaling k by (R/h)² O(n) sweeps per iteration: the cost would
 // grow like n².
 //
-// The method here: remesh the surface to coarse_vertices (core/remesh.h; the resolution the defaults were
+// The method here: remesh the surface to coarse_vertices (mesh/remesh.h; the resolution the defaults were
 // chosen at), run coulomb_canonical_form there, carry the coarse form to the fine vertices (prolongation:
 // each fine vertex in the affine frame of its closest coarse triangle, [b−a, c−a, n], mapped into that
 // triangle's frame in the coarse form), tear the fine edges the coarse tears opened (as many as keep the
@@ -33,8 +33,8 @@
 
 #include <string>
 
-#include "canon/coulomb.h"
-#include "core/mesh.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 

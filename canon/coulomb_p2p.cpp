@@ -1,8 +1,8 @@
-// The particle-to-particle kernels of canon/coulomb_p2p.h for each instruction set of core/simd.h: the
+// The particle-to-particle kernels of canon/coulomb_p2p.h for each instruction set of support/simd.h: the
 // baseline (SSE2, written portably) here, the vector ones from canon/coulomb_p2p_simd.inl over a thin
 // vector type per set, each compiled under its own `#pragma GCC target` in its own namespace (so no inline
 // function of one set can stand in for another's at link time), and one dispatcher per kernel.
-#include "canon/coulomb_p2p.h"
+#include "cshapes/canon/coulomb_p2p.h"
 
 #include <immintrin.h>
 
@@ -12,7 +12,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "core/simd.h"
+#include "cshapes/support/simd.h"
 
 namespace cshapes::coulomb_detail {
 
@@ -141,9 +141,9 @@ void p2p_framed_block(const double* x, const double* y, const double* z, Index i
 #pragma GCC target("avx2,fma")
 namespace avx2 {
 #define CSHAPES_SIMD_VECTOR_AVX2
-#include "core/simd_vector.inl"
+#include "cshapes/support/simd_vector.inl"
 #undef CSHAPES_SIMD_VECTOR_AVX2
-#include "canon/coulomb_p2p_simd.inl"
+#include "cshapes/canon/coulomb_p2p_simd.inl"
 }  // namespace avx2
 #pragma GCC pop_options
 
@@ -154,9 +154,9 @@ namespace avx2 {
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 namespace avx512 {
 #define CSHAPES_SIMD_VECTOR_AVX512
-#include "core/simd_vector.inl"
+#include "cshapes/support/simd_vector.inl"
 #undef CSHAPES_SIMD_VECTOR_AVX512
-#include "canon/coulomb_p2p_simd.inl"
+#include "cshapes/canon/coulomb_p2p_simd.inl"
 }  // namespace avx512
 #pragma GCC diagnostic pop
 #pragma GCC pop_options

@@ -1,5 +1,5 @@
 // Internal to canon/coulomb_energy.cpp and canon/coulomb_fmm.cpp: the float particle-to-particle kernels,
-// compiled for each instruction set of core/simd.h and dispatched at run time (canon/coulomb_p2p.cpp; the
+// compiled for each instruction set of support/simd.h and dispatched at run time (canon/coulomb_p2p.cpp; the
 // vector versions in canon/coulomb_p2p_simd.inl).
 //
 // For up to kBlock consecutive targets i0 … i0+count−1 and a list of source index ranges (all indices into
@@ -24,7 +24,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes::coulomb_detail {
 

@@ -1,15 +1,15 @@
-#include "canon/coulomb_start.h"
+#include "cshapes/canon/coulomb_start.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "canon/landmark_mds.h"
-#include "core/format.h"
-#include "core/error.h"
-#include "core/landmark_geodesics.h"
-#include "core/mesh.h"
-#include "core/rigid_transform.h"
-#include "core/timing.h"
+#include "cshapes/canon/landmark_mds.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/landmark_geodesics.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 

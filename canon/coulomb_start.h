@@ -25,7 +25,7 @@
 
 #include <string>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "canon/form_quality.h"
+#include "cshapes/canon/form_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <unordered_set>
 
-#include "core/error.h"
-#include "core/mesh.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 
@@ -28,6 +28,61 @@ std::string format(const char* pattern, double a, double b, double c) {
   char buffer[160];
   std::snprintf(buffer, sizeof buffer, pattern, a, b, c);
   return buffer;
+}
+
+// The stretch statistics of q from the kept edges' stretches (reordered) and their sum.
+void summarise_stretch(std::vector<double>& stretch, double sum, FormQuality& q) {
+  q.edges_measured = static_cast<Index>(stretch.size());
+  if (stretch.empty()) return;
+  q.mean_stretch = sum / static_cast<double>(stretch.size());
+  // A NaN stretch (non-finite coordinates) makes the max NaN; nth_element ranks NaN arbitrarily.
+  q.max_stretch = q.min_stretch = stretch.front();
+  bool any_nan = false;
+  for (double s : stretch) {
+    any_nan = any_nan || std::isnan(s);
+    q.max_stretch = std::max(q.max_stretch, s);
+    q.min_stretch = std::min(q.min_stretch, s);
+  }
+  if (any_nan) q.max_stretch = std::nan("");
+  const size_t rank = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(stretch.size()))) - 1;
+  std::nth_element(stretch.begin(), stretch.begin() + static_cast<std::ptrdiff_t>(rank), stretch.end());
+  q.p99_stretch = stretch[rank];
+}
+
+// Detached parts: within each component of the input graph, every component of the kept (untorn) edges but
+// the largest (ties: the lowest label) is marked.
+void mark_detached(Index n, const Edges& E, const std::vector<bool>& torn, std::vector<char>& detached) {
+  Index kept_count = 0;
+  for (Index e = 0; e < E.rows(); ++e) kept_count += torn[e] ? 0 : 1;
+  Edges kept(kept_count, 2);
+  for (Index e = 0, k = 0; e < E.rows(); ++e)
+    if (!torn[e]) kept.row(k++) = E.row(e);
+  const Components whole = connected_components(n, E), parts = connected_components(n, kept);
+  if (parts.count <= whole.count) return;
+  std::vector<int> main_part(whole.count, -1);  // per input component: its largest kept component
+  for (Index i = 0; i < n; ++i) {
+    int& best = main_part[whole.label[i]];
+    const int p = parts.label[i];
+    if (best < 0 || parts.sizes[p] > parts.sizes[best] || (parts.sizes[p] == parts.sizes[best] && p < best))
+      best = p;
+  }
+  for (Index i = 0; i < n; ++i) detached[i] = parts.label[i] != main_part[whole.label[i]];
+}
+
+// The one-line description: "ok: ..." or "NOT OK: <the runaway vertices>; ...", then the stretch figures.
+std::string describe(const FormQuality& q, bool finite) {
+  const std::string stretch =
+      format("edge stretch (form length / input length) max %.3g, p99 %.3g, mean %.3g", q.max_stretch,
+             q.p99_stretch, q.mean_stretch);
+  if (q.ok) return "ok: " + stretch;
+  std::string what = std::to_string(q.runaway_vertices) + " runaway vertices (" + std::to_string(q.far_vertices) +
+                     " far, " + std::to_string(q.stretched_vertices) + " on overstretched edges, " +
+                     std::to_string(q.detached_vertices) + " detached, " + std::to_string(q.coincident_vertices) +
+                     " coincident with a neighbour";
+  if (!finite) what += ", non-finite coordinates";
+  what += format("; farthest %.3g bbox diagonals from the median", q.max_distance, 0, 0);
+  if (!q.runaway_examples.empty()) what += "; first vertex " + std::to_string(q.runaway_examples.front());
+  return "NOT OK: " + what + "); " + stretch;
 }
 
 }  // namespace
@@ -93,22 +148,7 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
     stretch.push_back(s);
     sum += s;
   }
-  q.edges_measured = static_cast<Index>(stretch.size());
-  if (!stretch.empty()) {
-    q.mean_stretch = sum / static_cast<double>(stretch.size());
-    // A NaN stretch (non-finite coordinates) makes the max NaN; nth_element ranks NaN arbitrarily.
-    q.max_stretch = q.min_stretch = stretch.front();
-    bool any_nan = false;
-    for (double s : stretch) {
-      any_nan = any_nan || std::isnan(s);
-      q.max_stretch = std::max(q.max_stretch, s);
-      q.min_stretch = std::min(q.min_stretch, s);
-    }
-    if (any_nan) q.max_stretch = std::nan("");
-    const size_t rank = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(stretch.size()))) - 1;
-    std::nth_element(stretch.begin(), stretch.begin() + static_cast<std::ptrdiff_t>(rank), stretch.end());
-    q.p99_stretch = stretch[rank];
-  }
+  summarise_stretch(stretch, sum, q);
 
   // Distance from the form's coordinate-wise median, in input bbox diagonals.
   const double diagonal = std::max(bbox_diagonal(input_V), 1e-300);
@@ -119,26 +159,7 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
     if (!(d <= q.max_distance)) q.max_distance = d;
   }
 
-  // Detached parts: within each component of the input graph, every kept component but the largest.
-  if (torn_edges) {
-    Index kept_count = 0;
-    for (Index e = 0; e < E.rows(); ++e) kept_count += torn(e) ? 0 : 1;
-    Edges kept(kept_count, 2);
-    for (Index e = 0, k = 0; e < E.rows(); ++e)
-      if (!torn(e)) kept.row(k++) = E.row(e);
-    const Components whole = connected_components(n, E), parts = connected_components(n, kept);
-    if (parts.count > whole.count) {
-      std::vector<int> main_part(whole.count, -1);  // per input component: its largest kept component
-      for (Index i = 0; i < n; ++i) {
-        int& best = main_part[whole.label[i]];
-        const int p = parts.label[i];
-        if (best < 0 || parts.sizes[p] > parts.sizes[best] ||
-            (parts.sizes[p] == parts.sizes[best] && p < best))
-          best = p;
-      }
-      for (Index i = 0; i < n; ++i) detached[i] = parts.label[i] != main_part[whole.label[i]];
-    }
-  }
+  if (torn_edges) mark_detached(n, E, *torn_edges, detached);
 
   bool finite = X.allFinite();
   for (Index i = 0; i < n; ++i) {
@@ -152,21 +173,7 @@ FormQuality form_quality(const Points& input_V, const Edges& E, const Points& X,
     }
   }
   q.ok = q.runaway_vertices == 0 && finite;
-  q.description =
-      format("edge stretch (form length / input length) max %.3g, p99 %.3g, mean %.3g", q.max_stretch,
-             q.p99_stretch, q.mean_stretch);
-  if (q.ok) {
-    q.description = "ok: " + q.description;
-  } else {
-    std::string what = std::to_string(q.runaway_vertices) + " runaway vertices (" +
-                       std::to_string(q.far_vertices) + " far, " + std::to_string(q.stretched_vertices) +
-                       " on overstretched edges, " + std::to_string(q.detached_vertices) + " detached, " +
-                       std::to_string(q.coincident_vertices) + " coincident with a neighbour";
-    if (!finite) what += ", non-finite coordinates";
-    what += format("; farthest %.3g bbox diagonals from the median", q.max_distance, 0, 0);
-    if (!q.runaway_examples.empty()) what += "; first vertex " + std::to_string(q.runaway_examples.front());
-    q.description = "NOT OK: " + what + "); " + q.description;
-  }
+  q.description = describe(q, finite);
   return q;
 }
 

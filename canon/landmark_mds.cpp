@@ -1,4 +1,4 @@
-#include "canon/landmark_mds.h"
+#include "cshapes/canon/landmark_mds.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -7,9 +7,9 @@
 #include <limits>
 #include <vector>
 
-#include "core/error.h"
-#include "core/serial_eigen_products.h"
-#include "core/timing.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/serial_eigen_products.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -260,6 +260,69 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
   return result;
 }
 
+namespace {
+
+// Landmark weights: uniform, or the per-point weights summed over each landmark's Voronoi cell (the landmark
+// of a point's smallest row entry), normalised to mean 1.
+Eigen::VectorXd landmark_weights(const Eigen::MatrixXf& rows, const Eigen::VectorXd& vertex_weights) {
+  const Index L = rows.rows(), n = rows.cols();
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(L);
+  if (vertex_weights.size() == 0) return w;
+  CSHAPES_REQUIRE(vertex_weights.size() == n, "landmark SMACOF: ", vertex_weights.size(), " vertex weights for ",
+                  n, " points");
+  w.setZero();
+  for (Index j = 0; j < n; ++j) {
+    Index nearest = 0;
+    rows.col(j).minCoeff(&nearest);
+    w[nearest] += vertex_weights[j];
+  }
+  w /= w.mean();
+  return w;
+}
+
+// A point placed against the fixed landmark configuration Y: its stress against its row of distances, and
+// its Guttman transforms.
+struct PointPlacement {
+  const Eigen::MatrixXf& rows;  // L × n distances
+  const Points& Y;              // the landmarks' SMACOF configuration
+  const Eigen::VectorXd& w;     // landmark weights
+  double w_sum;
+  int iterations;
+
+  // Point j's normalised weighted stress at p.
+  double stress(Index j, const Eigen::Vector3d& p) const {
+    const Eigen::VectorXd delta = rows.col(j).cast<double>();
+    const double energy = delta.cwiseAbs2().dot(w);
+    const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
+    return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
+  }
+  // Guttman transforms of point j's stress with the landmarks fixed, from x; with a radius, each projected
+  // onto the ball of that radius around the start (the majorizer is isotropic, so the projection is its
+  // minimum over the ball: the stress still never increases).
+  Eigen::Vector3d settle(Index j, Eigen::Vector3d x, double radius) const {
+    const Index L = Y.rows();
+    const Eigen::VectorXd delta = rows.col(j).cast<double>();
+    const Eigen::Vector3d centre = x;
+    for (int it = 0; it < iterations; ++it) {
+      Eigen::Vector3d next = Eigen::Vector3d::Zero();
+      for (Index k = 0; k < L; ++k) {
+        const Eigen::Vector3d y = Y.row(k).transpose();
+        const double d = (x - y).norm();
+        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
+      }
+      next /= w_sum;
+      if (radius < std::numeric_limits<double>::infinity() && (next - centre).norm() > radius)
+        next = centre + radius * (next - centre).normalized();
+      const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
+      x = next;
+      if (settled) break;
+    }
+    return x;
+  }
+};
+
+}  // namespace
+
 LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks,
                                   const SmacofOptions& smacof_options, int interpolation_iterations,
                                   const Points& start_configuration, const LandmarkNeighbourGraph& graph) {
@@ -272,22 +335,9 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   const Eigen::MatrixXd block = landmark_block(rows, landmarks);
   const LandmarkFrame frame = landmark_frame(block);
 
-  // Landmark weights: uniform, or the per-point weights summed over each landmark's Voronoi cell.
   SmacofOptions so = smacof_options;
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(L);
-  if (smacof_options.vertex_weights.size() > 0) {
-    CSHAPES_REQUIRE(smacof_options.vertex_weights.size() == n,
-                    "landmark SMACOF: ", smacof_options.vertex_weights.size(), " vertex weights for ", n,
-                    " points");
-    w.setZero();
-    for (Index j = 0; j < n; ++j) {
-      Index nearest = 0;
-      rows.col(j).minCoeff(&nearest);
-      w[nearest] += smacof_options.vertex_weights[j];
-    }
-    w /= w.mean();
-    so.vertex_weights = w;
-  }
+  const Eigen::VectorXd w = landmark_weights(rows, smacof_options.vertex_weights);
+  if (smacof_options.vertex_weights.size() > 0) so.vertex_weights = w;
   LandmarkMdsResult result;
   result.eigenvalues = frame.eigenvalues;
   result.explained_energy = frame.explained_energy;
@@ -307,37 +357,11 @@ LandmarkMdsResult landmark_smacof(const Eigen::MatrixXf& rows, const std::vector
   Eigen::VectorXd c = Y.rowwise().squaredNorm();
   c.array() -= c.mean();
 
-  const double w_sum = w.sum();
   std::vector<char> is_landmark(n, 0);
   for (int l : landmarks) is_landmark[l] = 1;
-  auto point_stress = [&](Index j, const Eigen::Vector3d& p) {
-    const Eigen::VectorXd delta = rows.col(j).cast<double>();
-    const double energy = delta.cwiseAbs2().dot(w);
-    const Eigen::VectorXd d = (Y.rowwise() - p.transpose()).rowwise().norm();
-    return energy > 0 ? (delta - d).cwiseAbs2().dot(w) / energy : 0.0;
-  };
-  // Guttman transforms of point j's stress with the landmarks fixed, from x; with a radius, each projected
-  // onto the ball of that radius around the start (the majorizer is isotropic, so the projection is its
-  // minimum over the ball: the stress still never increases).
-  auto settle = [&](Index j, Eigen::Vector3d x, double radius) {
-    const Eigen::VectorXd delta = rows.col(j).cast<double>();
-    const Eigen::Vector3d centre = x;
-    for (int it = 0; it < interpolation_iterations; ++it) {
-      Eigen::Vector3d next = Eigen::Vector3d::Zero();
-      for (Index k = 0; k < L; ++k) {
-        const Eigen::Vector3d y = Y.row(k).transpose();
-        const double d = (x - y).norm();
-        next += w[k] * (d > 0 ? y + (delta[k] / d) * (x - y) : y);
-      }
-      next /= w_sum;
-      if (radius < std::numeric_limits<double>::infinity() && (next - centre).norm() > radius)
-        next = centre + radius * (next - centre).normalized();
-      const bool settled = (next - x).norm() <= 1e-9 * (std::abs(delta.maxCoeff()) + 1e-300);
-      x = next;
-      if (settled) break;
-    }
-    return x;
-  };
+  const PointPlacement placement{rows, Y, w, w.sum(), interpolation_iterations};
+  auto point_stress = [&](Index j, const Eigen::Vector3d& p) { return placement.stress(j, p); };
+  auto settle = [&](Index j, Eigen::Vector3d x, double radius) { return placement.settle(j, x, radius); };
   result.X.resize(n, 3);
   double stress_before = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : stress_before)

@@ -1,7 +1,7 @@
 // MDS canonical forms from L landmark rows of the distance matrix (L × n memory instead of n × n): landmark
 // classical MDS (de Silva & Tenenbaum, "Sparse multidimensional scaling using landmark points", 2004; one of
 // the Nyström methods Platt compares in [Pla05]) and SMACOF on the landmarks with the other points
-// interpolated. The rows come from core/landmark_geodesics.h (farthest-point landmarks).
+// interpolated. The rows come from geodesics/landmark_geodesics.h (farthest-point landmarks).
 //
 // Landmark classical MDS. Δ the L×L squared distances between landmarks (the rows' landmark columns,
 // symmetrised), δ_μ its column means, B_L = −½ J Δ J its double centring (canon/classical_mds.h with n = L):
@@ -44,10 +44,10 @@
 #include <string>
 #include <vector>
 
-#include "canon/smacof.h"
-#include "core/option_fields.h"
-#include "core/option_limits.h"
-#include "core/types.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/option_limits.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 
@@ -76,7 +76,7 @@ struct MdsSolverOptions {
   // interpolated across a fold, placed again from their neighbours (LandmarkNeighbourGraph); 0: no repair.
   double fold_overstretch = 3.0;
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: MdsSolverOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: MdsSolverOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("solver", o.solver);

@@ -1,4 +1,4 @@
-#include "canon/metric_projection.h"
+#include "cshapes/canon/metric_projection.h"
 
 #include <immintrin.h>
 
@@ -7,8 +7,8 @@
 #include <numeric>
 #include <vector>
 
-#include "core/error.h"
-#include "core/simd.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/simd.h"
 
 namespace cshapes {
 
@@ -168,14 +168,14 @@ inline void project_edge(const double* pa, const double* pb, double d, const Edg
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 namespace avx2 {
-#include "canon/metric_projection_simd.inl"
+#include "cshapes/canon/metric_projection_simd.inl"
 }  // namespace avx2
 #pragma GCC pop_options
 
 #pragma GCC push_options
 #pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
 namespace avx512 {
-#include "canon/metric_projection_simd.inl"
+#include "cshapes/canon/metric_projection_simd.inl"
 }  // namespace avx512
 #pragma GCC pop_options
 

@@ -26,16 +26,16 @@
 // Complexity: O(|E|) per sweep, OpenMP over edges and vertices (from 2,000 vertices).
 #pragma once
 
-#include "core/aligned_allocator.h"
-#include "core/option_limits.h"
+#include "cshapes/support/aligned_allocator.h"
+#include "cshapes/support/option_limits.h"
 
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "core/mesh.h"
-#include "core/option_fields.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/option_fields.h"
 
 namespace cshapes {
 
@@ -46,7 +46,7 @@ enum class ProjectionNorm {
 ProjectionNorm parse_projection_norm(const std::string& name);  // "l2" | "l1"
 std::string to_string(ProjectionNorm norm);
 
-// The limits of the options a user sets (core/option_limits.h), named as on the command line.
+// The limits of the options a user sets (support/option_limits.h), named as on the command line.
 namespace projection_limits {
 inline constexpr Limit kSteps = integer_limit("projection-steps", 0, 1e6);
 inline constexpr Limit kL1Floor = number_limit("l1-floor", 0, kNoLimit, /*minimum_open=*/true);
@@ -65,7 +65,7 @@ struct MetricProjectionOptions {
   // [d_ij/c, c·d_ij] to the nearer bound.
   double dilation = 1.0;
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: MetricProjectionOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: MetricProjectionOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("norm", o.norm);

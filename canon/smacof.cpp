@@ -1,4 +1,4 @@
-#include "canon/smacof.h"
+#include "cshapes/canon/smacof.h"
 
 #include <omp.h>
 
@@ -9,11 +9,11 @@
 #include <limits>
 #include <string>
 
-#include "canon/classical_mds.h"
-#include "core/cotangent_operator.h"
-#include "core/error.h"
-#include "core/simd.h"
-#include "core/timing.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/operators/cotangent_operator.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/simd.h"
+#include "cshapes/support/timing.h"
 
 #include <immintrin.h>
 
@@ -24,9 +24,9 @@ namespace {
 #pragma GCC target("avx2,fma")
 namespace avx2 {
 #define CSHAPES_SIMD_VECTOR_AVX2
-#include "core/simd_vector.inl"
+#include "cshapes/support/simd_vector.inl"
 #undef CSHAPES_SIMD_VECTOR_AVX2
-#include "canon/smacof_row_simd.inl"
+#include "cshapes/canon/smacof_row_simd.inl"
 }  // namespace avx2
 #pragma GCC pop_options
 
@@ -41,9 +41,9 @@ namespace avx2 {
 // pass was no faster.
 namespace avx512 {
 #define CSHAPES_SIMD_VECTOR_AVX2
-#include "core/simd_vector.inl"
+#include "cshapes/support/simd_vector.inl"
 #undef CSHAPES_SIMD_VECTOR_AVX2
-#include "canon/smacof_row_simd.inl"
+#include "cshapes/canon/smacof_row_simd.inl"
 }  // namespace avx512
 #pragma GCC diagnostic pop
 #pragma GCC pop_options
@@ -358,6 +358,119 @@ GuttmanTransform guttman_transform(const DistanceMatrix& D, const Points& X, con
   return evaluate(X);
 }
 
+namespace {
+
+// One SMACOF run: the current configuration and its evaluation, the history, and the two iterations (plain
+// Guttman steps, or cycles of K steps closed by an extrapolation that is kept when it lowers the stress).
+class SmacofRun {
+ public:
+  SmacofRun(const DistanceMatrix& D, const SmacofOptions& options, double energy)
+      : options_(options), energy_(energy), evaluate_(D, options.vertex_weights) {}
+
+  // Runs from X0 (centred first) until converged, the target stress or the pass budget.
+  void run(const Points& X0) {
+    X_ = X0.rowwise() - evaluate_.centroid(X0);
+    current_ = evaluate_(X_);
+    accept(X_, current_, false);
+    if (options_.acceleration == SmacofAcceleration::None)
+      run_plain();
+    else
+      run_extrapolated();
+  }
+
+  SmacofResult& result() { return result_; }
+  const Points& X() const { return X_; }
+  const GuttmanTransform& current() const { return current_; }
+  int passes() const { return evaluate_.passes(); }
+
+ private:
+  void accept(Points configuration, GuttmanTransform evaluation, bool extrapolated) {
+    X_ = std::move(configuration);
+    current_ = std::move(evaluation);
+    result_.stress_history.push_back(current_.stress / energy_);
+    result_.passes_history.push_back(evaluate_.passes());
+    result_.extrapolated_history.push_back(extrapolated);
+    if (options_.progress)
+      options_.progress("smacof", std::min(evaluate_.passes() - 1, options_.max_iterations),
+                        options_.max_iterations);
+  }
+  // Stops for the target and the pass budget; convergence is checked by each mode.
+  bool out_of_budget() {
+    if (options_.target_stress > 0 && current_.stress / energy_ <= options_.target_stress) {
+      result_.stop_reason = "target stress";
+      return true;
+    }
+    if (evaluate_.passes() - 1 >= options_.max_iterations) {
+      result_.stop_reason = "max iterations";
+      return true;
+    }
+    return false;
+  }
+  bool converged(double before, double after, int passes) {
+    if (options_.tolerance > 0 && before > 0 && (before - after) / before < options_.tolerance * passes) {
+      result_.stop_reason = "converged";
+      return true;
+    }
+    return false;
+  }
+  void step() {
+    Points next = current_.X_next;
+    GuttmanTransform evaluation = evaluate_(next);
+    accept(std::move(next), std::move(evaluation), false);
+  }
+
+  void run_plain() {
+    while (!out_of_budget()) {
+      const double before = current_.stress;
+      step();
+      if (converged(before, current_.stress, 1)) break;
+    }
+  }
+
+  void run_extrapolated() {
+    const int K = options_.extrapolation_window;
+    while (!out_of_budget()) {
+      const double cycle_start = current_.stress;
+      const int cycle_passes = evaluate_.passes();
+      std::vector<Points> iterates{X_};
+      for (int m = 1; m < K; ++m) {
+        iterates.push_back(current_.X_next);
+        step();
+        if (out_of_budget()) return;
+      }
+      iterates.push_back(current_.X_next);  // x_K, not evaluated yet
+      Points extrapolated = extrapolate(iterates, options_.acceleration);
+      bool accepted = false;
+      if (extrapolated.size() && extrapolated.allFinite()) {
+        GuttmanTransform evaluation = evaluate_(extrapolated);
+        if (evaluation.stress < current_.stress) {
+          accept(std::move(extrapolated), std::move(evaluation), true);
+          ++result_.extrapolations_accepted;
+          accepted = true;
+        } else {
+          ++result_.extrapolations_rejected;
+          if (out_of_budget()) return;
+        }
+      }
+      if (!accepted) {
+        Points next = iterates.back();
+        GuttmanTransform evaluation = evaluate_(next);
+        accept(std::move(next), std::move(evaluation), false);
+      }
+      if (converged(cycle_start, current_.stress, evaluate_.passes() - cycle_passes)) return;
+    }
+  }
+
+  const SmacofOptions& options_;
+  const double energy_;
+  Evaluator evaluate_;
+  Points X_;
+  GuttmanTransform current_;
+  SmacofResult result_;
+};
+
+}  // namespace
+
 SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptions& options) {
   const WallClock::time_point start = WallClock::now();
   CSHAPES_REQUIRE(X0.rows() == D.rows(), "SMACOF: initial configuration has ", X0.rows(), " points for a ",
@@ -369,101 +482,20 @@ SmacofResult smacof(const DistanceMatrix& D, const Points& X0, const SmacofOptio
   check_weights(options.vertex_weights, D.rows());
   const double energy = weighted_distance_energy(D, options.vertex_weights, "SMACOF");
 
-  Evaluator evaluate(D, options.vertex_weights);
+  SmacofRun run(D, options, energy);
   const WallClock::time_point iterations_start = WallClock::now();
   const double cpu_start = process_cpu_seconds();
-  SmacofResult result;
-  Points X = X0.rowwise() - evaluate.centroid(X0);
-  GuttmanTransform current = evaluate(X);
-
-  auto accept = [&](Points configuration, GuttmanTransform evaluation, bool extrapolated) {
-    X = std::move(configuration);
-    current = std::move(evaluation);
-    result.stress_history.push_back(current.stress / energy);
-    result.passes_history.push_back(evaluate.passes());
-    result.extrapolated_history.push_back(extrapolated);
-    if (options.progress)
-      options.progress("smacof", std::min(evaluate.passes() - 1, options.max_iterations),
-                       options.max_iterations);
-  };
-  accept(X, current, false);
-  // Stops for the target and the pass budget; convergence is checked by each mode.
-  auto out_of_budget = [&] {
-    if (options.target_stress > 0 && current.stress / energy <= options.target_stress) {
-      result.stop_reason = "target stress";
-      return true;
-    }
-    if (evaluate.passes() - 1 >= options.max_iterations) {
-      result.stop_reason = "max iterations";
-      return true;
-    }
-    return false;
-  };
-  auto converged = [&](double before, double after, int passes) {
-    if (options.tolerance > 0 && before > 0 && (before - after) / before < options.tolerance * passes) {
-      result.stop_reason = "converged";
-      return true;
-    }
-    return false;
-  };
-
-  if (options.acceleration == SmacofAcceleration::None) {
-    while (!out_of_budget()) {
-      const double before = current.stress;
-      Points next = current.X_next;
-      GuttmanTransform evaluation = evaluate(next);
-      accept(std::move(next), std::move(evaluation), false);
-      if (converged(before, current.stress, 1)) break;
-    }
-  } else {
-    const int K = options.extrapolation_window;
-    while (!out_of_budget()) {
-      const double cycle_start = current.stress;
-      const int cycle_passes = evaluate.passes();
-      std::vector<Points> iterates{X};
-      bool stopped = false;
-      for (int m = 1; m < K; ++m) {
-        Points next = current.X_next;
-        iterates.push_back(next);
-        GuttmanTransform evaluation = evaluate(next);
-        accept(std::move(next), std::move(evaluation), false);
-        if (out_of_budget()) {
-          stopped = true;
-          break;
-        }
-      }
-      if (stopped) break;
-      iterates.push_back(current.X_next);  // x_K, not evaluated yet
-      Points extrapolated = extrapolate(iterates, options.acceleration);
-      bool accepted = false;
-      if (extrapolated.size() && extrapolated.allFinite()) {
-        GuttmanTransform evaluation = evaluate(extrapolated);
-        if (evaluation.stress < current.stress) {
-          accept(std::move(extrapolated), std::move(evaluation), true);
-          ++result.extrapolations_accepted;
-          accepted = true;
-        } else {
-          ++result.extrapolations_rejected;
-          if (out_of_budget()) break;
-        }
-      }
-      if (!accepted) {
-        Points next = iterates.back();
-        GuttmanTransform evaluation = evaluate(next);
-        accept(std::move(next), std::move(evaluation), false);
-      }
-      if (converged(cycle_start, current.stress, evaluate.passes() - cycle_passes)) break;
-    }
-  }
+  run.run(X0);
 
   if (options.progress) options.progress("smacof", options.max_iterations, options.max_iterations);  // done
-  result.X = X;
-  result.stress = current.stress;
-  result.normalized_stress = current.stress / energy;
-  result.iterations = evaluate.passes() - 1;
+  SmacofResult result = std::move(run.result());
+  result.X = run.X();
+  result.stress = run.current().stress;
+  result.normalized_stress = run.current().stress / energy;
+  result.iterations = run.passes() - 1;
   result.seconds = seconds_since(start);
-  result.seconds_per_iteration = seconds_since(iterations_start) / evaluate.passes();
-  result.cpu_seconds_per_iteration = (process_cpu_seconds() - cpu_start) / evaluate.passes();
+  result.seconds_per_iteration = seconds_since(iterations_start) / run.passes();
+  result.cpu_seconds_per_iteration = (process_cpu_seconds() - cpu_start) / run.passes();
   return result;
 }
 
@@ -475,7 +507,7 @@ SmacofResult smacof(const DistanceMatrix& D, const SmacofOptions& options) {
 
 Eigen::VectorXd vertex_area_weights(const Mesh& mesh) {
   const Index n = mesh.num_vertices();
-  const Eigen::VectorXd area = lumped_mass(mesh);  // core/cotangent_operator.h
+  const Eigen::VectorXd area = lumped_mass(mesh);  // operators/cotangent_operator.h
   for (Index i = 0; i < n; ++i)
     CSHAPES_REQUIRE(area[i] > 0, "SMACOF area weights: vertex ", i, " is in no triangle of positive area");
   return area / area.mean();

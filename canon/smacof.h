@@ -29,16 +29,16 @@
 // (tolerance 1e-6) in 59 iterations; RRE reaches the same stress in 18, MPE in 17 (K = 6).
 #pragma once
 
-#include "core/option_fields.h"
-#include "core/option_limits.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/option_limits.h"
 
 #include <string>
 #include <vector>
 
-#include "core/distance_matrix.h"
-#include "core/mesh.h"
-#include "core/progress.h"
-#include "core/types.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 
@@ -51,7 +51,7 @@ enum class SmacofAcceleration {
 SmacofAcceleration parse_smacof_acceleration(const std::string& name);
 std::string to_string(SmacofAcceleration acceleration);
 
-// The limits of the options a user sets (core/option_limits.h), named as on the command line.
+// The limits of the options a user sets (support/option_limits.h), named as on the command line.
 namespace smacof_limits {
 inline constexpr Limit kIterations = integer_limit("iters", 0, 1e8);
 inline constexpr Limit kTolerance = number_limit("tolerance", 0);
@@ -70,7 +70,7 @@ struct SmacofOptions {
   Eigen::VectorXd vertex_weights;  // n positive weights wᵢ (wᵢⱼ = wᵢwⱼ); empty: uniform
   ProgressFn progress;             // stage "smacof": (iterations done, max_iterations)
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: SmacofOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: SmacofOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("max_iterations", o.max_iterations);

@@ -1,5 +1,5 @@
 // The vector part of SMACOF's row pass (canon/smacof.cpp), written once over the vector type V of
-// core/simd_vector.inl and included inside one namespace per instruction set, under that set's
+// support/simd_vector.inl and included inside one namespace per instruction set, under that set's
 // `#pragma GCC target` (no headers here: the includer provides them).
 
 // Row i against columns [j, j + k·kLanes) ⊆ [j, jb) of the tile starting at column j0, whole vectors only:

@@ -1,8 +1,8 @@
-#include "canon/spectral_embedding.h"
+#include "cshapes/canon/spectral_embedding.h"
 
 #include <cmath>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

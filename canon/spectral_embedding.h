@@ -1,4 +1,4 @@
-// Spectral canonical forms: embeddings of a shape by its Laplace–Beltrami eigenpairs (core/laplace_beltrami.h)
+// Spectral canonical forms: embeddings of a shape by its Laplace–Beltrami eigenpairs (operators/laplace_beltrami.h)
 // — the alternatives to MDS the paper's introduction names (Belkin & Niyogi [BN03], Coifman & Lafon [CL06],
 // Rustamov's GPS [Rus07]). Both are isometry-invariant up to the eigenvectors' signs and, within an eigenspace
 // of a multiple eigenvalue, a rotation: both rigid motions (reflections) of the form, which the ICP that
@@ -22,9 +22,9 @@
 // O(n) memory instead of an n×n matrix (uniform weights differ only by the mesh's sampling density).
 #pragma once
 
-#include "core/laplace_beltrami.h"
-#include "core/option_fields.h"
-#include "core/option_limits.h"
+#include "cshapes/operators/laplace_beltrami.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/option_limits.h"
 
 namespace cshapes {
 
@@ -35,7 +35,7 @@ inline constexpr Limit kDiffusionTime = number_limit("diffusion-time", 1e-3, 100
 struct LboFormOptions {
   LaplaceBeltramiOptions laplacian;
 
-  // Every field by name, for cache keys (core/option_fields.h).
+  // Every field by name, for cache keys (support/option_fields.h).
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("laplacian", o.laplacian);
@@ -52,7 +52,7 @@ struct DiffusionFormOptions {
   // shrink towards a line.
   double time = 1.0;
 
-  // Every field by name, for cache keys (core/option_fields.h).
+  // Every field by name, for cache keys (support/option_fields.h).
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("laplacian", o.laplacian);

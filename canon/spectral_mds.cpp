@@ -1,10 +1,10 @@
-#include "canon/spectral_mds.h"
+#include "cshapes/canon/spectral_mds.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
-#include "core/error.h"
-#include "core/serial_eigen_products.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/serial_eigen_products.h"
 
 namespace cshapes {
 

@@ -1,6 +1,6 @@
 // Spectral MDS (Aflalo & Kimmel, "Spectral multidimensional scaling", PNAS 2013): classical MDS with the
 // squared geodesic distance matrix restricted to the span of the first k Laplace–Beltrami eigenfunctions,
-// fitted from the rows of L landmarks only (core/landmark_geodesics.h), so neither the n × n matrix nor its
+// fitted from the rows of L landmarks only (geodesics/landmark_geodesics.h), so neither the n × n matrix nor its
 // all-pairs geodesics are ever formed.
 //
 //   D² ≈ Φ α Φᵀ,  α (k × k) = Φ_S⁺ D²_S M Φ   (least squares over the sampled rows S, M-weighted over the
@@ -15,9 +15,9 @@
 
 #include <vector>
 
-#include "core/laplace_beltrami.h"
-#include "core/option_fields.h"
-#include "core/option_limits.h"
+#include "cshapes/operators/laplace_beltrami.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/option_limits.h"
 
 namespace cshapes {
 
@@ -37,7 +37,7 @@ struct SpectralMdsOptions {
   // well conditioned.
   Index sources = 120;
 
-  // Every field by name, for cache keys (core/option_fields.h).
+  // Every field by name, for cache keys (support/option_fields.h).
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("laplacian", o.laplacian);
@@ -52,7 +52,7 @@ struct SpectralMdsResult {
   double fit_residual = 0;     // ‖Φ_S α Φᵀ − D²_S‖ / ‖D²_S‖ (M-weighted): what the basis misses
 };
 
-// rows: L × n geodesic distances from the vertices `sources` (core/landmark_geodesics.h); eigen: at least 4
+// rows: L × n geodesic distances from the vertices `sources` (geodesics/landmark_geodesics.h); eigen: at least 4
 // eigenpairs, M-orthonormal. Throws when L < k or the sizes disagree.
 SpectralMdsResult spectral_mds(const LaplaceBeltramiEigen& eigen, const std::vector<int>& sources,
                                const Eigen::MatrixXf& rows);

@@ -5,11 +5,11 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/format.h"
-#include "core/io.h"
-#include "core/mesh.h"
-#include "matching/icp.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/format.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/matching/shape_distance.h"
 
 namespace cshapes::cli {
 namespace {

@@ -8,8 +8,8 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/format.h"
-#include "experiments/bench_coulomb.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/bench_coulomb.h"
 
 namespace cshapes::cli {
 namespace {

@@ -6,8 +6,8 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/format.h"
-#include "experiments/bench_coulomb_iteration.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/bench_coulomb_iteration.h"
 
 namespace cshapes::cli {
 namespace {

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <iostream>
 
-#include "canon/landmark_mds.h"
+#include "cshapes/canon/landmark_mds.h"
 #include "cli/command.h"
-#include "core/format.h"
-#include "experiments/bench_form.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/bench_form.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes::cli {
 namespace {

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/format.h"
-#include "experiments/bench_geodesics.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/bench_geodesics.h"
 
 namespace cshapes::cli {
 namespace {

@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "experiments/bench_icp.h"
+#include "cshapes/experiments/bench_icp.h"
 
 namespace cshapes::cli {
 namespace {

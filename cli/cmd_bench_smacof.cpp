@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "experiments/bench_smacof.h"
+#include "cshapes/experiments/bench_smacof.h"
 
 namespace cshapes::cli {
 namespace {

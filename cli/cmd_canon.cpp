@@ -3,11 +3,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/io.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
 #include "cli/command.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/mesh_report.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {

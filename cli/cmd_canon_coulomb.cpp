@@ -1,9 +1,9 @@
 // cshapes canon MESH -o OUT --method coulomb [options]: the Coulomb canonical form (§2 of the paper).
 // Output: the input's vertex order and faces; PLY carries a per-vertex `torn` flag (1: endpoint of a torn
 // edge).
-#include "canon/coulomb.h"
+#include "cshapes/canon/coulomb.h"
 #include "cli/command.h"
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes::cli {
 namespace {

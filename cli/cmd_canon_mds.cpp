@@ -1,11 +1,11 @@
 // The options of `--method cmds|smacof`: MDS canonical forms (Elad & Kimmel) of a mesh, from its all-pairs
 // geodesic distances (computed, or read with --distances by `cshapes canon`); pipeline/canonical_forms.h
 // computes them.
-#include "canon/landmark_mds.h"
-#include "canon/smacof.h"
+#include "cshapes/canon/landmark_mds.h"
+#include "cshapes/canon/smacof.h"
 #include "cli/command.h"
-#include "core/error.h"
-#include "core/geodesics.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
 
 namespace cshapes::cli {
 namespace {

@@ -3,7 +3,7 @@
 // eigenpair options are in the lbo group and serve diffusion too, --laplacian and --near-multiple-gap also
 // spectral-mds (whose basis is --basis; CLI11 needs each name once). Point clouds use the kNN graph of
 // --knn (cli/main.cpp: an option of every method).
-#include "canon/spectral_embedding.h"
+#include "cshapes/canon/spectral_embedding.h"
 #include "cli/command.h"
 
 namespace cshapes::cli {

@@ -1,7 +1,7 @@
 // cshapes convert IN OUT: between mesh formats (by extension), keeping PLY per-vertex scalars and colours.
 // A PLY's invalid vertices (NaN rows with valid = 0, as canonical forms write dropped vertices) are dropped
 // with the faces on them, and said.
-#include "core/io.h"
+#include "cshapes/mesh/io.h"
 #include "cli/command.h"
 
 namespace cshapes::cli {

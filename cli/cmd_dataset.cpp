@@ -1,12 +1,12 @@
-// cshapes dataset PATH [--json]: lists what the dataset reader (core/dataset.h) makes of a folder or a
+// cshapes dataset PATH [--json]: lists what the dataset reader (data/dataset.h) makes of a folder or a
 // manifest.csv — the shapes, their classes, poses and noise flags — as every multi-shape command will see
 // them.
 #include <cstdio>
 #include <iostream>
 
-#include "core/dataset.h"
+#include "cshapes/data/dataset.h"
 #include "cli/command.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes::cli {
 namespace {

@@ -7,11 +7,11 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/dataset.h"
-#include "eval/distance_csv.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/dataset_distances.h"
-#include "pipeline/distributed.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/dataset_distances.h"
+#include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
 namespace {

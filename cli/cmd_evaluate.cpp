@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "eval/distance_csv.h"
-#include "eval/retrieval_report.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/eval/retrieval_report.h"
 #include "cli/command.h"
-#include "experiments/figures.h"
+#include "cshapes/experiments/figures.h"
 
 namespace cshapes::cli {
 namespace {

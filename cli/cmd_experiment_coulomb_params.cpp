@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "experiments/coulomb_params.h"
+#include "cshapes/experiments/coulomb_params.h"
 
 namespace cshapes::cli {
 namespace {

@@ -6,10 +6,10 @@
 #include <set>
 
 #include "cli/command.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "core/topological_noise.h"
-#include "experiments/noise_experiment.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/experiments/noise_experiment.h"
 
 namespace cshapes::cli {
 namespace {

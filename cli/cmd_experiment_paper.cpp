@@ -6,10 +6,10 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "experiments/paper_experiment.h"
-#include "pipeline/distributed.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
 namespace {

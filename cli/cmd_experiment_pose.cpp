@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "experiments/pose_invariance.h"
+#include "cshapes/experiments/pose_invariance.h"
 
 namespace cshapes::cli {
 namespace {

@@ -5,9 +5,9 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/format.h"
-#include "experiments/retrieval_experiment.h"
-#include "pipeline/distributed.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
 namespace {

@@ -6,9 +6,9 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "experiments/topkids_experiment.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/experiments/topkids_experiment.h"
 
 namespace cshapes::cli {
 namespace {

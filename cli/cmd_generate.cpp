@@ -4,15 +4,15 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/articulated.h"
-#include "core/dataset.h"
-#include "core/synthetic.h"
-#include "pipeline/generated_shapes.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/pipeline/generated_shapes.h"
 
 namespace cshapes::cli {
 namespace {
 
-// An option with its default shown in --help and the library's limit applied (core/option_limits.h).
+// An option with its default shown in --help and the library's limit applied (support/option_limits.h).
 template <class T>
 void add_limited(CLI::App& app, const std::string& name, T& value, const std::string& help,
                  const Limit& limit) {

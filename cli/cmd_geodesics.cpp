@@ -1,14 +1,14 @@
 // cshapes geodesics MESH -o D.bin --method heat|heat-cgal|fmm|exact|graph: all-pairs geodesic distances
-// (binary format in core/distance_matrix.h), or with --source i one row as CSV (-o NAME.csv or stdout).
+// (binary format in support/distance_matrix.h), or with --source i one row as CSV (-o NAME.csv or stdout).
 #include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "cli/command.h"
-#include "core/error.h"
-#include "core/timing.h"
-#include "pipeline/mesh_geodesics.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/mesh_geodesics.h"
 
 namespace cshapes::cli {
 namespace {

@@ -1,12 +1,12 @@
 // cshapes info MESH [--json]: counts, topology and size of a mesh or point cloud, and its defects
-// (core/mesh_defects.h) for any readable file: only malformed files are refused.
+// (mesh/mesh_defects.h) for any readable file: only malformed files are refused.
 #include <cstdio>
 #include <iostream>
 
-#include "core/io.h"
-#include "core/mesh_defects.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh_defects.h"
 #include "cli/command.h"
-#include "pipeline/mesh_report.h"
+#include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {

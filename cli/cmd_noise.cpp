@@ -1,16 +1,16 @@
 // cshapes noise MESH -o OUT --glue K: topological noise by gluing almost-touching spots (see
-// core/topological_noise.h); writes the glued vertex pairs as JSON for red marking in renderings.
+// data/topological_noise.h); writes the glued vertex pairs as JSON for red marking in renderings.
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "core/io.h"
-#include "core/topological_noise.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/topological_noise.h"
 #include "cli/command.h"
-#include "pipeline/mesh_report.h"
+#include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
 namespace {

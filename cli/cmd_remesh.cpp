@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "core/distance_matrix.h"
-#include "core/io.h"
-#include "core/remesh.h"
-#include "core/subdivide.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/mesh/subdivide.h"
 #include "cli/command.h"
 
 namespace cshapes::cli {

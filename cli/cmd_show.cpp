@@ -1,7 +1,7 @@
 // cshapes show MESH [FORM] -o PICTURE.png [--title TEXT] [--view pca|x|y|z]: a picture of a mesh, or of a
 // mesh and its canonical form side by side with the same colour per vertex (experiments/show_mesh.h).
 #include "cli/command.h"
-#include "experiments/show_mesh.h"
+#include "cshapes/experiments/show_mesh.h"
 
 namespace cshapes::cli {
 namespace {

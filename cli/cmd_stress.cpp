@@ -1,4 +1,4 @@
-// cshapes stress --count N --seed S: the corpus of failure-prone meshes (core/stress_corpus.h) through every
+// cshapes stress --count N --seed S: the corpus of failure-prone meshes (data/stress_corpus.h) through every
 // geodesic method, canonical form and ICP (experiments/geodesic_stress.h); one JSON line per mesh on stdout
 // (or --out), failing meshes saved. scripts/stress_geodesics.py runs it and prints the table.
 #include <algorithm>
@@ -7,9 +7,9 @@
 #include <iostream>
 #include <mutex>
 
-#include "core/io.h"
+#include "cshapes/mesh/io.h"
 #include "cli/command.h"
-#include "experiments/geodesic_stress.h"
+#include "cshapes/experiments/geodesic_stress.h"
 
 namespace cshapes::cli {
 namespace {

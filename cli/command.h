@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/mesh.h"
-#include "core/option_limits.h"
-#include "core/progress.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/option_limits.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes::cli {
 
@@ -131,17 +131,19 @@ CLI::Validator number_at_least(double minimum);            // >= minimum
 CLI::Validator number_above(double minimum);               // > minimum
 CLI::Validator number_in(double minimum, double maximum);  // [minimum, maximum]
 CLI::Validator one_of(const std::vector<std::string>& names);
-// The library's limit of an option (core/option_limits.h): the help shows it, the parser applies it, in the
+// A value as the messages show it: in single quotes.
+std::string in_quotes(const std::string& text);
+// The library's limit of an option (support/option_limits.h): the help shows it, the parser applies it, in the
 // library's own words, so the CLI, the Python module and the library agree.
 CLI::Validator within(const Limit& limit);
 
 // Refuses (UsageError) an output path that cannot be written, before any work: see check_output_path in
-// core/atomic_file.h. mesh: the extensions write_mesh knows.
+// support/atomic_file.h. mesh: the extensions write_mesh knows.
 void require_output_path(const std::string& path, const std::vector<std::string>& extensions);
 void require_mesh_output_path(const std::string& path);
 void require_output_directory(const std::string& path);
 // No output may be an input: refuses (UsageError) an output path that is already one of the files the
-// command reads (check_output_not_input in core/atomic_file.h: "./X", links and hard links are X), before
+// command reads (check_output_not_input in support/atomic_file.h: "./X", links and hard links are X), before
 // any work. option: how the output was given ("-o", "OUT"). Every command that writes files calls it with
 // each output and all of its inputs (meshes, matrices, labels, a dataset's manifest or .cla).
 void require_output_not_input(const std::string& output, const std::vector<std::string>& inputs,

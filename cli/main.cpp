@@ -22,19 +22,19 @@
 #include <thread>
 
 #include "cli/command.h"
-#include "core/atomic_file.h"
-#include "core/build_info.h"
-#include "core/distance_matrix.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "core/knn_graph.h"
-#include "core/remesh.h"
-#include "core/simd.h"
-#include "core/threads.h"
-#include "core/timing.h"
-#include "eval/cache.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/distributed.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/build_info.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/mesh/knn_graph.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/support/simd.h"
+#include "cshapes/support/threads.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
 
@@ -237,117 +237,6 @@ int exit_code_for(const std::vector<ShapeFailure>& failures) {
   return kExitPartial;
 }
 
-namespace {
-
-// Parses a whole string as a number: "12", "-3", "1e-3"; false for "", "abc", "12abc".
-bool parse_number(const std::string& text, double& value) {
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size() && !std::isnan(value);
-}
-bool parse_integer(const std::string& text, long long& value) {
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtoll(text.c_str(), &end, 10);
-  return end == text.c_str() + text.size() && errno == 0;
-}
-std::string in_quotes(const std::string& text) {
-  return "'" + text + "'";
-}
-std::string integer_range(long long minimum, long long maximum) {
-  if (minimum == LLONG_MIN && maximum == LLONG_MAX) return "an integer";
-  if (maximum == LLONG_MAX) return "an integer >= " + std::to_string(minimum);
-  return "an integer in " + std::to_string(minimum) + ".." + std::to_string(maximum);
-}
-std::string format_number(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
-
-}  // namespace
-
-CLI::Validator integer_in(long long minimum, long long maximum) {
-  const std::string expected = integer_range(minimum, maximum);
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        long long value = 0;
-        if (!parse_integer(text, value) || value < minimum || value > maximum)
-          return "expected " + expected + ", got " + in_quotes(text);
-        return {};
-      },
-      maximum == LLONG_MAX ? ">= " + std::to_string(minimum)
-                           : std::to_string(minimum) + ".." + std::to_string(maximum));
-}
-CLI::Validator integer_at_least(long long minimum) {
-  return integer_in(minimum, LLONG_MAX);
-}
-
-int integer_or_word(const std::string& option, const std::string& text, long long minimum, long long maximum,
-                    const std::string& word, int word_value) {
-  if (text == word) return word_value;
-  long long value = 0;
-  if (!parse_integer(text, value) || value < minimum || value > maximum)
-    usage_fail(option, ": expected ", integer_range(minimum, maximum), " or '", word, "', got ",
-               in_quotes(text));
-  return static_cast<int>(value);
-}
-
-namespace {
-CLI::Validator number_check(double minimum, double maximum, bool open_below, const std::string& range) {
-  const std::string expected = range.empty() ? "a number" : "a number " + range;
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double value = 0;
-        if (!parse_number(text, value) || !std::isfinite(value) || value < minimum || value > maximum ||
-            (open_below && value == minimum))
-          return "expected " + expected + ", got " + in_quotes(text);
-        return {};
-      },
-      range);
-}
-}  // namespace
-
-CLI::Validator number_at_least(double minimum) {
-  return number_check(minimum, HUGE_VAL, false, ">= " + format_number(minimum));
-}
-CLI::Validator number_above(double minimum) {
-  return number_check(minimum, HUGE_VAL, true, "> " + format_number(minimum));
-}
-CLI::Validator number_in(double minimum, double maximum) {
-  if (std::isinf(minimum) && std::isinf(maximum)) return number_check(minimum, maximum, false, "");
-  return number_check(minimum, maximum, false,
-                      "in [" + format_number(minimum) + ", " + format_number(maximum) + "]");
-}
-CLI::Validator within(const Limit& limit) {
-  return CLI::Validator(
-      [limit](std::string& text) -> std::string {
-        bool ok = false;
-        if (limit.kind == Limit::Integer) {
-          long long value = 0;
-          ok = parse_integer(text, value) && limit.holds(static_cast<double>(value));
-        } else {
-          double value = 0;
-          ok = parse_number(text, value) && std::isfinite(value) && limit.holds(value);
-        }
-        return ok ? std::string() : "expected " + limit.describe() + ", got " + in_quotes(text);
-      },
-      limit.brief());
-}
-CLI::Validator one_of(const std::vector<std::string>& names) {
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        if (std::find(names.begin(), names.end(), text) != names.end()) return {};
-        return "expected one of " + list + ", got " + in_quotes(text);
-      },
-      "{" + list + "}");
-}
-
 void require_output_path(const std::string& path, const std::vector<std::string>& extensions) {
   try {
     check_output_path(path, extensions);
@@ -358,7 +247,7 @@ void require_output_path(const std::string& path, const std::vector<std::string>
   }
 }
 void require_mesh_output_path(const std::string& path) {
-  require_output_path(path, {"off", "ply", "obj", "xyz"});  // what write_mesh writes (core/io.h)
+  require_output_path(path, {"off", "ply", "obj", "xyz"});  // what write_mesh writes (mesh/io.h)
 }
 void prepare_experiment(const std::vector<std::string>& methods, const std::string& out,
                         CanonicalFormOptions& canon) {
@@ -405,31 +294,6 @@ void add_renamed(CLI::App& app, const std::string& old_name, const std::string& 
   option->group("");  // not in --help
 }
 
-void add_resample_option(CLI::App& app, Index& vertices) {
-  app.add_option("--resample", vertices,
-                 "remesh every shape to about N vertices first (CGAL isotropic remeshing, cached by content; "
-                 "the report gives each remesh's Hausdorff distance and smallest angle); 0: as they are")
-      ->capture_default_str()
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            long long n = 0;
-            if (!parse_integer(text, n) || (n != 0 && (n < 4 || n > 100000000)))
-              return "expected 0 (off) or a vertex count from 4 to 100000000, got " + in_quotes(text);
-            // A remesh of N vertices that cannot fit is a usage error in every command (exit 2), before
-            // any work: the library's own check (pipeline/resampled_dataset.h) is the same figure.
-            if (n > 0) {
-              try {
-                require_memory(remesh_memory_bytes(static_cast<Index>(n)),
-                               "remeshing to " + std::to_string(n) + " vertices");
-              } catch (const Error& e) {
-                return e.what();
-              }
-            }
-            return {};
-          },
-          "0 or 4..100000000"));
-}
-
 void require_output_directory(const std::string& path) {
   try {
     check_output_directory(path);
@@ -451,7 +315,7 @@ ProgressFn progress_printer() {
   };
   auto state = std::make_shared<State>();
   return [state, terminal](const std::string& stage, double done, double total) {
-    if (stage.empty()) return;  // a poll (core/progress.h): nothing to report
+    if (stage.empty()) return;  // a poll (support/progress.h): nothing to report
     auto now = WallClock::now();
     bool first = false;
     if (stage != state->stage) {
@@ -486,7 +350,7 @@ void set_threads(int requested) {
   if (!given && !std::getenv("OMP_NUM_THREADS"))
     requested = std::max(1, omp_get_max_threads() / cshapes::ranks_on_this_node());
   // Long runs choose again before each form and block of pairs from this request, not from the count the
-  // load allows now (core/threads.h).
+  // load allows now (support/threads.h).
   const int request =
       std::min(requested > 0 ? requested : omp_get_max_threads(), 4 * std::max(1, omp_get_num_procs()));
   omp_set_num_threads(threads_for_computation(requested, 3, [given](const std::string& line) {
@@ -595,6 +459,53 @@ int report(const std::string& what, int code) {
   return code;
 }
 
+// The command tree from the registered paths: a subcommand per path element, each registered command's
+// options on its leaf. Returns the leaves' commands.
+std::map<CLI::App*, const Command*> build_command_tree(CLI::App& app) {
+  std::map<CLI::App*, const Command*> leaf;
+  for (const Command& cmd : registry().commands) {
+    CLI::App* parent = &app;
+    for (size_t k = 0; k < cmd.path.size(); ++k) {
+      CLI::App* sub = nullptr;
+      for (CLI::App* existing : parent->get_subcommands([](CLI::App*) { return true; }))
+        if (existing->get_name() == cmd.path[k]) sub = existing;
+      if (!sub) {
+        sub = parent->add_subcommand(cmd.path[k],
+                                     k + 1 == cmd.path.size() ? cmd.summary : group_description(cmd.path[k]));
+        sub->fallthrough();
+      }
+      if (k + 1 < cmd.path.size()) sub->require_subcommand(1);
+      parent = sub;
+    }
+    parent->description(cmd.summary);
+    if (cmd.add_options) cmd.add_options(*parent);
+    leaf[parent] = &cmd;
+  }
+  return leaf;
+}
+
+// Runs the command; an error is one line on stderr and its exit code (usage 2, data 1).
+int run_command(const Command& command) {
+  int code = 0;
+  try {
+    return command.run();
+  } catch (const UsageError& e) {
+    code = report(e.what(), kExitUsage);
+  } catch (const cshapes::Error& e) {
+    code = report(e.what(), kExitDataError);
+  } catch (const std::bad_alloc&) {
+    code = report("out of memory", kExitDataError);
+  } catch (const std::length_error& e) {  // a container asked for more elements than it can hold
+    code = report(std::string("out of memory: a size beyond what can be allocated (") + e.what() + ")",
+                  kExitDataError);
+  } catch (const std::exception& e) {
+    code = report(e.what(), kExitDataError);
+  }
+  // Under mpirun the other ranks may be waiting for this one in a collective call: end them all.
+  cshapes::abort_all_ranks(code);
+  return code;
+}
+
 }  // namespace
 
 }  // namespace cshapes::cli
@@ -621,26 +532,7 @@ int main(int argc, char** argv) {
       ->check(integer_at_least(0));
   app.add_flag("-q,--quiet", g_quiet, "no progress or notes on stderr");
 
-  // Build the command tree from the registered paths.
-  std::map<CLI::App*, const Command*> leaf;
-  for (const Command& cmd : registry().commands) {
-    CLI::App* parent = &app;
-    for (size_t k = 0; k < cmd.path.size(); ++k) {
-      CLI::App* sub = nullptr;
-      for (CLI::App* existing : parent->get_subcommands([](CLI::App*) { return true; }))
-        if (existing->get_name() == cmd.path[k]) sub = existing;
-      if (!sub) {
-        sub = parent->add_subcommand(cmd.path[k],
-                                     k + 1 == cmd.path.size() ? cmd.summary : group_description(cmd.path[k]));
-        sub->fallthrough();
-      }
-      if (k + 1 < cmd.path.size()) sub->require_subcommand(1);
-      parent = sub;
-    }
-    parent->description(cmd.summary);
-    if (cmd.add_options) cmd.add_options(*parent);
-    leaf[parent] = &cmd;
-  }
+  const std::map<CLI::App*, const Command*> leaf = build_command_tree(app);
   check_numeric_options(app);
   show_defaults(app);
 
@@ -682,22 +574,5 @@ int main(int argc, char** argv) {
   if (g_command.rfind("bench", 0) == 0) note("kernels: " + cshapes::simd_description());
   set_threads(g_threads);
   cshapes::set_cache_warning_sink(warn);  // a damaged cache entry is said, also under --quiet
-  int code = 0;
-  try {
-    return it->second->run();
-  } catch (const UsageError& e) {
-    code = report(e.what(), kExitUsage);
-  } catch (const cshapes::Error& e) {
-    code = report(e.what(), kExitDataError);
-  } catch (const std::bad_alloc&) {
-    code = report("out of memory", kExitDataError);
-  } catch (const std::length_error& e) {  // a container asked for more elements than it can hold
-    code = report(std::string("out of memory: a size beyond what can be allocated (") + e.what() + ")",
-                  kExitDataError);
-  } catch (const std::exception& e) {
-    code = report(e.what(), kExitDataError);
-  }
-  // Under mpirun the other ranks may be waiting for this one in a collective call: end them all.
-  cshapes::abort_all_ranks(code);
-  return code;
+  return run_command(*it->second);
 }

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "cli/command.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes::cli {
 

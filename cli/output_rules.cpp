@@ -2,7 +2,7 @@
 #include <filesystem>
 
 #include "cli/command.h"
-#include "core/atomic_file.h"
+#include "cshapes/support/atomic_file.h"
 
 namespace cshapes::cli {
 

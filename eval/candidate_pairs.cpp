@@ -1,10 +1,10 @@
-#include "eval/candidate_pairs.h"
+#include "cshapes/eval/candidate_pairs.h"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

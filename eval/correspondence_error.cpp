@@ -1,4 +1,4 @@
-#include "eval/correspondence_error.h"
+#include "cshapes/eval/correspondence_error.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -10,11 +10,11 @@
 #include <memory>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/fast_marching.h"
-#include "core/geodesics.h"
-#include "core/mesh_repair.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/fast_marching.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/mesh_repair.h"
 
 namespace cshapes {
 
@@ -174,37 +174,18 @@ void summarise_errors(CorrespondenceErrorResult& result, const CorrespondenceErr
 
 }  // namespace
 
-SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
-    const Mesh& b, const std::vector<Eigen::VectorXi>& maps, const std::vector<int>& truth_a,
-    const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
-    const CorrespondenceErrorOptions& options, const std::string& b_name) {
-  const Index nb = b.num_vertices();
-  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(),
-                  "correspondence error: ", truth_a.size(), " and ", truth_b.size(),
-                  " ground-truth samples (expected equal, non-zero counts)");
-  CSHAPES_REQUIRE(symmetric_b.empty() || symmetric_b.size() == truth_b.size(),
-                  "correspondence error: ", symmetric_b.size(), " symmetric entries for ", truth_b.size(),
-                  " samples");
-  CSHAPES_REQUIRE(options.curve_points >= 2 && options.max_threshold > 0,
-                  "correspondence error: need curve_points >= 2 and max_threshold > 0");
-  CSHAPES_REQUIRE(!maps.empty(), "correspondence error: no map to score");
+namespace {
 
-  // The samples, evenly spaced over the list.
-  const int total = static_cast<int>(truth_a.size());
+// The samples scored: evenly spaced over the list, those whose true vertex is on the repaired mesh kept (the
+// others counted in *skipped); every index checked.
+std::vector<int> kept_samples(Index nb, const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
+                              const RepairedMesh& repaired, const CorrespondenceErrorOptions& options,
+                              const std::string& b_name, int* skipped) {
+  const int total = static_cast<int>(truth_b.size());
   const int wanted = options.max_samples > 0 ? std::min(options.max_samples, total) : total;
-  std::vector<int> samples;
-  for (int k = 0; k < wanted; ++k) samples.push_back(static_cast<int>(static_cast<long>(k) * total / wanted));
-
-  RepairOptions ro;
-  ro.name = b_name;
-  ro.purpose = "geodesics of the correspondence error (one manifold component, no zero-area faces)";
-  const RepairedMesh repaired = repair_for(b, MeshRequirements::manifold_surface(), ro);
-
-  SymmetricCorrespondenceErrorResult result;
-  result.repair_text = repaired.text;
-  // Keep the samples whose true vertex is on the repaired mesh; check every index.
   std::vector<int> kept;
-  for (int s : samples) {
+  for (int k = 0; k < wanted; ++k) {
+    const int s = static_cast<int>(static_cast<long>(k) * total / wanted);
     const size_t u = static_cast<size_t>(s);
     CSHAPES_REQUIRE(truth_b[u] >= 0 && truth_b[u] < nb, "correspondence error: sample ", s, " is vertex ",
                     truth_b[u], " of ", b_name, ", which has ", nb, " vertices");
@@ -212,7 +193,7 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
                     "correspondence error: the mirrored truth of sample ", s, " is vertex ", symmetric_b[u],
                     " of ", b_name, ", which has ", nb, " vertices");
     if (repaired_copies(repaired.vertex_map, truth_b[u]).empty()) {
-      ++result.skipped_samples;
+      ++*skipped;
       continue;
     }
     kept.push_back(s);
@@ -220,7 +201,11 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
   CSHAPES_REQUIRE(!kept.empty(),
                   "correspondence error: every sample's true vertex was dropped by the repair of ", b_name,
                   " (", repaired.text, ")");
-  const Index used = static_cast<Index>(kept.size());
+  return kept;
+}
+
+void check_maps(const std::vector<Eigen::VectorXi>& maps, const std::vector<int>& kept,
+                const std::vector<int>& truth_a, Index nb, const std::string& b_name) {
   for (size_t i = 0; i < maps.size(); ++i) {
     for (int s : kept) {
       const int va = truth_a[static_cast<size_t>(s)];
@@ -231,9 +216,18 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
                       m, ", not a vertex of ", b_name);
     }
   }
+}
 
-  // Sources: every distinct true and mirrored vertex (a mirrored one the repair dropped is not used). For
-  // each, the (sample, is-mirrored) entries it serves.
+// distance[i](k, 0 / 1): the geodesic distance on B from map i's image of kept sample k to its true / mirrored
+// vertex (+inf: none). One geodesic field per distinct true or mirrored vertex (a mirrored one the repair
+// dropped is not used), OpenMP over them.
+std::vector<Eigen::MatrixX2d> image_distances(const std::vector<Eigen::VectorXi>& maps,
+                                              const std::vector<int>& kept, const std::vector<int>& truth_a,
+                                              const std::vector<int>& truth_b,
+                                              const std::vector<int>& symmetric_b, const RepairedMesh& repaired,
+                                              Index nb, const CorrespondenceErrorOptions& options) {
+  const Index used = static_cast<Index>(kept.size());
+  // For each source vertex, the (sample, is-mirrored) entries it serves.
   std::map<int, std::vector<std::pair<Index, bool>>> by_source;
   for (Index k = 0; k < used; ++k) {
     const size_t s = static_cast<size_t>(kept[static_cast<size_t>(k)]);
@@ -243,8 +237,6 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
       by_source[symmetric_b[s]].push_back({k, true});
   }
   std::vector<std::pair<int, std::vector<std::pair<Index, bool>>>> groups(by_source.begin(), by_source.end());
-
-  // distance[i](k, 0 / 1): map i's image of sample k from its true / mirrored vertex (+inf: none).
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<Eigen::MatrixX2d> distance(maps.size(), Eigen::MatrixX2d::Constant(used, 2, inf));
   std::unique_ptr<FastMarching> marching;
@@ -273,6 +265,39 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
     }
   }
   if (error) std::rethrow_exception(error);
+  return distance;
+}
+
+}  // namespace
+
+SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
+    const Mesh& b, const std::vector<Eigen::VectorXi>& maps, const std::vector<int>& truth_a,
+    const std::vector<int>& truth_b, const std::vector<int>& symmetric_b,
+    const CorrespondenceErrorOptions& options, const std::string& b_name) {
+  const Index nb = b.num_vertices();
+  CSHAPES_REQUIRE(truth_a.size() == truth_b.size() && !truth_a.empty(),
+                  "correspondence error: ", truth_a.size(), " and ", truth_b.size(),
+                  " ground-truth samples (expected equal, non-zero counts)");
+  CSHAPES_REQUIRE(symmetric_b.empty() || symmetric_b.size() == truth_b.size(),
+                  "correspondence error: ", symmetric_b.size(), " symmetric entries for ", truth_b.size(),
+                  " samples");
+  CSHAPES_REQUIRE(options.curve_points >= 2 && options.max_threshold > 0,
+                  "correspondence error: need curve_points >= 2 and max_threshold > 0");
+  CSHAPES_REQUIRE(!maps.empty(), "correspondence error: no map to score");
+
+  RepairOptions ro;
+  ro.name = b_name;
+  ro.purpose = "geodesics of the correspondence error (one manifold component, no zero-area faces)";
+  const RepairedMesh repaired = repair_for(b, MeshRequirements::manifold_surface(), ro);
+
+  SymmetricCorrespondenceErrorResult result;
+  result.repair_text = repaired.text;
+  const std::vector<int> kept =
+      kept_samples(nb, truth_b, symmetric_b, repaired, options, b_name, &result.skipped_samples);
+  const Index used = static_cast<Index>(kept.size());
+  check_maps(maps, kept, truth_a, nb, b_name);
+  const std::vector<Eigen::MatrixX2d> distance =
+      image_distances(maps, kept, truth_a, truth_b, symmetric_b, repaired, nb, options);
 
   const double normaliser =
       options.normalise ? std::sqrt(surface_area(repaired.mesh.V, repaired.mesh.F)) : 1.0;

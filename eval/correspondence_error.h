@@ -8,7 +8,7 @@
 // is the geodesic distance on B from there to vts_B[s], divided by √area(B) (so errors are comparable
 // across shapes and scales; 0.25 is a quarter of the shape's "size").
 //
-// Geodesics: one single-source run per distinct true vertex among the samples used (core/geodesics.h,
+// Geodesics: one single-source run per distinct true vertex among the samples used (geodesics/geodesics.h,
 // options.geodesics: by default Dijkstra on B's edges, an upper bound of the surface distance, a few
 // percent long), or read from a given all-pairs matrix. Cost without the matrix: O(S · n log n) for S samples
 // (1,000 samples on 5,000 vertices: ~0.5 s on one core), OpenMP over samples.
@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "core/distance_matrix.h"
-#include "core/geodesics.h"
-#include "core/mesh.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 
@@ -89,7 +89,7 @@ CorrespondencePairs read_correspondence_pairs(const std::string& path, Index a_v
 // truth_a / truth_b / symmetric_b: equal lengths; symmetric_b[s] = −1 where there is no mirrored truth
 // (an empty symmetric_b: none anywhere). Samples: options.max_samples evenly spaced over the list (≤ 0: all).
 //
-// Geodesics on B: B is first repaired to a manifold surface (core/mesh_repair.h: largest component,
+// Geodesics on B: B is first repaired to a manifold surface (mesh/mesh_repair.h: largest component,
 // non-manifold vertices split, zero-area faces dropped) and distances are placed back at B's vertices; a
 // sample whose true vertex the repair dropped is skipped (counted in skipped_samples). One single-source run
 // (options.geodesics) per distinct true or symmetric vertex serves every map, so scoring k maps costs about
@@ -118,7 +118,7 @@ SymmetricCorrespondenceErrorResult symmetric_correspondence_errors(
 // The mean over the finite entries, in order; NaN when there is none.
 double finite_mean(const Eigen::VectorXd& errors);
 // The median over all entries (+inf counts): the middle value, or the mean of the two middle values for an
-// even count (so, unlike core/timing.h's median of repeats, not always one of the entries); NaN when empty.
+// even count (so, unlike support/timing.h's median of repeats, not always one of the entries); NaN when empty.
 double error_median(Eigen::VectorXd errors);
 // The fraction of all entries ≤ threshold (an unmapped sample never is); 0 when empty.
 double fraction_within(const Eigen::VectorXd& errors, double threshold);

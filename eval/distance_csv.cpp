@@ -1,4 +1,4 @@
-#include "eval/distance_csv.h"
+#include "cshapes/eval/distance_csv.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,9 +10,9 @@
 #include <map>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/error.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 
@@ -29,7 +29,7 @@ void write_distance_csv(const std::string& path, const std::vector<std::string>&
                         const Eigen::MatrixXd& D);
 
 // The forms the evaluation tools read, without names (rows and columns in the order of the collection's .cla
-// file, core/classification.h), each written atomically:
+// file, data/classification.h), each written atomically:
 //   text  N lines of N numbers (%.9g) separated by one space: the plain dissimilarity matrix that the SHREC
 //         non-rigid retrieval tracks' evaluation code reads (and read_distance_csv, as its "plain" format).
 //   PSB   N×N 32-bit IEEE floats, row-major (entry i·N + j is D(i, j)), little-endian, no header: the
@@ -45,7 +45,7 @@ void write_psb_matrix(const std::string& path, const Eigen::MatrixXd& D);
 extern const char* const kDistanceMatrixRules;
 std::vector<std::string> check_distance_matrix(const NamedDistances& input, const std::string& source);
 
-// The class of a shape from its name, by the datasets' rule (core/dataset.h class_from_name) after
+// The class of a shape from its name, by the datasets' rule (data/dataset.h class_from_name) after
 // dropping any directory and extension: "cat0" → "cat", "dir/victoria10.off" → "victoria".
 std::string class_of_shape_name(const std::string& name);
 

@@ -1,4 +1,4 @@
-#include "eval/pairwise_distances.h"
+#include "cshapes/eval/pairwise_distances.h"
 
 #include <omp.h>
 
@@ -13,11 +13,11 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "core/error.h"
-#include "core/threads.h"
-#include "core/timing.h"
-#include "eval/cache.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/threads.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/matching/shape_distance.h"
 
 namespace cshapes {
 
@@ -140,223 +140,281 @@ std::string points_content_key(const Points& X) {
   return sha256_hex(bytes);
 }
 
-PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
-                                          const std::vector<std::string>& keys,
-                                          const PairwiseDistanceOptions& options) {
-  const auto start = WallClock::now();
-  const Communicator& comm = options.communicator ? *options.communicator : single_process();
-  const int n = static_cast<int>(shapes.size());
-  CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(),
-                  " keys for ", shapes.size(), " shapes");
-  CSHAPES_REQUIRE(options.pack_pairs >= 1, "pairwise distances: pack_pairs ", options.pack_pairs,
-                  ", expected at least 1");
-  std::vector<std::string> key(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
-    key[static_cast<size_t>(i)] =
-        keys.empty() ? points_content_key(shapes[static_cast<size_t>(i)]) : keys[static_cast<size_t>(i)];
-  auto source_of = [&](int i, int j) {
-    return key[static_cast<size_t>(i)] <= key[static_cast<size_t>(j)] ? i : j;
-  };
+namespace {
 
-  // Which pairs are wanted, in row order: 0 not wanted, 1 to compute, 2 cached.
-  const long all_pairs = static_cast<long>(n) * (n - 1) / 2;
-  std::string status(static_cast<size_t>(all_pairs), options.only_pairs.empty() ? 1 : 0);
-  for (const auto& [a, b] : options.only_pairs) {
-    CSHAPES_REQUIRE(a >= 0 && b >= 0 && a < n && b < n && a != b, "pairwise distances: pair (", a, ", ", b,
-                    ") of ", n, " shapes");
-    status[static_cast<size_t>(condensed_index(std::min(a, b), std::max(a, b), n))] = 1;
+// One call of pairwise_distances: its inputs, the state the passes share, and the passes in order.
+class PairwiseRun {
+ public:
+  PairwiseRun(const std::vector<Points>& shapes, const std::vector<std::string>& keys,
+              const PairwiseDistanceOptions& options)
+      : start_(WallClock::now()),
+        shapes_(shapes),
+        options_(options),
+        comm_(options.communicator ? *options.communicator : single_process()),
+        n_(static_cast<int>(shapes.size())),
+        packs_(options.cache_dir.empty() ? "" : options.cache_dir + "/packs") {
+    CSHAPES_REQUIRE(keys.empty() || keys.size() == shapes.size(), "pairwise distances: ", keys.size(),
+                    " keys for ", shapes.size(), " shapes");
+    CSHAPES_REQUIRE(options.pack_pairs >= 1, "pairwise distances: pack_pairs ", options.pack_pairs,
+                    ", expected at least 1");
+    key_.resize(static_cast<size_t>(n_));
+    for (int i = 0; i < n_; ++i)
+      key_[static_cast<size_t>(i)] =
+          keys.empty() ? points_content_key(shapes[static_cast<size_t>(i)]) : keys[static_cast<size_t>(i)];
+    // Which pairs are wanted, in row order: 0 not wanted, 1 to compute, 2 cached.
+    const long all_pairs = static_cast<long>(n_) * (n_ - 1) / 2;
+    status_.assign(static_cast<size_t>(all_pairs), options.only_pairs.empty() ? 1 : 0);
+    for (const auto& [a, b] : options.only_pairs) {
+      CSHAPES_REQUIRE(a >= 0 && b >= 0 && a < n_ && b < n_ && a != b, "pairwise distances: pair (", a, ", ",
+                      b, ") of ", n_, " shapes");
+      status_[static_cast<size_t>(condensed_index(std::min(a, b), std::max(a, b), n_))] = 1;
+    }
+    result_.hausdorff = result_.chamfer = result_.rmse = Eigen::MatrixXd::Zero(n_, n_);
+    reflection_ = Eigen::MatrixXd::Zero(n_, n_);
+    result_.pairs = static_cast<long>(std::count(status_.begin(), status_.end(), 1));
+    icp_options_ = options.icp;
+    icp_options_.parallel = false;
+    option_key_ = to_key_string(icp_options_);
+    threads_ = options.threads > 0 ? options.threads : omp_get_max_threads();
   }
 
-  PairwiseDistanceResult result;
-  result.hausdorff = result.chamfer = result.rmse = Eigen::MatrixXd::Zero(n, n);
-  Eigen::MatrixXd reflection = Eigen::MatrixXd::Zero(n, n);  // summed over ranks as doubles (0 or 1)
-  result.pairs = static_cast<long>(std::count(status.begin(), status.end(), 1));
-  IcpOptions icp_options = options.icp;
-  icp_options.parallel = false;
-  const std::string option_key = to_key_string(icp_options);
-  const DiskCache packs(options.cache_dir.empty() ? "" : options.cache_dir + "/packs");
-  auto store = [&](int i, int j, const PairValue& v) {
-    result.hausdorff(i, j) = result.hausdorff(j, i) = v.hausdorff;
-    result.chamfer(i, j) = result.chamfer(j, i) = v.chamfer;
-    result.rmse(i, j) = result.rmse(j, i) = v.rmse;
-    reflection(i, j) = reflection(j, i) = v.reflection;
+  PairwiseDistanceResult run() {
+    if (comm_.is_root()) read_cache();
+    comm_.broadcast_from_root(status_);
+    result_.cached = static_cast<long>(std::count(status_.begin(), status_.end(), 2));
+    choose_share();
+    prepare_shapes();
+    align_pairs();
+    const bool root = gather_over_ranks();
+    if (root) finish_matrices();
+    result_.seconds = seconds_since(start_);
+    return result_;
+  }
+
+ private:
+  struct Pair {
+    int source, target;
   };
+
+  char& status(int i, int j) {
+    return status_[static_cast<size_t>(condensed_index(std::min(i, j), std::max(i, j), n_))];
+  }
+  // The pair's source: the shape of the smaller key, so that a pair is stored once whichever way asked.
+  int source_of(int i, int j) const {
+    return key_[static_cast<size_t>(i)] <= key_[static_cast<size_t>(j)] ? i : j;
+  }
+  void store(int i, int j, const PairValue& v) {
+    result_.hausdorff(i, j) = result_.hausdorff(j, i) = v.hausdorff;
+    result_.chamfer(i, j) = result_.chamfer(j, i) = v.chamfer;
+    result_.rmse(i, j) = result_.rmse(j, i) = v.rmse;
+    reflection_(i, j) = reflection_(j, i) = v.reflection;
+  }
+  void keep_error() {
+#pragma omp critical(cshapes_pairwise_error)
+    if (!error_) error_ = std::current_exception();
+    stop_ = true;
+  }
 
   // Pass 1 (rank 0, serial): what the cache holds, from the packs, then from the older one-file-per-pair
   // entries when there are any.
-  if (comm.is_root()) {
+  void read_cache() {
     std::unordered_map<std::string, std::vector<int>> index_of;
-    for (int i = 0; i < n; ++i) index_of[key[static_cast<size_t>(i)]].push_back(i);
-    read_packs(packs, option_key, [&](const std::string& a, const std::string& b, const PairValue& v) {
+    for (int i = 0; i < n_; ++i) index_of[key_[static_cast<size_t>(i)]].push_back(i);
+    read_packs(packs_, option_key_, [&](const std::string& a, const std::string& b, const PairValue& v) {
       auto ia = index_of.find(a), ib = index_of.find(b);
       if (ia == index_of.end() || ib == index_of.end()) return;
       for (int i : ia->second)
         for (int j : ib->second) {
           if (i == j) continue;
-          char& s = status[static_cast<size_t>(condensed_index(std::min(i, j), std::max(i, j), n))];
+          char& s = status(i, j);
           if (s != 1 || source_of(i, j) != i) continue;
           store(i, j, v);
           s = 2;
         }
     });
-    const DiskCache legacy(options.cache_dir);
+    const DiskCache legacy(options_.cache_dir);
     std::vector<std::string> legacy_keys = legacy.keys();
-    if (!legacy_keys.empty()) {
-      const std::unordered_set<std::string> present(legacy_keys.begin(), legacy_keys.end());
-      for (int i = 0; i < n; ++i)
-        for (int j = i + 1; j < n; ++j) {
-          char& s = status[static_cast<size_t>(condensed_index(i, j, n))];
-          if (s != 1) continue;
-          const int src = source_of(i, j), tgt = src == i ? j : i;
-          const std::string pair_key = cache_key({"pairwise-distance-1", key[static_cast<size_t>(src)],
-                                                  key[static_cast<size_t>(tgt)], option_key});
-          PairValue v;
-          if (!present.count(pair_key)) continue;
-          std::optional<std::string> cached = legacy.get(pair_key);
-          if (cached && decode(*cached, v)) {
-            store(i, j, v);
-            s = 2;
-          }
+    if (legacy_keys.empty()) return;
+    const std::unordered_set<std::string> present(legacy_keys.begin(), legacy_keys.end());
+    for (int i = 0; i < n_; ++i)
+      for (int j = i + 1; j < n_; ++j) {
+        char& s = status(i, j);
+        if (s != 1) continue;
+        const int src = source_of(i, j), tgt = src == i ? j : i;
+        const std::string pair_key = cache_key({"pairwise-distance-1", key_[static_cast<size_t>(src)],
+                                                key_[static_cast<size_t>(tgt)], option_key_});
+        PairValue v;
+        if (!present.count(pair_key)) continue;
+        std::optional<std::string> cached = legacy.get(pair_key);
+        if (cached && decode(*cached, v)) {
+          store(i, j, v);
+          s = 2;
         }
-    }
+      }
   }
-  comm.broadcast_from_root(status);
-  result.cached = static_cast<long>(std::count(status.begin(), status.end(), 2));
 
   // This rank's share of the missing pairs: a contiguous block of the row-order list, balanced by count.
-  struct Pair {
-    int source, target;
-  };
-  std::vector<Pair> todo;
-  {
-    const long missing = static_cast<long>(std::count(status.begin(), status.end(), 1));
-    const ItemRange mine = contiguous_share(missing, comm.size(), comm.rank());
+  void choose_share() {
+    const long missing = static_cast<long>(std::count(status_.begin(), status_.end(), 1));
+    const ItemRange mine = contiguous_share(missing, comm_.size(), comm_.rank());
     long rank_in_missing = 0;
-    for (int i = 0; i < n && rank_in_missing < mine.end; ++i)
-      for (int j = i + 1; j < n && rank_in_missing < mine.end; ++j) {
-        if (status[static_cast<size_t>(condensed_index(i, j, n))] != 1) continue;
+    for (int i = 0; i < n_ && rank_in_missing < mine.end; ++i)
+      for (int j = i + 1; j < n_ && rank_in_missing < mine.end; ++j) {
+        if (status(i, j) != 1) continue;
         if (rank_in_missing++ < mine.begin) continue;
         const int src = source_of(i, j);
-        todo.push_back({src, src == i ? j : i});
+        todo_.push_back({src, src == i ? j : i});
       }
   }
 
-  // Pass 2: prepare the shapes this rank's pairs need, then align them, OpenMP over pairs.
-  std::vector<std::unique_ptr<IcpShape>> prepared(static_cast<size_t>(n));
-  std::vector<char> needed(static_cast<size_t>(n), 0);
-  for (const Pair& p : todo)
-    needed[static_cast<size_t>(p.source)] = needed[static_cast<size_t>(p.target)] = 1;
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  std::exception_ptr error;
-  std::atomic<bool> stop{false};
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    if (!needed[static_cast<size_t>(i)] || stop) continue;
-    try {
-      // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without
-      // them.
-      prepared[static_cast<size_t>(i)] =
-          std::make_unique<IcpShape>(finite_rows(shapes[static_cast<size_t>(i)]), icp_options);
-    } catch (...) {
-#pragma omp critical(cshapes_pairwise_error)
-      if (!error) error = std::current_exception();
-      stop = true;
+  // Pass 2a: the ICP shapes this rank's pairs need, OpenMP over shapes.
+  void prepare_shapes() {
+    prepared_.resize(static_cast<size_t>(n_));
+    std::vector<char> needed(static_cast<size_t>(n_), 0);
+    for (const Pair& p : todo_)
+      needed[static_cast<size_t>(p.source)] = needed[static_cast<size_t>(p.target)] = 1;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    for (int i = 0; i < n_; ++i) {
+      if (!needed[static_cast<size_t>(i)] || stop_) continue;
+      try {
+        // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without
+        // them.
+        prepared_[static_cast<size_t>(i)] =
+            std::make_unique<IcpShape>(finite_rows(shapes_[static_cast<size_t>(i)]), icp_options_);
+      } catch (...) {
+        keep_error();
+      }
     }
   }
 
-  std::atomic<long> computed{0};
-  std::vector<PackRecord> pending;  // finished, not yet in a pack
-  auto last_pack = WallClock::now();
-  auto write_pending = [&](std::vector<PackRecord>& records) {
+  void write_pending(std::vector<PackRecord>& records) {
     try {
-      write_pack(packs, records, key, option_key);
+      write_pack(packs_, records, key_, option_key_);
     } catch (...) {
-#pragma omp critical(cshapes_pairwise_error)
-      if (!error) error = std::current_exception();
-      stop = true;
+      keep_error();
     }
     records.clear();
-  };
-  const long total_todo = error ? 0 : static_cast<long>(todo.size());
-  // Blocks of pairs, each its own parallel region with the thread count chosen again before it
-  // (core/threads.h: refresh_threads), so a long run uses the cores that are free now. A pair is aligned by
-  // one thread, so its values do not depend on the count.
-  const long block_pairs = std::max<long>(64, 16L * threads);
-  for (long first = 0; first < total_todo && !stop; first += block_pairs) {
-    const long last = std::min(total_todo, first + block_pairs);
-    const int block_threads = options.threads > 0 ? options.threads : refresh_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(block_threads)
-    for (long k = first; k < last; ++k) {
-      if (stop) continue;
-      const Pair& p = todo[static_cast<size_t>(k)];
-      try {
-        PackRecord record{p.source, p.target, {}, {}};
-        ShapeDistance d =
-            aligned_shape_distance(*prepared[static_cast<size_t>(p.source)],
-                                   *prepared[static_cast<size_t>(p.target)], icp_options, &record.alignment);
-        record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
-        store(p.source, p.target, record.value);  // distinct entries per pair: no race
-        std::vector<PackRecord> full;
-        long done = 0;
+  }
+
+  // One pair, on the calling thread: aligned, stored, added to the pending pack (written when full).
+  void align_pair(const Pair& p, long total_todo) {
+    PackRecord record{p.source, p.target, {}, {}};
+    ShapeDistance d = aligned_shape_distance(*prepared_[static_cast<size_t>(p.source)],
+                                             *prepared_[static_cast<size_t>(p.target)], icp_options_,
+                                             &record.alignment);
+    record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
+    store(p.source, p.target, record.value);  // distinct entries per pair: no race
+    std::vector<PackRecord> full;
+    long done = 0;
 #pragma omp critical(cshapes_pairwise_pack)
-        {
-          pending.push_back(std::move(record));
-          done = ++computed;
-          if (static_cast<long>(pending.size()) >= options.pack_pairs ||
-              seconds_since(last_pack) >= options.pack_seconds) {
-            full.swap(pending);
-            last_pack = WallClock::now();
-          }
-        }
-        write_pending(full);
-        report_progress_in_parallel(options.progress, "distances", static_cast<double>(result.cached + done),
-                                    static_cast<double>(result.cached + total_todo));
-        if (options.fail_after_computed >= 0 && done >= options.fail_after_computed) {
-          // The hook simulates a kill after `done` stored pairs: store them now.
-          std::vector<PackRecord> rest;
-#pragma omp critical(cshapes_pairwise_pack)
-          rest.swap(pending);
-          write_pending(rest);
-          fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");
-        }
-      } catch (...) {
-#pragma omp critical(cshapes_pairwise_error)
-        if (!error) error = std::current_exception();
-        stop = true;
+    {
+      pending_.push_back(std::move(record));
+      done = ++computed_;
+      if (static_cast<long>(pending_.size()) >= options_.pack_pairs ||
+          seconds_since(last_pack_) >= options_.pack_seconds) {
+        full.swap(pending_);
+        last_pack_ = WallClock::now();
       }
     }
-  }
-  write_pending(pending);  // what is left, also after an error: finished pairs stay cached
-
-  // Every rank learns whether any failed, so that none waits for the others in the sums below.
-  if (comm.any(static_cast<bool>(error))) {
-    if (error) std::rethrow_exception(error);
-    fail("pairwise distances: another rank failed (its message says why)");
-  }
-  result.computed = comm.sum(static_cast<long>(computed));
-  if (comm.size() > 1) {
-    for (Eigen::MatrixXd* M : {&result.hausdorff, &result.chamfer, &result.rmse, &reflection})
-      comm.sum_to_root(M->data(), static_cast<size_t>(M->size()));
-    if (!comm.is_root()) {
-      result.hausdorff.resize(0, 0);
-      result.chamfer.resize(0, 0);
-      result.rmse.resize(0, 0);
-      result.reflection.resize(0, 0);
-      result.seconds = seconds_since(start);
-      return result;
+    write_pending(full);
+    report_progress_in_parallel(options_.progress, "distances", static_cast<double>(result_.cached + done),
+                                static_cast<double>(result_.cached + total_todo));
+    if (options_.fail_after_computed >= 0 && done >= options_.fail_after_computed) {
+      // The hook simulates a kill after `done` stored pairs: store them now.
+      std::vector<PackRecord> rest;
+#pragma omp critical(cshapes_pairwise_pack)
+      rest.swap(pending_);
+      write_pending(rest);
+      fail("pairwise distances: stopped after ", done, " computed pairs (test hook fail_after_computed)");
     }
   }
-  result.reflection = reflection.cast<int>();
-  if (!options.only_pairs.empty()) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n; ++j)
-        if (status[static_cast<size_t>(condensed_index(i, j, n))] == 0)
-          result.hausdorff(i, j) = result.hausdorff(j, i) = result.chamfer(i, j) = result.chamfer(j, i) =
-              result.rmse(i, j) = result.rmse(j, i) = nan;
+
+  // Pass 2b: this rank's pairs in blocks, each its own parallel region with the thread count chosen again
+  // before it (support/threads.h: refresh_threads), so a long run uses the cores that are free now. A pair is
+  // aligned by one thread, so its values do not depend on the count. What is left pending is written at the
+  // end, also after an error: finished pairs stay cached.
+  void align_pairs() {
+    last_pack_ = WallClock::now();
+    const long total_todo = error_ ? 0 : static_cast<long>(todo_.size());
+    const long block_pairs = std::max<long>(64, 16L * threads_);
+    for (long first = 0; first < total_todo && !stop_; first += block_pairs) {
+      const long last = std::min(total_todo, first + block_pairs);
+      const int block_threads = options_.threads > 0 ? options_.threads : refresh_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(block_threads)
+      for (long k = first; k < last; ++k) {
+        if (stop_) continue;
+        try {
+          align_pair(todo_[static_cast<size_t>(k)], total_todo);
+        } catch (...) {
+          keep_error();
+        }
+      }
+    }
+    write_pending(pending_);
   }
-  result.seconds = seconds_since(start);
-  return result;
+
+  // Every rank learns whether any failed, so that none waits for the others in the sums; then the matrices
+  // are summed to rank 0. Returns whether this rank holds the result (the others' matrices are emptied).
+  bool gather_over_ranks() {
+    if (comm_.any(static_cast<bool>(error_))) {
+      if (error_) std::rethrow_exception(error_);
+      fail("pairwise distances: another rank failed (its message says why)");
+    }
+    result_.computed = comm_.sum(static_cast<long>(computed_));
+    if (comm_.size() > 1) {
+      for (Eigen::MatrixXd* M : {&result_.hausdorff, &result_.chamfer, &result_.rmse, &reflection_})
+        comm_.sum_to_root(M->data(), static_cast<size_t>(M->size()));
+      if (!comm_.is_root()) {
+        result_.hausdorff.resize(0, 0);
+        result_.chamfer.resize(0, 0);
+        result_.rmse.resize(0, 0);
+        result_.reflection.resize(0, 0);
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The reflection flags as integers; pairs not asked for (only_pairs) are NaN.
+  void finish_matrices() {
+    result_.reflection = reflection_.cast<int>();
+    if (options_.only_pairs.empty()) return;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < n_; ++i)
+      for (int j = i + 1; j < n_; ++j)
+        if (status(i, j) == 0)
+          result_.hausdorff(i, j) = result_.hausdorff(j, i) = result_.chamfer(i, j) = result_.chamfer(j, i) =
+              result_.rmse(i, j) = result_.rmse(j, i) = nan;
+  }
+
+  const WallClock::time_point start_;
+  const std::vector<Points>& shapes_;
+  const PairwiseDistanceOptions& options_;
+  const Communicator& comm_;
+  const int n_;
+  const DiskCache packs_;
+  std::vector<std::string> key_;
+  std::string status_;
+  PairwiseDistanceResult result_;
+  Eigen::MatrixXd reflection_;  // summed over ranks as doubles (0 or 1)
+  IcpOptions icp_options_;
+  std::string option_key_;
+  int threads_ = 1;
+  std::vector<Pair> todo_;
+  std::vector<std::unique_ptr<IcpShape>> prepared_;
+  std::exception_ptr error_;
+  std::atomic<bool> stop_{false};
+  std::atomic<long> computed_{0};
+  std::vector<PackRecord> pending_;  // finished, not yet in a pack
+  WallClock::time_point last_pack_;
+};
+
+}  // namespace
+
+PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,
+                                          const std::vector<std::string>& keys,
+                                          const PairwiseDistanceOptions& options) {
+  return PairwiseRun(shapes, keys, options).run();
 }
 
 }  // namespace cshapes

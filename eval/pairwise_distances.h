@@ -1,6 +1,6 @@
 // The all-pairs shape-distance matrix of a set of canonical forms (the paper's Fig. 7 and retrieval
 // experiment): every pair aligned by ICP and measured (shape_distance.h), OpenMP over pairs, split over the
-// ranks of a distributed run (core/communicator.h), finished pairs cached on disk (cache.h) in packs of many
+// ranks of a distributed run (support/communicator.h), finished pairs cached on disk (cache.h) in packs of many
 // pairs, so a killed run resumes without recomputing what was stored.
 //
 // A pair is identified by the two shapes' content keys (the shape with the smaller key is aligned onto the
@@ -29,10 +29,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/communicator.h"
-#include "core/progress.h"
-#include "core/types.h"
-#include "matching/icp.h"
+#include "cshapes/support/communicator.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/support/types.h"
+#include "cshapes/matching/icp.h"
 
 namespace cshapes {
 

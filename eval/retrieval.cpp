@@ -1,4 +1,4 @@
-#include "eval/retrieval.h"
+#include "cshapes/eval/retrieval.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <map>
 #include <numeric>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

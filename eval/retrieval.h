@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

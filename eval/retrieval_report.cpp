@@ -1,6 +1,6 @@
-#include "eval/retrieval_report.h"
+#include "cshapes/eval/retrieval_report.h"
 
-#include "core/atomic_file.h"
+#include "cshapes/support/atomic_file.h"
 
 namespace cshapes {
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/distance_csv.h"
-#include "eval/retrieval.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/eval/retrieval.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "experiments/bench_coulomb.h"
+#include "cshapes/experiments/bench_coulomb.h"
 
 #include <omp.h>
 
@@ -6,11 +6,11 @@
 #include <numeric>
 #include <random>
 
-#include "canon/coulomb_energy.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/timing.h"
-#include "experiments/bench_support.h"
+#include "cshapes/canon/coulomb_energy.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/experiments/bench_support.h"
 
 namespace cshapes {
 

@@ -3,21 +3,21 @@
 // and the fast method's relative L2 errors against direct summation, measured in one run.
 //
 // Points: a mesh's vertices (mesh given, n 0 or its vertex count), n points on its surface (mesh and another
-// n), or n random points of a distribution (core/synthetic.h random_points), drawn from `seed`.
+// n), or n random points of a distribution (data/synthetic.h random_points), drawn from `seed`.
 //
 // Up to full_direct_max points the direct sum is complete (timed as the median of `repeats` runs, in double
 // and in float) and the errors are over all points; above it the exact sum runs once on a random sample of
 // `sample` distinct targets, the errors are over those targets (the energy error from their potentials), and
 // direct_seconds is the sample's time scaled by n / sample (direct_extrapolated). Wall and process CPU
-// seconds are medians by core/timing.h's rule; on a shared machine the CPU seconds show the work done
+// seconds are medians by support/timing.h's rule; on a shared machine the CPU seconds show the work done
 // independently of the share of the cores obtained.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "canon/coulomb_fmm.h"
-#include "core/synthetic.h"
+#include "cshapes/canon/coulomb_fmm.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 

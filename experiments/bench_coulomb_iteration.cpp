@@ -1,14 +1,14 @@
-#include "experiments/bench_coulomb_iteration.h"
+#include "cshapes/experiments/bench_coulomb_iteration.h"
 
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/timing.h"
-#include "experiments/bench_support.h"
-#include "experiments/timing_table.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/experiments/bench_support.h"
+#include "cshapes/experiments/timing_table.h"
 
 namespace cshapes {
 

@@ -1,16 +1,16 @@
-#include "experiments/bench_form.h"
+#include "cshapes/experiments/bench_form.h"
 
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "canon/landmark_mds.h"
-#include "core/error.h"
-#include "core/timing.h"
-#include "experiments/bench_support.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/canon/landmark_mds.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/experiments/bench_support.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 

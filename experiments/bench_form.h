@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "experiments/bench_geodesics.h"
+#include "cshapes/experiments/bench_geodesics.h"
 
 #include <omp.h>
 
@@ -7,15 +7,15 @@
 #include <numeric>
 #include <random>
 
-#include "core/error.h"
-#include "core/fast_marching.h"
-#include "core/geodesics.h"
-#include "core/heat_method.h"
-#include "core/io.h"
-#include "core/subdivide.h"
-#include "core/synthetic.h"
-#include "core/timing.h"
-#include "experiments/bench_support.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/fast_marching.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/geodesics/heat_method.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/subdivide.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/experiments/bench_support.h"
 
 namespace cshapes {
 
@@ -61,6 +61,66 @@ double mean(const std::vector<double>& v) {
   return std::accumulate(v.begin(), v.end(), 0.0) / v.size();
 }
 
+// The anchor: CGAL Heat_method_3, one solver per thread, one source at a time over `sources`; set-up once (one
+// factorisation per thread, concurrently), then all n sources at the sampled rate.
+void time_cgal_anchor(const Mesh& mesh, CgalHeatMode mode, const std::vector<int>& sources, int threads,
+                      GeodesicsBenchResult& result) {
+  double setup_wall = 0, setup_cpu = 0, loop_wall = 0, loop_cpu = 0;
+  {
+    Stopwatch setup_clock, loop_clock;
+#pragma omp parallel num_threads(threads)
+    {
+      CgalHeatMethod solver(mesh, mode);
+#pragma omp barrier
+#pragma omp single
+      {
+        setup_wall = setup_clock.wall_seconds();
+        setup_cpu = setup_clock.cpu_seconds();
+        loop_clock.restart();
+      }
+#pragma omp for schedule(dynamic, 1)
+      for (size_t k = 0; k < sources.size(); ++k) solver.distances({sources[k]});
+#pragma omp single
+      {
+        loop_wall = loop_clock.wall_seconds();
+        loop_cpu = loop_clock.cpu_seconds();
+      }
+    }
+  }
+  const Index n = mesh.num_vertices();
+  const double scale = static_cast<double>(n) / sources.size();
+  result.anchor.method =
+      "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread";
+  result.anchor.seconds = setup_wall + loop_wall * scale;
+  result.anchor.cpu_seconds = setup_cpu + loop_cpu * scale;
+  result.anchor.sampled_sources = sources.size();
+  result.anchor_extrapolated = sources.size() < static_cast<size_t>(n);
+  result.anchor_setup_seconds = setup_wall;
+  result.anchor_seconds_per_source_per_thread = loop_wall * threads / sources.size();
+}
+
+// Accuracy against exact geodesics on result.exact_sources (vertices farther than 3 mean edge lengths h): our
+// matrix D, the anchor and fast marching.
+void measure_accuracy(const Mesh& mesh, CgalHeatMode mode, const DistanceMatrix& D, const FastMarching& fmm,
+                      double h, GeodesicsBenchResult& result) {
+  const std::vector<int>& exact_sources = result.exact_sources;
+  std::vector<double> err_ours(exact_sources.size()), err_anchor(exact_sources.size()),
+      err_fmm(exact_sources.size());
+  const Stopwatch exact_clock;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (size_t k = 0; k < exact_sources.size(); ++k) {
+    const int s = exact_sources[k];
+    Eigen::VectorXd exact = exact_geodesics(mesh, {s});
+    err_ours[k] = mean_relative_error(D.col(s).cast<double>(), exact, 3 * h);
+    err_anchor[k] = mean_relative_error(cgal_heat_method(mesh, {s}, mode), exact, 3 * h);
+    err_fmm[k] = mean_relative_error(fmm.distances({s}), exact, 3 * h);
+  }
+  result.exact_seconds = exact_clock.wall_seconds();
+  result.ours.mean_relative_error = mean(err_ours);
+  result.anchor.mean_relative_error = mean(err_anchor);
+  result.fmm.mean_relative_error = mean(err_fmm);
+}
+
 }  // namespace
 
 GeodesicsBenchResult bench_geodesics(const GeodesicsBenchOptions& options) {
@@ -97,40 +157,7 @@ GeodesicsBenchResult bench_geodesics(const GeodesicsBenchOptions& options) {
   result.ours.seconds = ours_clock.wall_seconds();
   result.ours.cpu_seconds = ours_clock.cpu_seconds();
 
-  // Anchor: CGAL Heat_method_3, one solver per thread, one source at a time.
-  const std::vector<int> anchor_sources = sample(options.anchor_samples);
-  double setup_wall = 0, setup_cpu = 0, loop_wall = 0, loop_cpu = 0;
-  {
-    Stopwatch setup_clock, loop_clock;
-#pragma omp parallel num_threads(threads)
-    {
-      CgalHeatMethod solver(mesh, mode);
-#pragma omp barrier
-#pragma omp single
-      {
-        setup_wall = setup_clock.wall_seconds();
-        setup_cpu = setup_clock.cpu_seconds();
-        loop_clock.restart();
-      }
-#pragma omp for schedule(dynamic, 1)
-      for (size_t k = 0; k < anchor_sources.size(); ++k) solver.distances({anchor_sources[k]});
-#pragma omp single
-      {
-        loop_wall = loop_clock.wall_seconds();
-        loop_cpu = loop_clock.cpu_seconds();
-      }
-    }
-  }
-  // Set-up once (one factorisation per thread, concurrently), then n sources at the sampled rate.
-  const double scale = static_cast<double>(n) / anchor_sources.size();
-  result.anchor.method =
-      "CGAL Heat_method_3 (" + to_string(mode) + "), one source at a time, one solver per thread";
-  result.anchor.seconds = setup_wall + loop_wall * scale;
-  result.anchor.cpu_seconds = setup_cpu + loop_cpu * scale;
-  result.anchor.sampled_sources = anchor_sources.size();
-  result.anchor_extrapolated = anchor_sources.size() < static_cast<size_t>(n);
-  result.anchor_setup_seconds = setup_wall;
-  result.anchor_seconds_per_source_per_thread = loop_wall * threads / anchor_sources.size();
+  time_cgal_anchor(mesh, mode, sample(options.anchor_samples), threads, result);
 
   // Fast marching on a sample, extrapolated the same way (its set-up is the stencil precomputation).
   const std::vector<int> fmm_sources = sample(options.fmm_samples);
@@ -144,24 +171,8 @@ GeodesicsBenchResult bench_geodesics(const GeodesicsBenchOptions& options) {
   result.fmm.seconds = fmm_setup + fmm_loop.wall_seconds() * n / fmm_sources.size();
   result.fmm.sampled_sources = fmm_sources.size();
 
-  // Accuracy against exact geodesics on sampled sources (vertices farther than 3 mean edge lengths).
   result.exact_sources = sample(options.exact_samples);
-  const std::vector<int>& exact_sources = result.exact_sources;
-  std::vector<double> err_ours(exact_sources.size()), err_anchor(exact_sources.size()),
-      err_fmm(exact_sources.size());
-  const Stopwatch exact_clock;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (size_t k = 0; k < exact_sources.size(); ++k) {
-    const int s = exact_sources[k];
-    Eigen::VectorXd exact = exact_geodesics(mesh, {s});
-    err_ours[k] = mean_relative_error(D.col(s).cast<double>(), exact, 3 * h);
-    err_anchor[k] = mean_relative_error(cgal_heat_method(mesh, {s}, mode), exact, 3 * h);
-    err_fmm[k] = mean_relative_error(fmm.distances({s}), exact, 3 * h);
-  }
-  result.exact_seconds = exact_clock.wall_seconds();
-  result.ours.mean_relative_error = mean(err_ours);
-  result.anchor.mean_relative_error = mean(err_anchor);
-  result.fmm.mean_relative_error = mean(err_fmm);
+  measure_accuracy(mesh, mode, D, fmm, h, result);
   if (n == 3505) result.paper_seconds = 10.24;
   if (n == 22738) result.paper_seconds = 647.6;
   return result;

@@ -1,4 +1,4 @@
-// The all-pairs geodesics benchmark (`cshapes bench geodesics`): our block heat method (core/heat_method.h,
+// The all-pairs geodesics benchmark (`cshapes bench geodesics`): our block heat method (geodesics/heat_method.h,
 // as `cshapes geodesics --method heat` runs it) against the anchor, CGAL's Heat_method_3 solving one source
 // at a time (the paper's baseline: 10.24 s at 3,505 vertices, 647.6 s at 22,738), with both methods' mean
 // relative error against CGAL's exact geodesics on sampled sources. Fast marching is timed and scored beside
@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "core/geodesics_cgal.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/geodesics/geodesics_cgal.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

@@ -1,20 +1,20 @@
-#include "experiments/bench_icp.h"
+#include "cshapes/experiments/bench_icp.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/mesh.h"
-#include "core/rigid_transform.h"
-#include "core/synthetic.h"
-#include "core/timing.h"
-#include "experiments/bench_support.h"
-#include "matching/icp.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/experiments/bench_support.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/matching/shape_distance.h"
 
 namespace cshapes {
 

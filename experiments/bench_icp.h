@@ -1,12 +1,12 @@
 // The ICP benchmark (`cshapes bench icp`): ICP (matching/icp.h) of two ~5,000-point shapes with every
 // starting pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the
-// same points. Everything runs on one thread; times are medians (core/timing.h: the upper median) of
+// same points. Everything runs on one thread; times are medians (support/timing.h: the upper median) of
 // `repeats` runs, as wall time and as the thread's CPU time (on a shared machine the wall time includes other
 // processes' time slices; see load_average).
 //
 // Shapes: a and b when given, else TOSCA cat0 and cat1 (two poses: different vertex orders, a real non-rigid
 // difference) from the shared data (experiments/bench_support.h), else two generated non-symmetric blobs
-// (core/synthetic.h lumpy_blob). B is moved by a random rigid motion (a reflection included) so the alignment
+// (data/synthetic.h lumpy_blob). B is moved by a random rigid motion (a reflection included) so the alignment
 // has something to undo. With n > 0, each set is subsampled (or, for generated shapes, made) to n points.
 //
 // Per-iteration comparison (both single-threaded, point-to-point, one direction, all points, no early stop):
@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

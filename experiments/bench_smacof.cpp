@@ -1,4 +1,4 @@
-#include "experiments/bench_smacof.h"
+#include "cshapes/experiments/bench_smacof.h"
 
 #include <omp.h>
 
@@ -6,14 +6,14 @@
 #include <cmath>
 #include <fstream>
 
-#include "canon/classical_mds.h"
-#include "canon/smacof.h"
-#include "core/distance_matrix.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "experiments/bench_support.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/bench_support.h"
 
 namespace cshapes {
 

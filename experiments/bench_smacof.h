@@ -20,8 +20,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/geodesics.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

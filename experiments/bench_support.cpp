@@ -1,4 +1,4 @@
-#include "experiments/bench_support.h"
+#include "cshapes/experiments/bench_support.h"
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -12,11 +12,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "experiments/figures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/figures.h"
 
 namespace cshapes {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

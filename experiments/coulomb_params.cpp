@@ -1,16 +1,16 @@
-#include "experiments/coulomb_params.h"
+#include "cshapes/experiments/coulomb_params.h"
 
 #include <algorithm>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/format.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/rigid_transform.h"
-#include "core/topological_noise.h"
-#include "eval/correspondence_error.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/eval/correspondence_error.h"
 
 namespace cshapes {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "canon/coulomb.h"
+#include "cshapes/canon/coulomb.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "experiments/figures.h"
+#include "cshapes/experiments/figures.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -9,8 +9,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes {
 

@@ -1,10 +1,10 @@
 // The stress run: every geodesic method, every canonical form and ICP on the corpus of failure-prone meshes
-// (core/stress_corpus.h), each checked against a reference, so that a method that fails on some mesh is
+// (data/stress_corpus.h), each checked against a reference, so that a method that fails on some mesh is
 // found by code and its mesh kept as a regression test.
 //
 // Per mesh (one StressCase):
 //   geodesics  from `sources` vertices, by each method (heat, heat-direct, heat-cgal, fmm, exact, graph), with
-//              core/geodesics.h's own checks (finite, no longer than all edges). The reference is CGAL's exact
+//              geodesics/geodesics.h's own checks (finite, no longer than all edges). The reference is CGAL's exact
 //              geodesics up to exact_max_vertices vertices, fast marching above; the error is the mean of
 //              |d - d_ref| / d_ref over the vertices more than 3 mean edge lengths from the source (as in
 //              `cshapes bench geodesics`), per method. A method fails on a mesh when it throws, or when its
@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "core/stress_corpus.h"
+#include "cshapes/data/stress_corpus.h"
 
 namespace cshapes {
 

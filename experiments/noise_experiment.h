@@ -3,7 +3,7 @@
 // sensitive to topological noise" than MDS canonical forms).
 //
 // Every clean pose of the data (per class: all, or the first poses_per_class that can be used) is glued at
-// each level K of `levels` (0, 1, 2, 4, 8 by default) with core/topological_noise.h — the glue of
+// each level K of `levels` (0, 1, 2, 4, 8 by default) with data/topological_noise.h — the glue of
 // `experiment paper`: short tubes between spots close in space and far along the surface. Each (pose, level)
 // has its own seed, derived from options.seed, the pose's name and K (glue_seed), so levels are independent
 // draws and adding a pose or a level changes no other glued mesh. Each glue adds one handle, so on the glued
@@ -19,7 +19,7 @@
 //      the average precision of eval/retrieval.h ((1/R) Σ_k k / rank_k, ties by database order). Level 0 is
 //      the clean leave-one-out retrieval. A class with a single usable pose gives no query (nothing
 //      relevant).
-//   b) the noisy form against its own clean pose's form, at the same vertices: aligned_rms (core/
+//   b) the noisy form against its own clean pose's form, at the same vertices: aligned_rms (mesh/
 //      rigid_transform.h: best rigid fit, reflections allowed) over the clean form's bbox diagonal; median
 //      and mean over poses. 0 at level 0 (the same mesh has the same cached form).
 //
@@ -42,9 +42,9 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 

@@ -1,7 +1,7 @@
 // `cshapes experiment paper`: the paper's experiment end to end (§3), and more.
 //
 // Per class: N near-isometric poses + K topologically noisy shapes (the dataset's own, or made here by gluing
-// another pose with core/topological_noise.h); canonical forms by every method (pipeline/canonical_forms.h,
+// another pose with data/topological_noise.h); canonical forms by every method (pipeline/canonical_forms.h,
 // cached); ICP distances between all pairs (eval/pairwise_distances.h, cached); retrieval measures and PR
 // curves (eval/retrieval.h); the effect of topological noise on each method's canonical form; point-map
 // errors where ground-truth correspondences exist; the data behind Figures 2-8; Table 1
@@ -25,11 +25,11 @@
 #include <string>
 #include <vector>
 
-#include "core/communicator.h"
-#include "experiments/timing_table.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/communicator.h"
+#include "cshapes/experiments/timing_table.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -90,7 +90,7 @@ struct PaperReport {
     bool noisy = false, in_retrieval = true;
     Index vertices = 0;
     std::string source;                          // noisy shapes glued here: their clean pose
-    std::string defects;                         // core/mesh_defects.h summary, "none" for a clean mesh
+    std::string defects;                         // mesh/mesh_defects.h summary, "none" for a clean mesh
     std::map<std::string, std::string> repairs;  // per method: what was repaired ("" or absent: nothing)
   };
   std::vector<ShapeRow> shapes;

@@ -1,23 +1,23 @@
-#include "experiments/paper_figures.h"
+#include "cshapes/experiments/paper_figures.h"
 
-#include "pipeline/experiment_kit.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "canon/coulomb.h"
-#include "core/articulated.h"
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/mesh_repair.h"
-#include "core/remesh.h"
-#include "core/synthetic.h"
-#include "matching/icp.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -67,7 +67,7 @@ FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache
     }
   }
   CSHAPES_REQUIRE(chosen, o.data, ": no clean shape for the figures");
-  // As Coulomb and the remeshing need it: one manifold component (core/mesh_repair.h).
+  // As Coulomb and the remeshing need it: one manifold component (mesh/mesh_repair.h).
   Mesh mesh = repair_for(read_mesh(chosen->path), MeshRequirements::manifold_surface()).mesh;
   return {chosen->name, o.figure_vertices > 0 ? remeshed(mesh, o.figure_vertices, cache) : mesh};
 }

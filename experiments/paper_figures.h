@@ -2,9 +2,9 @@
 // (experiments/paper_experiment.h); what they measure goes into the PaperReport (experiments/paper_report.h).
 #pragma once
 
-#include "eval/cache.h"
-#include "experiments/paper_experiment.h"
-#include "experiments/paper_report.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/paper_report.h"
 
 namespace cshapes {
 

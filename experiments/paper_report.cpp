@@ -1,9 +1,9 @@
 // report.md of `cshapes experiment paper`: every figure and table, and each claim of the paper beside what
 // was measured here, with a plain verdict.
-#include "experiments/paper_report.h"
+#include "cshapes/experiments/paper_report.h"
 
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,9 +12,9 @@
 #include <filesystem>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/geodesics.h"
-#include "core/timing.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -409,73 +409,72 @@ void table1(ReportText& t) {
   }
 }
 
-void claims(ReportText& t) {
-  const PaperReport& r = t.r;
-  std::ostringstream md;  // the rows of the claims table
-  const bool has_coulomb = t.has_coulomb;
-  const std::vector<std::string>& mds_methods = t.mds_methods;
-  std::map<std::string, double>& noise_rms = t.noise_rms;
-  // Claims.
-  if (has_coulomb && !mds_methods.empty()) {
-    // Under each distance, Coulomb against the better MDS method (by that distance's mAP).
-    auto best_mds_by = [&](const std::string& kind) {
-      std::string best;
-      for (const std::string& m : mds_methods)
-        if (r.retrieval_by_distance.count(m) && r.retrieval_by_distance.at(m).count(kind) &&
-            (best.empty() ||
-             r.retrieval_by_distance.at(m).at(kind).map > r.retrieval_by_distance.at(best).at(kind).map))
-          best = m;
-      return best;
-    };
-    std::string best_mds;
+// The claim row on retrieval: Coulomb against the better MDS method (by mAP) under the paper's Hausdorff
+// distance, and under each other distance against the MDS method best by it.
+void retrieval_claim(const PaperReport& r, const std::vector<std::string>& mds_methods, std::ostream& md) {
+  auto best_mds_by = [&](const std::string& kind) {
+    std::string best;
     for (const std::string& m : mds_methods)
-      if (r.retrieval.count(m) && (best_mds.empty() || r.retrieval.at(m).map > r.retrieval.at(best_mds).map))
-        best_mds = m;
-    if (!best_mds.empty()) {
-      double c = r.retrieval.at("coulomb").map, b = r.retrieval.at(best_mds).map;
-      md << "| Retrieval with Coulomb shapes \"compares favorably\" to MDS canonical forms (Fig. 8) | mAP "
-         << format_number("%.3f", c) << " (Coulomb) vs " << format_number("%.3f", b) << " ("
-         << method_title(best_mds) << ", the better MDS) under the paper's Hausdorff distance";
-      std::string other_verdicts;
-      if (r.retrieval_by_distance.count("coulomb"))
-        for (const char* kind : {"chamfer", "rmse"}) {
-          const std::string best = best_mds_by(kind);
-          if (best.empty() || !r.retrieval_by_distance.at("coulomb").count(kind)) continue;
-          const double ck = r.retrieval_by_distance.at("coulomb").at(kind).map;
-          const double bk = r.retrieval_by_distance.at(best).at(kind).map;
-          md << "; " << distance_title(kind) << " " << format_number("%.3f", ck) << " vs "
-             << format_number("%.3f", bk) << " (" << method_title(best) << ")";
-          other_verdicts += "; under " + distance_title(kind) + ": " + retrieval_verdict(ck, bk);
-        }
-      md << " | " << retrieval_verdict(c, b) << other_verdicts << " |\n";
+      if (r.retrieval_by_distance.count(m) && r.retrieval_by_distance.at(m).count(kind) &&
+          (best.empty() ||
+           r.retrieval_by_distance.at(m).at(kind).map > r.retrieval_by_distance.at(best).at(kind).map))
+        best = m;
+    return best;
+  };
+  std::string best_mds;
+  for (const std::string& m : mds_methods)
+    if (r.retrieval.count(m) && (best_mds.empty() || r.retrieval.at(m).map > r.retrieval.at(best_mds).map))
+      best_mds = m;
+  if (best_mds.empty()) return;
+  double c = r.retrieval.at("coulomb").map, b = r.retrieval.at(best_mds).map;
+  md << "| Retrieval with Coulomb shapes \"compares favorably\" to MDS canonical forms (Fig. 8) | mAP "
+     << format_number("%.3f", c) << " (Coulomb) vs " << format_number("%.3f", b) << " ("
+     << method_title(best_mds) << ", the better MDS) under the paper's Hausdorff distance";
+  std::string other_verdicts;
+  if (r.retrieval_by_distance.count("coulomb"))
+    for (const char* kind : {"chamfer", "rmse"}) {
+      const std::string best = best_mds_by(kind);
+      if (best.empty() || !r.retrieval_by_distance.at("coulomb").count(kind)) continue;
+      const double ck = r.retrieval_by_distance.at("coulomb").at(kind).map;
+      const double bk = r.retrieval_by_distance.at(best).at(kind).map;
+      md << "; " << distance_title(kind) << " " << format_number("%.3f", ck) << " vs "
+         << format_number("%.3f", bk) << " (" << method_title(best) << ")";
+      other_verdicts += "; under " + distance_title(kind) + ": " + retrieval_verdict(ck, bk);
     }
-    if (noise_rms.count("coulomb")) {
-      double c = noise_rms.at("coulomb");
-      double worst_mds = 0;
-      std::string which;
-      for (const std::string& m : mds_methods)
-        if (noise_rms.count(m) && noise_rms.at(m) > worst_mds) {
-          worst_mds = noise_rms.at(m);
-          which = m;
-        }
-      double best_mds_noise = 1e300;
-      for (const std::string& m : mds_methods)
-        if (noise_rms.count(m)) best_mds_noise = std::min(best_mds_noise, noise_rms.at(m));
-      if (!which.empty()) {
-        const double pose = r.pose_variation.count("coulomb") ? r.pose_variation.at("coulomb") : 0;
-        md << "| Topological noise is \"practically unnoticeable\" on Coulomb shapes, while MDS forms suffer "
-              "\"severe global distortions\" (Fig. 2, 6) | median RMS change "
-           << format_number("%.2f%%", 100 * c) << " (Coulomb) vs "
-           << format_number("%.2f%%", 100 * best_mds_noise) << "–" << format_number("%.2f%%", 100 * worst_mds)
-           << " (MDS); Coulomb pose variation " << format_number("%.2f%%", 100 * pose) << " | "
-           << (c < 0.5 * best_mds_noise
-                   ? (c < 0.5 * pose ? "holds" : "holds in part: less affected than MDS, but noticeable")
-               : c < best_mds_noise ? "weakly: Coulomb is only somewhat less affected"
-                                    : "does not hold: Coulomb is as affected as MDS here")
-           << " |\n";
-      }
+  md << " | " << retrieval_verdict(c, b) << other_verdicts << " |\n";
+}
+
+// The claim row on topological noise: Coulomb's median RMS change against the MDS methods' range.
+void noise_claim(const PaperReport& r, const std::vector<std::string>& mds_methods,
+                 const std::map<std::string, double>& noise_rms, std::ostream& md) {
+  if (!noise_rms.count("coulomb")) return;
+  double c = noise_rms.at("coulomb");
+  double worst_mds = 0;
+  std::string which;
+  for (const std::string& m : mds_methods)
+    if (noise_rms.count(m) && noise_rms.at(m) > worst_mds) {
+      worst_mds = noise_rms.at(m);
+      which = m;
     }
-  }
+  double best_mds_noise = 1e300;
+  for (const std::string& m : mds_methods)
+    if (noise_rms.count(m)) best_mds_noise = std::min(best_mds_noise, noise_rms.at(m));
+  if (which.empty()) return;
+  const double pose = r.pose_variation.count("coulomb") ? r.pose_variation.at("coulomb") : 0;
+  md << "| Topological noise is \"practically unnoticeable\" on Coulomb shapes, while MDS forms suffer "
+        "\"severe global distortions\" (Fig. 2, 6) | median RMS change "
+     << format_number("%.2f%%", 100 * c) << " (Coulomb) vs " << format_number("%.2f%%", 100 * best_mds_noise)
+     << "–" << format_number("%.2f%%", 100 * worst_mds) << " (MDS); Coulomb pose variation "
+     << format_number("%.2f%%", 100 * pose) << " | "
+     << (c < 0.5 * best_mds_noise
+             ? (c < 0.5 * pose ? "holds" : "holds in part: less affected than MDS, but noticeable")
+         : c < best_mds_noise ? "weakly: Coulomb is only somewhat less affected"
+                              : "does not hold: Coulomb is as affected as MDS here")
+     << " |\n";
+}
+
+// The claim rows on Table 1 (cost per iteration and pre-computation) and Figure 5 (projection steps).
+void cost_claims(const PaperReport& r, std::ostream& md) {
   if (r.table1.size() >= 3 && r.table1[2].mds_measured) {
     const TimingRow& big = r.table1[2];
     const TimingRow& mid = r.table1[1];
@@ -506,10 +505,20 @@ void claims(ReportText& t) {
       md << " " << format_number("%.3g", c.final_violation) << " (k=" << c.projection_steps << ")";
     md << " | " << (decreasing ? "holds" : "does not hold") << " |\n";
   }
+}
+
+void claims(ReportText& t) {
+  const PaperReport& r = t.r;
+  std::ostringstream md;  // the rows of the claims table
+  if (t.has_coulomb && !t.mds_methods.empty()) {
+    retrieval_claim(r, t.mds_methods, md);
+    noise_claim(r, t.mds_methods, t.noise_rms, md);
+  }
+  cost_claims(r, md);
   t.md << "## The paper's claims beside our measurements\n\n";
   std::vector<std::string> missing;  // what the run would need for a claim
-  if (!has_coulomb) missing.push_back("the paper's method (`--methods` with `coulomb`)");
-  if (mds_methods.empty()) missing.push_back("an MDS method (`--methods` with `cmds` or `smacof`)");
+  if (!t.has_coulomb) missing.push_back("the paper's method (`--methods` with `coulomb`)");
+  if (t.mds_methods.empty()) missing.push_back("an MDS method (`--methods` with `cmds` or `smacof`)");
   if (r.table1.size() < 3 || !r.table1[2].mds_measured)
     missing.push_back("Table 1 with its MDS timings (without `--no-table1`, and memory for the matrix)");
   if (r.convergence.size() < 2)

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "experiments/paper_experiment.h"
-#include "experiments/timing_table.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/timing_table.h"
 
 namespace cshapes {
 

@@ -1,4 +1,5 @@
-#include "experiments/pose_invariance.h"
+#include "cshapes/experiments/pose_invariance.h"
+#include "cshapes/experiments/pose_invariance_detail.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,35 +12,36 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/csv.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/mesh_repair.h"
-#include "core/rigid_transform.h"
-#include "core/timing.h"
-#include "eval/correspondence_error.h"
-#include "experiments/figures.h"
-#include "pipeline/experiment_kit.h"
-#include "pipeline/remesh_samples.h"
+#include "cshapes/support/csv.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/eval/correspondence_error.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/pipeline/experiment_kit.h"
+#include "cshapes/pipeline/remesh_samples.h"
 
 namespace cshapes {
 
 namespace fs = std::filesystem;
 
+using pose_detail::add_part_rows;
+using pose_detail::csv_number;
+using pose_detail::find_parts;
+using pose_detail::forms_of_run;
+using pose_detail::measured_stress;
+using pose_detail::PosePair;
+using pose_detail::PoseShape;
+using pose_detail::sample_parts;
+using pose_detail::summarise_parts;
+using pose_detail::summary_classes;
+using pose_detail::summary_row;
+
 namespace {
-
-struct PoseShape {
-  std::string name, class_name, path;
-  Mesh mesh;
-  std::vector<int> vts;  // TOSCA: the sample list of corres/NAME.vts
-};
-
-struct PosePair {
-  int a = 0, b = 0;         // shape indices
-  std::vector<int> va, vb;  // corresponding vertices (0-based), equal lengths
-};
 
 // With resampling, one shape's samples on its remesh: the input vertices some pair reads (sorted), where each
 // lies on the remesh. `carried.at` is empty when the forms are computed on the input itself (no resampling,
@@ -68,7 +70,7 @@ std::string stem_of(const fs::path& p) {
   return p.stem().string();
 }
 
-// A dataset (folder or manifest.csv, core/dataset.h) whose clean poses of one class share their faces, as
+// A dataset (folder or manifest.csv, data/dataset.h) whose clean poses of one class share their faces, as
 // `cshapes generate dataset` writes them: vertex i of one pose is vertex i of every other, so each pair of
 // poses of a class is compared at all vertices. Noisy entries are left out (their faces differ by the glues).
 // A class whose poses do not share faces is refused: nothing tells which vertices correspond.
@@ -109,7 +111,7 @@ void discover_shared_connectivity(const PoseInvarianceOptions& o,
 }
 
 // The shapes and pairs of the folder (see the header), restricted to `only` when not empty.
-// left_out: the folder's entries that are no shape (core/dataset.h), for the run's failures.
+// left_out: the folder's entries that are no shape (data/dataset.h), for the run's failures.
 void discover(const PoseInvarianceOptions& o, std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs,
               std::vector<ShapeFailure>& left_out) {
   const fs::path dir(o.data);
@@ -355,136 +357,7 @@ double geodesic_stress(const Points& X, const StressReference& ref) {
   return den > 0 ? std::sqrt(num / den) : -1;
 }
 
-// A number in a CSV cell: 6 significant digits; empty when not finite.
-std::string csv_number(double v, int precision = 6) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
-
-// A geodesic stress for a report: NaN (shown "—") when not measured (−1).
-double measured_stress(double stress) {
-  return stress >= 0 ? stress : NAN;
-}
-
-// ---- Parts ------------------------------------------------------------------------------------------------
-
-// Per shape, per input vertex: its part (−1: unknown). Each class's parts are found on its first pose and
-// carried to the other poses through the pairs with the first pose (every correspondence of the pair, not
-// only the kept samples). result.classes gets one entry per class.
-std::vector<std::vector<int>> find_parts(const PoseInvarianceOptions& o, const std::vector<PoseShape>& shapes,
-                                         const std::vector<PosePair>& pairs, PoseInvarianceResult& result) {
-  std::vector<std::vector<int>> part_of(shapes.size());
-  for (size_t i = 0; i < shapes.size(); ++i)
-    part_of[i].assign(static_cast<size_t>(shapes[i].mesh.num_vertices()), -1);
-  if (!o.parts) return part_of;
-  std::map<std::string, size_t> first_of_class;
-  for (size_t i = 0; i < shapes.size(); ++i) first_of_class.emplace(shapes[i].class_name, i);
-  std::vector<size_t> firsts;
-  for (size_t i = 0; i < shapes.size(); ++i)
-    if (first_of_class.at(shapes[i].class_name) == i) firsts.push_back(i);
-  for (size_t f : firsts) {
-    const PoseShape& s = shapes[f];
-    PoseClassParts c;
-    c.class_name = s.class_name;
-    c.shape = s.name;
-    try {
-      const GeodesicPartsResult parts = geodesic_parts(s.mesh, o.part_finder);
-      c.centre = parts.centre;
-      c.extremities = parts.extremities;
-      c.reach = parts.extremity_reach;
-      c.persistence = parts.extremity_persistence;
-      c.repair_text = parts.repair_text;
-      part_of[f].assign(parts.part.data(), parts.part.data() + parts.part.size());
-    } catch (const Error& e) {
-      c.problem = e.what();
-    }
-    say(o.note, c.problem.empty() ? detail::concat("  parts of ", c.class_name, " on ", s.name, ": ",
-                                                   c.extremities.size(), " extremities and the core")
-                                  : detail::concat("  parts of ", c.class_name, ": none (", c.problem, ")"));
-    result.classes.push_back(c);
-  }
-  for (const PosePair& p : pairs) {
-    const size_t f = first_of_class.at(shapes[p.a].class_name);
-    if (static_cast<size_t>(p.a) == f)
-      for (size_t k = 0; k < p.va.size(); ++k) part_of[p.b][p.vb[k]] = part_of[f][p.va[k]];
-    else if (static_cast<size_t>(p.b) == f)
-      for (size_t k = 0; k < p.vb.size(); ++k) part_of[p.a][p.va[k]] = part_of[f][p.vb[k]];
-  }
-  return part_of;
-}
-
-// The part of each kept sample of a pair: its vertex's part on a, else on b, else −1.
-std::vector<int> sample_parts(const PosePair& p, const std::vector<size_t>& keep,
-                              const std::vector<std::vector<int>>& part_of) {
-  std::vector<int> parts(keep.size(), -1);
-  for (size_t k = 0; k < keep.size(); ++k) {
-    const int on_a = part_of[p.a][p.va[keep[k]]];
-    parts[k] = on_a >= 0 ? on_a : part_of[p.b][p.vb[keep[k]]];
-  }
-  return parts;
-}
-
-// One pair and form: a row per part that has samples (finite residuals), the unassigned ones as part −1.
-void add_part_rows(const PosePairRow& pair_row, const Eigen::VectorXd& residuals,
-                   const std::vector<int>& parts, PoseInvarianceResult& result) {
-  std::map<int, std::pair<double, int>> squares;  // part → (Σ residual², samples)
-  for (Index k = 0; k < residuals.size(); ++k) {
-    if (!std::isfinite(residuals[k])) continue;
-    auto& [sum, count] = squares[parts[static_cast<size_t>(k)]];
-    sum += residuals[k] * residuals[k];
-    ++count;
-  }
-  for (const auto& [part, sum_count] : squares) {
-    PosePartRow row;
-    row.a = pair_row.a;
-    row.b = pair_row.b;
-    row.class_name = pair_row.class_name;
-    row.form = pair_row.form;
-    row.part = part;
-    row.samples = sum_count.second;
-    row.rms = std::sqrt(sum_count.first / sum_count.second);
-    result.parts.push_back(row);
-  }
-}
-
-// Medians over the pairs per class, part and form, in the order of result.classes, parts −1 (when any), 0,
-// 1, ..., forms in run order.
-void summarise_parts(const std::vector<std::string>& forms, PoseInvarianceResult& result) {
-  for (const PoseClassParts& c : result.classes) {
-    std::set<int> parts;
-    for (const PosePartRow& r : result.parts)
-      if (r.class_name == c.class_name) parts.insert(r.part);
-    for (int part : parts)
-      for (const std::string& f : forms) {
-        PosePartSummaryRow row;
-        row.class_name = c.class_name;
-        row.form = f;
-        row.part = part;
-        std::vector<double> rms, samples;
-        for (const PosePartRow& r : result.parts)
-          if (r.class_name == c.class_name && r.form == f && r.part == part) {
-            rms.push_back(r.rms);
-            samples.push_back(r.samples);
-          }
-        row.pairs = static_cast<int>(rms.size());
-        row.median_rms = rms.empty() ? NAN : median(rms);
-        row.median_samples = samples.empty() ? 0 : median(samples);
-        result.part_summary.push_back(row);
-      }
-  }
-}
-
 // ---- Measurement ------------------------------------------------------------------------------------------
-
-// The forms the run measures: "input" (the meshes themselves), then the options' methods.
-std::vector<std::string> forms_of_run(const PoseInvarianceOptions& o) {
-  std::vector<std::string> forms = {"input"};
-  forms.insert(forms.end(), o.methods.begin(), o.methods.end());
-  return forms;
-}
 
 void check_methods(const PoseInvarianceOptions& o) {
   require_canonical_form_methods(o.methods, "experiment pose");
@@ -616,280 +489,6 @@ PoseFigurePair figure_pair(const std::vector<PoseShape>& shapes, const std::vect
   return fig;
 }
 
-// ---- Summary ----------------------------------------------------------------------------------------------
-
-// "all", then each class of a measured shape in shape order; "all" alone when there is one class.
-std::vector<std::string> summary_classes(const std::vector<PoseShape>& shapes,
-                                         const std::vector<char>& failed) {
-  std::vector<std::string> classes = {"all"};
-  for (size_t i = 0; i < shapes.size(); ++i)
-    if (!failed[i] && std::find(classes.begin(), classes.end(), shapes[i].class_name) == classes.end())
-      classes.push_back(shapes[i].class_name);
-  if (classes.size() == 2) classes.pop_back();  // one class: "all" says it
-  return classes;
-}
-
-// One form over the pairs and shapes of one class ("all": every class). class_of: shape name → class.
-PoseSummaryRow summary_row(const std::string& form, const std::string& class_name,
-                           const PoseInvarianceResult& result,
-                           const std::map<std::string, std::string>& class_of) {
-  PoseSummaryRow row;
-  row.form = form;
-  row.class_name = class_name;
-  std::vector<double> rms, input;
-  for (const PosePairRow& p : result.pairs)
-    if (p.form == form && (class_name == "all" || p.class_name == class_name)) {
-      rms.push_back(p.rms);
-      input.push_back(p.input_rms);
-    }
-  row.pairs = static_cast<int>(rms.size());
-  row.median_rms = median(rms);
-  row.median_input_rms = median(input);
-  double sum = 0;
-  for (double v : rms) sum += v;
-  row.mean_rms = rms.empty() ? NAN : sum / rms.size();
-  row.removed = 1 - row.median_rms / row.median_input_rms;
-  std::vector<double> stretch, stress;
-  for (const PoseShapeRow& s : result.shapes)
-    if (s.form == form && (class_name == "all" || class_of.at(s.shape) == class_name)) {
-      stretch.push_back(s.mean_abs_stretch);
-      row.max_stretch = std::max(row.max_stretch, s.max_stretch);
-      if (s.stress >= 0) stress.push_back(s.stress);
-    }
-  row.mean_abs_stretch = median(stretch);
-  row.stress = stress.empty() ? -1 : median(stress);
-  return row;
-}
-
-// ---- Data files -------------------------------------------------------------------------------------------
-
-// Text fields quoted where they must be: a label "a,b" stays one column.
-void write_pairs_csv(const ExperimentFolder& folder, const std::string& label,
-                     const PoseInvarianceResult& result) {
-  std::ostringstream csv;
-  csv << "config,a,b,class,form,rms,input_rms,samples\n";
-  for (const PosePairRow& r : result.pairs)
-    csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
-        << csv_field(r.class_name) << "," << csv_field(r.form) << "," << csv_number(r.rms) << ","
-        << csv_number(r.input_rms) << "," << r.samples << "\n";
-  folder.write_text("pose_pairs.csv", csv.str());
-}
-
-void write_shapes_csv(const ExperimentFolder& folder, const std::string& label,
-                      const PoseInvarianceResult& result) {
-  std::ostringstream csv;
-  csv << "config,shape,form,mean_abs_stretch,p99_stretch,max_stretch,geodesic_stress,iterations,seconds,"
-         "torn_vertices\n";
-  for (const PoseShapeRow& r : result.shapes)
-    csv << csv_field(label) << "," << csv_field(r.shape) << "," << csv_field(r.form) << ","
-        << csv_number(r.mean_abs_stretch) << "," << csv_number(r.p99_stretch) << ","
-        << csv_number(r.max_stretch) << "," << (r.stress >= 0 ? csv_number(r.stress) : "") << ","
-        << r.iterations << "," << csv_number(r.seconds, 4) << "," << r.torn_edges << "\n";
-  folder.write_text("pose_shapes.csv", csv.str());
-}
-
-void write_summary_csv(const ExperimentFolder& folder, const std::string& label,
-                       const PoseInvarianceResult& result) {
-  std::ostringstream csv;
-  csv << "config,form,class,pairs,median_rms,mean_rms,median_input_rms,removed,median_mean_abs_stretch,"
-         "max_stretch,median_geodesic_stress\n";
-  for (const PoseSummaryRow& r : result.summary)
-    csv << csv_field(label) << "," << csv_field(r.form) << "," << csv_field(r.class_name) << "," << r.pairs
-        << "," << csv_number(r.median_rms) << "," << csv_number(r.mean_rms) << ","
-        << csv_number(r.median_input_rms) << "," << csv_number(r.removed) << ","
-        << csv_number(r.mean_abs_stretch) << "," << csv_number(r.max_stretch) << ","
-        << (r.stress >= 0 ? csv_number(r.stress) : "") << "\n";
-  folder.write_text("pose_summary.csv", csv.str());
-}
-
-void write_parts_csv(const ExperimentFolder& folder, const std::string& label,
-                     const PoseInvarianceResult& result) {
-  std::map<std::string, const PoseClassParts*> class_parts;
-  for (const PoseClassParts& c : result.classes) class_parts[c.class_name] = &c;
-  std::ostringstream csv;
-  csv << "config,a,b,class,form,part,parts_shape,extremity_vertex,samples,rms\n";
-  for (const PosePartRow& r : result.parts) {
-    const PoseClassParts& c = *class_parts.at(r.class_name);
-    csv << csv_field(label) << "," << csv_field(r.a) << "," << csv_field(r.b) << ","
-        << csv_field(r.class_name) << "," << csv_field(r.form) << "," << r.part << "," << csv_field(c.shape)
-        << "," << (r.part >= 1 ? std::to_string(c.extremities[static_cast<size_t>(r.part - 1)]) : "") << ","
-        << r.samples << "," << csv_number(r.rms) << "\n";
-  }
-  folder.write_text("pose_parts.csv", csv.str());
-}
-
-// The figure's data: pose_residuals.csv (a row per sample: its vertex of b, position, part, and per form the
-// residual) and pose_residuals.json (the pair, why, the forms and their pose RMS).
-void write_figure_data(const ExperimentFolder& folder, const PoseFigurePair& fig) {
-  std::ostringstream csv;
-  csv << "sample,vertex,x,y,z,part";
-  for (const std::string& f : fig.forms) csv << "," << csv_field(f);
-  csv << "\n";
-  for (Index k = 0; k < fig.positions.rows(); ++k) {
-    csv << k << "," << fig.vertices[static_cast<size_t>(k)];
-    for (int c = 0; c < 3; ++c) csv << "," << csv_number(fig.positions(k, c), 9);
-    csv << "," << fig.parts[static_cast<size_t>(k)];
-    for (Index f = 0; f < fig.residuals.cols(); ++f) csv << "," << csv_number(fig.residuals(k, f));
-    csv << "\n";
-  }
-  folder.write_text("pose_residuals.csv", csv.str());
-  nlohmann::json rms = nlohmann::json::object();
-  for (size_t f = 0; f < fig.forms.size(); ++f) rms[fig.forms[f]] = fig.rms[f];
-  nlohmann::json titles = nlohmann::json::object();
-  for (const std::string& f : fig.forms) titles[f] = f == "input" ? "input" : canonical_form_method_title(f);
-  folder.write_json("pose_residuals.json", {{"a", fig.a},
-                                            {"b", fig.b},
-                                            {"class", fig.class_name},
-                                            {"chosen_by", fig.chosen_by},
-                                            {"forms", fig.forms},
-                                            {"titles", titles},
-                                            {"rms", rms}});
-}
-
-std::string label_of(const PoseInvarianceOptions& o) {
-  return o.label.empty() ? "default" : o.label;
-}
-
-size_t count_form(const std::vector<PosePairRow>& rows, const std::string& form) {
-  return static_cast<size_t>(
-      std::count_if(rows.begin(), rows.end(), [&](const PosePairRow& r) { return r.form == form; }));
-}
-size_t count_form(const std::vector<PoseShapeRow>& rows, const std::string& form) {
-  return static_cast<size_t>(
-      std::count_if(rows.begin(), rows.end(), [&](const PoseShapeRow& r) { return r.form == form; }));
-}
-
-// With resampling: how the samples were carried to the remeshes, and how far they moved.
-std::string located_markdown(const PoseInvarianceResult& result) {
-  long samples = 0, relocated = 0, off_part = 0;
-  double sum = 0, worst = 0;
-  std::string worst_shape;
-  std::ostringstream table;
-  table << "| shape | samples | mean distance | max distance | relocated | off their part |\n"
-           "|---|---:|---:|---:|---:|---:|\n";
-  for (const PoseLocatedRow& r : result.located) {
-    table << "| " << r.shape << " | " << r.samples << " | ";
-    if (!r.remeshed) {
-      table << "— | — | — | — |\n";  // its samples are its own vertices
-      continue;
-    }
-    table << percent(r.mean_distance, 3) << " | " << percent(r.max_distance, 3) << " | " << r.relocated
-          << " | " << r.off_part << " |\n";
-    samples += r.samples;
-    relocated += r.relocated;
-    off_part += r.off_part;
-    sum += r.mean_distance * r.samples;
-    if (r.max_distance >= worst) {
-      worst = r.max_distance;
-      worst_shape = r.shape;
-    }
-  }
-  std::ostringstream md;
-  md << "Each ground-truth correspondence sample (a vertex of the input) was carried to its shape's "
-        "remesh as the closest point of the remeshed surface, and each form's position of it interpolated "
-        "there on the remesh's triangle (barycentric; core/locate_on_surface.h); poses that shared their "
-        "faces "
-        "are still paired vertex i with vertex i of the inputs. Edge stretch and geodesic stress are "
-        "measured "
-        "on the remeshes. Distance from the located points to the input vertices, over the input's "
-        "bounding-box diagonal: mean "
-     << percent(samples ? sum / static_cast<double>(samples) : NAN, 3) << ", largest " << percent(worst, 3)
-     << (worst_shape.empty() ? "" : " (" + worst_shape + ")") << ". " << relocated + off_part << " of "
-     << samples
-     << " samples were closest to another part of the surface (a remeshed triangle whose corners lie, on "
-        "the input, out of reach of the sample along it, as where an arm lies against the body: "
-        "pipeline/remesh_samples.h); "
-     << relocated << " of them were located on the closest triangle of their own part instead, " << off_part
-     << " found none within reach and stayed.\n\n"
-     << table.str();
-  return md.str();
-}
-
-// The per-part section: the parts of each class, and per part the median RMS over pairs of each form.
-std::string parts_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
-  std::ostringstream md;
-  md << "\n## Where the pose stays: per part\n\n"
-     << "Parts found on each class's first pose from its geometry alone (core/geodesic_parts.h): a centre "
-        "(the "
-        "vertex of least summed geodesic distance to "
-     << o.part_finder.centre_sources
-     << " evenly spaced vertices), the extremities (the local maxima of the geodesic distance from the "
-        "centre whose topological persistence is at least "
-     << fixed(o.part_finder.min_persistence, 2)
-     << " of the largest distance: tips of limbs, not bumps), and each vertex in the part of its nearest "
-        "extremity when nearer than "
-     << fixed(o.part_finder.part_fraction, 2)
-     << " of that extremity's distance to the centre, else in the core; carried to the other poses through "
-        "the ground truth. Per part: the RMS of the residuals of its samples after the pair's whole-shape "
-        "rigid fit (the fit of the pose RMS above, not one per part), over the mean diagonal; medians over "
-        "pairs. The parts' mean squares, weighted by their samples, add up to the pose RMS². Parts are named "
-        "by their extremity's vertex (0-based) on the class's first pose: which is a hand is not known. Per "
-        "pair and form in `pose_parts.csv`.\n";
-  const std::vector<std::string> forms = forms_of_run(o);
-  for (const PoseClassParts& c : result.classes) {
-    md << "\n**" << c.class_name << "** (parts found on " << c.shape << "): ";
-    if (!c.problem.empty()) {
-      md << "none (" << c.problem << ").\n";
-      continue;
-    }
-    md << c.extremities.size() << " extremities";
-    for (size_t e = 0; e < c.extremities.size(); ++e)
-      md << (e ? "; " : ": ") << "part " << e + 1 << " at vertex " << c.extremities[e] << " (distance "
-         << fixed(c.reach[e], 2) << ", persistence " << fixed(c.persistence[e], 2) << ")";
-    md << "; centre: vertex " << c.centre << (c.repair_text.empty() ? "" : "; " + c.repair_text) << ".\n\n";
-    md << "| part | samples per pair |";
-    for (const std::string& f : forms)
-      md << " " << (f == "input" ? "input" : canonical_form_method_title(f)) << " |";
-    md << "\n| --- | --- |";
-    for (size_t f = 0; f < forms.size(); ++f) md << " --- |";
-    md << "\n";
-    std::set<int> parts;
-    for (const PosePartSummaryRow& r : result.part_summary)
-      if (r.class_name == c.class_name) parts.insert(r.part);
-    for (int part : parts) {
-      std::string name =
-          part < 0    ? "unassigned"
-          : part == 0 ? "core"
-                      : detail::concat("part ", part, " (extremity at vertex ",
-                                       c.extremities[static_cast<size_t>(part - 1)], " of ", c.shape, ")");
-      std::ostringstream cells;
-      double samples = 0;
-      for (const std::string& f : forms)
-        for (const PosePartSummaryRow& r : result.part_summary)
-          if (r.class_name == c.class_name && r.part == part && r.form == f) {
-            cells << " " << percent(r.median_rms) << " |";
-            if (f == "input") samples = r.median_samples;
-          }
-      md << "| " << name << " | " << fixed(samples, 0) << " |" << cells.str() << "\n";
-    }
-  }
-  return md.str();
-}
-
-// The figure, or why there is none, and how to draw it.
-std::string figure_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
-  const PoseFigurePair& fig = result.figure_pair;
-  if (fig.a.empty()) return "";
-  std::ostringstream md;
-  md << "\n## Residuals of one pair\n\n";
-  if (!result.figure.empty())
-    md << "![residuals of " << fig.a << "-" << fig.b << "](" << result.figure << ")\n\n";
-  else
-    md << "No figure (" << result.figure_problem << ").\n\n";
-  md << fig.a << " against " << fig.b << " (class " << fig.class_name << "), " << fig.chosen_by
-     << ": each sample of " << fig.b
-     << " at its input position, coloured by its residual after the pair's "
-        "whole-shape rigid fit, in % of the mean diagonal, one colour scale for every panel. Pose RMS:";
-  for (size_t f = 0; f < fig.forms.size(); ++f)
-    md << (f ? "," : "") << " "
-       << (fig.forms[f] == "input" ? "input" : canonical_form_method_title(fig.forms[f])) << " "
-       << percent(fig.rms[f]);
-  md << ". Data: `pose_residuals.csv`, `pose_residuals.json`; redraw with `scripts/python.sh "
-        "experiments/plots/pose_figure.py "
-     << o.out << "`.\n";
-  return md.str();
-}
-
 }  // namespace
 
 PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
@@ -935,69 +534,8 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
     for (const std::string& c : summary_classes(shapes, failed))
       result.summary.push_back(summary_row(f, c, result, class_of));
 
-  write_pairs_csv(folder, label_of(o), result);
-  write_shapes_csv(folder, label_of(o), result);
-  write_summary_csv(folder, label_of(o), result);
-  if (o.parts) write_parts_csv(folder, label_of(o), result);
-  if (!result.figure_pair.a.empty()) write_figure_data(folder, result.figure_pair);
+  pose_detail::write_data_files(folder, o, result);
   return result;
-}
-
-nlohmann::json pose_invariance_json(const PoseInvarianceResult& result) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const PoseSummaryRow& r : result.summary)
-    rows.push_back({{"form", r.form},
-                    {"class", r.class_name},
-                    {"pairs", r.pairs},
-                    {"median_rms", r.median_rms},
-                    {"mean_rms", r.mean_rms},
-                    {"median_input_rms", r.median_input_rms},
-                    {"removed", r.removed},
-                    {"mean_abs_stretch", r.mean_abs_stretch},
-                    {"max_stretch", r.max_stretch},
-                    {"stress", r.stress >= 0 ? nlohmann::json(r.stress) : nlohmann::json(nullptr)}});
-  return {{"shapes", result.shapes.size()},
-          {"pairs", result.pairs.size()},
-          {"summary", rows},
-          {"figure", result.figure},
-          {"figure_problem", result.figure_problem},
-          {"failures", shape_failures_json(result.failures)}};
-}
-
-std::string pose_invariance_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
-  std::ostringstream md;
-  md << "# Pose invariance (" << label_of(o) << ")\n\n"
-     << build_sentence() << "\n\n"
-     << "Data: `" << o.data << "`, " << count_form(result.shapes, "input") << " shapes, "
-     << count_form(result.pairs, "input") << " pairs of poses, up to " << o.samples
-     << " ground-truth correspondences per pair"
-     << (result.resampled ? detail::concat(", every shape remeshed to about ", o.resample.vertices,
-                                           " vertices first (see Resampling below)")
-                          : std::string())
-     << ". Pose RMS: RMS distance between corresponding points of the "
-        "two forms after the best rigid fit (reflections allowed), over the mean bounding-box diagonal; "
-        "removed = 1 − form / input (medians over pairs). Stretch: edge length in the form / in the input, "
-        "edges not torn; stress: against fast marching from "
-     << o.stress_sources << " sources per shape (medians over shapes; max stretch: the worst edge).\n\n"
-     << "| form | class | pairs | pose RMS (median) | mean | input | removed | mean \\|stretch−1\\| | max "
-        "stretch | geodesic stress |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  for (const PoseSummaryRow& r : result.summary)
-    md << "| " << r.form << " | " << r.class_name << " | " << r.pairs << " | " << percent(r.median_rms)
-       << " | " << percent(r.mean_rms) << " | " << percent(r.median_input_rms) << " | "
-       << percent(r.removed, 0) << " | " << (r.form == "input" ? "—" : fixed(r.mean_abs_stretch, 3)) << " | "
-       << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(measured_stress(r.stress), 3)
-       << " |\n";
-  if (o.parts && !result.classes.empty()) md << parts_markdown(result, o);
-  md << figure_markdown(result, o);
-  if (result.resampled)
-    md << "\n## Resampling\n\n" << resampling_markdown(result.resampling) << "\n" << located_markdown(result);
-  if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);
-  return md.str();
-}
-
-void write_pose_invariance_report(const PoseInvarianceResult& result, const PoseInvarianceOptions& options,
-                                  const std::string& folder) {
-  ExperimentFolder(folder).write_text("pose.md", pose_invariance_markdown(result, options));
 }
 
 void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions& options) {

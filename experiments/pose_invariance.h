@@ -6,7 +6,7 @@
 //     poses of a class; sample s is vertex vts_A[s] of A and vts_B[s] of B (evenly thinned to `samples`);
 //   - a TOPKIDS-style folder (kid00.off + kidNN.off + kidNN_ref.txt: "vertex of kidNN, vertex of kid00",
 //     1-based): every kidNN against kid00, over the listed vertices;
-//   - any other dataset (a folder without corres/, or a manifest.csv; core/dataset.h) whose clean poses of a
+//   - any other dataset (a folder without corres/, or a manifest.csv; data/dataset.h) whose clean poses of a
 //     class share their faces, as `cshapes generate dataset` writes them: every pair of clean poses of a
 //     class, vertex i against vertex i (a class whose poses do not share faces is refused).
 // Per pair and form (the two inputs themselves, and the canonical forms of each method):
@@ -23,7 +23,7 @@
 // first (pipeline/resampled_dataset.h, cached under OUT/cache/remeshed, written to OUT/resampled) and its
 // forms are computed on the remesh, which keeps none of the input's vertices. Each correspondence sample (a
 // vertex of the input) is carried to the remesh as the closest point of the remeshed surface
-// (core/locate_on_surface.h), and a form's position of the sample is the form interpolated there
+// (mesh/locate_on_surface.h), and a form's position of the sample is the form interpolated there
 // (barycentric, on the remesh's triangle); the input's pose RMS likewise compares the located points on the
 // two remeshes. For a dataset whose poses share faces, the pair is still vertex i of input A against vertex i
 // of input B, each located on its own remesh (the remeshes share no faces). Edge stretch and geodesic stress
@@ -32,7 +32,7 @@
 // surfaces and truth.
 //
 // Where the pose stays (options.parts): the parts of each class are found on its first pose (in shape order;
-// TOPKIDS: kid00) from its geometry alone (core/geodesic_parts.h: a geodesic centre, the extremities as the
+// TOPKIDS: kid00) from its geometry alone (geodesics/geodesic_parts.h: a geodesic centre, the extremities as the
 // persistent maxima of the distance from it, each vertex in its nearest extremity's part when within half
 // that extremity's distance to the centre, else in the core), and carried to the other poses through the
 // ground truth: a sample's part is that of its vertex on the first pose (through the pairs with the first
@@ -66,10 +66,10 @@
 #include <string>
 #include <vector>
 
-#include "core/geodesic_parts.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/geodesics/geodesic_parts.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -94,7 +94,7 @@ struct PoseInvarianceOptions {
   std::function<void(const std::string&)> note;  // one line per shape and pair
 };
 
-// One class's parts, found on its first pose (core/geodesic_parts.h).
+// One class's parts, found on its first pose (geodesics/geodesic_parts.h).
 struct PoseClassParts {
   std::string class_name, shape;           // shape: the class's first pose, where the parts were found
   int centre = -1;                         // vertex of `shape` (0-based)

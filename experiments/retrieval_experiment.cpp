@@ -1,18 +1,18 @@
-#include "experiments/retrieval_experiment.h"
+#include "cshapes/experiments/retrieval_experiment.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/classification.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/timing.h"
-#include "eval/distance_csv.h"
-#include "experiments/figures.h"
-#include "pipeline/dataset_distances.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/data/classification.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/pipeline/dataset_distances.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

@@ -6,12 +6,12 @@
 // of the three distances after ICP (hausdorff: the paper's, chamfer, rmse; matching/shape_distance.h) the
 // Princeton measures overall and per class (NN, FT, ST, E, DCG, mAP: eval/retrieval.h), the averaged
 // precision–recall curve and the nearest-neighbour confusion matrix. The collection is a folder, a
-// manifest.csv or a Princeton .cla file (core/dataset.h); with resample.vertices > 0 every shape is remeshed
+// manifest.csv or a Princeton .cla file (data/dataset.h); with resample.vertices > 0 every shape is remeshed
 // to that size first (pipeline/resampled_dataset.h, the remesh's Hausdorff distance and angles in the
 // report).
 //
 // Files under out/ (each written atomically; a killed run resumes from out/cache):
-//   classes.cla                      the collection's classes in its order (PSB format, core/classification.h)
+//   classes.cla                      the collection's classes in its order (PSB format, data/classification.h)
 //   resampled/                       with resampling: the remeshed shapes, manifest.csv, resample.csv
 //   METHOD/classes.cla               the shapes of METHOD's matrices, in their order (fewer when one failed)
 //   METHOD/DISTANCE.csv              the matrix with shape names (`cshapes evaluate` reads it)
@@ -33,11 +33,11 @@
 #include <string>
 #include <vector>
 
-#include "core/communicator.h"
-#include "eval/retrieval_report.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/communicator.h"
+#include "cshapes/eval/retrieval_report.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 

@@ -2,8 +2,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "experiments/retrieval_experiment.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "experiments/show_mesh.h"
+#include "cshapes/experiments/show_mesh.h"
 
 #include <unistd.h>
 
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "experiments/figures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/experiments/figures.h"
 
 namespace cshapes {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 

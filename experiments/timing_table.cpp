@@ -1,11 +1,11 @@
-#include "experiments/timing_table.h"
+#include "cshapes/experiments/timing_table.h"
 
 #include <algorithm>
 
-#include "canon/coulomb.h"
-#include "canon/smacof.h"
-#include "core/error.h"
-#include "core/timing.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/geodesics.h"
-#include "core/mesh.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 

@@ -2,7 +2,7 @@
 // deformable shapes with topological noise", Lähner et al. 2016: shared/data/topkids), scored against ground
 // truth by the benchmark's protocol, per canonization method and for the inputs themselves.
 //
-// Data (a folder): the reference pose REFERENCE.off (kid00; any mesh format core/io.h reads), and per query
+// Data (a folder): the reference pose REFERENCE.off (kid00; any mesh format mesh/io.h reads), and per query
 // pose NAME.off with NAME_ref.txt (eval/correspondence_error.h read_correspondence_pairs: "a b" per line,
 // vertex a of NAME ↔ vertex b of the reference, 1-based) and optionally NAME_sym.txt (the same for the
 // left-right mirrored truth, for the vertices that have one). Query poses are every NAME_ref.txt of the
@@ -73,12 +73,12 @@
 #include <string>
 #include <vector>
 
-#include "core/geodesics.h"
-#include "core/progress.h"
-#include "matching/icp.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 

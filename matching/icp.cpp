@@ -1,4 +1,4 @@
-#include "matching/icp.h"
+#include "cshapes/matching/icp.h"
 
 #include <omp.h>
 
@@ -9,9 +9,9 @@
 #include <numeric>
 #include <random>
 
-#include "core/error.h"
-#include "core/morton.h"
-#include "core/timing.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/morton.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -177,6 +177,86 @@ std::vector<int> carried_rows(const IcpShape& shape, int coarse, int fine) {
   return rows;
 }
 
+// One direction's nearest-neighbour searches: for each query row i, the tree's nearest point to query(i).
+// Every search is bounded by a nearby point's distance: when `hinted` (from the second pass on), the query's
+// own last neighbour (the pose moved a little); else the previous query's neighbour (queries are in Morton
+// order, so consecutive ones are close). With `carry`, a query whose row the previous level searched at the
+// same pose (carried[i] ≥ 0) takes that result instead.
+template <class Query>
+void search_direction(Index queries, const NearestNeighbors& tree, Query query, bool hinted, bool carry,
+                      const std::vector<int>& carried, const Eigen::VectorXi& old_nn,
+                      const Eigen::VectorXd& old_d2, Eigen::VectorXi& nn, Eigen::VectorXd& d2) {
+  for (Index i = 0; i < queries; ++i) {
+    if (carry && carried[static_cast<size_t>(i)] >= 0) {
+      nn[i] = old_nn[carried[static_cast<size_t>(i)]];
+      d2[i] = old_d2[carried[static_cast<size_t>(i)]];
+      continue;
+    }
+    Eigen::Vector3d q = query(i);
+    nn[i] = static_cast<int>(hinted  ? tree.nearest(q, nn[i], &d2[i])
+                             : i > 0 ? tree.nearest(q, nn[i - 1], &d2[i])
+                                     : tree.nearest(q, &d2[i]));
+  }
+}
+
+// The kept pairs (x, y) of one pass: x from the source (centred, untransformed), y from the target (centred),
+// visited through their indices rather than gathered into matrices.
+struct KeptPairs {
+  const Points &S, &T_all, &S_all, &Tg;
+  const Eigen::VectorXi &nn_st, &nn_ts;
+  const std::vector<char>&keep_st, &keep_ts;
+  bool symmetric;
+  template <class F>
+  void for_each(F&& f) const {
+    for (Index i = 0; i < S.rows(); ++i)
+      if (keep_st[static_cast<size_t>(i)]) f(S, i, T_all, nn_st[i]);
+    if (symmetric)
+      for (Index j = 0; j < Tg.rows(); ++j)
+        if (keep_ts[static_cast<size_t>(j)]) f(S_all, nn_ts[j], Tg, j);
+  }
+};
+
+// The closed-form rigid motion of the kept pairs (best_rigid_transform with unit weights, without gathering
+// the pairs into matrices): means first, then the cross-covariance of the centred pairs (two passes keep it
+// accurate); the rotation has the given determinant.
+RigidTransform fit_kept_pairs(const KeptPairs& pairs, Index kept, int determinant) {
+  Eigen::Vector3d x_sum = Eigen::Vector3d::Zero(), y_sum = Eigen::Vector3d::Zero();
+  pairs.for_each([&](const Points& X, Index a, const Points& Y, Index b) {
+    x_sum += X.row(a).transpose();
+    y_sum += Y.row(b).transpose();
+  });
+  const Eigen::Vector3d x_mean = x_sum / static_cast<double>(kept), y_mean = y_sum / static_cast<double>(kept);
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  pairs.for_each([&](const Points& X, Index a, const Points& Y, Index b) {
+    H.noalias() += (X.row(a).transpose() - x_mean) * (Y.row(b) - y_mean.transpose());
+  });
+  RigidTransform T;
+  T.rotation = closest_orthogonal_matrix(H, determinant);
+  T.translation = y_mean - T.rotation * x_mean;
+  return T;
+}
+
+// The neighbours of the previous level's last pass, when it saw the current pose: its queries are a subset
+// of this level's (the subsamples are nested), so their neighbours are carried over rather than searched
+// again. Takes the track's arrays (they are refilled for the new level).
+struct CarriedNeighbours {
+  bool active = false;
+  std::vector<int> rows_st, rows_ts;  // per query row of the new level: its row in the old arrays, or −1
+  Eigen::VectorXi nn_st, nn_ts;
+  Eigen::VectorXd d2_st, d2_ts;
+
+  CarriedNeighbours(Track& track, const IcpShape& source, const IcpShape& target, int level)
+      : active(track.current && track.level >= 0 && track.level < level) {
+    if (!active) return;
+    rows_st = carried_rows(source, track.level, level);
+    rows_ts = carried_rows(target, track.level, level);
+    nn_st.swap(track.nn_st);
+    nn_ts.swap(track.nn_ts);
+    d2_st.swap(track.d2_st);
+    d2_ts.swap(track.d2_ts);
+  }
+};
+
 // Runs ICP steps on one level until a stopping rule (or `max_steps`), updating the track.
 void iterate(Track& track, const IcpShape& source, const IcpShape& target, int level, int max_steps,
              const IcpOptions& o) {
@@ -187,8 +267,6 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   const Points& Tg = target.level_points(level);
   const Points& S_all = source.level_points(source.num_levels() - 1);
   const Points& T_all = target.level_points(target.num_levels() - 1);
-  const NearestNeighbors& source_tree = source.tree();
-  const NearestNeighbors& target_tree = target.tree();
   const double exact = o.absolute_tolerance * target.rms_radius();
   const double max_d2 = o.max_correspondence_distance * o.max_correspondence_distance;
 
@@ -198,81 +276,43 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
   track.stop_reason = "max iterations";
   std::vector<double> scratch;
   std::vector<char> keep_st, keep_ts;
+  const CarriedNeighbours carried(track, source, target, level);
+  track.current = false;
+  track.level = level;
   Eigen::VectorXi& nn_st = track.nn_st;
   Eigen::VectorXi& nn_ts = track.nn_ts;
   Eigen::VectorXd& d2_st = track.d2_st;
   Eigen::VectorXd& d2_ts = track.d2_ts;
-  // The previous level's last pass, when it saw the current pose: its queries are a subset of this level's
-  // (the subsamples are nested), so their neighbours are carried over rather than searched again.
-  const bool carry = track.current && track.level >= 0 && track.level < level;
-  std::vector<int> carried_st, carried_ts;  // per query row of this level: its row in the old arrays, or −1
-  Eigen::VectorXi old_nn_st, old_nn_ts;
-  Eigen::VectorXd old_d2_st, old_d2_ts;
-  if (carry) {
-    carried_st = carried_rows(source, track.level, level);
-    carried_ts = carried_rows(target, track.level, level);
-    old_nn_st.swap(nn_st);
-    old_nn_ts.swap(nn_ts);
-    old_d2_st.swap(d2_st);
-    old_d2_ts.swap(d2_ts);
-  }
-  track.current = false;
-  track.level = level;
   nn_st.resize(S.rows());
   d2_st.resize(S.rows());
   nn_ts.resize(o.symmetric ? Tg.rows() : 0);
   d2_ts.resize(o.symmetric ? Tg.rows() : 0);
+  const KeptPairs pairs{S, T_all, S_all, Tg, nn_st, nn_ts, keep_st, keep_ts, o.symmetric};
   double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < max_steps; ++step) {
     report_progress_in_parallel(o.progress, "", 0, 0);  // a poll: the step's searches are the long part
-    // Every search is bounded by a nearby point's distance: from the second pass on, the query's own last
-    // neighbour (the pose moved a little); on the first, the previous query's neighbour (queries are in
-    // Morton order, so consecutive ones are close).
     const bool hinted = step > 0;
     const Eigen::Matrix3d& R = track.T.rotation;
     const Eigen::Vector3d& t = track.T.translation;
     // source → target: nearest target point to R·x + t.
-    for (Index i = 0; i < S.rows(); ++i) {
-      if (carry && step == 0 && carried_st[static_cast<size_t>(i)] >= 0) {
-        nn_st[i] = old_nn_st[carried_st[static_cast<size_t>(i)]];
-        d2_st[i] = old_d2_st[carried_st[static_cast<size_t>(i)]];
-        continue;
-      }
-      Eigen::Vector3d q = R * S.row(i).transpose() + t;
-      nn_st[i] = static_cast<int>(hinted  ? target_tree.nearest(q, nn_st[i], &d2_st[i])
-                                  : i > 0 ? target_tree.nearest(q, nn_st[i - 1], &d2_st[i])
-                                          : target_tree.nearest(q, &d2_st[i]));
-    }
+    search_direction(
+        S.rows(), target.tree(), [&](Index i) -> Eigen::Vector3d { return R * S.row(i).transpose() + t; },
+        hinted, carried.active && step == 0, carried.rows_st, carried.nn_st, carried.d2_st, nn_st, d2_st);
     Index kept = keep_pairs(d2_st, o.trim_fraction, max_d2, scratch, keep_st);
     Index total = S.rows();
     // target → source: the nearest transformed source point to y is the nearest source point to Rᵀ(y − t),
     // so the source tree is built once and never moved.
     if (o.symmetric) {
-      for (Index j = 0; j < Tg.rows(); ++j) {
-        if (carry && step == 0 && old_nn_ts.size() > 0 && carried_ts[static_cast<size_t>(j)] >= 0) {
-          nn_ts[j] = old_nn_ts[carried_ts[static_cast<size_t>(j)]];
-          d2_ts[j] = old_d2_ts[carried_ts[static_cast<size_t>(j)]];
-          continue;
-        }
-        Eigen::Vector3d q = R.transpose() * (Tg.row(j).transpose() - t);
-        nn_ts[j] = static_cast<int>(hinted  ? source_tree.nearest(q, nn_ts[j], &d2_ts[j])
-                                    : j > 0 ? source_tree.nearest(q, nn_ts[j - 1], &d2_ts[j])
-                                            : source_tree.nearest(q, &d2_ts[j]));
-      }
+      search_direction(
+          Tg.rows(), source.tree(),
+          [&](Index j) -> Eigen::Vector3d { return R.transpose() * (Tg.row(j).transpose() - t); }, hinted,
+          carried.active && step == 0 && carried.nn_ts.size() > 0, carried.rows_ts, carried.nn_ts,
+          carried.d2_ts, nn_ts, d2_ts);
       kept += keep_pairs(d2_ts, o.trim_fraction, max_d2, scratch, keep_ts);
       total += Tg.rows();
     }
     if (kept == 0)
       fail("ICP: no correspondence within max_correspondence_distance = ", o.max_correspondence_distance);
-    // The kept pairs (x, y): x from the source (centred, untransformed), y from the target (centred),
-    // visited through their indices rather than gathered into matrices.
-    auto for_each_pair = [&](auto&& f) {
-      for (Index i = 0; i < S.rows(); ++i)
-        if (keep_st[static_cast<size_t>(i)]) f(S, i, T_all, nn_st[i]);
-      if (o.symmetric)
-        for (Index j = 0; j < Tg.rows(); ++j)
-          if (keep_ts[static_cast<size_t>(j)]) f(S_all, nn_ts[j], Tg, j);
-    };
     double sum_d2 = 0;
     for (Index i = 0; i < S.rows(); ++i)
       if (keep_st[static_cast<size_t>(i)]) sum_d2 += d2_st[i];
@@ -295,22 +335,7 @@ void iterate(Track& track, const IcpShape& source, const IcpShape& target, int l
       break;
     }
     previous = rmse;
-    // The closed-form rigid motion of the pairs (best_rigid_transform with unit weights, without gathering
-    // the pairs into matrices): means first,
-    // then the cross-covariance of the centred pairs (two passes keep it accurate).
-    Eigen::Vector3d x_sum = Eigen::Vector3d::Zero(), y_sum = Eigen::Vector3d::Zero();
-    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
-      x_sum += X.row(a).transpose();
-      y_sum += Y.row(b).transpose();
-    });
-    const Eigen::Vector3d x_mean = x_sum / static_cast<double>(kept),
-                          y_mean = y_sum / static_cast<double>(kept);
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    for_each_pair([&](const Points& X, Index a, const Points& Y, Index b) {
-      H.noalias() += (X.row(a).transpose() - x_mean) * (Y.row(b) - y_mean.transpose());
-    });
-    track.T.rotation = closest_orthogonal_matrix(H, track.determinant);
-    track.T.translation = y_mean - track.T.rotation * x_mean;
+    track.T = fit_kept_pairs(pairs, kept, track.determinant);
     ++track.iterations;
     ++track.total_iterations;
   }

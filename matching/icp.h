@@ -22,7 +22,7 @@
 //   3. One ICP step: correspondences by nearest neighbour (KD-tree), source→target and, when symmetric,
 //      target→source; optionally drop the worst `trim_fraction` of each direction (trimmed ICP,
 //      Chetverikov et al. 2002) and pairs farther than max_correspondence_distance; then the closed-form
-//      least-squares rigid motion of all kept pairs (Kabsch/Umeyama, core/rigid_transform.h, by a 3×3 SVD)
+//      least-squares rigid motion of all kept pairs (Kabsch/Umeyama, mesh/rigid_transform.h, by a 3×3 SVD)
 //      whose determinant is that of the start: a start that is a reflection stays a reflection.
 //   4. Stop when the RMSE changes by less than relative_tolerance of itself, when it falls below
 //      absolute_tolerance × (the target's RMS radius) (exact fit), or after max_iterations.
@@ -34,7 +34,7 @@
 // 1,000-point level, 40% in the 3 passes on all points (`cshapes bench icp` times it against Open3D).
 #pragma once
 
-#include "core/option_limits.h"
+#include "cshapes/support/option_limits.h"
 
 #include <cstdint>
 #include <limits>
@@ -42,18 +42,18 @@
 #include <string>
 #include <vector>
 
-#include "core/option_fields.h"
-#include "core/progress.h"
-#include "core/rigid_transform.h"
-#include "core/types.h"
-#include "matching/nearest_neighbors.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/support/types.h"
+#include "cshapes/matching/nearest_neighbors.h"
 
 namespace cshapes {
 
 // RigidTransform, random_rigid_transform and best_rigid_transform (the closed-form Kabsch/Umeyama fit) live
-// in core/rigid_transform.h, included here for the callers of icp().
+// in mesh/rigid_transform.h, included here for the callers of icp().
 
-// The limits of the options a user sets (core/option_limits.h), named as on the command line (`cshapes
+// The limits of the options a user sets (support/option_limits.h), named as on the command line (`cshapes
 // align`).
 namespace icp_limits {
 inline constexpr Limit kTrim = number_limit("trim", 0, 0.9);
@@ -93,11 +93,11 @@ struct IcpOptions {
   // Run the starts on OpenMP threads (never inside a parallel region). Off by default: one alignment takes
   // ~12 ms, and on a loaded machine waiting threads cost more than they save; parallelise over pairs instead.
   bool parallel = false;
-  // Polled (core/progress.h) before every ICP step and the final distances: where a stop (Ctrl-C in Python)
+  // Polled (support/progress.h) before every ICP step and the final distances: where a stop (Ctrl-C in Python)
   // is heard. A step on all points of a million-point pair takes about a second, so a poll per step.
   ProgressFn progress;
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: IcpOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: IcpOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("try_principal_axes", o.try_principal_axes);
@@ -214,7 +214,7 @@ IcpResult icp(const Points& source, const Points& target, const IcpOptions& opti
 std::vector<RigidTransform> icp_starts(const IcpShape& source, const IcpShape& target,
                                        const IcpOptions& options);
 
-// Options as one canonical line ("icp;try_principal_axes=1;...": options_key, core/option_fields.h) for cache
+// Options as one canonical line ("icp;try_principal_axes=1;...": options_key, support/option_fields.h) for cache
 // keys: equal strings, equal results. The same text as the hand-written list it replaced.
 std::string to_key_string(const IcpOptions& options);
 

@@ -1,4 +1,4 @@
-#include "matching/nearest_neighbors.h"
+#include "cshapes/matching/nearest_neighbors.h"
 
 #include <omp.h>
 
@@ -10,7 +10,7 @@
 #include <numeric>
 #include <vector>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

@@ -13,7 +13,7 @@
 
 #include <memory>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

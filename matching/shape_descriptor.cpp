@@ -1,11 +1,11 @@
-#include "matching/shape_descriptor.h"
+#include "cshapes/matching/shape_descriptor.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
-#include "core/deterministic_random.h"
-#include "core/error.h"
+#include "cshapes/support/deterministic_random.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 

@@ -18,7 +18,7 @@
 
 #include <cstdint>
 
-#include "core/types.h"
+#include "cshapes/support/types.h"
 
 namespace cshapes {
 

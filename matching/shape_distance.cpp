@@ -1,10 +1,10 @@
-#include "matching/shape_distance.h"
+#include "cshapes/matching/shape_distance.h"
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/unit_scale.h"
-#include "matching/nearest_neighbors.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/unit_scale.h"
+#include "cshapes/matching/nearest_neighbors.h"
 
 namespace cshapes {
 

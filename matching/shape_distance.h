@@ -9,8 +9,8 @@
 // under a rigid motion (or reflection) applied to both sets.
 #pragma once
 
-#include "core/types.h"
-#include "matching/icp.h"
+#include "cshapes/support/types.h"
+#include "cshapes/matching/icp.h"
 
 namespace cshapes {
 

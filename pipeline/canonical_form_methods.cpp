@@ -1,9 +1,9 @@
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 #include <algorithm>
 
-#include "core/error.h"
-#include "core/option_limits.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/option_limits.h"
 
 namespace cshapes {
 

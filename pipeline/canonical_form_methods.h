@@ -21,11 +21,11 @@
 #include <string>
 #include <vector>
 
-#include "core/distance_matrix.h"
-#include "core/landmark_geodesics.h"
-#include "core/mesh.h"
-#include "core/mesh_repair.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/geodesics/landmark_geodesics.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -40,7 +40,7 @@ struct GivenDistances {
 struct CanonicalFormMethod {
   std::string name;               // "coulomb": CanonicalFormOptions::method, `--method`, Python's method=
   std::string title;              // "Coulomb": the one name of the method in figures, tables and reports
-  MeshRequirements requirements;  // what it needs of its mesh (core/mesh_repair.h)
+  MeshRequirements requirements;  // what it needs of its mesh (mesh/mesh_repair.h)
   // Why, in repair messages: "Coulomb canonization (the largest component's edge graph)".
   std::string repair_purpose;
   // Embeds the all-pairs geodesic matrix (options.geodesics, or options.distances_file): its memory is
@@ -120,8 +120,8 @@ Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn);
 // floats do not fit in the available memory.
 DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                         std::string* fallback = nullptr);
-// The landmark rows instead (options.mds_solver.landmarks by farthest-point sampling, core/
-// landmark_geodesics.h; a point cloud: graph distances on its kNN graph), with the same fallback.
+// The landmark rows instead (options.mds_solver.landmarks by farthest-point sampling,
+// geodesics/landmark_geodesics.h; a point cloud: graph distances on its kNN graph), with the same fallback.
 LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const CanonicalFormOptions& options,
                                                     std::string* fallback = nullptr);
 

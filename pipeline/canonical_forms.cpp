@@ -1,4 +1,4 @@
-#include "pipeline/canonical_forms.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,12 +8,12 @@
 #include <optional>
 #include <typeinfo>
 
-#include "canon/smacof.h"
-#include "core/error.h"
-#include "core/threads.h"
-#include "core/timing.h"
-#include "core/unit_scale.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/threads.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/mesh/unit_scale.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes {
 
@@ -140,7 +140,7 @@ bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n) {
 
 namespace {
 
-// A CanonicalForm as a cache value (eval/cache.h stores it as CBOR: compact and exact for doubles).
+// A CanonicalForm as a cache value (data/cache.h stores it as CBOR: compact and exact for doubles).
 nlohmann::json to_json(const CanonicalForm& f) {
   nlohmann::json j;
   j["n"] = f.X.rows();
@@ -305,7 +305,7 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
 
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
                              double D_seconds, const std::string& D_fallback) {
-  refresh_threads();  // each form with the cores free now (core/threads.h); forms do not depend on the count
+  refresh_threads();  // each form with the cores free now (support/threads.h); forms do not depend on the count
   try {
     return canonical_form_of(mesh, options, D, D_seconds, D_fallback);
   } catch (const Error& error) {
@@ -346,7 +346,7 @@ std::string mesh_content_key(const Mesh& mesh) {
 }
 
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
-  // Built from the options' field lists (core/option_fields.h): every field by value, SMACOF's vertex weights
+  // Built from the options' field lists (support/option_fields.h): every field by value, SMACOF's vertex weights
   // included. The tag's version changes with what the key covers, so entries under an older key are not
   // found and their forms are computed again, once (the versions: docs/design.md, "Caches").
   return cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(options)});

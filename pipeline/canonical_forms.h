@@ -10,7 +10,7 @@
 //                 (canon/spectral_mds.h)
 //
 // Each method states what it needs of the mesh (canonical_form_requirements) and the mesh is repaired for it
-// first (core/mesh_repair.h: Coulomb the largest component's edge graph, MDS a manifold surface without
+// first (mesh/mesh_repair.h: Coulomb the largest component's edge graph, MDS a manifold surface without
 // zero-area faces in one component), unless options.strict, which refuses a mesh that needs repair, naming
 // its defects. The result always has the input's vertex count and order: vertices the repair dropped are NaN
 // rows of X with valid = 0 (never a shorter result); a vertex split in two takes its first copy's position.
@@ -24,18 +24,18 @@
 #include <string>
 #include <vector>
 
-#include "canon/classical_mds.h"
-#include "canon/coulomb.h"
-#include "canon/landmark_mds.h"
-#include "canon/smacof.h"
-#include "canon/spectral_embedding.h"
-#include "canon/spectral_mds.h"
-#include "core/geodesics.h"
-#include "core/knn_graph.h"
-#include "core/mesh.h"
-#include "core/mesh_repair.h"
-#include "core/option_fields.h"
-#include "eval/cache.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/canon/landmark_mds.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/canon/spectral_embedding.h"
+#include "cshapes/canon/spectral_mds.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/knn_graph.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/data/cache.h"
 
 namespace cshapes {
 
@@ -71,7 +71,7 @@ struct CanonicalFormOptions {
   // cmds/smacof: the full n×n matrix or L landmark rows (canon/landmark_mds.h); auto picks landmarks above
   // 12,000 vertices or when the matrix would take more than half the available memory.
   MdsSolverOptions mds_solver;
-  // cmds/smacof: read the all-pairs distances from this .bin (core/distance_matrix.h) instead of computing
+  // cmds/smacof: read the all-pairs distances from this .bin (support/distance_matrix.h) instead of computing
   // geodesics; it has the input's or the repaired mesh's vertex count. For one mesh; empty: compute.
   std::string distances_file;
   KnnGraphOptions knn;  // point clouds: the graph that stands in for mesh edges
@@ -84,7 +84,7 @@ struct CanonicalFormOptions {
   bool strict = false;  // refuse a mesh that needs repair (throws, naming the defects) instead of repairing
   std::string name = "mesh";  // the mesh's name (its path) in messages; not part of the result
 
-  // Every field by name, for cache keys (core/option_fields.h). Self: CanonicalFormOptions, const or not.
+  // Every field by name, for cache keys (support/option_fields.h). Self: CanonicalFormOptions, const or not.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
     visit("method", o.method);
@@ -129,7 +129,7 @@ bool mds_uses_landmarks(const CanonicalFormOptions& options, Index n);
 
 // The power of two a canonical form of `mesh` is computed at (the form is scaled back): 1 for a mesh whose
 // largest bounding-box extent lies within [2^-20, 2^20]; otherwise the factor that brings it into [0.5, 1)
-// (core/unit_scale.h). Every method is scale-equivariant to rounding within that range (tests/
+// (mesh/unit_scale.h). Every method is scale-equivariant to rounding within that range (tests/
 // scale_invariance_test.cpp); beyond it float distances, squared lengths and areas underflow or overflow.
 inline constexpr double kCanonicalFormLowestScale = 0x1p-21;
 inline constexpr double kCanonicalFormHighestScale = 0x1p19;
@@ -143,7 +143,7 @@ struct CanonicalForm {
   Eigen::VectorXd valid;              // n: 1 for vertices in the form, 0 for vertices the repair dropped
   Eigen::VectorXd torn;               // coulomb: 1 for vertices of torn edges, else 0; empty for MDS
   std::vector<RepairAction> repairs;  // what was repaired before the method ran; empty: nothing
-  std::string repair_text;            // one line (core/mesh_repair.h), "" when nothing was repaired
+  std::string repair_text;            // one line (mesh/mesh_repair.h), "" when nothing was repaired
   double precompute_seconds = 0;      // geodesics (MDS) or edge lengths and graph (coulomb)
   double solve_seconds = 0;           // the embedding itself
   int iterations = 0;
@@ -178,7 +178,7 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
 CanonicalForm classical_mds_form(const ClassicalMdsResult& result);
 CanonicalForm smacof_form(const SmacofResult& result, const SmacofOptions& options);
 
-// The part of the cache key that depends on the options: options_key (core/option_fields.h) of every field
+// The part of the cache key that depends on the options: options_key (support/option_fields.h) of every field
 // that changes the result, but for the fields the method does not read (CanonicalFormMethod::
 // options_not_read): "method=\"cmds\";geodesics.method=fmm;...". Throws for an unknown method, and naming
 // distances_file when it cannot be read.

@@ -1,19 +1,19 @@
-#include "pipeline/dataset_distances.h"
+#include "cshapes/pipeline/dataset_distances.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <optional>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "eval/candidate_pairs.h"
-#include "eval/distance_csv.h"
-#include "matching/icp.h"
-#include "matching/shape_distance.h"
-#include "pipeline/distributed.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/eval/candidate_pairs.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/matching/shape_distance.h"
+#include "cshapes/pipeline/distributed.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 
@@ -53,6 +53,86 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
     }
   }
   return comm.sum(computed);
+}
+
+// The canonical form of every shape of the dataset by options.canon (cached), in dataset order: forms and
+// their cache keys appended, names, classes and counts into result; a shape that cannot be read or canonized
+// is reported and skipped.
+void dataset_forms(const Dataset& data, const DiskCache& cache, CanonicalFormOptions co,
+                   const DatasetDistanceOptions& options, DatasetDistances& result, std::vector<Points>& forms,
+                   std::vector<std::string>& keys) {
+  for (size_t i = 0; i < data.entries.size(); ++i) {
+    const DatasetEntry& e = data.entries[i];
+    co.name = e.path;
+    Mesh mesh;
+    std::optional<std::vector<CachedForm>> computed;
+    const size_t failures_before = result.failures.size();
+    try {
+      mesh = read_mesh(e.path);
+    } catch (const Error& error) {
+      if (co.strict) throw;
+      result.failures.push_back(read_failure(e.name, e.path, error));
+    }
+    if (result.failures.size() == failures_before)
+      computed = shape_canonical_forms(cache, mesh, {co}, e.name, result.failures);
+    for (size_t k = failures_before; k < result.failures.size(); ++k)
+      say(options.note, describe(result.failures[k]));
+    if (!computed) {
+      result.skipped.push_back(e.path);
+      result.skipped_reasons.push_back(result.failures.back().reason);
+      continue;
+    }
+    // A form ICP cannot take was left out by shape_canonical_forms (stage "alignment").
+    CachedForm& form = computed->front();
+    if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
+    const bool cached = form.cached;
+    (cached ? result.forms_cached : result.forms_computed)++;
+    forms.push_back(std::move(form.form.X));
+    keys.push_back(form.key);
+    result.names.push_back(e.name);
+    result.classes.push_back(e.class_name);
+    say(options.note, "[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " +
+                          e.name + (cached ? " (cached)" : ""));
+  }
+}
+
+// Two-stage retrieval's first stage: the descriptor distances of the forms (returned), each form's k nearest
+// by them as its candidates, and those pairs as the only ones ICP aligns (po.only_pairs).
+Eigen::MatrixXd two_stage_candidates(const std::vector<Points>& forms, const DatasetDistanceOptions& options,
+                                     DatasetDistances& result, PairwiseDistanceOptions& po) {
+  const int n = static_cast<int>(forms.size());
+  std::vector<ShapeDescriptor> descriptors(static_cast<size_t>(n));
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < n; ++i)
+    descriptors[static_cast<size_t>(i)] =
+        shape_descriptor(finite_rows(forms[static_cast<size_t>(i)]), options.descriptor);
+  Eigen::MatrixXd descriptor_distances = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      descriptor_distances(i, j) = descriptor_distances(j, i) =
+          descriptor_distance(descriptors[static_cast<size_t>(i)], descriptors[static_cast<size_t>(j)]);
+  result.two_stage.k = options.two_stage_k;
+  result.two_stage.candidates = nearest_candidates(descriptor_distances, options.two_stage_k);
+  po.only_pairs = candidate_pairs(result.two_stage.candidates);
+  result.two_stage.pairs_aligned = static_cast<long>(po.only_pairs.size());
+  return descriptor_distances;
+}
+
+// The recall of the candidates against the exact reference matrix, its rows and columns matched by name.
+double reference_recall(const NamedDistances& reference, const DatasetDistanceOptions& options,
+                        const DatasetDistances& result) {
+  std::vector<Index> at;
+  for (const std::string& name : result.names) {
+    auto it = std::find(reference.names.begin(), reference.names.end(), name);
+    CSHAPES_REQUIRE(it != reference.names.end(), options.reference, ": no shape '", name,
+                    "' (the reference must be the exact matrix of the same dataset)");
+    at.push_back(it - reference.names.begin());
+  }
+  const Index n = static_cast<Index>(at.size());
+  Eigen::MatrixXd R(n, n);
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j) R(i, j) = reference.D(at[static_cast<size_t>(i)], at[static_cast<size_t>(j)]);
+  return candidate_recall(R, result.two_stage.candidates);
 }
 
 }  // namespace
@@ -97,39 +177,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   const long computed_by_ranks = comm.size() > 1 ? canonize_share(data, cache, co, comm) : 0;
   std::vector<Points> forms;
   std::vector<std::string> keys;
-  for (size_t i = 0; i < data.entries.size(); ++i) {
-    const DatasetEntry& e = data.entries[i];
-    co.name = e.path;
-    Mesh mesh;
-    std::optional<std::vector<CachedForm>> computed;
-    const size_t failures_before = result.failures.size();
-    try {
-      mesh = read_mesh(e.path);
-    } catch (const Error& error) {
-      if (co.strict) throw;
-      result.failures.push_back(read_failure(e.name, e.path, error));
-    }
-    if (result.failures.size() == failures_before)
-      computed = shape_canonical_forms(cache, mesh, {co}, e.name, result.failures);
-    for (size_t k = failures_before; k < result.failures.size(); ++k)
-      say(options.note, describe(result.failures[k]));
-    if (!computed) {
-      result.skipped.push_back(e.path);
-      result.skipped_reasons.push_back(result.failures.back().reason);
-      continue;
-    }
-    // A form ICP cannot take was left out by shape_canonical_forms (stage "alignment").
-    CachedForm& form = computed->front();
-    if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
-    const bool cached = form.cached;
-    (cached ? result.forms_cached : result.forms_computed)++;
-    forms.push_back(std::move(form.form.X));
-    keys.push_back(form.key);
-    result.names.push_back(e.name);
-    result.classes.push_back(e.class_name);
-    say(options.note, "[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " +
-                          e.name + (cached ? " (cached)" : ""));
-  }
+  dataset_forms(data, cache, co, options, result, forms, keys);
   // The forms the ranks computed were read from the cache here: count them as computed.
   result.forms_computed += computed_by_ranks;
   result.forms_cached -= computed_by_ranks;
@@ -142,44 +190,13 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
 
   // Two-stage: descriptors rank the candidates, ICP aligns only those pairs.
   Eigen::MatrixXd descriptor_distances;
-  if (options.two_stage_k > 0) {
-    const int n = static_cast<int>(forms.size());
-    std::vector<ShapeDescriptor> descriptors(static_cast<size_t>(n));
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int i = 0; i < n; ++i)
-      descriptors[static_cast<size_t>(i)] =
-          shape_descriptor(finite_rows(forms[static_cast<size_t>(i)]), options.descriptor);
-    descriptor_distances = Eigen::MatrixXd::Zero(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n; ++j)
-        descriptor_distances(i, j) = descriptor_distances(j, i) =
-            descriptor_distance(descriptors[static_cast<size_t>(i)], descriptors[static_cast<size_t>(j)]);
-    result.two_stage.k = options.two_stage_k;
-    result.two_stage.candidates = nearest_candidates(descriptor_distances, options.two_stage_k);
-    po.only_pairs = candidate_pairs(result.two_stage.candidates);
-    result.two_stage.pairs_aligned = static_cast<long>(po.only_pairs.size());
-  }
+  if (options.two_stage_k > 0) descriptor_distances = two_stage_candidates(forms, options, result, po);
   result.distances = pairwise_distances(forms, keys, po);
   if (options.two_stage_k > 0 && comm.is_root()) {
     PairwiseDistanceResult& d = result.distances;
     for (Eigen::MatrixXd* M : {&d.hausdorff, &d.chamfer, &d.rmse})
       rank_unmeasured_last(*M, descriptor_distances);
-    if (!options.reference.empty()) {
-      // The reference's rows and columns in this run's order, matched by name.
-      std::vector<Index> at;
-      for (const std::string& name : result.names) {
-        auto it = std::find(reference.names.begin(), reference.names.end(), name);
-        CSHAPES_REQUIRE(it != reference.names.end(), options.reference, ": no shape '", name,
-                        "' (the reference must be the exact matrix of the same dataset)");
-        at.push_back(it - reference.names.begin());
-      }
-      const Index n = static_cast<Index>(at.size());
-      Eigen::MatrixXd R(n, n);
-      for (Index i = 0; i < n; ++i)
-        for (Index j = 0; j < n; ++j)
-          R(i, j) = reference.D(at[static_cast<size_t>(i)], at[static_cast<size_t>(j)]);
-      result.two_stage.recall = candidate_recall(R, result.two_stage.candidates);
-    }
+    if (!options.reference.empty()) result.two_stage.recall = reference_recall(reference, options, result);
   }
   return result;
 }

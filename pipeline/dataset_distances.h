@@ -26,13 +26,13 @@
 #include <string>
 #include <vector>
 
-#include "core/communicator.h"
-#include "eval/pairwise_distances.h"
-#include "matching/shape_descriptor.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/resampled_dataset.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/communicator.h"
+#include "cshapes/eval/pairwise_distances.h"
+#include "cshapes/matching/shape_descriptor.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 

@@ -1,12 +1,12 @@
-#include "pipeline/distributed.h"
+#include "cshapes/pipeline/distributed.h"
 
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
 
-#include "core/error.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/support/error.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 #ifdef CSHAPES_HAVE_MPI
 #include <mpi.h>

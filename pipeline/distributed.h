@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "core/communicator.h"
+#include "cshapes/support/communicator.h"
 
 namespace cshapes {
 
@@ -41,7 +41,7 @@ int ranks_on_this_node();
 // (Coulomb, per iteration). Throws for an unknown method.
 double canonical_form_cost(long vertices, const std::vector<std::string>& methods);
 
-// Which rank canonizes which shape: longest-first greedy over canonical_form_cost (core/communicator.h).
+// Which rank canonizes which shape: longest-first greedy over canonical_form_cost (support/communicator.h).
 std::vector<int> canonical_form_owners(const std::vector<long>& vertices,
                                        const std::vector<std::string>& methods, int ranks);
 

@@ -1,14 +1,14 @@
-#include "pipeline/experiment_kit.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/simd.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/build_info.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/simd.h"
 
 namespace cshapes {
 

@@ -18,13 +18,13 @@
 #include <ostream>
 #include <string>
 
-#include "core/progress.h"
-#include "eval/cache.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/data/cache.h"
 
 namespace cshapes {
 
 // A run's two channels to a front end (the CLI prints them; the Python module and tests may listen or not),
-// for code that passes both around together; speaking is core/progress.h's say().
+// for code that passes both around together; speaking is support/progress.h's say().
 struct Notes {
   ProgressFn progress;  // (stage, done, total)
   NoteFn note;          // one line of text
@@ -35,7 +35,7 @@ struct Notes {
 };
 
 // The output folder of an experiment run. Every file is written atomically (a temporary file renamed into
-// place, core/atomic_file.h): a run that is stopped leaves whole files or none, and a failed write throws
+// place, support/atomic_file.h): a run that is stopped leaves whole files or none, and a failed write throws
 // cshapes::WriteError naming the path.
 class ExperimentFolder {
  public:
@@ -56,9 +56,9 @@ class ExperimentFolder {
   std::string root_;
 };
 
-// What produced a result: {"version", "build", "simd"} (core/build_info.h, core/simd.h), in every bench JSON
+// What produced a result: {"version", "build", "simd"} (support/build_info.h, support/simd.h), in every bench JSON
 // and experiment JSON. Not the thread count: results do not depend on it, and it may change during a run
-// (core/threads.h).
+// (support/threads.h).
 nlohmann::json build_json();
 // The same for a report, one sentence: "Computed by cshapes 0.1.0 (Release, g++ 12.2.0, OpenMP 4.5,
 // CHOLMOD) with the avx2 (the default; this CPU: baseline, avx2, avx512) kernels."

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "canon/form_quality.h"
+#include "cshapes/canon/form_quality.h"
 
 namespace cshapes {
 

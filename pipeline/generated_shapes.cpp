@@ -1,9 +1,9 @@
-#include "pipeline/generated_shapes.h"
+#include "cshapes/pipeline/generated_shapes.h"
 
 #include <filesystem>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
 
 namespace cshapes {
 

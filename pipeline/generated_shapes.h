@@ -1,5 +1,5 @@
-// The generated shapes of core/articulated.h written to a folder, as `cshapes generate` writes them: meshes
-// as OFF with 6 fixed decimals (core/dataset.h write_off_fixed), so that the same seed gives byte-identical
+// The generated shapes of data/articulated.h written to a folder, as `cshapes generate` writes them: meshes
+// as OFF with 6 fixed decimals (data/dataset.h write_off_fixed), so that the same seed gives byte-identical
 // files; glued vertex pairs as JSON; a dataset with its manifest.csv. Every file is written atomically, and a
 // failed write throws cshapes::WriteError naming the path.
 #pragma once
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/articulated.h"
+#include "cshapes/data/articulated.h"
 
 namespace cshapes {
 

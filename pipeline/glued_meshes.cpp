@@ -1,17 +1,17 @@
-#include "pipeline/glued_meshes.h"
+#include "cshapes/pipeline/glued_meshes.h"
 
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "core/error.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/support/error.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 
 using nlohmann::json;
 
 std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& options) {
-  // The options' own field list (core/option_fields.h) names every field. The tag's version changes with
+  // The options' own field list (support/option_fields.h) names every field. The tag's version changes with
   // what the key covers: entries under an older key are not found and are glued again, once (docs/design.md,
   // "Caches").
   return cache_key({"glued-mesh-v2", mesh_content_key(mesh), options_key(options)});

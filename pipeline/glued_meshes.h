@@ -1,13 +1,13 @@
-// Topologically noisy meshes (core/topological_noise.h) through one cache, shared by every experiment: the
+// Topologically noisy meshes (data/topological_noise.h) through one cache, shared by every experiment: the
 // same pose glued with the same options is computed once and stored once, whichever experiment asks first.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
-#include "core/topological_noise.h"
-#include "eval/cache.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/data/cache.h"
 
 namespace cshapes {
 
@@ -21,7 +21,7 @@ struct GluedMesh {
 };
 
 // The key of a glued mesh: the input's content (mesh_content_key) and options_key of the options
-// (core/option_fields.h): every field of TopologicalNoiseOptions that changes the result.
+// (support/option_fields.h): every field of TopologicalNoiseOptions that changes the result.
 std::string glued_mesh_key(const Mesh& mesh, const TopologicalNoiseOptions& options);
 
 // glue_topological_noise(mesh, options) through `cache` (a disabled cache computes every time). A glue that

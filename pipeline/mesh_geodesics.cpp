@@ -1,7 +1,7 @@
-#include "pipeline/mesh_geodesics.h"
+#include "cshapes/pipeline/mesh_geodesics.h"
 
-#include "core/error.h"
-#include "core/heat_method.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/heat_method.h"
 
 namespace cshapes {
 

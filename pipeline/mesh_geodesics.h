@@ -2,18 +2,18 @@
 // Python module's geodesics() returns.
 //
 // Geodesics need one manifold component without zero-area faces. A mesh that is not is repaired first
-// (core/mesh_repair.h: the largest component, non-manifold edges cut, ...) unless options.strict, which
+// (mesh/mesh_repair.h: the largest component, non-manifold edges cut, ...) unless options.strict, which
 // refuses it naming the defects. Distances are then placed back at the input's vertices: NaN where the
 // repair dropped a vertex, the nearer copy where it split one; a split source uses all its copies.
-// Cost: that of core/geodesics.h for the method (all pairs: n single-source solves, n² floats of memory).
+// Cost: that of geodesics/geodesics.h for the method (all pairs: n single-source solves, n² floats of memory).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "core/geodesics.h"
-#include "core/mesh.h"
-#include "core/mesh_repair.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/mesh_repair.h"
 
 namespace cshapes {
 
@@ -25,7 +25,7 @@ struct MeshGeodesicsOptions {
 
 struct MeshGeodesics {
   RepairedMesh repaired;  // the mesh the distances were computed on, and what the repair did (text)
-  std::string warning;    // heat methods on a mesh too coarse for them (core/heat_method.h); "" otherwise
+  std::string warning;    // heat methods on a mesh too coarse for them (geodesics/heat_method.h); "" otherwise
 };
 
 // The repair for geodesics (throws under strict when one is needed), and the heat method's warning.

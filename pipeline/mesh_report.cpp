@@ -1,4 +1,4 @@
-#include "pipeline/mesh_report.h"
+#include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes {
 

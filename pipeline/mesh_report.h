@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/mesh.h"
-#include "core/mesh_defects.h"
-#include "core/topological_noise.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/mesh_defects.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 

@@ -2,13 +2,13 @@
 // (canon/coulomb.h), on the mesh's edges or a point cloud's kNN graph.
 #include <nlohmann/json.hpp>
 
-#include "canon/coulomb.h"
-#include "canon/coulomb_multiresolution.h"
-#include "core/format.h"
-#include "core/error.h"
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/form_quality_json.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/canon/coulomb_multiresolution.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 

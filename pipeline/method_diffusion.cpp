@@ -1,9 +1,9 @@
 // Method diffusion (pipeline/canonical_form_methods.h): the diffusion map [CL06] at time t = c/λ_1, c =
 // options.diffusion.time (scale-free: relative to the shape's own spectrum), scaled into the mesh's units
 // (canon/spectral_embedding.h).
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/spectral_method.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/spectral_method.h"
 
 namespace cshapes {
 

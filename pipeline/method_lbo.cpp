@@ -1,9 +1,9 @@
 // Method lbo (pipeline/canonical_form_methods.h): the Laplace–Beltrami eigenmap scaled as the Global Point
 // Signature [BN03, Rus07]: √A · φ_i/√λ_i, i = 1..3 (canon/spectral_embedding.h), on the mesh's intrinsic
 // Delaunay cotangent Laplacian (a point cloud: its kNN graph Laplacian).
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/spectral_method.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/spectral_method.h"
 
 namespace cshapes {
 

@@ -4,15 +4,15 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "canon/form_quality.h"
-#include "canon/landmark_mds.h"
-#include "core/format.h"
-#include "core/error.h"
-#include "core/heat_method.h"
-#include "core/mesh.h"
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/form_quality_json.h"
+#include "cshapes/canon/form_quality.h"
+#include "cshapes/canon/landmark_mds.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/heat_method.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 

@@ -1,15 +1,15 @@
 // Method spectral-mds (pipeline/canonical_form_methods.h): Aflalo & Kimmel's spectral MDS (canon/spectral_mds.h)
 // — classical MDS of the squared geodesic distances restricted to the span of the first k Laplace–Beltrami
-// eigenfunctions, fitted from L farthest-point geodesic rows (core/landmark_geodesics.h, options.geodesics):
+// eigenfunctions, fitted from L farthest-point geodesic rows (geodesics/landmark_geodesics.h, options.geodesics):
 // the fast MDS the paper cites [AK13], O((L + k) n) memory.
 #include <algorithm>
 
-#include "core/format.h"
-#include "core/error.h"
-#include "core/landmark_geodesics.h"
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/spectral_method.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/landmark_geodesics.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/spectral_method.h"
 
 namespace cshapes {
 

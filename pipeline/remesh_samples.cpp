@@ -1,4 +1,4 @@
-#include "pipeline/remesh_samples.h"
+#include "cshapes/pipeline/remesh_samples.h"
 
 #include <algorithm>
 #include <functional>
@@ -7,9 +7,9 @@
 #include <unordered_map>
 #include <utility>
 
-#include "core/error.h"
-#include "matching/nearest_neighbors.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/support/error.h"
+#include "cshapes/matching/nearest_neighbors.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 

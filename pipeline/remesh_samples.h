@@ -1,7 +1,7 @@
 // Vertices of an input mesh carried to its remesh (pipeline/resampled_dataset.h), for the measurements whose
 // ground truth names the input's vertices (experiments/pose_invariance.h with --resample): each vertex goes
 // to the closest point of the remeshed surface, as a face and barycentric coordinates
-// (core/locate_on_surface.h), where anything computed per vertex of the remesh (a canonical form) is then
+// (mesh/locate_on_surface.h), where anything computed per vertex of the remesh (a canonical form) is then
 // interpolated (interpolate_on_surface).
 //
 // How far the vertices moved is measured (the distances to the located points, over the input's
@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "core/locate_on_surface.h"
-#include "core/mesh.h"
+#include "cshapes/mesh/locate_on_surface.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 

@@ -1,4 +1,4 @@
-#include "pipeline/resampled_dataset.h"
+#include "cshapes/pipeline/resampled_dataset.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,15 +8,15 @@
 #include <numeric>
 #include <optional>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/distance_matrix.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/mesh_repair.h"
-#include "core/option_fields.h"
-#include "core/remesh.h"
-#include "pipeline/experiment_kit.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/pipeline/experiment_kit.h"
 
 namespace cshapes {
 
@@ -274,7 +274,7 @@ std::string resampling_markdown(const ResampledDataset& r) {
   } else {
     std::snprintf(
         line, sizeof line,
-        "Every shape was remeshed to about %ld vertices first (CGAL isotropic remeshing, core/remesh.h; "
+        "Every shape was remeshed to about %ld vertices first (CGAL isotropic remeshing, mesh/remesh.h; "
         "inputs of %ld to %ld vertices; cached by content: %ld computed, %ld cached). Largest "
         "Hausdorff distance to the input %.3f%% of its bounding-box diagonal (symmetric, sampled at "
         "vertices, edge midpoints and face centroids); smallest triangle angle %.1f deg.%s\n\n",

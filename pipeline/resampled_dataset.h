@@ -1,21 +1,21 @@
-// A dataset at one resolution: every mesh remeshed to about N vertices (core/remesh.h, CGAL's isotropic
+// A dataset at one resolution: every mesh remeshed to about N vertices (mesh/remesh.h, CGAL's isotropic
 // remeshing) before anything reads it, so that a collection of mixed resolutions runs as the paper's protocol
 // does (the `--resample N` of every command that takes a dataset; Python's resample=N).
 //
-// Each remesh is cached by content (the input file's SHA-256 and the options' key, eval/cache.h), so a rerun,
+// Each remesh is cached by content (the input file's SHA-256 and the options' key, data/cache.h), so a rerun,
 // another experiment on the same collection, or another rank reuses it. What a remesh changed is measured and
 // kept with it: the symmetric Hausdorff distance between the input and the remeshed surface (sampled:
-// core/remesh.h hausdorff_distance projects every vertex, edge midpoint and face centroid of each onto the
+// mesh/remesh.h hausdorff_distance projects every vertex, edge midpoint and face centroid of each onto the
 // other, a lower bound tight to about half an edge's sag), relative to the input's bounding-box diagonal, and
 // the smallest triangle angle before and after.
 //
 // Imperfect inputs: remeshing needs a manifold triangle mesh, so non-manifold vertices are split and
-// zero-area faces dropped first (core/mesh_repair.h; every component kept), said in the shape's note. A mesh
+// zero-area faces dropped first (mesh/mesh_repair.h; every component kept), said in the shape's note. A mesh
 // that still cannot be remeshed, or a point cloud, is kept at its own resolution with the reason in its
 // note; a file that cannot be read is listed as it is, so the reader downstream reports it as usual.
 //
 // Output folder: NAME.off per shape, manifest.csv (the input's classes, poses and noisy flags, in its
-// order: core/dataset.h) and resample.csv (the measures per shape). Distributed (R > 1 ranks): each rank
+// order: data/dataset.h) and resample.csv (the measures per shape). Distributed (R > 1 ranks): each rank
 // remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0 writes the folder; every
 // rank returns the same paths (the folder must be one that every rank sees).
 #pragma once
@@ -24,18 +24,18 @@
 #include <string>
 #include <vector>
 
-#include "core/communicator.h"
-#include "core/dataset.h"
-#include "core/progress.h"
-#include "core/types.h"
-#include "eval/cache.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/communicator.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/support/types.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
 
 struct ResampleOptions {
   Index vertices = 0;       // vertices wanted per shape (about: within `tolerance`); 0: no resampling
-  double tolerance = 0.01;  // accepted relative deviation from `vertices` (core/remesh.h)
+  double tolerance = 0.01;  // accepted relative deviation from `vertices` (mesh/remesh.h)
 
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
@@ -63,10 +63,10 @@ struct ResampledDataset {
   std::string data;  // folder/manifest.csv: what to read instead of the input
   std::vector<ResampledShape> shapes;
   long computed = 0, cached = 0;  // remeshes computed here (over all ranks) and read from the cache
-  std::vector<DatasetLeftOut> left_out;  // the input's folder entries that are no shape (core/dataset.h)
+  std::vector<DatasetLeftOut> left_out;  // the input's folder entries that are no shape (data/dataset.h)
 };
 
-// Remeshes every shape of `data` (a folder, manifest.csv or .cla: core/dataset.h) into `folder`, through
+// Remeshes every shape of `data` (a folder, manifest.csv or .cla: data/dataset.h) into `folder`, through
 // `cache`. options.vertices must be >= 4, and a remesh of that size must fit in the memory available
 // (remesh_memory_bytes): refused before any work, never a fallback for every shape. Throws cshapes::Error for
 // a dataset that cannot be read, and cshapes::WriteError for a folder or cache that cannot be written.

@@ -1,11 +1,11 @@
-#include "pipeline/shape_failures.h"
+#include "cshapes/pipeline/shape_failures.h"
 
 #include <set>
 #include <sstream>
 #include <utility>
 
-#include "core/error.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/error.h"
+#include "cshapes/matching/shape_distance.h"
 
 namespace cshapes {
 

@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/progress.h"
-#include "eval/cache.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -56,7 +56,7 @@ std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures);
 std::vector<ShapeFailure> same_content_records(const Dataset& data);
 // The same for the shapes a driver gathered or chose itself (the poses an experiment selected from its
 // dataset, a TOPKIDS or TOSCA folder read with its truth files): the pairs of `entries` whose files hold the
-// same bytes (core/dataset.h same_content_pairs). kept_as: what both stay in the run ("queries", "poses").
+// same bytes (data/dataset.h same_content_pairs). kept_as: what both stay in the run ("queries", "poses").
 std::vector<ShapeFailure> same_content_records(const std::vector<DatasetEntry>& entries,
                                                const std::string& kept_as = "queries");
 

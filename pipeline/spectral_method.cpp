@@ -1,11 +1,11 @@
-#include "pipeline/spectral_method.h"
+#include "cshapes/pipeline/spectral_method.h"
 
-#include "canon/form_quality.h"
-#include "core/format.h"
-#include "core/error.h"
-#include "core/timing.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/form_quality_json.h"
+#include "cshapes/canon/form_quality.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 

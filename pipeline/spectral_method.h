@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/laplace_beltrami.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/operators/laplace_beltrami.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes {
 

@@ -13,7 +13,7 @@ import os as _os
 
 _chosen = "OMP_WAIT_POLICY" in _os.environ or "GOMP_SPINCOUNT" in _os.environ
 if not _chosen:
-    _os.environ["GOMP_SPINCOUNT"] = "1000"  # = cshapes._cshapes.GOMP_SPINCOUNT (core/threads.h)
+    _os.environ["GOMP_SPINCOUNT"] = "1000"  # = cshapes._cshapes.GOMP_SPINCOUNT (support/threads.h)
 try:
     from . import _cshapes
 finally:

@@ -7,12 +7,12 @@
 #include <iterator>
 #include <sstream>
 
-#include "canon/classical_mds.h"
-#include "canon/smacof.h"
-#include "core/error.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/mesh_report.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/error.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/mesh_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"

@@ -5,10 +5,10 @@
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/threads.h"
-#include "eval/pairwise_distances.h"
-#include "eval/retrieval_report.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/threads.h"
+#include "cshapes/eval/pairwise_distances.h"
+#include "cshapes/eval/retrieval_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/kwargs.h"
@@ -39,7 +39,7 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
                   "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");
   CSHAPES_REQUIRE(o.threads >= 0, "distance_matrix(): threads: expected an integer >= 0, got ", o.threads);
-  // Capped as the CLI caps --threads (core/threads.h): 100,000 threads crashed inside the OpenMP runtime.
+  // Capped as the CLI caps --threads (support/threads.h): 100,000 threads crashed inside the OpenMP runtime.
   if (o.threads > 0)
     o.threads = threads_for_computation(o.threads, 1, [](const std::string& line) {
       py::module_::import("warnings").attr("warn")("cshapes.distance_matrix: threads: " + line);

@@ -4,10 +4,10 @@
 // `cshapes show` (experiments/show_mesh.h).
 #include <pybind11/stl.h>
 
-#include "experiments/paper_experiment.h"
-#include "experiments/retrieval_experiment.h"
-#include "experiments/show_mesh.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/experiments/show_mesh.h"
+#include "cshapes/pipeline/shape_failures.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"

@@ -1,8 +1,8 @@
 // cshapes.icp and shape_distance: rigid alignment of two point sets and the paper's distances after it
 // (matching/icp.h, matching/shape_distance.h), as `cshapes align` computes them.
-#include "core/error.h"
-#include "matching/icp.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/error.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/matching/shape_distance.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"

@@ -1,15 +1,15 @@
 // cshapes.read_mesh, write_mesh, mesh_info, geodesics, add_topological_noise, generate: meshes in and out of
-// the library (core/io.h, pipeline/mesh_report.h, pipeline/mesh_geodesics.h, core/topological_noise.h,
-// core/articulated.h, core/synthetic.h).
+// the library (mesh/io.h, pipeline/mesh_report.h, pipeline/mesh_geodesics.h, data/topological_noise.h,
+// data/articulated.h, data/synthetic.h).
 #include <pybind11/stl.h>
 
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "core/topological_noise.h"
-#include "pipeline/mesh_geodesics.h"
-#include "pipeline/mesh_report.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/pipeline/mesh_geodesics.h"
+#include "cshapes/pipeline/mesh_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/kwargs.h"

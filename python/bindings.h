@@ -3,7 +3,7 @@
 
 #include <pybind11/pybind11.h>
 
-#include "matching/icp.h"
+#include "cshapes/matching/icp.h"
 #include "python/kwargs.h"
 
 namespace cshapes::python {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
-#include "core/io.h"
-#include "core/threads.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/support/threads.h"
 
 namespace cshapes::python {
 
@@ -20,8 +20,8 @@ std::atomic<int> g_threads{0};
 void set_threads(int n) { g_threads = n; }
 int threads() { return g_threads > 0 ? g_threads.load() : g_default_threads; }
 // OpenMP's thread count is a per-thread setting: set it in the thread that runs the work, lowered (as the
-// CLI's) to the cores other tasks leave idle (core/threads.h; one /proc/loadavg read, ~20 µs).
-// Long calls choose again between their stages (core/threads.h: refresh_threads).
+// CLI's) to the cores other tasks leave idle (support/threads.h; one /proc/loadavg read, ~20 µs).
+// Long calls choose again between their stages (support/threads.h: refresh_threads).
 Computing::Computing() {
   set_thread_request(threads());
   omp_set_num_threads(threads_for_computation(threads(), 1));

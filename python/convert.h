@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/distance_matrix.h"
-#include "core/mesh.h"
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/mesh/mesh.h"
 #include "python/interrupt.h"
 
 namespace cshapes::python {
@@ -27,7 +27,7 @@ Points to_points(const py::handle& array, const std::string& name, bool allow_no
 // m×3 vertex indices (integer dtype; 0×3 or None for a point cloud). Ranges are checked with the vertices
 // (to_mesh).
 Faces to_faces(const py::handle& array, const std::string& name);
-// V, F as a Mesh, checked like a file's contents (core/io.h check_mesh_arrays).
+// V, F as a Mesh, checked like a file's contents (mesh/io.h check_mesh_arrays).
 Mesh to_mesh(const py::handle& V, const py::handle& F);
 // n×n real matrix (any dtype of real numbers), square.
 Eigen::MatrixXd to_matrix(const py::handle& array, const std::string& name);
@@ -38,7 +38,7 @@ Eigen::VectorXd to_vector(const py::handle& array, const std::string& name);
 
 // The scope of a computation: the GIL released (other Python threads run, and other computations start) and
 // the module's thread count (set_num_threads) applied to this thread's OpenMP loops, fewer when other tasks
-// keep cores busy (core/threads.h, as in the CLI); Ctrl-C heard by the progress callbacks of
+// keep cores busy (support/threads.h, as in the CLI); Ctrl-C heard by the progress callbacks of
 // stop_on_python_signals (python/interrupt.h).
 struct Computing {
   Computing();

@@ -3,12 +3,12 @@
 // an InterruptScope (part of Computing) puts a SIGINT handler in front of Python's: it raises a flag and
 // passes the signal on to Python's handler. The progress callback every long call gets
 // (stop_on_python_signals) throws Cancelled when the flag is up, from whichever thread reports; the
-// library's loops end cleanly on it, OpenMP regions included (core/progress.h), and the module's exception
+// library's loops end cleanly on it, OpenMP regions included (support/progress.h), and the module's exception
 // translator raises KeyboardInterrupt (running Python's handler first, so a handler the user installed is
 // honoured). When SIGINT is ignored or left to its default in Python, nothing is installed.
 #pragma once
 
-#include "core/progress.h"
+#include "cshapes/support/progress.h"
 
 namespace cshapes::python {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes::python {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/option_limits.h"
+#include "cshapes/support/option_limits.h"
 
 namespace cshapes::python {
 
@@ -29,7 +29,7 @@ class Kwargs {
   int int32(const std::string& name, int fallback) {
     return static_cast<int>(integer(name, fallback, INT_MIN, INT_MAX));
   }
-  // A keyword with a library limit (core/option_limits.h): refused naming the keyword, in the limit's words
+  // A keyword with a library limit (support/option_limits.h): refused naming the keyword, in the limit's words
   // ("coulomb(): coulomb_max_iterations: expected an integer 0..100000000, got -5").
   double number(const std::string& name, double fallback, const Limit& limit);
   int int32(const std::string& name, int fallback, const Limit& limit);

@@ -1,12 +1,12 @@
 // The extension behind `import cshapes` (python/__init__.py loads it as cshapes._cshapes): the library from
 // Python, numpy in and numpy out. A skin over the same library calls as the CLI (pipeline/, eval/, matching/,
-// canon/, core/): no pipeline logic of its own. Errors raise ValueError (cshapes::Error) or OSError
+// canon/ and the rooms below): no pipeline logic of its own. Errors raise ValueError (cshapes::Error) or OSError
 // (cshapes::FileError) with the CLI's messages.
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/progress.h"
-#include "core/simd.h"
-#include "core/threads.h"
+#include "cshapes/support/build_info.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/progress.h"
+#include "cshapes/support/simd.h"
+#include "cshapes/support/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 

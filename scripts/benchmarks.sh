@@ -2,7 +2,7 @@
 # Reruns every benchmark behind docs/benchmarks.md's table and writes one JSON file per row into OUT
 # (default: results/benchmarks), then prints every ratio (scripts/benchmark_ratios.py). Each benchmark measures
 # its reference in the same run. The rows of the dispatched kernels (Coulomb, SMACOF) are then run again under
-# each instruction set this CPU supports (CSHAPES_SIMD=baseline|avx2|avx512, core/simd.h) into
+# each instruction set this CPU supports (CSHAPES_SIMD=baseline|avx2|avx512, support/simd.h) into
 # OUT/simd-TARGET/, for the side-by-side table. On a fresh Debian machine it first installs what is missing,
 # the anchors included (scikit-learn and Open3D, Debian's python3-sklearn and python3-open3d), and builds.
 #   scripts/benchmarks.sh [OUT] [--data DIR] [--main-job]

@@ -5,7 +5,7 @@
 
 Runs `cshapes experiment paper --data DIR --out OUT/TARGET --methods M --no-table1 --no-figure-data --no-draw
 --correspondence-samples 0` (the retrieval stages only) once per target
-(CSHAPES_SIMD=baseline|avx2|avx512, core/simd.h), each from an empty folder (no shared cache), then prints one
+(CSHAPES_SIMD=baseline|avx2|avx512, support/simd.h), each from an empty folder (no shared cache), then prints one
 row per method and distance with mAP, NN, FT, ST, E and DCG per target, and whether they agree to 3 decimals.
 Exits 1 when they do not. Defaults: DIR ../shared/data/tosca5k, OUT results/simd-retrieval, the six methods.
 Standard library only.

@@ -3,7 +3,7 @@
 
     scripts/stress_geodesics.py --count 1000 --seed 1 [--tosca ../shared/data/tosca5k] [--out DIR]
 
-Runs `cshapes stress` (core/stress_corpus.h, experiments/geodesic_stress.h): case i of seed s is always the same
+Runs `cshapes stress` (data/stress_corpus.h, experiments/geodesic_stress.h): case i of seed s is always the same
 mesh, so any failure can be rebuilt from the two numbers. Prints, as markdown, the meshes per kind, per method
 the failures and the error against the reference (exact geodesics up to --exact-max vertices, fast marching
 above: median and worst of the per-mesh mean relative error, and how many meshes are beyond 50%: heat-direct,

@@ -1,4 +1,4 @@
-#include "core/articulated.h"
+#include "cshapes/data/articulated.h"
 
 #include <gtest/gtest.h>
 
@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <map>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/marching_tetrahedra.h"
-#include "core/remesh.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/marching_tetrahedra.h"
+#include "cshapes/mesh/remesh.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,6 +1,6 @@
-// Writing outputs (core/atomic_file.h): a failed write is a WriteError naming the path and the system's
+// Writing outputs (support/atomic_file.h): a failed write is a WriteError naming the path and the system's
 // reason, nothing partial is left, and a symbolic link is written through.
-#include "core/atomic_file.h"
+#include "cshapes/support/atomic_file.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

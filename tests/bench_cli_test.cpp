@@ -1,5 +1,5 @@
 // `cshapes bench …`: a bad option is a usage error (exit 2) named by the parser before any work, never a
-// library error (exit 1) or a raw container message; every bench says its kernels (core/simd.h).
+// library error (exit 1) or a raw container message; every bench says its kernels (support/simd.h).
 #include <gtest/gtest.h>
 
 #include <cstdlib>

@@ -11,17 +11,17 @@
 #include <filesystem>
 #include <set>
 
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "experiments/bench_coulomb.h"
-#include "experiments/bench_coulomb_iteration.h"
-#include "experiments/bench_form.h"
-#include "experiments/bench_geodesics.h"
-#include "experiments/bench_icp.h"
-#include "experiments/bench_smacof.h"
-#include "experiments/bench_support.h"
-#include "experiments/figures.h"
-#include "pipeline/canonical_form_methods.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/bench_coulomb.h"
+#include "cshapes/experiments/bench_coulomb_iteration.h"
+#include "cshapes/experiments/bench_form.h"
+#include "cshapes/experiments/bench_geodesics.h"
+#include "cshapes/experiments/bench_icp.h"
+#include "cshapes/experiments/bench_smacof.h"
+#include "cshapes/experiments/bench_support.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

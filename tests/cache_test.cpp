@@ -1,4 +1,4 @@
-#include "eval/cache.h"
+#include "cshapes/data/cache.h"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

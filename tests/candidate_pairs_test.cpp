@@ -1,12 +1,12 @@
 // eval/candidate_pairs.h on points of a line, where every answer can be worked out by hand.
-#include "eval/candidate_pairs.h"
+#include "cshapes/eval/candidate_pairs.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 namespace {

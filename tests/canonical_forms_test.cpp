@@ -1,18 +1,18 @@
 // canonical_form on imperfect meshes: every method repairs what it needs, the result keeps the input's vertex
 // count and order (NaN rows and valid = 0 for dropped vertices), --strict refuses; forms with NaN rows go
 // through pairwise distances using their valid vertices only.
-#include "pipeline/canonical_forms.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <nlohmann/json.hpp>
 
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/mesh_repair.h"
-#include "core/synthetic.h"
-#include "eval/pairwise_distances.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/pairwise_distances.h"
 #include "tests/imperfect_meshes.h"
 #include "tests/test_support.h"
 

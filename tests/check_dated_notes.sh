@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Comments say what the code does and why, never when or on which machine something was measured: figures with
-# their date and machine belong in docs/ and docs/changelog.md. Scans the comments of the library and front-end
-# sources (core canon matching eval pipeline experiments cli python: *.h *.cpp *.inl after "//", *.py *.sh after
-# "#") for dated or lab-note wording and prints file:line for each, exit 1; exit 0 when there is none.
+# their date and machine belong in docs/ and docs/changelog.md. Scans the comments of the library's rooms and
+# the skins (support mesh operators geodesics data canon matching eval pipeline experiments cli python: *.h *.cpp
+# *.inl after "//", *.py *.sh after "#") for dated or lab-note wording and prints file:line for each, exit 1;
+# exit 0 when there is none.
 # Registered with CTest as Layering.NoDatedNotesInCode.
 #   tests/check_dated_notes.sh [ROOT]   ROOT: the source tree to scan (default: this one)
 set -euo pipefail
 root=${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}
 root=$(cd "$root" && pwd)
-folders=(core canon matching eval pipeline experiments cli python)
+folders=(support mesh operators geodesics data canon matching eval pipeline experiments cli python)
 
 # Case-insensitive: an ISO date, a weekday, re-measured, and the machine a figure came from.
 notes='20[0-9][0-9]-[01][0-9]-[0-3][0-9]|\b(mon|tues|wednes|thurs|fri|satur|sun)day\b|\bre-?measured\b'

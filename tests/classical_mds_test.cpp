@@ -1,4 +1,4 @@
-#include "canon/classical_mds.h"
+#include "cshapes/canon/classical_mds.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -11,10 +11,10 @@
 #include <limits>
 #include <random>
 
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,6 +1,6 @@
-// Princeton .cla classification files (core/classification.h) and collections listed by them
-// (core/dataset.h), and the evaluation tools' matrix forms (eval/distance_csv.h).
-#include "core/classification.h"
+// Princeton .cla classification files (data/classification.h) and collections listed by them
+// (data/dataset.h), and the evaluation tools' matrix forms (eval/distance_csv.h).
+#include "cshapes/data/classification.h"
 
 #include <gtest/gtest.h>
 
@@ -8,13 +8,13 @@
 #include <filesystem>
 #include <string>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
-#include "pipeline/dataset_distances.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/pipeline/dataset_distances.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

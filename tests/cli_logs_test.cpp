@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "core/atomic_file.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,10 +1,10 @@
-// core/communicator.h: the one-process communicator leaves values alone, and the work splits are complete,
+// support/communicator.h: the one-process communicator leaves values alone, and the work splits are complete,
 // balanced and known for small cases.
-#include "core/communicator.h"
+#include "cshapes/support/communicator.h"
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 namespace {

@@ -6,7 +6,7 @@
 #include <regex>
 #include <string>
 
-#include "core/format.h"
+#include "cshapes/support/format.h"
 #include "test_support.h"
 
 namespace cshapes {

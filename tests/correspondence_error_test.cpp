@@ -1,4 +1,4 @@
-#include "eval/correspondence_error.h"
+#include "cshapes/eval/correspondence_error.h"
 
 #include <gtest/gtest.h>
 
@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <limits>
 
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "matching/icp.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/matching/icp.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -264,7 +264,7 @@ TEST(CorrespondenceError, ErrorStatisticsKnownAnswers) {
   EXPECT_EQ(error_median(e), 0.3);  // odd count: the middle of 0.1 0.2 0.3 inf inf
   EXPECT_DOUBLE_EQ(fraction_within(e, 0.2), 0.4);
   EXPECT_DOUBLE_EQ(fraction_within(e, 10.0), 0.6);
-  // Even count: the mean of the two middle values (core/timing.h's median of repeats takes the upper one).
+  // Even count: the mean of the two middle values (support/timing.h's median of repeats takes the upper one).
   Eigen::VectorXd even(4);
   even << 0.4, 0.1, 0.2, 0.3;
   EXPECT_DOUBLE_EQ(error_median(even), 0.25);

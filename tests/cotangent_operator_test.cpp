@@ -1,4 +1,4 @@
-#include "core/cotangent_operator.h"
+#include "cshapes/operators/cotangent_operator.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/heat_method.h"
-#include "core/intrinsic_delaunay.h"
-#include "core/laplace_beltrami.h"
-#include "core/synthetic.h"
+#include "cshapes/geodesics/heat_method.h"
+#include "cshapes/operators/intrinsic_delaunay.h"
+#include "cshapes/operators/laplace_beltrami.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

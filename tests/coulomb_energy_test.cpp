@@ -1,4 +1,4 @@
-#include "canon/coulomb_energy.h"
+#include "cshapes/canon/coulomb_energy.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/synthetic.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

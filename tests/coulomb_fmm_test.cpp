@@ -1,18 +1,18 @@
-#include "canon/coulomb_fmm.h"
+#include "cshapes/canon/coulomb_fmm.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
 namespace {
 
-// The bench's distributions (core/synthetic.h random_points): uniform cube, unit sphere surface, 20
+// The bench's distributions (data/synthetic.h random_points): uniform cube, unit sphere surface, 20
 // Gaussian clusters of widths 1e-3 … 1e-1.
 Points make_points(Index n, const std::string& distribution, unsigned seed) {
   std::mt19937_64 rng(seed);

@@ -1,4 +1,4 @@
-#include "canon/coulomb_multiresolution.h"
+#include "cshapes/canon/coulomb_multiresolution.h"
 
 #include <gtest/gtest.h>
 
@@ -7,12 +7,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "core/error.h"
-#include "core/io.h"
-#include "core/rigid_transform.h"
-#include "core/stress_corpus.h"
-#include "core/subdivide.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/stress_corpus.h"
+#include "cshapes/mesh/subdivide.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

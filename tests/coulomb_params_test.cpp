@@ -1,6 +1,6 @@
 // The Coulomb parameter study as a library call (experiments/coulomb_params.h): configurations by name, the
 // bridges it glues and whether the canonization tore them, and the files it writes.
-#include "experiments/coulomb_params.h"
+#include "cshapes/experiments/coulomb_params.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,17 +1,17 @@
 // The Coulomb iteration's start (canon/coulomb_start.h) and the pull towards a plane (CoulombCanonOptions::
 // flatten): what they are, that they do not depend on the pose or the frame, and that together they make
 // the forms of the poses of one shape agree better than the paper's start does.
-#include "canon/coulomb_start.h"
+#include "cshapes/canon/coulomb_start.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 
-#include "canon/coulomb.h"
-#include "core/articulated.h"
-#include "core/mesh.h"
-#include "core/rigid_transform.h"
-#include "core/synthetic.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,4 +1,4 @@
-#include "canon/coulomb.h"
+#include "cshapes/canon/coulomb.h"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +12,11 @@
 #include <random>
 #include <set>
 
-#include "core/error.h"
-#include "core/io.h"
-#include "core/knn_graph.h"
-#include "core/mesh.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/knn_graph.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

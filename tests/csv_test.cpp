@@ -1,4 +1,4 @@
-#include "core/csv.h"
+#include "cshapes/support/csv.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // A dataset's distance matrix (pipeline/dataset_distances.h): what it refuses before any work, and a cache
 // that cannot be written stopping the run instead of skipping shapes.
-#include "pipeline/dataset_distances.h"
+#include "cshapes/pipeline/dataset_distances.h"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 #include <filesystem>
 #include <string>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,4 +1,4 @@
-#include "core/dataset.h"
+#include "cshapes/data/dataset.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <functional>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

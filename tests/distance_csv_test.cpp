@@ -1,11 +1,11 @@
-#include "eval/distance_csv.h"
+#include "cshapes/eval/distance_csv.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,5 +1,5 @@
-// The memory check before n×n work (core/distance_matrix.h require_memory).
-#include "core/distance_matrix.h"
+// The memory check before n×n work (support/distance_matrix.h require_memory).
+#include "cshapes/support/distance_matrix.h"
 
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <string>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/distributed.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/distributed.h"
 #include "test_support.h"
 
 namespace cshapes {

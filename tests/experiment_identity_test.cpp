@@ -10,7 +10,7 @@
 #include <map>
 #include <sstream>
 
-#include "experiments/paper_experiment.h"
+#include "cshapes/experiments/paper_experiment.h"
 #include "test_support.h"
 
 namespace cshapes {

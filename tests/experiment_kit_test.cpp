@@ -10,12 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/synthetic.h"
-#include "experiments/figures.h"
-#include "pipeline/experiment_kit.h"
-#include "pipeline/glued_meshes.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/pipeline/experiment_kit.h"
+#include "cshapes/pipeline/glued_meshes.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,4 +1,4 @@
-#include "core/fast_marching.h"
+#include "cshapes/geodesics/fast_marching.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/synthetic.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

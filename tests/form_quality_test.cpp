@@ -1,12 +1,12 @@
-#include "canon/form_quality.h"
+#include "cshapes/canon/form_quality.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/mesh.h"
-#include "core/synthetic.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,15 +1,15 @@
 // pipeline/generated_shapes.h: the files `cshapes generate` writes, read back — meshes to their fixed six
 // decimals, glued pairs, the manifest as a dataset — and the summaries that describe them.
-#include "pipeline/generated_shapes.h"
+#include "cshapes/pipeline/generated_shapes.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,9 +1,9 @@
-#include "core/geodesic_parts.h"
+#include "cshapes/geodesics/geodesic_parts.h"
 
 #include <gtest/gtest.h>
 
-#include "core/articulated.h"
-#include "core/rigid_transform.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/mesh/rigid_transform.h"
 
 namespace cshapes {
 namespace {

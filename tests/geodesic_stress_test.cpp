@@ -1,4 +1,4 @@
-#include "experiments/geodesic_stress.h"
+#include "cshapes/experiments/geodesic_stress.h"
 
 #include <gtest/gtest.h>
 

@@ -1,16 +1,16 @@
-#include "core/geodesics_cgal.h"
+#include "cshapes/geodesics/geodesics_cgal.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "core/error.h"
-#include "core/fast_marching.h"
-#include "core/geodesics.h"
-#include "core/heat_method.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/fast_marching.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/geodesics/heat_method.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

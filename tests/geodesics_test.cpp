@@ -1,4 +1,4 @@
-#include "core/geodesics.h"
+#include "cshapes/geodesics/geodesics.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <random>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

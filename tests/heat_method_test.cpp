@@ -1,4 +1,4 @@
-#include "core/heat_method.h"
+#include "cshapes/geodesics/heat_method.h"
 
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <random>
 
-#include "core/fast_marching.h"
-#include "core/geodesics.h"
-#include "core/geodesics_cgal.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/geodesics/fast_marching.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/geodesics/geodesics_cgal.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,4 +1,4 @@
-#include "matching/icp.h"
+#include "cshapes/matching/icp.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/matching/shape_distance.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

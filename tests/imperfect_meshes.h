@@ -2,8 +2,8 @@
 // Shared by mesh_defects_test, mesh_repair_test, canonical_forms_test and imperfect_meshes_cli_test.
 #pragma once
 
-#include "core/mesh.h"
-#include "core/synthetic.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes::test {
 

@@ -1,12 +1,12 @@
-#include "core/intrinsic_delaunay.h"
+#include "cshapes/operators/intrinsic_delaunay.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "core/io.h"
-#include "core/stress_corpus.h"
-#include "core/synthetic.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/stress_corpus.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -119,7 +119,7 @@ TEST(IntrinsicDelaunay, FlipsThroughLowDegreeVerticesKeepThePairing) {
   }
 }
 
-// The failure-prone corpus (core/stress_corpus.h): on every kind of mesh the flips end in a valid intrinsic
+// The failure-prone corpus (data/stress_corpus.h): on every kind of mesh the flips end in a valid intrinsic
 // triangulation (pairing mutual and opposite, every face a true triangle, no vertex lost), with the area of
 // the mollified input and no non-Delaunay edge left except those whose flip was refused.
 TEST(IntrinsicDelaunay, StressCorpusSample) {

@@ -1,4 +1,4 @@
-#include "core/io.h"
+#include "cshapes/mesh/io.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -11,9 +11,9 @@
 #include <limits>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -567,7 +567,7 @@ TEST(IoValidation, BadOffInputsAreRefusedWithFileAndLine) {
   write_bytes(path, "");
   expect_refused(path, {"end of file", "OFF header"});
   // Reading is lenient: a degenerate face, a zero-length edge, a non-manifold edge or a duplicate face are
-  // what a file can legally hold (core/mesh_defects.h describes them) ...
+  // what a file can legally hold (mesh/mesh_defects.h describes them) ...
   ReadOptions checked;
   checked.validate = true;
   auto expect_invalid = [&](std::initializer_list<std::string> parts) {

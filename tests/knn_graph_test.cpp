@@ -1,4 +1,4 @@
-#include "core/knn_graph.h"
+#include "cshapes/mesh/knn_graph.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

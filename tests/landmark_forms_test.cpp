@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/io.h"
-#include "core/rigid_transform.h"
-#include "core/synthetic.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,11 +1,11 @@
-#include "core/landmark_geodesics.h"
+#include "cshapes/geodesics/landmark_geodesics.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "core/error.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,16 +1,16 @@
-#include "canon/landmark_mds.h"
+#include "cshapes/canon/landmark_mds.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "canon/classical_mds.h"
-#include "canon/smacof.h"
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/landmark_geodesics.h"
-#include "core/rigid_transform.h"
-#include "core/synthetic.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/geodesics/landmark_geodesics.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,7 +1,7 @@
-// Points located on a surface (core/locate_on_surface.h): known answers on one triangle, points on generated
+// Points located on a surface (mesh/locate_on_surface.h): known answers on one triangle, points on generated
 // meshes found where they are, points off the surface against a brute-force search over every face (its own
 // point-triangle distance: plane projection, else the nearest side), interpolation invariants.
-#include "core/locate_on_surface.h"
+#include "cshapes/mesh/locate_on_surface.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <limits>
 #include <random>
 
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,9 +1,9 @@
 // mesh_defects: each defect kind on a mesh that has exactly that defect, with its known elements.
-#include "core/mesh_defects.h"
+#include "cshapes/mesh/mesh_defects.h"
 
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/imperfect_meshes.h"
 
 namespace cshapes {

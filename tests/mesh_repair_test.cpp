@@ -1,14 +1,14 @@
 // repair_for: each requirement on a mesh with one defect; the result's invariants (no defect left that the
 // requirements forbid, vertex_map back to input vertices at the same positions), strict refusal.
-#include "core/mesh_repair.h"
+#include "cshapes/mesh/mesh_repair.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/mesh_defects.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh_defects.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/imperfect_meshes.h"
 
 namespace cshapes {

@@ -1,12 +1,12 @@
-#include "core/mesh.h"
+#include "cshapes/mesh/mesh.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,4 +1,4 @@
-#include "canon/metric_projection.h"
+#include "cshapes/canon/metric_projection.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <omp.h>
 #include <random>
 
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/morton.h"
+#include "cshapes/support/morton.h"
 
 #include <gtest/gtest.h>
 

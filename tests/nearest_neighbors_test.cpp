@@ -1,10 +1,10 @@
-#include "matching/nearest_neighbors.h"
+#include "cshapes/matching/nearest_neighbors.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 namespace {

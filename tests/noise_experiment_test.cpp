@@ -13,14 +13,14 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
-#include "experiments/noise_experiment.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/experiments/noise_experiment.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/shape_failures.h"
 #include "test_support.h"
 
 namespace cshapes {

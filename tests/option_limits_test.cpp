@@ -1,4 +1,4 @@
-// One source for each limit (core/option_limits.h): the library's check, the CLI's help and the CLI's refusal
+// One source for each limit (support/option_limits.h): the library's check, the CLI's help and the CLI's refusal
 // all say the same limit, for every option that has one.
 #include <gtest/gtest.h>
 
@@ -8,16 +8,16 @@
 #include <string>
 #include <vector>
 
-#include "canon/coulomb.h"
-#include "canon/metric_projection.h"
-#include "canon/smacof.h"
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/knn_graph.h"
-#include "core/synthetic.h"
-#include "core/topological_noise.h"
-#include "matching/icp.h"
+#include "cshapes/canon/coulomb.h"
+#include "cshapes/canon/metric_projection.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/knn_graph.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/data/topological_noise.h"
+#include "cshapes/matching/icp.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

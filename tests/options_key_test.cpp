@@ -1,4 +1,4 @@
-// Cache keys built from the options' own field lists (core/option_fields.h): every options struct that enters
+// Cache keys built from the options' own field lists (support/option_fields.h): every options struct that enters
 // a key lists each of its members exactly once, and every listed field reaches the key of the options that
 // hold it — CanonicalFormOptions (canonical_form_key, per registered method), TopologicalNoiseOptions
 // (glued_mesh_key) and IcpOptions (to_key_string) — while the fields marked kNoEffect do not.
@@ -13,16 +13,16 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/option_fields.h"
-#include "core/synthetic.h"
-#include "experiments/noise_experiment.h"
-#include "experiments/paper_experiment.h"
-#include "experiments/pose_invariance.h"
-#include "experiments/retrieval_experiment.h"
-#include "experiments/topkids_experiment.h"
-#include "matching/icp.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/glued_meshes.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/noise_experiment.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/pose_invariance.h"
+#include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/experiments/topkids_experiment.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/glued_meshes.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

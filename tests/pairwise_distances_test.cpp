@@ -1,4 +1,4 @@
-#include "eval/pairwise_distances.h"
+#include "cshapes/eval/pairwise_distances.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <fstream>
 #include <random>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "eval/cache.h"
-#include "matching/shape_distance.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/cache.h"
+#include "cshapes/matching/shape_distance.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

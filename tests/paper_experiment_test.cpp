@@ -10,16 +10,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
-#include "experiments/figures.h"
-#include "experiments/paper_experiment.h"
-#include "experiments/paper_report.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/paper_report.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/shape_failures.h"
 #include "test_support.h"
 
 namespace cshapes {

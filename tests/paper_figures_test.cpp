@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "experiments/paper_figures.h"
+#include "cshapes/experiments/paper_figures.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/io.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,6 +1,6 @@
 // The pose-invariance measure (experiments/pose_invariance.h): known answers on generated shapes with known
 // correspondences, and the TOPKIDS correspondence reader's errors.
-#include "experiments/pose_invariance.h"
+#include "cshapes/experiments/pose_invariance.h"
 
 #include <gtest/gtest.h>
 
@@ -13,14 +13,14 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/dataset.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/rigid_transform.h"
-#include "core/synthetic.h"
-#include "experiments/figures.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

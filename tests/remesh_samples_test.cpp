@@ -1,15 +1,15 @@
 // Input vertices carried to a remesh (pipeline/remesh_samples.h): the distances they moved on a real remesh,
 // and the other part of a contact on a known answer: two parallel sheets closer together than one sheet's
 // "remesh" lies off its surface.
-#include "pipeline/remesh_samples.h"
+#include "cshapes/pipeline/remesh_samples.h"
 
 #include <gtest/gtest.h>
 
 #include <numeric>
 
-#include "core/error.h"
-#include "core/remesh.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

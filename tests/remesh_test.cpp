@@ -1,12 +1,12 @@
-#include "core/remesh.h"
+#include "cshapes/mesh/remesh.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -1,24 +1,24 @@
 // `cshapes experiment retrieval` (experiments/retrieval_experiment.h) end to end on a tiny collection, and
 // --resample (pipeline/resampled_dataset.h): the files, the measures against the matrices, resume, the .cla,
 // and the remesh's measures.
-#include "experiments/retrieval_experiment.h"
+#include "cshapes/experiments/retrieval_experiment.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
-#include "core/classification.h"
-#include "core/dataset.h"
-#include "core/io.h"
-#include "core/remesh.h"
-#include "core/synthetic.h"
-#include "eval/distance_csv.h"
-#include "experiments/figures.h"
-#include "experiments/noise_experiment.h"
-#include "experiments/paper_experiment.h"
-#include "pipeline/resampled_dataset.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/data/classification.h"
+#include "cshapes/data/dataset.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/noise_experiment.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/pipeline/resampled_dataset.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

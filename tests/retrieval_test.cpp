@@ -1,13 +1,13 @@
-#include "eval/retrieval.h"
+#include "cshapes/eval/retrieval.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "eval/distance_csv.h"
-#include "experiments/figures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/eval/distance_csv.h"
+#include "cshapes/experiments/figures.h"
 #include "tests/test_support.h"
 
 #include <filesystem>

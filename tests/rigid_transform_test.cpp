@@ -1,4 +1,4 @@
-#include "core/rigid_transform.h"
+#include "cshapes/mesh/rigid_transform.h"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <limits>
 #include <random>
 
-#include "core/error.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
 
 namespace cshapes {
 namespace {

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/mesh.h"
-#include "matching/icp.h"
-#include "matching/shape_distance.h"
-#include "pipeline/canonical_form_methods.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/matching/icp.h"
+#include "cshapes/matching/shape_distance.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 namespace {

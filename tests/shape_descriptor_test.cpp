@@ -1,13 +1,13 @@
 // matching/shape_descriptor.h: known answers (a box's principal deviations, a tetrahedron's single distance),
 // invariance to rigid motions and reflections, the scale term, and refused input.
-#include "matching/shape_descriptor.h"
+#include "cshapes/matching/shape_descriptor.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/rigid_transform.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/rigid_transform.h"
 
 namespace cshapes {
 namespace {

@@ -1,11 +1,11 @@
-#include "matching/shape_distance.h"
+#include "cshapes/matching/shape_distance.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/synthetic.h"
-#include "pipeline/canonical_forms.h"
-#include "pipeline/shape_failures.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/shape_failures.h"
 #include "test_support.h"
 
 namespace cshapes {

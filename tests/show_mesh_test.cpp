@@ -2,7 +2,7 @@
 // side into a PNG; a form of another vertex count, a picture that is an input and an unknown picture format
 // refused before anything is written; a form's dropped vertices (NaN rows, valid = 0) left out of the
 // drawing. The drawing needs a Python with matplotlib: without one, the tests that draw are skipped.
-#include "experiments/show_mesh.h"
+#include "cshapes/experiments/show_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "experiments/figures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/experiments/figures.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

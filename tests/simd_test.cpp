@@ -1,4 +1,4 @@
-// core/simd.h: the kernels compiled per instruction set. Every target this CPU supports is run here: each is
+// support/simd.h: the kernels compiled per instruction set. Every target this CPU supports is run here: each is
 // deterministic (the same bytes for 1, 2 and 3 threads), and the targets agree with the baseline within the
 // bounds docs/benchmarks.md states: the Coulomb sums to 2e-6 of the gradient's norm (float pair terms with a
 // 23-bit reciprocal square root against an exact one), the SMACOF pass to 1e-5 of the configuration's size,
@@ -14,19 +14,19 @@
 #include <string>
 #include <vector>
 
-#include "canon/coulomb_energy.h"
-#include "canon/coulomb_fmm.h"
-#include "canon/metric_projection.h"
-#include "canon/smacof.h"
-#include "core/articulated.h"
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/mesh.h"
-#include "core/rigid_transform.h"
-#include "core/simd.h"
-#include "core/synthetic.h"
-#include "experiments/paper_experiment.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/canon/coulomb_energy.h"
+#include "cshapes/canon/coulomb_fmm.h"
+#include "cshapes/canon/metric_projection.h"
+#include "cshapes/canon/smacof.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/support/simd.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/pipeline/canonical_forms.h"
 #include "test_support.h"
 
 namespace cshapes {

@@ -1,4 +1,4 @@
-#include "canon/smacof.h"
+#include "cshapes/canon/smacof.h"
 
 #include <gtest/gtest.h>
 
@@ -11,11 +11,11 @@
 #include <random>
 #include <sstream>
 
-#include "canon/classical_mds.h"
-#include "core/error.h"
-#include "core/geodesics.h"
-#include "core/io.h"
-#include "core/synthetic.h"
+#include "cshapes/canon/classical_mds.h"
+#include "cshapes/support/error.h"
+#include "cshapes/geodesics/geodesics.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

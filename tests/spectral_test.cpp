@@ -1,4 +1,4 @@
-// Laplace–Beltrami eigenpairs (core/laplace_beltrami.h) against analytic spectra, the sparse solver against
+// Laplace–Beltrami eigenpairs (operators/laplace_beltrami.h) against analytic spectra, the sparse solver against
 // the dense one, and the spectral canonical forms (canon/spectral_embedding.h; methods lbo and diffusion):
 // isometry invariance up to signs, scale equivariance, diffusion distances against a brute-force sum over
 // all eigenpairs, and sign flips undone by the shape distance distmat uses.
@@ -9,12 +9,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "canon/spectral_embedding.h"
-#include "core/articulated.h"
-#include "core/laplace_beltrami.h"
-#include "core/synthetic.h"
-#include "matching/shape_distance.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/canon/spectral_embedding.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/operators/laplace_beltrami.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/matching/shape_distance.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 namespace {

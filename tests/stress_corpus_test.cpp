@@ -1,10 +1,10 @@
-#include "core/stress_corpus.h"
+#include "cshapes/data/stress_corpus.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "core/mesh.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/subdivide.h"
+#include "cshapes/mesh/subdivide.h"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <map>
 #include <set>
 
-#include "core/error.h"
-#include "core/synthetic.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

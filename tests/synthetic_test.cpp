@@ -1,4 +1,4 @@
-#include "core/synthetic.h"
+#include "cshapes/data/synthetic.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <map>
 #include <random>
 
-#include "core/error.h"
+#include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

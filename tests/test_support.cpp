@@ -14,8 +14,8 @@
 #include <sstream>
 #include <vector>
 
-#include "core/articulated.h"
-#include "core/dataset.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/data/dataset.h"
 
 namespace cshapes::test {
 

@@ -4,7 +4,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "core/mesh.h"
+#include "cshapes/mesh/mesh.h"
 
 namespace cshapes::test {
 
@@ -38,7 +38,7 @@ Mesh obtuse_grid(int nx, int ny);
 // seen from outside; unchanged by any refinement that keeps the surface and its orientation.
 double signed_volume(const Mesh& m);
 
-// A generated articulated dataset written without the CLI (core/articulated.h): `classes` classes ×
+// A generated articulated dataset written without the CLI (data/articulated.h): `classes` classes ×
 // `poses` clean poses of about `vertices` vertices each (no noisy poses), CLASSk.off and manifest.csv in dir;
 // returns the manifest's path. Deterministic (seed 0), as `cshapes generate dataset` writes it.
 std::string generated_dataset(const std::string& dir, int classes, int poses, long vertices);

@@ -1,11 +1,11 @@
-// core/threads.h: the thread count chosen again between blocks of work (refresh_threads).
+// support/threads.h: the thread count chosen again between blocks of work (refresh_threads).
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <cstdlib>
 
-#include "core/threads.h"
+#include "cshapes/support/threads.h"
 
 namespace cshapes {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/synthetic.h"
-#include "experiments/timing_table.h"
+#include "cshapes/support/error.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/experiments/timing_table.h"
 
 namespace cshapes {
 namespace {

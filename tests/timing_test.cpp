@@ -1,4 +1,4 @@
-#include "core/timing.h"
+#include "cshapes/support/timing.h"
 
 #include <gtest/gtest.h>
 

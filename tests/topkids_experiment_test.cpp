@@ -1,4 +1,4 @@
-#include "experiments/topkids_experiment.h"
+#include "cshapes/experiments/topkids_experiment.h"
 
 #include <gtest/gtest.h>
 
@@ -9,13 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/articulated.h"
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/mesh.h"
-#include "core/rigid_transform.h"
-#include "pipeline/canonical_forms.h"
+#include "cshapes/data/articulated.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/mesh/rigid_transform.h"
+#include "cshapes/pipeline/canonical_forms.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

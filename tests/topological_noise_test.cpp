@@ -1,4 +1,4 @@
-#include "core/topological_noise.h"
+#include "cshapes/data/topological_noise.h"
 
 #include <gtest/gtest.h>
 
@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-#include "core/io.h"
-#include "core/remesh.h"
-#include "core/synthetic.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/remesh.h"
+#include "cshapes/data/synthetic.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "core/io.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/mesh/io.h"
 #include "tests/test_support.h"
 
 namespace cshapes {

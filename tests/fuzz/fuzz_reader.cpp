@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/error.h"
-#include "core/io.h"
+#include "cshapes/support/error.h"
+#include "cshapes/mesh/io.h"
 
 #ifndef CSHAPES_FUZZ_FORMAT
 #error "define CSHAPES_FUZZ_FORMAT"

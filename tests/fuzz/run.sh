@@ -20,13 +20,16 @@ fi
 
 out="$root/build-fuzz"
 mkdir -p "$out/obj" "$out/seeds" "$out/corpus" "$out/artifacts"
+# The readers' headers as they are included, "cshapes/<room>/<file>.h" (CMakeLists.txt maps them likewise).
+mkdir -p "$out/include/cshapes"
+for room in support mesh; do ln -sfn "$root/$room" "$out/include/cshapes/$room"; done
 eigen=$(pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3)
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
-       -I"$root" $eigen)
-sources=(core/io.cpp core/io_text.cpp core/io_stl.cpp core/io_ply.cpp core/mesh.cpp core/mesh_defects.cpp core/atomic_file.cpp)
+       -I"$out/include" $eigen)
+sources=(mesh/io.cpp mesh/io_text.cpp mesh/io_stl.cpp mesh/io_ply.cpp mesh/mesh.cpp mesh/mesh_defects.cpp support/atomic_file.cpp)
 
 # Rebuild when a source or header is newer than the last build.
-newest=$(ls -t "$root"/core/*.h "$root"/tests/fuzz/fuzz_reader.cpp "${sources[@]/#/$root/}" | head -1)
+newest=$(ls -t "$root"/support/*.h "$root"/mesh/*.h "$root"/tests/fuzz/fuzz_reader.cpp "${sources[@]/#/$root/}" | head -1)
 objects=()
 for src in "${sources[@]}"; do
   obj="$out/obj/$(basename "${src%.cpp}").o"

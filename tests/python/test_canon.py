@@ -200,7 +200,7 @@ NEGATIVE_KEYWORDS = [
 @pytest.mark.parametrize("function,keyword,value,words", NEGATIVE_KEYWORDS)
 def test_a_keyword_out_of_its_limit_is_named_by_the_keyword(shapes, function, keyword, value, words):
     # Issue 22: negative keywords were named by their C++ field ("coulomb: max_iterations must be >= 0"),
-    # not by the keyword; the limit is the library's, as the CLI's help shows it (core/option_limits.h).
+    # not by the keyword; the limit is the library's, as the CLI's help shows it (support/option_limits.h).
     V, F = cshapes.read_mesh(shapes[0])
     if function == "smacof":
         call = lambda: cshapes.smacof(np.ones((5, 5)) - np.eye(5), **{keyword: value})

@@ -1,0 +1,93 @@
+// Geodesic distances on a triangle mesh: single-source, multi-source and all-pairs, by one of several
+// methods.
+//
+// Methods (GeodesicOptions::method; names as parse_geodesic_method takes them):
+//   heat       the heat method of our own (geodesics/heat_method.h): both systems factorised once (CHOLMOD),
+//              sources solved in blocks of right-hand sides, in parallel. The fastest for all-pairs.
+//              heat_mode IntrinsicDelaunay (default) or Direct, the same discretisations as CGAL's modes.
+//   heat-cgal  CGAL's Heat_method_3 (geodesics/geodesics_cgal.h), one source at a time, heat_mode Direct or
+//              IntrinsicDelaunay: the reference implementation.
+//   fmm        fast marching on triangulated domains (Kimmel & Sethian 1998; geodesics/fast_marching.h).
+//   exact      exact polyhedral geodesics (CGAL's Surface_mesh_shortest_path): slow, for validation.
+//   graph      Dijkstra along mesh edges: exact on the edge graph, an upper bound of the surface geodesic
+//              (typically 5-10% longer on irregular triangulations). Works on point-cloud kNN graphs too.
+// Measured accuracy (mean relative error against exact geodesics, vertices beyond 3 mean edge lengths,
+// `cshapes bench geodesics`): TOSCA cat0 (5,000 vertices): fmm 1.6%, heat (idt) 1.9%, CGAL heat (idt) 2.1%;
+// michael0 refined to 22,738 vertices: fmm 0.96%, heat 0.68%, CGAL heat 0.70%. heat-mode direct is 10-26%
+// on cat0 (needle triangles); graph is typically 5-10% long.
+// Cost per source, one thread, 5,000 vertices: heat 0.12 ms, CGAL heat 1.3 ms, fmm 1.8 ms, exact ~1 s.
+//
+// Distances are in the mesh's units. Unreachable vertices (other components) get +infinity in the
+// single-source functions; all-pairs refuses disconnected meshes (an n×n matrix of infinities is useless to
+// MDS). Every other distance is checked finite before it is returned, whatever the method: a NaN or infinity
+// between two connected vertices throws a cshapes::Error naming the method, the source and the vertex (our
+// heat method continues by fast marching where its heat underflows, see geodesics/heat_method.h; CGAL's does not
+// and returns NaN on long shapes). Coarse meshes: see heat_method_warning (geodesics/heat_method.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cshapes/support/distance_matrix.h"
+#include "cshapes/geodesics/geodesics_cgal.h"
+#include "cshapes/mesh/mesh.h"
+#include "cshapes/support/option_fields.h"
+#include "cshapes/support/progress.h"
+
+namespace cshapes {
+
+enum class GeodesicMethod {
+  Heat,          // our block heat method
+  HeatCgal,      // CGAL's Heat_method_3, one source at a time
+  FastMarching,  // Kimmel & Sethian
+  Exact,         // CGAL's Surface_mesh_shortest_path
+  Graph,         // Dijkstra on the edge graph
+};
+
+// Parses "heat", "heat-cgal", "fmm", "exact", "graph"; throws listing the known names otherwise.
+GeodesicMethod parse_geodesic_method(const std::string& name);
+std::string to_string(GeodesicMethod method);
+
+struct GeodesicOptions {
+  GeodesicMethod method = GeodesicMethod::Heat;  // see the table above
+  CgalHeatMode heat_mode =
+      CgalHeatMode::IntrinsicDelaunay;  // heat and heat-cgal: Direct or IntrinsicDelaunay
+  double heat_time_factor = 1.0;        // heat (ours): t = factor · h²
+  ProgressFn progress;  // all pairs: called as sources finish; one source: polled first (support/progress.h)
+
+  // Every field by name, for cache keys (support/option_fields.h). Self: GeodesicOptions, const or not.
+  template <class Self, class Visit>
+  static void for_each_field(Self& o, Visit&& visit) {
+    visit("method", o.method);
+    visit("heat_mode", o.heat_mode);
+    visit("heat_time_factor", o.heat_time_factor);
+    visit("progress", o.progress, kNoEffect);  // reports, computes nothing
+  }
+};
+
+// Why `method` refuses `mesh` up front, "" when it accepts it. Only CGAL's methods refuse a mesh, one with a
+// face of area below kExactMinFaceArea × (mean edge length)², naming it: exact (Surface_mesh_shortest_path
+// unfolds faces through their angles and returns NaN across such a face) and heat-cgal (Heat_method_3
+// requires non-degenerate faces; its intrinsic Delaunay flips never ended on two such meshes of the stress
+// corpus). Our heat method, fast marching and graph accept it (ours works on mollified lengths). Every
+// geodesic function below calls this first and throws the reason.
+constexpr double kExactMinFaceArea = 1e-10;
+std::string geodesic_method_refusal(const Mesh& mesh, GeodesicMethod method);
+
+// Distances from the nearest of `sources` to every vertex (n values); +infinity where unreachable.
+Eigen::VectorXd geodesic_distances(const Mesh& mesh, const std::vector<int>& sources,
+                                   const GeodesicOptions& options = {});
+
+// All n×n distances, symmetrised ((D + Dᵀ)/2), zero diagonal, OpenMP over sources.
+// Refuses up front, with the figures, when n² floats do not fit in the available memory, and refuses
+// disconnected meshes (naming the component sizes) since their distances are infinite.
+DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& options = {});
+
+// Replaces D by (D + Dᵀ)/2 in place, tile by tile (cache-friendly at n = 20K+), and zeroes the diagonal.
+void symmetrize_distances(DistanceMatrix& D);
+
+// Dijkstra on an arbitrary weighted edge graph (rest lengths as weights) from several sources.
+Eigen::VectorXd dijkstra(Index num_vertices, const Adjacency& adj, const Eigen::VectorXd& edge_weights,
+                         const std::vector<int>& sources);
+
+}  // namespace cshapes

@@ -1,0 +1,26 @@
+#include "cshapes/support/progress.h"
+
+#include <exception>
+
+namespace cshapes {
+
+void report_progress_in_parallel(const ProgressFn& fn, const std::string& stage, double done, double total) {
+  if (!fn) return;
+  std::exception_ptr stop;
+#pragma omp critical(cshapes_progress)
+  {
+    try {
+      fn(stage, done, total);
+    } catch (...) {
+      stop = std::current_exception();
+    }
+  }
+  if (stop) std::rethrow_exception(stop);
+}
+
+ProgressFn polls_of(const ProgressFn& fn) {
+  if (!fn) return {};
+  return [fn](const std::string&, double, double) { fn("", 0, 0); };
+}
+
+}  // namespace cshapes
