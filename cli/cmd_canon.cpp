@@ -6,6 +6,7 @@
 #include "cshapes/support/error.h"
 #include "cshapes/mesh/io.h"
 #include "cli/command.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/canonical_forms.h"
 #include "cshapes/pipeline/mesh_report.h"
 
@@ -21,7 +22,6 @@ struct CanonArgs {
 int run() {
   // Everything the command line decides is checked before any work.
   check_options_read_by(args.method, !args.history.empty());  // first: it names the options' own readers
-  check_canon_method_options({args.method});
   CanonicalFormOptions options;
   options.method = args.method;
   configure_canonical_form(options, true);
@@ -77,7 +77,7 @@ const bool registered = register_command(
            ->required();
        std::string names;
        std::vector<std::string> known;
-       for (const CanonMethod& m : canon_methods()) {
+       for (const CanonicalFormMethod& m : canonical_form_method_registry()) {
          names += "\n  " + m.name + ": " + m.summary;
          known.push_back(m.name);
        }

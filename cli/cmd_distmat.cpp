@@ -29,7 +29,6 @@ int run() {
   const Communicator& comm = world_communicator();
   const bool root = comm.is_root();
   check_options_read_by(args.method);  // every rank: each must stop
-  check_canon_method_options({args.method});
   require_output_path(args.output, {"csv"});
   std::vector<std::string> inputs = dataset_description_files(args.data);
   inputs.push_back(args.reference);

@@ -4,8 +4,8 @@
 //   static const bool registered = cshapes::cli::register_command(
 //       {{"bench", "coulomb"}, "Coulomb gradient: fast vs direct", add_options, run});
 //
-// `cshapes canon` is one command for every method; a method registers with register_canon_method and gets
-// its own option group ("coulomb options", ...) in `cshapes canon --help`.
+// `cshapes canon` is one command for every method; each method's options come from its registration
+// (pipeline/canonical_form_methods.h) as its own option group ("coulomb options", ...): cli/method_options.cpp.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -33,23 +33,6 @@ struct Command {
 };
 bool register_command(Command command);
 
-// A canonization method's command-line face: its option group and how the parsed options become
-// CanonicalFormOptions. The computation itself is the drivers library's (pipeline/canonical_forms.h), the
-// same for `canon`, `distmat` and `experiment paper`.
-struct CanonMethod {
-  std::string name;     // value of --method
-  std::string summary;  // one line for --help
-  std::function<void(CLI::Option_group&)> add_options;
-  // Writes the options parsed by add_options' group into `options`. single_mesh: `cshapes canon`; otherwise
-  // (distmat, experiment paper) an option that only makes sense for one mesh is refused with a message.
-  std::function<void(CanonicalFormOptions& options, bool single_mesh)> configure;
-  // Methods that also read this method's option group (cmds' --geodesics and --distances serve smacof too).
-  std::vector<std::string> options_also_for = {};
-  // Checks the parsed options' names and combinations before any work (throws UsageError); may be empty.
-  std::function<void()> validate = {};
-};
-bool register_canon_method(CanonMethod method);
-const std::vector<CanonMethod>& canon_methods();
 // Adds every method's option group ("coulomb options", ...) to app: `canon`, `distmat` and `experiment paper`
 // take the same method options, with the same names and defaults.
 void add_canon_method_options(CLI::App& app);
@@ -63,7 +46,7 @@ void check_canon_method_options(const std::vector<std::string>& methods);
 // For a command that runs one method (canon, distmat): an option of a shared group (--geodesics, --distances,
 // --mds-solver, --landmarks, --eigenpairs, ...) that the method reads none of the fields of is refused
 // (UsageError naming the methods that read it), as is --history (history_given) for a method without
-// iterations. The table is the method registry's options_not_read (pipeline/canonical_form_methods.h).
+// iterations. The table is the methods' own option lists (pipeline/canonical_form_methods.h).
 void check_options_read_by(const std::string& method, bool history_given = false);
 // What every experiment command does once its own options are parsed, before any work: the method options
 // given are checked against `methods` (check_canon_method_options), the output folder `out` is checked

@@ -41,16 +41,11 @@ namespace cshapes::cli {
 namespace {
 struct Registry {
   std::vector<Command> commands;
-  std::vector<CanonMethod> canon;
-  // Every method option group added (one per method and command that takes them), with its method's index.
-  std::vector<std::pair<size_t, CLI::Option_group*>> canon_groups;
 };
 Registry& registry() {
   static Registry r;
   return r;
 }
-// The point-cloud option every method reads (add_canon_method_options).
-KnnGraphOptions g_knn;
 bool g_quiet = false;
 int g_threads = 0;
 std::string g_command = "";  // "canon", "bench coulomb": the command in messages
@@ -60,63 +55,6 @@ bool register_command(Command command) {
   registry().commands.push_back(std::move(command));
   return true;
 }
-bool register_canon_method(CanonMethod method) {
-  registry().canon.push_back(std::move(method));
-  return true;
-}
-const std::vector<CanonMethod>& canon_methods() {
-  return registry().canon;
-}
-
-void add_canon_method_options(CLI::App& app) {
-  for (size_t k = 0; k < canon_methods().size(); ++k) {
-    const CanonMethod& m = canon_methods()[k];
-    CLI::Option_group* group = app.add_option_group(m.name + " options");
-    if (m.add_options) m.add_options(*group);
-    registry().canon_groups.emplace_back(k, group);
-  }
-  // Not a method's: Coulomb's constraint edges, the MDS methods' graph geodesics and the spectral methods'
-  // graph Laplacian are all this graph on a point cloud.
-  CLI::Option_group* clouds = app.add_option_group("point-cloud options (every method)");
-  clouds
-      ->add_option(
-          "--knn", g_knn.k,
-          "point clouds (no faces): neighbours per point of the symmetric kNN graph that stands in for "
-          "the mesh's edges")
-      ->capture_default_str()
-      ->check(within(kKnnLimit));
-}
-
-bool canon_option_given(const std::string& name) {
-  for (const auto& [method, group] : registry().canon_groups) {
-    const CLI::Option* option = group->get_option_no_throw(name);
-    if (option && option->count() > 0) return true;
-  }
-  return false;
-}
-
-void check_canon_method_options(const std::vector<std::string>& methods) {
-  std::string given;
-  for (const std::string& m : methods) given += (given.empty() ? "" : ",") + m;
-  for (const auto& [index, group] : registry().canon_groups) {
-    const CanonMethod& m = canon_methods()[index];
-    std::vector<std::string> readers{m.name};
-    readers.insert(readers.end(), m.options_also_for.begin(), m.options_also_for.end());
-    bool used = false;
-    for (const std::string& r : readers) used = used || std::count(methods.begin(), methods.end(), r) > 0;
-    if (used) continue;
-    std::string scope;
-    for (size_t k = 0; k < readers.size(); ++k)
-      scope += (k == 0 ? "" : k + 1 == readers.size() ? " or " : ", ") + readers[k];
-    for (const CLI::Option* option : group->get_options()) {
-      if (option->count() == 0) continue;
-      if (methods.size() == 1) usage_fail(option->get_name(), " applies to --method ", scope, " only");
-      usage_fail(option->get_name(), " applies to method ", scope, " only, and no method run here (", given,
-                 ") is one");
-    }
-  }
-}
-
 void add_methods_option(CLI::App& app, std::string& methods) {
   methods = canonical_form_method_list(",");
   app.add_option("--methods", methods, "comma-separated: " + canonical_form_method_list())
@@ -132,12 +70,6 @@ std::vector<std::string> methods_option(const std::string& text) {
     throw UsageError(error.what());
   }
   return methods;
-}
-
-void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh) {
-  options.knn = g_knn;
-  for (const CanonMethod& m : canon_methods())
-    if (m.configure) m.configure(options, single_mesh);
 }
 
 bool quiet() {

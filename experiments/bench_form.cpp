@@ -48,7 +48,7 @@ FormBenchResult bench_form(const FormBenchOptions& options) {
     const CanonicalForm form = canonical_form(mesh, o);
     seconds.push_back(seconds_since(start));
     precompute_seconds.push_back(form.precompute_seconds);
-    const nlohmann::json summary = nlohmann::json::parse(form.summary_json);
+    const nlohmann::json summary = form_summary_json(form);
     result.details = nlohmann::json::object();
     for (const auto& [key, value] : summary.items())
       if (value.is_primitive() && !value.is_null()) result.details[key] = value;

@@ -133,8 +133,7 @@ StressOutcome canon_outcome(const Mesh& mesh, const std::string& method, const S
           o.failed = true;
           o.error = "vertex " + std::to_string(i) + " of the form is not finite";
         }
-    const nlohmann::json summary = nlohmann::json::parse(form.summary_json);
-    if (summary.contains("form_quality")) o.verdict = summary["form_quality"].value("ok", false) ? "ok" : "poor";
+    if (form.quality) o.verdict = form.quality->ok ? "ok" : "poor";
   } catch (const std::exception& e) {
     o.failed = true;
     o.error = e.what();

@@ -400,8 +400,8 @@ TopkidsRow pose_row(const json& jm, const std::string& pose, const std::string& 
   row.icp_rmse_relative = row.icp_rmse / reference.form_diagonal.at(m);
   if (m != kInputs) {
     row.repair = forms.forms.at(m).repair_text;
-    const json summary = json::parse(forms.forms.at(m).summary_json);
-    if (summary.contains("torn_edges")) row.torn_edges = summary["torn_edges"].get<long>();
+    const json& details = forms.forms.at(m).details;
+    if (details.contains("torn_edges")) row.torn_edges = details["torn_edges"].get<long>();
   }
   pooled.whole_map[m].push_back(whole);
   pooled.per_vertex[m].push_back(e);

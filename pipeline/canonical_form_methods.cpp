@@ -7,21 +7,47 @@
 
 namespace cshapes {
 
-const std::vector<CanonicalFormMethod>& canonical_form_method_registry() {
+namespace {
+
+std::vector<CanonicalFormMethod>& registry() {
   // A function-local static: built on first use, so callers during static initialisation (the CLI's option
-  // defaults) find it complete.
-  static const std::vector<CanonicalFormMethod> methods = {coulomb_method(), cmds_method(), smacof_method(),
-                                                           lbo_method(), diffusion_method(),
-                                                           spectral_mds_method()};
+  // defaults, a registrar) find it complete.
+  static std::vector<CanonicalFormMethod> methods = {coulomb_method(), cmds_method(),      smacof_method(),
+                                                     lbo_method(),     diffusion_method(), spectral_mds_method()};
   return methods;
 }
 
+// Two declarations of one option name must be the same option (a shared one is one declaration).
+void require_same_option(const MethodOption& a, const MethodOption& b, const std::string& method) {
+  CSHAPES_REQUIRE(a.type == b.type && a.flag == b.flag && a.help == b.help && a.choices == b.choices &&
+                      a.fields == b.fields,
+                  "method ", method, ": option '", b.name, "' differs from another method's option of that name");
+}
+
+}  // namespace
+
+const std::vector<CanonicalFormMethod>& canonical_form_method_registry() {
+  return registry();
+}
+
+bool register_canonical_form_method(CanonicalFormMethod method) {
+  CSHAPES_REQUIRE(!method.name.empty() && method.compute, "a canonical-form method needs a name and compute");
+  CSHAPES_REQUIRE(!find_canonical_form_method(method.name), "canonical-form method '", method.name,
+                  "' is registered twice");
+  for (const MethodOption& option : method.options)
+    for (const MethodOption* known : all_method_options())
+      if (known->name == option.name) require_same_option(*known, option, method.name);
+  registry().push_back(std::move(method));
+  return true;
+}
+
 const std::vector<std::string>& canonical_form_methods() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out;
-    for (const CanonicalFormMethod& m : canonical_form_method_registry()) out.push_back(m.name);
-    return out;
-  }();
+  // Rebuilt when a method was registered since (registration happens before main).
+  static std::vector<std::string> names;
+  if (names.size() != registry().size()) {
+    names.clear();
+    for (const CanonicalFormMethod& m : registry()) names.push_back(m.name);
+  }
   return names;
 }
 
@@ -55,15 +81,23 @@ std::string canonical_form_method_title(const std::string& name) {
   return method ? method->title : name;
 }
 
-bool reads_any_option(const CanonicalFormMethod& method, const std::vector<std::string>& fields) {
-  const std::vector<std::string>& not_read = method.options_not_read;
-  for (const std::string& field : fields) {
-    const std::string top = field.substr(0, field.find('.'));
-    if (std::find(not_read.begin(), not_read.end(), field) == not_read.end() &&
-        std::find(not_read.begin(), not_read.end(), top) == not_read.end())
-      return true;
-  }
-  return false;
+bool method_reads_field(const CanonicalFormMethod& method, const std::string& field) {
+  if (field == "method" || field == "knn") return true;
+  return std::find(method.reads.begin(), method.reads.end(), field) != method.reads.end();
+}
+
+bool method_reads_option(const CanonicalFormMethod& method, const std::string& name) {
+  return std::any_of(method.options.begin(), method.options.end(),
+                     [&name](const MethodOption& o) { return o.name == name; });
+}
+
+std::vector<const MethodOption*> all_method_options() {
+  std::vector<const MethodOption*> all;
+  for (const CanonicalFormMethod& m : registry())
+    for (const MethodOption& option : m.options)
+      if (std::none_of(all.begin(), all.end(), [&](const MethodOption* o) { return o->name == option.name; }))
+        all.push_back(&option);
+  return all;
 }
 
 std::vector<std::string> canonical_form_methods_where(
@@ -74,9 +108,39 @@ std::vector<std::string> canonical_form_methods_where(
   return names;
 }
 
-std::vector<std::string> canonical_form_methods_reading(const std::vector<std::string>& fields) {
+std::vector<std::string> canonical_form_methods_reading(const std::string& name) {
   return canonical_form_methods_where(
-      [&fields](const CanonicalFormMethod& m) { return reads_any_option(m, fields); });
+      [&name](const CanonicalFormMethod& m) { return method_reads_option(m, name); });
+}
+
+void refuse_options_not_read(const std::vector<std::string>& methods, const OptionFace& face) {
+  const std::vector<const MethodOption*> all = all_method_options();
+  std::string run;
+  for (const std::string& m : methods) run += (run.empty() ? "" : ",") + m;
+  for (const MethodOption* option : all) {
+    if (!face.given(option->name) || (!face.cli && !option->python)) continue;
+    const std::vector<std::string> readers = canonical_form_methods_reading(option->name);
+    if (std::any_of(methods.begin(), methods.end(), [&](const std::string& m) {
+          return std::find(readers.begin(), readers.end(), m) != readers.end();
+        }))
+      continue;
+    const std::string quote = face.cli ? "" : "'";
+    if (methods.size() == 1)
+      fail(face.name(*option), " applies to ", face.cli ? "--method " : "method ", either_of(readers, quote),
+           " only, not ", quote, methods.front(), quote);
+    fail(face.name(*option), " applies to method ", either_of(readers, quote),
+         " only, and no method run here (", run, ") is one");
+  }
+}
+
+void check_method_options(const std::vector<std::string>& methods, const CanonicalFormOptions& options,
+                          const OptionFace& face) {
+  const std::vector<const MethodOption*> all = all_method_options();
+  for (const MethodOption* option : all) check_applies_when(*option, all, options, face);
+  for (const std::string& name : methods) {
+    const CanonicalFormMethod& method = canonical_form_method(name);
+    if (method.check) method.check(options, face);
+  }
 }
 
 std::string either_of(const std::vector<std::string>& names, const std::string& quote) {

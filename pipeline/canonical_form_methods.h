@@ -12,9 +12,10 @@
 //   diffusion diffusion map pipeline/method_diffusion.cpp  e^{-λt}φ at t relative to the shape's spectrum
 //   spectral-mds spectral MDS pipeline/method_spectral_mds.cpp  MDS in the first eigenfunctions' span
 //
-// Adding a method is one file (pipeline/method_NAME.cpp defining NAME_method(), declared below) and one line
-// in canonical_form_method_registry() (canonical_form_methods.cpp); its CLI option group, if it has options,
-// registers in cli/ (cli/command.h: register_canon_method).
+// Adding a method is one file: pipeline/method_NAME.cpp defining NAME_method() with its options (declared
+// below, one line in canonical_form_method_registry()), or any file that registers it with
+// register_canonical_form_method (tests/toy_method/method_toy.cpp). Its CLI option group, Python keywords,
+// stub entries, cache key and refusals all come from that registration.
 #pragma once
 
 #include <functional>
@@ -26,6 +27,7 @@
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/method_options.h"
 
 namespace cshapes {
 
@@ -40,18 +42,26 @@ struct GivenDistances {
 struct CanonicalFormMethod {
   std::string name;               // "coulomb": CanonicalFormOptions::method, `--method`, Python's method=
   std::string title;              // "Coulomb": the one name of the method in figures, tables and reports
+  std::string summary;            // one line: what it computes (`cshapes canon --help`)
   MeshRequirements requirements;  // what it needs of its mesh (mesh/mesh_repair.h)
   // Why, in repair messages: "Coulomb canonization (the largest component's edge graph)".
   std::string repair_purpose;
   // Embeds the all-pairs geodesic matrix (options.geodesics, or options.distances_file): its memory is
   // checked up front, and methods with the same geodesic options share one matrix.
   bool uses_geodesic_matrix = false;
-  // The top-level CanonicalFormOptions fields the method does not read: left out of its cache key. Every
-  // other field enters it, so a field added to CanonicalFormOptions reaches every method's key until a method
-  // says it does not read it (at worst a cache miss, never a stale form). A nested field ("mds_solver.
-  // fold_overstretch": cmds reads the solver, not SMACOF's fold repair) refines the refusals of the options
-  // that set it; the key keeps it (at worst a cache miss).
-  std::vector<std::string> options_not_read;
+  // Its options, each declared once (pipeline/method_options.h; one read by several methods is the same
+  // declaration in each list). They make its CLI option group, its Python keywords and their stub, and the
+  // refusal of the others' options.
+  std::vector<MethodOption> options;
+  // The top-level CanonicalFormOptions fields (for_each_field's names) it reads, besides the ones every
+  // method reads (method, knn): {"geodesics", "cmds", "smacof", ...} for smacof, whose start is classical MDS.
+  // Its cache key is those fields' values, so a field it reads but does not list would serve stale forms
+  // (tests/options_key_test.cpp changes each field a method does not list and checks that its form stays);
+  // each of its options sets one of them (checked there too).
+  std::vector<std::string> reads;
+  // Checks across its options (a count against another, an option that needs one mesh), worded for the
+  // front end (`face`), before any work; after each option's own check. Null: none.
+  std::function<void(const CanonicalFormOptions& options, const OptionFace& face)> check;
   // Fills CanonicalForm::history_columns/rows (Coulomb's energy, SMACOF's stress per iteration): `canon
   // --history` and Python's history are refused for the other methods, before any work.
   bool has_history = false;
@@ -65,9 +75,14 @@ struct CanonicalFormMethod {
                            const GivenDistances& given) = nullptr;
 };
 
-// Every registered method, in registration order (coulomb, cmds, smacof, lbo, diffusion, spectral-mds): the
-// order of help texts and of the experiments' default method lists.
+// Every registered method, in registration order (coulomb, cmds, smacof, lbo, diffusion, spectral-mds, then
+// those registered by register_canonical_form_method): the order of help texts and of the experiments'
+// default method lists.
 const std::vector<CanonicalFormMethod>& canonical_form_method_registry();
+// Adds a method from outside the library (a static registrar in its own file, before main):
+//   static const bool registered = register_canonical_form_method(toy_method());
+// Throws for a name already registered or an option declared twice differently. Returns true.
+bool register_canonical_form_method(CanonicalFormMethod method);
 // The method registered under `name`, or null.
 const CanonicalFormMethod* find_canonical_form_method(const std::string& name);
 // The method registered under `name`; throws cshapes::Error "unknown canonization method 'x'; known:
@@ -83,18 +98,25 @@ void require_canonical_form_methods(const std::vector<std::string>& methods, con
 // A method's title ("classical MDS" for cmds); a name that is no method's (e.g. "inputs") as it is.
 std::string canonical_form_method_title(const std::string& name);
 
-// Which method reads which option, from the one table: options_not_read. An option (a CLI flag, a Python
-// keyword) names the top-level CanonicalFormOptions fields it sets (for_each_field's names: "geodesics",
-// "mds_solver", "lbo", ...); a method that reads none of them would ignore it, so the front ends refuse it.
-// Whether `method` reads any of `fields` (one not in its options_not_read, nor inside one that is: "a.b" is
-// not read when "a" is not).
-bool reads_any_option(const CanonicalFormMethod& method, const std::vector<std::string>& fields);
+// Which method reads which option, from the methods' own lists. Whether `method` reads the top-level field
+// (method and knn: every method; then its `reads`).
+bool method_reads_field(const CanonicalFormMethod& method, const std::string& field);
+// Whether `method` lists the option named `name` (Python's keyword name).
+bool method_reads_option(const CanonicalFormMethod& method, const std::string& name);
+// Every option of every registered method, each once (by name), in registration order.
+std::vector<const MethodOption*> all_method_options();
 // The registered methods for which `predicate` holds, in registration order.
 std::vector<std::string> canonical_form_methods_where(
     const std::function<bool(const CanonicalFormMethod&)>& predicate);
-// The registered methods that read any of `fields`, in registration order: {"cmds", "smacof", "spectral-mds"}
-// for {"geodesics"}.
-std::vector<std::string> canonical_form_methods_reading(const std::vector<std::string>& fields);
+// The registered methods that list the option `name`: {"cmds", "smacof", "spectral-mds"} for "geodesics".
+std::vector<std::string> canonical_form_methods_reading(const std::string& name);
+// Refuses (cshapes::Error, worded for `face`) an option given that none of `methods` lists, naming the
+// methods that do: "--geodesics applies to --method cmds, smacof or spectral-mds only, not coulomb".
+void refuse_options_not_read(const std::vector<std::string>& methods, const OptionFace& face);
+// After the options given are set in `options`: each given option's applies_when, then the check of each of
+// `methods` (cshapes::Error worded for `face`).
+void check_method_options(const std::vector<std::string>& methods, const CanonicalFormOptions& options,
+                          const OptionFace& face);
 // Names as a message says them: "a", "a or b", "a, b or c", each between `quote`s.
 std::string either_of(const std::vector<std::string>& names, const std::string& quote = "");
 
@@ -112,6 +134,8 @@ CanonicalFormMethod diffusion_method();  // pipeline/method_diffusion.cpp
 CanonicalFormMethod spectral_mds_method();  // pipeline/method_spectral_mds.cpp
 
 // For the method files: what several methods share.
+// --geodesics (GeodesicOptions::method): cmds, smacof and spectral-mds (its rows) read it.
+MethodOption geodesics_option();
 // The edges standing in for the mesh's: its triangle edges, or the kNN graph of a point cloud (no faces).
 Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn);
 // The all-pairs geodesic matrix of `mesh` (options.geodesics; a point cloud: graph distances on its kNN

@@ -1,5 +1,7 @@
 #include "cshapes/pipeline/canonical_forms.h"
 
+#include "cshapes/pipeline/form_quality_json.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,11 +16,27 @@
 #include "cshapes/support/timing.h"
 #include "cshapes/mesh/unit_scale.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 
 Edges constraint_edges(const Mesh& mesh, const KnnGraphOptions& knn) {
   return mesh.is_point_cloud() ? knn_graph(mesh.V, knn) : mesh_edges(mesh.F);
+}
+
+FormQuality canonical_form_quality(const Mesh& mesh, const CanonicalFormOptions& options,
+                                   const CanonicalForm& form) {
+  const Edges E = constraint_edges(mesh, options.knn);
+  const std::vector<bool> torn = torn_edge_flags(E, form.torn_edges);
+  FormQuality quality = form_quality(mesh.V, E, form.X, form.torn_edges.rows() ? &torn : nullptr);
+  if (!form.breakdown.empty()) fail_form_quality(quality, form.breakdown);
+  return quality;
+}
+
+nlohmann::json form_summary_json(const CanonicalForm& form) {
+  nlohmann::json summary = form.details.is_object() ? form.details : nlohmann::json::object();
+  if (form.quality) summary["form_quality"] = form_quality_json(*form.quality);
+  return summary;
 }
 
 namespace {
@@ -152,7 +170,7 @@ nlohmann::json to_json(const CanonicalForm& f) {
   j["seconds_per_iteration"] = f.seconds_per_iteration;
   j["history_columns"] = f.history_columns;
   j["history_rows"] = f.history_rows;
-  j["summary"] = f.summary_json;
+  j["summary"] = form_summary_json(f).dump();
   j["valid"] = std::vector<double>(f.valid.data(), f.valid.data() + f.valid.size());
   if (!f.geodesics_fallback.empty()) j["geodesics_fallback"] = f.geodesics_fallback;
   return j;
@@ -171,7 +189,12 @@ CanonicalForm form_from_json(const nlohmann::json& j) {
   f.seconds_per_iteration = j["seconds_per_iteration"];
   f.history_columns = j["history_columns"].get<std::vector<std::string>>();
   f.history_rows = j["history_rows"].get<std::vector<std::vector<double>>>();
-  f.summary_json = j["summary"].get<std::string>();
+  nlohmann::json summary = nlohmann::json::parse(j["summary"].get<std::string>());
+  if (summary.contains("form_quality")) {
+    f.quality = form_quality_from_json(summary["form_quality"]);
+    summary.erase("form_quality");
+  }
+  f.details = std::move(summary);
   // Entries written before repairs existed are of meshes that needed none: every vertex valid.
   std::vector<double> valid =
       j.contains("valid") ? j["valid"].get<std::vector<double>>() : std::vector<double>();
@@ -280,13 +303,14 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
     scale_distances(owned, scale);
     D = &owned;
   }
-  CanonicalForm form = method.compute(scale == 1 ? repaired.mesh : scaled, options,
-                                      GivenDistances{D, D_seconds, D ? D_fallback : ""});
+  const Mesh& computed_on = scale == 1 ? repaired.mesh : scaled;
+  CanonicalForm form = method.compute(computed_on, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
+  // Every method's form checked the same way, here (on the mesh it was computed on: the check is scale-free).
+  form.quality = canonical_form_quality(computed_on, options, form);
+  say(options.note, options.method + ": form quality " + form.quality->description);
   if (scale != 1) {
     form.X /= scale;  // a power of two: exact
-    nlohmann::json summary = nlohmann::json::parse(form.summary_json.empty() ? "{}" : form.summary_json);
-    summary["computed_at_scale"] = scale;
-    form.summary_json = summary.dump();
+    form.details["computed_at_scale"] = scale;
     say(options.note, options.name + ": computed on a copy scaled by " + std::to_string(scale) +
                           " (its size was far from 1); the form is scaled back, while its summary's energies, "
                           "steps and stresses are the copy's");
@@ -326,10 +350,7 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
 
 std::string canonical_form_key(const CanonicalFormOptions& options) {
   const CanonicalFormMethod& method = canonical_form_method(options.method);
-  const std::vector<std::string>& not_read = method.options_not_read;
-  return options_key(options, [&not_read](const char* field) {
-    return std::find(not_read.begin(), not_read.end(), field) == not_read.end();
-  });
+  return options_key(options, [&method](const char* field) { return method_reads_field(method, field); });
 }
 
 std::string mesh_content_key(const Mesh& mesh) {

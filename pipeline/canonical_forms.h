@@ -21,11 +21,15 @@
 #pragma once
 
 #include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cshapes/canon/classical_mds.h"
 #include "cshapes/canon/coulomb.h"
+#include "cshapes/canon/form_quality.h"
 #include "cshapes/canon/landmark_mds.h"
 #include "cshapes/canon/smacof.h"
 #include "cshapes/canon/spectral_embedding.h"
@@ -78,6 +82,9 @@ struct CanonicalFormOptions {
   LboFormOptions lbo;              // method lbo
   DiffusionFormOptions diffusion;  // method diffusion
   SpectralMdsOptions spectral_mds;  // method spectral-mds (its geodesic rows: `geodesics`)
+  // The options of a method registered outside the library, by name (pipeline/method_options.h:
+  // option_in_extra): the value's text.
+  std::map<std::string, std::string> extra;
   ProgressFn progress;  // stages "geodesics", "coulomb"
   // One line per stage result ("coulomb: 620 iterations ..."), for a front end to print; none when unset.
   std::function<void(const std::string&)> note;
@@ -100,6 +107,7 @@ struct CanonicalFormOptions {
     visit("lbo", o.lbo);
     visit("diffusion", o.diffusion);
     visit("spectral_mds", o.spectral_mds);
+    visit("extra", o.extra);
     visit("progress", o.progress, kNoEffect);  // reports, computes nothing
     visit("note", o.note, kNoEffect);          // reports, computes nothing
     // Refuses (a mesh that needs repair, a geodesic fallback) instead of computing something else: a form it
@@ -151,17 +159,36 @@ struct CanonicalForm {
   // Per-iteration history as columns (coulomb: energy, mean_violation, ...; smacof: normalized_stress).
   std::vector<std::string> history_columns;
   std::vector<std::vector<double>> history_rows;
-  // Method-specific summary as JSON text: coulomb {vertices, edges, torn_edges, iterations, converged,
+  // Its quality (canon/form_quality.h), the same check for every method, made in one place: canonical_form()
+  // (canonical_form_quality) from the method's mesh, its edge graph, the form and the two fields below.
+  // Empty for a form of a distance matrix alone (classical_mds_form, smacof_form: no mesh).
+  std::optional<FormQuality> quality;
+  // What only the method knows for that check: the edges it tore (coulomb: vertex pairs of the mesh it was
+  // given), left out of the stretch statistics; a breakdown its coordinates cannot show ("normalised stress
+  // nan": SMACOF's iteration broke down), which fails the check.
+  Edges torn_edges;
+  std::string breakdown;
+  // The method's own record, a JSON object: coulomb {vertices, edges, torn_edges, iterations, converged,
   // stop_reason, energy, mean/max_violation, ...}; cmds {classical_mds}; smacof {classical_mds, smacof};
-  // all {form_quality} (pipeline/form_quality_json.h), {warning} when the heat method is too coarse, and
-  // {geodesics_fallback} when it fell back.
-  std::string summary_json;
+  // lbo, diffusion, spectral-mds {laplacian, eigenvalues, ...}; {warning} when the heat method is too coarse
+  // or λ3 and λ4 are near-multiple, {computed_at_scale} for a mesh far from unit size. form_summary_json
+  // serialises it with the quality: what `canon --json`, Python's summary and the cache hold.
+  nlohmann::json details = nlohmann::json::object();
   // MDS: "" when the geodesics were computed by the method asked for; otherwise which method failed on this
   // mesh, its message and the method used instead ("heat geodesics failed (...); fmm instead"). Unless
   // strict, a heat method (heat, heat-cgal) that throws falls back to fast marching; the form is cached
   // under the options asked for (the heat method would fail the same way again).
   std::string geodesics_fallback;
 };
+
+// The form's summary as `canon --json`, Python's summary and the cache hold it: its details with
+// {form_quality} (pipeline/form_quality_json.h) when measured.
+nlohmann::json form_summary_json(const CanonicalForm& form);
+// The form's quality: form_quality (canon/form_quality.h) of `mesh` (the mesh the method computed on), its
+// constraint edges (constraint_edges: mesh edges, or a point cloud's kNN graph) without form.torn_edges, and
+// form.X; failed with form.breakdown when the method gave one.
+FormQuality canonical_form_quality(const Mesh& mesh, const CanonicalFormOptions& options,
+                                   const CanonicalForm& form);
 
 // Computes the canonical form. D: optional precomputed all-pairs distances for MDS between the vertices of
 // repair_for_canonical_form(mesh, options).mesh (the mesh itself when it needs no repair), reused instead
@@ -178,9 +205,9 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
 CanonicalForm classical_mds_form(const ClassicalMdsResult& result);
 CanonicalForm smacof_form(const SmacofResult& result, const SmacofOptions& options);
 
-// The part of the cache key that depends on the options: options_key (support/option_fields.h) of every field
-// that changes the result, but for the fields the method does not read (CanonicalFormMethod::
-// options_not_read): "method=\"cmds\";geodesics.method=fmm;...". Throws for an unknown method, and naming
+// The part of the cache key that depends on the options: options_key (support/option_fields.h) of the fields
+// the method reads (method_reads_field: method, knn, its options' fields and its `reads`) that change the
+// result: "method=\"cmds\";geodesics.method=fmm;...". Throws for an unknown method, and naming
 // distances_file when it cannot be read.
 std::string canonical_form_key(const CanonicalFormOptions& options);
 // Content key of a mesh: SHA-256 of its coordinates and faces.

@@ -27,4 +27,26 @@ inline nlohmann::json form_quality_json(const FormQuality& q) {
           {"description", q.description}};
 }
 
+// The inverse, for a form read back from the cache: null statistics are NaN again.
+inline FormQuality form_quality_from_json(const nlohmann::json& j) {
+  auto number = [&j](const char* key) {
+    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
+  };
+  FormQuality q;
+  q.ok = j.value("ok", false);
+  q.max_stretch = number("max_stretch");
+  q.p99_stretch = number("p99_stretch");
+  q.mean_stretch = number("mean_stretch");
+  q.min_stretch = number("min_stretch");
+  q.max_distance = number("max_distance_diagonals");
+  q.runaway_vertices = j.value("runaway_vertices", Index(0));
+  q.far_vertices = j.value("far_vertices", Index(0));
+  q.stretched_vertices = j.value("stretched_vertices", Index(0));
+  q.detached_vertices = j.value("detached_vertices", Index(0));
+  q.coincident_vertices = j.value("coincident_vertices", Index(0));
+  q.runaway_examples = j.value("runaway_examples", std::vector<Index>());
+  q.description = j.value("description", std::string());
+  return q;
+}
+
 }  // namespace cshapes

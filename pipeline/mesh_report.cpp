@@ -59,7 +59,7 @@ nlohmann::json topological_noise_json(const TopologicalNoiseResult& r) {
 }
 
 nlohmann::json canonical_form_summary(const CanonicalForm& form, const std::string& method) {
-  nlohmann::json summary = nlohmann::json::parse(form.summary_json);
+  nlohmann::json summary = form_summary_json(form);
   nlohmann::json repairs = nlohmann::json::array();
   for (const RepairAction& a : form.repairs) repairs.push_back({{"what", a.what}, {"count", a.count}});
   summary["method"] = method;

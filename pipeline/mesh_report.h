@@ -25,7 +25,7 @@ nlohmann::json describe_mesh(const Mesh& mesh);
 // --red-json reads every integer as a vertex).
 nlohmann::json topological_noise_json(const TopologicalNoiseResult& result);
 
-// A canonical form's summary: the method's own (CanonicalForm::summary_json) plus method, repairs
+// A canonical form's summary: form_summary_json (its details and quality) plus method, repairs
 // [{what, count}], repair (one line), input_vertices and kept_input_vertices.
 nlohmann::json canonical_form_summary(const CanonicalForm& form, const std::string& method);
 

@@ -4,11 +4,11 @@
 
 #include "cshapes/canon/coulomb.h"
 #include "cshapes/canon/coulomb_multiresolution.h"
+#include "cshapes/canon/coulomb_start.h"
 #include "cshapes/support/format.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/timing.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
-#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 
@@ -52,7 +52,8 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   for (const CoulombIterationRecord& h : r.history)
     form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
                                  h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
-  form.summary_json = nlohmann::json{{"vertices", mesh.num_vertices()},
+  form.torn_edges = r.torn_edges;  // left out of the form's quality check
+  form.details = nlohmann::json{{"vertices", mesh.num_vertices()},
                                      {"edges", E.rows()},
                                      {"torn_edges", r.torn_edges.rows()},
                                      {"iterations", r.iterations},
@@ -70,16 +71,137 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"step_rule", to_string(co.step_rule)},
                                      {"step_gradient", to_string(co.step_gradient)},
                                      {"projection", to_string(co.projection.norm)},
-                                     {"projection_steps", co.projection.steps},
-                                     {"form_quality", form_quality_json(r.quality)}}
-                          .dump();
+                                     {"projection_steps", co.projection.steps}};
   say(options.note, "coulomb: started at " + r.start);
   say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
                         significant(r.seconds) + " s; edge lengths off their rest lengths by " +
                         significant(100 * r.violation.mean_relative) + "% on average, " +
                         std::to_string(r.torn_edges.rows()) + " edges torn");
-  say(options.note, "coulomb: form quality " + r.quality.description);
   return form;
+}
+
+// The options of method coulomb, each once (pipeline/method_options.h): `cshapes canon`'s "coulomb options",
+// coulomb()'s and canonical_form()'s keywords. The start, the step and the projection:
+using Ref = CanonicalFormOptions&;
+std::vector<MethodOption> coulomb_step_options() {
+  using C = MethodOption::Condition;
+  const std::vector<std::string> f = {"coulomb"};
+  std::vector<MethodOption> o;
+  o.push_back(choice_option<CoulombScheme>(
+      "scheme", "paper: plain alternation of §2.1; momentum: Nesterov with restart (same fixed point, fewer iterations)",
+      {"paper", "momentum"}, f, [](Ref c) -> CoulombScheme& { return c.coulomb.scheme; }, to_string,
+      parse_coulomb_scheme));
+  o.push_back(choice_option<CoulombStart>(
+      "coulomb_start",
+      "where the iteration starts: landmark-mds (an embedding of graph geodesics, the same for every pose) or "
+      "input (the paper: the input's coordinates)",
+      {"landmark-mds", "input"}, f, [](Ref c) -> CoulombStart& { return c.coulomb.start; }, to_string,
+      parse_coulomb_start));
+  o.push_back(integer_option<Index>("start_landmarks", "landmarks of --coulomb-start landmark-mds",
+                                    coulomb_limits::kStartLandmarks, f,
+                                    [](Ref c) -> Index& { return c.coulomb.start_landmarks; }));
+  o.back().applies_when = C{"coulomb_start", {"landmark-mds"}, ""};
+  o.push_back(number_option("flatten",
+                            "per iteration, pull every point this fraction of the way towards the form's plane of "
+                            "largest spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)",
+                            coulomb_limits::kFlatten, f, [](Ref c) -> double& { return c.coulomb.flatten; }));
+  o.push_back(choice_option<CoulombStepRule>(
+      "step_rule",
+      "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), mean-edge, median-edge; or fixed",
+      {"max-edge", "mean-edge", "median-edge", "fixed"}, f,
+      [](Ref c) -> CoulombStepRule& { return c.coulomb.step_rule; }, to_string, parse_coulomb_step_rule));
+  o.push_back(choice_option<StepGradient>(
+      "step_gradient",
+      "the step rule's denominator: max (paper: the fastest vertex moves factor·L) or mean (a typical vertex "
+      "does)",
+      {"max", "mean"}, f, [](Ref c) -> StepGradient& { return c.coulomb.step_gradient; }, to_string,
+      parse_step_gradient));
+  o.push_back(number_option("step_factor", "the factor of the step rule (paper: 0.1)", coulomb_limits::kStepFactor,
+                            f, [](Ref c) -> double& { return c.coulomb.step_factor; }));
+  o.push_back(number_option("fixed_step", "c for --step-rule fixed; 0: the mean-edge c of the first iteration",
+                            coulomb_limits::kFixedStep, f, [](Ref c) -> double& { return c.coulomb.fixed_step; }));
+  o.back().applies_when = C{"step_rule", {"fixed"}, ""};
+  o.push_back(integer_option<int>("coulomb_steps", "m: Coulomb steps per outer iteration",
+                                  coulomb_limits::kCoulombSteps, f,
+                                  [](Ref c) -> int& { return c.coulomb.coulomb_steps; }));
+  o.push_back(integer_option<int>("projection_steps", "k: projection sweeps per outer iteration",
+                                  projection_limits::kSteps, f,
+                                  [](Ref c) -> int& { return c.coulomb.projection.steps; }));
+  o.push_back(choice_option<ProjectionNorm>(
+      "projection", "l2: averaged projection (eq. 6); l1: weighted (eq. 8-9)", {"l2", "l1"}, f,
+      [](Ref c) -> ProjectionNorm& { return c.coulomb.projection.norm; }, to_string, parse_projection_norm));
+  o.push_back(number_option("l1_floor", "L1 weights: |r-d| floored at this fraction of d", projection_limits::kL1Floor,
+                            f, [](Ref c) -> double& { return c.coulomb.projection.l1_floor; }));
+  o.back().applies_when = C{"projection", {"l1"}, ""};
+  o.push_back(number_option("dilation", "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact",
+                            projection_limits::kDilation, f,
+                            [](Ref c) -> double& { return c.coulomb.projection.dilation; }));
+  return o;
+}
+
+// Tearing, stopping, the Coulomb sum and the multiresolution path.
+std::vector<MethodOption> coulomb_tearing_and_stop_options() {
+  using C = MethodOption::Condition;
+  const std::vector<std::string> f = {"coulomb"};
+  std::vector<MethodOption> o;
+  o.push_back(number_option("tear_fraction", "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing",
+                            coulomb_limits::kTearFraction, f,
+                            [](Ref c) -> double& { return c.coulomb.tear_fraction; }));
+  const C tearing{"tear_fraction", {}, "when tearing"};
+  o.push_back(integer_option<int>("tear_after", "T: tear after this many iterations (or at convergence if earlier)",
+                                  coulomb_limits::kTearAfter, f, [](Ref c) -> int& { return c.coulomb.tear_after; }));
+  o.back().applies_when = tearing;
+  o.push_back(integer_option<int>("tear_times", "how many times to tear", coulomb_limits::kTearTimes, f,
+                                  [](Ref c) -> int& { return c.coulomb.tear_times; }));
+  o.back().applies_when = tearing;
+  o.push_back(integer_option<int>("tear_interval", "iterations between repeated tears",
+                                  coulomb_limits::kTearInterval, f,
+                                  [](Ref c) -> int& { return c.coulomb.tear_interval; }));
+  o.back().applies_when = tearing;
+  o.push_back(choice_option<TearGuard>(
+      "tear_guard",
+      "edges tearing must keep: connected (two per vertex, no part cut off), vertex (one per vertex: pairs and "
+      "patches may be cut off and drift away)",
+      {"connected", "vertex"}, f, [](Ref c) -> TearGuard& { return c.coulomb.tear_guard; }, to_string,
+      parse_tear_guard));
+  o.back().applies_when = tearing;
+  o.push_back(integer_option<int>("coulomb_max_iterations", "maximum outer iterations",
+                                  coulomb_limits::kMaxIterations, f,
+                                  [](Ref c) -> int& { return c.coulomb.max_iterations; }));
+  o.push_back(integer_option<int>("coulomb_window", "iterations between shape-change checks", coulomb_limits::kWindow,
+                                  f, [](Ref c) -> int& { return c.coulomb.stop_window; }));
+  o.push_back(number_option("coulomb_tolerance",
+                            "converged when the aligned RMS shape change over a window is below this × bbox diagonal",
+                            coulomb_limits::kTolerance, f, [](Ref c) -> double& { return c.coulomb.stop_tolerance; }));
+  o.push_back(number_option("momentum", "cap of Nesterov's momentum (scheme momentum)", coulomb_limits::kMomentum, f,
+                            [](Ref c) -> double& { return c.coulomb.momentum; }));
+  o.back().applies_when = C{"scheme", {"momentum"}, ""};
+  o.push_back(choice_option<CoulombOptions::Summation>(
+      "coulomb_summation", "Coulomb sum: auto, direct, direct-float, fast", {"auto", "direct", "direct-float", "fast"},
+      f, [](Ref c) -> CoulombOptions::Summation& { return c.coulomb.energy.summation; }, to_string,
+      parse_coulomb_summation));
+  o.push_back(number_option("coulomb_accuracy",
+                            "fast summation in the iterations: target relative gradient error (the reported "
+                            "energy: 1e-3 or this, whichever is smaller)",
+                            coulomb_limits::kAccuracy, f, [](Ref c) -> double& { return c.coulomb.energy.accuracy; }));
+  o.push_back(integer_option<Index>(
+      "coulomb_multiresolution_above",
+      "meshes with more vertices are canonized through a coarse remesh of their surface and refined (the "
+      "single-level form inflates with n); 0: never",
+      coulomb_limits::kMultiresolutionAbove, f,
+      [](Ref c) -> Index& { return c.coulomb.multiresolution.above_vertices; }));
+  const C multiresolution{"coulomb_multiresolution_above", {}, "with multiresolution"};
+  o.push_back(integer_option<Index>("coulomb_coarse_vertices",
+                                    "vertices of that coarse remesh (the resolution the defaults were chosen at)",
+                                    coulomb_limits::kCoarseVertices, f,
+                                    [](Ref c) -> Index& { return c.coulomb.multiresolution.coarse_vertices; }));
+  o.back().applies_when = multiresolution;
+  o.push_back(integer_option<int>(
+      "coulomb_tear_rounds",
+      "multiresolution: rounds that tear fine edges still overstretched after the refinement; 0: none",
+      coulomb_limits::kTearRounds, f, [](Ref c) -> int& { return c.coulomb.multiresolution.tear_rounds; }));
+  o.back().applies_when = multiresolution;
+  return o;
 }
 
 }  // namespace
@@ -88,11 +210,13 @@ CanonicalFormMethod coulomb_method() {
   CanonicalFormMethod m;
   m.name = "coulomb";
   m.title = "Coulomb";
+  m.summary = "Coulomb shape: electrostatic repulsion under edge-length constraints (§2)";
   m.requirements = MeshRequirements::edge_graph();
   m.repair_purpose = "Coulomb canonization (the largest component's edge graph)";
   m.uses_geodesic_matrix = false;
-  m.options_not_read = {"geodesics",      "cmds",           "smacof", "smacof_init", "smacof_weights",
-                        "distances_file", "lbo",            "diffusion", "spectral_mds", "mds_solver"};
+  m.options = coulomb_step_options();
+  for (MethodOption& option : coulomb_tearing_and_stop_options()) m.options.push_back(std::move(option));
+  m.reads = {"coulomb"};
   m.has_history = true;
   m.compute = coulomb_compute;
   return m;

@@ -26,7 +26,7 @@ CanonicalForm diffusion_compute(const Mesh& mesh, const CanonicalFormOptions& op
   say(options.note, "diffusion: t = " + std::to_string(options.diffusion.time) + "/λ1 = " + std::to_string(t) +
                         "; 3 axes keep " + std::to_string(100 * kept) +
                         "% of the mean squared diffusion distance (of the computed eigenpairs)");
-  form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "diffusion");
+  form.details = std::move(s.summary);
   return form;
 }
 
@@ -35,7 +35,12 @@ CanonicalForm diffusion_compute(const Mesh& mesh, const CanonicalFormOptions& op
 CanonicalFormMethod diffusion_method() {
   CanonicalFormMethod m = spectral_method_base("diffusion");
   m.title = "diffusion map";
+  m.summary = "diffusion map exp(-lambda_i t) phi_i at t = c / lambda_1 (scale-free), in the mesh's units";
   m.compute = diffusion_compute;
+  m.options = {laplacian_option(), eigenpairs_option(), near_multiple_gap_option(),
+               number_option("diffusion_time", "c in t = c / lambda_1", spectral_limits::kDiffusionTime,
+                             {"diffusion"}, [](CanonicalFormOptions& c) -> double& { return c.diffusion.time; })};
+  m.reads = {"diffusion"};
   return m;
 }
 

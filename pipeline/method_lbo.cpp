@@ -17,7 +17,7 @@ CanonicalForm lbo_compute(const Mesh& mesh, const CanonicalFormOptions& options,
   form.X = gps_embedding(s.eigen, 3);
   form.solve_seconds = seconds_since(start);
   s.summary["embedding"] = "gps: sqrt(area) * phi_i / sqrt(lambda_i), i = 1..3";
-  form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "lbo");
+  form.details = std::move(s.summary);
   return form;
 }
 
@@ -26,7 +26,10 @@ CanonicalForm lbo_compute(const Mesh& mesh, const CanonicalFormOptions& options,
 CanonicalFormMethod lbo_method() {
   CanonicalFormMethod m = spectral_method_base("lbo");
   m.title = "LBO eigenmap";
+  m.summary = "Laplace-Beltrami eigenmap (GPS): sqrt(area) * phi_i / sqrt(lambda_i), i = 1..3";
   m.compute = lbo_compute;
+  m.options = {laplacian_option(), eigenpairs_option(), near_multiple_gap_option()};
+  m.reads = {"lbo"};
   return m;
 }
 

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "cshapes/canon/form_quality.h"
 #include "cshapes/canon/landmark_mds.h"
 #include "cshapes/support/format.h"
 #include "cshapes/support/error.h"
@@ -12,7 +11,6 @@
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/timing.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
-#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 
@@ -58,16 +56,14 @@ void require_smacof_range(const Eigen::MatrixXf& distances, const std::string& n
                   "the mesh (its units are free) or use --method cmds");
 }
 
-// form_quality, and what only the iteration knows: a normalised stress that is not a number (the last
-// entry of a SMACOF history) means the iteration broke down, however the coordinates look.
-FormQuality mds_form_quality(const Mesh& mesh, const Edges& E, const CanonicalForm& form) {
-  FormQuality quality = form_quality(mesh.V, E, form.X);
+// What only the iteration knows for the form's quality check: a normalised stress that is not a number (the
+// last entry of a SMACOF history) means the iteration broke down, however the coordinates look. "" otherwise.
+std::string smacof_breakdown(const CanonicalForm& form) {
   const auto& columns = form.history_columns;
   const auto column = std::find(columns.begin(), columns.end(), "normalized_stress");
-  if (column == columns.end() || form.history_rows.empty()) return quality;
+  if (column == columns.end() || form.history_rows.empty()) return "";
   const double stress = form.history_rows.back()[static_cast<size_t>(column - columns.begin())];
-  if (!std::isfinite(stress)) fail_form_quality(quality, "normalised stress " + std::to_string(stress));
-  return quality;
+  return std::isfinite(stress) ? "" : "normalised stress " + std::to_string(stress);
 }
 
 nlohmann::json smacof_summary(const SmacofResult& sr, const SmacofOptions& so) {
@@ -178,10 +174,8 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
                              {"seconds", r.seconds}};
   form.X = std::move(r.X);
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = mds_form_quality(mesh, constraint_edges(mesh, options.knn), form);
-  say(options.note, "form quality " + quality.description);
-  summary["form_quality"] = form_quality_json(quality);
-  form.summary_json = summary.dump();
+  form.breakdown = smacof_breakdown(form);
+  form.details = std::move(summary);
   return form;
 }
 
@@ -236,10 +230,8 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     summary["smacof"]["weights"] = to_string(options.smacof_weights);
   }
   form.solve_seconds = seconds_since(start);
-  const FormQuality quality = mds_form_quality(mesh, E, form);
-  say(options.note, "form quality " + quality.description);
-  summary["form_quality"] = form_quality_json(quality);
-  form.summary_json = summary.dump();
+  form.breakdown = smacof_breakdown(form);
+  form.details = std::move(summary);
   return form;
 }
 
@@ -268,7 +260,100 @@ CanonicalForm smacof_compute(const Mesh& mesh, const CanonicalFormOptions& optio
   return mds_form(mesh, options, given, /*with_smacof=*/true);
 }
 
+using Ref = CanonicalFormOptions&;
+
+// --distances: the matrix itself, read by `cshapes canon` only (Python's canonical_form() takes no file).
+MethodOption distances_option() {
+  MethodOption o = option_of("distances", MethodOption::Type::Path,
+                             "read the n×n distance matrix (.bin, see `cshapes geodesics`) instead",
+                             {"distances_file"});
+  o.get = [](const CanonicalFormOptions& c) { return OptionValue(c.distances_file); };
+  o.set = [](CanonicalFormOptions& c, const OptionValue& v) { c.distances_file = std::get<std::string>(v); };
+  o.python = false;
+  return o;
+}
+
+// The options cmds and smacof share: the geodesic matrix (computed or read) and full or landmark MDS of it.
+std::vector<MethodOption> mds_options() {
+  std::vector<MethodOption> o = {geodesics_option(), distances_option()};
+  o.push_back(choice_option<MdsSolver>(
+      "mds_solver",
+      "full (the n×n geodesic matrix), landmarks (L rows: landmark MDS, SMACOF on the landmarks), or auto "
+      "(landmarks above 12,000 vertices or when the matrix would take more than half the free memory)",
+      mds_solver_names(), {"mds_solver"}, [](Ref c) -> MdsSolver& { return c.mds_solver.solver; }, to_string,
+      parse_mds_solver));
+  o.push_back(integer_option<Index>("landmarks",
+                                    "landmarks L for --mds-solver landmarks|auto (farthest-point sampling)",
+                                    landmark_limits::kLandmarks, {"mds_solver"},
+                                    [](Ref c) -> Index& { return c.mds_solver.landmarks; }));
+  o.back().applies_when = MethodOption::Condition{"mds_solver", {"landmarks", "auto"}, ""};
+  return o;
+}
+
+std::vector<MethodOption> smacof_options() {
+  std::vector<MethodOption> o = mds_options();
+  const std::vector<std::string> f = {"smacof"};
+  o.push_back(integer_option<int>("iters", "maximum iterations (passes over D)", smacof_limits::kIterations, f,
+                                  [](Ref c) -> int& { return c.smacof.max_iterations; }));
+  o.push_back(number_option("tolerance", "stop when the relative stress decrease is below this",
+                            smacof_limits::kTolerance, f, [](Ref c) -> double& { return c.smacof.tolerance; }));
+  o.push_back(choice_option<SmacofInit>("init", "initial configuration: cmds (classical MDS) or mesh",
+                                        smacof_init_names(), {"smacof_init"},
+                                        [](Ref c) -> SmacofInit& { return c.smacof_init; }, to_string,
+                                        parse_smacof_init));
+  o.push_back(choice_option<SmacofAcceleration>(
+      "accelerate", "vector extrapolation: none, rre or mpe", {"none", "rre", "mpe"}, f,
+      [](Ref c) -> SmacofAcceleration& { return c.smacof.acceleration; }, to_string, parse_smacof_acceleration));
+  o.push_back(integer_option<int>("window", "Guttman steps per extrapolation", smacof_limits::kWindow, f,
+                                  [](Ref c) -> int& { return c.smacof.extrapolation_window; }));
+  o.back().applies_when = MethodOption::Condition{"accelerate", {"rre", "mpe"}, ""};
+  o.push_back(choice_option<SmacofWeights>("weights", "pair weights w_i*w_j from uniform or area (vertex areas)",
+                                           smacof_weights_names(), {"smacof_weights"},
+                                           [](Ref c) -> SmacofWeights& { return c.smacof_weights; }, to_string,
+                                           parse_smacof_weights));
+  o.push_back(number_option("fold_overstretch",
+                            "on landmarks: points on edges longer than this × their input length (or the mean "
+                            "edge) are placed again beside their neighbours; 0: no repair",
+                            landmark_limits::kFoldOverstretch, {"mds_solver"},
+                            [](Ref c) -> double& { return c.mds_solver.fold_overstretch; }));
+  o.back().applies_when = MethodOption::Condition{"mds_solver", {"landmarks", "auto"}, ""};
+  return o;
+}
+
+// What the options of cmds and smacof cannot say alone.
+void check_mds(const CanonicalFormOptions&, const OptionFace& face) {
+  const std::string geodesics = face.name(geodesics_option()), distances = face.name(distances_option());
+  if (face.given("geodesics") && face.given("distances"))
+    fail(geodesics, " and ", distances, " exclude each other (", distances, " reads the distances instead)");
+  if (face.given("distances") && !face.single_mesh)
+    fail(distances, ": only `cshapes canon` reads a precomputed distance matrix (here every shape needs its own)");
+}
+
+void check_smacof(const CanonicalFormOptions& o, const OptionFace& face) {
+  check_mds(o, face);
+  const double fold = o.mds_solver.fold_overstretch;
+  if (fold > 0 && fold <= 1)
+    fail(face.cli ? "--fold-overstretch" : "fold_overstretch", ": expected 0 (no repair) or a number above 1, got ",
+         format_limit_number(fold));
+  if (o.smacof_init != SmacofInit::ClassicalMds && !face.single_mesh)
+    fail(face.cli ? "--init " : "init=", to_string(o.smacof_init),
+         ": only `cshapes canon` starts SMACOF from the mesh; here it starts from classical MDS");
+  if (o.smacof_weights != SmacofWeights::Uniform && !face.single_mesh)
+    fail(face.cli ? "--weights " : "weights=", to_string(o.smacof_weights),
+         ": only `cshapes canon` weights SMACOF by vertex areas; here weights are uniform");
+}
+
 }  // namespace
+
+MethodOption geodesics_option() {
+  return choice_option<GeodesicMethod>(
+      "geodesics",
+      "geodesic distances to embed (heat, heat-cgal, fmm, exact, graph); default: heat in every command and "
+      "in Python (fmm is the paper's)",
+      {"heat", "heat-cgal", "fmm", "exact", "graph"}, {"geodesics"},
+      [](CanonicalFormOptions& c) -> GeodesicMethod& { return c.geodesics.method; }, to_string,
+      parse_geodesic_method);
+}
 
 // Function-local statics: the CLI's option defaults may ask during static initialisation.
 const std::vector<std::string>& smacof_init_names() {
@@ -297,7 +382,7 @@ CanonicalForm classical_mds_form(const ClassicalMdsResult& r) {
   form.X = r.X;
   form.valid = Eigen::VectorXd::Ones(r.X.rows());
   form.solve_seconds = r.seconds;
-  form.summary_json = nlohmann::json{{"classical_mds", cmds_summary(r)}}.dump();
+  form.details = {{"classical_mds", cmds_summary(r)}};
   return form;
 }
 
@@ -306,7 +391,7 @@ CanonicalForm smacof_form(const SmacofResult& r, const SmacofOptions& options) {
   set_smacof_result(form, r);
   form.valid = Eigen::VectorXd::Ones(r.X.rows());
   form.solve_seconds = r.seconds;
-  form.summary_json = nlohmann::json{{"smacof", smacof_summary(r, options)}}.dump();
+  form.details = {{"smacof", smacof_summary(r, options)}};
   return form;
 }
 
@@ -314,12 +399,13 @@ CanonicalFormMethod cmds_method() {
   CanonicalFormMethod m;
   m.name = "cmds";
   m.title = "classical MDS";
+  m.summary = "classical MDS (Young-Householder) of all-pairs geodesic distances";
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = "cmds (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
-  // The fold repair is SMACOF's (on landmark rows): classical MDS interpolates without one.
-  m.options_not_read = {"coulomb", "smacof",    "smacof_init",  "smacof_weights",
-                        "lbo",     "diffusion", "spectral_mds", "mds_solver.fold_overstretch"};
+  m.options = mds_options();  // not fold_overstretch: the fold repair is SMACOF's (classical MDS has none)
+  m.reads = {"geodesics", "cmds", "mds_solver", "distances_file"};
+  m.check = check_mds;
   m.compute = cmds_compute;
   return m;
 }
@@ -328,10 +414,14 @@ CanonicalFormMethod smacof_method() {
   CanonicalFormMethod m;
   m.name = "smacof";
   m.title = "SMACOF";
+  m.summary = "SMACOF metric MDS (Guttman transforms) of all-pairs geodesic distances";
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = "smacof (its geodesics need one manifold component without zero-area faces)";
   m.uses_geodesic_matrix = true;
-  m.options_not_read = {"coulomb", "lbo", "diffusion", "spectral_mds"};  // it reads cmds: classical MDS is its start
+  m.options = smacof_options();
+  // cmds: classical MDS is its start.
+  m.reads = {"geodesics", "cmds", "smacof", "smacof_init", "smacof_weights", "mds_solver", "distances_file"};
+  m.check = check_smacof;
   m.has_history = true;
   m.compute = smacof_compute;
   return m;

@@ -47,7 +47,7 @@ CanonicalForm spectral_mds_compute(const Mesh& mesh, const CanonicalFormOptions&
                         to_string(options.geodesics.method) + ", coverage radius " +
                         significant(rows.coverage_radius) + "); the basis misses " +
                         significant(100 * r.fit_residual) + "% of their squared distances");
-  form.summary_json = spectral_summary(mesh, options, form.X, s.summary, "spectral-mds");
+  form.details = std::move(s.summary);
   return form;
 }
 
@@ -64,11 +64,27 @@ double spectral_mds_memory_bytes(Index n, const CanonicalFormOptions& options) {
 CanonicalFormMethod spectral_mds_method() {
   CanonicalFormMethod m = spectral_method_base("spectral-mds");
   m.title = "spectral MDS";
+  m.summary =
+      "spectral MDS (Aflalo & Kimmel): classical MDS in the span of the first eigenfunctions, from the "
+      "geodesic rows of farthest-point sources (--geodesics: their solver)";
   m.compute = spectral_mds_compute;
   m.memory_bytes = spectral_mds_memory_bytes;
-  // Reads geodesics (its rows' solver), not the other spectral methods' options.
-  m.options_not_read = {"coulomb", "cmds", "smacof", "smacof_init", "smacof_weights", "distances_file",
-                        "lbo", "diffusion", "mds_solver"};
+  using Ref = CanonicalFormOptions&;
+  const std::vector<std::string> f = {"spectral_mds"};
+  m.options = {laplacian_option(), near_multiple_gap_option(), geodesics_option(),  // geodesics: its rows' solver
+               integer_option<int>("basis", "eigenfunctions k spanning the distances (the constant one included)",
+                                   laplace_beltrami_limits::kEigenpairs, f,
+                                   [](Ref c) -> int& { return c.spectral_mds.laplacian.eigenpairs; }),
+               integer_option<Index>("sources", "geodesic rows L (farthest-point sources), at least --basis",
+                                     spectral_mds_limits::kLandmarks, f,
+                                     [](Ref c) -> Index& { return c.spectral_mds.sources; })};
+  m.reads = {"geodesics", "spectral_mds"};
+  m.check = [](const CanonicalFormOptions& o, const OptionFace& face) {
+    const Index sources = o.spectral_mds.sources, basis = o.spectral_mds.laplacian.eigenpairs;
+    if (sources < basis)
+      fail(face.cli ? "--sources (" : "sources (", sources, ") must be at least ", face.cli ? "--basis (" : "basis (",
+           basis, ")");
+  };
   return m;
 }
 

@@ -178,11 +178,9 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
   }
   // A form that fails its own quality check (canon/form_quality.h) is kept and measured, and said.
   for (size_t k = 0; k < forms.size(); ++k) {
-    const std::string& summary = forms[k].form.summary_json;
-    if (summary.empty()) continue;
-    const nlohmann::json j = nlohmann::json::parse(summary, nullptr, false);
-    if (j.is_discarded() || !j.contains("form_quality") || j["form_quality"].value("ok", true)) continue;
-    const std::string description = j["form_quality"].value("description", std::string("not ok"));
+    const std::optional<FormQuality>& quality = forms[k].form.quality;
+    if (!quality || quality->ok) continue;
+    const std::string& description = quality->description;
     failures.push_back({name, options[k].name, options[k].method, "form quality", description,
                         "form quality " + description + "; the form is kept and measured as it is"});
   }

@@ -1,11 +1,9 @@
 #include "cshapes/pipeline/spectral_method.h"
 
-#include "cshapes/canon/form_quality.h"
 #include "cshapes/support/format.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/timing.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
-#include "cshapes/pipeline/form_quality_json.h"
 
 namespace cshapes {
 
@@ -53,14 +51,6 @@ SpectralSolve spectral_eigenpairs(const Mesh& mesh, const LaplaceBeltramiOptions
   return s;
 }
 
-std::string spectral_summary(const Mesh& mesh, const CanonicalFormOptions& options, const Points& X,
-                             nlohmann::json summary, const std::string& method) {
-  const FormQuality quality = form_quality(mesh.V, constraint_edges(mesh, options.knn), X);
-  say(options.note, method + ": form quality " + quality.description);
-  summary["form_quality"] = form_quality_json(quality);
-  return summary.dump();
-}
-
 CanonicalFormMethod spectral_method_base(const std::string& name) {
   CanonicalFormMethod m;
   m.name = name;
@@ -70,10 +60,54 @@ CanonicalFormMethod spectral_method_base(const std::string& name) {
   m.requirements = MeshRequirements::manifold_surface();
   m.repair_purpose = name + " (its Laplace-Beltrami eigenpairs need one manifold component)";
   m.uses_geodesic_matrix = false;
-  m.options_not_read = {"coulomb", "geodesics", "cmds", "smacof", "smacof_init", "smacof_weights",
-                        "distances_file", "spectral_mds", "mds_solver"};
-  m.options_not_read.push_back(name == "lbo" ? "diffusion" : "lbo");  // the other one's
   return m;
+}
+
+namespace {
+using Ref = CanonicalFormOptions&;
+// The Laplace–Beltrami options in each spectral method's group of CanonicalFormOptions.
+std::vector<LaplaceBeltramiOptions*> laplacians(CanonicalFormOptions& c) {
+  return {&c.lbo.laplacian, &c.diffusion.laplacian, &c.spectral_mds.laplacian};
+}
+}  // namespace
+
+MethodOption laplacian_option() {
+  MethodOption o = option_of("laplacian", MethodOption::Type::Choice,
+                             "cotangent Laplacian on the intrinsic-delaunay triangulation or on the mesh's own "
+                             "triangles (cotangent); point clouds use their kNN graph",
+                             {"lbo", "diffusion", "spectral_mds"});
+  o.choices = {"intrinsic-delaunay", "cotangent"};
+  o.get = [](const CanonicalFormOptions& c) {
+    return OptionValue(std::string(c.lbo.laplacian.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent"));
+  };
+  o.set = [](CanonicalFormOptions& c, const OptionValue& v) {
+    for (LaplaceBeltramiOptions* l : laplacians(c)) l->intrinsic_delaunay = std::get<std::string>(v) == "intrinsic-delaunay";
+  };
+  return o;
+}
+
+MethodOption eigenpairs_option() {
+  MethodOption o = integer_option<int>(
+      "eigenpairs",
+      "eigenpairs computed, the constant one included (the form uses 3; the rest detect near-multiple "
+      "eigenvalues)",
+      laplace_beltrami_limits::kEigenpairs, {"lbo", "diffusion"}, [](Ref c) -> int& { return c.lbo.laplacian.eigenpairs; });
+  const auto set = o.set;
+  o.set = [set](CanonicalFormOptions& c, const OptionValue& v) {  // spectral-mds's are its --basis
+    set(c, v);
+    c.diffusion.laplacian.eigenpairs = c.lbo.laplacian.eigenpairs;
+  };
+  return o;
+}
+
+MethodOption near_multiple_gap_option() {
+  MethodOption o = number_option("near_multiple_gap", "report consecutive eigenvalues closer than this relative gap",
+                                 laplace_beltrami_limits::kNearMultipleGap, {"lbo", "diffusion", "spectral_mds"},
+                                 [](Ref c) -> double& { return c.lbo.laplacian.near_multiple_gap; });
+  o.set = [](CanonicalFormOptions& c, const OptionValue& v) {
+    for (LaplaceBeltramiOptions* l : laplacians(c)) l->near_multiple_gap = std::get<double>(v);
+  };
+  return o;
 }
 
 }  // namespace cshapes

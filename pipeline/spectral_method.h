@@ -1,4 +1,5 @@
-// What the spectral methods (lbo: pipeline/method_lbo.cpp, diffusion: pipeline/method_diffusion.cpp) share:
+// What the spectral methods (lbo: pipeline/method_lbo.cpp, diffusion: pipeline/method_diffusion.cpp,
+// spectral-mds: pipeline/method_spectral_mds.cpp) share:
 // the Laplace–Beltrami eigenpairs of the method's mesh, said and summarised once.
 #pragma once
 
@@ -23,12 +24,12 @@ struct SpectralSolve {
 SpectralSolve spectral_eigenpairs(const Mesh& mesh, const LaplaceBeltramiOptions& laplacian,
                                   const CanonicalFormOptions& options, const std::string& method);
 
-// The form's summary completed with its form quality (pipeline/form_quality_json.h), noted; the form's
-// summary_json.
-std::string spectral_summary(const Mesh& mesh, const CanonicalFormOptions& options, const Points& X,
-                             nlohmann::json summary, const std::string& method);
-
-// The registration both methods share (requirements, repair purpose, options not read).
+// The registration the spectral methods share (requirements, repair purpose).
 CanonicalFormMethod spectral_method_base(const std::string& name);
+// Their options on the Laplace–Beltrami operator: --laplacian and --near-multiple-gap (lbo, diffusion,
+// spectral-mds: set in each one's group), --eigenpairs (lbo and diffusion; spectral-mds's are its --basis).
+MethodOption laplacian_option();
+MethodOption eigenpairs_option();
+MethodOption near_multiple_gap_option();
 
 }  // namespace cshapes

@@ -12,6 +12,7 @@
 #include "cshapes/support/error.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/pipeline/method_options.h"
 #include "cshapes/pipeline/mesh_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
@@ -33,159 +34,65 @@ struct PyCanonicalForm {
   double seconds = 0;  // wall time: geodesics or graph set-up plus the solve
 };
 
-// The keywords of the `coulomb options` group (read_coulomb_options).
-// clang-format off
-const char* const kCoulombKeywords[] = {
-    "scheme", "coulomb_start", "start_landmarks", "flatten", "step_rule", "step_gradient", "step_factor",
-    "fixed_step", "coulomb_steps", "projection_steps", "projection", "l1_floor", "dilation", "tear_fraction",
-    "tear_after", "tear_times", "tear_interval", "tear_guard", "coulomb_max_iterations", "coulomb_window",
-    "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy", "coulomb_multiresolution_above",
-    "coulomb_coarse_vertices", "coulomb_tear_rounds"};
-// clang-format on
-
-// Every keyword of canonical_form() but method, with the top-level CanonicalFormOptions fields it sets (as
-// the CLI's options: cli/method_option_readers.cpp). Which methods read a keyword is not written here: a
-// method reads it when it reads any of those fields (its registration's options_not_read, the table its cache
-// key, the CLI's refusals and these use), and a keyword no reader of which is the method given is refused.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& keyword_fields() {
-  static const std::vector<std::pair<std::string, std::vector<std::string>>> table = [] {
-    std::vector<std::pair<std::string, std::vector<std::string>>> t;
-    for (const char* name : kCoulombKeywords) t.push_back({name, {"coulomb"}});
-    t.push_back({"geodesics", {"geodesics"}});
-    for (const char* name : {"mds_solver", "landmarks"}) t.push_back({name, {"mds_solver"}});
-    t.push_back({"fold_overstretch", {"mds_solver.fold_overstretch"}});
-    for (const char* name : {"iters", "tolerance", "accelerate", "window"}) t.push_back({name, {"smacof"}});
-    t.push_back({"init", {"smacof_init"}});
-    t.push_back({"weights", {"smacof_weights"}});
-    t.push_back({"eigenpairs", {"lbo", "diffusion"}});  // spectral-mds's eigenpairs are its basis
-    for (const char* name : {"laplacian", "near_multiple_gap"})
-      t.push_back({name, {"lbo", "diffusion", "spectral_mds"}});
-    t.push_back({"diffusion_time", {"diffusion"}});
-    for (const char* name : {"basis", "sources"}) t.push_back({name, {"spectral_mds"}});
-    t.push_back({"knn", {"knn"}});
-    t.push_back({"strict", {"strict"}});
-    return t;
-  }();
-  return table;
+OptionFace python_face(const Kwargs& k) {
+  OptionFace face;
+  face.cli = false;
+  face.single_mesh = true;
+  face.given = [&k](const std::string& name) { return k.given(name); };
+  return face;
 }
 
-bool reads(const CanonicalFormMethod& method, const char* field) {
-  return reads_any_option(method, {field});
-}
-
-// The Laplace–Beltrami options (the `lbo options` and `diffusion options` groups of `cshapes canon`, and
-// spectral-mds's), set in each spectral group of CanonicalFormOptions the method reads.
-void read_spectral_options(Kwargs& k, const CanonicalFormMethod& method, CanonicalFormOptions& o) {
-  std::vector<LaplaceBeltramiOptions*> eigenmaps;  // the groups whose eigenpairs are `eigenpairs`
-  if (reads(method, "lbo")) eigenmaps.push_back(&o.lbo.laplacian);
-  if (reads(method, "diffusion")) eigenmaps.push_back(&o.diffusion.laplacian);
-  std::vector<LaplaceBeltramiOptions*> all = eigenmaps;
-  if (reads(method, "spectral_mds")) all.push_back(&o.spectral_mds.laplacian);
-  if (all.empty()) return;
-  const LaplaceBeltramiOptions& first = *all.front();
-  const std::string laplacian =
-      k.text("laplacian", first.intrinsic_delaunay ? "intrinsic-delaunay" : "cotangent");
-  if (laplacian != "intrinsic-delaunay" && laplacian != "cotangent")
-    fail("laplacian: unknown '", laplacian, "'; known: intrinsic-delaunay, cotangent");
-  if (!eigenmaps.empty()) {
-    const int eigenpairs =
-        k.int32("eigenpairs", eigenmaps.front()->eigenpairs, laplace_beltrami_limits::kEigenpairs);
-    for (LaplaceBeltramiOptions* l : eigenmaps) l->eigenpairs = eigenpairs;
+// One method option's keyword (given), checked against its limit or choices as the CLI checks it.
+OptionValue read_keyword(Kwargs& k, const MethodOption& option, const CanonicalFormOptions& o) {
+  const OptionValue fallback = option.get(o);
+  switch (option.type) {
+    case MethodOption::Type::Integer:
+      return OptionValue(static_cast<long long>(
+          k.int32(option.name, static_cast<int>(std::get<long long>(fallback)), *option.limit)));
+    case MethodOption::Type::Number: return OptionValue(k.number(option.name, std::get<double>(fallback), *option.limit));
+    case MethodOption::Type::Choice: {
+      const std::string value = k.text(option.name, std::get<std::string>(fallback));
+      if (std::find(option.choices.begin(), option.choices.end(), value) == option.choices.end()) {
+        std::string known;
+        for (const std::string& c : option.choices) known += (known.empty() ? "" : ", ") + c;
+        fail(option.name, ": unknown '", value, "'; known: ", known);
+      }
+      return OptionValue(value);
+    }
+    case MethodOption::Type::Path: return OptionValue(k.text(option.name, std::get<std::string>(fallback)));
   }
-  const double gap =
-      k.number("near_multiple_gap", first.near_multiple_gap, laplace_beltrami_limits::kNearMultipleGap);
-  for (LaplaceBeltramiOptions* l : all) {
-    l->intrinsic_delaunay = laplacian == "intrinsic-delaunay";
-    l->near_multiple_gap = gap;
+  return fallback;
+}
+
+// The keywords of `method`'s options (its registration's list, pipeline/canonical_form_methods.h), as
+// `cshapes canon --method` reads its options: one the method does not list is refused naming the methods
+// that do; each given is checked and set in `o`; then the conditions and the method's own checks.
+void read_method_keywords(Kwargs& k, const CanonicalFormMethod& method, CanonicalFormOptions& o) {
+  const OptionFace face = python_face(k);
+  refuse_options_not_read({method.name}, face);
+  for (const MethodOption& option : method.options) {
+    if (!option.python) continue;
+    const bool given = k.given(option.name);
+    const OptionValue value = read_keyword(k, option, o);  // read even when absent: done() lists it as known
+    if (given) option.set(o, value);
   }
-  if (reads(method, "diffusion"))
-    o.diffusion.time = k.number("diffusion_time", o.diffusion.time, spectral_limits::kDiffusionTime);
-  if (reads(method, "spectral_mds")) {
-    LaplaceBeltramiOptions& l = o.spectral_mds.laplacian;
-    l.eigenpairs = k.int32("basis", l.eigenpairs, laplace_beltrami_limits::kEigenpairs);
-    o.spectral_mds.sources = k.integer("sources", o.spectral_mds.sources, 10, 100000);
-    if (o.spectral_mds.sources < l.eigenpairs)
-      fail("sources (", o.spectral_mds.sources, ") must be at least basis (", l.eigenpairs, ")");
-  }
+  check_method_options({method.name}, o, face);
 }
 
-// The `coulomb options` group of `cshapes canon`, read from keywords, each checked against its library limit.
-void read_coulomb_options(Kwargs& k, CanonicalFormOptions& o) {
-  CoulombCanonOptions& c = o.coulomb;
-  c.scheme = parse_coulomb_scheme(k.text("scheme", to_string(c.scheme)));
-  c.start = parse_coulomb_start(k.text("coulomb_start", to_string(c.start)));
-  c.start_landmarks =
-      k.int32("start_landmarks", static_cast<int>(c.start_landmarks), coulomb_limits::kStartLandmarks);
-  c.flatten = k.number("flatten", c.flatten, coulomb_limits::kFlatten);
-  if (k.given("start_landmarks") && c.start != CoulombStart::LandmarkMds)
-    fail("start_landmarks applies to coulomb_start='landmark-mds' only");
-  c.step_rule = parse_coulomb_step_rule(k.text("step_rule", to_string(c.step_rule)));
-  c.step_gradient = parse_step_gradient(k.text("step_gradient", to_string(c.step_gradient)));
-  c.step_factor = k.number("step_factor", c.step_factor, coulomb_limits::kStepFactor);
-  c.fixed_step = k.number("fixed_step", c.fixed_step, coulomb_limits::kFixedStep);
-  c.coulomb_steps = k.int32("coulomb_steps", c.coulomb_steps, coulomb_limits::kCoulombSteps);
-  c.projection.steps = k.int32("projection_steps", c.projection.steps, projection_limits::kSteps);
-  c.projection.norm = parse_projection_norm(k.text("projection", to_string(c.projection.norm)));
-  c.projection.l1_floor = k.number("l1_floor", c.projection.l1_floor, projection_limits::kL1Floor);
-  c.projection.dilation = k.number("dilation", c.projection.dilation, projection_limits::kDilation);
-  c.tear_fraction = k.number("tear_fraction", c.tear_fraction, coulomb_limits::kTearFraction);
-  c.tear_after = k.int32("tear_after", c.tear_after, coulomb_limits::kTearAfter);
-  c.tear_times = k.int32("tear_times", c.tear_times, coulomb_limits::kTearTimes);
-  c.tear_interval = k.int32("tear_interval", c.tear_interval, coulomb_limits::kTearInterval);
-  c.tear_guard = parse_tear_guard(k.text("tear_guard", to_string(c.tear_guard)));
-  c.max_iterations = k.int32("coulomb_max_iterations", c.max_iterations, coulomb_limits::kMaxIterations);
-  c.stop_window = k.int32("coulomb_window", c.stop_window, coulomb_limits::kWindow);
-  c.stop_tolerance = k.number("coulomb_tolerance", c.stop_tolerance, coulomb_limits::kTolerance);
-  c.momentum = k.number("momentum", c.momentum, coulomb_limits::kMomentum);
-  c.energy.summation = parse_coulomb_summation(k.text("coulomb_summation", to_string(c.energy.summation)));
-  c.energy.accuracy = k.number("coulomb_accuracy", c.energy.accuracy, coulomb_limits::kAccuracy);
-  CoulombMultiresolutionOptions& mr = c.multiresolution;
-  mr.above_vertices = k.int32("coulomb_multiresolution_above", static_cast<int>(mr.above_vertices),
-                              coulomb_limits::kMultiresolutionAbove);
-  mr.coarse_vertices =
-      k.int32("coulomb_coarse_vertices", static_cast<int>(mr.coarse_vertices), coulomb_limits::kCoarseVertices);
-  mr.tear_rounds = k.int32("coulomb_tear_rounds", mr.tear_rounds, coulomb_limits::kTearRounds);
-  if (mr.above_vertices == 0)
-    for (const char* fine : {"coulomb_coarse_vertices", "coulomb_tear_rounds"})
-      if (k.given(fine)) fail(fine, " applies only with multiresolution (coulomb_multiresolution_above > 0)");
-  // As the CLI: an option only another setting reads is refused rather than ignored.
-  if (k.given("fixed_step") && c.step_rule != CoulombStepRule::Fixed)
-    fail("fixed_step applies to step_rule='fixed' only");
-  if (k.given("l1_floor") && c.projection.norm != ProjectionNorm::L1)
-    fail("l1_floor applies to projection='l1' only");
-  if (k.given("momentum") && c.scheme != CoulombScheme::Momentum)
-    fail("momentum applies to scheme='momentum' only");
-}
-
-// SMACOF's solver options (both smacof() and canonical_form()).
-void read_smacof_solver_options(Kwargs& k, SmacofOptions& s) {
-  s.max_iterations = k.int32("iters", s.max_iterations, smacof_limits::kIterations);
-  s.tolerance = k.number("tolerance", s.tolerance, smacof_limits::kTolerance);
-  s.acceleration = parse_smacof_acceleration(k.text("accelerate", to_string(s.acceleration)));
-  s.extrapolation_window = k.int32("window", s.extrapolation_window, smacof_limits::kWindow);
-  if (k.given("window") && s.acceleration == SmacofAcceleration::None)
-    fail("window applies to accelerate='rre' or 'mpe' only");
-}
-
-// The MDS solver of the methods that embed the geodesic matrix: full or landmark rows, and the landmark
-// form's fold repair.
-void read_mds_solver_options(Kwargs& k, MdsSolverOptions& m) {
-  m.solver = parse_mds_solver(k.text("mds_solver", to_string(m.solver)));
-  m.landmarks = k.integer("landmarks", m.landmarks, 4, 1000000);
-  m.fold_overstretch = k.number("fold_overstretch", m.fold_overstretch, landmark_limits::kFoldOverstretch);
-  if (m.fold_overstretch > 0 && m.fold_overstretch <= 1)
-    fail("fold_overstretch: expected 0 (no repair) or a number above 1, got ", m.fold_overstretch);
-  if (k.given("fold_overstretch") && m.solver == MdsSolver::Full)
-    fail("fold_overstretch applies to mds_solver='landmarks' or 'auto' only");
-}
-
-// Refuses, by name, a keyword the method would ignore (as `cshapes canon --method` does), naming the methods
-// that read it.
-void refuse_unread_keywords(const Kwargs& k, const CanonicalFormMethod& method) {
-  for (const auto& [name, fields] : keyword_fields())
-    if (k.given(name) && !reads_any_option(method, fields))
-      fail(name, " applies to method ", either_of(canonical_form_methods_reading(fields), "'"),
-           " only, not '", method.name, "'");
+// The options named (each a registered method's) read from keywords into `o`, with their conditions: what
+// smacof() shares with method smacof.
+void read_named_keywords(Kwargs& k, const std::vector<std::string>& names, CanonicalFormOptions& o) {
+  const std::vector<const MethodOption*> all = all_method_options();
+  for (const std::string& name : names)
+    for (const MethodOption* option : all)
+      if (option->name == name) {
+        const bool given = k.given(name);
+        const OptionValue value = read_keyword(k, *option, o);
+        if (given) option->set(o, value);
+      }
+  for (const MethodOption* option : all)
+    if (std::find(names.begin(), names.end(), option->name) != names.end())
+      check_applies_when(*option, all, o, python_face(k));
 }
 
 PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) {
@@ -211,22 +118,13 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
   Kwargs k(kwargs, function);
   require_canonical_form_methods({method}, std::string(function) + "()");
   const CanonicalFormMethod& m = canonical_form_method(method);
-  refuse_unread_keywords(k, m);
   CanonicalFormOptions o;
   o.method = method;
   o.knn.k = k.int32("knn", o.knn.k, kKnnLimit);  // every method: a point cloud's neighbourhood graph
   // As `cshapes canon --knn` on a mesh: the mesh's own edges are its graph, the keyword would be ignored.
   if (k.given("knn") && mesh.num_faces() > 0)
     fail("knn applies to point clouds (no faces) only; this mesh has ", mesh.num_faces(), " faces");
-  if (reads(m, "coulomb")) read_coulomb_options(k, o);
-  if (reads(m, "geodesics"))
-    o.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesics.method)));
-  if (reads(m, "mds_solver")) read_mds_solver_options(k, o.mds_solver);
-  if (reads(m, "smacof")) read_smacof_solver_options(k, o.smacof);
-  if (reads(m, "smacof_init")) o.smacof_init = parse_smacof_init(k.text("init", to_string(o.smacof_init)));
-  if (reads(m, "smacof_weights"))
-    o.smacof_weights = parse_smacof_weights(k.text("weights", to_string(o.smacof_weights)));
-  read_spectral_options(k, m, o);
+  read_method_keywords(k, m, o);
   o.strict = k.flag("strict", false);
   k.done();
   o.name = std::string(function) + "() mesh";
@@ -262,8 +160,9 @@ PyCanonicalForm classical_mds_py(const py::object& D_in, int dim) {
 PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const py::kwargs& kwargs) {
   const DistanceMatrix D = to_distance_matrix(D_in, "D");
   Kwargs k(kwargs, "smacof");
-  SmacofOptions so;
-  read_smacof_solver_options(k, so);
+  CanonicalFormOptions o;
+  read_named_keywords(k, {"iters", "tolerance", "accelerate", "window"}, o);
+  SmacofOptions so = o.smacof;
   CSHAPES_REQUIRE(!k.given("init"), "smacof(): init: pass the start as X0 (None: classical MDS of D)");
   const py::object weights = k.object("weights");
   k.done();
@@ -282,36 +181,29 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
   return to_python(smacof_form(r, so), "smacof");
 }
 
+// One keyword as the docstrings list it: "name ['default'] a | b" or "name [default]".
+std::string keyword_doc(const MethodOption& option) {
+  const std::string fallback = option_text(option_default(option));
+  std::string line = option.name + " [";
+  if (option.type == MethodOption::Type::Choice) {
+    line += "'" + fallback + "']";
+    for (size_t k = 0; k < option.choices.size(); ++k) line += (k == 0 ? " " : " | ") + option.choices[k];
+  } else {
+    line += fallback + "]";
+  }
+  return line + ": " + option.help;
+}
+
 std::string coulomb_doc() {
-  const CoulombCanonOptions c;
-  const CanonicalFormOptions o;
   std::ostringstream d;
   d << "The Coulomb canonical form of a mesh (paper §2): electrostatic repulsion under edge-length "
        "constraints.\n\n"
        "V (n, 3) coordinates, F (m, 3) vertex indices (an empty F: a point cloud, joined by its kNN graph).\n"
-       "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n"
-    << "  scheme ['" << to_string(c.scheme) << "'] paper | momentum\n"
-    << "  coulomb_start ['" << to_string(c.start) << "'] landmark-mds | input (the paper), start_landmarks ["
-    << c.start_landmarks << "], flatten [" << c.flatten << "] (0: off, the paper)\n"
-    << "  step_rule ['" << to_string(c.step_rule) << "'] max-edge | mean-edge | median-edge | fixed\n"
-    << "  step_gradient ['" << to_string(c.step_gradient) << "'] max | mean\n"
-    << "  step_factor [" << c.step_factor << "], fixed_step [" << c.fixed_step << "] (step_rule='fixed')\n"
-    << "  coulomb_steps [" << c.coulomb_steps << "], projection_steps [" << c.projection.steps << "]\n"
-    << "  projection ['" << to_string(c.projection.norm) << "'] l2 | l1, l1_floor [" << c.projection.l1_floor
-    << "] (l1), dilation [" << c.projection.dilation << "]\n"
-    << "  tear_fraction [" << c.tear_fraction << "], tear_after [" << c.tear_after << "], tear_times ["
-    << c.tear_times << "], tear_interval [" << c.tear_interval << "], tear_guard ['"
-    << to_string(c.tear_guard) << "'] connected | vertex\n"
-    << "  coulomb_max_iterations [" << c.max_iterations << "], coulomb_window [" << c.stop_window
-    << "], coulomb_tolerance [" << c.stop_tolerance << "]\n"
-    << "  momentum [" << c.momentum << "] (scheme='momentum')\n"
-    << "  coulomb_summation ['" << to_string(c.energy.summation) << "'] auto | direct | direct-float | fast, "
-    << "coulomb_accuracy [" << c.energy.accuracy << "]\n"
-    << "  coulomb_multiresolution_above [" << c.multiresolution.above_vertices
-    << "] (0: never), coulomb_coarse_vertices [" << c.multiresolution.coarse_vertices
-    << "], coulomb_tear_rounds [" << c.multiresolution.tear_rounds << "]\n"
-    << "  knn [" << o.knn.k
-    << "] (point clouds), strict [False] (refuse a mesh that needs repair)\n\n"
+       "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n";
+  for (const MethodOption& option : canonical_form_method("coulomb").options)
+    if (option.python) d << "  " << keyword_doc(option) << "\n";
+  d << "  knn [" << KnnGraphOptions{}.k
+    << "]: point clouds: neighbours of the kNN graph; strict [False]: refuse a mesh that needs repair\n\n"
        "Returns a CanonicalForm: X (n, 3) in the input's vertex order and units, torn (n,) 1 at vertices of "
        "torn edges, history {energy, mean_violation, ...} per iteration, iterations, summary (dict), "
        "seconds.\n"
@@ -320,40 +212,53 @@ std::string coulomb_doc() {
   return d.str();
 }
 
-// canonical_form()'s help: the methods' keywords, then which method reads which, from the same table the
-// refusals use (keyword_fields and the registry).
+// canonical_form()'s help: each method and its keywords, from the methods' own option lists (the lists the
+// refusals use).
 std::string canonical_form_doc() {
   std::ostringstream d;
-  d << R"(A canonical form by any method, as `cshapes canon --method M` computes it.
-
-method: coulomb (keywords: see coulomb()), cmds or smacof (classical MDS / SMACOF of all-pairs geodesic
-distances on the mesh; geodesics='heat' [as every command] | fmm [the paper's] | heat-cgal | exact | graph;
-mds_solver ['auto'] | 'full' | 'landmarks' [L landmark rows above 12,000 vertices], landmarks [300]). smacof
-also takes iters [300], tolerance [1e-5], init ['cmds'] | 'mesh', accelerate ['none'] | 'rre' | 'mpe', window
-[6] (with rre/mpe), weights ['uniform'] | 'area', fold_overstretch [3.0] (landmarks: the fold repair; 0: off).
-lbo (Laplace-Beltrami eigenmap, GPS) and diffusion (diffusion map at t = c/lambda_1) take laplacian
-['intrinsic-delaunay'] | 'cotangent', eigenpairs [10], near_multiple_gap [0.02]; diffusion also
-diffusion_time [1.0] (c). spectral-mds (Aflalo & Kimmel: MDS in the span of the first eigenfunctions) takes
-laplacian, near_multiple_gap, basis [40], sources [120] and geodesics. Every method: knn [8] (point clouds:
-the kNN graph standing in for the edges), strict [False].
-A keyword the method does not read is refused, naming the methods that read it. Which reads which (the
-method registry's table):
-)";
+  d << "A canonical form by any method, as `cshapes canon --method M` computes it.\n\n"
+       "Each method reads its own keywords (defaults in brackets) and refuses the others, naming the methods "
+       "that read them. Every method: knn [8] (point clouds: the kNN graph standing in for the edges), strict "
+       "[False] (refuse a mesh that needs repair).\n";
+  std::vector<std::string> described;
   for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
-    std::string line;
-    bool coulomb_keywords = false;
-    for (const auto& [name, fields] : keyword_fields()) {
-      if (!reads_any_option(method, fields)) continue;
-      const bool coulomb = std::find(std::begin(kCoulombKeywords), std::end(kCoulombKeywords), name) !=
-                           std::end(kCoulombKeywords);
-      if (coulomb && coulomb_keywords) continue;
-      line += (line.empty() ? "" : ", ") + (coulomb ? std::string("coulomb()'s keywords") : name);
-      coulomb_keywords = coulomb_keywords || coulomb;
+    d << "\nmethod='" << method.name << "' (" << method.title << "): " << method.summary << "\n";
+    for (const MethodOption& option : method.options) {
+      if (!option.python) continue;
+      if (std::find(described.begin(), described.end(), option.name) != described.end()) {
+        d << "  " << option.name << " (as above)\n";
+        continue;
+      }
+      described.push_back(option.name);
+      d << "  " << keyword_doc(option) << "\n";
     }
-    d << "  " << method.name << ": " << line << "\n";
   }
-  d << "Returns a CanonicalForm.";
+  d << "\nReturns a CanonicalForm.";
   return d.str();
+}
+
+// The options of every registered method, for scripts/make_stub.py and the docs: name, type, default,
+// choices, limit, help, the methods that read it.
+py::list method_options_py() {
+  py::list out;
+  for (const MethodOption* option : all_method_options()) {
+    if (!option->python) continue;
+    py::dict d;
+    d["name"] = option->name;
+    d["flag"] = cli_flag(*option);
+    const char* types[] = {"int", "float", "str", "str"};
+    d["type"] = types[static_cast<int>(option->type)];
+    const OptionValue fallback = option_default(*option);
+    if (const long long* i = std::get_if<long long>(&fallback)) d["default"] = *i;
+    else if (const double* x = std::get_if<double>(&fallback)) d["default"] = *x;
+    else d["default"] = option_text(fallback);
+    d["choices"] = option->choices;
+    d["limit"] = option->limit ? py::object(py::str(option->limit->describe())) : py::object(py::none());
+    d["help"] = option->help;
+    d["methods"] = canonical_form_methods_reading(option->name);
+    out.append(d);
+  }
+  return out;
 }
 
 }  // namespace
@@ -393,14 +298,24 @@ void bind_canon(py::module_& m) {
           py::dict d;
           d["name"] = method.name;
           d["title"] = method.title;
+          d["summary"] = method.summary;
           d["uses_geodesic_matrix"] = method.uses_geodesic_matrix;
+          std::vector<std::string> keywords;
+          for (const MethodOption& option : method.options)
+            if (option.python) keywords.push_back(option.name);
+          d["keywords"] = keywords;
           methods.append(d);
         }
         return methods;
       },
       R"(The methods canonical_form() takes, in the library's order (pipeline/canonical_form_methods.h): a list
-of dicts {name, title, uses_geodesic_matrix}; name is what method= takes, title the method's name in figures
-and tables ('Coulomb', 'classical MDS', 'SMACOF').)");
+of dicts {name, title, summary, uses_geodesic_matrix, keywords}; name is what method= takes, title the
+method's name in figures and tables ('Coulomb', 'classical MDS', 'SMACOF'), keywords the options it reads
+(besides knn and strict).)");
+  m.def("method_options", &method_options_py,
+        R"(Every option of the registered methods, once each: a list of dicts {name, flag, type ('int', 'float',
+'str'), default, choices, limit, help, methods}; name is the keyword of canonical_form(), flag the CLI's option,
+methods the methods that read it. scripts/make_stub.py writes the stub's signatures from it.)");
   m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3,
         R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
 

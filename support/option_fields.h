@@ -23,6 +23,7 @@
 // e.g. a generic lambda [&](const char* name, auto& field, auto... effect).
 #pragma once
 
+#include <map>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -77,6 +78,11 @@ template <class T, class A>
 struct is_std_vector<std::vector<T, A>> : std::true_type {};
 
 template <class T>
+struct is_string_map : std::false_type {};
+template <class C, class A>
+struct is_string_map<std::map<std::string, std::string, C, A>> : std::true_type {};
+
+template <class T>
 constexpr bool is_eigen_vector() {
   if constexpr (std::is_base_of_v<Eigen::EigenBase<T>, T>)
     return T::ColsAtCompileTime == 1;
@@ -121,6 +127,13 @@ void append_key_value(std::string& text, const Value& value) {
     append_key_values(text, value, value.size());
   } else if constexpr (is_eigen_vector<Value>()) {
     append_key_values(text, value, static_cast<size_t>(value.size()));
+  } else if constexpr (is_string_map<Value>::value) {
+    for (const auto& [name, item] : value) {  // in the map's (sorted) order: "name"="value",
+      append_key_value(text, name);
+      text += '=';
+      append_key_value(text, item);
+      text += ',';
+    }
   } else {
     static_assert(sizeof(Value) == 0,
                   "this field's type cannot enter a cache key: mark it kNoEffect (and say why) or list the "
@@ -173,8 +186,9 @@ class OptionsKeyWriter {
 // their to_string, strings quoted ("…", with \" and \\ escaped), a kFileContent path by the SHA-256 of the
 // file's content (nothing when the path is empty; throws naming a file it cannot read), a vector (std::vector
 // or an Eigen column vector) by its values, each followed by ',' — or, when that text is longer than
-// kKeyValueHashAbove characters, by "n:<count>,sha256:<SHA-256 of that text>". Equal texts mean equal
-// values of every listed field that changes the result.
+// kKeyValueHashAbove characters, by "n:<count>,sha256:<SHA-256 of that text>"; a std::map of strings by its
+// entries, "name"="value", each followed by ','. Equal texts mean equal values of every listed field that
+// changes the result.
 // include(name), when given, is asked for each top-level field: false leaves the field out (a canonical
 // form's key leaves out the options its method does not read).
 template <class Options>

@@ -28,7 +28,7 @@ CanonicalFormOptions mds_options(const std::string& method, MdsSolver solver, In
 }
 
 nlohmann::json summary_of(const CanonicalForm& form) {
-  return nlohmann::json::parse(form.summary_json);
+  return form_summary_json(form);
 }
 
 // Landmark cmds and smacof through canonical_form: distances of L × n entries (never n × n), forms within 2%

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -23,6 +24,7 @@
 #include "cshapes/matching/icp.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/glued_meshes.h"
+#include "cshapes/pipeline/method_options.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -186,6 +188,8 @@ void perturb(Field& field) {
   } else if constexpr (std::is_base_of_v<Eigen::EigenBase<Field>, Field>) {
     ASSERT_GT(field.size(), 0) << "give the vector values first (populate)";
     field[field.size() / 2] += 0.25;
+  } else if constexpr (std::is_same_v<Field, std::map<std::string, std::string>>) {
+    field["perturbed"] += "1";  // CanonicalFormOptions::extra: another entry, or another value of it
   } else {
     field = [](auto&&...) {};  // a callback (kNoEffect)
   }
@@ -265,18 +269,13 @@ TEST(OptionsKey, EveryFieldReachesTheCanonicalFormKey) {
     CanonicalFormOptions base;
     base.method = method.name;
     for_each_leaf(base, Populate{dir + "/D.bin"});
-    // The fields a method does not read are fields.
-    std::set<std::string> tops, paths;
-    for_each_leaf(base, [&](const Leaf& leaf, auto&) {
-      tops.insert(leaf.top);
-      paths.insert(leaf.path);
-    });
-    for (const std::string& name : method.options_not_read)
-      EXPECT_TRUE(tops.count(name) || paths.count(name))
-          << method.name << ": options_not_read names no field: " << name;
+    // The fields a method reads are fields.
+    std::set<std::string> tops;
+    for_each_leaf(base, [&](const Leaf& leaf, auto&) { tops.insert(leaf.top); });
+    for (const std::string& name : method.reads)
+      EXPECT_TRUE(tops.count(name)) << method.name << ": reads names no field: " << name;
     const auto reads = [&](const Leaf& leaf) {
-      return leaf.changes_result && std::find(method.options_not_read.begin(), method.options_not_read.end(),
-                                              leaf.top) == method.options_not_read.end();
+      return leaf.changes_result && method_reads_field(method, leaf.top);
     };
     const std::vector<std::string> visited = expect_keys_follow_fields(
         base, [](const CanonicalFormOptions& o) { return canonical_form_key(o); }, reads,
@@ -288,31 +287,111 @@ TEST(OptionsKey, EveryFieldReachesTheCanonicalFormKey) {
   }
 }
 
-// Which methods read an option, from the registry's options_not_read (pipeline/canonical_form_methods.h): the
-// answers the CLI's refusals gave before the helpers moved to the pipeline for Python's refusals too
-// (tests/cli_errors_test.cpp holds the CLI's messages).
-TEST(OptionsReadBy, TheRegistryNamesTheMethodsThatReadAField) {
+// Which methods read an option, from the methods' own option lists (pipeline/canonical_form_methods.h): the
+// answers the CLI's refusals and Python's give (tests/cli_errors_test.cpp holds the CLI's messages,
+// tests/python/test_method_keywords.py Python's, from a table written out independently).
+TEST(OptionsReadBy, TheRegistryNamesTheMethodsThatReadAnOption) {
   using Names = std::vector<std::string>;
-  EXPECT_EQ(canonical_form_methods_reading({"geodesics"}), (Names{"cmds", "smacof", "spectral-mds"}));
-  EXPECT_EQ(canonical_form_methods_reading({"distances_file"}), (Names{"cmds", "smacof"}));
-  EXPECT_EQ(canonical_form_methods_reading({"mds_solver"}), (Names{"cmds", "smacof"}));
-  // A nested field: SMACOF's fold repair, not classical MDS's (cmds names it in options_not_read).
-  EXPECT_EQ(canonical_form_methods_reading({"mds_solver.fold_overstretch"}), (Names{"smacof"}));
-  EXPECT_EQ(canonical_form_methods_reading({"lbo", "diffusion"}), (Names{"lbo", "diffusion"}));
-  EXPECT_EQ(canonical_form_methods_reading({"lbo", "diffusion", "spectral_mds"}),
-            (Names{"lbo", "diffusion", "spectral-mds"}));
-  EXPECT_EQ(canonical_form_methods_reading({"coulomb"}), (Names{"coulomb"}));
-  EXPECT_EQ(canonical_form_methods_reading({"smacof", "smacof_init", "smacof_weights"}), (Names{"smacof"}));
-  EXPECT_EQ(canonical_form_methods_reading({"knn"}), canonical_form_methods());  // every method
+  EXPECT_EQ(canonical_form_methods_reading("geodesics"), (Names{"cmds", "smacof", "spectral-mds"}));
+  EXPECT_EQ(canonical_form_methods_reading("distances"), (Names{"cmds", "smacof"}));
+  EXPECT_EQ(canonical_form_methods_reading("mds_solver"), (Names{"cmds", "smacof"}));
+  // SMACOF's fold repair, not classical MDS's.
+  EXPECT_EQ(canonical_form_methods_reading("fold_overstretch"), (Names{"smacof"}));
+  EXPECT_EQ(canonical_form_methods_reading("eigenpairs"), (Names{"lbo", "diffusion"}));
+  EXPECT_EQ(canonical_form_methods_reading("laplacian"), (Names{"lbo", "diffusion", "spectral-mds"}));
+  EXPECT_EQ(canonical_form_methods_reading("scheme"), (Names{"coulomb"}));
+  EXPECT_EQ(canonical_form_methods_reading("init"), (Names{"smacof"}));
   EXPECT_EQ(canonical_form_methods_where([](const CanonicalFormMethod& m) { return m.has_history; }),
             (Names{"coulomb", "smacof"}));
-  EXPECT_TRUE(reads_any_option(canonical_form_method("spectral-mds"), {"lbo", "spectral_mds"}));
-  EXPECT_FALSE(reads_any_option(canonical_form_method("spectral-mds"), {"lbo", "diffusion"}));
-  EXPECT_FALSE(reads_any_option(canonical_form_method("coulomb"), {"geodesics", "mds_solver"}));
+  for (const CanonicalFormMethod& m : canonical_form_method_registry())
+    EXPECT_TRUE(method_reads_field(m, "knn")) << m.name;  // every method: a point cloud's graph
+  EXPECT_TRUE(method_reads_field(canonical_form_method("spectral-mds"), "spectral_mds"));
+  EXPECT_FALSE(method_reads_field(canonical_form_method("spectral-mds"), "lbo"));
+  EXPECT_FALSE(method_reads_field(canonical_form_method("coulomb"), "geodesics"));
   // As the CLI's messages say them: "--geodesics applies to --method cmds, smacof or spectral-mds only".
-  EXPECT_EQ(either_of(canonical_form_methods_reading({"geodesics"})), "cmds, smacof or spectral-mds");
-  EXPECT_EQ(either_of(canonical_form_methods_reading({"mds_solver"}), "'"), "'cmds' or 'smacof'");
+  EXPECT_EQ(either_of(canonical_form_methods_reading("geodesics")), "cmds, smacof or spectral-mds");
+  EXPECT_EQ(either_of(canonical_form_methods_reading("mds_solver"), "'"), "'cmds' or 'smacof'");
   EXPECT_EQ(either_of({"coulomb"}), "coulomb");
+}
+
+// Each option a method lists sets a field the method reads: its value reaches the method's cache key (an
+// option that set nothing the method reads would be accepted and ignored), and its default is the library's.
+TEST(MethodOptions, EachOptionReachesTheKeyOfEveryMethodThatListsIt) {
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    for (const MethodOption& option : method.options) {
+      CanonicalFormOptions base;
+      base.method = method.name;
+      CanonicalFormOptions changed = base;
+      const OptionValue fallback = option_default(option);
+      OptionValue other;
+      switch (option.type) {
+        case MethodOption::Type::Integer: {
+          const long long v = std::get<long long>(fallback);
+          other = v + 1 <= option.limit->maximum ? v + 1 : v - 1;
+          break;
+        }
+        case MethodOption::Type::Number: {
+          const double v = std::get<double>(fallback);
+          other = v * 1.5 + 0.01 <= option.limit->maximum ? v * 1.5 + 0.01 : v / 2;
+          break;
+        }
+        case MethodOption::Type::Choice:
+          other = option.choices.front() == std::get<std::string>(fallback) ? option.choices.back()
+                                                                            : option.choices.front();
+          break;
+        case MethodOption::Type::Path: {
+          const std::string file = test::scratch_dir("method_options") + "/D.bin";
+          test::write_text(file, "the distances");
+          other = file;
+          break;
+        }
+      }
+      option.set(changed, other);
+      EXPECT_EQ(option_text(option.get(changed)), option_text(other)) << option.name << " reads back";
+      EXPECT_NE(canonical_form_key(changed), canonical_form_key(base))
+          << method.name << " lists " << option.name << ", whose value does not reach its key";
+      if (option.type == MethodOption::Type::Choice) {
+        EXPECT_TRUE(std::count(option.choices.begin(), option.choices.end(), option_text(fallback)))
+            << option.name << ": its default is not one of its choices";
+      }
+      if (const long long* i = std::get_if<long long>(&fallback)) {
+        EXPECT_TRUE(option.limit->holds(static_cast<double>(*i))) << option.name << ": default outside its limit";
+      }
+      if (const double* x = std::get_if<double>(&fallback)) {
+        EXPECT_TRUE(option.limit->holds(*x)) << option.name << ": default outside its limit";
+      }
+    }
+  }
+}
+
+// The fields a method does not list in `reads` do not change its form: each changed in turn (every leaf under
+// it), the form of a small sphere stays the same, bit for bit. A field a method read without listing it would
+// change its form here, and its cache would serve stale forms.
+TEST(MethodOptions, AFieldAMethodDoesNotListLeavesItsFormUnchanged) {
+  const Mesh mesh = icosphere(2);  // 162 vertices
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    CanonicalFormOptions base;
+    base.method = method.name;
+    base.coulomb.max_iterations = 30;  // small runs: each form is computed once per field
+    base.smacof.max_iterations = 10;
+    base.spectral_mds.laplacian.eigenpairs = 12;
+    base.spectral_mds.sources = 40;
+    const Points reference = canonical_form(mesh, base).X;
+    std::set<std::string> tops;
+    for_each_leaf(base, [&](const Leaf& leaf, auto&) {
+      if (leaf.changes_result && !method_reads_field(method, leaf.top)) tops.insert(leaf.top);
+    });
+    for (const std::string& top : tops) {
+      CanonicalFormOptions changed = base;
+      for_each_leaf(changed, [&](const Leaf& leaf, auto& field) {
+        if (leaf.top != top) return;
+        Populate{}(leaf, field);
+        perturb(field);
+      });
+      const Points X = canonical_form(mesh, changed).X;
+      EXPECT_TRUE(X.cwiseEqual(reference).all()) << method.name << ": changing " << top << " changed its form";
+    }
+  }
 }
 
 TEST(OptionsKey, EveryFieldReachesTheGluedMeshKey) {

@@ -59,8 +59,7 @@ Measured measure(const std::string& method, double scale, const CanonicalForm& u
     m.verdict = std::string("refused: ") + e.what();
     return m;
   }
-  const std::string summary = form.summary_json;
-  m.verdict = summary.find("\"ok\":true") != std::string::npos ? "ok" : "NOT OK";
+  m.verdict = form.quality && form.quality->ok ? "ok" : "NOT OK";
   if (!form.X.allFinite()) return m;
   IcpOptions icp;
   icp.allow_reflections = true;

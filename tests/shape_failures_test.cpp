@@ -54,7 +54,7 @@ TEST(ShapeFailures, HeatFailureFallsBackToFastMarchingAndIsRecorded) {
     EXPECT_EQ(f.form.X.rows(), sphere.num_vertices());
     EXPECT_TRUE(f.form.X.allFinite());
     EXPECT_EQ(f.form.geodesics_fallback, failures[0].fallback);
-    EXPECT_EQ(nlohmann::json::parse(f.form.summary_json).value("geodesics_fallback", ""),
+    EXPECT_EQ(form_summary_json(f.form).value("geodesics_fallback", ""),
               failures[0].fallback);
   }
   // The forms are those of fast marching asked for directly.

@@ -220,7 +220,7 @@ TEST(SpectralMds, IsClassicalMdsFromAFewGeodesicRows) {
   const double rms = std::sqrt((full.rowwise() - full.colwise().mean()).rowwise().squaredNorm().mean());
   const ShapeDistance d = aligned_shape_distance(spectral.X, full);
   EXPECT_LT(d.chamfer, 0.03 * rms);
-  const nlohmann::json s = nlohmann::json::parse(spectral.summary_json);
+  const nlohmann::json s = form_summary_json(spectral);
   EXPECT_EQ(s["sources"], 120);
   EXPECT_LT(s["fit_residual"].get<double>(), 0.1);
   // Fewer sources than eigenfunctions cannot fit the basis.
@@ -340,7 +340,7 @@ TEST(SpectralForms, MethodsReportTheirSpectrumAndNearMultiples) {
     std::vector<std::string> notes;
     o.note = [&](const std::string& line) { notes.push_back(line); };
     const CanonicalForm f = canonical_form(icosphere(3), o);
-    const nlohmann::json s = nlohmann::json::parse(f.summary_json);
+    const nlohmann::json s = form_summary_json(f);
     EXPECT_EQ(s["laplacian"], "intrinsic-delaunay");
     EXPECT_EQ(s["eigenvalues"].size(), 10u);
     // The sphere's λ1..λ3 and λ4..λ8 (and λ9 with them? no: 10 eigenpairs end inside the l = 3 group).

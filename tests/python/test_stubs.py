@@ -164,3 +164,15 @@ def test_each_stub_default_is_the_default(name):
             assert same(result, base), f"{name}: {keyword}={defaults[keyword]!r} in the stub is not its default"
             checked += 1
     assert checked > 0
+
+
+def test_the_method_signatures_are_generated_from_the_methods_options():
+    """coulomb()'s and canonical_form()'s signatures are scripts/make_stub.py's output for this module: a method
+    option added, renamed or given another default reaches the stub by running the script, never by hand."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_stub", ROOT / "scripts" / "make_stub.py")
+    make_stub = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(make_stub)
+    text = STUB.read_text()
+    start, stop = text.index(make_stub.BEGIN), text.index(make_stub.END) + len(make_stub.END)
+    assert text[start:stop] == make_stub.generate(cshapes._cshapes), "run scripts/make_stub.py"
