@@ -29,6 +29,7 @@
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/icp.h"
 #include "cshapes/matching/shape_distance.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/distributed.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/glued_meshes.h"
@@ -302,7 +303,7 @@ void figure_stage(ExperimentRun& run) {
           {{"mesh", "canon/input/" + noisy.name + ".ply"}, {"title", noisy.name}, {"red", red}});
       for (size_t k = 0; k < o.methods.size(); ++k) {
         const std::string& m = o.methods[k];
-        json noisy_red = m == "coulomb" ? json{{"property", "torn"}} : red;
+        json noisy_red = canonical_form_method(m).marks_torn ? json{{"property", "torn"}} : red;
         cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.source_name + ".ply"}});
         cells[k + 1].push_back({{"mesh", "canon/" + m + "/" + noisy.name + ".ply"}, {"red", noisy_red}});
       }

@@ -17,6 +17,7 @@
 #include "cshapes/mesh/remesh.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/matching/icp.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
@@ -120,7 +121,7 @@ void figure2_hand(const PaperExperimentOptions& o, PaperReport& report, const Di
       WriteOptions ov;
       ov.scalars.push_back({"glued_hand", second});
       write_mesh((dir / (m + "_hand_overlay.ply")).string(), overlay, ov);
-      const std::string red = m == "coulomb" ? "torn" : "glued";
+      const std::string red = canonical_form_method(m).marks_torn ? "torn" : "glued";
       cells.push_back(
           json::array({{{"mesh", "figures/" + m + "_hand_separated.ply"}},
                        {{"mesh", "figures/" + m + "_hand_glued.ply"}, {"red", {{"property", red}}}},

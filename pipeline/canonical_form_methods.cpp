@@ -17,6 +17,15 @@ std::vector<CanonicalFormMethod>& registry() {
   return methods;
 }
 
+// What every option needs: a name, get and set, a limit for a number, choices for a choice.
+void require_declared(const MethodOption& o, const std::string& method) {
+  const bool numeric = o.type == MethodOption::Type::Integer || o.type == MethodOption::Type::Number;
+  CSHAPES_REQUIRE(!o.name.empty() && o.get && o.set && (!numeric || o.limit) &&
+                      (o.type != MethodOption::Type::Choice || !o.choices.empty()),
+                  "method ", method, ": option '", o.name,
+                  "' needs a name, get and set, a limit (a number) or choices (a choice)");
+}
+
 // Two declarations of one option name must be the same option (a shared one is one declaration).
 void require_same_option(const MethodOption& a, const MethodOption& b, const std::string& method) {
   CSHAPES_REQUIRE(a.type == b.type && a.flag == b.flag && a.help == b.help && a.choices == b.choices &&
@@ -34,6 +43,7 @@ bool register_canonical_form_method(CanonicalFormMethod method) {
   CSHAPES_REQUIRE(!method.name.empty() && method.compute, "a canonical-form method needs a name and compute");
   CSHAPES_REQUIRE(!find_canonical_form_method(method.name), "canonical-form method '", method.name,
                   "' is registered twice");
+  for (const MethodOption& option : method.options) require_declared(option, method.name);
   for (const MethodOption& option : method.options)
     for (const MethodOption* known : all_method_options())
       if (known->name == option.name) require_same_option(*known, option, method.name);

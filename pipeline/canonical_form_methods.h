@@ -65,6 +65,9 @@ struct CanonicalFormMethod {
   // Fills CanonicalForm::history_columns/rows (Coulomb's energy, SMACOF's stress per iteration): `canon
   // --history` and Python's history are refused for the other methods, before any work.
   bool has_history = false;
+  // Its forms mark the vertices of torn edges (CanonicalForm::torn): figures colour those instead of the
+  // glued ones.
+  bool marks_torn = false;
   // The memory that grows with the input beyond the mesh (bytes, for n vertices), checked by
   // canonical_form() before any work; null: nothing beyond what uses_geodesic_matrix covers.
   double (*memory_bytes)(Index n, const CanonicalFormOptions& options) = nullptr;

@@ -218,6 +218,7 @@ CanonicalFormMethod coulomb_method() {
   for (MethodOption& option : coulomb_tearing_and_stop_options()) m.options.push_back(std::move(option));
   m.reads = {"coulomb"};
   m.has_history = true;
+  m.marks_torn = true;
   m.compute = coulomb_compute;
   return m;
 }
