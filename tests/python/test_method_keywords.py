@@ -1,7 +1,7 @@
 """Issue 36: every keyword of canonical_form() a method does not read is refused, naming the keyword, the
 methods that read it and the method given; every keyword it reads is accepted.
 
-The module derives its answer from the method registry's table (options_not_read). The answer expected here
+The module derives its answer from the methods' own option lists (their registrations). The answer expected here
 is written out independently, from what each method computes (the CLI's option groups), so a change to the
 registry or to the module that lets a keyword through unread, or refuses one a method reads, fails here.
 """
