@@ -4,7 +4,7 @@
 # site (scripts/docs.py site: the tutorials run and draw their pictures, then mkdocs build --strict), then each mesh
 # reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with one
 # summary line "tests: N passed, N failed" (CTest tests, Python tests and fuzzers together).
-#   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 20, at most 30; 0 skips fuzzing)
+#   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 12, at most 30; 0 skips fuzzing)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"

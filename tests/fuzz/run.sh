@@ -3,10 +3,10 @@
 # AddressSanitizer + UndefinedBehaviorSanitizer into build-fuzz/ (apart from the main build), seeds each with
 # small valid files generated here, and runs each for a bounded time. Exits non-zero on any crash, leak,
 # sanitizer report or over-large allocation; prints executions per reader.
-#   CSHAPES_FUZZ_SECONDS=N  seconds per reader (default 20, at most 30; 0 skips fuzzing)
+#   CSHAPES_FUZZ_SECONDS=N  seconds per reader (default 12, at most 30; 0 skips fuzzing)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-seconds=${CSHAPES_FUZZ_SECONDS:-20}
+seconds=${CSHAPES_FUZZ_SECONDS:-12}
 if [[ "$seconds" == 0 ]]; then
   echo "fuzz: skipped (CSHAPES_FUZZ_SECONDS=0)"
   exit 0
