@@ -4,10 +4,10 @@
 // Python's keywords and their checks (canonical_form(), coulomb()), the type stub (scripts/make_stub.py), the
 // refusal of an option the method does not read (naming the methods that read it), and the docs' option
 // tables. The name is Python's keyword, snake_case ("step_factor"); the CLI's flag is the same in kebab-case
-// ("--step-factor") unless `flag` says otherwise ("--coulomb-start" for coulomb's `coulomb_start`).
+// ("--step-factor") unless `flag` names another.
 //
 //   MethodOption o = number_option("step_factor", "the factor of the step rule (paper: 0.1)",
-//                                  coulomb_limits::kStepFactor, "coulomb",
+//                                  coulomb_limits::kStepFactor, {"coulomb"},
 //                                  [](CanonicalFormOptions& c) -> double& { return c.coulomb.step_factor; });
 //
 // An option read by several methods (--geodesics by cmds, smacof and spectral-mds) is one declaration, listed
