@@ -113,7 +113,7 @@ MethodOption option_in_extra(MethodOption option, OptionValue fallback) {
     return parse_option_text(typed, at->second);
   };
   option.set = [name](CanonicalFormOptions& c, const OptionValue& v) {
-    c.extra[name] = std::holds_alternative<double>(v) ? format_limit_number(std::get<double>(v)) : option_text(v);
+    c.extra[name] = option_text(v);  // numbers in their shortest round-trip form
   };
   return option;
 }

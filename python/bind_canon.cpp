@@ -64,18 +64,21 @@ OptionValue read_keyword(Kwargs& k, const MethodOption& option, const CanonicalF
   return fallback;
 }
 
+// One option's keyword read (even when absent: Kwargs::done() then lists it as known) and, when given, set.
+void read_and_set(Kwargs& k, const MethodOption& option, CanonicalFormOptions& o) {
+  const bool given = k.given(option.name);
+  const OptionValue value = read_keyword(k, option, o);
+  if (given) option.set(o, value);
+}
+
 // The keywords of `method`'s options (its registration's list, pipeline/canonical_form_methods.h), as
 // `cshapes canon --method` reads its options: one the method does not list is refused naming the methods
 // that do; each given is checked and set in `o`; then the conditions and the method's own checks.
 void read_method_keywords(Kwargs& k, const CanonicalFormMethod& method, CanonicalFormOptions& o) {
   const OptionFace face = python_face(k);
   refuse_options_not_read({method.name}, face);
-  for (const MethodOption& option : method.options) {
-    if (!option.python) continue;
-    const bool given = k.given(option.name);
-    const OptionValue value = read_keyword(k, option, o);  // read even when absent: done() lists it as known
-    if (given) option.set(o, value);
-  }
+  for (const MethodOption& option : method.options)
+    if (option.python) read_and_set(k, option, o);
   check_method_options({method.name}, o, face);
 }
 
@@ -83,13 +86,8 @@ void read_method_keywords(Kwargs& k, const CanonicalFormMethod& method, Canonica
 // smacof() shares with method smacof.
 void read_named_keywords(Kwargs& k, const std::vector<std::string>& names, CanonicalFormOptions& o) {
   const std::vector<const MethodOption*> all = all_method_options();
-  for (const std::string& name : names)
-    for (const MethodOption* option : all)
-      if (option->name == name) {
-        const bool given = k.given(name);
-        const OptionValue value = read_keyword(k, *option, o);
-        if (given) option->set(o, value);
-      }
+  for (const MethodOption* option : all)
+    if (std::find(names.begin(), names.end(), option->name) != names.end()) read_and_set(k, *option, o);
   for (const MethodOption* option : all)
     if (std::find(names.begin(), names.end(), option->name) != names.end())
       check_applies_when(*option, all, o, python_face(k));
