@@ -1,5 +1,7 @@
 #include "cshapes/canon/coulomb.h"
 
+#include "cshapes/canon/coulomb_bridges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/timing.h"
 
@@ -232,6 +235,7 @@ void check_options(const CoulombCanonOptions& o) {
   check_limit(kAccuracy, o.energy.accuracy, "coulomb");
   check_limit(kStartLandmarks, static_cast<double>(o.start_landmarks), "coulomb");
   check_limit(kFlatten, o.flatten, "coulomb");
+  check_limit(kBridgeDetour, o.bridge_detour, "coulomb");
   CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
@@ -243,8 +247,10 @@ namespace {
 // hands to the next.
 class CoulombRun {
  public:
+  // pre_torn: rows of E removed before the start is made (the bridges of a first run), counted as torn.
   CoulombRun(const Points& X0, const Edges& E, const CoulombCanonOptions& options,
-             const Eigen::VectorXd& rest_lengths, WallClock::time_point start)
+             const Eigen::VectorXd& rest_lengths, WallClock::time_point start,
+             const std::vector<Index>& pre_torn = {})
       : X0_(X0),
         E_(E),
         o_(options),
@@ -263,7 +269,8 @@ class CoulombRun {
     original_row_.resize(E.rows());
     std::iota(original_row_.begin(), original_row_.end(), Index(0));
     result_.torn_vertices = Eigen::VectorXd::Zero(n_);
-    CoulombStartResult start_at = coulomb_start(X0, E, o_.start, o_.start_landmarks);
+    if (!pre_torn.empty()) remove_edges(pre_torn);
+    CoulombStartResult start_at = coulomb_start(X0, edges_, o_.start, o_.start_landmarks);
     result_.start = start_at.note;
     // All work arrays are allocated once: an iteration at 5,000 vertices takes a few milliseconds, and fresh
     // n×3 matrices (120 kB, above malloc's mmap threshold) would be mapped and faulted in every time.
@@ -274,6 +281,9 @@ class CoulombRun {
     snapshot_ = X_;
     result_.history.reserve(static_cast<size_t>(std::min(o_.max_iterations, 100000)));
   }
+
+  // Rows of E torn so far (the pre-torn ones first), in order.
+  const std::vector<Index>& torn_rows() const { return torn_rows_; }
 
   CoulombCanonResult run() {
     int t = 0;
@@ -377,7 +387,20 @@ class CoulombRun {
   void tear(int iteration) {
     const double share = o_.tear_fraction / o_.tear_times;
     const Index count = static_cast<Index>(std::ceil(share * static_cast<double>(E_.rows())));
-    std::vector<Index> chosen = select_edges_to_tear(X_, edges_, rest_, n_, count, o_.tear_guard);
+    remove_edges(select_edges_to_tear(X_, edges_, rest_, n_, count, o_.tear_guard));
+    ++tears_done_;
+    next_tear_ = iteration + o_.tear_interval;
+    // The tear changes the fixed point: momentum built towards the old one would overshoot (it overflowed to
+    // NaN in the prototype), and the stopping window starts again.
+    X_prev_ = X_;
+    since_restart_ = 1;
+    snapshot_ = X_;
+    snapshot_iteration_ = iteration;
+  }
+
+  // Removes the edges `chosen` (rows of edges_) from the edge graph and the projection, recording them as
+  // torn.
+  void remove_edges(const std::vector<Index>& chosen) {
     std::vector<char> remove(edges_.rows(), 0);
     for (Index e : chosen) {
       remove[e] = 1;
@@ -401,14 +424,6 @@ class CoulombRun {
     rest_ = std::move(kept_rest);
     original_row_ = std::move(kept_original);
     projection_ = std::make_unique<MetricProjection>(n_, edges_, rest_, o_.projection);
-    ++tears_done_;
-    next_tear_ = iteration + o_.tear_interval;
-    // The tear changes the fixed point: momentum built towards the old one would overshoot (it overflowed to
-    // NaN in the prototype), and the stopping window starts again.
-    X_prev_ = X_;
-    since_restart_ = 1;
-    snapshot_ = X_;
-    snapshot_iteration_ = iteration;
   }
 
   // The result after the last iteration t: the energy at the result's accuracy, the violation, the quality,
@@ -464,7 +479,25 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
   CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);
   CSHAPES_REQUIRE(X0.allFinite(), "coulomb: the input coordinates contain NaN or infinity");
   CSHAPES_REQUIRE(E.rows() > 0, "coulomb: the edge graph is empty (a mesh without faces needs a kNN graph)");
-  return CoulombRun(X0, E, options, rest_lengths, start).run();
+  CoulombRun first(X0, E, options, rest_lengths, start);
+  CoulombCanonResult result = first.run();
+  if (!(options.bridge_detour > 0) || options.start == CoulombStart::Input || first.torn_rows().empty())
+    return result;
+  const std::vector<Index> bridges =
+      torn_bridges(X0, E, first.torn_rows(), options.bridge_detour * bbox_diagonal(X0));
+  if (bridges.empty()) return result;
+  // Again from the embedding of the graph without the bridges, which stay torn from the first iteration; the
+  // first run's iterations stay in the history (numbered on), so that the cost is seen.
+  CoulombCanonResult again = CoulombRun(X0, E, options, rest_lengths, start, bridges).run();
+  for (CoulombIterationRecord& record : again.history) record.iteration += result.iterations;
+  result.history.insert(result.history.end(), again.history.begin(), again.history.end());
+  again.history = std::move(result.history);
+  again.iterations += result.iterations;
+  again.start += "; again after the first run tore " + std::to_string(bridges.size()) +
+                 (bridges.size() == 1 ? " bridge" : " bridges") + " (torn edges whose ends lie more than " +
+                 significant(options.bridge_detour) +
+                 " bbox diagonals, and more than their crack is long, apart along the other edges)";
+  return again;
 }
 
 }  // namespace cshapes

@@ -68,6 +68,7 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"scheme", to_string(co.scheme)},
                                      {"start", r.start},
                                      {"flatten", co.flatten},
+                                     {"bridge_detour", co.bridge_detour},
                                      {"step_rule", to_string(co.step_rule)},
                                      {"step_gradient", to_string(co.step_gradient)},
                                      {"projection", to_string(co.projection.norm)},
@@ -105,6 +106,14 @@ std::vector<MethodOption> coulomb_step_options() {
                             "per iteration, pull every point this fraction of the way towards the form's plane of "
                             "largest spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)",
                             coulomb_limits::kFlatten, f, [](Ref c) -> double& { return c.coulomb.flatten; }));
+  o.push_back(number_option("bridge_detour",
+                            "after the iteration, torn edges whose ends lie farther apart along the other "
+                            "edges than this many bbox diagonals and than their crack is long are bridges "
+                            "(glued tubes); if there are any, iterate again without them from the start; 0: off "
+                            "(the paper)",
+                            coulomb_limits::kBridgeDetour, f,
+                            [](Ref c) -> double& { return c.coulomb.bridge_detour; }));
+  o.back().applies_when = C{"coulomb_start", {"landmark-mds"}, ""};
   o.push_back(choice_option<CoulombStepRule>(
       "step_rule",
       "eq. (4) step c = factor·L/max‖∇E‖ with L = max-edge (paper), mean-edge, median-edge; or fixed",

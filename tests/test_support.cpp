@@ -16,6 +16,8 @@
 
 #include "cshapes/data/articulated.h"
 #include "cshapes/data/dataset.h"
+#include "cshapes/data/synthetic.h"
+#include "cshapes/mesh/remesh.h"
 
 namespace cshapes::test {
 
@@ -82,6 +84,22 @@ double signed_volume(const Mesh& m) {
   for (Index f = 0; f < m.num_faces(); ++f)
     v += m.V.row(m.F(f, 0)).dot(m.V.row(m.F(f, 1)).cross(m.V.row(m.F(f, 2)))) / 6;
   return v;
+}
+
+Mesh bent_sausage(double end_gap_angle) {
+  constexpr double kPi = 3.14159265358979323846;
+  Mesh m = icosphere(4);
+  const double bend_radius = 3.0, half_length = bend_radius * (kPi - end_gap_angle / 2), radius = 1.0;
+  for (Index i = 0; i < m.num_vertices(); ++i) {
+    const double theta = m.V(i, 0) * half_length / bend_radius;
+    const double rho = bend_radius + radius * m.V(i, 1);
+    // (x, y, z) -> (θ, ρ, -z): the swap of x and y reverses orientation, the sign of z restores it.
+    m.V.row(i) << rho * std::cos(theta), rho * std::sin(theta), -radius * m.V(i, 2);
+  }
+  // Isotropic triangles, so that edge-graph distances are close to surface geodesics.
+  RemeshOptions o;
+  o.target_vertices = 2000;
+  return remesh(m, o).mesh;
 }
 
 Mesh obtuse_grid(int nx, int ny) {

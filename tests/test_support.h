@@ -34,6 +34,11 @@ double mean_relative_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exac
 // and fast marching needs its unfolding step.
 Mesh obtuse_grid(int nx, int ny);
 
+// A closed sausage (an icosphere stretched along a circle of radius 3, 1 thick) bent so that its two ends
+// almost touch, end_gap_angle radians apart: one place with a small Euclidean and a large geodesic distance,
+// and nowhere else. Remeshed to about 2,000 isotropic triangles' vertices.
+Mesh bent_sausage(double end_gap_angle);
+
 // Signed volume enclosed by the triangles, Σ v0·(v1 × v2) / 6: positive when the faces are counter-clockwise
 // seen from outside; unchanged by any refinement that keeps the surface and its orientation.
 double signed_volume(const Mesh& m);

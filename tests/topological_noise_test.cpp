@@ -19,23 +19,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A closed sausage (stretched icosphere) bent round a circle so that its two ends almost touch:
-// one place with a small Euclidean and a large geodesic distance, and nowhere else.
-Mesh bent_sausage(double end_gap_angle) {
-  Mesh m = icosphere(4);
-  const double bend_radius = 3.0, half_length = bend_radius * (kPi - end_gap_angle / 2), radius = 1.0;
-  for (Index i = 0; i < m.num_vertices(); ++i) {
-    double theta = m.V(i, 0) * half_length / bend_radius;
-    double rho = bend_radius + radius * m.V(i, 1);
-    // (x, y, z) -> (θ, ρ, -z): the swap of x and y reverses orientation, the sign of z restores it.
-    m.V.row(i) << rho * std::cos(theta), rho * std::sin(theta), -radius * m.V(i, 2);
-  }
-  // Isotropic triangles, so that edge-graph distances are close to surface geodesics.
-  RemeshOptions o;
-  o.target_vertices = 2000;
-  return remesh(m, o).mesh;
-}
-
 // Every directed edge at most once: the faces are consistently oriented.
 bool consistently_oriented(const Faces& F) {
   std::set<std::pair<int, int>> halfedges;
@@ -74,7 +57,7 @@ void expect_glued_correctly(const Mesh& input, const TopologicalNoiseResult& r,
 }
 
 TEST(TopologicalNoise, BentSausageEndsAreGluedIntoATorus) {
-  Mesh m = bent_sausage(0.15);
+  Mesh m = test::bent_sausage(0.15);
   TopologicalNoiseOptions o;
   o.glue_count = 1;
   TopologicalNoiseResult r = glue_topological_noise(m, o);
@@ -95,13 +78,13 @@ TEST(TopologicalNoise, RefusesWhenNoPairQualifiesAndSaysSo) {
   }
   // The sausage has one almost-touching place; twenty glues, kept at least two gaps apart, cannot fit there.
   o.glue_count = 20;
-  EXPECT_THROW(glue_topological_noise(bent_sausage(0.15), o), Error);
+  EXPECT_THROW(glue_topological_noise(test::bent_sausage(0.15), o), Error);
 }
 
 // Bridges (edges, not faces) at the sausage's one almost-touching place; the first is the closest pair that
 // qualifies, found here by brute force (Dijkstra from every vertex).
 TEST(GlueBridges, BentSausageBridgesTheEndsAndTheFirstIsTheClosestQualifyingPair) {
-  const Mesh m = bent_sausage(0.15);
+  const Mesh m = test::bent_sausage(0.15);
   const Edges E = mesh_edges(m.F);
   const Eigen::VectorXd lengths = edge_lengths(m.V, E);
   const double h = lengths.mean();
@@ -137,7 +120,7 @@ TEST(GlueBridges, BentSausageBridgesTheEndsAndTheFirstIsTheClosestQualifyingPair
 }
 
 TEST(TopologicalNoise, SameSeedSameGlue) {
-  Mesh m = bent_sausage(0.15);
+  Mesh m = test::bent_sausage(0.15);
   TopologicalNoiseOptions o;
   o.seed = 7;
   TopologicalNoiseResult a = glue_topological_noise(m, o), b = glue_topological_noise(m, o);
