@@ -1,7 +1,5 @@
 #include "cshapes/canon/coulomb.h"
 
-#include "cshapes/canon/coulomb_bridges.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "cshapes/canon/coulomb_bridges.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/format.h"
 #include "cshapes/mesh/mesh.h"
