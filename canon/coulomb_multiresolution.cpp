@@ -99,7 +99,8 @@ namespace {
 // iterations at 10,000 vertices, against 1.21 for the coarse form). Where a coarse gap crosses the fine mesh,
 // edges the count did not tear stay stretched across it: after the sweeps, the kept edges still beyond the
 // form quality's limit are torn too (by the same guard, into is_torn) and the sweeps repeated, up to
-// tear_rounds times. The kept edges and their rest lengths of the last round are returned.
+// tear_rounds times (the rounds after full_rounds with fewer sweeps, see there). The kept edges and their
+// rest lengths of the last round are returned.
 void refine(const Edges& E, const Eigen::VectorXd& rest, const CoulombCanonOptions& options, Points& X,
             std::vector<char>& is_torn, Edges& kept, Eigen::VectorXd& kept_rest,
             CoulombMultiresolutionResult& out) {
@@ -117,10 +118,23 @@ void refine(const Edges& E, const Eigen::VectorXd& rest, const CoulombCanonOptio
       kept_rest[k] = rest[kept_index[static_cast<size_t>(k)]];
     }
     const MetricProjection projection(n, kept, kept_rest, options.projection);
-    for (int it = 0; it < mr.refine_iterations; ++it) projection.project(X);
-    Index over = 0;
-    for (Index k = 0; k < kept.rows(); ++k)
-      over += (X.row(kept(k, 0)) - X.row(kept(k, 1))).norm() > limit * std::max(kept_rest[k], mean_rest);
+    // Rounds beyond full_rounds run an eighth of the projections (a crack crossing a coarse gap grows by a
+    // few fine edges per round, and a few sweeps carry the stretch to its tip), and the rest only when
+    // nothing is overstretched after them, so that the form ends as relaxed as after a full round.
+    const int iterations =
+        round < mr.full_rounds ? mr.refine_iterations : std::max(1, mr.refine_iterations / 8);
+    for (int it = 0; it < iterations; ++it) projection.project(X);
+    auto count_over = [&] {
+      Index c = 0;
+      for (Index k = 0; k < kept.rows(); ++k)
+        c += (X.row(kept(k, 0)) - X.row(kept(k, 1))).norm() > limit * std::max(kept_rest[k], mean_rest);
+      return c;
+    };
+    Index over = count_over();
+    if (over == 0 && iterations < mr.refine_iterations) {
+      for (int it = iterations; it < mr.refine_iterations; ++it) projection.project(X);
+      over = count_over();
+    }
     out.refine_rounds = round + 1;
     if (over == 0 || round >= mr.tear_rounds) break;
     const std::vector<Index> more = select_edges_to_tear(X, kept, kept_rest, n, over, options.tear_guard);
@@ -171,6 +185,7 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   check_limit(coulomb_limits::kMultiresolutionAbove, static_cast<double>(mr.above_vertices), "coulomb");
   check_limit(coulomb_limits::kCoarseVertices, static_cast<double>(mr.coarse_vertices), "coulomb");
   check_limit(coulomb_limits::kTearRounds, mr.tear_rounds, "coulomb");
+  CSHAPES_REQUIRE(mr.full_rounds >= 0, "coulomb: multiresolution.full_rounds must be >= 0, got ", mr.full_rounds);
   CSHAPES_REQUIRE(mr.refine_iterations >= 0, "coulomb multiresolution: refine_iterations must be ≥ 0, not ",
                   mr.refine_iterations);
   if (mr.above_vertices == 0) return single_level("multiresolution off");

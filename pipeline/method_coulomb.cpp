@@ -207,7 +207,8 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
   o.back().applies_when = multiresolution;
   o.push_back(integer_option<int>(
       "coulomb_tear_rounds",
-      "multiresolution: rounds that tear fine edges still overstretched after the refinement; 0: none",
+      "multiresolution: rounds that tear fine edges still overstretched after the refinement (after the "
+      "first 20, each with an eighth of the projections); 0: none",
       coulomb_limits::kTearRounds, f, [](Ref c) -> int& { return c.coulomb.multiresolution.tear_rounds; }));
   o.back().applies_when = multiresolution;
   return o;
