@@ -111,9 +111,11 @@ struct CoulombMultiresolutionOptions {
   // Rounds in which fine edges still overstretched after the projections are torn and the projections
   // repeated (canon/coulomb_multiresolution.h); 0: none. The first full_rounds run refine_iterations
   // projections each, later ones an eighth of them (and the rest before they stop). KIDS at 59,727
-  // vertices: 15 of 16 poses pass their quality check within 20 full rounds; kid7 needed 16 more rounds
-  // (5 vertices on edges stretched 17.8× after 20).
-  int tear_rounds = 100;
+  // vertices: 15 of 16 poses pass their quality check within 20 full rounds; kid7 needs 25 (5 vertices on
+  // edges stretched 17.8× after 20). Not more: a crack grows by about one fine edge a round, so the
+  // million-vertex michael0 (fine edges 14× shorter than the coarse ones) still had 16 vertices over the
+  // limit after 100 rounds, and they took 763 s of its 866.
+  int tear_rounds = 30;
   int full_rounds = 20;
   // The prolongation picks the closest coarse triangle facing the fine vertex's way (its normal) rather
   // than the closest: where two parts almost touch, a vertex follows its own part.

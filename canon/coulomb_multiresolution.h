@@ -20,7 +20,7 @@
 // edges, which restore the fine edge lengths locally while the shape-wide form stays the coarse one's (no
 // Coulomb steps at the fine level: they would start its own, larger, inflation). Fine edges still stretched
 // across a coarse gap after the sweeps (beyond the form quality's overstretch limit) are torn as well, by
-// the same guard, and the sweeps repeated, up to 100 rounds (after the first 20, each with an eighth of the
+// the same guard, and the sweeps repeated, up to 30 rounds (after the first 20, each with an eighth of the
 // sweeps). The closest coarse triangle is the closest
 // facing the fine vertex's way (normals), so that where two parts almost touch a vertex follows its own.
 // Measured on KIDS (59,727 vertices, 8 poses): before both, 2 of 8 poses failed the quality check (kid3: 587

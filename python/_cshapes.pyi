@@ -84,7 +84,7 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             coulomb_max_iterations: int = 3000, coulomb_window: int = 20, coulomb_tolerance: float = 0.001,
             momentum: float = 0.9, coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
             coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 8000,
-            coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 100, knn: int = 8,
+            coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 30, knn: int = 8,
             strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); geodesics: cmds, smacof, spectral-mds; mds_solver:
 # cmds, smacof; landmarks: cmds, smacof; iters: smacof; tolerance: smacof; init: smacof; accelerate: smacof; window:
@@ -104,7 +104,7 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    coulomb_window: int = 20, coulomb_tolerance: float = 0.001, momentum: float = 0.9,
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
                    coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 8000,
-                   coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 100,
+                   coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 30,
                    geodesics: Literal["heat", "heat-cgal", "fmm", "exact", "graph"] = "heat",
                    mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300, iters: int = 300,
                    tolerance: float = 1e-05, init: Literal["cmds", "mesh"] = "cmds",
