@@ -118,11 +118,12 @@ void refine(const Edges& E, const Eigen::VectorXd& rest, const CoulombCanonOptio
       kept_rest[k] = rest[kept_index[static_cast<size_t>(k)]];
     }
     const MetricProjection projection(n, kept, kept_rest, options.projection);
-    // Rounds beyond full_rounds run an eighth of the projections (a crack crossing a coarse gap grows by a
-    // few fine edges per round, and a few sweeps carry the stretch to its tip), and the rest only when
+    // Rounds beyond full_rounds run an eighth of the projections (a crack crossing a coarse gap grows by
+    // about one fine edge per round, and a few sweeps carry the stretch to its tip), and the rest only when
     // nothing is overstretched after them, so that the form ends as relaxed as after a full round.
-    const int iterations =
-        round < mr.full_rounds ? mr.refine_iterations : std::max(1, mr.refine_iterations / 8);
+    const int iterations = round < mr.full_rounds || mr.refine_iterations == 0
+                               ? mr.refine_iterations
+                               : std::max(1, mr.refine_iterations / 8);
     for (int it = 0; it < iterations; ++it) projection.project(X);
     auto count_over = [&] {
       Index c = 0;
@@ -185,7 +186,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   check_limit(coulomb_limits::kMultiresolutionAbove, static_cast<double>(mr.above_vertices), "coulomb");
   check_limit(coulomb_limits::kCoarseVertices, static_cast<double>(mr.coarse_vertices), "coulomb");
   check_limit(coulomb_limits::kTearRounds, mr.tear_rounds, "coulomb");
-  CSHAPES_REQUIRE(mr.full_rounds >= 0, "coulomb: multiresolution.full_rounds must be >= 0, got ", mr.full_rounds);
+  CSHAPES_REQUIRE(mr.full_rounds >= 0, "coulomb multiresolution: full_rounds must be ≥ 0, not ",
+                  mr.full_rounds);
   CSHAPES_REQUIRE(mr.refine_iterations >= 0, "coulomb multiresolution: refine_iterations must be ≥ 0, not ",
                   mr.refine_iterations);
   if (mr.above_vertices == 0) return single_level("multiresolution off");
