@@ -86,7 +86,8 @@ std::vector<Index> torn_bridges(const Points& X0, const Edges& E, const std::vec
   std::vector<Index> bridges;
   for (Index e : torn) {
     const Index a = E(e, 0), b = E(e, 1);
-    const double k = static_cast<double>(crack_edges[static_cast<size_t>(cracks.find(a))]);
+    const double k = std::max(static_cast<double>(crack_edges[static_cast<size_t>(cracks.find(a))]),
+                              kMinBridgeDetourEdges);
     const double bound = std::max(min_detour, k * median_edge);
     distance[static_cast<size_t>(a)] = 0;
     reached.push_back(a);

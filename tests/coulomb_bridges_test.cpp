@@ -74,7 +74,7 @@ TEST(CoulombBridges, AGlueIsABridge) {
   EXPECT_THROW(torn_bridges(g.V, g.E, {g.E.rows()}, 1.0), Error);
 }
 
-TEST(CoulombBridges, ACrackIsNotABridgeButALoneTornEdgeBeyondMinDetourIs) {
+TEST(CoulombBridges, ACrackIsNotABridgeNorIsALoneTornEdge) {
   const Grid g = grid_with_a_glue();
   const std::vector<Index> crack = crack_across(g);
   ASSERT_EQ(crack.size(), 11u);
@@ -83,10 +83,20 @@ TEST(CoulombBridges, ACrackIsNotABridgeButALoneTornEdgeBeyondMinDetourIs) {
   EXPECT_TRUE(torn_bridges(g.V, g.E, crack, 5.0).empty());
   EXPECT_TRUE(torn_bridges(g.V, g.E, crack, 0.5).empty());
   // One edge torn alone: its ends are a triangle's other two sides apart (1 + √2), more than its crack of
-  // one edge: a bridge once min_detour is below that. So min_detour must exceed a few edges.
+  // one edge, and more than a small min_detour; no bridge, since a bridge must exceed kMinBridgeDetourEdges.
   const Index lone = g.edge(Grid::vertex(5, 5), Grid::vertex(6, 5));
-  EXPECT_EQ(torn_bridges(g.V, g.E, {lone}, 1.5), std::vector<Index>{lone});
-  EXPECT_TRUE(torn_bridges(g.V, g.E, {lone}, 2.5).empty());
+  EXPECT_TRUE(torn_bridges(g.V, g.E, {lone}, 0.5).empty());
+}
+
+// The floor of kMinBridgeDetourEdges median edges: a glue whose ends lie 5 apart along the surface is no
+// bridge however small min_detour, one 7 apart is.
+TEST(CoulombBridges, ABridgeIsLongerThanSixEdges) {
+  Grid g = grid_with_a_glue();
+  ASSERT_EQ(kMinBridgeDetourEdges, 6);
+  g.E(g.glue, 1) = Grid::vertex(5, 0);
+  EXPECT_TRUE(torn_bridges(g.V, g.E, {g.glue}, 0.5).empty());
+  g.E(g.glue, 1) = Grid::vertex(7, 0);
+  EXPECT_EQ(torn_bridges(g.V, g.E, {g.glue}, 0.5), std::vector<Index>{g.glue});
 }
 
 double pose_rms(const Points& A, const Points& B) {
