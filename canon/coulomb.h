@@ -104,8 +104,15 @@ inline constexpr Limit kBridgeDetour = number_limit("bridge-detour", 0, 10);
 // the same surface (canon/coulomb_multiresolution.h: why the single-level form inflates with n, and how).
 // Read by coulomb_multiresolution (a mesh), not by coulomb_canonical_form (points and edges).
 struct CoulombMultiresolutionOptions {
-  // Meshes with more vertices go through a coarse version; 0: never (the single-level iteration at any n).
-  Index above_vertices = 8000;
+  // Meshes whose resolution (even_triangulation_vertices, mesh/mesh.h: area / (√3/2 · mean edge²), about
+  // the vertex count of an even triangulation) is above this go through a coarse version; 0: never (the
+  // single-level iteration at any resolution). The inflation of the single-level form grows with the
+  // shape's size over the mean edge (coulomb_multiresolution.h), so that, and not the vertex count, decides.
+  // Chosen on KIDS poses 0–7 (docs/coulomb-defaults.md, "The multiresolution switch"): scan-like
+  // decimations at 6,721 and 8,201 map better at the single level; isotropic remeshes from 9,858 up are
+  // better through the coarse level (and pass their quality check there, where 2–4 of 8 single-level forms
+  // do not).
+  Index above_resolution = 9000;
   Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
   int refine_iterations = 40;  // projections (of projection.steps sweeps) on the fine mesh after prolongation
   // Rounds in which fine edges still overstretched after the projections are torn and the projections
@@ -124,7 +131,7 @@ struct CoulombMultiresolutionOptions {
   // Every field by name, for cache keys (support/option_fields.h). Self: CoulombMultiresolutionOptions.
   template <class Self, class Visit>
   static void for_each_field(Self& o, Visit&& visit) {
-    visit("above_vertices", o.above_vertices);
+    visit("above_resolution", o.above_resolution);
     visit("coarse_vertices", o.coarse_vertices);
     visit("refine_iterations", o.refine_iterations);
     visit("tear_rounds", o.tear_rounds);

@@ -183,17 +183,20 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
     out.note = "single level (" + why + ")";
     return out;
   };
-  check_limit(coulomb_limits::kMultiresolutionAbove, static_cast<double>(mr.above_vertices), "coulomb");
+  check_limit(coulomb_limits::kMultiresolutionAbove, static_cast<double>(mr.above_resolution), "coulomb");
   check_limit(coulomb_limits::kCoarseVertices, static_cast<double>(mr.coarse_vertices), "coulomb");
   check_limit(coulomb_limits::kTearRounds, mr.tear_rounds, "coulomb");
   CSHAPES_REQUIRE(mr.full_rounds >= 0, "coulomb multiresolution: full_rounds must be ≥ 0, not ",
                   mr.full_rounds);
   CSHAPES_REQUIRE(mr.refine_iterations >= 0, "coulomb multiresolution: refine_iterations must be ≥ 0, not ",
                   mr.refine_iterations);
-  if (mr.above_vertices == 0) return single_level("multiresolution off");
-  if (n <= mr.above_vertices)
-    return single_level(std::to_string(n) + " vertices, at most " + std::to_string(mr.above_vertices));
+  if (mr.above_resolution == 0) return single_level("multiresolution off");
   if (mesh.is_point_cloud()) return single_level("a point cloud has no surface to coarsen");
+  const double resolution = even_triangulation_vertices(mesh.V, mesh.F);
+  if (resolution <= static_cast<double>(mr.above_resolution))
+    return single_level(std::to_string(n) + " vertices at the resolution of " +
+                        std::to_string(std::lround(resolution)) + " evenly spaced, at most " +
+                        std::to_string(mr.above_resolution));
   if (mr.coarse_vertices >= n)
     return single_level(std::to_string(n) + " vertices, not more than the coarse version's " +
                         std::to_string(mr.coarse_vertices));

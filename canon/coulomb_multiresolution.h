@@ -26,8 +26,9 @@
 // Measured on KIDS (59,727 vertices, 8 poses): before both, 2 of 8 poses failed the quality check (kid3: 587
 // vertices on edges stretched up to 700×); with them, every pose passes (docs/results.md).
 //
-// Meshes at or below above_vertices, point clouds and meshes the remesher refuses (non-manifold) use the
-// single-level iteration unchanged (and say why in the note). Cost: one remesh (O(n log n)), the coarse
+// Meshes whose resolution (area / (√3/2 · mean edge²): the inflation above grows with R/h̄, whatever the
+// vertex count) is at most above_resolution, point clouds and meshes the remesher refuses (non-manifold) use
+// the single-level iteration unchanged (and say why in the note). Cost: one remesh (O(n log n)), the coarse
 // iteration, a closest-triangle search (kd-tree, O(n log n)), refine_iterations · k sweeps (O(|E|) each) and
 // one fast Coulomb energy for the report.
 #pragma once

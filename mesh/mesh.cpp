@@ -135,6 +135,14 @@ double surface_area(const Points& V, const Faces& F) {
   return area;
 }
 
+double even_triangulation_vertices(const Points& V, const Faces& F) {
+  const Edges E = mesh_edges(F);
+  if (E.rows() == 0) return 0;
+  const double mean_edge = edge_lengths(V, E).mean(), area = surface_area(V, F);
+  if (!(mean_edge > 0) || !(area > 0)) return 0;
+  return area / (0.5 * std::sqrt(3.0) * mean_edge * mean_edge);
+}
+
 namespace {
 
 // The length of a box's diagonal: norm() where its squares stay within the range of a double (the same bits

@@ -79,6 +79,12 @@ MeshInfo mesh_info(const Mesh& mesh);
 
 // Total surface area of the triangles.
 double surface_area(const Points& V, const Faces& F);
+// The resolution of a triangulation as seen by an iteration that steps by its mean edge h̄: the vertex count
+// of an even (equilateral) triangulation with the same area A and the same mean edge, A / (√3/2 · h̄²), h̄ over
+// the distinct edges. About the vertex count for an isotropic remesh; an uneven scan triangulation (long
+// edges on flat parts, short ones at features) of 12,000 vertices comes out at 8,000–9,000. 0 when the area
+// or the mean edge is 0.
+double even_triangulation_vertices(const Points& V, const Faces& F);
 // Area-weighted vertex normals (unit length; zero for isolated vertices and where the faces' normals cancel).
 Points vertex_normals(const Mesh& mesh);
 // Length of the diagonal of the axis-aligned bounding box.

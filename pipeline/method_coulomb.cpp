@@ -30,7 +30,7 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   form.precompute_seconds = seconds_since(start);
   CoulombCanonOptions co = options.coulomb;
   if (!co.progress) co.progress = options.progress;
-  // A mesh finer than options.coulomb.multiresolution.above_vertices goes through a coarse version of its
+  // A mesh whose resolution is above options.coulomb.multiresolution.above_resolution goes through a coarse version of its
   // surface (canon/coulomb_multiresolution.h); point clouds and coarser meshes run the iteration directly.
   CoulombCanonResult r;
   std::string multiresolution;
@@ -195,10 +195,11 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
                             coulomb_limits::kAccuracy, f, [](Ref c) -> double& { return c.coulomb.energy.accuracy; }));
   o.push_back(integer_option<Index>(
       "coulomb_multiresolution_above",
-      "meshes with more vertices are canonized through a coarse remesh of their surface and refined (the "
-      "single-level form inflates with n); 0: never",
+      "meshes whose resolution (area / (sqrt(3)/2 mean edge^2): about the vertex count of an even "
+      "triangulation) is above this are canonized through a coarse remesh of their surface and refined (the "
+      "single-level form inflates with the shape's size over the mean edge); 0: never",
       coulomb_limits::kMultiresolutionAbove, f,
-      [](Ref c) -> Index& { return c.coulomb.multiresolution.above_vertices; }));
+      [](Ref c) -> Index& { return c.coulomb.multiresolution.above_resolution; }));
   const C multiresolution{"coulomb_multiresolution_above", {}, "with multiresolution"};
   o.push_back(integer_option<Index>("coulomb_coarse_vertices",
                                     "vertices of that coarse remesh (the resolution the defaults were chosen at)",

@@ -41,7 +41,7 @@ TEST(CoulombMultiresolution, ProlongationOfAffineFormsIsExact) {
   EXPECT_LT((scaled - 2.5 * P).cwiseAbs().maxCoeff(), 1e-9 * scale);
 }
 
-// At or below above_vertices nothing changes: the single-level iteration's form, bit for bit.
+// At or below above_resolution nothing changes: the single-level iteration's form, bit for bit.
 TEST(CoulombMultiresolution, SmallMeshesRunTheSingleLevelIteration) {
   const Mesh m = icosphere(2);
   CoulombCanonOptions options;
@@ -60,7 +60,7 @@ TEST(CoulombMultiresolution, FineMeshThroughCoarse) {
   co.bend = 2.0;
   const Mesh fine = split_longest_edges(capsule(co), 3000);
   CoulombCanonOptions options;
-  options.multiresolution.above_vertices = 1500;
+  options.multiresolution.above_resolution = 1500;
   options.multiresolution.coarse_vertices = 800;
   options.max_iterations = 300;
   options.tear_after = 100;
@@ -114,13 +114,40 @@ TEST(CoulombMultiresolution, KidsPosesAtFullResolutionPassTheirQualityCheck) {
   }
 }
 
+// The switch reads the resolution, not the vertex count: the same 3,000 vertices stretched 4× along the
+// capsule's axis (long thin triangles, as in scans) are a coarser triangulation for the step rule, and stay
+// at the single level where the even capsule goes through the coarse version.
+TEST(CoulombMultiresolution, TheSwitchReadsTheResolution) {
+  CapsuleOptions co;
+  co.segments = 24;
+  const Mesh even = split_longest_edges(capsule(co), 3000);
+  Mesh stretched = even;
+  Eigen::Index axis;
+  (even.V.colwise().maxCoeff() - even.V.colwise().minCoeff()).maxCoeff(&axis);
+  stretched.V.col(axis) *= 4.0;
+  const double r_even = even_triangulation_vertices(even.V, even.F);
+  const double r_stretched = even_triangulation_vertices(stretched.V, stretched.F);
+  ASSERT_LT(r_stretched, 0.8 * r_even);
+  CoulombCanonOptions options;
+  options.multiresolution.above_resolution = static_cast<Index>(std::lround(0.9 * r_even));
+  options.multiresolution.coarse_vertices = 800;
+  options.max_iterations = 40;
+  options.tear_after = 20;
+  options.multiresolution.tear_rounds = 1;
+  const CoulombMultiresolutionResult a = coulomb_multiresolution(even, options);
+  const CoulombMultiresolutionResult b = coulomb_multiresolution(stretched, options);
+  EXPECT_TRUE(a.used) << a.note;
+  EXPECT_FALSE(b.used) << b.note;
+  EXPECT_NE(b.note.find("at the resolution of"), std::string::npos) << b.note;
+}
+
 // Options out of their limits are refused; a coarse version no coarser than the mesh is no reason to fail:
 // the single-level iteration runs, and the note says why.
 TEST(CoulombMultiresolution, RefusesBadOptions) {
   const Mesh m = icosphere(3);
   CoulombCanonOptions options;
   options.max_iterations = 20;
-  options.multiresolution.above_vertices = 100;
+  options.multiresolution.above_resolution = 100;
   options.multiresolution.coarse_vertices = m.num_vertices();
   const CoulombMultiresolutionResult same = coulomb_multiresolution(m, options);
   EXPECT_FALSE(same.used);
@@ -128,9 +155,9 @@ TEST(CoulombMultiresolution, RefusesBadOptions) {
   options.multiresolution.coarse_vertices = 3;
   EXPECT_THROW(coulomb_multiresolution(m, options), Error);
   options.multiresolution.coarse_vertices = 200;
-  options.multiresolution.above_vertices = -1;
+  options.multiresolution.above_resolution = -1;
   EXPECT_THROW(coulomb_multiresolution(m, options), Error);
-  options.multiresolution.above_vertices = 100;
+  options.multiresolution.above_resolution = 100;
   options.multiresolution.tear_rounds = -1;
   EXPECT_THROW(coulomb_multiresolution(m, options), Error);
   options.multiresolution.tear_rounds = 100;
@@ -177,15 +204,16 @@ TEST(CoulombMultiresolution, StressCorpusSampleThroughTheCoarsePath) {
   corpus.min_vertices = 1800;
   corpus.max_vertices = 3000;
   CoulombCanonOptions options;
-  options.multiresolution.above_vertices = 1500;
+  options.multiresolution.above_resolution = 1500;
   options.multiresolution.coarse_vertices = 600;
   options.max_iterations = 150;
   options.tear_after = 60;
-  int used = 0, passed = 0;
+  int used = 0, passed = 0, examined = 0;
   for (Index i = 0; i < kStressKinds; ++i) {
     const StressCase c = stress_case(11, i, corpus);
     const Mesh mesh = make_stress_mesh(c, corpus);
-    if (mesh.num_vertices() <= options.multiresolution.above_vertices) continue;
+    if (even_triangulation_vertices(mesh.V, mesh.F) <= options.multiresolution.above_resolution) continue;
+    ++examined;
     SCOPED_TRACE(c.describe());
     CoulombMultiresolutionResult mr;
     ASSERT_NO_THROW(mr = coulomb_multiresolution(mesh, options));
@@ -197,7 +225,8 @@ TEST(CoulombMultiresolution, StressCorpusSampleThroughTheCoarsePath) {
     std::printf("%-40s %s | %s\n", c.name().c_str(), mr.used ? "coarse path" : mr.note.c_str(),
                 mr.result.quality.description.c_str());
   }
-  EXPECT_GE(used, kStressKinds - 2);  // the remesher may refuse a mesh with zero-area faces or slivers
+  EXPECT_GE(examined, kStressKinds - 4);  // the coarsest kinds may fall below the switch
+  EXPECT_GE(used, examined - 2);  // the remesher may refuse a mesh with zero-area faces or slivers
   std::printf("%d of %d through the coarse path, %d pass the quality check\n", used, kStressKinds, passed);
 }
 

@@ -71,6 +71,45 @@ TEST(Synthetic, SwissRollHasThePapersSizeAndItsLength) {
   EXPECT_NEAR(info.area, exact * o.height, exact * o.height * 0.01);
 }
 
+// The resolution as an iteration stepping by the mean edge sees it, on grids of m × m vertices whose cells
+// (dx × dy, one diagonal each) give a known mean edge: A / (√3/2 · h̄²) from the edge counts; an anisotropic
+// grid (dy = 3 dx) has the same vertex count at a lower resolution; the measure ignores the coordinates' scale;
+// the icosphere's nearly equilateral triangles give about its vertex count.
+TEST(Mesh, EvenTriangulationVerticesKnownAnswers) {
+  auto grid = [](int m, double dx, double dy, double scale) {
+    Mesh g;
+    g.V.resize(m * m, 3);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) g.V.row(j * m + i) << scale * i * dx, scale * j * dy, 0.0;
+    g.F.resize(2 * (m - 1) * (m - 1), 3);
+    Index f = 0;
+    for (int j = 0; j + 1 < m; ++j)
+      for (int i = 0; i + 1 < m; ++i) {
+        const int a = j * m + i, b = a + 1, c = a + m, d = c + 1;
+        g.F.row(f++) << a, b, d;
+        g.F.row(f++) << a, d, c;
+      }
+    return g;
+  };
+  for (const double aspect : {1.0, 3.0}) {
+    const int m = 21;
+    const double dx = 0.1, dy = aspect * dx, cells = (m - 1.0) * (m - 1.0), sides = m * (m - 1.0);
+    const double mean_edge = (sides * dx + sides * dy + cells * std::hypot(dx, dy)) / (2 * sides + cells);
+    const double expected = cells * dx * dy / (std::sqrt(3.0) / 2 * mean_edge * mean_edge);
+    for (const double scale : {1.0, 1e12, 1e-12}) {
+      SCOPED_TRACE(testing::Message() << "aspect " << aspect << ", scale " << scale);
+      EXPECT_NEAR(even_triangulation_vertices(grid(m, dx, dy, scale).V, grid(m, dx, dy, scale).F), expected,
+                  1e-9 * expected);
+    }
+  }
+  const Mesh square = grid(21, 0.1, 0.1, 1.0), stretched = grid(21, 0.1, 0.3, 1.0);
+  EXPECT_LT(even_triangulation_vertices(stretched.V, stretched.F),
+            0.75 * even_triangulation_vertices(square.V, square.F));
+  const Mesh sphere = icosphere(4);
+  EXPECT_NEAR(even_triangulation_vertices(sphere.V, sphere.F) / sphere.num_vertices(), 1.0, 0.05);
+  EXPECT_EQ(even_triangulation_vertices(sphere.V, Faces(0, 3)), 0.0);
+}
+
 TEST(Mesh, FromVectorsKeepsOrder) {
   const std::vector<Eigen::Vector3d> vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const std::vector<Eigen::Vector3i> triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
