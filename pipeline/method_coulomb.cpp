@@ -30,8 +30,9 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   form.precompute_seconds = seconds_since(start);
   CoulombCanonOptions co = options.coulomb;
   if (!co.progress) co.progress = options.progress;
-  // A mesh whose resolution is above options.coulomb.multiresolution.above_resolution goes through a coarse version of its
-  // surface (canon/coulomb_multiresolution.h); point clouds and coarser meshes run the iteration directly.
+  // A mesh whose resolution is above options.coulomb.multiresolution.above_resolution goes through a coarse
+  // version of its surface (canon/coulomb_multiresolution.h); point clouds and coarser meshes run the
+  // iteration directly.
   CoulombCanonResult r;
   std::string multiresolution;
   if (mesh.is_point_cloud()) {
