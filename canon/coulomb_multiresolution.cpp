@@ -194,9 +194,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   if (mesh.is_point_cloud()) return single_level("a point cloud has no surface to coarsen");
   const double resolution = even_triangulation_vertices(mesh.V, mesh.F);
   if (resolution <= static_cast<double>(mr.above_resolution))
-    return single_level(std::to_string(n) + " vertices at the resolution of " +
-                        std::to_string(std::lround(resolution)) + " evenly spaced, at most " +
-                        std::to_string(mr.above_resolution));
+    return single_level(std::to_string(n) + " vertices, resolution " + std::to_string(std::lround(resolution)) +
+                        " = area / (√3/2 · mean edge²); at most " + std::to_string(mr.above_resolution));
   if (mr.coarse_vertices >= n)
     return single_level(std::to_string(n) + " vertices, not more than the coarse version's " +
                         std::to_string(mr.coarse_vertices));
