@@ -98,8 +98,8 @@ TEST(Mesh, EvenTriangulationVerticesKnownAnswers) {
     const double expected = cells * dx * dy / (std::sqrt(3.0) / 2 * mean_edge * mean_edge);
     for (const double scale : {1.0, 1e12, 1e-12}) {
       SCOPED_TRACE(testing::Message() << "aspect " << aspect << ", scale " << scale);
-      EXPECT_NEAR(even_triangulation_vertices(grid(m, dx, dy, scale).V, grid(m, dx, dy, scale).F), expected,
-                  1e-9 * expected);
+      const Mesh g = grid(m, dx, dy, scale);
+      EXPECT_NEAR(even_triangulation_vertices(g.V, g.F), expected, 1e-9 * expected);
     }
   }
   const Mesh square = grid(21, 0.1, 0.1, 1.0), stretched = grid(21, 0.1, 0.3, 1.0);
