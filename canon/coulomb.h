@@ -38,6 +38,14 @@ CoulombScheme parse_coulomb_scheme(const std::string& name);  // "paper" | "mome
 std::string to_string(CoulombScheme scheme);
 
 // c of eq. (4): c = step_factor · L / max_i ‖∇_i E‖, so the fastest vertex moves step_factor · L per step.
+// The plane the flatten pulls towards (CoulombCanonOptions::flatten_plane).
+enum class FlattenPlane {
+  Spread,      // the plane of the form's two directions of largest spread, every iteration
+  KeepMirror,  // the same, unless that plane is the start's mirror (a four-legged shape): then no pull
+};
+FlattenPlane parse_flatten_plane(const std::string& name);  // "spread" | "keep-mirror"
+std::string to_string(FlattenPlane plane);
+
 enum class CoulombStepRule {
   MaxEdge,     // L = max d_ij: the paper's rule (TOSCA's longest edge is ≈ 7× its mean)
   MeanEdge,    // L = mean d_ij
@@ -161,6 +169,15 @@ struct CoulombCanonOptions {
   // strong a pull folds four-legged shapes into a plane whichever way (generated quadrupeds: 7.7% at 0.01
   // against 1.5% at 0.001). 0: off (the paper).
   double flatten = 0.001;
+  // Which plane. Why: the plane of largest spread holds a biped's limbs (its normal points front to back) but
+  // is a four-legged shape's mirror plane (its normal points from the left legs to the right ones), and the
+  // pull folded the legs together (generated quadrupeds, seeds 12 / 13: median pose RMS 2.32 / 3.08% against
+  // 1.40 / 1.51% without the pull; a four-legged form is mirror-symmetric and has no twins to choose
+  // between). KeepMirror decides on the start: when the reflection in the plane of largest spread maps the
+  // start closer onto itself than the reflection across it, and close (canon/coulomb.cpp,
+  // kMirrorAsymmetry), that plane is the mirror and the form is not pulled; otherwise it is, as with Spread.
+  // Chosen on the tuning data (docs/coulomb-defaults.md, "The flatten's plane").
+  FlattenPlane flatten_plane = FlattenPlane::KeepMirror;
   // After the iteration, torn edges whose ends lie farther apart along the remaining edges than
   // bridge_detour × the input's bbox diagonal, and than their crack is long, were bridges
   // (canon/coulomb_bridges.h: glued tubes); if there are any, the iteration runs again with them removed
@@ -239,6 +256,7 @@ struct CoulombCanonOptions {
     visit("start", o.start);
     visit("start_landmarks", o.start_landmarks);
     visit("flatten", o.flatten);
+    visit("flatten_plane", o.flatten_plane);
     visit("bridge_detour", o.bridge_detour);
     visit("step_rule", o.step_rule);
     visit("step_factor", o.step_factor);
@@ -293,6 +311,7 @@ struct CoulombCanonResult {
   // (form_quality.h); quality.ok is false when a vertex ran away.
   FormQuality quality;
   std::string start;  // where the iteration started (coulomb_start's note)
+  std::string flatten_plane;  // whether and where the flatten pulled, and why (empty: flatten 0)
   double seconds = 0;  // the start included
 };
 

@@ -69,12 +69,15 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                      {"scheme", to_string(co.scheme)},
                                      {"start", r.start},
                                      {"flatten", co.flatten},
+                                     {"flatten_plane", to_string(co.flatten_plane)},
+                                     {"flatten_decision", r.flatten_plane},
                                      {"bridge_detour", co.bridge_detour},
                                      {"step_rule", to_string(co.step_rule)},
                                      {"step_gradient", to_string(co.step_gradient)},
                                      {"projection", to_string(co.projection.norm)},
                                      {"projection_steps", co.projection.steps}};
   say(options.note, "coulomb: started at " + r.start);
+  if (!r.flatten_plane.empty()) say(options.note, "coulomb: flatten: " + r.flatten_plane);
   say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
                         significant(r.seconds) + " s; edge lengths off their rest lengths by " +
                         significant(100 * r.violation.mean_relative) + "% on average, " +
@@ -107,6 +110,12 @@ std::vector<MethodOption> coulomb_step_options() {
                             "per iteration, pull every point this fraction of the way towards the form's plane of "
                             "largest spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)",
                             coulomb_limits::kFlatten, f, [](Ref c) -> double& { return c.coulomb.flatten; }));
+  o.push_back(choice_option<FlattenPlane>(
+      "flatten_plane",
+      "the plane --flatten pulls towards: spread (the plane of largest spread) or keep-mirror (the same, unless "
+      "that plane is the start's mirror, as a four-legged shape's is: then no pull)",
+      {"keep-mirror", "spread"}, f, [](Ref c) -> FlattenPlane& { return c.coulomb.flatten_plane; }, to_string,
+      parse_flatten_plane));
   o.push_back(number_option("bridge_detour",
                             "after the iteration, torn edges whose ends lie farther apart along the other "
                             "edges than this many bbox diagonals and than their crack is long are bridges "

@@ -17,8 +17,9 @@ import cshapes
 ROOT = Path(__file__).resolve().parents[2]
 
 METHODS = ["coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"]
-COULOMB = ["scheme", "coulomb_start", "start_landmarks", "flatten", "bridge_detour", "step_rule", "step_gradient",
-           "step_factor", "fixed_step", "coulomb_steps", "projection_steps", "projection", "l1_floor", "dilation",
+COULOMB = ["scheme", "coulomb_start", "start_landmarks", "flatten", "flatten_plane", "bridge_detour", "step_rule",
+           "step_gradient", "step_factor", "fixed_step", "coulomb_steps", "projection_steps", "projection", "l1_floor",
+           "dilation",
            "tear_fraction", "tear_after", "tear_times", "tear_interval", "tear_guard", "coulomb_max_iterations",
            "coulomb_window", "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy",
            "coulomb_multiresolution_above", "coulomb_coarse_vertices", "coulomb_tear_rounds"]
