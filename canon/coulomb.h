@@ -37,7 +37,6 @@ enum class CoulombScheme {
 CoulombScheme parse_coulomb_scheme(const std::string& name);  // "paper" | "momentum"
 std::string to_string(CoulombScheme scheme);
 
-// c of eq. (4): c = step_factor · L / max_i ‖∇_i E‖, so the fastest vertex moves step_factor · L per step.
 // The plane the flatten pulls towards (CoulombCanonOptions::flatten_plane).
 enum class FlattenPlane {
   Spread,      // the plane of the form's two directions of largest spread, every iteration
@@ -46,6 +45,7 @@ enum class FlattenPlane {
 FlattenPlane parse_flatten_plane(const std::string& name);  // "spread" | "keep-mirror"
 std::string to_string(FlattenPlane plane);
 
+// c of eq. (4): c = step_factor · L / max_i ‖∇_i E‖, so the fastest vertex moves step_factor · L per step.
 enum class CoulombStepRule {
   MaxEdge,     // L = max d_ij: the paper's rule (TOSCA's longest edge is ≈ 7× its mean)
   MeanEdge,    // L = mean d_ij

@@ -256,7 +256,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   fine.rest_lengths = kept_rest;
   fine.history = coarse_form.history;
   fine.start = coarse_form.start + " (on the coarse mesh)";
-  if (!coarse_form.flatten_plane.empty()) fine.flatten_plane = coarse_form.flatten_plane + " (on the coarse mesh)";
+  if (!coarse_form.flatten_plane.empty())
+    fine.flatten_plane = coarse_form.flatten_plane + " (on the coarse mesh)";
   fine.iterations = coarse_form.iterations;
   fine.converged = coarse_form.converged;
   fine.stop_reason = coarse_form.stop_reason + " (coarse), then " + std::to_string(mr.refine_iterations) +
