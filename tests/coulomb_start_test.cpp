@@ -161,6 +161,17 @@ TEST(CoulombCanon, TheFlattenLeavesAFourLeggedShapesMirrorAlone) {
   CoulombCanonOptions off = o;
   off.flatten = 0;
   EXPECT_EQ(coulomb_canonical_form(quadruped.V, mesh_edges(quadruped.F), off).flatten_plane, "");
+  // A pulled shape is pulled exactly as by Spread: the same form, bit for bit.
+  const Mesh biped = poses_of("biped", 1, 1200, 5)[0];
+  CoulombCanonOptions keep = o, spread_run = spread;
+  keep.max_iterations = spread_run.max_iterations = 100;
+  const Points kept = coulomb_canonical_form(biped.V, mesh_edges(biped.F), keep).X;
+  EXPECT_TRUE(kept == coulomb_canonical_form(biped.V, mesh_edges(biped.F), spread_run).X);
+  EXPECT_FALSE(kept == coulomb_canonical_form(biped.V, mesh_edges(biped.F), [&] {
+                         CoulombCanonOptions none = keep;
+                         none.flatten = 0;
+                         return none;
+                       }()).X);  // and the pull does act within those iterations
 }
 
 // What the decision is for: a four-legged shape's poses share their form better without the pull than with
