@@ -38,6 +38,7 @@ class Fmm {
         theta_(parameters.opening_angle),
         leaf_size_(parameters.leaf_size),
         framed_near_field_(parameters.framed_near_field),
+        refined_estimate_(parameters.refined_estimate),
         stats_(stats),
         time_kernels_(time_kernels) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
@@ -470,7 +471,7 @@ class Fmm {
         coulomb_detail::p2p_framed_block(
             xd_.data(), yd_.data(), zd_.data(), i0, std::min<int32_t>(kBlock, A.end - i0), ranges.data(),
             static_cast<int>(ranges.size()), self_range, xs_.data(), ys_.data(), zs_.data(), norm_.floor2,
-            potential_.data(), fx_.data(), fy_.data(), fz_.data());
+            refined_estimate_, potential_.data(), fx_.data(), fy_.data(), fz_.data());
     }
     return sources * A.size();
   }
@@ -551,7 +552,7 @@ class Fmm {
   const double theta_;
   const double theta2_ = theta_ * theta_;
   const int leaf_size_;
-  const bool framed_near_field_;
+  const bool framed_near_field_, refined_estimate_;
   CoulombFmmStats& stats_;
   const bool time_kernels_;
   coulomb_detail::NormalizedPoints norm_;

@@ -125,6 +125,7 @@ struct FmmParameters {
   double opening_angle;
   int leaf_size;
   bool framed_near_field = false;  // near field in leaf frames (see kFramedNearFieldMinAccuracy)
+  bool refined_estimate = true;    // its 1/r refined by a Newton step (see kUnrefinedMinAccuracy)
 };
 FmmParameters choose_parameters(const CoulombFmmOptions& options);
 

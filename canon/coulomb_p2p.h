@@ -69,7 +69,8 @@ void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRange* ran
 // near-coincident points cost accuracy nowhere.
 // Coordinates are stored scaled by 1/√2 (kFrameScale): with h = ‖d'‖² = r²/2 and y ≈ rsqrt(h), one Newton
 // step is w = y (3 − h y²) = 2√2/r (to ~23 bits), so 1/r = w/(2√2) and d/r³ = d' w³/16: the constants are
-// applied once per flush and the step costs 3 operations instead of 4.
+// applied once per flush. refine = false skips the step (w = y = √2/r to the estimate's 12 bits, for the
+// FMM's looser accuracies: kUnrefinedMinAccuracy in coulomb_fmm_expansions.cpp).
 // Same semantics as p2p_block otherwise: skips j = i, distance floor, float terms flushed into double at
 // least every kFlushEvery sources, every addition in an order fixed by the inputs.
 constexpr double kFrameScale = 0.70710678118654752440;
@@ -104,7 +105,7 @@ inline float frame_close_h(double frame_radius) {
 // Dispatched by simd_target().
 void p2p_framed_block(const double* x, const double* y, const double* z, Index i0, int count,
                       const FramedRange* ranges, int num_ranges, int self_range, const float* sx,
-                      const float* sy, const float* sz, float floor2, double* potential, double* fx,
-                      double* fy, double* fz);
+                      const float* sy, const float* sz, float floor2, bool refine, double* potential,
+                      double* fx, double* fy, double* fz);
 
 }  // namespace cshapes::coulomb_detail

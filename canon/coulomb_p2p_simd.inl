@@ -2,7 +2,10 @@
 // support/simd_vector.inl and included by canon/coulomb_p2p.cpp inside one namespace per instruction set, under
 // that set's `#pragma GCC target` (no headers here: the includer provides them).
 // Each target lane's sums depend only on the sources and their order, never on the other lanes of its
-// block, so blocks of 8 (AVX2) and 16 (AVX-512) lanes give each target the same operations.
+// block, so blocks of 4 (SSE2), 8 (AVX2) and 16 (AVX-512) lanes give each target the same operations; and
+// every operation is one IEEE rounding the three sets share (no fused multiply-add; the includer compiles
+// with -ffp-contract=off so that the compiler fuses none either) or the same `rsqrtps` estimate. So every
+// target gives the same bytes on one processor.
 
 // One vector block (count ≤ V::kLanes) of p2p_block.
 inline void p2p_vector_block(const FloatPoints& p, Index i0, int count, const SourceRange* ranges,
@@ -36,17 +39,17 @@ inline void p2p_vector_block(const FloatPoints& p, Index i0, int count, const So
       const F ddx = V::add(V::sub(vx, V::broadcast(p.x + j)), V::sub(vx_lo, V::broadcast(p.x_lo + j)));
       const F ddy = V::add(V::sub(vy, V::broadcast(p.y + j)), V::sub(vy_lo, V::broadcast(p.y_lo + j)));
       const F ddz = V::add(V::sub(vz, V::broadcast(p.z + j)), V::sub(vz_lo, V::broadcast(p.z_lo + j)));
-      F r2 = V::fmadd(ddx, ddx, V::fmadd(ddy, ddy, V::mul(ddz, ddz)));
+      F r2 = V::add(V::mul(ddx, ddx), V::add(V::mul(ddy, ddy), V::mul(ddz, ddz)));
       r2 = V::max(r2, vfloor2);
       F inv_r = V::rsqrt(r2);
       // One Newton step: y ← y (3/2 − r² y²/2), to about 23 correct bits.
-      inv_r = V::mul(inv_r, V::fnmadd(V::mul(half, r2), V::mul(inv_r, inv_r), three_halves));
+      inv_r = V::mul(inv_r, V::sub(three_halves, V::mul(V::mul(half, r2), V::mul(inv_r, inv_r))));
       if constexpr (kSelf) inv_r = V::zero_where(V::lane_is(lane_index, j), inv_r);
       const F inv_r3 = V::mul(inv_r, V::mul(inv_r, inv_r));
       acc[0] = V::add(acc[0], inv_r);
-      acc[1] = V::fmadd(ddx, inv_r3, acc[1]);
-      acc[2] = V::fmadd(ddy, inv_r3, acc[2]);
-      acc[3] = V::fmadd(ddz, inv_r3, acc[3]);
+      acc[1] = V::add(acc[1], V::mul(ddx, inv_r3));
+      acc[2] = V::add(acc[2], V::mul(ddy, inv_r3));
+      acc[3] = V::add(acc[3], V::mul(ddz, inv_r3));
     }
   };
   int pending = 0;
@@ -81,7 +84,9 @@ inline void p2p_block(const FloatPoints& p, Index i0, int count, const SourceRan
 
 // One vector block (count ≤ V::kLanes targets) of p2p_framed_block, in its phases: per source range, a pass
 // over the sources (optimistic for ranges that fit one flush, masked otherwise) and the close pairs exactly;
-// then the sums written out.
+// then the sums written out. Refine: the estimate y ≈ 1/√h refined by one Newton step, w = y (3 − h y²)
+// = 2√2/r (about 23 bits), or w = y = √2/r as the hardware gives it (12 bits; see coulomb_p2p.h).
+template <bool Refine>
 class FramedBlock {
  public:
   using F = typename V::F;
@@ -137,8 +142,9 @@ class FramedBlock {
   // The float accumulators into the double sums, then the block's sums (times the frame's constants) and
   // the exact close terms added to the outputs.
   void finish(double* potential, double* fx, double* fy, double* fz) {
-    constexpr double kPotentialScale = 0.35355339059327376220;  // 1/(2√2)
-    constexpr double kForceScale = 1.0 / 16;
+    // 1/r = w/(2√2) and d/r³ = d' w³/16 with the Newton step; 1/r = w/√2 and d/r³ = d' w³/2 without.
+    constexpr double kPotentialScale = Refine ? 0.35355339059327376220 : 0.70710678118654752440;
+    constexpr double kForceScale = Refine ? 1.0 / 16 : 1.0 / 2;
     flush();
     for (int l = 0; l < count_; ++l) {
       potential[i0_ + l] += sum_[0][l] * kPotentialScale + exact_[0][l];
@@ -163,7 +169,7 @@ class FramedBlock {
     for (int l = 0; l < count_; ++l)
       for (int32_t j = begin; j < end; ++j) {
         const float dx = t[0][l] - sx_[j], dy = t[1][l] - sy_[j], dz = t[2][l] - sz_[j];
-        const float h = std::fma(dx, dx, std::fma(dy, dy, dz * dz));
+        const float h = dx * dx + (dy * dy + dz * dz);
         if (!(h < close_h) || j == i0_ + l) continue;
         const double ex = target_[0][l] - x_[j], ey = target_[1][l] - y_[j], ez = target_[2][l] - z_[j];
         const double r2 = std::max(ex * ex + ey * ey + ez * ez, static_cast<double>(floor2_));
@@ -183,16 +189,16 @@ class FramedBlock {
       const F dx = V::sub(tx, V::broadcast(sx_ + j));
       const F dy = V::sub(ty, V::broadcast(sy_ + j));
       const F dz = V::sub(tz, V::broadcast(sz_ + j));
-      const F h0 = V::fmadd(dx, dx, V::fmadd(dy, dy, V::mul(dz, dz)));
+      const F h0 = V::add(V::mul(dx, dx), V::add(V::mul(dy, dy), V::mul(dz, dz)));
       smallest = V::min(smallest, h0);
       const F h = V::max(h0, floor_);
       const F r = V::rsqrt(h);
-      const F w = V::mul(r, V::fnmadd(h, V::mul(r, r), three_));
+      const F w = Refine ? V::mul(r, V::sub(three_, V::mul(h, V::mul(r, r)))) : r;
       const F w3 = V::mul(w, V::mul(w, w));
       ap = V::add(ap, w);
-      ax = V::fmadd(dx, w3, ax);
-      ay = V::fmadd(dy, w3, ay);
-      az = V::fmadd(dz, w3, az);
+      ax = V::add(ax, V::mul(dx, w3));
+      ay = V::add(ay, V::mul(dy, w3));
+      az = V::add(az, V::mul(dz, w3));
     }
     ap_ = ap, ax_ = ax, ay_ = ay, az_ = az;
     return V::any(V::lt(smallest, V::set1(close_h)));
@@ -209,19 +215,19 @@ class FramedBlock {
       const F dx = V::sub(tx, V::broadcast(sx_ + j));
       const F dy = V::sub(ty, V::broadcast(sy_ + j));
       const F dz = V::sub(tz, V::broadcast(sz_ + j));
-      const F h0 = V::fmadd(dx, dx, V::fmadd(dy, dy, V::mul(dz, dz)));
+      const F h0 = V::add(V::mul(dx, dx), V::add(V::mul(dy, dy), V::mul(dz, dz)));
       M close = V::lt(h0, close_limit);
       const F h = V::max(h0, floor_);
       const F r = V::rsqrt(h);
-      const F w = V::zero_where(close, V::mul(r, V::fnmadd(h, V::mul(r, r), three_)));
+      const F w = V::zero_where(close, Refine ? V::mul(r, V::sub(three_, V::mul(h, V::mul(r, r)))) : r);
       if constexpr (kSelf)  // i = j is close too, but needs no exact term
         close = V::mask_and_not(V::lane_is(lanes_, j), close);
       any_close = V::mask_or(any_close, close);
       const F w3 = V::mul(w, V::mul(w, w));
       ap = V::add(ap, w);
-      ax = V::fmadd(dx, w3, ax);
-      ay = V::fmadd(dy, w3, ay);
-      az = V::fmadd(dz, w3, az);
+      ax = V::add(ax, V::mul(dx, w3));
+      ay = V::add(ay, V::mul(dy, w3));
+      az = V::add(az, V::mul(dz, w3));
     }
     ap_ = ap, ax_ = ax, ay_ = ay, az_ = az;
     return V::any(any_close);
@@ -241,20 +247,27 @@ class FramedBlock {
   F ap_ = V::zero(), ax_ = V::zero(), ay_ = V::zero(), az_ = V::zero();
 };
 
+template <bool Refine>
 inline void p2p_framed_vector_block(const double* x, const double* y, const double* z, Index i0, int count,
                                     const FramedRange* ranges, int num_ranges, int self_range,
                                     const float* sx, const float* sy, const float* sz, float floor2,
                                     double* potential, double* fx, double* fy, double* fz) {
-  FramedBlock block(x, y, z, i0, count, sx, sy, sz, floor2);
+  FramedBlock<Refine> block(x, y, z, i0, count, sx, sy, sz, floor2);
   for (int r = 0; r < num_ranges; ++r) block.add_range(ranges[r], r == self_range);
   block.finish(potential, fx, fy, fz);
 }
 
 inline void p2p_framed_block(const double* x, const double* y, const double* z, Index i0, int count,
                              const FramedRange* ranges, int num_ranges, int self_range, const float* sx,
-                             const float* sy, const float* sz, float floor2, double* potential, double* fx,
-                             double* fy, double* fz) {
-  for (int first = 0; first < count; first += V::kLanes)
-    p2p_framed_vector_block(x, y, z, i0 + first, std::min(V::kLanes, count - first), ranges, num_ranges,
-                            self_range, sx, sy, sz, floor2, potential, fx, fy, fz);
+                             const float* sy, const float* sz, float floor2, bool refine, double* potential,
+                             double* fx, double* fy, double* fz) {
+  for (int first = 0; first < count; first += V::kLanes) {
+    const int lanes = std::min(V::kLanes, count - first);
+    if (refine)
+      p2p_framed_vector_block<true>(x, y, z, i0 + first, lanes, ranges, num_ranges, self_range, sx, sy, sz,
+                                    floor2, potential, fx, fy, fz);
+    else
+      p2p_framed_vector_block<false>(x, y, z, i0 + first, lanes, ranges, num_ranges, self_range, sx, sy, sz,
+                                     floor2, potential, fx, fy, fz);
+  }
 }

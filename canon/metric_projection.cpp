@@ -223,9 +223,11 @@ void MetricProjection::vertex_pass(const double* positions, double* out, Index f
     double* o = out + 4 * i;
     if (begin == end) {  // an isolated vertex stays where it is
       for (int c = 0; c < 4; ++c) o[c] = positions[4 * i + c];
-    } else {  // eq. (6) / eq. (8); the fourth lane becomes 1 again
-      const double scale = L1 ? 1.0 / sum[3] : inverse_degree[i];
-      for (int c = 0; c < 3; ++c) o[c] = sum[c] * scale;
+    } else if constexpr (L1) {  // eq. (8): a division, as the vector pass divides; the fourth lane 1 again
+      for (int c = 0; c < 3; ++c) o[c] = sum[c] / sum[3];
+      o[3] = 1;
+    } else {  // eq. (6): times 1/v_i; the fourth lane 1 again
+      for (int c = 0; c < 3; ++c) o[c] = sum[c] * inverse_degree[i];
       o[3] = 1;
     }
   }
