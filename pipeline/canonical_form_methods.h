@@ -22,12 +22,12 @@
 #include <string>
 #include <vector>
 
-#include "cshapes/support/distance_matrix.h"
 #include "cshapes/geodesics/landmark_geodesics.h"
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/pipeline/canonical_forms.h"
 #include "cshapes/pipeline/method_options.h"
+#include "cshapes/support/distance_matrix.h"
 
 namespace cshapes {
 
@@ -54,8 +54,8 @@ struct CanonicalFormMethod {
   // refusal of the others' options.
   std::vector<MethodOption> options;
   // The top-level CanonicalFormOptions fields (for_each_field's names) it reads, besides the ones every
-  // method reads (method, knn): {"geodesics", "cmds", "smacof", ...} for smacof, whose start is classical MDS.
-  // Its cache key is those fields' values, so a field it reads but does not list would serve stale forms
+  // method reads (method, knn): {"geodesics", "cmds", "smacof", ...} for smacof, whose start is classical
+  // MDS. Its cache key is those fields' values, so a field it reads but does not list would serve stale forms
   // (tests/options_key_test.cpp changes each field a method does not list and checks that its form stays);
   // each of its options sets one of them (checked there too).
   std::vector<std::string> reads;
@@ -68,6 +68,10 @@ struct CanonicalFormMethod {
   // Its forms mark the vertices of torn edges (CanonicalForm::torn): figures colour those instead of the
   // glued ones.
   bool marks_torn = false;
+  // The version of its arithmetic: raised when a change of its code changes its forms under the same options,
+  // so that forms cached before are not served (from 2 on it is part of the cache key: docs/design.md,
+  // "Caches").
+  int results_version = 1;
   // The memory that grows with the input beyond the mesh (bytes, for n vertices), checked by
   // canonical_form() before any work; null: nothing beyond what uses_geodesic_matrix covers.
   double (*memory_bytes)(Index n, const CanonicalFormOptions& options) = nullptr;
@@ -129,11 +133,11 @@ std::string either_of(const std::vector<std::string>& names, const std::string& 
 CanonicalFormOptions experiment_canonical_form_options();
 
 // The registered methods (one file each; their only other mention is canonical_form_method_registry()).
-CanonicalFormMethod coulomb_method();  // pipeline/method_coulomb.cpp
-CanonicalFormMethod cmds_method();     // pipeline/method_mds.cpp
-CanonicalFormMethod smacof_method();   // pipeline/method_mds.cpp
-CanonicalFormMethod lbo_method();        // pipeline/method_lbo.cpp
-CanonicalFormMethod diffusion_method();  // pipeline/method_diffusion.cpp
+CanonicalFormMethod coulomb_method();       // pipeline/method_coulomb.cpp
+CanonicalFormMethod cmds_method();          // pipeline/method_mds.cpp
+CanonicalFormMethod smacof_method();        // pipeline/method_mds.cpp
+CanonicalFormMethod lbo_method();           // pipeline/method_lbo.cpp
+CanonicalFormMethod diffusion_method();     // pipeline/method_diffusion.cpp
 CanonicalFormMethod spectral_mds_method();  // pipeline/method_spectral_mds.cpp
 
 // For the method files: what several methods share.

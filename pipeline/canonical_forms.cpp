@@ -11,12 +11,12 @@
 #include <typeinfo>
 
 #include "cshapes/canon/smacof.h"
-#include "cshapes/support/error.h"
-#include "cshapes/support/threads.h"
-#include "cshapes/support/timing.h"
 #include "cshapes/mesh/unit_scale.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/form_quality_json.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/threads.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -292,7 +292,7 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
     const auto start = WallClock::now();
     owned = distances_on_repaired_mesh(read_distance_matrix(options.distances_file), repaired,
-                                           options.distances_file);
+                                       options.distances_file);
     require_distance_matrix(owned, options.distances_file);
     if (scale != 1) scale_distances(owned, scale);
     D = &owned;
@@ -304,16 +304,18 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
     D = &owned;
   }
   const Mesh& computed_on = scale == 1 ? repaired.mesh : scaled;
-  CanonicalForm form = method.compute(computed_on, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
+  CanonicalForm form =
+      method.compute(computed_on, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
   // Every method's form checked the same way, here (on the mesh it was computed on: the check is scale-free).
   form.quality = canonical_form_quality(computed_on, options, form);
   say(options.note, options.method + ": form quality " + form.quality->description);
   if (scale != 1) {
     form.X /= scale;  // a power of two: exact
     form.details["computed_at_scale"] = scale;
-    say(options.note, options.name + ": computed on a copy scaled by " + std::to_string(scale) +
-                          " (its size was far from 1); the form is scaled back, while its summary's energies, "
-                          "steps and stresses are the copy's");
+    say(options.note,
+        options.name + ": computed on a copy scaled by " + std::to_string(scale) +
+            " (its size was far from 1); the form is scaled back, while its summary's energies, "
+            "steps and stresses are the copy's");
   }
   // Back to the input's vertices (a copy when nothing was repaired).
   const Index n = mesh.num_vertices();
@@ -329,7 +331,8 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
 
 CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& options, const DistanceMatrix* D,
                              double D_seconds, const std::string& D_fallback) {
-  refresh_threads();  // each form with the cores free now (support/threads.h); forms do not depend on the count
+  refresh_threads();  // each form with the cores free now (support/threads.h); forms do not depend on the
+                      // count
   try {
     return canonical_form_of(mesh, options, D, D_seconds, D_fallback);
   } catch (const Error& error) {
@@ -367,10 +370,13 @@ std::string mesh_content_key(const Mesh& mesh) {
 }
 
 std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOptions& options) {
-  // Built from the options' field lists (support/option_fields.h): every field by value, SMACOF's vertex weights
-  // included. The tag's version changes with what the key covers, so entries under an older key are not
-  // found and their forms are computed again, once (the versions: docs/design.md, "Caches").
-  return cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(options)});
+  // Built from the options' field lists (support/option_fields.h): every field by value, SMACOF's vertex
+  // weights included. The tag's version changes with what the key covers, so entries under an older key are
+  // not found and their forms are computed again, once (the versions: docs/design.md, "Caches").
+  const int version = canonical_form_method(options.method).results_version;
+  std::string key = canonical_form_key(options);
+  if (version > 1) key += ";results-v" + std::to_string(version);  // v1: the key as before versions
+  return cache_key({"canonical-form-v2", mesh_content_key(mesh), key});
 }
 
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,

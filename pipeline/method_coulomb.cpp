@@ -5,10 +5,10 @@
 #include "cshapes/canon/coulomb.h"
 #include "cshapes/canon/coulomb_multiresolution.h"
 #include "cshapes/canon/coulomb_start.h"
-#include "cshapes/support/format.h"
-#include "cshapes/support/error.h"
-#include "cshapes/support/timing.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes {
 
@@ -55,27 +55,27 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                  h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
   form.torn_edges = r.torn_edges;  // left out of the form's quality check
   form.details = nlohmann::json{{"vertices", mesh.num_vertices()},
-                                     {"edges", E.rows()},
-                                     {"torn_edges", r.torn_edges.rows()},
-                                     {"iterations", r.iterations},
-                                     {"multiresolution", multiresolution},
-                                     {"converged", r.converged},
-                                     {"stop_reason", r.stop_reason},
-                                     {"energy", r.energy},
-                                     {"mean_violation", r.violation.mean_relative},
-                                     {"max_violation", r.violation.max_relative},
-                                     {"median_length_ratio", r.violation.median_length_ratio},
-                                     {"seconds", r.seconds},
-                                     {"scheme", to_string(co.scheme)},
-                                     {"start", r.start},
-                                     {"flatten", co.flatten},
-                                     {"flatten_plane", to_string(co.flatten_plane)},
-                                     {"flatten_decision", r.flatten_plane},
-                                     {"bridge_detour", co.bridge_detour},
-                                     {"step_rule", to_string(co.step_rule)},
-                                     {"step_gradient", to_string(co.step_gradient)},
-                                     {"projection", to_string(co.projection.norm)},
-                                     {"projection_steps", co.projection.steps}};
+                                {"edges", E.rows()},
+                                {"torn_edges", r.torn_edges.rows()},
+                                {"iterations", r.iterations},
+                                {"multiresolution", multiresolution},
+                                {"converged", r.converged},
+                                {"stop_reason", r.stop_reason},
+                                {"energy", r.energy},
+                                {"mean_violation", r.violation.mean_relative},
+                                {"max_violation", r.violation.max_relative},
+                                {"median_length_ratio", r.violation.median_length_ratio},
+                                {"seconds", r.seconds},
+                                {"scheme", to_string(co.scheme)},
+                                {"start", r.start},
+                                {"flatten", co.flatten},
+                                {"flatten_plane", to_string(co.flatten_plane)},
+                                {"flatten_decision", r.flatten_plane},
+                                {"bridge_detour", co.bridge_detour},
+                                {"step_rule", to_string(co.step_rule)},
+                                {"step_gradient", to_string(co.step_gradient)},
+                                {"projection", to_string(co.projection.norm)},
+                                {"projection_steps", co.projection.steps}};
   say(options.note, "coulomb: started at " + r.start);
   if (!r.flatten_plane.empty()) say(options.note, "coulomb: flatten: " + r.flatten_plane);
   say(options.note, "coulomb: " + std::to_string(r.iterations) + " iterations (" + r.stop_reason + ") in " +
@@ -93,12 +93,15 @@ std::vector<MethodOption> coulomb_step_options() {
   const std::vector<std::string> f = {"coulomb"};
   std::vector<MethodOption> o;
   o.push_back(choice_option<CoulombScheme>(
-      "scheme", "paper: plain alternation of §2.1; momentum: Nesterov with restart (same fixed point, fewer iterations)",
+      "scheme",
+      "paper: plain alternation of §2.1; momentum: Nesterov with restart (same fixed point, fewer "
+      "iterations)",
       {"paper", "momentum"}, f, [](Ref c) -> CoulombScheme& { return c.coulomb.scheme; }, to_string,
       parse_coulomb_scheme));
   o.push_back(choice_option<CoulombStart>(
       "coulomb_start",
-      "where the iteration starts: landmark-mds (an embedding of graph geodesics, the same for every pose) or "
+      "where the iteration starts: landmark-mds (an embedding of graph geodesics, the same for every pose) "
+      "or "
       "input (the paper: the input's coordinates)",
       {"landmark-mds", "input"}, f, [](Ref c) -> CoulombStart& { return c.coulomb.start; }, to_string,
       parse_coulomb_start));
@@ -106,23 +109,25 @@ std::vector<MethodOption> coulomb_step_options() {
                                     coulomb_limits::kStartLandmarks, f,
                                     [](Ref c) -> Index& { return c.coulomb.start_landmarks; }));
   o.back().applies_when = C{"coulomb_start", {"landmark-mds"}, ""};
-  o.push_back(number_option("flatten",
-                            "per iteration, pull every point this fraction of the way towards the form's plane of "
-                            "largest spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)",
-                            coulomb_limits::kFlatten, f, [](Ref c) -> double& { return c.coulomb.flatten; }));
+  o.push_back(
+      number_option("flatten",
+                    "per iteration, pull every point this fraction of the way towards the form's plane of "
+                    "largest spread (keeps left-right symmetric bodies symmetric); 0: off (the paper)",
+                    coulomb_limits::kFlatten, f, [](Ref c) -> double& { return c.coulomb.flatten; }));
   o.push_back(choice_option<FlattenPlane>(
       "flatten_plane",
-      "the plane --flatten pulls towards: spread (the plane of largest spread) or keep-mirror (the same, unless "
+      "the plane --flatten pulls towards: spread (the plane of largest spread) or keep-mirror (the same, "
+      "unless "
       "that plane is the start's mirror, as a four-legged shape's is: then no pull)",
       {"keep-mirror", "spread"}, f, [](Ref c) -> FlattenPlane& { return c.coulomb.flatten_plane; }, to_string,
       parse_flatten_plane));
-  o.push_back(number_option("bridge_detour",
-                            "after the iteration, torn edges whose ends lie farther apart along the other "
-                            "edges than this many bbox diagonals and than their crack is long are bridges "
-                            "(glued tubes); if there are any, iterate again without them from the start; 0: off "
-                            "(the paper)",
-                            coulomb_limits::kBridgeDetour, f,
-                            [](Ref c) -> double& { return c.coulomb.bridge_detour; }));
+  o.push_back(number_option(
+      "bridge_detour",
+      "after the iteration, torn edges whose ends lie farther apart along the other "
+      "edges than this many bbox diagonals and than their crack is long are bridges "
+      "(glued tubes); if there are any, iterate again without them from the start; 0: off "
+      "(the paper)",
+      coulomb_limits::kBridgeDetour, f, [](Ref c) -> double& { return c.coulomb.bridge_detour; }));
   o.back().applies_when = C{"coulomb_start", {"landmark-mds"}, ""};
   o.push_back(choice_option<CoulombStepRule>(
       "step_rule",
@@ -135,10 +140,12 @@ std::vector<MethodOption> coulomb_step_options() {
       "does)",
       {"max", "mean"}, f, [](Ref c) -> StepGradient& { return c.coulomb.step_gradient; }, to_string,
       parse_step_gradient));
-  o.push_back(number_option("step_factor", "the factor of the step rule (paper: 0.1)", coulomb_limits::kStepFactor,
-                            f, [](Ref c) -> double& { return c.coulomb.step_factor; }));
-  o.push_back(number_option("fixed_step", "c for --step-rule fixed; 0: the mean-edge c of the first iteration",
-                            coulomb_limits::kFixedStep, f, [](Ref c) -> double& { return c.coulomb.fixed_step; }));
+  o.push_back(number_option("step_factor", "the factor of the step rule (paper: 0.1)",
+                            coulomb_limits::kStepFactor, f,
+                            [](Ref c) -> double& { return c.coulomb.step_factor; }));
+  o.push_back(
+      number_option("fixed_step", "c for --step-rule fixed; 0: the mean-edge c of the first iteration",
+                    coulomb_limits::kFixedStep, f, [](Ref c) -> double& { return c.coulomb.fixed_step; }));
   o.back().applies_when = C{"step_rule", {"fixed"}, ""};
   o.push_back(integer_option<int>("coulomb_steps", "m: Coulomb steps per outer iteration",
                                   coulomb_limits::kCoulombSteps, f,
@@ -149,8 +156,9 @@ std::vector<MethodOption> coulomb_step_options() {
   o.push_back(choice_option<ProjectionNorm>(
       "projection", "l2: averaged projection (eq. 6); l1: weighted (eq. 8-9)", {"l2", "l1"}, f,
       [](Ref c) -> ProjectionNorm& { return c.coulomb.projection.norm; }, to_string, parse_projection_norm));
-  o.push_back(number_option("l1_floor", "L1 weights: |r-d| floored at this fraction of d", projection_limits::kL1Floor,
-                            f, [](Ref c) -> double& { return c.coulomb.projection.l1_floor; }));
+  o.push_back(number_option("l1_floor", "L1 weights: |r-d| floored at this fraction of d",
+                            projection_limits::kL1Floor, f,
+                            [](Ref c) -> double& { return c.coulomb.projection.l1_floor; }));
   o.back().applies_when = C{"projection", {"l1"}, ""};
   o.push_back(number_option("dilation", "eq. (3): only pull lengths outside [d/c, c·d]; 1 = exact",
                             projection_limits::kDilation, f,
@@ -163,12 +171,13 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
   using C = MethodOption::Condition;
   const std::vector<std::string> f = {"coulomb"};
   std::vector<MethodOption> o;
-  o.push_back(number_option("tear_fraction", "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing",
-                            coulomb_limits::kTearFraction, f,
-                            [](Ref c) -> double& { return c.coulomb.tear_fraction; }));
+  o.push_back(number_option(
+      "tear_fraction", "p: fraction of edges torn (by |r-d|) over all tears; 0: no tearing",
+      coulomb_limits::kTearFraction, f, [](Ref c) -> double& { return c.coulomb.tear_fraction; }));
   const C tearing{"tear_fraction", {}, "when tearing"};
-  o.push_back(integer_option<int>("tear_after", "T: tear after this many iterations (or at convergence if earlier)",
-                                  coulomb_limits::kTearAfter, f, [](Ref c) -> int& { return c.coulomb.tear_after; }));
+  o.push_back(
+      integer_option<int>("tear_after", "T: tear after this many iterations (or at convergence if earlier)",
+                          coulomb_limits::kTearAfter, f, [](Ref c) -> int& { return c.coulomb.tear_after; }));
   o.back().applies_when = tearing;
   o.push_back(integer_option<int>("tear_times", "how many times to tear", coulomb_limits::kTearTimes, f,
                                   [](Ref c) -> int& { return c.coulomb.tear_times; }));
@@ -179,7 +188,8 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
   o.back().applies_when = tearing;
   o.push_back(choice_option<TearGuard>(
       "tear_guard",
-      "edges tearing must keep: connected (two per vertex, no part cut off), vertex (one per vertex: pairs and "
+      "edges tearing must keep: connected (two per vertex, no part cut off), vertex (one per vertex: pairs "
+      "and "
       "patches may be cut off and drift away)",
       {"connected", "vertex"}, f, [](Ref c) -> TearGuard& { return c.coulomb.tear_guard; }, to_string,
       parse_tear_guard));
@@ -187,22 +197,27 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
   o.push_back(integer_option<int>("coulomb_max_iterations", "maximum outer iterations",
                                   coulomb_limits::kMaxIterations, f,
                                   [](Ref c) -> int& { return c.coulomb.max_iterations; }));
-  o.push_back(integer_option<int>("coulomb_window", "iterations between shape-change checks", coulomb_limits::kWindow,
-                                  f, [](Ref c) -> int& { return c.coulomb.stop_window; }));
-  o.push_back(number_option("coulomb_tolerance",
-                            "converged when the aligned RMS shape change over a window is below this × bbox diagonal",
-                            coulomb_limits::kTolerance, f, [](Ref c) -> double& { return c.coulomb.stop_tolerance; }));
-  o.push_back(number_option("momentum", "cap of Nesterov's momentum (scheme momentum)", coulomb_limits::kMomentum, f,
+  o.push_back(integer_option<int>("coulomb_window", "iterations between shape-change checks",
+                                  coulomb_limits::kWindow, f,
+                                  [](Ref c) -> int& { return c.coulomb.stop_window; }));
+  o.push_back(number_option(
+      "coulomb_tolerance",
+      "converged when the aligned RMS shape change over a window is below this × bbox diagonal",
+      coulomb_limits::kTolerance, f, [](Ref c) -> double& { return c.coulomb.stop_tolerance; }));
+  o.push_back(number_option("momentum", "cap of Nesterov's momentum (scheme momentum)",
+                            coulomb_limits::kMomentum, f,
                             [](Ref c) -> double& { return c.coulomb.momentum; }));
   o.back().applies_when = C{"scheme", {"momentum"}, ""};
   o.push_back(choice_option<CoulombOptions::Summation>(
-      "coulomb_summation", "Coulomb sum: auto, direct, direct-float, fast", {"auto", "direct", "direct-float", "fast"},
-      f, [](Ref c) -> CoulombOptions::Summation& { return c.coulomb.energy.summation; }, to_string,
+      "coulomb_summation", "Coulomb sum: auto, direct, direct-float, fast",
+      {"auto", "direct", "direct-float", "fast"}, f,
+      [](Ref c) -> CoulombOptions::Summation& { return c.coulomb.energy.summation; }, to_string,
       parse_coulomb_summation));
   o.push_back(number_option("coulomb_accuracy",
                             "fast summation in the iterations: target relative gradient error (the reported "
                             "energy: 1e-3 or this, whichever is smaller)",
-                            coulomb_limits::kAccuracy, f, [](Ref c) -> double& { return c.coulomb.energy.accuracy; }));
+                            coulomb_limits::kAccuracy, f,
+                            [](Ref c) -> double& { return c.coulomb.energy.accuracy; }));
   o.push_back(integer_option<Index>(
       "coulomb_multiresolution_above",
       "meshes whose resolution (area / (sqrt(3)/2 mean edge^2): about the vertex count of an even "
@@ -211,10 +226,11 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
       coulomb_limits::kMultiresolutionAbove, f,
       [](Ref c) -> Index& { return c.coulomb.multiresolution.above_resolution; }));
   const C multiresolution{"coulomb_multiresolution_above", {}, "with multiresolution"};
-  o.push_back(integer_option<Index>("coulomb_coarse_vertices",
-                                    "vertices of that coarse remesh (the resolution the defaults were chosen at)",
-                                    coulomb_limits::kCoarseVertices, f,
-                                    [](Ref c) -> Index& { return c.coulomb.multiresolution.coarse_vertices; }));
+  o.push_back(
+      integer_option<Index>("coulomb_coarse_vertices",
+                            "vertices of that coarse remesh (the resolution the defaults were chosen at)",
+                            coulomb_limits::kCoarseVertices, f,
+                            [](Ref c) -> Index& { return c.coulomb.multiresolution.coarse_vertices; }));
   o.back().applies_when = multiresolution;
   o.push_back(integer_option<int>(
       "coulomb_tear_rounds",
@@ -240,6 +256,7 @@ CanonicalFormMethod coulomb_method() {
   m.reads = {"coulomb"};
   m.has_history = true;
   m.marks_torn = true;
+  m.results_version = 2;  // 2: the kernels without fused multiply-adds, the same bytes under every target
   m.compute = coulomb_compute;
   return m;
 }

@@ -1,6 +1,6 @@
-// Cache keys built from the options' own field lists (support/option_fields.h): every options struct that enters
-// a key lists each of its members exactly once, and every listed field reaches the key of the options that
-// hold it — CanonicalFormOptions (canonical_form_key, per registered method), TopologicalNoiseOptions
+// Cache keys built from the options' own field lists (support/option_fields.h): every options struct that
+// enters a key lists each of its members exactly once, and every listed field reaches the key of the options
+// that hold it — CanonicalFormOptions (canonical_form_key, per registered method), TopologicalNoiseOptions
 // (glued_mesh_key) and IcpOptions (to_key_string) — while the fields marked kNoEffect do not.
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "cshapes/support/option_fields.h"
+#include "cshapes/data/cache.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/experiments/noise_experiment.h"
 #include "cshapes/experiments/paper_experiment.h"
@@ -23,8 +23,10 @@
 #include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/matching/icp.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/canonical_forms.h"
 #include "cshapes/pipeline/glued_meshes.h"
 #include "cshapes/pipeline/method_options.h"
+#include "cshapes/support/option_fields.h"
 #include "tests/test_support.h"
 
 namespace cshapes {
@@ -355,7 +357,8 @@ TEST(MethodOptions, EachOptionReachesTheKeyOfEveryMethodThatListsIt) {
             << option.name << ": its default is not one of its choices";
       }
       if (const long long* i = std::get_if<long long>(&fallback)) {
-        EXPECT_TRUE(option.limit->holds(static_cast<double>(*i))) << option.name << ": default outside its limit";
+        EXPECT_TRUE(option.limit->holds(static_cast<double>(*i)))
+            << option.name << ": default outside its limit";
       }
       if (const double* x = std::get_if<double>(&fallback)) {
         EXPECT_TRUE(option.limit->holds(*x)) << option.name << ": default outside its limit";
@@ -389,7 +392,8 @@ TEST(MethodOptions, AFieldAMethodDoesNotListLeavesItsFormUnchanged) {
         perturb(field);
       });
       const Points X = canonical_form(mesh, changed).X;
-      EXPECT_TRUE(X.cwiseEqual(reference).all()) << method.name << ": changing " << top << " changed its form";
+      EXPECT_TRUE(X.cwiseEqual(reference).all())
+          << method.name << ": changing " << top << " changed its form";
     }
   }
 }
@@ -443,6 +447,24 @@ TEST(OptionsKey, TextNamesEveryValue) {
   EXPECT_NE(key.find(";knn.k=8"), std::string::npos) << key;
   IcpOptions icp;
   EXPECT_NE(to_key_string(icp).find(";pyramid=100,1000,;"), std::string::npos);
+}
+
+// A method whose arithmetic changed (results_version > 1: Coulomb) keys its cached forms apart from the forms
+// cached before, so they are computed again; a method at version 1 keeps the key it always had, so its cached
+// forms are still served.
+TEST(OptionsKey, AMethodsResultsVersionSeparatesItsCachedForms) {
+  const Mesh mesh = icosphere(1);
+  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
+    CanonicalFormOptions o;
+    o.method = method.name;
+    const std::string before_versions =
+        cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(o)});
+    if (method.results_version > 1)
+      EXPECT_NE(canonical_form_cache_key(mesh, o), before_versions) << method.name;
+    else
+      EXPECT_EQ(canonical_form_cache_key(mesh, o), before_versions) << method.name;
+  }
+  EXPECT_EQ(canonical_form_method("coulomb").results_version, 2);
 }
 
 // The experiments start from the library's experiment defaults (heat geodesics), whoever calls them: the CLI

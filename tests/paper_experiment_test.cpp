@@ -142,9 +142,10 @@ void expect_report_fits_the_run(const std::string& out, const std::vector<std::s
                                                         << ", which is not there";
     }
     const bool separator = line.rfind("| ---", 0) == 0;
-    if (separator)
+    if (separator) {
       EXPECT_TRUE(k + 1 < lines.size() && lines[k + 1].rfind("|", 0) == 0)
           << out << ": report.md:" << k << " is a table without rows: " << lines[k - 1];
+    }
     if (k == 0) continue;  // "# Coulomb shapes: …", the paper's title
     for (const CanonicalFormMethod& m : canonical_form_method_registry()) {
       if (std::find(ran.begin(), ran.end(), m.name) != ran.end()) continue;
@@ -187,7 +188,9 @@ TEST(PaperExperiment, TheReportFitsTheRun) {
   expect_report_fits_the_run(dir + "/out", {"cmds", "diffusion"});
   const std::string report = read_file(dir + "/out/report.md");
   EXPECT_NE(report.find("No claim of the paper can be checked by this run"), std::string::npos) << report;
-  if (can_draw) EXPECT_NE(report.find("](fig8_pr.png)"), std::string::npos) << report;
+  if (can_draw) {
+    EXPECT_NE(report.find("](fig8_pr.png)"), std::string::npos) << report;
+  }
   EXPECT_EQ(report.find("fig4_tearing.png"), std::string::npos) << report;
 
   // The figures' data without Coulomb: no Fig. 3, 4, 5 (Coulomb's iterations and tears).
