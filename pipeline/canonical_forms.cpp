@@ -353,7 +353,11 @@ CanonicalForm canonical_form(const Mesh& mesh, const CanonicalFormOptions& optio
 
 std::string canonical_form_key(const CanonicalFormOptions& options) {
   const CanonicalFormMethod& method = canonical_form_method(options.method);
-  return options_key(options, [&method](const char* field) { return method_reads_field(method, field); });
+  std::string key =
+      options_key(options, [&method](const char* field) { return method_reads_field(method, field); });
+  // The version of the method's arithmetic, from 2 on (at 1 the key is the one from before versions).
+  if (method.results_version > 1) key += ";results-v" + std::to_string(method.results_version);
+  return key;
 }
 
 std::string mesh_content_key(const Mesh& mesh) {
@@ -373,10 +377,7 @@ std::string canonical_form_cache_key(const Mesh& mesh, const CanonicalFormOption
   // Built from the options' field lists (support/option_fields.h): every field by value, SMACOF's vertex
   // weights included. The tag's version changes with what the key covers, so entries under an older key are
   // not found and their forms are computed again, once (the versions: docs/design.md, "Caches").
-  const int version = canonical_form_method(options.method).results_version;
-  std::string key = canonical_form_key(options);
-  if (version > 1) key += ";results-v" + std::to_string(version);  // v1: the key as before versions
-  return cache_key({"canonical-form-v2", mesh_content_key(mesh), key});
+  return cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(options)});
 }
 
 CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,

@@ -207,8 +207,9 @@ CanonicalForm smacof_form(const SmacofResult& result, const SmacofOptions& optio
 
 // The part of the cache key that depends on the options: options_key (support/option_fields.h) of the fields
 // the method reads (method_reads_field: method, knn, its options' fields and its `reads`) that change the
-// result: "method=\"cmds\";geodesics.method=fmm;...". Throws for an unknown method, and naming
-// distances_file when it cannot be read.
+// result: "method=\"cmds\";geodesics.method=fmm;...", then ";results-v2" for a method whose results_version
+// is above 1 (pipeline/canonical_form_methods.h). Throws for an unknown method, and naming distances_file when
+// it cannot be read.
 std::string canonical_form_key(const CanonicalFormOptions& options);
 // Content key of a mesh: SHA-256 of its coordinates and faces.
 std::string mesh_content_key(const Mesh& mesh);

@@ -449,20 +449,25 @@ TEST(OptionsKey, TextNamesEveryValue) {
   EXPECT_NE(to_key_string(icp).find(";pyramid=100,1000,;"), std::string::npos);
 }
 
-// A method whose arithmetic changed (results_version > 1: Coulomb) keys its cached forms apart from the forms
-// cached before, so they are computed again; a method at version 1 keeps the key it always had, so its cached
-// forms are still served.
+// A method whose arithmetic changed (results_version > 1: Coulomb) keys its cached forms, and everything
+// keyed by its options (Fig. 3's snapshots), apart from those cached before, so they are computed again; a
+// method at version 1 keeps the key it always had, so its cached forms are still served.
 TEST(OptionsKey, AMethodsResultsVersionSeparatesItsCachedForms) {
   const Mesh mesh = icosphere(1);
   for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
     CanonicalFormOptions o;
     o.method = method.name;
+    const std::string options_only =
+        options_key(o, [&method](const char* field) { return method_reads_field(method, field); });
     const std::string before_versions =
-        cache_key({"canonical-form-v2", mesh_content_key(mesh), canonical_form_key(o)});
-    if (method.results_version > 1)
+        cache_key({"canonical-form-v2", mesh_content_key(mesh), options_only});
+    if (method.results_version > 1) {
+      EXPECT_EQ(canonical_form_key(o), options_only + ";results-v" + std::to_string(method.results_version));
       EXPECT_NE(canonical_form_cache_key(mesh, o), before_versions) << method.name;
-    else
+    } else {
+      EXPECT_EQ(canonical_form_key(o), options_only) << method.name;
       EXPECT_EQ(canonical_form_cache_key(mesh, o), before_versions) << method.name;
+    }
   }
   EXPECT_EQ(canonical_form_method("coulomb").results_version, 2);
 }
