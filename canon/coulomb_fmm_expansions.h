@@ -96,8 +96,8 @@ StaticShiftFunction static_l2l(int order);
 StaticL2PFunction static_l2p(int order);
 
 // The M2L of one target cell, compiled for each instruction set of support/simd.h
-// (canon/coulomb_m2l_simd.inl): the same operations on the same vector type, in 256-bit registers and with
-// fused multiply-adds there.
+// (canon/coulomb_m2l_simd.inl): the same operations on the same vector type, in 256-bit registers there,
+// unfused (-ffp-contract=off), so every target gives the same bytes.
 using M2LCellFunction = void (*)(const double* center, const int32_t* list, size_t count, const Cell* cells,
                                  const double* multipoles, int stride, double* local);
 

@@ -8,10 +8,11 @@
 // (docs/benchmarks.md), so AVX-512 runs only when asked for. The environment variable CSHAPES_SIMD=baseline|avx2|avx512 forces one (for tests and
 // comparisons); forcing one the CPU lacks is an error, never a silent fallback.
 //
-// Results: each target is deterministic (the same bytes for any thread count). Targets differ from one
-// another in the last bits of the Coulomb and SMACOF sums (a hardware reciprocal square root estimate and
-// fused multiply-adds against an exact square root, separate multiply and add); docs/benchmarks.md states the
-// bound per method and tests/simd_test.cpp checks it.
+// Results: each target is deterministic (the same bytes for any thread count). The Coulomb method's kernels
+// give the same bytes under every target (the same IEEE operations in the same order: no fused multiply-adds,
+// the same `rsqrtps` estimate); the SMACOF pass differs in its last bits between the baseline (an exact
+// square root) and the AVX targets (the estimate, fused multiply-adds). docs/benchmarks.md states the bound
+// per method and tests/simd_test.cpp checks it. The estimate's tables differ between processor makers.
 #pragma once
 
 #include <string>
