@@ -401,10 +401,10 @@ constexpr double kFramedNearFieldMinAccuracy = 3e-4;
 
 // The framed near field takes the hardware's 12-bit estimate of 1/r as it is, without the Newton step (4 of
 // its 24 operations per pair), for requests of at least this. Each pair term is then off by up to 1.5·2⁻¹²
-// (3.7e-4) relative, but the errors mostly cancel over a leaf's sources: on cat0 at 22,738 points the
-// gradient's relative error went from 7.2e-6 to 2.9e-5 at 1e-3 and from 9.9e-5 to 1.0e-4 at 1e-2 (the
-// canonization's default), 1.5× faster there. Below it the step stays: at 3e-4 the frames' own rounding
-// (above) already takes up to 4e-5.
+// (3.7e-4) relative, and the errors partly cancel over a leaf's sources: at 1e-3 the gradient's relative
+// error on cat0's surface went from 7.2e-6 to 2.9e-5 at 22,738 points and from 8.3e-5 to 3.5e-4 at 100,000
+// (a margin of 2.9×, the table's rule asks 2.5× there), at 1e-2 (the canonization's default) from 9.9e-5 to
+// 1.0e-4. Below it the step stays: at 3e-4 the frames' own rounding (above) already takes up to 4e-5.
 constexpr double kUnrefinedMinAccuracy = 1e-3;
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {

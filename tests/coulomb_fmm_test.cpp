@@ -79,7 +79,7 @@ TEST(CoulombFmm, DefaultAccuracyContractOnGeneratedMeshesOfSeveralSizes) {
 // The near field in local frames (at 3e-4, with the Newton step) against the exact-difference near field
 // (chosen for accuracy < 3e-4) with the same expansions: they differ only by the rounding of the point
 // differences, which must stay far below the accuracy even for nearly coincident pairs. At 1e-3 (the default)
-// the frames take the 12-bit estimate of 1/r as it is: further off, still 10× inside the accuracy.
+// the frames take the 12-bit estimate of 1/r as it is: further off, still 10× inside the accuracy here.
 TEST(CoulombFmm, FramedNearFieldAgreesWithExactDifferences) {
   Points X = make_points(20000, "clustered", 7);
   std::mt19937_64 rng(8);
