@@ -145,7 +145,7 @@ Classification classification_from_labels(const std::vector<std::string>& ids,
   std::map<std::string, size_t> index;
   for (size_t i = 0; i < ids.size(); ++i) {
     auto [it, fresh] = index.emplace(classes[i], c.classes.size());
-    if (fresh) c.classes.push_back({classes[i], "0", {}});
+    if (fresh) c.classes.push_back({classes[i], "0", {}, {}});
     c.classes[it->second].models.push_back(ids[i]);
   }
   return c;

@@ -98,8 +98,9 @@ TEST(CliVocabulary, EveryCommandSaysOneThingOneWay) {
             << "-o is an output file, --out a folder: " << where;
         ++checked["-o"];
       }
-      if (contains(o.description, "output folder") || contains(o.description, "output directory"))
+      if (contains(o.description, "output folder") || contains(o.description, "output directory")) {
         EXPECT_EQ(o.names, "--out") << where;
+      }
       if (contains(o.description, "JSON") && (contains(o.description, "print") || contains(o.description, "stdout")))
         if (o.names != "--out" && o.names != "-o,--output") {
           EXPECT_EQ(o.names, "--json") << where;

@@ -41,7 +41,9 @@ std::string dataset_with_scaled_shape(const std::string& tag, double scale, int 
 int expect_complete_or_odd_left_out(const test::CliResult& r) {
   EXPECT_GE(r.exit_code, 0) << "killed by a signal: " << r.err;
   EXPECT_TRUE(r.exit_code == 0 || r.exit_code == kPartial) << "exit " << r.exit_code << ": " << r.err;
-  if (r.exit_code == kPartial) EXPECT_NE(r.err.find("odd left out"), std::string::npos) << r.err;
+  if (r.exit_code == kPartial) {
+    EXPECT_NE(r.err.find("odd left out"), std::string::npos) << r.err;
+  }
   return r.exit_code;
 }
 
@@ -177,7 +179,9 @@ TEST(TrustCli, ACollapsedFormIsNeverOk) {
     const double extent = (form.V.colwise().maxCoeff() - form.V.colwise().minCoeff()).maxCoeff();
     const bool ok = nlohmann::json::parse(r.out)["form_quality"]["ok"].get<bool>();
     // ok only for a form of the mesh's size (an isometric form of a sphere of radius s spans about 2s).
-    if (ok) EXPECT_NEAR(extent / scale, 2.0, 0.5) << "collapsed form reported ok";
+    if (ok) {
+      EXPECT_NEAR(extent / scale, 2.0, 0.5) << "collapsed form reported ok";
+    }
   }
   fs::remove_all(dir);
 }
