@@ -6,16 +6,15 @@
 
 #include "cshapes/canon/coulomb_fmm.h"
 #include "cshapes/canon/coulomb_p2p.h"
-#include "cshapes/support/error.h"
 #include "cshapes/mesh/mesh.h"
-#include "cshapes/support/simd.h"
+#include "cshapes/support/error.h"
 
 namespace cshapes {
 
 // The crossover of `cshapes bench coulomb --n N` (process CPU seconds per gradient, DirectFloat against Fast,
-// at the default accuracy): the fast sum wins from about 2,000 points on surfaces and about 3,500 in a volume.
-// Auto serves surfaces (meshes, point clouds of surfaces) first and switches at 3,000, between the two; the
-// measured figures are in docs/changelog.md ("Benchmark history").
+// at the default accuracy): the fast sum wins from about 2,000 points on surfaces and about 3,500 in a
+// volume. Auto serves surfaces (meshes, point clouds of surfaces) first and switches at 3,000, between the
+// two; the measured figures are in docs/changelog.md ("Benchmark history").
 const Index kAutoFastMinPoints = 3000;
 
 double default_min_distance(const Points& X) {
@@ -35,42 +34,38 @@ double effective_min_distance(const Points& X, double min_distance) {
 }
 
 namespace {
-namespace baseline {
-#include "cshapes/canon/coulomb_direct_simd.inl"
-}  // namespace baseline
-#pragma GCC push_options
-#pragma GCC target("avx2,fma")
-namespace avx2 {
-#include "cshapes/canon/coulomb_direct_simd.inl"
-}  // namespace avx2
-#pragma GCC pop_options
-#pragma GCC push_options
-#pragma GCC target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw")
-namespace avx512 {
-#include "cshapes/canon/coulomb_direct_simd.inl"
-}  // namespace avx512
-#pragma GCC pop_options
-
-using DirectSum = void (*)(Index, const double*, const double*, const double*, Index, double, double&,
-                           double&, double&, double&);
-// direct_sum_at for the kernels' instruction set (support/simd.h).
-DirectSum direct_sum_kernel() {
-  switch (simd_target()) {
-    case SimdTarget::Avx512:
-      return &avx512::direct_sum_at;
-    case SimdTarget::Avx2:
-      return &avx2::direct_sum_at;
-    case SimdTarget::Baseline:
-      break;
+// The exact sums at point i over all j ≠ i, in double precision: the potential e = Σ 1/r_ij and
+// g = Σ (x_i − x_j)/r_ij³, with distances floored at sqrt(floor2), summed in j order. The reference of the
+// fast sums, and of `--coulomb-summation direct`: one scalar loop compiled for the baseline only (no fused
+// multiply-adds), so its sums are the same bytes under every target (support/simd.h). A
+// vectorised loop would be about 4× faster (gcc vectorised the loop for AVX-512 only, 0.24 s against 1.04 s
+// at 22,738 points) but would sum in an order that depends on the vector width.
+void direct_sum_at(Index i, const double* x, const double* y, const double* z, Index n, double floor2,
+                   double& e, double& gx, double& gy, double& gz) {
+  const double xi = x[i], yi = y[i], zi = z[i];
+  double se = 0, sx = 0, sy = 0, sz = 0;
+  for (Index j = 0; j < n; ++j) {
+    if (j == i) continue;
+    const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+    const double r2 = std::max(dx * dx + dy * dy + dz * dz, floor2);
+    const double inv_r = 1.0 / std::sqrt(r2);
+    const double inv_r3 = inv_r * inv_r * inv_r;
+    se += inv_r;
+    sx += dx * inv_r3;
+    sy += dy * inv_r3;
+    sz += dz * inv_r3;
   }
-  return &baseline::direct_sum_at;
+  e = se;
+  gx = sx;
+  gy = sy;
+  gz = sz;
 }
 }  // namespace
 
 CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   const Index n = X.rows();
   min_distance = effective_min_distance(X, min_distance);
-  // Structure of arrays so the inner loop vectorises.
+  // Structure of arrays: each point's loop streams three arrays.
   std::vector<double> x(X.col(0).data(), X.col(0).data() + n), y(X.col(1).data(), X.col(1).data() + n),
       z(X.col(2).data(), X.col(2).data() + n);
   const double floor2 = min_distance * min_distance;
@@ -78,7 +73,6 @@ CoulombEvaluation coulomb_direct(const Points& X, double min_distance) {
   result.gradient.resize(n, 3);
   result.potential.resize(n);
   result.summation_used = CoulombOptions::Summation::Direct;
-  const DirectSum direct_sum_at = direct_sum_kernel();
 #pragma omp parallel for schedule(dynamic, 64)
   for (Index i = 0; i < n; ++i) {
     double e, gx, gy, gz;
@@ -106,7 +100,6 @@ CoulombTargetSums coulomb_direct_targets(const Points& X, const std::vector<Inde
   CoulombTargetSums result;
   result.potential.resize(m);
   result.gradient.resize(m, 3);
-  const DirectSum direct_sum_at = direct_sum_kernel();
 #pragma omp parallel for schedule(dynamic, 4)
   for (Index t = 0; t < m; ++t) {
     const Index i = targets[t];

@@ -110,9 +110,10 @@ TEST(Simd, CoulombSumsAreDeterministicPerTargetAndTheSameAcrossTargets) {
       fmm;  // the canonization's default accuracy and a tighter one (the exact-difference kernel)
   CoulombFmmOptions tight;
   tight.accuracy = 1e-5;
-  Points fmm_baseline, tight_baseline, direct_baseline;
+  Points fmm_baseline, tight_baseline, direct_baseline, exact_baseline;
   for_each_target([&](SimdTarget t) {
-    Points fast, precise, direct;
+    Points fast, precise, direct, reference;
+    expect_same_bytes_for_any_thread_count([&] { return reference = coulomb_direct(X).gradient; });
     expect_same_bytes_for_any_thread_count([&] { return fast = coulomb_fmm(X, fmm).gradient; });
     expect_same_bytes_for_any_thread_count([&] { return precise = coulomb_fmm(X, tight).gradient; });
     expect_same_bytes_for_any_thread_count([&] { return direct = coulomb_direct_float(X).gradient; });
@@ -120,8 +121,9 @@ TEST(Simd, CoulombSumsAreDeterministicPerTargetAndTheSameAcrossTargets) {
     EXPECT_LT(relative_difference(precise, exact.gradient), tight.accuracy);
     EXPECT_LT(relative_difference(direct, exact.gradient), 2e-6);
     if (t == SimdTarget::Baseline) {
-      fmm_baseline = fast, tight_baseline = precise, direct_baseline = direct;
+      fmm_baseline = fast, tight_baseline = precise, direct_baseline = direct, exact_baseline = reference;
     } else {
+      EXPECT_TRUE(same_bytes(reference, exact_baseline)) << relative_difference(reference, exact_baseline);
       EXPECT_TRUE(same_bytes(fast, fmm_baseline)) << relative_difference(fast, fmm_baseline);
       EXPECT_TRUE(same_bytes(precise, tight_baseline)) << relative_difference(precise, tight_baseline);
       EXPECT_TRUE(same_bytes(direct, direct_baseline)) << relative_difference(direct, direct_baseline);
