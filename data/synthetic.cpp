@@ -254,7 +254,7 @@ DistanceMatrix swiss_roll_geodesic_distances(const SwissRollSample& sample) {
   const Index n = sample.flat.rows();
   require_memory(distance_matrix_bytes(n), "the " + std::to_string(n) + "x" + std::to_string(n) +
                                                " distance matrix of the Swiss roll sample");
-  DistanceMatrix D(n, n);
+  DistanceMatrix D = uninitialized_distance_matrix(n, n);
   const Eigen::MatrixX2d& flat = sample.flat;
 #pragma omp parallel for schedule(static)
   for (Index j = 0; j < n; ++j)

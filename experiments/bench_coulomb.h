@@ -5,8 +5,10 @@
 // Points: a mesh's vertices (mesh given, n 0 or its vertex count), n points on its surface (mesh and another
 // n), or n random points of a distribution (data/synthetic.h random_points), drawn from `seed`.
 //
-// Up to full_direct_max points the direct sum is complete (timed as the median of `repeats` runs, in double
-// and in float) and the errors are over all points; above it the exact sum runs once on a random sample of
+// The fast sum runs once untimed, then `fast_repeats` timed runs (an evaluation takes milliseconds: one
+// descheduled thread moves a single run by tens of percent). Up to full_direct_max points the direct sum is
+// complete (timed as the median of `repeats` runs, in double and in float) and the errors are over all
+// points; above it the exact sum runs once on a random sample of
 // `sample` distinct targets, the errors are over those targets (the energy error from their potentials), and
 // direct_seconds is the sample's time scaled by n / sample (direct_extrapolated). Wall and process CPU
 // seconds are medians by support/timing.h's rule; on a shared machine the CPU seconds show the work done
@@ -25,7 +27,8 @@ struct CoulombBenchOptions {
   Index n = 0;  // points (with mesh: sampled on its surface; 0 or its vertex count: its vertices)
   PointDistribution distribution = PointDistribution::Uniform;  // without mesh
   std::string mesh;                                             // mesh file; "": random points
-  int repeats = 5;                // timed runs per method (median reported), >= 1
+  int repeats = 5;                // timed runs of the direct sums (median reported), >= 1
+  int fast_repeats = 25;          // timed runs of the fast sum (median reported), >= 1
   double accuracy = 1e-3;         // fast summation's target relative L2 gradient error
   int order = 0;                  // expansion order override (0: from accuracy)
   double opening_angle = 0;       // opening angle override (0: from accuracy)
@@ -58,7 +61,7 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options);
 
 // {n, distribution, direct_seconds, direct_extrapolated, fast_seconds, direct_cpu_seconds, fast_cpu_seconds,
 //  speedup, gradient_rel_error, energy_rel_error, error_targets, threads, accuracy, order, opening_angle,
-//  leaf_size, repeats, cells, m2l_interactions, p2p_interactions, fast_phase_seconds: {tree, upward,
+//  leaf_size, repeats, fast_repeats, cells, m2l_interactions, p2p_interactions, fast_phase_seconds: {tree, upward,
 //  traversal, interactions, m2l_thread_seconds, p2p_thread_seconds, downward}} and, for a complete direct
 //  sum, direct_float_seconds, direct_float_cpu_seconds, speedup_vs_direct_float.
 nlohmann::json to_json(const CoulombBenchResult& result);

@@ -417,7 +417,7 @@ DistanceMatrix all_pairs_geodesics(const Mesh& mesh, const GeodesicOptions& opti
   if (std::string refusal = geodesic_method_refusal(mesh, options.method); !refusal.empty()) fail(refusal);
   require_memory(distance_matrix_bytes(n), "all-pairs geodesics on " + std::to_string(n) + " vertices");
   const double bound = distance_bound(mesh);
-  DistanceMatrix D(n, n);
+  DistanceMatrix D = uninitialized_distance_matrix(n, n);
   ProgressCounter progress(options.progress, n);
   if (uses_cgal_heat(options))
     cgal_heat_columns(mesh, options, bound, progress, D);

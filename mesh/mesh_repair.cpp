@@ -240,7 +240,8 @@ DistanceMatrix distances_to_input_vertices(const DistanceMatrix& D, const std::v
                   "distances_to_input_vertices: a ", D.rows(), "x", D.cols(), " matrix for ",
                   vertex_map.size(), " mapped vertices");
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  DistanceMatrix out = DistanceMatrix::Constant(input_vertices, input_vertices, nan);
+  DistanceMatrix out = uninitialized_distance_matrix(input_vertices, input_vertices);
+  out.setConstant(nan);
   const Index m = D.rows();
   for (Index b = 0; b < m; ++b)
     for (Index a = 0; a < m; ++a) {

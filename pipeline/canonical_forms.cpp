@@ -106,7 +106,7 @@ DistanceMatrix canonical_form_geodesics(const Mesh& mesh, const CanonicalFormOpt
                   comp.count, " components; MDS needs one (raise --knn)");
   const Index n = mesh.num_vertices();
   require_memory(distance_matrix_bytes(n), "all-pairs graph distances on " + std::to_string(n) + " points");
-  DistanceMatrix D(n, n);
+  DistanceMatrix D = uninitialized_distance_matrix(n, n);
   Adjacency adj = adjacency(n, E);
   Eigen::VectorXd w = edge_lengths(mesh.V, E);
 #pragma omp parallel for schedule(dynamic, 16)
@@ -231,7 +231,7 @@ DistanceMatrix distances_on_repaired_mesh(const DistanceMatrix& D, const Repaire
   }
   // The input was repaired (vertices dropped or split): the rows and columns of the vertices it maps to.
   require_memory(distance_matrix_bytes(n), "restricting " + source + " to the repaired mesh");
-  DistanceMatrix sub(n, n);
+  DistanceMatrix sub = uninitialized_distance_matrix(n, n);
   for (Index j = 0; j < n; ++j)
     for (Index i = 0; i < n; ++i) sub(i, j) = D(repaired.vertex_map[i], repaired.vertex_map[j]);
   return sub;

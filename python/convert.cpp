@@ -111,7 +111,7 @@ DistanceMatrix to_distance_matrix(const py::handle& object, const std::string& n
     fail(name, ": expected a square (n, n) array of distances, got shape ", shape_text(a));
   auto values = py::array_t<float, py::array::forcecast>::ensure(a);
   auto r = values.unchecked<2>();
-  DistanceMatrix D(r.shape(0), r.shape(1));
+  DistanceMatrix D = uninitialized_distance_matrix(r.shape(0), r.shape(1));
   for (py::ssize_t j = 0; j < r.shape(1); ++j)  // column-major target: walk columns outside
     for (py::ssize_t i = 0; i < r.shape(0); ++i) D(i, j) = r(i, j);
   return D;

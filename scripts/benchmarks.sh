@@ -56,8 +56,8 @@ bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
 bench coulomb-3505 coulomb --n 3505 --mesh "$data/cat0.off"
 bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
 bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
-bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repeats 3
-bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3
+bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repeats 3 --fast-repeats 3
+bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3 --fast-repeats 3
 bench geodesics-3505 geodesics --mesh "$out/cat3505.off" --anchor-samples 3505 --exact-samples 4
 bench geodesics-22738 geodesics --mesh "$out/michael22738.off" --anchor-samples 64 --exact-samples 2 --fmm-samples 32
 bench smacof-3505 smacof --n 3505

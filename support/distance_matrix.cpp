@@ -1,5 +1,6 @@
 #include "cshapes/support/distance_matrix.h"
 
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -18,6 +19,19 @@ namespace cshapes {
 
 namespace {
 constexpr char kMagic[8] = {'C', 'S', 'H', 'D', 'I', 'S', 'T', '1'};
+}
+
+DistanceMatrix uninitialized_distance_matrix(Index rows, Index cols) {
+  DistanceMatrix D(rows, cols);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  // Only the 2 MiB-aligned interior can be huge pages; smaller matrices gain nothing.
+  constexpr uintptr_t kHuge = uintptr_t(1) << 21;
+  const uintptr_t begin = reinterpret_cast<uintptr_t>(D.data());
+  const uintptr_t end = begin + sizeof(float) * static_cast<uintptr_t>(D.size());
+  const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1), last = end & ~(kHuge - 1);
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // advice only
+#endif
+  return D;
 }
 
 double distance_matrix_bytes(Index n) {
@@ -166,7 +180,7 @@ DistanceMatrix read_distance_matrix(const std::string& path) {
     fail(path, ": truncated or oversized: header says n = ", n, " (", expected, " bytes), file has ",
          static_cast<double>(in.tellg()), " bytes");
   require_memory(distance_matrix_bytes(n), path);
-  DistanceMatrix D(n, n);
+  DistanceMatrix D = uninitialized_distance_matrix(static_cast<Index>(n), static_cast<Index>(n));
   in.seekg(16);
   in.read(reinterpret_cast<char*>(D.data()), static_cast<std::streamsize>(4 * n * n));
   if (!in) fail(path, ": read error");

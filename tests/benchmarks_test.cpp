@@ -58,6 +58,7 @@ TEST(BenchCoulomb, FastGradientWithinItsAccuracyOfTheCompleteDirectSum) {
   o.n = 3000;
   o.distribution = PointDistribution::Clustered;
   o.repeats = 1;
+  o.fast_repeats = 2;
   o.accuracy = 1e-3;
   const CoulombBenchResult r = bench_coulomb(o);
   EXPECT_EQ(r.n, 3000);
@@ -78,6 +79,7 @@ TEST(BenchCoulomb, FastGradientWithinItsAccuracyOfTheCompleteDirectSum) {
                    j["direct_float_seconds"].get<double>() / j["fast_seconds"].get<double>());
   EXPECT_EQ(j["order"], r.stats.order);
   EXPECT_EQ(j["repeats"], 1);
+  EXPECT_EQ(j["fast_repeats"], 2);
 }
 
 TEST(BenchCoulomb, AboveTheDirectLimitTheErrorIsOverDistinctSampledTargets) {

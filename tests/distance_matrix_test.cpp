@@ -85,6 +85,24 @@ TEST(RequireMemory, AskingForMoreThanTheMachineHasIsRefused) {
   }
 }
 
+// Above 2 MiB the matrix is advised for huge pages (uninitialized_distance_matrix): the advice must change
+// nothing a caller sees, neither for a new matrix nor for one read from a file.
+TEST(DistanceMatrixFile, AMatrixLargerThanAHugePageRoundTrips) {
+  const Index n = 1100;  // 4.8 MB
+  DistanceMatrix D = uninitialized_distance_matrix(n, n);
+  ASSERT_EQ(D.rows(), n);
+  ASSERT_EQ(D.cols(), n);
+  for (Index j = 0; j < n; ++j)  // symmetric, as the file format requires
+    for (Index i = 0; i < n; ++i) D(i, j) = static_cast<float>(i + j) + 1e-3f * static_cast<float>(i * j % 7);
+  const std::string path = test::scratch_dir("huge_page_roundtrip") + "/D.bin";
+  write_distance_matrix(path, D);
+  const DistanceMatrix back = read_distance_matrix(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(back.rows(), n);
+  EXPECT_TRUE(back == D) << "largest difference " << (back - D).cwiseAbs().maxCoeff();
+  EXPECT_EQ(back(3, 1000), 1003 + 1e-3f * 4);
+}
+
 // A header's n is checked before it sizes anything: n = -600 (2^64 - 600 unsigned) in a file of the size
 // 600² floats would take ended in an unnamed "out of memory"; now a named error.
 TEST(DistanceMatrixFile, ANegativeOrHugeHeaderCountIsANamedError) {
