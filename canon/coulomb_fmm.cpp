@@ -24,6 +24,30 @@ using coulomb_detail::kBlock;
 using coulomb_detail::SourceRange;
 using namespace fmm_detail;
 
+// The buffers of one evaluation, kept by the calling thread from one evaluation to the next (the Coulomb
+// iteration evaluates thousands of times at one size): allocating them afresh returned their pages to the
+// system and faulted them in again each time (a tenth of an evaluation at 22,738 points). Released after an
+// evaluation of more than kKeptWorkspacePoints points, so a single large one does not hold its memory.
+struct Workspace {
+  std::vector<std::pair<uint64_t, int32_t>> keyed, keyed_scratch;
+  std::vector<double> unit;
+  std::vector<int32_t> order;
+  std::vector<uint64_t> keys;
+  std::vector<double> xd, yd, zd;
+  std::vector<float> xs, ys, zs, xf, yf, zf, xl, yl, zl;
+  std::vector<Cell> cells;
+  std::vector<int32_t> leaves, depth_start;
+  std::vector<double> multipoles, locals;
+  std::vector<std::vector<int32_t>> deferred;
+  std::vector<double> potential, fx, fy, fz;
+};
+constexpr Index kKeptWorkspacePoints = 200000;
+
+Workspace& workspace() {
+  thread_local Workspace w;
+  return w;
+}
+
 class Fmm {
  public:
   // time_kernels: also time the M2L and P2P work of every cell (stats.seconds_m2l, seconds_p2p), two clock
@@ -46,6 +70,7 @@ class Fmm {
 
   ~Fmm() {
     if (cells_.size() > kKeptListCells) list_store() = ListStore{};
+    if (n_ > kKeptWorkspacePoints) workspace() = Workspace{};
   }
 
   CoulombEvaluation run(bool want_potentials) {
@@ -95,10 +120,12 @@ class Fmm {
   // copies when it does not use leaf frames.
   void sort_points() {
     // Morton keys on a 2^21 grid over the normalized cube [-1, 1]³; sorting by (key, index) is deterministic.
-    std::vector<std::pair<uint64_t, int32_t>> keyed(n_);
+    std::vector<std::pair<uint64_t, int32_t>>& keyed = work_.keyed;
+    keyed.resize(n_);
     const double cells_per_unit = 0.5 * double(1 << kMortonLevels);
     // The normalized coordinates in input order (reordered below, not computed twice).
-    std::vector<double> unit(3 * static_cast<size_t>(n_));
+    std::vector<double>& unit = work_.unit;
+    unit.resize(3 * static_cast<size_t>(n_));
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n_; ++i) {
       uint64_t key = 0;
@@ -112,7 +139,7 @@ class Fmm {
       }
       keyed[i] = {key, static_cast<int32_t>(i)};
     }
-    radix_sort_by_key(keyed, 3 * kMortonLevels);  // the same order as std::sort on the pairs
+    radix_sort_by_key(keyed, 3 * kMortonLevels, &work_.keyed_scratch);  // the order of std::sort on the pairs
     order_.resize(n_);
     keys_.resize(n_);
     xd_.resize(n_), yd_.resize(n_), zd_.resize(n_);
@@ -289,7 +316,8 @@ class Fmm {
   // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
     deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 32), leaf_size_);
-    deferred_.assign(cells_.size(), {});
+    deferred_.resize(cells_.size());
+    for (auto& d : deferred_) d.clear();
     deferring_ = true;
     traverse(0, 0);
     deferring_ = false;
@@ -299,7 +327,6 @@ class Fmm {
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t t = 0; t < targets.size(); ++t)
       for (int32_t b : deferred_[targets[t]]) traverse(targets[t], b);
-    deferred_.clear();
   }
 
   // Dual-tree traversal (target a, source b): every ordered pair of points is covered exactly once, either by
@@ -556,22 +583,26 @@ class Fmm {
   CoulombFmmStats& stats_;
   const bool time_kernels_;
   coulomb_detail::NormalizedPoints norm_;
-  std::vector<int32_t> order_;  // sorted position s holds input point order_[s]
-  std::vector<uint64_t> keys_;
-  std::vector<double> xd_, yd_, zd_;
-  std::vector<float> xs_, ys_, zs_;  // framed near field: float coordinates in each point's leaf frame
-  std::vector<float> xf_, yf_, zf_, xl_, yl_, zl_;  // otherwise: float high and low parts (coulomb_p2p.h)
-  std::vector<Cell> cells_;
-  std::vector<int32_t> leaves_;
-  std::vector<int32_t> depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
-  std::vector<double> multipoles_, locals_;
+  Workspace& work_ = workspace();
+  std::vector<int32_t>& order_ = work_.order;  // sorted position s holds input point order_[s]
+  std::vector<uint64_t>& keys_ = work_.keys;
+  std::vector<double>&xd_ = work_.xd, &yd_ = work_.yd, &zd_ = work_.zd;
+  // framed near field: float coordinates in each point's leaf frame
+  std::vector<float>&xs_ = work_.xs, &ys_ = work_.ys, &zs_ = work_.zs;
+  // otherwise: float high and low parts (coulomb_p2p.h)
+  std::vector<float>&xf_ = work_.xf, &yf_ = work_.yf, &zf_ = work_.zf, &xl_ = work_.xl, &yl_ = work_.yl,
+                    &zl_ = work_.zl;
+  std::vector<Cell>& cells_ = work_.cells;
+  std::vector<int32_t>& leaves_ = work_.leaves;
+  std::vector<int32_t>& depth_start_ = work_.depth_start;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
+  std::vector<double>&multipoles_ = work_.multipoles, &locals_ = work_.locals;
   // Indexed by cell; only the first cells_.size() are this evaluation's (see run()).
   std::vector<std::vector<int32_t>>& m2l_lists_ = list_store().m2l;
   std::vector<std::vector<int32_t>>& p2p_lists_ = list_store().p2p;
-  std::vector<std::vector<int32_t>> deferred_;  // traverse_parallel's deferred pairs, by target
+  std::vector<std::vector<int32_t>>& deferred_ = work_.deferred;  // traverse_parallel's deferred pairs, by target
   int32_t deferred_cut_ = 0;
   bool deferring_ = false;
-  std::vector<double> potential_, fx_, fy_, fz_;
+  std::vector<double>&potential_ = work_.potential, &fx_ = work_.fx, &fy_ = work_.fy, &fz_ = work_.fz;
 };
 
 }  // namespace

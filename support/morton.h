@@ -28,7 +28,9 @@ inline uint64_t morton_spread_bits(uint64_t v) {
 // pass, every pass's histogram counted in one read before the first: O(n) and stable, so pairs in index order
 // come out in the order std::sort gives the pairs — deterministic, at a fraction of a comparison sort's cost.
 // A pass whose digit is the same for every key is skipped (it would not move anything).
-inline void radix_sort_by_key(std::vector<std::pair<uint64_t, int32_t>>& items, int key_bits) {
+// scratch: a buffer to use (and keep) instead of allocating one, for callers that sort again and again.
+inline void radix_sort_by_key(std::vector<std::pair<uint64_t, int32_t>>& items, int key_bits,
+                              std::vector<std::pair<uint64_t, int32_t>>* scratch = nullptr) {
   constexpr int kBits = 11, kBuckets = 1 << kBits, kMaxPasses = (64 + kBits - 1) / kBits;
   const int passes = std::min(kMaxPasses, (key_bits + kBits - 1) / kBits);
   if (items.size() > UINT32_MAX) {  // beyond the counters' range: the same order by a stable comparison sort
@@ -40,7 +42,9 @@ inline void radix_sort_by_key(std::vector<std::pair<uint64_t, int32_t>>& items, 
   std::vector<uint32_t> counts(static_cast<size_t>(passes) * kBuckets, 0);
   for (const auto& item : items)
     for (int p = 0; p < passes; ++p) ++counts[p * kBuckets + ((item.first >> (p * kBits)) & (kBuckets - 1))];
-  std::vector<std::pair<uint64_t, int32_t>> buffer(items.size());
+  std::vector<std::pair<uint64_t, int32_t>> own;
+  std::vector<std::pair<uint64_t, int32_t>>& buffer = scratch ? *scratch : own;
+  buffer.resize(items.size());
   std::vector<size_t> offset(kBuckets);
   for (int p = 0; p < passes; ++p) {
     const uint32_t* count = counts.data() + p * kBuckets;
