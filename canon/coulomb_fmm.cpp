@@ -76,6 +76,7 @@ class Fmm {
   CoulombEvaluation run(bool want_potentials) {
     auto t = WallClock::now();
     build_tree();
+    find_subtrees();
     stats_.seconds_tree = seconds_since(t);
     t = WallClock::now();
     upward_pass();
@@ -98,11 +99,8 @@ class Fmm {
     traverse_parallel();
     stats_.seconds_traversal = seconds_since(t);
     t = WallClock::now();
-    interactions();
+    interactions_and_downward();
     stats_.seconds_interactions = seconds_since(t);
-    t = WallClock::now();
-    downward_pass();
-    stats_.seconds_downward = seconds_since(t);
     return gather(want_potentials);
   }
 
@@ -247,6 +245,22 @@ class Fmm {
     return cells_[leaf].parent >= 0 ? cells_[leaf].parent : leaf;
   }
 
+  // The subtrees the parallel passes hand out whole: the largest cells of at most cut_ points, and the leaves
+  // of more (coincident points no octree level separates), so that every point is in exactly one; cut_ =
+  // n/32 (at least a leaf). top_: the cells above them, in index order (parents first). The traversal defers
+  // its pairs at the same cells.
+  void find_subtrees() {
+    cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 32), leaf_size_);
+    subtrees_.clear(), top_.clear();
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const Cell& cell = cells_[c];
+      if (cell.size() > cut_ && !cell.leaf())
+        top_.push_back(static_cast<int32_t>(c));
+      else if (cell.parent < 0 || cells_[cell.parent].size() > cut_)
+        subtrees_.push_back(static_cast<int32_t>(c));
+    }
+  }
+
   double* multipole(size_t c) {
     return multipoles_.data() + c * stride_;
   }
@@ -255,53 +269,19 @@ class Fmm {
   }
 
   // Few parallel regions on purpose: on a shared, oversubscribed machine every OpenMP barrier can cost a
-  // scheduler time slice, so the cheap per-cell translations (M2M, L2L) run serially and only the per-point
-  // work (P2M, L2P) and the interactions run in parallel.
+  // scheduler time slice. Each subtree's P2M and M2M run as one task; then the few cells above them, serially.
   void upward_pass() {
     const int count = tables_.count;
     multipoles_.assign(cells_.size() * stride_, 0.0);
     locals_.assign(cells_.size() * stride_, 0.0);
-    leaves_.clear();
-    for (size_t c = 0; c < cells_.size(); ++c)
-      if (cells_[c].leaf()) leaves_.push_back(static_cast<int32_t>(c));
-    // P2M: M_k = Σ_j (x_j − z)^k / k!
-    const StaticP2MFunction fixed_p2m = static_p2m(tables_.order);
 #pragma omp parallel
     {
       std::vector<double> mono(count);
-#pragma omp for schedule(dynamic, 16)
-      for (size_t l = 0; l < leaves_.size(); ++l) {
-        const Cell& cell = cells_[leaves_[l]];
-        double* M = multipole(leaves_[l]);
-        if (fixed_p2m) {
-          fixed_p2m(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, M);
-          continue;
-        }
-        for (int32_t i = cell.begin; i < cell.end; ++i) {
-          const double d3[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
-          tables_.monomials(d3, mono.data());
-          for (int k = 0; k < count; ++k) M[k] += mono[k];
-        }
-      }
+#pragma omp for schedule(dynamic, 1)
+      for (size_t t = 0; t < subtrees_.size(); ++t) upward_subtree(subtrees_[t], mono);
     }
-    // M2M, children before parents: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
     std::vector<double> mono(count);
-    const StaticShiftFunction fixed_m2m = static_m2m(tables_.order);
-    for (size_t c = cells_.size(); c-- > 0;) {
-      const Cell& cell = cells_[c];
-      double* M = multipole(c);
-      for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
-        const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
-                              cells_[ch].center[2] - cell.center[2]};
-        const double* Mc = multipole(ch);
-        if (fixed_m2m) {
-          fixed_m2m(s3, Mc, M);
-          continue;
-        }
-        tables_.monomials(s3, mono.data());
-        for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
-      }
-    }
+    for (size_t t = top_.size(); t-- > 0;) m2m(top_[t], mono);
     // Store (−1)^|k| M_k: the sign of the source offset in the Taylor expansion, applied once. (After the
     // M2M pass, which needs the unsigned moments of every child.)
     for (size_t c = 0; c < cells_.size(); ++c) {
@@ -310,12 +290,95 @@ class Fmm {
     }
   }
 
+  // P2M at the leaves of cell c's subtree, then M2M up to c: children before parents, each parent's children
+  // in order. mono: the thread's scratch.
+  void upward_subtree(int32_t c, std::vector<double>& mono) {
+    const Cell& cell = cells_[c];
+    if (cell.leaf()) {
+      p2m(c, mono);
+      return;
+    }
+    for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) upward_subtree(ch, mono);
+    m2m(c, mono);
+  }
+
+  // P2M: M_k = Σ_j (x_j − z)^k / k!
+  void p2m(int32_t c, std::vector<double>& mono) {
+    const Cell& cell = cells_[c];
+    double* M = multipole(c);
+    if (const StaticP2MFunction fixed = static_p2m(tables_.order)) {
+      fixed(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, M);
+      return;
+    }
+    for (int32_t i = cell.begin; i < cell.end; ++i) {
+      const double d3[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
+      tables_.monomials(d3, mono.data());
+      for (int k = 0; k < tables_.count; ++k) M[k] += mono[k];
+    }
+  }
+
+  // M2M into c from its children, in order: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
+  void m2m(int32_t c, std::vector<double>& mono) {
+    const Cell& cell = cells_[c];
+    double* M = multipole(c);
+    const StaticShiftFunction fixed = static_m2m(tables_.order);
+    for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
+      const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
+                            cells_[ch].center[2] - cell.center[2]};
+      const double* Mc = multipole(ch);
+      if (fixed) {
+        fixed(s3, Mc, M);
+        continue;
+      }
+      tables_.monomials(s3, mono.data());
+      for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
+    }
+  }
+
+  // L2L into c from its parent: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
+  void l2l(int32_t c, std::vector<double>& mono) {
+    const Cell& cell = cells_[c];
+    const Cell& parent = cells_[cell.parent];
+    const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
+                          cell.center[2] - parent.center[2]};
+    const double* Lp = local(cell.parent);
+    double* L = local(c);
+    if (const StaticShiftFunction fixed = static_l2l(tables_.order)) {
+      fixed(t3, Lp, L);
+      return;
+    }
+    tables_.monomials(t3, mono.data());
+    for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
+  }
+
+  // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
+  void l2p(int32_t c, std::vector<double>& mono) {
+    const Cell& cell = cells_[c];
+    const double* L = local(c);
+    if (const StaticL2PFunction fixed = static_l2p(tables_.order)) {
+      fixed(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L, potential_.data(),
+            fx_.data(), fy_.data(), fz_.data());
+      return;
+    }
+    for (int32_t i = cell.begin; i < cell.end; ++i) {
+      const double e[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
+      tables_.monomials(e, mono.data());
+      double phi = 0;
+      for (int m = 0; m < tables_.count; ++m) phi += L[m] * mono[m];
+      double g[3] = {0, 0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (const auto& t : tables_.gradient[k]) g[k] += L[t[1]] * mono[t[0]];
+      potential_[i] += phi;
+      fx_[i] -= g[0], fy_[i] -= g[1], fz_[i] -= g[2];
+    }
+  }
+
   // The traversal in parallel: a serial pass stops at target cells of at most `cut` points and defers their
   // pairs; then each deferred target's pairs are traversed by one thread, in the serial pass's order.
   // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
   // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
-    deferred_cut_ = std::max<int32_t>(static_cast<int32_t>(n_ / 32), leaf_size_);
+    deferred_cut_ = cut_;
     deferred_.resize(cells_.size());
     for (auto& d : deferred_) d.clear();
     deferring_ = true;
@@ -376,41 +439,75 @@ class Fmm {
     return radii < theta_ * std::sqrt(d2);
   }
 
-  void interactions() {
-    const int count = tables_.count;
+  // Per thread: the scratch of the interactions, and its counts and kernel times.
+  struct InteractionScratch {
+    std::vector<V4> derivative, moments, accumulated;
+    std::vector<FramedRange> ranges;
+    std::vector<SourceRange> exact_ranges;
+    std::vector<double> mono;
+    Index m2l_total = 0, p2p_total = 0;
+    double m2l_seconds = 0, p2p_seconds = 0;
+  };
+
+  // The M2L of the cells above the subtrees and their L2L (serially, parents first); then each subtree as one
+  // task, top down: a cell's M2L, then its parent's local shifted in (L2L), and at a leaf its near field and
+  // its local expansion at its points (L2P). Every local sums its M2L terms before its L2L terms and every
+  // point gets one near-field and one L2P addition (in either order, the same double), as in the passes
+  // one after the other: the same bytes, without their serial L2L and with one parallel region less.
+  void interactions_and_downward() {
     potential_.assign(n_, 0.0), fx_.assign(n_, 0.0), fy_.assign(n_, 0.0), fz_.assign(n_, 0.0);
     Index m2l_total = 0, p2p_total = 0;
     double m2l_seconds = 0, p2p_seconds = 0;
-    const M2LCellFunction fixed_m2l = m2l_cell_kernel(tables_.order);
 #pragma omp parallel reduction(+ : m2l_total, p2p_total, m2l_seconds, p2p_seconds)
     {
-      std::vector<V4> derivative(count), moments(stride_), accumulated(count);
-      std::vector<FramedRange> ranges;
-      std::vector<SourceRange> exact_ranges;
+      InteractionScratch scratch;
+      scratch.derivative.resize(tables_.count), scratch.moments.resize(stride_);
+      scratch.accumulated.resize(tables_.count), scratch.mono.resize(tables_.count);
 #pragma omp for schedule(dynamic, 1)
-      for (size_t a = 0; a < cells_.size(); ++a) {
-        const Cell& A = cells_[a];
-        // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane;
-        // the lanes are summed at the end in a fixed order (canon/coulomb_m2l_simd.inl for orders ≤ 6).
-        const std::vector<int32_t>& list = m2l_lists_[a];
-        const auto m2l_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
-        if (!list.empty() && fixed_m2l) {
-          fixed_m2l(A.center, list.data(), list.size(), cells_.data(), multipoles_.data(), stride_, local(a));
-        } else if (!list.empty()) {  // orders above 6: the table-driven loop
-          m2l_table_driven(a, list, derivative, moments, accumulated);
-        }
-        m2l_total += static_cast<Index>(m2l_lists_[a].size());
-        if (time_kernels_) m2l_seconds += seconds_since(m2l_start);
-        if (!A.leaf() || p2p_lists_[a].empty()) continue;
-        const auto p2p_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
-        p2p_total += near_field(static_cast<int32_t>(a), ranges, exact_ranges);
-        if (time_kernels_) p2p_seconds += seconds_since(p2p_start);
-      }
+      for (size_t t = 0; t < top_.size(); ++t) m2l(top_[t], scratch);
+#pragma omp single
+      for (int32_t c : top_)
+        if (cells_[c].parent >= 0) l2l(c, scratch.mono);
+#pragma omp for schedule(dynamic, 1)
+      for (size_t t = 0; t < subtrees_.size(); ++t) subtree_interactions(subtrees_[t], scratch);
+      m2l_total += scratch.m2l_total, p2p_total += scratch.p2p_total;
+      m2l_seconds += scratch.m2l_seconds, p2p_seconds += scratch.p2p_seconds;
     }
     stats_.seconds_m2l = m2l_seconds;
     stats_.seconds_p2p = p2p_seconds;
     stats_.m2l_interactions = m2l_total;
     stats_.p2p_interactions = p2p_total;
+  }
+
+  void subtree_interactions(int32_t c, InteractionScratch& scratch) {
+    m2l(c, scratch);
+    if (cells_[c].parent >= 0) l2l(c, scratch.mono);
+    const Cell& cell = cells_[c];
+    if (cell.leaf()) {
+      if (!p2p_lists_[c].empty()) {
+        const auto p2p_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
+        scratch.p2p_total += near_field(c, scratch.ranges, scratch.exact_ranges);
+        if (time_kernels_) scratch.p2p_seconds += seconds_since(p2p_start);
+      }
+      l2p(c, scratch.mono);
+      return;
+    }
+    for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch)
+      subtree_interactions(ch, scratch);
+  }
+
+  // M2L: L_m += Σ_k (−1)^|k| M_k ∂^{m+k}(1/r)(z_a − z_b), four sources b per pass, one per lane; the lanes
+  // are summed at the end in a fixed order (canon/coulomb_m2l_simd.inl for orders ≤ 6).
+  void m2l(int32_t a, InteractionScratch& scratch) {
+    const std::vector<int32_t>& list = m2l_lists_[a];
+    if (list.empty()) return;
+    const auto m2l_start = time_kernels_ ? WallClock::now() : WallClock::time_point{};
+    if (const M2LCellFunction fixed = m2l_cell_kernel(tables_.order))
+      fixed(cells_[a].center, list.data(), list.size(), cells_.data(), multipoles_.data(), stride_, local(a));
+    else  // orders above 6: the table-driven loop
+      m2l_table_driven(a, list, scratch.derivative, scratch.moments, scratch.accumulated);
+    scratch.m2l_total += static_cast<Index>(list.size());
+    if (time_kernels_) scratch.m2l_seconds += seconds_since(m2l_start);
   }
 
   // The M2L of cell a from the cells of `list` by the table-driven loop (orders above 6): four sources per
@@ -503,54 +600,6 @@ class Fmm {
     return sources * A.size();
   }
 
-  void downward_pass() {
-    const int count = tables_.count;
-    // L2L, parents before children: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
-    std::vector<double> mono(count);
-    const StaticShiftFunction fixed_l2l = static_l2l(tables_.order);
-    for (size_t c = 1; c < cells_.size(); ++c) {
-      const Cell& cell = cells_[c];
-      const Cell& parent = cells_[cell.parent];
-      const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
-                            cell.center[2] - parent.center[2]};
-      const double* Lp = local(cell.parent);
-      double* L = local(c);
-      if (fixed_l2l) {
-        fixed_l2l(t3, Lp, L);
-        continue;
-      }
-      tables_.monomials(t3, mono.data());
-      for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
-    }
-    // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
-    const StaticL2PFunction fixed_l2p = static_l2p(tables_.order);
-#pragma omp parallel
-    {
-      std::vector<double> mono_point(count);
-#pragma omp for schedule(dynamic, 16)
-      for (size_t l = 0; l < leaves_.size(); ++l) {
-        const Cell& cell = cells_[leaves_[l]];
-        const double* L = local(leaves_[l]);
-        if (fixed_l2p) {
-          fixed_l2p(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L,
-                    potential_.data(), fx_.data(), fy_.data(), fz_.data());
-          continue;
-        }
-        for (int32_t i = cell.begin; i < cell.end; ++i) {
-          const double e[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
-          tables_.monomials(e, mono_point.data());
-          double phi = 0;
-          for (int m = 0; m < count; ++m) phi += L[m] * mono_point[m];
-          double g[3] = {0, 0, 0};
-          for (int k = 0; k < 3; ++k)
-            for (const auto& t : tables_.gradient[k]) g[k] += L[t[1]] * mono_point[t[0]];
-          potential_[i] += phi;
-          fx_[i] -= g[0], fy_[i] -= g[1], fz_[i] -= g[2];
-        }
-      }
-    }
-  }
-
   CoulombEvaluation gather(bool want_potentials) {
     CoulombEvaluation result;
     result.summation_used = CoulombOptions::Summation::Fast;
@@ -601,6 +650,8 @@ class Fmm {
   std::vector<std::vector<int32_t>>& p2p_lists_ = list_store().p2p;
   std::vector<std::vector<int32_t>>& deferred_ = work_.deferred;  // traverse_parallel's deferred pairs, by target
   int32_t deferred_cut_ = 0;
+  int32_t cut_ = 0;                        // find_subtrees()
+  std::vector<int32_t> subtrees_, top_;  // find_subtrees()
   bool deferring_ = false;
   std::vector<double>&potential_ = work_.potential, &fx_ = work_.fx, &fy_ = work_.fy, &fz_ = work_.fz;
 };

@@ -47,8 +47,8 @@ struct CoulombFmmStats {
   Index cells = 0, leaves = 0, tree_depth = 0;
   Index m2l_interactions = 0;  // multipole-to-local translations
   Index p2p_interactions = 0;  // point pairs summed directly
-  double seconds_tree = 0, seconds_upward = 0, seconds_traversal = 0, seconds_interactions = 0,
-         seconds_downward = 0;
+  // seconds_interactions: the M2L, near field, L2L and L2P (the downward pass runs with the interactions)
+  double seconds_tree = 0, seconds_upward = 0, seconds_traversal = 0, seconds_interactions = 0;
   double seconds_m2l = 0, seconds_p2p = 0;  // inside seconds_interactions, summed over threads
 };
 

@@ -139,8 +139,7 @@ nlohmann::json to_json(const CoulombBenchResult& r) {
                         {"traversal", stats.seconds_traversal},
                         {"interactions", stats.seconds_interactions},
                         {"m2l_thread_seconds", stats.seconds_m2l},
-                        {"p2p_thread_seconds", stats.seconds_p2p},
-                        {"downward", stats.seconds_downward}}}};
+                        {"p2p_thread_seconds", stats.seconds_p2p}}}};
   if (r.direct_float_measured) {
     j["direct_float_seconds"] = r.direct_float_seconds;
     j["direct_float_cpu_seconds"] = r.direct_float_cpu_seconds;

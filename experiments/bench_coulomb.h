@@ -62,8 +62,8 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options);
 // {n, distribution, direct_seconds, direct_extrapolated, fast_seconds, direct_cpu_seconds, fast_cpu_seconds,
 //  speedup, gradient_rel_error, energy_rel_error, error_targets, threads, accuracy, order, opening_angle,
 //  leaf_size, repeats, fast_repeats, cells, m2l_interactions, p2p_interactions, fast_phase_seconds: {tree, upward,
-//  traversal, interactions, m2l_thread_seconds, p2p_thread_seconds, downward}} and, for a complete direct
-//  sum, direct_float_seconds, direct_float_cpu_seconds, speedup_vs_direct_float.
+//  traversal, interactions (with the downward pass), m2l_thread_seconds, p2p_thread_seconds}} and, for a
+//  complete direct sum, direct_float_seconds, direct_float_cpu_seconds, speedup_vs_direct_float.
 nlohmann::json to_json(const CoulombBenchResult& result);
 
 }  // namespace cshapes
