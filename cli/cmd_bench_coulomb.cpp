@@ -47,7 +47,8 @@ const bool registered = register_command(
        app.add_option("--distribution", distribution, "uniform (cube), sphere (surface) or clustered")
            ->check(one_of({"uniform", "sphere", "clustered"}));
        app.add_option("--mesh", options.mesh, "use a mesh's vertices (or points on its surface with --n)");
-       app.add_option("--repeats", options.repeats, "timed runs of each direct sum; the median is reported")
+       app.add_option("--repeats", options.repeats,
+                      "timed runs of each direct sum, taking turns with the fast runs; the median is reported")
            ->check(integer_at_least(1));
        app.add_option("--fast-repeats", options.fast_repeats,
                       "timed runs of the fast sum, after one untimed run; the median is reported")

@@ -76,20 +76,29 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
   // the heap's thresholds), which the Coulomb iteration's thousands of evaluations do not.
   run_fast();
 
-  for (int r = 0; r < options.fast_repeats; ++r) fast_runs.run(run_fast);
-  result.fast_seconds = fast_runs.median_seconds(result.fast_cpu_seconds);
-
   CoulombErrors errors;
   if (n <= options.full_direct_max) {
+    // The methods take turns (rounds of fast runs, one direct run in double, one in float), so that a slow
+    // spell of a shared machine, seconds long, falls on both sides of the ratio. A round's fast runs follow
+    // an untimed one: the direct sums leave the fast sum's data out of the caches.
     CoulombEvaluation direct;
-    for (int r = 0; r < options.repeats; ++r) direct_runs.run([&] { direct = coulomb_direct(X); });
-    for (int r = 0; r < options.repeats; ++r) float_runs.run([&] { coulomb_direct_float(X); });
+    for (int round = 0; round < options.repeats; ++round) {
+      if (round > 0) run_fast();
+      const int runs = options.fast_repeats * (round + 1) / options.repeats -
+                       options.fast_repeats * round / options.repeats;
+      for (int r = 0; r < runs; ++r) fast_runs.run(run_fast);
+      direct_runs.run([&] { direct = coulomb_direct(X); });
+      float_runs.run([&] { coulomb_direct_float(X); });
+    }
+    result.fast_seconds = fast_runs.median_seconds(result.fast_cpu_seconds);
     result.direct_seconds = direct_runs.median_seconds(result.direct_cpu_seconds);
     result.direct_float_seconds = float_runs.median_seconds(result.direct_float_cpu_seconds);
     result.direct_float_measured = true;
     result.error_targets = n;
     errors = coulomb_errors(fast, direct);
   } else {
+    for (int r = 0; r < options.fast_repeats; ++r) fast_runs.run(run_fast);
+    result.fast_seconds = fast_runs.median_seconds(result.fast_cpu_seconds);
     result.error_targets = std::min(options.sample, n);
     std::vector<Index> all(n);
     std::iota(all.begin(), all.end(), Index(0));

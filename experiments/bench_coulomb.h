@@ -5,11 +5,11 @@
 // Points: a mesh's vertices (mesh given, n 0 or its vertex count), n points on its surface (mesh and another
 // n), or n random points of a distribution (data/synthetic.h random_points), drawn from `seed`.
 //
-// The fast sum runs once untimed, then `fast_repeats` timed runs (an evaluation takes milliseconds: one
+// The fast sum is timed over `fast_repeats` runs after an untimed one (an evaluation takes milliseconds: one
 // descheduled thread moves a single run by tens of percent). Up to full_direct_max points the direct sum is
-// complete (timed as the median of `repeats` runs, in double and in float) and the errors are over all
-// points; above it the exact sum runs once on a random sample of
-// `sample` distinct targets, the errors are over those targets (the energy error from their potentials), and
+// complete (`repeats` runs in double and in float, taking turns with the fast runs in as many rounds) and the
+// errors are over all points; above it the exact sum runs once on a random sample of `sample` distinct
+// targets, the errors are over those targets (the energy error from their potentials), and
 // direct_seconds is the sample's time scaled by n / sample (direct_extrapolated). Wall and process CPU
 // seconds are medians by support/timing.h's rule; on a shared machine the CPU seconds show the work done
 // independently of the share of the cores obtained.
