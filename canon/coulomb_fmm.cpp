@@ -410,21 +410,40 @@ class Fmm {
         for (int32_t cb = A.child_begin; cb < A.child_begin + A.child_count; ++cb) traverse(ca, cb);
       return;
     }
-    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
-                 dz = A.center[2] - B.center[2];
-    if (well_separated(A.radius + B.radius, dx * dx + dy * dy + dz * dz)) {
+    if (separated(A, B)) {
       m2l_lists_[a].push_back(b);
       return;
     }
+    descend(a, b);
+  }
+
+  // traverse(a, b) for a pair of disjoint cells that are not well separated, a not deferred. Splitting b, the
+  // children's separation is tested here (what traverse(a, child) would do first, the rest being known), so
+  // the most frequent case, a child taken by M2L, costs no call.
+  void descend(int32_t a, int32_t b) {
+    const Cell& A = cells_[a];
+    const Cell& B = cells_[b];
     if (A.leaf() && B.leaf()) {
       p2p_lists_[a].push_back(b);
       return;
     }
     if (!A.leaf() && (B.leaf() || A.radius >= B.radius)) {
       for (int32_t ca = A.child_begin; ca < A.child_begin + A.child_count; ++ca) traverse(ca, b);
-    } else {
-      for (int32_t cb = B.child_begin; cb < B.child_begin + B.child_count; ++cb) traverse(a, cb);
+      return;
     }
+    std::vector<int32_t>& m2l = m2l_lists_[a];
+    for (int32_t cb = B.child_begin; cb < B.child_begin + B.child_count; ++cb) {
+      if (separated(A, cells_[cb]))
+        m2l.push_back(cb);
+      else
+        descend(a, cb);
+    }
+  }
+
+  bool separated(const Cell& A, const Cell& B) const {
+    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
+                 dz = A.center[2] - B.center[2];
+    return well_separated(A.radius + B.radius, dx * dx + dy * dy + dz * dz);
   }
 
   // Whether r_A + r_B < θ·√d2, exactly as that expression evaluates (the traversal's lists, and so every bit
