@@ -41,6 +41,9 @@ const bool registered = register_command(
        app.add_option("--iters", options.iterations, "timed iterations")
            ->capture_default_str()
            ->check(integer_at_least(1));
+       app.add_option("--rounds", options.rounds,
+                      "ours and scikit-learn take turns this many times; each side's median is reported")
+           ->check(integer_at_least(1));
        app.add_option("--reference", reference, "auto (sklearn when it fits), sklearn or none")
            ->capture_default_str()
            ->check(one_of({"auto", "sklearn", "none"}));

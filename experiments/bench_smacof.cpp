@@ -11,6 +11,7 @@
 #include "cshapes/support/distance_matrix.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/format.h"
+#include "cshapes/support/timing.h"
 #include "cshapes/mesh/io.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/experiments/bench_support.h"
@@ -114,6 +115,7 @@ void compare_acceleration(const DistanceMatrix& D, const Points& X0, SmacofBench
 }  // namespace
 
 SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
+  CSHAPES_REQUIRE(options.rounds >= 1, "bench smacof: --rounds must be at least 1, got ", options.rounds);
   SmacofBenchResult result;
   result.options = options;
   const Notes& notes = options.notes;
@@ -133,7 +135,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
     X0 = sub.mesh.V;
     result.matrix = options.mesh + " (" + to_string(go.method) + " geodesics)";
   } else {
-    CSHAPES_REQUIRE(options.n >= 4, "bench smacof: --n must be at least 4");
+  CSHAPES_REQUIRE(options.n >= 4, "bench smacof: --n must be at least 4");
     const SwissRollSample roll = random_swiss_roll_points(options.n, options.seed);
     D = swiss_roll_geodesic_distances(roll);
     X0 = roll.X;
@@ -156,12 +158,36 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
   SmacofOptions smacof_options;
   smacof_options.max_iterations = options.iterations;
   smacof_options.tolerance = 0;  // exactly `iterations` transforms, as the reference runs
-  const SmacofResult ours = smacof(D, X0, smacof_options);
-  result.seconds_per_iteration = ours.seconds_per_iteration;
-  result.cpu_seconds_per_iteration = ours.cpu_seconds_per_iteration;
+  // Ours and the reference take turns, `rounds` times; each side's figure is the median of its rounds, so
+  // that a slow spell of a shared machine (seconds long; the reference's own time varied by half between
+  // runs) moves neither the figure nor the ratio much.
+  SmacofResult ours;
+  std::vector<double> ours_wall, ours_cpu, reference_wall, reference_cpu, reference_seconds;
+  bool try_reference = true;
+  auto reference_round = [&] {
+    measure_sklearn(D, X0, result);
+    if (!result.reference_measured) {
+      try_reference = false;
+      return;
+    }
+    reference_wall.push_back(result.reference_seconds_per_iteration);
+    reference_cpu.push_back(result.reference_cpu_seconds_per_iteration);
+    reference_seconds.push_back(result.reference_seconds);
+  };
+  for (int round = 0; round < options.rounds; ++round) {
+    ours = smacof(D, X0, smacof_options);
+    ours_wall.push_back(ours.seconds_per_iteration);
+    ours_cpu.push_back(ours.cpu_seconds_per_iteration);
+    // The last round's reference runs after the one-thread timing below.
+    if (round + 1 < options.rounds && try_reference) reference_round();
+  }
+  result.rounds = static_cast<int>(ours_wall.size());
+  result.seconds_per_iteration = median(ours_wall);
+  result.cpu_seconds_per_iteration = median(ours_cpu);
   result.normalized_stress_start = ours.stress_history.front();
   result.normalized_stress_end = ours.normalized_stress;
-  notes.say("SMACOF: " + seconds_text(ours.seconds_per_iteration) + " per iteration");
+  notes.say("SMACOF: " + seconds_text(result.seconds_per_iteration) + " per iteration (median of " +
+            std::to_string(result.rounds) + " rounds)");
   const int threads = omp_get_max_threads();
   result.threads = threads;
   if (threads > 1) {
@@ -176,8 +202,12 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
   if (n == 3505) result.paper_seconds_per_iteration = 1.59;
   if (n == 22738) result.paper_seconds_per_iteration = 277.5;
 
-  measure_sklearn(D, X0, result);
+  if (try_reference) reference_round();
   if (result.reference_measured) {
+    result.reference_rounds = static_cast<int>(reference_wall.size());
+    result.reference_seconds_per_iteration = median(reference_wall);
+    result.reference_cpu_seconds_per_iteration = median(reference_cpu);
+    result.reference_seconds = median(reference_seconds);
     // sklearn reports σ of the configuration before its last transform: our history entry iterations − 1.
     const int k = result.reference_iterations - 1;
     if (k >= 0 && k < static_cast<int>(ours.stress_history.size())) {
@@ -224,6 +254,7 @@ nlohmann::json to_json(const SmacofBenchResult& r) {
   json["matrix"] = r.matrix;
   json["threads"] = r.threads;
   json["iterations"] = r.options.iterations;
+  json["rounds"] = r.rounds;
   json["seconds_per_iteration"] = r.seconds_per_iteration;
   json["cpu_seconds_per_iteration"] = r.cpu_seconds_per_iteration;
   json["normalized_stress_start"] = r.normalized_stress_start;
@@ -241,6 +272,7 @@ nlohmann::json to_json(const SmacofBenchResult& r) {
                            {"cpu_seconds_per_iteration", r.single_thread_cpu_seconds_per_iteration}};
   if (r.reference_measured) {
     reference["version"] = r.reference_version;
+    reference["rounds"] = r.reference_rounds;
     reference["seconds"] = r.reference_seconds;
     reference["n_iter"] = r.reference_iterations;
     reference["seconds_per_iteration"] = r.reference_seconds_per_iteration;

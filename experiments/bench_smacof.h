@@ -9,7 +9,8 @@
 // swissroll scaled to n; start: those points), whose geodesic distances are exactly the Euclidean distances
 // in the flat unrolled rectangle. Without a start of its own (a distance file) both implementations start
 // from classical MDS. Exactly `iterations` Guttman transforms are timed on each side (tolerance 0, eps
-// 1e-300); with more than one OpenMP thread ours is timed on one thread too (on a shared machine a second
+// 1e-300), in `rounds` rounds where the two sides take turns, each side's figure the median of its rounds;
+// with more than one OpenMP thread ours is timed on one thread too (on a shared machine a second
 // thread can cost more in synchronisation than it gains).
 //
 // The reference is skipped, with the reason, when asked (reference None), when scikit-learn would need more
@@ -37,6 +38,7 @@ struct SmacofBenchOptions {
   GeodesicMethod geodesics = GeodesicMethod::FastMarching;  // for mesh
   std::string distances;  // or: this distance matrix file (start: classical MDS)
   int iterations = 10;    // timed iterations, on both sides
+  int rounds = 3;         // ours and the reference take turns this many times (medians reported), >= 1
   SmacofBenchReference reference = SmacofBenchReference::Auto;
   std::string python;  // interpreter with scikit-learn; "": the first that imports numpy and sklearn
   bool acceleration =
@@ -62,6 +64,7 @@ struct SmacofBenchResult {
   Index n = 0;
   std::string matrix;                                               // where the distances came from, in words
   int threads = 0;                                                  // OpenMP threads of our timing
+  int rounds = 0;                                                   // our timed runs
   double seconds_per_iteration = 0, cpu_seconds_per_iteration = 0;  // ours (canon/smacof.h's own clocks)
   double normalized_stress_start = 0, normalized_stress_end = 0;
   bool single_thread_measured = false;  // threads > 1: ours again on one thread
@@ -78,6 +81,7 @@ struct SmacofBenchResult {
   std::string reference_version;
   double reference_seconds = 0, reference_seconds_per_iteration = 0, reference_cpu_seconds_per_iteration = 0;
   int reference_iterations = 0;
+  int reference_rounds = 0;  // runs of the reference (its figures: their medians)
   double reference_stress = 0;  // σ before sklearn's last transform, unnormalised
   // |σ_sklearn − σ_ours| / σ_ours at the same configuration (our history unnormalised); < 0 when not
   // compared.
@@ -93,10 +97,10 @@ struct SmacofBenchResult {
 
 SmacofBenchResult bench_smacof(const SmacofBenchOptions& options);
 
-// {benchmark: "smacof", n, matrix, threads, iterations, seconds_per_iteration, cpu_seconds_per_iteration,
-//  normalized_stress_start, normalized_stress_end, classical_mds: {seconds, matrix_products, eigenvalues,
+// {benchmark: "smacof", n, matrix, threads, iterations, rounds, seconds_per_iteration,
+//  cpu_seconds_per_iteration, normalized_stress_start, normalized_stress_end, classical_mds: {seconds, matrix_products, eigenvalues,
 //  most_negative_eigenvalue, explained_energy}, paper_seconds_per_iteration (at the paper's sizes),
-//  reference: {name, and skipped | version, seconds, n_iter, seconds_per_iteration,
+//  reference: {name, and skipped | version, rounds, seconds, n_iter, seconds_per_iteration,
 //  cpu_seconds_per_iteration, stress, stress_relative_difference}, speedup_vs_reference and
 //  cpu_speedup_vs_reference (when measured), single_thread: {seconds_per_iteration,
 //  cpu_seconds_per_iteration, and with the reference speedup_vs_reference, cpu_speedup_vs_reference} (threads

@@ -294,6 +294,8 @@ TEST(BenchSmacof, StressFallsAndClassicalMdsIsSummarised) {
   EXPECT_FALSE(j.contains("acceleration"));
   EXPECT_FALSE(j.contains("paper_seconds_per_iteration"));
   EXPECT_EQ(j.contains("single_thread"), r.threads > 1);
+  EXPECT_EQ(r.rounds, o.rounds) << "without a reference, ours still runs every round";
+  EXPECT_EQ(j["rounds"], o.rounds);
 }
 
 TEST(BenchSmacof, MissingScikitLearnIsReportedAsSkippedWithTheReason) {
@@ -307,13 +309,18 @@ TEST(BenchSmacof, MissingScikitLearnIsReportedAsSkippedWithTheReason) {
 
 TEST(BenchSmacof, ScikitLearnReachesTheSameStressFromTheSameStart) {
   if (find_python("numpy, sklearn.manifold").empty()) GTEST_SKIP() << "no Python with scikit-learn";
-  const SmacofBenchResult r = bench_smacof(small_smacof());
+  SmacofBenchOptions o = small_smacof();
+  o.rounds = 2;
+  const SmacofBenchResult r = bench_smacof(o);
   ASSERT_TRUE(r.reference_measured) << r.reference_skipped;
   EXPECT_EQ(r.reference_iterations, 5);
+  EXPECT_EQ(r.rounds, 2);
+  EXPECT_EQ(r.reference_rounds, 2) << "the two sides take turns";
   // Same matrix, same start, same number of Guttman transforms: the same stress, to float rounding.
   EXPECT_GE(r.reference_stress_relative_difference, 0);
   EXPECT_LT(r.reference_stress_relative_difference, 1e-5);
   const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j["reference"]["rounds"], 2);
   EXPECT_DOUBLE_EQ(
       j["speedup_vs_reference"].get<double>(),
       j["reference"]["seconds_per_iteration"].get<double>() / j["seconds_per_iteration"].get<double>());
