@@ -3,6 +3,10 @@
 
   scripts/benchmark_ratios.py OUT              one line per row: ours, the reference of the same run, the ratio
   scripts/benchmark_ratios.py OUT --markdown   the whole page docs/benchmarks.md
+  scripts/benchmark_ratios.py OUT1 OUT2 OUT3 [--markdown]
+                                               several runs of scripts/benchmarks.sh: each row with a ratio
+                                               from the run of the median ratio, the runs' ratios beside it
+                                               (rows without a ratio, and the other tables, from OUT1)
 
 Exits 1 when an anchor that should have run did not (scikit-learn or Open3D missing:
 scripts/install-deps.sh --with-anchors), naming the reason the benchmark gave. Standard library only.
@@ -106,8 +110,9 @@ def other_rows(out, rows, missing):
             ours = f"{g(j['seconds_per_iteration'])} s"
             if "single_thread" in j:
                 ours += f" (one thread {g(j['single_thread']['seconds_per_iteration'])} s)"
+            rounds = f" (median of {ref['rounds']} rounds)" if ref.get("rounds", 1) > 1 else ""
             rows.append(Row(f"SMACOF iteration, n = {n:,} (Swiss-roll geodesics)", command, ours,
-                            f"scikit-learn {ref.get('version', '')} {g(ref['seconds_per_iteration'])} s",
+                            f"scikit-learn {ref.get('version', '')} {g(ref['seconds_per_iteration'])} s{rounds}",
                             j["speedup_vs_reference"], "≥ 150×" if n == 3505 else "—",
                             j["speedup_vs_reference"] >= 150 if n == 3505 else None))
         else:
@@ -207,15 +212,39 @@ SIMD_RETRIEVAL = (
     "an AMD EPYC")
 
 
-def markdown(out, rows):
+def median_rows(runs):
+    """One row per row of the first run: for a row with a ratio, the row of the run whose ratio is the median
+    (the upper median of an even count), with every run's ratio in `runs`; otherwise the first run's row."""
+    chosen = []
+    for i, first in enumerate(runs[0]):
+        same = [rows[i] for rows in runs if i < len(rows) and rows[i].what == first.what]
+        with_ratio = [r for r in same if r.ratio]
+        if len(same) < 2 or len(with_ratio) != len(same):
+            chosen.append(first)
+            continue
+        ordered = sorted(with_ratio, key=lambda r: r.ratio)
+        row = ordered[len(ordered) // 2]
+        row.runs = [r.ratio for r in same]
+        chosen.append(row)
+    return chosen
+
+
+def markdown(out, rows, run_count=1):
     version = first_line(os.path.join(out, "version.txt")).splitlines()
     build = next((l[len("build: "):] for l in version if l.startswith("build: ")), "unknown")
     kernels = next((l[len("kernels: "):] for l in version if l.startswith("kernels: ")), "unknown")
     p = print
     p("# Benchmarks\n")
-    p("Every figure on this page comes from `scripts/benchmarks.sh OUT --main-job` on this project's machine (2 cores,")
-    p("no GPU, otherwise idle), each measured in one run together with its reference, and this page is written from")
-    p("those JSON files by `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md`. The script installs")
+    if run_count > 1:
+        p(f"Every figure on this page comes from {run_count} runs of `scripts/benchmarks.sh OUT --main-job`, one after the")
+        p("other on this project's machine (2 cores, no GPU, otherwise idle), each figure measured in one run together")
+        p(f"with its reference. A row with a ratio shows the run of the median ratio, the {run_count} runs' ratios beside it;")
+        p("the other rows and tables are the first run's. The page is written from those JSON files by")
+        p(f"`scripts/benchmark_ratios.py OUT1 … OUT{run_count} --markdown > docs/benchmarks.md`. The script installs")
+    else:
+        p("Every figure on this page comes from `scripts/benchmarks.sh OUT --main-job` on this project's machine (2 cores,")
+        p("no GPU, otherwise idle), each measured in one run together with its reference, and this page is written from")
+        p("those JSON files by `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md`. The script installs")
     p("what is missing (the anchors scikit-learn and Open3D included), builds with the README's commands, writes one")
     p("JSON file per row and prints every ratio. `cat3505`, `michael22738` and `michael50000` are tosca5k's cat0 and")
     p("michael0 remeshed by `cshapes remesh … --vertices N`. Dated history is in the [changelog](changelog.md).\n")
@@ -228,6 +257,8 @@ def markdown(out, rows):
     p("| --- | --- | --- | --- | --- | --- |")
     for r in rows:
         ratio = f"**{ratio_text(r.ratio)}**" if r.ratio else "—"
+        if getattr(r, "runs", None):
+            ratio += " (runs: " + ", ".join(ratio_text(x) for x in r.runs) + ")"
         p(f"| {r.what} | `{r.command}` | {r.ours} | {r.reference} | {ratio} | {r.goal}{verdict(r.met)} |")
     targets = simd_targets(out)
     if targets:
@@ -276,7 +307,9 @@ def markdown(out, rows):
     p("windows' range is shown, so a few seconds of a slower host move one window rather than the figure. The")
     p("Coulomb gradient rows time the fast sum 25 times after an untimed run (the first evaluation of a process")
     p("pays for its fresh memory) and the direct sums 5 times, the two taking turns in five rounds, each round's")
-    p("fast runs after an untimed one: a slow spell of the host falls on both sides of the ratio. The direct")
+    p("fast runs after an untimed one: a slow spell of the host falls on both sides of the ratio. The SMACOF")
+    p("row's two sides take turns in three rounds of 10 iterations each, each side's figure the median of its")
+    p("rounds (scikit-learn's own time varied from 0.23 to 0.34 s per iteration between runs). The direct")
     p("Coulomb sum, the")
     p("reference of the fast one, is one scalar loop in double precision, the same code and the same bytes under")
     p("every target (the goals were first measured against it). A vectorised direct sum would be about 4× faster")
@@ -286,19 +319,28 @@ def markdown(out, rows):
 
 
 def main(argv):
-    if len(argv) not in (2, 3) or (len(argv) == 3 and argv[2] != "--markdown"):
+    args = argv[1:]
+    as_markdown = bool(args) and args[-1] == "--markdown"
+    outs = args[:-1] if as_markdown else args
+    if not outs or any(o.startswith("--") for o in outs):
         print(__doc__, file=sys.stderr)
         return 2
-    out = argv[1]
-    rows, missing = [], []
-    coulomb_rows(out, rows)
-    other_rows(out, rows, missing)
-    if len(argv) == 3:
-        markdown(out, rows)
+    runs, missing = [], []
+    for i, out in enumerate(outs):
+        rows = []
+        coulomb_rows(out, rows)
+        other_rows(out, rows, missing if i == 0 else [])
+        runs.append(rows)
+    rows = median_rows(runs)
+    out = outs[0]
+    if as_markdown:
+        markdown(out, rows, len(outs))
     else:
         print(f"{'row':60s} {'ours':>40s}   {'reference, same run':>40s}   ratio")
         for r in rows:
             ratio = ratio_text(r.ratio) if r.ratio else "—"
+            if getattr(r, "runs", None):
+                ratio += " (runs: " + ", ".join(ratio_text(x) for x in r.runs) + ")"
             print(f"{r.what:60s} {r.ours:>40s}   {r.reference:>40s}   {ratio:>8s}  {r.goal}{verdict(r.met)}")
         for what, cells in simd_table(out).items():
             print(f"{what:60s} " + "   ".join(f"{t}: {c}" for t, c in cells.items() if t != "goal"))
