@@ -24,30 +24,6 @@ using coulomb_detail::kBlock;
 using coulomb_detail::SourceRange;
 using namespace fmm_detail;
 
-// The buffers of one evaluation, kept by the calling thread from one evaluation to the next (the Coulomb
-// iteration evaluates thousands of times at one size): allocating them afresh returned their pages to the
-// system and faulted them in again each time (a tenth of an evaluation at 22,738 points). Released after an
-// evaluation of more than kKeptWorkspacePoints points, so a single large one does not hold its memory.
-struct Workspace {
-  std::vector<std::pair<uint64_t, int32_t>> keyed, keyed_scratch;
-  std::vector<double> unit;
-  std::vector<int32_t> order;
-  std::vector<uint64_t> keys;
-  std::vector<double> xd, yd, zd;
-  std::vector<float> xs, ys, zs, xf, yf, zf, xl, yl, zl;
-  std::vector<Cell> cells;
-  std::vector<int32_t> leaves, depth_start;
-  std::vector<double> multipoles, locals;
-  std::vector<std::vector<int32_t>> deferred;
-  std::vector<double> potential, fx, fy, fz;
-};
-constexpr Index kKeptWorkspacePoints = 200000;
-
-Workspace& workspace() {
-  thread_local Workspace w;
-  return w;
-}
-
 class Fmm {
  public:
   // time_kernels: also time the M2L and P2P work of every cell (stats.seconds_m2l, seconds_p2p), two clock
@@ -302,75 +278,32 @@ class Fmm {
     m2m(c, mono);
   }
 
-  // P2M: M_k = Σ_j (x_j − z)^k / k!
   void p2m(int32_t c, std::vector<double>& mono) {
-    const Cell& cell = cells_[c];
-    double* M = multipole(c);
-    if (const StaticP2MFunction fixed = static_p2m(tables_.order)) {
-      fixed(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, M);
-      return;
-    }
-    for (int32_t i = cell.begin; i < cell.end; ++i) {
-      const double d3[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
-      tables_.monomials(d3, mono.data());
-      for (int k = 0; k < tables_.count; ++k) M[k] += mono[k];
-    }
+    p2m_cell(tables_, cells_[c], xd_.data(), yd_.data(), zd_.data(), multipole(c), mono.data());
   }
 
-  // M2M into c from its children, in order: M_k = Σ_children Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z
+  // M2M into c from its children, in order.
   void m2m(int32_t c, std::vector<double>& mono) {
     const Cell& cell = cells_[c];
-    double* M = multipole(c);
-    const StaticShiftFunction fixed = static_m2m(tables_.order);
     for (int32_t ch = cell.child_begin; ch < cell.child_begin + cell.child_count; ++ch) {
       const double s3[3] = {cells_[ch].center[0] - cell.center[0], cells_[ch].center[1] - cell.center[1],
                             cells_[ch].center[2] - cell.center[2]};
-      const double* Mc = multipole(ch);
-      if (fixed) {
-        fixed(s3, Mc, M);
-        continue;
-      }
-      tables_.monomials(s3, mono.data());
-      for (const auto& t : tables_.shift) M[t[0]] += Mc[t[1]] * mono[t[2]];
+      m2m_shift(tables_, s3, multipole(ch), multipole(c), mono.data());
     }
   }
 
-  // L2L into c from its parent: L_a += Σ_{m≥a} L^parent_m t^{m−a}/(m−a)!, t = z − z_parent
+  // L2L into c from its parent.
   void l2l(int32_t c, std::vector<double>& mono) {
     const Cell& cell = cells_[c];
     const Cell& parent = cells_[cell.parent];
     const double t3[3] = {cell.center[0] - parent.center[0], cell.center[1] - parent.center[1],
                           cell.center[2] - parent.center[2]};
-    const double* Lp = local(cell.parent);
-    double* L = local(c);
-    if (const StaticShiftFunction fixed = static_l2l(tables_.order)) {
-      fixed(t3, Lp, L);
-      return;
-    }
-    tables_.monomials(t3, mono.data());
-    for (const auto& t : tables_.shift) L[t[1]] += Lp[t[0]] * mono[t[2]];
+    l2l_shift(tables_, t3, local(cell.parent), local(c), mono.data());
   }
 
-  // L2P: φ(x) += Σ_m L_m e^m/m!, ∇φ(x) += Σ_n L_{n+e_i} e^n/n!, e = x − z; force f = −∇φ
   void l2p(int32_t c, std::vector<double>& mono) {
-    const Cell& cell = cells_[c];
-    const double* L = local(c);
-    if (const StaticL2PFunction fixed = static_l2p(tables_.order)) {
-      fixed(xd_.data(), yd_.data(), zd_.data(), cell.begin, cell.end, cell.center, L, potential_.data(),
-            fx_.data(), fy_.data(), fz_.data());
-      return;
-    }
-    for (int32_t i = cell.begin; i < cell.end; ++i) {
-      const double e[3] = {xd_[i] - cell.center[0], yd_[i] - cell.center[1], zd_[i] - cell.center[2]};
-      tables_.monomials(e, mono.data());
-      double phi = 0;
-      for (int m = 0; m < tables_.count; ++m) phi += L[m] * mono[m];
-      double g[3] = {0, 0, 0};
-      for (int k = 0; k < 3; ++k)
-        for (const auto& t : tables_.gradient[k]) g[k] += L[t[1]] * mono[t[0]];
-      potential_[i] += phi;
-      fx_[i] -= g[0], fy_[i] -= g[1], fz_[i] -= g[2];
-    }
+    l2p_cell(tables_, cells_[c], xd_.data(), yd_.data(), zd_.data(), local(c), potential_.data(), fx_.data(),
+             fy_.data(), fz_.data(), mono.data());
   }
 
   // The traversal in parallel: a serial pass stops at target cells of at most `cut` points and defers their
@@ -524,57 +457,10 @@ class Fmm {
     if (const M2LCellFunction fixed = m2l_cell_kernel(tables_.order))
       fixed(cells_[a].center, list.data(), list.size(), cells_.data(), multipoles_.data(), stride_, local(a));
     else  // orders above 6: the table-driven loop
-      m2l_table_driven(a, list, scratch.derivative, scratch.moments, scratch.accumulated);
+      m2l_table_driven(tables_, cells_[a].center, list, cells_.data(), multipoles_.data(), stride_,
+                       zero_moments_.data(), scratch.derivative, scratch.moments, scratch.accumulated, local(a));
     scratch.m2l_total += static_cast<Index>(list.size());
     if (time_kernels_) scratch.m2l_seconds += seconds_since(m2l_start);
-  }
-
-  // The M2L of cell a from the cells of `list` by the table-driven loop (orders above 6): four sources per
-  // pass, one per lane, the lanes summed at the end in a fixed order. The vectors are the thread's scratch.
-  void m2l_table_driven(size_t a, const std::vector<int32_t>& list, std::vector<V4>& derivative,
-                        std::vector<V4>& moments, std::vector<V4>& accumulated) {
-    const Cell& A = cells_[a];
-    const int count = tables_.count;
-    std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
-    for (size_t g = 0; g < list.size(); g += 4) {
-      V4 R[3];
-      const double* M[4];
-      for (int l = 0; l < 4; ++l) {
-        if (g + l < list.size()) {
-          const Cell& B = cells_[list[g + l]];
-          for (int c = 0; c < 3; ++c) R[c][l] = A.center[c] - B.center[c];
-          M[l] = multipole(list[g + l]);
-        } else {  // an empty lane: a harmless separation and no charge
-          R[0][l] = 1, R[1][l] = 0, R[2][l] = 0;
-          M[l] = zero_moments_.data();
-        }
-      }
-      // moments[k][l] = M[l][k]: 4×4 transposes of aligned rows (stride_ is a multiple of 4).
-      for (int k = 0; k < stride_; k += 4) {
-        const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k),
-                 r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
-                 r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k),
-                 r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
-        const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6),
-                 b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
-                 a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6),
-                 b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
-        moments[k] = __builtin_shufflevector(a01, a23, 0, 1, 4, 5);
-        moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
-        moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
-        moments[k + 3] = __builtin_shufflevector(b01, b23, 2, 3, 6, 7);
-      }
-      tables_.derivatives4(R, derivative.data());
-      for (int m = 0; m < count; ++m) {
-        V4 sum = accumulated[m];
-        for (int j = tables_.m2l_offset[m]; j < tables_.m2l_offset[m + 1]; ++j)
-          sum += moments[tables_.m2l_k[j]] * derivative[tables_.m2l_mk[j]];
-        accumulated[m] = sum;
-      }
-    }
-    double* L = local(a);
-    for (int m = 0; m < count; ++m)
-      L[m] += (accumulated[m][0] + accumulated[m][1]) + (accumulated[m][2] + accumulated[m][3]);
   }
 
   // The near field of leaf a: the direct sums from the leaves of its list, grouped into source ranges (a run
@@ -661,7 +547,6 @@ class Fmm {
   std::vector<float>&xf_ = work_.xf, &yf_ = work_.yf, &zf_ = work_.zf, &xl_ = work_.xl, &yl_ = work_.yl,
                     &zl_ = work_.zl;
   std::vector<Cell>& cells_ = work_.cells;
-  std::vector<int32_t>& leaves_ = work_.leaves;
   std::vector<int32_t>& depth_start_ = work_.depth_start;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
   std::vector<double>&multipoles_ = work_.multipoles, &locals_ = work_.locals;
   // Indexed by cell; only the first cells_.size() are this evaluation's (see run()).

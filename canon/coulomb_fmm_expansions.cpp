@@ -1,5 +1,6 @@
 #include "cshapes/canon/coulomb_fmm_expansions.h"
 
+#include <algorithm>
 #include <memory>
 #include <mutex>
 
@@ -430,6 +431,104 @@ FmmParameters choose_parameters(const CoulombFmmOptions& options) {
 ListStore& list_store() {
   thread_local ListStore store;
   return store;
+}
+
+Workspace& workspace() {
+  thread_local Workspace w;
+  return w;
+}
+
+void p2m_cell(const MultiIndexTables& t, const Cell& cell, const double* x, const double* y, const double* z,
+              double* M, double* mono) {
+  if (const StaticP2MFunction fixed = static_p2m(t.order)) {
+    fixed(x, y, z, cell.begin, cell.end, cell.center, M);
+    return;
+  }
+  for (int32_t i = cell.begin; i < cell.end; ++i) {
+    const double d3[3] = {x[i] - cell.center[0], y[i] - cell.center[1], z[i] - cell.center[2]};
+    t.monomials(d3, mono);
+    for (int k = 0; k < t.count; ++k) M[k] += mono[k];
+  }
+}
+
+void m2m_shift(const MultiIndexTables& t, const double s[3], const double* child, double* M, double* mono) {
+  if (const StaticShiftFunction fixed = static_m2m(t.order)) {
+    fixed(s, child, M);
+    return;
+  }
+  t.monomials(s, mono);
+  for (const auto& e : t.shift) M[e[0]] += child[e[1]] * mono[e[2]];
+}
+
+void l2l_shift(const MultiIndexTables& t, const double s[3], const double* parent, double* L, double* mono) {
+  if (const StaticShiftFunction fixed = static_l2l(t.order)) {
+    fixed(s, parent, L);
+    return;
+  }
+  t.monomials(s, mono);
+  for (const auto& e : t.shift) L[e[1]] += parent[e[0]] * mono[e[2]];
+}
+
+void l2p_cell(const MultiIndexTables& t, const Cell& cell, const double* x, const double* y, const double* z,
+              const double* L, double* potential, double* fx, double* fy, double* fz, double* mono) {
+  if (const StaticL2PFunction fixed = static_l2p(t.order)) {
+    fixed(x, y, z, cell.begin, cell.end, cell.center, L, potential, fx, fy, fz);
+    return;
+  }
+  for (int32_t i = cell.begin; i < cell.end; ++i) {
+    const double e[3] = {x[i] - cell.center[0], y[i] - cell.center[1], z[i] - cell.center[2]};
+    t.monomials(e, mono);
+    double phi = 0;
+    for (int m = 0; m < t.count; ++m) phi += L[m] * mono[m];
+    double g[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (const auto& n : t.gradient[k]) g[k] += L[n[1]] * mono[n[0]];
+    potential[i] += phi;
+    fx[i] -= g[0], fy[i] -= g[1], fz[i] -= g[2];
+  }
+}
+
+void m2l_table_driven(const MultiIndexTables& t, const double center[3], const std::vector<int32_t>& list,
+                      const Cell* cells, const double* multipoles, int stride, const double* zero_moments,
+                      std::vector<V4>& derivative, std::vector<V4>& moments, std::vector<V4>& accumulated,
+                      double* L) {
+  std::fill(accumulated.begin(), accumulated.end(), V4{0, 0, 0, 0});
+  for (size_t g = 0; g < list.size(); g += 4) {
+    V4 R[3];
+    const double* M[4];
+    for (int l = 0; l < 4; ++l) {
+      if (g + l < list.size()) {
+        const Cell& B = cells[list[g + l]];
+        for (int c = 0; c < 3; ++c) R[c][l] = center[c] - B.center[c];
+        M[l] = multipoles + static_cast<size_t>(list[g + l]) * static_cast<size_t>(stride);
+      } else {  // an empty lane: a harmless separation and no charge
+        R[0][l] = 1, R[1][l] = 0, R[2][l] = 0;
+        M[l] = zero_moments;
+      }
+    }
+    // moments[k][l] = M[l][k]: 4×4 transposes of the rows (stride is a multiple of 4).
+    for (int k = 0; k < stride; k += 4) {
+      const V4 r0 = *reinterpret_cast<const UnalignedV4*>(M[0] + k),
+               r1 = *reinterpret_cast<const UnalignedV4*>(M[1] + k),
+               r2 = *reinterpret_cast<const UnalignedV4*>(M[2] + k),
+               r3 = *reinterpret_cast<const UnalignedV4*>(M[3] + k);
+      const V4 a01 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), b01 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7),
+               a23 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), b23 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+      moments[k] = __builtin_shufflevector(a01, a23, 0, 1, 4, 5);
+      moments[k + 1] = __builtin_shufflevector(b01, b23, 0, 1, 4, 5);
+      moments[k + 2] = __builtin_shufflevector(a01, a23, 2, 3, 6, 7);
+      moments[k + 3] = __builtin_shufflevector(b01, b23, 2, 3, 6, 7);
+    }
+    t.derivatives4(R, derivative.data());
+    for (int m = 0; m < t.count; ++m) {
+      V4 sum = accumulated[m];
+      for (int j = t.m2l_offset[m]; j < t.m2l_offset[m + 1]; ++j)
+        sum += moments[t.m2l_k[j]] * derivative[t.m2l_mk[j]];
+      accumulated[m] = sum;
+    }
+  }
+  for (int m = 0; m < t.count; ++m)
+    L[m] += (accumulated[m][0] + accumulated[m][1]) + (accumulated[m][2] + accumulated[m][3]);
 }
 
 }  // namespace cshapes::fmm_detail

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cshapes/canon/coulomb_fmm.h"
@@ -108,6 +109,26 @@ M2LCellFunction m2l_cell_kernel(int order);
 // The tables of each order, built on first use and shared (read-only) by every later evaluation.
 const MultiIndexTables& tables_of_order(int order);
 
+// The translations of one cell, each by the unrolled kernel of its order where there is one, else by the
+// tables' loops; points in normalized coordinates x, y, z (Morton order), mono: scratch of t.count doubles.
+// P2M: M_k += Σ_j (x_j − z)^k / k! over the cell's points.
+void p2m_cell(const MultiIndexTables& t, const Cell& cell, const double* x, const double* y, const double* z,
+              double* M, double* mono);
+// M2M: M_k += Σ_{a≤k} M^child_a s^{k−a}/(k−a)!, s = z_child − z.
+void m2m_shift(const MultiIndexTables& t, const double s[3], const double* child, double* M, double* mono);
+// L2L: L_a += Σ_{m≥a} L^parent_m s^{m−a}/(m−a)!, s = z − z_parent.
+void l2l_shift(const MultiIndexTables& t, const double s[3], const double* parent, double* L, double* mono);
+// L2P: φ_i += Σ_m L_m e^m/m!, f_i −= Σ_n L_{n+e_c} e^n/n!, e = x_i − z, over the cell's points.
+void l2p_cell(const MultiIndexTables& t, const Cell& cell, const double* x, const double* y, const double* z,
+              const double* L, double* potential, double* fx, double* fy, double* fz, double* mono);
+// M2L into L of the target centre from the cells `list` (orders above 6, where there is no unrolled kernel):
+// four sources per pass, one per lane, the lanes summed at the end in a fixed order. multipoles: `stride`
+// doubles per cell, (−1)^|k| M_k; zero_moments: `stride` zeros (an empty lane). The vectors are scratch.
+void m2l_table_driven(const MultiIndexTables& t, const double center[3], const std::vector<int32_t>& list,
+                      const Cell* cells, const double* multipoles, int stride, const double* zero_moments,
+                      std::vector<V4>& derivative, std::vector<V4>& moments, std::vector<V4>& accumulated,
+                      double* L);
+
 // The interaction lists of the calling thread's evaluations, kept between them for their capacity (cleared,
 // not freed). Released when an evaluation needed more than kKeptListCells cells (about 1.5 million points at
 // leaves of 48), so a single large evaluation does not hold its lists' memory afterwards.
@@ -116,6 +137,27 @@ struct ListStore {
 };
 inline constexpr size_t kKeptListCells = 100000;
 ListStore& list_store();  // the calling thread's
+
+// The buffers of one evaluation (canon/coulomb_fmm.cpp), kept by the calling thread from one evaluation to the
+// next (the Coulomb iteration evaluates thousands of times at one size): allocating them afresh returned their
+// pages to the system and faulted them in again each time (a tenth of an evaluation at 22,738 points).
+// Released after an evaluation of more than kKeptWorkspacePoints points, so a single large one does not hold
+// its memory.
+struct Workspace {
+  std::vector<std::pair<uint64_t, int32_t>> keyed, keyed_scratch;
+  std::vector<double> unit;
+  std::vector<int32_t> order;
+  std::vector<uint64_t> keys;
+  std::vector<double> xd, yd, zd;
+  std::vector<float> xs, ys, zs, xf, yf, zf, xl, yl, zl;
+  std::vector<Cell> cells;
+  std::vector<int32_t> depth_start;
+  std::vector<double> multipoles, locals;
+  std::vector<std::vector<int32_t>> deferred;
+  std::vector<double> potential, fx, fy, fz;
+};
+inline constexpr Index kKeptWorkspacePoints = 200000;
+Workspace& workspace();  // the calling thread's
 
 // The cheapest parameters whose measured error stays below options.accuracy with a margin (the table and its
 // measurements: canon/coulomb_fmm_expansions.cpp), with the options' explicit order, angle and leaf size.

@@ -112,6 +112,34 @@ void compare_acceleration(const DistanceMatrix& D, const Points& X0, SmacofBench
   result.acceleration_measured = true;
 }
 
+// Ours again on one OpenMP thread (when there are more).
+void time_one_thread(const DistanceMatrix& D, const Points& X0, const SmacofOptions& options,
+                     SmacofBenchResult& result) {
+  const int threads = omp_get_max_threads();
+  result.threads = threads;
+  if (threads <= 1) return;
+  omp_set_num_threads(1);
+  const SmacofResult single = smacof(D, X0, options);
+  omp_set_num_threads(threads);
+  result.single_thread_measured = true;
+  result.single_thread_seconds_per_iteration = single.seconds_per_iteration;
+  result.single_thread_cpu_seconds_per_iteration = single.cpu_seconds_per_iteration;
+  result.options.notes.say("SMACOF, one thread: " + seconds_text(single.seconds_per_iteration) +
+                           " per iteration");
+}
+
+// The relative difference of scikit-learn's stress and ours after as many transforms. sklearn reports σ of
+// the configuration before its last transform: our history entry iterations − 1.
+void compare_stress(const DistanceMatrix& D, const SmacofResult& ours, SmacofBenchResult& result) {
+  const int k = result.reference_iterations - 1;
+  if (k < 0 || k >= static_cast<int>(ours.stress_history.size())) return;
+  double energy = 0;  // Σ_{i<j} δ², to unnormalise our history
+  for (Index j = 0; j < D.rows(); ++j)
+    for (Index i = 0; i < j; ++i) energy += static_cast<double>(D(i, j)) * D(i, j);
+  result.reference_stress_relative_difference =
+      std::abs(result.reference_stress - ours.stress_history[k] * energy) / (ours.stress_history[k] * energy);
+}
+
 }  // namespace
 
 SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
@@ -188,17 +216,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
   result.normalized_stress_end = ours.normalized_stress;
   notes.say("SMACOF: " + seconds_text(result.seconds_per_iteration) + " per iteration (median of " +
             std::to_string(result.rounds) + " rounds)");
-  const int threads = omp_get_max_threads();
-  result.threads = threads;
-  if (threads > 1) {
-    omp_set_num_threads(1);
-    const SmacofResult single = smacof(D, X0, smacof_options);
-    omp_set_num_threads(threads);
-    result.single_thread_measured = true;
-    result.single_thread_seconds_per_iteration = single.seconds_per_iteration;
-    result.single_thread_cpu_seconds_per_iteration = single.cpu_seconds_per_iteration;
-    notes.say("SMACOF, one thread: " + seconds_text(single.seconds_per_iteration) + " per iteration");
-  }
+  time_one_thread(D, X0, smacof_options, result);
   if (n == 3505) result.paper_seconds_per_iteration = 1.59;
   if (n == 22738) result.paper_seconds_per_iteration = 277.5;
 
@@ -208,16 +226,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
     result.reference_seconds_per_iteration = median(reference_wall);
     result.reference_cpu_seconds_per_iteration = median(reference_cpu);
     result.reference_seconds = median(reference_seconds);
-    // sklearn reports σ of the configuration before its last transform: our history entry iterations − 1.
-    const int k = result.reference_iterations - 1;
-    if (k >= 0 && k < static_cast<int>(ours.stress_history.size())) {
-      double energy = 0;  // Σ_{i<j} δ², to unnormalise our history
-      for (Index j = 0; j < n; ++j)
-        for (Index i = 0; i < j; ++i) energy += static_cast<double>(D(i, j)) * D(i, j);
-      result.reference_stress_relative_difference =
-          std::abs(result.reference_stress - ours.stress_history[k] * energy) /
-          (ours.stress_history[k] * energy);
-    }
+    compare_stress(D, ours, result);
     notes.say("scikit-learn: " + seconds_text(result.reference_seconds_per_iteration) +
               " per iteration; cshapes is " + significant(result.speedup_vs_reference()) + "x faster");
   } else {
