@@ -22,6 +22,20 @@ int threads() { return g_threads > 0 ? g_threads.load() : g_default_threads; }
 // OpenMP's thread count is a per-thread setting: set it in the thread that runs the work, lowered (as the
 // CLI's) to the cores other tasks leave idle (support/threads.h; one /proc/loadavg read, ~20 µs).
 // Long calls choose again between their stages (support/threads.h: refresh_threads).
+namespace {
+
+// A Ctrl-C during a long copy of an argument (the GIL held: 9,000² entries take a second or two, the first
+// time in a process) is heard every 64 columns, not when the call ends.
+void hear_ctrl_c(py::ssize_t column) {
+  if (column % 64 == 0 && PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+}  // namespace
+
+PendingSignals::PendingSignals() {
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
 Computing::Computing() {
   set_thread_request(threads());
   omp_set_num_threads(threads_for_computation(threads(), 1));
@@ -97,11 +111,19 @@ Eigen::MatrixXd to_matrix(const py::handle& object, const std::string& name) {
   py::array a = as_array(object, name, "fiu", "an (n, n) array of real numbers");
   if (a.ndim() != 2 || a.shape(0) != a.shape(1))
     fail(name, ": expected a square (n, n) array, got shape ", shape_text(a));
-  auto values = py::array_t<double, py::array::forcecast>::ensure(a);
-  auto r = values.unchecked<2>();
-  Eigen::MatrixXd M(r.shape(0), r.shape(1));
-  for (py::ssize_t i = 0; i < r.shape(0); ++i)
-    for (py::ssize_t j = 0; j < r.shape(1); ++j) M(i, j) = r(i, j);
+  Eigen::MatrixXd M(a.shape(0), a.shape(1));
+  auto copy = [&M](const auto& r) {
+    for (py::ssize_t j = 0; j < r.shape(1); ++j) {  // column-major target: walk columns outside
+      hear_ctrl_c(j);
+      for (py::ssize_t i = 0; i < r.shape(0); ++i) M(i, j) = static_cast<double>(r(i, j));
+    }
+  };
+  // float32 (what cshapes.geodesics returns) is read as it is: numpy's own conversion to float64 would be a
+  // second copy, which Ctrl-C cannot interrupt.
+  if (py::isinstance<py::array_t<float>>(a))
+    copy(py::array_t<float>::ensure(a).unchecked<2>());
+  else
+    copy(py::array_t<double, py::array::forcecast>::ensure(a).unchecked<2>());
   return M;
 }
 
@@ -112,8 +134,10 @@ DistanceMatrix to_distance_matrix(const py::handle& object, const std::string& n
   auto values = py::array_t<float, py::array::forcecast>::ensure(a);
   auto r = values.unchecked<2>();
   DistanceMatrix D = uninitialized_distance_matrix(r.shape(0), r.shape(1));
-  for (py::ssize_t j = 0; j < r.shape(1); ++j)  // column-major target: walk columns outside
+  for (py::ssize_t j = 0; j < r.shape(1); ++j) {  // column-major target: walk columns outside
+    hear_ctrl_c(j);
     for (py::ssize_t i = 0; i < r.shape(0); ++i) D(i, j) = r(i, j);
+  }
   return D;
 }
 

@@ -40,8 +40,15 @@ Eigen::VectorXd to_vector(const py::handle& array, const std::string& name);
 // the module's thread count (set_num_threads) applied to this thread's OpenMP loops, fewer when other tasks
 // keep cores busy (support/threads.h, as in the CLI); Ctrl-C heard by the progress callbacks of
 // stop_on_python_signals (python/interrupt.h).
+// A Ctrl-C that came while the arguments were converted (with the GIL held, before the InterruptScope: 0.7 s
+// to copy a 9,000² matrix) is heard when the computation would start: KeyboardInterrupt, instead of at the
+// call's end.
+struct PendingSignals {
+  PendingSignals();
+};
 struct Computing {
   Computing();
+  PendingSignals pending;  // first: it needs the GIL
   InterruptScope interrupt;
   py::gil_scoped_release release;
 };
