@@ -205,7 +205,7 @@ def first_line(path):
 
 # The tosca5k comparison across targets (scripts/simd_retrieval.py), measured once per change of the kernels:
 # too long for every benchmark run.
-SIMD_RETRIEVAL_TIME = "569 s under the baseline, 94 s under AVX2 and AVX-512"
+SIMD_RETRIEVAL_TIME = "194 s under the baseline, 88 s under AVX2, 90 s under AVX-512"
 SIMD_RETRIEVAL = (
     "identical to 3 decimals under baseline, AVX2 and AVX-512, every method and distance (Coulomb: mAP 0.898, "
     "0.834, 0.832 under Hausdorff, Chamfer, RMSE); the 24 Coulomb forms are the same bytes under all three, on "
