@@ -311,7 +311,6 @@ class Fmm {
   // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
   // lists are the same as a serial traversal's, whatever the thread count.
   void traverse_parallel() {
-    deferred_cut_ = cut_;
     deferred_.resize(cells_.size());
     for (auto& d : deferred_) d.clear();
     deferring_ = true;
@@ -330,7 +329,7 @@ class Fmm {
   void traverse(int32_t a, int32_t b) {
     const Cell& A = cells_[a];
     const Cell& B = cells_[b];
-    if (deferring_ && A.size() <= deferred_cut_) {
+    if (deferring_ && A.size() <= cut_) {
       deferred_[a].push_back(b);
       return;
     }
@@ -553,7 +552,6 @@ class Fmm {
   std::vector<std::vector<int32_t>>& m2l_lists_ = list_store().m2l;
   std::vector<std::vector<int32_t>>& p2p_lists_ = list_store().p2p;
   std::vector<std::vector<int32_t>>& deferred_ = work_.deferred;  // traverse_parallel's deferred pairs, by target
-  int32_t deferred_cut_ = 0;
   int32_t cut_ = 0;                        // find_subtrees()
   std::vector<int32_t> subtrees_, top_;  // find_subtrees()
   bool deferring_ = false;

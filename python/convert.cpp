@@ -19,9 +19,7 @@ std::atomic<int> g_threads{0};
 
 void set_threads(int n) { g_threads = n; }
 int threads() { return g_threads > 0 ? g_threads.load() : g_default_threads; }
-// OpenMP's thread count is a per-thread setting: set it in the thread that runs the work, lowered (as the
-// CLI's) to the cores other tasks leave idle (support/threads.h; one /proc/loadavg read, ~20 µs).
-// Long calls choose again between their stages (support/threads.h: refresh_threads).
+
 namespace {
 
 // A Ctrl-C during a long copy of an argument (the GIL held: 9,000² entries take a second or two, the first
@@ -36,6 +34,9 @@ PendingSignals::PendingSignals() {
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
+// OpenMP's thread count is a per-thread setting: set it in the thread that runs the work, lowered (as the
+// CLI's) to the cores other tasks leave idle (support/threads.h; one /proc/loadavg read, ~20 µs).
+// Long calls choose again between their stages (support/threads.h: refresh_threads).
 Computing::Computing() {
   set_thread_request(threads());
   omp_set_num_threads(threads_for_computation(threads(), 1));

@@ -38,6 +38,12 @@ class Row:
         self.ratio, self.goal, self.met = ratio, goal, met
 
 
+def runs_text(row):
+    """' (runs: 98.0×, 113×, 100×)' for a row chosen among several runs, else ''."""
+    runs = getattr(row, "runs", None)
+    return " (runs: " + ", ".join(ratio_text(x) for x in runs) + ")" if runs else ""
+
+
 def verdict(met):
     return "" if met is None else (" — **met**" if met else " — **not met**")
 
@@ -256,9 +262,7 @@ def markdown(out, rows, run_count=1):
     p("| what | command (`cshapes -q bench … --json` unless said) | ours | reference, same run | ratio | goal |")
     p("| --- | --- | --- | --- | --- | --- |")
     for r in rows:
-        ratio = f"**{ratio_text(r.ratio)}**" if r.ratio else "—"
-        if getattr(r, "runs", None):
-            ratio += " (runs: " + ", ".join(ratio_text(x) for x in r.runs) + ")"
+        ratio = (f"**{ratio_text(r.ratio)}**" if r.ratio else "—") + runs_text(r)
         p(f"| {r.what} | `{r.command}` | {r.ours} | {r.reference} | {ratio} | {r.goal}{verdict(r.met)} |")
     targets = simd_targets(out)
     if targets:
@@ -338,9 +342,7 @@ def main(argv):
     else:
         print(f"{'row':60s} {'ours':>40s}   {'reference, same run':>40s}   ratio")
         for r in rows:
-            ratio = ratio_text(r.ratio) if r.ratio else "—"
-            if getattr(r, "runs", None):
-                ratio += " (runs: " + ", ".join(ratio_text(x) for x in r.runs) + ")"
+            ratio = (ratio_text(r.ratio) if r.ratio else "—") + runs_text(r)
             print(f"{r.what:60s} {r.ours:>40s}   {r.reference:>40s}   {ratio:>8s}  {r.goal}{verdict(r.met)}")
         for what, cells in simd_table(out).items():
             print(f"{what:60s} " + "   ".join(f"{t}: {c}" for t, c in cells.items() if t != "goal"))
