@@ -8,7 +8,7 @@
 #   scripts/benchmarks.sh [OUT] [--data DIR] [--main-job]
 #     DIR: tosca5k, default ../shared/data/tosca5k
 #     --main-job: also time experiments/run_paper.sh on DIR (six methods, a fresh output folder, no cache)
-# Takes 15-20 minutes on 2 cores (remeshing included); run it on an otherwise idle machine. Exits 1 when an
+# Takes 15-20 minutes on 2 cores (remeshing and two waits for an idle machine included); run it on an otherwise idle machine. Exits 1 when an
 # anchor could not run. `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md` writes the page.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -38,6 +38,11 @@ bench() {  # bench NAME ARGS...: runs `cshapes -q bench ARGS --json` into DEST/N
   "$cshapes" -q bench "$@" --json >"$dest/$name.json.tmp"
   mv "$dest/$name.json.tmp" "$dest/$name.json"
 }
+wait_idle() {  # waits (at most 3 minutes) for the 1-minute load average to fall below 0.5: timings are idle ones
+  local waited=0
+  while awk '{exit !($1 >= 0.5)}' /proc/loadavg && [[ $waited -lt 180 ]]; do sleep 5; waited=$((waited + 5)); done
+  echo "== load average $(cut -d' ' -f1 /proc/loadavg) after waiting ${waited} s for an idle machine" >&2
+}
 converged_form() {  # the default Coulomb form of cat0, timed by its own summary, into DEST
   local dest=${dest:-$out}
   echo "== coulomb-cat0-converged${CSHAPES_SIMD:+ (CSHAPES_SIMD=$CSHAPES_SIMD)}: cshapes canon cat0.off --method coulomb" >&2
@@ -51,6 +56,7 @@ converged_form() {  # the default Coulomb form of cat0, timed by its own summary
 [[ -f "$out/michael22738.off" ]] || "$cshapes" -q remesh "$data/michael0.off" -o "$out/michael22738.off" --vertices 22738
 
 # The iteration rows first: right after the million-point runs the machine needs a while to settle.
+wait_idle
 bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
 bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
 bench coulomb-3505 coulomb --n 3505 --mesh "$data/cat0.off"
@@ -80,6 +86,7 @@ done
 converged_form
 
 # The dispatched kernels' rows under every instruction set this CPU supports, one after the other.
+wait_idle
 for target in $("$cshapes" --version | sed -n 's/^kernels: .*this CPU: \(.*\))$/\1/p' | tr -d ','); do
   dest="$out/simd-$target"
   mkdir -p "$dest"
