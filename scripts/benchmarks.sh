@@ -8,7 +8,7 @@
 #   scripts/benchmarks.sh [OUT] [--data DIR] [--main-job]
 #     DIR: tosca5k, default ../shared/data/tosca5k
 #     --main-job: also time experiments/run_paper.sh on DIR (six methods, a fresh output folder, no cache)
-# Takes 15-20 minutes on 2 cores (remeshing and two waits for an idle machine included); run it on an otherwise idle machine. Exits 1 when an
+# Takes 15-20 minutes on 2 cores (remeshing and three waits for an idle machine included); run it on an otherwise idle machine. Exits 1 when an
 # anchor could not run. `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md` writes the page.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -66,6 +66,7 @@ bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repe
 bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3 --fast-repeats 3
 bench geodesics-3505 geodesics --mesh "$out/cat3505.off" --anchor-samples 3505 --exact-samples 4
 bench geodesics-22738 geodesics --mesh "$out/michael22738.off" --anchor-samples 64 --exact-samples 2 --fmm-samples 32
+wait_idle  # after the geodesics' minutes on both cores
 bench smacof-3505 smacof --n 3505
 bench smacof-22738 smacof --n 22738 --iters 5
 bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
