@@ -253,7 +253,10 @@ def markdown(out, rows, run_count=1):
         p("those JSON files by `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md`. The script installs")
     p("what is missing (the anchors scikit-learn and Open3D included), builds with the README's commands, writes one")
     p("JSON file per row and prints every ratio. `cat3505`, `michael22738` and `michael50000` are tosca5k's cat0 and")
-    p("michael0 remeshed by `cshapes remesh … --vertices N`. Dated history is in the [changelog](changelog.md).\n")
+    p("michael0 remeshed by `cshapes remesh … --vertices N`. The machine is a virtual one on a shared host whose")
+    p("speed drifts by up to half over minutes to hours; a drift moves our code and the reference run beside it,")
+    p("not always alike, and moves in full the rows timed against a fixed figure (the paper's). The runs' ratios")
+    p("beside each figure show the spread. Dated history is in the [changelog](changelog.md).\n")
     p(f"**Build:** {version[0] if version else 'cshapes'}, {build}, the default build (`scripts/build.sh`).  ")
     machine = load(out, "machine")
     if machine:
