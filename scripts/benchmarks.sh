@@ -8,8 +8,9 @@
 #   scripts/benchmarks.sh [OUT] [--data DIR] [--main-job]
 #     DIR: tosca5k, default ../shared/data/tosca5k
 #     --main-job: also time experiments/run_paper.sh on DIR (six methods, a fresh output folder, no cache)
-# Takes 15-20 minutes on 2 cores (remeshing and three waits for an idle machine included); run it on an otherwise idle machine. Exits 1 when an
-# anchor could not run. `scripts/benchmark_ratios.py OUT --markdown > docs/benchmarks.md` writes the page.
+# Takes 15-20 minutes on 2 cores (remeshing and three waits for an idle machine included); run it on an
+# otherwise idle machine. Exits 1 when an anchor could not run. `scripts/benchmark_ratios.py OUT --markdown >
+# docs/benchmarks.md` writes the page.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out="${1:-$root/results/benchmarks}"
