@@ -4,8 +4,9 @@
 // the paper's figures: 0.045 s at 3,505 vertices and 0.21 s at 22,738, interpolated log-log in n
 // (extrapolated outside). Timed with the canonization's defaults (fast sum at 1e-2 in the iterations) and
 // again with the fast sum at 1e-3, in `windows` windows each (a fresh run of `repeats` timed iterations),
-// the two settings taking turns: the figure is the median of the windows' medians, and every window's median
-// is kept, so a few seconds of a slower machine move one window, not the figure, and the spread is seen.
+// the two settings taking turns after one untimed window of each: the figure is the median of the windows'
+// medians, and every window's median is kept, so a few seconds of a slower machine move one window, not the
+// figure, and the spread is seen.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -309,9 +309,13 @@ def markdown(out, rows, run_count=1):
     p("scikit-learn or Open3D) is reported as skipped, with the reason. The error columns are relative L2 errors of")
     p("the gradient against direct summation (Coulomb) and mean relative errors against CGAL's exact geodesics")
     p("beyond three edge lengths (geodesics). The Coulomb iteration rows time the canonization's defaults, whose")
+    warm_up = (load(out, "coulomb-iteration-3505") or {}).get("warm_up_windows")
     p("fast sum runs at 1e-2 in the iterations, and again at the library-wide 1e-3, in five windows of 50")
     p("iterations each, the two settings taking turns: the figure is the median of the windows' medians, and the")
-    p("windows' range is shown, so a few seconds of a slower host move one window rather than the figure. The")
+    p("windows' range is shown, so a few seconds of a slower host move one window rather than the figure." +
+      (" Each" if warm_up else " The"))
+    if warm_up:
+        p("setting runs one untimed window first: the first seconds after an idle spell ran up to a third slower. The")
     p("Coulomb gradient rows time the fast sum 25 times after an untimed run (the first evaluation of a process")
     p("pays for its fresh memory) and the direct sums 5 times, the two taking turns in five rounds, each round's")
     p("fast runs after an untimed one: a slow spell of the host falls on both sides of the ratio. The SMACOF")
