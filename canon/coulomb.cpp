@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "cshapes/canon/coulomb_bridges.h"
+#include "cshapes/canon/coulomb_fmm.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/format.h"
 #include "cshapes/mesh/mesh.h"
@@ -324,6 +325,7 @@ void check_options(const CoulombCanonOptions& o) {
   check_limit(kStartLandmarks, static_cast<double>(o.start_landmarks), "coulomb");
   check_limit(kFlatten, o.flatten, "coulomb");
   check_limit(kBridgeDetour, o.bridge_detour, "coulomb");
+  check_limit(kFmmRebuildEvery, o.fmm_rebuild_every, "coulomb");
   CSHAPES_REQUIRE(o.result_accuracy > 0, "coulomb: result_accuracy must be > 0, got ", o.result_accuracy);
 }
 
@@ -446,7 +448,7 @@ class CoulombRun {
     for (int s = 0; s < o_.coulomb_steps; ++s) {
       // The plain scheme's first step starts at X itself: Y = X − c∇E(X) in one pass, no copy of X first.
       const bool from_x = s == 0 && !momentum_;
-      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X_ : Y_, o_.energy);
+      const CoulombEvaluation eval = coulomb_energy_gradient(from_x ? X_ : Y_, o_.energy, &fmm_tree_);
       if (s == 0) record.energy = eval.energy;
       const double gmax = max_row_norm(eval.gradient);
       CSHAPES_REQUIRE(std::isfinite(gmax), "coulomb: non-finite Coulomb gradient at iteration ", t,
@@ -550,6 +552,7 @@ class CoulombRun {
   std::vector<Index> original_row_;  // per edge left: its row in E
   std::vector<Index> torn_rows_;     // rows of E torn, in order
   std::unique_ptr<MetricProjection> projection_;
+  CoulombFmmTree fmm_tree_{o_.fmm_rebuild_every};  // the fast summation's, kept between iterations
   FlattenPull flatten_;
   double scale_ = 0, fixed_c_ = 0;
   int tears_done_ = 0, next_tear_ = 0;

@@ -106,6 +106,7 @@ inline constexpr Limit kTearRounds = integer_limit("coulomb-tear-rounds", 0, 1e6
 inline constexpr Limit kStartLandmarks = integer_limit("start-landmarks", 4, 1e6);
 inline constexpr Limit kFlatten = number_limit("flatten", 0, 0.5);
 inline constexpr Limit kBridgeDetour = number_limit("bridge-detour", 0, 10);
+inline constexpr Limit kFmmRebuildEvery = integer_limit("coulomb-fmm-rebuild-every", 1, 1e6);
 }  // namespace coulomb_limits
 
 // Meshes finer than the resolution the defaults were chosen at are canonized through a coarse version of
@@ -246,6 +247,11 @@ struct CoulombCanonOptions {
   // Fast summation's accuracy for the reported energy (CoulombCanonResult::energy, one evaluation), or the
   // iterations' accuracy if that is smaller.
   double result_accuracy = 1e-3;
+  // The fast summation's octree and interaction lists are kept from one iteration to the next and built
+  // afresh every this many iterations (canon/coulomb_fmm.h, CoulombFmmTree: the kept cells are refit to the
+  // moved vertices and every pair that fails the opening criterion is split, so the accuracy bound holds);
+  // 1: built at every iteration.
+  int fmm_rebuild_every = 1;
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
   ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
 
@@ -276,6 +282,7 @@ struct CoulombCanonOptions {
     visit("remove_rigid_motion", o.remove_rigid_motion);
     visit("energy", o.energy);
     visit("result_accuracy", o.result_accuracy);
+    visit("fmm_rebuild_every", o.fmm_rebuild_every);
     visit("multiresolution", o.multiresolution);
     visit("progress", o.progress, kNoEffect);  // reports, computes nothing
   }

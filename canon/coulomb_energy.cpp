@@ -176,7 +176,8 @@ CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance, boo
   return result;
 }
 
-CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions& options) {
+CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions& options,
+                                          CoulombFmmTree* fmm_tree) {
   using Summation = CoulombOptions::Summation;
   CSHAPES_REQUIRE(X.allFinite(), "Coulomb energy: the ", X.rows(), " points contain a non-finite coordinate");
   Summation summation = options.summation;
@@ -197,7 +198,7 @@ CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions&
       fmm.accuracy = options.accuracy;
       fmm.min_distance = options.min_distance;
       fmm.want_potentials = options.want_potentials;
-      return coulomb_fmm(X, fmm);
+      return coulomb_fmm(X, fmm, nullptr, fmm_tree);
     }
   }
 }

@@ -70,8 +70,12 @@ struct CoulombEvaluation {
 // coulomb` (coulomb_energy.cpp says why 3,000).
 extern const Index kAutoFastMinPoints;
 
-// Energy and gradient by the summation the options pick.
-CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions& options = {});
+class CoulombFmmTree;  // canon/coulomb_fmm.h
+
+// Energy and gradient by the summation the options pick. fmm_tree: the fast summation's tree, kept from one
+// call to the next (canon/coulomb_fmm.h), or none; the direct summations do not use it.
+CoulombEvaluation coulomb_energy_gradient(const Points& X, const CoulombOptions& options = {},
+                                          CoulombFmmTree* fmm_tree = nullptr);
 
 // Exact direct summation in double precision, OpenMP over targets. O(n²). The reference for everything else.
 // Fills energy, gradient and potential.

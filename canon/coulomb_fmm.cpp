@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cshapes/canon/coulomb_fmm_expansions.h"
+#include "cshapes/canon/coulomb_fmm_lists.h"
 #include "cshapes/canon/coulomb_p2p.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/morton.h"
@@ -16,6 +17,27 @@
 #include "cshapes/support/timing.h"
 
 namespace cshapes {
+
+// A kept tree: the point order and cells of its last build, the lists of its last evaluation, and what they
+// were built for.
+struct CoulombFmmTree::State {
+  Index n = -1;  // points of the last evaluation; -1: nothing kept
+  fmm_detail::FmmParameters parameters{};
+  int evaluations_since_build = 0;
+  std::vector<int32_t> order;
+  std::vector<fmm_detail::Cell> cells;
+  std::vector<int32_t> depth_start;
+  std::vector<std::vector<int32_t>> m2l, p2p;
+};
+
+CoulombFmmTree::CoulombFmmTree(int rebuild_every)
+    : rebuild_every_(rebuild_every), state_(std::make_unique<State>()) {
+  CSHAPES_REQUIRE(rebuild_every >= 1, "Coulomb FMM: rebuild_every must be >= 1, got ", rebuild_every);
+}
+CoulombFmmTree::~CoulombFmmTree() = default;
+CoulombFmmTree::CoulombFmmTree(CoulombFmmTree&&) noexcept = default;
+CoulombFmmTree& CoulombFmmTree::operator=(CoulombFmmTree&&) noexcept = default;
+
 namespace {
 
 using coulomb_detail::FloatPoints;
@@ -28,24 +50,33 @@ class Fmm {
  public:
   // time_kernels: also time the M2L and P2P work of every cell (stats.seconds_m2l, seconds_p2p), two clock
   // reads per cell, for benchmarks; the phases are always timed.
+  // tree: kept between evaluations, or null (the calling thread's workspace holds the cells and lists).
   Fmm(const Points& X, const FmmParameters& parameters, double min_distance, CoulombFmmStats& stats,
-      bool time_kernels)
+      bool time_kernels, CoulombFmmTree* tree)
       : X_(X),
         n_(X.rows()),
         tables_(tables_of_order(parameters.order)),
         stride_((tables_.count + 3) / 4 * 4),
         zero_moments_(stride_, 0.0),
+        parameters_(parameters),
         theta_(parameters.opening_angle),
         leaf_size_(parameters.leaf_size),
         framed_near_field_(parameters.framed_near_field),
         refined_estimate_(parameters.refined_estimate),
         stats_(stats),
-        time_kernels_(time_kernels) {
+        time_kernels_(time_kernels),
+        tree_(tree),
+        keep_(tree && keepable(*tree, X.rows(), parameters)),
+        order_(tree ? tree->state().order : work_.order),
+        cells_(tree ? tree->state().cells : work_.cells),
+        depth_start_(tree ? tree->state().depth_start : work_.depth_start),
+        m2l_lists_(tree ? tree->state().m2l : list_store().m2l),
+        p2p_lists_(tree ? tree->state().p2p : list_store().p2p) {
     norm_ = coulomb_detail::normalize_points(X, min_distance);
   }
 
   ~Fmm() {
-    if (cells_.size() > kKeptListCells) list_store() = ListStore{};
+    if (!tree_ && cells_.size() > kKeptListCells) list_store() = ListStore{};
     if (n_ > kKeptWorkspacePoints) workspace() = Workspace{};
   }
 
@@ -58,22 +89,20 @@ class Fmm {
     upward_pass();
     stats_.seconds_upward = seconds_since(t);
     t = WallClock::now();
-    // The lists live in a per-thread store that keeps their capacity from one evaluation to the next (the
-    // Coulomb iteration evaluates thousands of times at one size): cleared, not freed. A first evaluation
-    // allocates each list once instead of through a growth sequence (typical lists: ~60 M2L sources per cell,
-    // ~30 near-field leaves per leaf at the default accuracy).
-    if (m2l_lists_.size() < cells_.size()) {
-      m2l_lists_.resize(cells_.size());
-      p2p_lists_.resize(cells_.size());
-    }
-    for (size_t c = 0; c < cells_.size(); ++c) {
-      m2l_lists_[c].clear();
-      p2p_lists_[c].clear();
-      if (m2l_lists_[c].capacity() == 0) m2l_lists_[c].reserve(64);
-      if (cells_[c].leaf() && p2p_lists_[c].capacity() == 0) p2p_lists_[c].reserve(32);
-    }
-    traverse_parallel();
+    const ListStorage lists{m2l_lists_, p2p_lists_, deferred_};
+    if (keep_)
+      stats_.pairs_split = split_failing_pairs(cells_, theta_, lists);
+    else
+      make_interaction_lists(cells_, theta_, cut_, lists);
     stats_.seconds_traversal = seconds_since(t);
+    stats_.kept_tree = keep_;
+    if (tree_) {
+      CoulombFmmTree::State& state = tree_->state();
+      state.n = n_;
+      state.parameters = parameters_;
+      state.evaluations_since_build = keep_ ? state.evaluations_since_build + 1 : 0;
+      tree_->count(keep_);
+    }
     t = WallClock::now();
     interactions_and_downward();
     stats_.seconds_interactions = seconds_since(t);
@@ -81,9 +110,19 @@ class Fmm {
   }
 
  private:
+  // Whether the tree's cells and lists can serve this evaluation: built for as many points with the same
+  // parameters, fewer than rebuild_every evaluations ago.
+  static bool keepable(CoulombFmmTree& tree, Index n, const FmmParameters& p) {
+    const CoulombFmmTree::State& s = tree.state();
+    const FmmParameters& q = s.parameters;
+    return s.n == n && s.evaluations_since_build + 1 < tree.rebuild_every() && q.order == p.order &&
+           q.opening_angle == p.opening_angle && q.leaf_size == p.leaf_size &&
+           q.framed_near_field == p.framed_near_field && q.refined_estimate == p.refined_estimate;
+  }
+
   void build_tree() {
     sort_points();
-    build_cells();
+    if (!keep_) build_cells();
     cell_geometry();
     stats_.cells = static_cast<Index>(cells_.size());
     stats_.tree_depth = static_cast<Index>(depth_start_.size()) - 1;
@@ -113,7 +152,8 @@ class Fmm {
       }
       keyed[i] = {key, static_cast<int32_t>(i)};
     }
-    radix_sort_by_key(keyed, 3 * kMortonLevels, &work_.keyed_scratch);  // the order of std::sort on the pairs
+    // A kept tree keeps its order (its cells are ranges of it); otherwise the order of std::sort on the pairs.
+    if (!keep_) radix_sort_by_key(keyed, 3 * kMortonLevels, &work_.keyed_scratch);
     order_.resize(n_);
     keys_.resize(n_);
     xd_.resize(n_), yd_.resize(n_), zd_.resize(n_);
@@ -124,9 +164,8 @@ class Fmm {
     }
 #pragma omp parallel for schedule(static)
     for (Index s = 0; s < n_; ++s) {
-      const Index i = keyed[s].second;
-      order_[s] = static_cast<int32_t>(i);
-      keys_[s] = keyed[s].first;
+      const Index i = keep_ ? order_[s] : keyed[s].second;
+      if (!keep_) order_[s] = static_cast<int32_t>(i), keys_[s] = keyed[s].first;
       xd_[s] = unit[3 * i], yd_[s] = unit[3 * i + 1], zd_[s] = unit[3 * i + 2];
       if (!framed_near_field_) {
         coulomb_detail::split_float(xd_[s], xf_[s], xl_[s]);
@@ -306,90 +345,6 @@ class Fmm {
              fy_.data(), fz_.data(), mono.data());
   }
 
-  // The traversal in parallel: a serial pass stops at target cells of at most `cut` points and defers their
-  // pairs; then each deferred target's pairs are traversed by one thread, in the serial pass's order.
-  // Deferred targets are disjoint subtrees, and traverse(a, ·) writes only to lists of a's subtree, so the
-  // lists are the same as a serial traversal's, whatever the thread count.
-  void traverse_parallel() {
-    deferred_.resize(cells_.size());
-    for (auto& d : deferred_) d.clear();
-    deferring_ = true;
-    traverse(0, 0);
-    deferring_ = false;
-    std::vector<int32_t> targets;
-    for (size_t a = 0; a < cells_.size(); ++a)
-      if (!deferred_[a].empty()) targets.push_back(static_cast<int32_t>(a));
-#pragma omp parallel for schedule(dynamic, 1)
-    for (size_t t = 0; t < targets.size(); ++t)
-      for (int32_t b : deferred_[targets[t]]) traverse(targets[t], b);
-  }
-
-  // Dual-tree traversal (target a, source b): every ordered pair of points is covered exactly once, either by
-  // an M2L of b's multipole into a's local expansion, or by a direct leaf-leaf sum.
-  void traverse(int32_t a, int32_t b) {
-    const Cell& A = cells_[a];
-    const Cell& B = cells_[b];
-    if (deferring_ && A.size() <= cut_) {
-      deferred_[a].push_back(b);
-      return;
-    }
-    if (a == b) {
-      if (A.leaf()) {
-        p2p_lists_[a].push_back(a);
-        return;
-      }
-      for (int32_t ca = A.child_begin; ca < A.child_begin + A.child_count; ++ca)
-        for (int32_t cb = A.child_begin; cb < A.child_begin + A.child_count; ++cb) traverse(ca, cb);
-      return;
-    }
-    if (separated(A, B)) {
-      m2l_lists_[a].push_back(b);
-      return;
-    }
-    descend(a, b);
-  }
-
-  // traverse(a, b) for a pair of disjoint cells that are not well separated, a not deferred. Splitting b, the
-  // children's separation is tested here (what traverse(a, child) would do first, the rest being known), so
-  // the most frequent case, a child taken by M2L, costs no call.
-  void descend(int32_t a, int32_t b) {
-    const Cell& A = cells_[a];
-    const Cell& B = cells_[b];
-    if (A.leaf() && B.leaf()) {
-      p2p_lists_[a].push_back(b);
-      return;
-    }
-    if (!A.leaf() && (B.leaf() || A.radius >= B.radius)) {
-      for (int32_t ca = A.child_begin; ca < A.child_begin + A.child_count; ++ca) traverse(ca, b);
-      return;
-    }
-    std::vector<int32_t>& m2l = m2l_lists_[a];
-    for (int32_t cb = B.child_begin; cb < B.child_begin + B.child_count; ++cb) {
-      if (separated(A, cells_[cb]))
-        m2l.push_back(cb);
-      else
-        descend(a, cb);
-    }
-  }
-
-  bool separated(const Cell& A, const Cell& B) const {
-    const double dx = A.center[0] - B.center[0], dy = A.center[1] - B.center[1],
-                 dz = A.center[2] - B.center[2];
-    return well_separated(A.radius + B.radius, dx * dx + dy * dy + dz * dz);
-  }
-
-  // Whether r_A + r_B < θ·√d2, exactly as that expression evaluates (the traversal's lists, and so every bit
-  // of the sum, are those of the square-root test): squares decide when they are farther apart than their
-  // rounding (a few ulps) could move them, the square root only in between or near underflow.
-  bool well_separated(double radii, double d2) const {
-    const double lhs = radii * radii, rhs = theta2_ * d2;
-    if (rhs > 1e-280) {
-      if (lhs < rhs * (1 - 1e-12)) return true;
-      if (lhs > rhs * (1 + 1e-12)) return false;
-    }
-    return radii < theta_ * std::sqrt(d2);
-  }
-
   // Per thread: the scratch of the interactions, and its counts and kernel times.
   struct InteractionScratch {
     std::vector<V4> derivative, moments, accumulated;
@@ -529,38 +484,40 @@ class Fmm {
   const MultiIndexTables& tables_;
   const int stride_;  // doubles per cell's expansion: count rounded up to a multiple of 4
   const std::vector<double> zero_moments_;  // the moments of an empty M2L lane
+  const FmmParameters parameters_;
   const double theta_;
-  const double theta2_ = theta_ * theta_;
   const int leaf_size_;
   const bool framed_near_field_, refined_estimate_;
   CoulombFmmStats& stats_;
   const bool time_kernels_;
   coulomb_detail::NormalizedPoints norm_;
   Workspace& work_ = workspace();
-  std::vector<int32_t>& order_ = work_.order;  // sorted position s holds input point order_[s]
-  std::vector<uint64_t>& keys_ = work_.keys;
+  CoulombFmmTree* const tree_;  // kept between evaluations, or null
+  const bool keep_;             // this evaluation keeps tree_'s cells and lists
+  std::vector<int32_t>& order_;  // sorted position s holds input point order_[s]
+  std::vector<uint64_t>& keys_ = work_.keys;  // the Morton keys of a built tree
   std::vector<double>&xd_ = work_.xd, &yd_ = work_.yd, &zd_ = work_.zd;
   // framed near field: float coordinates in each point's leaf frame
   std::vector<float>&xs_ = work_.xs, &ys_ = work_.ys, &zs_ = work_.zs;
   // otherwise: float high and low parts (coulomb_p2p.h)
   std::vector<float>&xf_ = work_.xf, &yf_ = work_.yf, &zf_ = work_.zf, &xl_ = work_.xl, &yl_ = work_.yl,
                     &zl_ = work_.zl;
-  std::vector<Cell>& cells_ = work_.cells;
-  std::vector<int32_t>& depth_start_ = work_.depth_start;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
+  std::vector<Cell>& cells_;
+  std::vector<int32_t>& depth_start_;  // cells of depth d: [depth_start_[d], depth_start_[d+1])
   std::vector<double>&multipoles_ = work_.multipoles, &locals_ = work_.locals;
   // Indexed by cell; only the first cells_.size() are this evaluation's (see run()).
-  std::vector<std::vector<int32_t>>& m2l_lists_ = list_store().m2l;
-  std::vector<std::vector<int32_t>>& p2p_lists_ = list_store().p2p;
-  std::vector<std::vector<int32_t>>& deferred_ = work_.deferred;  // traverse_parallel's deferred pairs, by target
+  std::vector<std::vector<int32_t>>& m2l_lists_;
+  std::vector<std::vector<int32_t>>& p2p_lists_;
+  std::vector<std::vector<int32_t>>& deferred_ = work_.deferred;  // the lists' scratch (ListStorage)
   int32_t cut_ = 0;                        // find_subtrees()
   std::vector<int32_t> subtrees_, top_;  // find_subtrees()
-  bool deferring_ = false;
   std::vector<double>&potential_ = work_.potential, &fx_ = work_.fx, &fy_ = work_.fy, &fz_ = work_.fz;
 };
 
 }  // namespace
 
-CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options, CoulombFmmStats* stats) {
+CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options, CoulombFmmStats* stats,
+                              CoulombFmmTree* tree) {
   const FmmParameters parameters = choose_parameters(options);
   CoulombFmmStats local_stats;
   CoulombFmmStats& s = stats ? *stats : local_stats;
@@ -577,7 +534,7 @@ CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options,
     if (options.want_potentials) empty.potential.resize(0);
     return empty;
   }
-  Fmm fmm(X, parameters, options.min_distance, s, stats != nullptr);
+  Fmm fmm(X, parameters, options.min_distance, s, stats != nullptr, tree);
   return fmm.run(options.want_potentials);
 }
 

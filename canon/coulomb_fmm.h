@@ -22,8 +22,11 @@
 // smaller requests are served as 3e-6. The energy's relative error is about accuracy/10 or less.
 //
 // Determinism: every target's sum is formed in a fixed order, so the output is bit-identical for identical
-// inputs, and independent of the number of OpenMP threads.
+// inputs, and independent of the number of OpenMP threads. With a kept tree (CoulombFmmTree below), "inputs"
+// are the points of every evaluation since the tree's last build.
 #pragma once
+
+#include <memory>
 
 #include "cshapes/canon/coulomb_energy.h"
 
@@ -50,10 +53,43 @@ struct CoulombFmmStats {
   // seconds_interactions: the M2L, near field, L2L and L2P (the downward pass runs with the interactions)
   double seconds_tree = 0, seconds_upward = 0, seconds_traversal = 0, seconds_interactions = 0;
   double seconds_m2l = 0, seconds_p2p = 0;  // inside seconds_interactions, summed over threads
+  bool kept_tree = false;  // the evaluation kept a CoulombFmmTree's cells and lists (refit, not built)
+  Index pairs_split = 0;   // with a kept tree: its M2L pairs that failed the opening criterion and were split
 };
 
-// Energy, gradient (and potentials if asked) of the n×3 points X. O(n) for a fixed accuracy.
+// The octree and interaction lists of one fast evaluation, kept for the next evaluations of as many points
+// that moved a little (the Coulomb iteration moves a vertex by a fraction of an edge per step), so that they
+// skip the Morton sort, the octree's construction and the dual-tree traversal. A kept tree keeps its cells
+// (each the same points as when it was built) and refits every cell's centre and radius to the points' new
+// positions; each kept M2L pair is tested against the opening criterion with the new radii, and a pair that
+// fails it is split further as the traversal would, so every expansion meets the same criterion as in a fresh
+// tree (the same error bound per interaction; leaf pairs summed directly stay exact). Lists only ever split,
+// so their work grows as the points move: the tree is built afresh every `rebuild_every` evaluations, and
+// whenever the point count or the parameters change. rebuild_every = 1 builds at every evaluation: the bytes
+// of an evaluation without a tree. Deterministic: the outputs depend on the inputs since the last build, never
+// on the thread count.
+class CoulombFmmTree {
+ public:
+  explicit CoulombFmmTree(int rebuild_every = 1);
+  ~CoulombFmmTree();
+  CoulombFmmTree(CoulombFmmTree&&) noexcept;
+  CoulombFmmTree& operator=(CoulombFmmTree&&) noexcept;
+  int rebuild_every() const { return rebuild_every_; }
+  Index builds() const { return builds_; }  // evaluations that built the tree
+  Index kept() const { return kept_; }      // evaluations that kept it
+  struct State;                             // the cells and lists (canon/coulomb_fmm.cpp)
+  State& state() { return *state_; }
+  void count(bool kept) { ++(kept ? kept_ : builds_); }
+
+ private:
+  int rebuild_every_;
+  Index builds_ = 0, kept_ = 0;
+  std::unique_ptr<State> state_;
+};
+
+// Energy, gradient (and potentials if asked) of the n×3 points X. O(n) for a fixed accuracy. tree: kept from
+// one call to the next (see CoulombFmmTree), or none.
 CoulombEvaluation coulomb_fmm(const Points& X, const CoulombFmmOptions& options = {},
-                              CoulombFmmStats* stats = nullptr);
+                              CoulombFmmStats* stats = nullptr, CoulombFmmTree* tree = nullptr);
 
 }  // namespace cshapes

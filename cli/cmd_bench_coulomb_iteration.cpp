@@ -47,6 +47,12 @@ const bool registered = register_command(
                       "is reported, and each window's)")
            ->capture_default_str()
            ->check(integer_in(1, 1000));
+       app.add_option("--fmm-rebuild-every", options.fmm_rebuild_every,
+                      "keep the fast sum's tree for this many iterations (see canon --coulomb-fmm-rebuild-every; "
+                      "0: the canonization's default); above 1 a window's figure is the median of its cycles' "
+                      "means, each cycle holding one rebuild")
+           ->capture_default_str()
+           ->check(integer_in(0, 1000000));
        app.add_flag("--json", json, "print JSON");
      },
      run});

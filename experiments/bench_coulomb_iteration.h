@@ -22,6 +22,10 @@ struct CoulombIterationBenchOptions {
   int n = 3505;      // vertices of the generated torus, >= 16
   int repeats = 50;  // iterations timed per window (median), >= 1
   int windows = 5;   // windows per setting (median of their medians reported), >= 1
+  // The fast summation's tree kept for this many iterations (CoulombCanonOptions::fmm_rebuild_every); 0: the
+  // canonization's default. Above 1 a window's figure is the median of its cycles' means (each cycle holds
+  // one rebuild).
+  int fmm_rebuild_every = 0;
 };
 
 struct CoulombIterationBenchResult {

@@ -37,6 +37,10 @@ TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const
 // Seconds of one outer Coulomb iteration (1 gradient step + 1 projection sweep), median of `repeats`, with
 // the canonization's default options otherwise; accuracy: the fast summation's target gradient error (0: the
 // canonization's default, 1e-2; 1e-3 is the library-wide default of coulomb_energy_gradient).
-double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy = 0);
+// fmm_rebuild_every: the fast summation's tree kept for this many iterations (CoulombCanonOptions; 0: the
+// canonization's default); above 1, the median of the means of consecutive runs of that many iterations, each
+// of which holds one rebuild (the cost per iteration over a whole cycle).
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy = 0,
+                                 int fmm_rebuild_every = 0);
 
 }  // namespace cshapes

@@ -218,6 +218,12 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
                             "energy: 1e-3 or this, whichever is smaller)",
                             coulomb_limits::kAccuracy, f,
                             [](Ref c) -> double& { return c.coulomb.energy.accuracy; }));
+  o.push_back(integer_option<int>(
+      "coulomb_fmm_rebuild_every",
+      "fast summation in the iterations: its octree and lists are kept between iterations (refit to the "
+      "moved vertices, pairs that fail the opening criterion split) and built afresh every this many; 1: "
+      "every iteration",
+      coulomb_limits::kFmmRebuildEvery, f, [](Ref c) -> int& { return c.coulomb.fmm_rebuild_every; }));
   o.push_back(integer_option<Index>(
       "coulomb_multiresolution_above",
       "meshes whose resolution (area / (sqrt(3)/2 mean edge^2): about the vertex count of an even "

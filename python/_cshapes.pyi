@@ -84,9 +84,9 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             tear_times: int = 3, tear_interval: int = 50, tear_guard: Literal["connected", "vertex"] = "connected",
             coulomb_max_iterations: int = 3000, coulomb_window: int = 20, coulomb_tolerance: float = 0.001,
             momentum: float = 0.9, coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-            coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 9000,
-            coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 30, knn: int = 8,
-            strict: bool = False) -> CanonicalForm: ...
+            coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 1,
+            coulomb_multiresolution_above: int = 9000, coulomb_coarse_vertices: int = 5000,
+            coulomb_tear_rounds: int = 30, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); geodesics: cmds, smacof, spectral-mds; mds_solver:
 # cmds, smacof; landmarks: cmds, smacof; iters: smacof; tolerance: smacof; init: smacof; accelerate: smacof; window:
 # smacof; weights: smacof; fold_overstretch: smacof; laplacian: lbo, diffusion, spectral-mds; eigenpairs: lbo,
@@ -105,8 +105,9 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    tear_guard: Literal["connected", "vertex"] = "connected", coulomb_max_iterations: int = 3000,
                    coulomb_window: int = 20, coulomb_tolerance: float = 0.001, momentum: float = 0.9,
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-                   coulomb_accuracy: float = 0.01, coulomb_multiresolution_above: int = 9000,
-                   coulomb_coarse_vertices: int = 5000, coulomb_tear_rounds: int = 30,
+                   coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 1,
+                   coulomb_multiresolution_above: int = 9000, coulomb_coarse_vertices: int = 5000,
+                   coulomb_tear_rounds: int = 30,
                    geodesics: Literal["heat", "heat-cgal", "fmm", "exact", "graph"] = "heat",
                    mds_solver: Literal["full", "landmarks", "auto"] = "auto", landmarks: int = 300, iters: int = 300,
                    tolerance: float = 1e-05, init: Literal["cmds", "mesh"] = "cmds",

@@ -83,6 +83,7 @@ TEST(OptionLimits, TheLibraryTheHelpAndTheCliRefusalSayTheSameLimit) {
       {canon, kTolerance},
       {canon, kMomentum},
       {canon, kAccuracy},
+      {canon, kFmmRebuildEvery},
       {canon, kKnnLimit},
       {canon, projection_limits::kSteps},
       {canon + " --projection l1", projection_limits::kL1Floor},

@@ -22,6 +22,7 @@ COULOMB = ["scheme", "coulomb_start", "start_landmarks", "flatten", "flatten_pla
            "dilation",
            "tear_fraction", "tear_after", "tear_times", "tear_interval", "tear_guard", "coulomb_max_iterations",
            "coulomb_window", "coulomb_tolerance", "momentum", "coulomb_summation", "coulomb_accuracy",
+           "coulomb_fmm_rebuild_every",
            "coulomb_multiresolution_above", "coulomb_coarse_vertices", "coulomb_tear_rounds"]
 
 # keyword -> the methods that read it.
