@@ -81,6 +81,9 @@ class Fmm {
   }
 
   CoulombEvaluation run(bool want_potentials) {
+    // Until this evaluation's lists are complete the tree holds nothing to keep (an exception half way
+    // leaves no half-split lists for the next evaluation).
+    if (tree_) tree_->state().n = -1;
     auto t = WallClock::now();
     build_tree();
     find_subtrees();
