@@ -24,6 +24,7 @@ struct CoulombFmmTree::State {
   Index n = -1;  // points of the last evaluation; -1: nothing kept
   fmm_detail::FmmParameters parameters{};
   int evaluations_since_build = 0;
+  Index builds = 0, kept = 0;  // evaluations that built the tree, that kept it
   std::vector<int32_t> order;
   std::vector<fmm_detail::Cell> cells;
   std::vector<int32_t> depth_start;
@@ -35,6 +36,8 @@ CoulombFmmTree::CoulombFmmTree(int rebuild_every)
   CSHAPES_REQUIRE(rebuild_every >= 1, "Coulomb FMM: rebuild_every must be >= 1, got ", rebuild_every);
 }
 CoulombFmmTree::~CoulombFmmTree() = default;
+Index CoulombFmmTree::builds() const { return state_->builds; }
+Index CoulombFmmTree::kept() const { return state_->kept; }
 CoulombFmmTree::CoulombFmmTree(CoulombFmmTree&&) noexcept = default;
 CoulombFmmTree& CoulombFmmTree::operator=(CoulombFmmTree&&) noexcept = default;
 
@@ -104,7 +107,7 @@ class Fmm {
       state.n = n_;
       state.parameters = parameters_;
       state.evaluations_since_build = keep_ ? state.evaluations_since_build + 1 : 0;
-      tree_->count(keep_);
+      ++(keep_ ? state.kept : state.builds);
     }
     t = WallClock::now();
     interactions_and_downward();

@@ -75,15 +75,13 @@ class CoulombFmmTree {
   CoulombFmmTree(CoulombFmmTree&&) noexcept;
   CoulombFmmTree& operator=(CoulombFmmTree&&) noexcept;
   int rebuild_every() const { return rebuild_every_; }
-  Index builds() const { return builds_; }  // evaluations that built the tree
-  Index kept() const { return kept_; }      // evaluations that kept it
-  struct State;                             // the cells and lists (canon/coulomb_fmm.cpp)
+  Index builds() const;  // evaluations that built the tree
+  Index kept() const;    // evaluations that kept it
+  struct State;          // the cells, the lists and the counts (canon/coulomb_fmm.cpp)
   State& state() { return *state_; }
-  void count(bool kept) { ++(kept ? kept_ : builds_); }
 
  private:
   int rebuild_every_;
-  Index builds_ = 0, kept_ = 0;
   std::unique_ptr<State> state_;
 };
 
