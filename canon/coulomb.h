@@ -250,10 +250,11 @@ struct CoulombCanonOptions {
   // The fast summation's octree and interaction lists are kept from one iteration to the next and built
   // afresh every this many iterations (canon/coulomb_fmm.h, CoulombFmmTree: the kept cells are refit to the
   // moved vertices and every pair that fails the opening criterion is split, so the accuracy bound holds);
-  // 1: built at every iteration. 10 was chosen on the one-iteration time of michael0 remeshed to 22,738
-  // vertices and of cat0 at 3,505 (K = 5, 10, 20 against 1: 0.83, 0.79, 0.82 of the time at 22,738); the
-  // tosca5k retrieval figures were judged after the choice (docs/changelog.md).
-  int fmm_rebuild_every = 10;
+  // 1: built at every iteration. Keeping it is faster (K = 10: 0.79 of the iteration's time at 22,738
+  // vertices) and moves forms far less than the accuracy does, but it is not the default: with K = 5 or 10
+  // tosca5k's point maps got worse (mean error 0.201 → 0.219, median 0.081 → 0.095; K = 2: 0.200, 0.081),
+  // for a reason not yet understood (docs/coulomb-defaults.md).
+  int fmm_rebuild_every = 1;
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
   ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
 

@@ -84,7 +84,7 @@ def coulomb(V: _Array, F: _Array, *, scheme: Literal["paper", "momentum"] = "mom
             tear_times: int = 3, tear_interval: int = 50, tear_guard: Literal["connected", "vertex"] = "connected",
             coulomb_max_iterations: int = 3000, coulomb_window: int = 20, coulomb_tolerance: float = 0.001,
             momentum: float = 0.9, coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-            coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 10,
+            coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 1,
             coulomb_multiresolution_above: int = 9000, coulomb_coarse_vertices: int = 5000,
             coulomb_tear_rounds: int = 30, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); geodesics: cmds, smacof, spectral-mds; mds_solver:
@@ -105,7 +105,7 @@ def canonical_form(V: _Array, F: _Array, *, method: str = "coulomb",
                    tear_guard: Literal["connected", "vertex"] = "connected", coulomb_max_iterations: int = 3000,
                    coulomb_window: int = 20, coulomb_tolerance: float = 0.001, momentum: float = 0.9,
                    coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
-                   coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 10,
+                   coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 1,
                    coulomb_multiresolution_above: int = 9000, coulomb_coarse_vertices: int = 5000,
                    coulomb_tear_rounds: int = 30,
                    geodesics: Literal["heat", "heat-cgal", "fmm", "exact", "graph"] = "heat",
