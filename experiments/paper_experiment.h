@@ -143,9 +143,9 @@ struct PaperReport {
 
 // The measurement: the shapes, their canonical forms, ICP distances, retrieval, the noise effect, point maps,
 // the figures' data and Table 1, with their data files under options.out (canon/, distances/, metrics.json,
-// labels.csv, noise_effect.csv, correspondence_error.csv, figures.json, table1.csv, convergence.csv) and its
-// caches; returns what report.md says (report.summary: the counts and failures). Writes no report.md. On
-// ranks other than 0 of a distributed run, only report.summary's counts are filled.
+// labels.csv, noise_effect.csv, correspondence_error.csv, point_map_pairs.csv, figures.json, table1.csv,
+// convergence.csv) and its caches; returns what report.md says (report.summary: the counts and failures).
+// Writes no report.md. On ranks other than 0 of a distributed run, only report.summary's counts are filled.
 PaperReport run_paper_experiment(const PaperExperimentOptions& options);
 
 // Draws the figures from the files run_paper_experiment wrote into options.out (paper_figures.py): sets

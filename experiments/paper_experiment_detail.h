@@ -68,7 +68,7 @@ void retrieval_stage(ExperimentRun& run);
 void noise_stage(ExperimentRun& run);
 
 // 5. Point maps induced by aligning canonical forms, against ground-truth correspondences (cached);
-// correspondence_error.csv.
+// correspondence_error.csv and point_map_pairs.csv.
 void point_map_stage(ExperimentRun& run);
 
 // 6. The figures' data (Figures 2-6 unless o.figures is off) and figures.json.

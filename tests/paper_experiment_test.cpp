@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
 #include "cshapes/mesh/io.h"
+#include "cshapes/data/dataset.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/experiments/figures.h"
@@ -198,6 +200,54 @@ TEST(PaperExperiment, TheReportFitsTheRun) {
   EXPECT_EQ(spec.at("draw"),
             nlohmann::json({"fig2_hand", "fig6_noisy_shapes", "fig7_distance_matrices", "fig8_pr"}));
   expect_report_fits_the_run(dir + "/out", {"lbo"});
+}
+
+// With ground-truth correspondences (corres/NAME.vts beside the manifest), every ordered pair of clean poses
+// of one class is mapped: point_map_pairs.csv holds one row per method and pair, of one class and two poses,
+// and its errors are the ones the report averages.
+TEST(PaperExperiment, PointMapsAreWrittenPerPair) {
+  const std::string dir = dataset_with_an_unusable_shape("paper_point_maps", false);
+  fs::create_directories(dir + "/data/corres");
+  int shapes = 0;
+  for (const auto& entry : fs::directory_iterator(dir + "/data")) {
+    if (entry.path().extension() != ".off") continue;
+    ASSERT_GE(read_mesh(entry.path().string()).num_vertices(), 40);
+    write_file_atomically(dir + "/data/corres/" + entry.path().stem().string() + ".vts", [](std::ostream& out) {
+      for (int k = 1; k <= 40; ++k) out << k << "\n";
+    });
+    ++shapes;
+  }
+  ASSERT_EQ(shapes, 6);
+  PaperExperimentOptions o = small_run(dir, "out");
+  o.correspondence_samples = 40;
+  const PaperReport r = run_paper_experiment(o);
+  EXPECT_EQ(r.correspondence_pairs, 12);  // 2 classes × 3 poses × 2 others
+  std::istringstream in(read_file(o.out + "/point_map_pairs.csv"));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "method,source,target,mean_error");
+  std::map<std::string, std::vector<double>> errors;
+  std::set<std::pair<std::string, std::string>> pairs;
+  while (std::getline(in, line)) {
+    std::stringstream fields(line);
+    std::string method, source, target, error;
+    std::getline(fields, method, ',');
+    std::getline(fields, source, ',');
+    std::getline(fields, target, ',');
+    std::getline(fields, error, ',');
+    EXPECT_NE(source, target) << line;
+    EXPECT_EQ(class_from_name(source), class_from_name(target)) << line << ": not one class";
+    errors[method].push_back(std::stod(error));
+    pairs.insert({source, target});
+  }
+  EXPECT_EQ(pairs.size(), 12u);
+  ASSERT_EQ(errors.size(), 2u);
+  for (const auto& [method, list] : errors) {
+    const std::vector<double>& reported = r.correspondence_mean_error.at(method);
+    ASSERT_EQ(list.size(), reported.size()) << method;
+    for (size_t k = 0; k < list.size(); ++k)
+      EXPECT_NEAR(list[k], reported[k], 1e-8 * (1 + reported[k])) << method << " row " << k;
+  }
 }
 
 TEST(PaperExperiment, AnUnusableShapeIsLeftOutAndNamed) {
