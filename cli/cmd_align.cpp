@@ -12,6 +12,7 @@
 #include "cshapes/matching/shape_distance.h"
 
 namespace cshapes::cli {
+namespace cmd_align {
 namespace {
 
 struct AlignArgs {
@@ -144,4 +145,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_align
 }  // namespace cshapes::cli

@@ -12,6 +12,7 @@
 #include "cshapes/experiments/bench_coulomb.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_coulomb {
 namespace {
 
 CoulombBenchOptions options;
@@ -71,4 +72,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_coulomb
 }  // namespace cshapes::cli

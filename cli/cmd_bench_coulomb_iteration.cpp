@@ -10,6 +10,7 @@
 #include "cshapes/experiments/bench_coulomb_iteration.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_coulomb_iteration {
 namespace {
 
 CoulombIterationBenchOptions options;
@@ -58,4 +59,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_coulomb_iteration
 }  // namespace cshapes::cli

@@ -11,6 +11,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_form {
 namespace {
 
 FormBenchOptions options;
@@ -67,4 +68,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_form
 }  // namespace cshapes::cli

@@ -8,6 +8,7 @@
 #include "cshapes/experiments/bench_geodesics.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_geodesics {
 namespace {
 
 GeodesicsBenchOptions options;
@@ -58,4 +59,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_geodesics
 }  // namespace cshapes::cli

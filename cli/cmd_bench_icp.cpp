@@ -9,6 +9,7 @@
 #include "cshapes/experiments/bench_icp.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_icp {
 namespace {
 
 IcpBenchOptions options;
@@ -66,4 +67,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_icp
 }  // namespace cshapes::cli

@@ -9,6 +9,7 @@
 #include "cshapes/experiments/bench_smacof.h"
 
 namespace cshapes::cli {
+namespace cmd_bench_smacof {
 namespace {
 
 SmacofBenchOptions options;
@@ -65,4 +66,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_bench_smacof
 }  // namespace cshapes::cli

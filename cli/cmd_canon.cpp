@@ -11,6 +11,7 @@
 #include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
+namespace cmd_canon {
 namespace {
 
 struct CanonArgs {
@@ -95,4 +96,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_canon
 }  // namespace cshapes::cli

@@ -5,6 +5,7 @@
 #include "cli/command.h"
 
 namespace cshapes::cli {
+namespace cmd_convert {
 namespace {
 
 struct ConvertArgs {
@@ -48,4 +49,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_convert
 }  // namespace cshapes::cli

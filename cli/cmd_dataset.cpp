@@ -9,6 +9,7 @@
 #include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes::cli {
+namespace cmd_dataset {
 namespace {
 
 struct DatasetListArgs {
@@ -59,4 +60,5 @@ const bool registered =
                       run});
 
 }  // namespace
+}  // namespace cmd_dataset
 }  // namespace cshapes::cli

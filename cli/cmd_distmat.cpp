@@ -14,6 +14,7 @@
 #include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
+namespace cmd_distmat {
 namespace {
 
 struct DistmatArgs {
@@ -130,4 +131,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_distmat
 }  // namespace cshapes::cli

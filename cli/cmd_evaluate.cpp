@@ -12,6 +12,7 @@
 #include "cshapes/experiments/figures.h"
 
 namespace cshapes::cli {
+namespace cmd_evaluate {
 namespace {
 
 struct EvaluateArgs {
@@ -86,4 +87,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_evaluate
 }  // namespace cshapes::cli

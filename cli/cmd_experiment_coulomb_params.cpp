@@ -7,6 +7,7 @@
 #include "cshapes/experiments/coulomb_params.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_coulomb_params {
 namespace {
 
 struct StudyArgs {
@@ -57,4 +58,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_coulomb_params
 }  // namespace cshapes::cli

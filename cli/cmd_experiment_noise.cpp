@@ -12,6 +12,7 @@
 #include "cshapes/experiments/noise_experiment.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_noise {
 namespace {
 
 struct NoiseArgs {
@@ -116,4 +117,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_noise
 }  // namespace cshapes::cli

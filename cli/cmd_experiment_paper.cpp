@@ -12,6 +12,7 @@
 #include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_paper {
 namespace {
 
 struct PaperArgs {
@@ -118,4 +119,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_paper
 }  // namespace cshapes::cli

@@ -6,6 +6,7 @@
 #include "cshapes/experiments/pose_invariance.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_pose {
 namespace {
 
 struct PoseArgs {
@@ -82,4 +83,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_pose
 }  // namespace cshapes::cli

@@ -10,6 +10,7 @@
 #include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_retrieval {
 namespace {
 
 struct RetrievalArgs {
@@ -92,4 +93,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_retrieval
 }  // namespace cshapes::cli

@@ -11,6 +11,7 @@
 #include "cshapes/experiments/topkids_experiment.h"
 
 namespace cshapes::cli {
+namespace cmd_experiment_topkids {
 namespace {
 
 struct TopkidsArgs {
@@ -115,4 +116,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_experiment_topkids
 }  // namespace cshapes::cli

@@ -10,6 +10,7 @@
 #include "cshapes/pipeline/generated_shapes.h"
 
 namespace cshapes::cli {
+namespace cmd_generate {
 namespace {
 
 // An option with its default shown in --help and the library's limit applied (support/option_limits.h).
@@ -143,4 +144,5 @@ const bool registered_dataset = register_command(
      run_dataset});
 
 }  // namespace
+}  // namespace cmd_generate
 }  // namespace cshapes::cli

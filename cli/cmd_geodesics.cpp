@@ -11,6 +11,7 @@
 #include "cshapes/pipeline/mesh_geodesics.h"
 
 namespace cshapes::cli {
+namespace cmd_geodesics {
 namespace {
 
 struct GeodesicsArgs {
@@ -130,4 +131,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_geodesics
 }  // namespace cshapes::cli

@@ -9,6 +9,7 @@
 #include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
+namespace cmd_info {
 namespace {
 
 struct InfoArgs {
@@ -77,4 +78,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_info
 }  // namespace cshapes::cli

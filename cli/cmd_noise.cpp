@@ -13,6 +13,7 @@
 #include "cshapes/pipeline/mesh_report.h"
 
 namespace cshapes::cli {
+namespace cmd_noise {
 namespace {
 
 struct NoiseArgs {
@@ -124,4 +125,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_noise
 }  // namespace cshapes::cli

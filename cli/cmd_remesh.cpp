@@ -13,6 +13,7 @@
 #include "cli/command.h"
 
 namespace cshapes::cli {
+namespace cmd_remesh {
 namespace {
 
 struct RemeshArgs {
@@ -137,4 +138,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_remesh
 }  // namespace cshapes::cli

@@ -4,6 +4,7 @@
 #include "cshapes/experiments/show_mesh.h"
 
 namespace cshapes::cli {
+namespace cmd_show {
 namespace {
 
 struct ShowArgs {
@@ -43,4 +44,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_show
 }  // namespace cshapes::cli

@@ -12,6 +12,7 @@
 #include "cshapes/experiments/geodesic_stress.h"
 
 namespace cshapes::cli {
+namespace cmd_stress {
 namespace {
 
 namespace fs = std::filesystem;
@@ -150,4 +151,5 @@ const bool registered = register_command(
      run});
 
 }  // namespace
+}  // namespace cmd_stress
 }  // namespace cshapes::cli

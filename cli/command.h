@@ -4,6 +4,10 @@
 //   static const bool registered = cshapes::cli::register_command(
 //       {{"bench", "coulomb"}, "Coulomb gradient: fast vs direct", add_options, run});
 //
+// A command file keeps its own names (its arguments, run(), the registrar) in a namespace named after the file,
+// `namespace cmd_canon { namespace { ... } }`: the CLI's files are compiled in batches (CMakeLists.txt,
+// cshapes_unity), where two files' anonymous namespaces would be one.
+//
 // `cshapes canon` is one command for every method; each method's options come from its registration
 // (pipeline/canonical_form_methods.h) as its own option group ("coulomb options", ...): cli/method_options.cpp.
 #pragma once

@@ -392,10 +392,16 @@ int report(const std::string& what, int code) {
 }
 
 // The command tree from the registered paths: a subcommand per path element, each registered command's
-// options on its leaf. Returns the leaves' commands.
+// options on its leaf. Returns the leaves' commands. The help lists them in the order of their paths, not in
+// the order the files registered them (which the build decides).
 std::map<CLI::App*, const Command*> build_command_tree(CLI::App& app) {
+  std::vector<const Command*> sorted;
+  for (const Command& cmd : registry().commands) sorted.push_back(&cmd);
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const Command* a, const Command* b) { return a->path < b->path; });
   std::map<CLI::App*, const Command*> leaf;
-  for (const Command& cmd : registry().commands) {
+  for (const Command* command : sorted) {
+    const Command& cmd = *command;
     CLI::App* parent = &app;
     for (size_t k = 0; k < cmd.path.size(); ++k) {
       CLI::App* sub = nullptr;
