@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # Installs, with apt-get, the Debian packages cshapes needs that are missing. Idempotent; silent when
 # everything is present. Usage: scripts/install-deps.sh [--with-optional | --with-anchors]
-#   required: compiler, CMake, Eigen, CGAL, nanoflann, CLI11, nlohmann-json, Spectra, SuiteSparse, GoogleTest,
-#             OpenMPI (mpirun runs and their tests), Python matplotlib (plots), the Python module's pybind11,
-#             python3-dev and pytest, mkdocs and mkdocs-material (the documentation site), Universal Ctags
-#             (the function sizes of scripts/code_sizes.py)
+#   required: compiler, CMake and Ninja, Eigen, CGAL, nanoflann, CLI11, nlohmann-json, Spectra, SuiteSparse,
+#             GoogleTest, OpenMPI (mpirun runs and their tests), Python matplotlib (plots), the Python
+#             module's pybind11, python3-dev and pytest, mkdocs and mkdocs-material (the documentation site),
+#             Universal Ctags (the function sizes of scripts/code_sizes.py)
 #   --with-anchors: also the benchmark anchors (scikit-learn, Open3D: scripts/benchmarks.sh)
 #   --with-optional: the anchors and clang (fuzzers)
 set -euo pipefail
 
-required=(g++ cmake make libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libnanoflann-dev libcli11-dev
-  nlohmann-json3-dev libspectra-dev libsuitesparse-dev libgtest-dev libopenmpi-dev openmpi-bin python3
+required=(g++ cmake make ninja-build libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libnanoflann-dev
+  libcli11-dev nlohmann-json3-dev libspectra-dev libsuitesparse-dev libgtest-dev libopenmpi-dev openmpi-bin python3
   python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest mkdocs mkdocs-material universal-ctags)
 anchors=(python3-sklearn python3-open3d)
 optional=("${anchors[@]}" clang libomp-dev)

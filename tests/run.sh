@@ -2,15 +2,22 @@
 # The README's test command: installs what is missing, builds into build/, runs every test with CTest,
 # then the Python module's tests (pytest, tests/python) with the interpreter it was built for, the documentation
 # site (scripts/docs.py site: the tutorials run and draw their pictures, then mkdocs build --strict), then each mesh
-# reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with one
-# summary line "tests: N passed, N failed" (CTest tests, Python tests and fuzzers together).
+# reader's fuzzer for a bounded time when clang is present. Exits non-zero on any failure and ends with each
+# phase's wall time ("time: build N s, ctest N s, ...") and one summary line "tests: N passed, N failed" (CTest
+# tests, Python tests and fuzzers together).
 #   CSHAPES_FUZZ_SECONDS=N   seconds per fuzzer (default 12, at most 30; 0 skips fuzzing)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
 
+# Each phase's wall time, printed before the summary line (the whole run is to stay under 25 minutes).
+times=()
+phase_start=$SECONDS
+phase_done() { times+=("$1 $((SECONDS - phase_start)) s"); phase_start=$SECONDS; }
+
 scripts/install-deps.sh || exit 1
 scripts/build.sh || { echo "tests: the build failed"; exit 1; }
+phase_done build
 
 # Tests never depend on timing, so threads that sleep while waiting keep a busy machine responsive.
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-PASSIVE}
@@ -23,6 +30,7 @@ failed=$(sed -n 's/.*, \([0-9]*\) tests failed out of.*/\1/p' "$log" | tail -1)
 total=${total:-0}
 failed=${failed:-0}
 [[ $ctest_status -ne 0 && $failed -eq 0 ]] && failed=1
+phase_done ctest
 
 # The Python module's tests, from the build tree (PYTHONPATH=build/python).
 py_passed=0
@@ -41,6 +49,7 @@ else
   echo "python: the module was not built (see the CMake output: pybind11-dev, python3-dev)"
   py_failed=1
 fi
+phase_done pytest
 
 # The documentation site (mkdocs.yml, docs/), built by scripts/docs.py site: the tutorials run (their outputs
 # checked) and draw the pictures they show, each compared with the committed one; then mkdocs build --strict
@@ -56,6 +65,7 @@ else
   echo "docs: the site build FAILED (scripts/docs.py site)"
   docs_failed=1
 fi
+phase_done docs
 
 fuzz_passed=0
 fuzz_failed=0
@@ -67,6 +77,8 @@ if [[ -x tests/fuzz/run.sh ]]; then
   [[ $fuzz_status -ne 0 && $fuzz_failed -eq 0 ]] && fuzz_failed=1
 fi
 
+phase_done fuzz
+(IFS=,; echo "time: ${times[*]}, total $SECONDS s" | sed 's/,/, /g')
 passed=$(( total - failed + py_passed + docs_passed + fuzz_passed ))
 failed=$(( failed + py_failed + docs_failed + fuzz_failed ))
 echo "tests: $passed passed, $failed failed"
