@@ -78,7 +78,7 @@ if [[ -x tests/fuzz/run.sh ]]; then
 fi
 
 phase_done fuzz
-(IFS=,; echo "time: ${times[*]}, total $SECONDS s" | sed 's/,/, /g')
+echo "time: $(printf '%s, ' "${times[@]}")total $SECONDS s"
 passed=$(( total - failed + py_passed + docs_passed + fuzz_passed ))
 failed=$(( failed + py_failed + docs_failed + fuzz_failed ))
 echo "tests: $passed passed, $failed failed"

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds a libFuzzer target per mesh reader (OFF, PLY, OBJ, STL, TOSCA vert/tri, XYZ) with clang++ and
 # AddressSanitizer + UndefinedBehaviorSanitizer into build-fuzz/ (apart from the main build), seeds each with
-# small valid files generated here, and runs each for a bounded time. Exits non-zero on any crash, leak,
-# sanitizer report or over-large allocation; prints executions per reader.
+# small valid files generated here, and runs each for a bounded time, as many at once as there are cores.
+# Exits non-zero on any crash, leak, sanitizer report or over-large allocation; prints executions per reader.
 #   CSHAPES_FUZZ_SECONDS=N  seconds per reader (default 12, at most 30; 0 skips fuzzing)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -28,6 +28,20 @@ flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -f
        -I"$out/include" $eigen)
 sources=(mesh/io.cpp mesh/io_text.cpp mesh/io_stl.cpp mesh/io_ply.cpp mesh/mesh.cpp mesh/mesh_defects.cpp support/atomic_file.cpp)
 
+# Compilations and fuzzers run as many at a time as there are cores (each is one process on one core).
+max_jobs=$(nproc)
+running=()
+drain() {  # waits for every started job; under set -e a failed one ends the script with its status
+  local pid
+  for pid in "${running[@]}"; do wait "$pid"; done
+  running=()
+}
+spawn() {
+  "$@" &
+  running+=($!)
+  (( ${#running[@]} < max_jobs )) || drain
+}
+
 # Rebuild when a source or header is newer than the last build.
 newest=$(ls -t "$root"/support/*.h "$root"/mesh/*.h "$root"/tests/fuzz/fuzz_reader.cpp "${sources[@]/#/$root/}" | head -1)
 objects=()
@@ -35,18 +49,20 @@ for src in "${sources[@]}"; do
   obj="$out/obj/$(basename "${src%.cpp}").o"
   objects+=("$obj")
   if [[ ! -f "$obj" || "$root/$src" -nt "$obj" || "$newest" -nt "$obj" ]]; then
-    "$cxx" "${flags[@]}" -fsanitize=fuzzer-no-link -c "$root/$src" -o "$obj"
+    spawn "$cxx" "${flags[@]}" -fsanitize=fuzzer-no-link -c "$root/$src" -o "$obj"
   fi
 done
+drain
 
 readers=(off ply obj stl vert xyz)
 for fmt in "${readers[@]}"; do
   bin="$out/fuzz_$fmt"
   if [[ ! -x "$bin" || "$newest" -nt "$bin" || "$out/obj/io.o" -nt "$bin" ]]; then
-    "$cxx" "${flags[@]}" -fsanitize=fuzzer -DCSHAPES_FUZZ_FORMAT="\"$fmt\"" \
+    spawn "$cxx" "${flags[@]}" -fsanitize=fuzzer -DCSHAPES_FUZZ_FORMAT="\"$fmt\"" \
       "$root/tests/fuzz/fuzz_reader.cpp" "${objects[@]}" -o "$bin"
   fi
 done
+drain
 
 # Seeds: small valid files of every variant the readers handle.
 rm -rf "$out/seeds"
@@ -83,20 +99,28 @@ seed stl ascii.stl 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nverte
 seed vert pair.vert '0 0 0\n1 0 0\n0 1 0\n0 0 1\n\x001 3 2\n1 2 4\n1 4 3\n2 3 4\n'
 seed xyz points.xyz '# points\n0 0 0\n1 2 3 0 0 1\n-1e-3 4 5.5\n'
 
+# One reader's fuzzer; its exit status goes to fuzz_FMT.rc (the report below reads it).
+fuzz_one() {
+  local fmt=$1 rc=0
+  mkdir -p "$out/corpus/$fmt"
+  "$out/fuzz_$fmt" "$out/corpus/$fmt" "$out/seeds/$fmt" -max_total_time="$seconds" -rss_limit_mb=2048 \
+    -max_len=8192 -timeout=10 -print_final_stats=1 -artifact_prefix="$out/artifacts/$fmt-" \
+    >"$out/fuzz_$fmt.log" 2>&1 || rc=$?
+  echo "$rc" >"$out/fuzz_$fmt.rc"
+}
+rm -f "$out"/fuzz_*.rc
+for fmt in "${readers[@]}"; do spawn fuzz_one "$fmt"; done
+drain
+
 status=0
 for fmt in "${readers[@]}"; do
-  mkdir -p "$out/corpus/$fmt"
   log="$out/fuzz_$fmt.log"
-  set +e
-  "$out/fuzz_$fmt" "$out/corpus/$fmt" "$out/seeds/$fmt" -max_total_time="$seconds" -rss_limit_mb=2048 \
-    -max_len=8192 -timeout=10 -print_final_stats=1 -artifact_prefix="$out/artifacts/$fmt-" >"$log" 2>&1
-  rc=$?
-  set -e
+  rc=$(cat "$out/fuzz_$fmt.rc" 2>/dev/null || echo "no status")
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   [[ -z "$execs" ]] && execs="?"
   fmt_upper=$(echo "$fmt" | tr a-z A-Z)
   [[ "$fmt" == vert ]] && fmt_upper="VERT/TRI"
-  if [[ $rc -eq 0 ]]; then
+  if [[ "$rc" == 0 ]]; then
     echo "fuzz $fmt_upper: $execs execs, 0 crashes"
   else
     echo "fuzz $fmt_upper: $execs execs, FAILED (exit $rc); log $log, artifacts $out/artifacts/$fmt-*"
