@@ -374,7 +374,7 @@ void point_maps(ReportText& t) {
       md << "| " << method_title(m) << " | " << format_number("%.3f", mean / v.size()) << " | "
          << format_number("%.3f", median(v)) << " |\n";
     }
-    md << "\n";
+    md << "\nEach pair's error, per method: `point_map_pairs.csv`.\n\n";
     figure_links(t, {{"fig9_correspondence", "point maps"}});
   }
 }
