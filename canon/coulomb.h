@@ -252,8 +252,8 @@ struct CoulombCanonOptions {
   // moved vertices and every pair that fails the opening criterion is split, so the accuracy bound holds);
   // 1: built at every iteration. Keeping it is faster (K = 10: 0.79 of the iteration's time at 22,738
   // vertices) and moves forms far less than the accuracy does, but it is not the default: with K = 5 or 10
-  // tosca5k's point maps got worse (mean error 0.201 → 0.219, median 0.081 → 0.095; K = 2: 0.200, 0.081),
-  // for a reason not yet understood (docs/coulomb-defaults.md).
+  // tosca5k's point maps got worse (mean error 0.201 → 0.219, median 0.081 → 0.095; K = 2: 0.200, 0.081):
+  // one pair, michael1 and michael2, became mirrored, the other 46 moved by 0.001 (docs/coulomb-defaults.md).
   int fmm_rebuild_every = 1;
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
   ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)
