@@ -204,7 +204,9 @@ class FramedBlock {
     return V::any(V::lt(smallest, V::set1(close_h)));
   }
 
-  // Leaves close pairs (and i = j) out; returns whether some pair other than i = j was close.
+  // Leaves close pairs (and i = j) out; returns whether some pair other than i = j was close to a target of
+  // the block (a padded lane repeats the last target, so it is close to that target's own source: no reason
+  // to look for close pairs).
   template <class SelfTag>
   bool sum_sources(F tx, F ty, F tz, int32_t begin, int32_t end, float close_h, SelfTag) {
     constexpr bool kSelf = SelfTag::value;
@@ -230,7 +232,7 @@ class FramedBlock {
       az = V::add(az, V::mul(dz, w3));
     }
     ap_ = ap, ax_ = ax, ay_ = ay, az_ = az;
-    return V::any(any_close);
+    return V::any_first(any_close, count_);
   }
 
   const double *x_, *y_, *z_;

@@ -33,6 +33,19 @@ struct Timings {
   }
 };
 
+// The last run's counts with each phase's median over the runs.
+CoulombFmmStats median_phases(const std::vector<CoulombFmmStats>& runs) {
+  CoulombFmmStats out = runs.back();
+  for (double CoulombFmmStats::*phase :
+       {&CoulombFmmStats::seconds_tree, &CoulombFmmStats::seconds_upward, &CoulombFmmStats::seconds_traversal,
+        &CoulombFmmStats::seconds_interactions, &CoulombFmmStats::seconds_m2l, &CoulombFmmStats::seconds_p2p}) {
+    std::vector<double> values;
+    for (const CoulombFmmStats& s : runs) values.push_back(s.*phase);
+    out.*phase = median(values);
+  }
+  return out;
+}
+
 }  // namespace
 
 CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
@@ -71,7 +84,14 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
   fmm_options.want_potentials = true;
   CoulombEvaluation fast;
   Timings fast_runs, direct_runs, float_runs;
+  // Each timed run's phases, so that the reported phases are medians like the wall time (one run's phases
+  // swing with a shared machine's spells).
+  std::vector<CoulombFmmStats> timed_stats;
   auto run_fast = [&] { fast = coulomb_fmm(X, fmm_options, &result.stats); };
+  auto time_fast = [&] {
+    fast_runs.run(run_fast);
+    timed_stats.push_back(result.stats);
+  };
   // One untimed run first: the first evaluation of a process pays for the allocator's growth (fresh pages,
   // the heap's thresholds), which the Coulomb iteration's thousands of evaluations do not.
   run_fast();
@@ -86,7 +106,7 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
       if (round > 0) run_fast();
       const int runs = options.fast_repeats * (round + 1) / options.repeats -
                        options.fast_repeats * round / options.repeats;
-      for (int r = 0; r < runs; ++r) fast_runs.run(run_fast);
+      for (int r = 0; r < runs; ++r) time_fast();
       direct_runs.run([&] { direct = coulomb_direct(X); });
       float_runs.run([&] { coulomb_direct_float(X); });
     }
@@ -97,7 +117,7 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
     result.error_targets = n;
     errors = coulomb_errors(fast, direct);
   } else {
-    for (int r = 0; r < options.fast_repeats; ++r) fast_runs.run(run_fast);
+    for (int r = 0; r < options.fast_repeats; ++r) time_fast();
     result.fast_seconds = fast_runs.median_seconds(result.fast_cpu_seconds);
     result.error_targets = std::min(options.sample, n);
     std::vector<Index> all(n);
@@ -114,6 +134,7 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
     result.direct_extrapolated = true;
     errors = coulomb_errors(fast, targets, exact);
   }
+  result.stats = median_phases(timed_stats);
   result.gradient_rel_error = errors.gradient;
   result.energy_rel_error = errors.energy;
   return result;

@@ -51,7 +51,7 @@ struct CoulombBenchResult {
   double gradient_rel_error = 0;  // ‖g_fast − g_direct‖ / ‖g_direct‖ over the error targets
   double energy_rel_error = 0;  // |E_fast − E_direct| / |E_direct| (sampled: of Σ_t φ_t over the targets)
   Index error_targets = 0;      // n, or the sample's size
-  CoulombFmmStats stats;        // of the last fast run: order, opening angle, leaf size, cells, phases
+  CoulombFmmStats stats;        // of the last fast run, each phase the median over the timed runs
   // direct / fast (wall seconds)
   double speedup() const { return direct_seconds / fast_seconds; }
   double speedup_vs_direct_float() const { return direct_float_seconds / fast_seconds; }

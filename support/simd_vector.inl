@@ -6,7 +6,8 @@
 //
 // For kLanes float lanes: F (a vector), M (a lane mask), I (int32 lanes); zero, set1, load/store (aligned to
 // kAlign bytes), loadu/storeu (unaligned), broadcast, add, sub, mul, min, max, rsqrt, lt and gt (masks),
-// zero_where(m, a), keep_where(m, a), mask_or, mask_and_not(a, b) = ~a & b, no_lanes, any, iota(base)
+// zero_where(m, a), keep_where(m, a), mask_or, mask_and_not(a, b) = ~a & b, no_lanes, any, any_first(m, n)
+// (any of the first n lanes), iota(base)
 // (base, base + 1, …), lane_is(indices, j), to_frame(t, origin, s) (the lanes of double t[kLanes] as
 // float((t − origin)·s)). AVX2 and AVX-512 also have fmadd(a, b, c) = a·b + c and fnmadd(a, b, c) = c − a·b
 // (fused: one rounding); SSE2 has none, so a kernel that uses them has no baseline twin.
@@ -47,6 +48,7 @@ struct V {
   static M mask_and_not(M a, M b) { return _mm256_andnot_ps(a, b); }
   static M no_lanes() { return _mm256_setzero_ps(); }
   static bool any(M m) { return _mm256_movemask_ps(m) != 0; }
+  static bool any_first(M m, int n) { return (_mm256_movemask_ps(m) & ((1 << n) - 1)) != 0; }
   static I iota(int32_t base) {
     return _mm256_add_epi32(_mm256_set1_epi32(base), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   }
@@ -97,6 +99,7 @@ struct V {
   static M mask_and_not(M a, M b) { return static_cast<M>(~a & b); }
   static M no_lanes() { return 0; }
   static bool any(M m) { return m != 0; }
+  static bool any_first(M m, int n) { return (m & ((1 << n) - 1)) != 0; }
   static I iota(int32_t base) {
     return _mm512_add_epi32(_mm512_set1_epi32(base),
                             _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
@@ -141,6 +144,7 @@ struct V {
   static M mask_and_not(M a, M b) { return _mm_andnot_ps(a, b); }
   static M no_lanes() { return _mm_setzero_ps(); }
   static bool any(M m) { return _mm_movemask_ps(m) != 0; }
+  static bool any_first(M m, int n) { return (_mm_movemask_ps(m) & ((1 << n) - 1)) != 0; }
   static I iota(int32_t base) { return _mm_add_epi32(_mm_set1_epi32(base), _mm_setr_epi32(0, 1, 2, 3)); }
   static M lane_is(I lanes, int32_t j) { return _mm_castsi128_ps(_mm_cmpeq_epi32(lanes, _mm_set1_epi32(j))); }
   static F to_frame(const double* t, double origin, double frame_scale) {
