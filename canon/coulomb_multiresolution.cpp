@@ -204,6 +204,7 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   RemeshOptions ro;
   ro.target_vertices = mr.coarse_vertices;
   ro.tolerance = 0.02;
+  ro.progress = polls_of(options.progress);  // a stop is heard during the remesh; its reports are not the form's
   Mesh coarse;
   try {
     coarse = remesh(mesh, ro).mesh;
@@ -214,7 +215,7 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
 
   start = WallClock::now();
   CoulombCanonOptions coarse_options = options;
-  coarse_options.progress = {};
+  coarse_options.progress = polls_of(options.progress);
   const CoulombCanonResult coarse_form =
       coulomb_canonical_form(coarse.V, mesh_edges(coarse.F), coarse_options);
   out.coarse_seconds = seconds_since(start);

@@ -11,8 +11,12 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <optional>
 #include <unordered_map>
 
 #include "cshapes/support/distance_matrix.h"
@@ -314,6 +318,49 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
 
 namespace {
 
+// The plain remesh and the first feature-line one (needed whenever the plain one misses the Hausdorff goal),
+// computed at once on two threads when two are free and the memory allows: the results are those of one
+// after the other (each run is serial and deterministic), in the wall time of the longer. Progress: the
+// plain run reports, the other only polls, one call at a time; a failure is kept per run, and the plain
+// run's is thrown first, the other's only where the sequence would have met it (the plain run missed the
+// goal: featured_failure). False when not run side by side.
+template <class Measured>
+bool plain_and_featured_side_by_side(const RemeshOptions& o, const SurfaceMesh& input, const Measured& measured,
+                                     RemeshResult& plain, std::optional<RemeshResult>& featured,
+                                     std::exception_ptr& featured_failure) {
+  const double room = available_memory_bytes();
+  const double need = 2 * (remesh_memory_bytes(o.target_vertices) +
+                           kRemeshBytesPerVertex * static_cast<double>(input.number_of_vertices()));
+  if (omp_in_parallel() || omp_get_max_threads() < 2 || (room >= 0 && room < need)) return false;
+  RemeshOptions reporting = o, polling = o;
+  if (o.progress) {
+    reporting.progress = [&o](const std::string& stage, double done, double total) {
+      report_progress_in_parallel(o.progress, stage, done, total);
+    };
+    polling.progress = [&o](const std::string&, double, double) {
+      report_progress_in_parallel(o.progress, "", 0, 0);
+    };
+  }
+  std::exception_ptr plain_failure;
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    try {
+      plain = measured(reporting, 0);
+    } catch (...) {
+      plain_failure = std::current_exception();
+    }
+#pragma omp section
+    try {
+      featured = measured(polling, o.feature_angle_deg);
+    } catch (...) {
+      featured_failure = std::current_exception();
+    }
+  }
+  if (plain_failure) std::rethrow_exception(plain_failure);
+  return true;
+}
+
 RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
   SurfaceMesh input = cgal::to_surface_mesh(mesh, "remesh");
   // A much denser input (e.g. a marching-cubes surface) is first simplified by edge collapse to a few times
@@ -334,22 +381,30 @@ RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
   }
   // Without feature lines the triangles are best; keep the feature lines only when the shape needs them
   // (thin fins such as ears are otherwise cut back by about an edge length, beyond the Hausdorff goal).
-  RemeshResult plain = remesh_once(input, mesh, o, 0);
-  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0) return plain;
-  const double diagonal = bbox_diagonal(mesh.V);
-  plain.hausdorff = hausdorff_distance(mesh, plain.mesh);
-  if (plain.hausdorff <= o.max_hausdorff_fraction * diagonal) return plain;
+  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0) return remesh_once(input, mesh, o, 0);
+  const double goal = o.max_hausdorff_fraction * bbox_diagonal(mesh.V);
+  auto measured = [&](const RemeshOptions& oo, double feature_angle_deg) {
+    RemeshResult r = remesh_once(input, mesh, oo, feature_angle_deg);
+    r.hausdorff = hausdorff_distance(mesh, r.mesh);
+    if (feature_angle_deg > 0) r.feature_lines = true, r.feature_angle_deg = feature_angle_deg;
+    return r;
+  };
+  RemeshResult plain;
+  std::optional<RemeshResult> first_featured;
+  std::exception_ptr featured_failure;
+  if (!plain_and_featured_side_by_side(o, input, measured, plain, first_featured, featured_failure))
+    plain = measured(o, 0);
+  if (plain.hausdorff <= goal) return plain;
+  if (featured_failure) std::rethrow_exception(featured_failure);
   // Ever more edges count as features (the angle threshold lowered in steps) until the goal is met; the
   // closest result is kept when it never is.
   RemeshResult best = plain;
   for (double factor : {1.0, 0.75, 0.5}) {
-    RemeshResult featured = remesh_once(input, mesh, o, factor * o.feature_angle_deg);
-    featured.hausdorff = hausdorff_distance(mesh, featured.mesh);
-    featured.feature_lines = true;
-    featured.feature_angle_deg = factor * o.feature_angle_deg;
+    RemeshResult featured = factor == 1.0 && first_featured ? std::move(*first_featured)
+                                                            : measured(o, factor * o.feature_angle_deg);
     featured.attempts += best.attempts;
     if (featured.hausdorff < best.hausdorff) best = featured;
-    if (best.hausdorff <= o.max_hausdorff_fraction * diagonal) break;
+    if (best.hausdorff <= goal) break;
   }
   return best;
 }

@@ -1,6 +1,7 @@
 #include "cshapes/mesh/remesh.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -150,6 +151,47 @@ TEST(Remesh, Tosca5kCatTo3505WithinOnePercentOfTheDiagonal) {
   double h = hausdorff_distance(cat, r.mesh);
   EXPECT_LE(h, 0.01 * info.bbox_diagonal) << "Hausdorff " << h << ", diagonal " << info.bbox_diagonal;
   EXPECT_GE(angle_stats(r.mesh).min_angle, angle_stats(cat).min_angle);
+}
+
+// When the plain remesh may miss the Hausdorff goal, it and the first feature-line remesh run side by side on
+// two threads: the result, and a failure, must be the ones of a single thread (the runs one after the other).
+// A thin lens needs its rim kept as a feature line (the fallback is used); a sphere does not.
+TEST(Remesh, SideBySideRunsGiveTheOneThreadResult) {
+  Mesh lens = icosphere(4);  // 2,562 vertices
+  lens.V.col(2) *= 0.03;
+  const int before = omp_get_max_threads();
+  auto run = [](const Mesh& mesh, const RemeshOptions& o, int threads) {
+    omp_set_num_threads(threads);
+    return remesh(mesh, o);
+  };
+  const Mesh sphere = icosphere(4);
+  for (const Mesh* mesh : std::initializer_list<const Mesh*>{&lens, &sphere}) {
+    RemeshOptions o;
+    o.target_vertices = 400;
+    const RemeshResult one = run(*mesh, o, 1), two = run(*mesh, o, 2);
+    EXPECT_EQ(one.feature_lines, mesh == &lens);  // the lens takes the fallback, the sphere does not
+    EXPECT_EQ(one.mesh.V, two.mesh.V);
+    EXPECT_EQ(one.mesh.F, two.mesh.F);
+    EXPECT_EQ(one.attempts, two.attempts);
+    EXPECT_EQ(one.hausdorff, two.hausdorff);
+    EXPECT_EQ(one.feature_lines, two.feature_lines);
+    EXPECT_EQ(one.feature_angle_deg, two.feature_angle_deg);
+  }
+  RemeshOptions failing;
+  failing.target_vertices = 400;
+  failing.max_attempts = 1;
+  failing.tolerance = 1e-6;
+  std::string messages[2];
+  for (int threads : {1, 2}) {
+    try {
+      run(lens, failing, threads);
+    } catch (const Error& e) {
+      messages[threads - 1] = e.what();
+    }
+  }
+  omp_set_num_threads(before);
+  EXPECT_NE(messages[0], "");
+  EXPECT_EQ(messages[0], messages[1]);
 }
 
 // `cshapes remesh --subdivide K`: the remesh, then K midpoint subdivisions: V + E + F-grown counts exactly
