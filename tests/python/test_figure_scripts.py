@@ -64,3 +64,26 @@ def test_pose_figure_draws_one_panel_per_form(tmp_path):
          "rms": {"input": 0.04, "coulomb": 0.01, "cmds": None}}))
     run_script("pose_figure.py", tmp_path)
     assert (tmp_path / "pose_residuals.png").stat().st_size > 0
+
+
+def test_paper_figures_drawn_by_two_processes_are_the_pictures_drawn_one_at_a_time(tmp_path):
+    # paper_figures.py draws a run's figures in two processes; each picture must be the one drawn alone.
+    (tmp_path / "convergence.csv").write_text("projection_steps,iteration,energy,mean_violation\n" + "".join(
+        f"{k},{i},{1000.0 / i + k},{0.1 / (i + k)}\n" for k in (1, 10) for i in range(1, 30)))
+    (tmp_path / "correspondence_error.csv").write_text("method,error,fraction\n" + "".join(
+        f"{m},{0.05 * i},{min(1.0, 0.1 * i * s)}\n" for m, s in (("coulomb", 1.5), ("cmds", 1.0)) for i in range(11)))
+    (tmp_path / "metrics.json").write_text(json.dumps({"methods": {
+        m: {"map": a, "pr": {"recall": [0.25, 0.5, 0.75, 1.0], "precision": [1.0, a, a * a, a ** 3]}}
+        for m, a in (("coulomb", 0.9), ("cmds", 0.7))}}))
+    names = ["fig5_convergence", "fig8_pr", "fig9_correspondence"]
+    (tmp_path / "figures.json").write_text(json.dumps({"draw": names, "grids": {}}))
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    for name in ("convergence.csv", "correspondence_error.csv", "metrics.json", "figures.json"):
+        (alone / name).write_bytes((tmp_path / name).read_bytes())
+    run_script("paper_figures.py", tmp_path)
+    for name in names:  # each figure in a process of its own, the way a run with one figure draws it
+        (alone / "figures.json").write_text(json.dumps({"draw": [name], "grids": {}}))
+        run_script("paper_figures.py", alone)
+    for name in names:
+        assert (tmp_path / f"{name}.png").read_bytes() == (alone / f"{name}.png").read_bytes(), name
