@@ -16,7 +16,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace articulated_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -176,5 +176,5 @@ TEST(Articulated, SwissRollCommandHasThePapersSize) {
   EXPECT_NEAR(static_cast<double>(read_mesh(dir + "/t.off").num_vertices()), 2000.0, 20.0);
 }
 
-}  // namespace
+}  // namespace articulated_test
 }  // namespace cshapes

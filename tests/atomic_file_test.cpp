@@ -12,7 +12,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace atomic_file_test {
 
 namespace fs = std::filesystem;
 
@@ -79,5 +79,5 @@ TEST(AtomicFile, ASymbolicLinkIsWrittenThrough) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace atomic_file_test
 }  // namespace cshapes

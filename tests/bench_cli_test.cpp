@@ -9,7 +9,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace bench_cli_test {
 
 TEST(BenchCli, OutOfRangeOptionsAreUsageErrorsNamingTheOption) {
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -52,5 +52,5 @@ TEST(BenchCli, EveryBenchSaysItsKernelsAndAnUnknownInstructionSetIsRefused) {
   EXPECT_TRUE(unknown.out.empty()) << unknown.out;
 }
 
-}  // namespace
+}  // namespace bench_cli_test
 }  // namespace cshapes

@@ -25,7 +25,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace benchmarks_test {
 
 namespace fs = std::filesystem;
 
@@ -440,5 +440,5 @@ TEST(FormBench, ReportsOneFormOfEachMethodAgainstFullClassicalMds) {
   EXPECT_THROW(bench_form(o), Error);
 }
 
-}  // namespace
+}  // namespace benchmarks_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace cache_test {
 
 namespace fs = std::filesystem;
 
@@ -319,5 +319,5 @@ TEST(DiskCache, KeysListsTheEntries) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace cache_test
 }  // namespace cshapes

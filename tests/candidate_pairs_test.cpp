@@ -9,7 +9,7 @@
 #include "cshapes/support/error.h"
 
 namespace cshapes {
-namespace {
+namespace candidate_pairs_test {
 
 // |x_i − x_j| for x = 0, 1, 3, 7, 8.
 Eigen::MatrixXd line_distances() {
@@ -66,5 +66,5 @@ TEST(CandidatePairs, RecallAgainstTheReference) {
   EXPECT_DOUBLE_EQ(candidate_recall(D, some), 0.9);
 }
 
-}  // namespace
+}  // namespace candidate_pairs_test
 }  // namespace cshapes

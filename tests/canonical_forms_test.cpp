@@ -17,7 +17,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace canonical_forms_test {
 
 CanonicalFormOptions quick(const std::string& method) {
   CanonicalFormOptions o;
@@ -386,5 +386,5 @@ TEST(CanonicalFormsSmacofOptions, StartAndWeightsAreOptionsOfTheLibrary) {
   EXPECT_THROW(parse_smacof_weights("areas"), Error);
 }
 
-}  // namespace
+}  // namespace canonical_forms_test
 }  // namespace cshapes

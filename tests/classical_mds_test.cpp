@@ -18,7 +18,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace classical_mds_test {
 
 Points random_points(Index n, unsigned seed, Eigen::Vector3d scale = {3.0, 2.0, 1.0}) {
   std::mt19937 rng(seed);
@@ -327,5 +327,5 @@ TEST(ClassicalMdsCli, DisconnectedMeshIsRepairedOrRefusedWithStrict) {
   EXPECT_EQ(summary["kept_input_vertices"], m);
 }
 
-}  // namespace
+}  // namespace classical_mds_test
 }  // namespace cshapes

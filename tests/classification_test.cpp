@@ -18,7 +18,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace classification_test {
 
 namespace fs = std::filesystem;
 
@@ -178,5 +178,5 @@ TEST(Classification, MatrixFormsOfTheEvaluationTools) {
   }
 }
 
-}  // namespace
+}  // namespace classification_test
 }  // namespace cshapes

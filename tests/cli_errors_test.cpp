@@ -12,7 +12,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace cli_errors_test {
 
 namespace fs = std::filesystem;
 
@@ -370,5 +370,5 @@ TEST(CliErrors, InfoJsonOnCat0) {
   EXPECT_EQ(j["euler_characteristic"], 2);
 }
 
-}  // namespace
+}  // namespace cli_errors_test
 }  // namespace cshapes

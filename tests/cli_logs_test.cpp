@@ -13,7 +13,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace cli_logs_test {
 
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;
@@ -98,5 +98,5 @@ TEST(CliOutput, AMissingFolderOfAnOutputFileIsRefusedNotCreated) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/nowhere"));
 }
 
-}  // namespace
+}  // namespace cli_logs_test
 }  // namespace cshapes

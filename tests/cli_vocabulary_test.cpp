@@ -13,7 +13,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace cli_vocabulary_test {
 
 std::string help_of(const std::string& command) {
   const test::CliResult r = test::run_cli(command + " --help");
@@ -130,5 +130,5 @@ TEST(CliVocabulary, OldSpellingsAreRefusedWithTheNewName) {
   }
 }
 
-}  // namespace
+}  // namespace cli_vocabulary_test
 }  // namespace cshapes

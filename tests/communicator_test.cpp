@@ -7,7 +7,7 @@
 #include "cshapes/support/error.h"
 
 namespace cshapes {
-namespace {
+namespace communicator_test {
 
 TEST(Communicator, OneProcessIsRankZeroOfOne) {
   const Communicator& one = single_process();
@@ -56,5 +56,5 @@ TEST(Communicator, LongestFirstKnownAnswer) {
   EXPECT_THROW(longest_first_owners({-1}, 2), Error);
 }
 
-}  // namespace
+}  // namespace communicator_test
 }  // namespace cshapes

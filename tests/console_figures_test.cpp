@@ -10,7 +10,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace console_figures_test {
 
 std::string q(const std::string& path) {
   return "'" + path + "'";
@@ -105,5 +105,5 @@ TEST(ConsoleFigures, BenchIcpGivesMillisecondsAndDistancesWithTheirShareOfTheDia
       find(r.out, "per iteration \\(wall / CPU\\): ours " + kNumber + " / " + kNumber + " ms"), "bench icp");
 }
 
-}  // namespace
+}  // namespace console_figures_test
 }  // namespace cshapes

@@ -14,7 +14,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace correspondence_error_test {
 
 // An 11×11 grid over 10 × 12: columns 1 apart, rows 1.2 apart, area 120. Vertex (i, j) is j·11 + i.
 Mesh test_grid() {
@@ -277,5 +277,5 @@ TEST(CorrespondenceError, ErrorStatisticsKnownAnswers) {
   EXPECT_TRUE(std::isnan(finite_mean(Eigen::VectorXd::Constant(3, inf))));
 }
 
-}  // namespace
+}  // namespace correspondence_error_test
 }  // namespace cshapes

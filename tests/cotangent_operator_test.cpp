@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace cotangent_operator_test {
 
 // Vertices on no boundary edge (an edge of one face).
 std::vector<Index> interior_vertices(const Mesh& mesh) {
@@ -113,5 +113,5 @@ TEST(CotangentOperator, ExtrinsicAndIntrinsicMassAgree) {
   EXPECT_LT((extrinsic - intrinsic).cwiseAbs().maxCoeff(), 1e-12 * extrinsic.maxCoeff());
 }
 
-}  // namespace
+}  // namespace cotangent_operator_test
 }  // namespace cshapes

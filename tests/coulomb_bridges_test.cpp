@@ -14,7 +14,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_bridges_test {
 
 // A flat grid of 40 × 10 vertices, spacing 1, each square split by its diagonal from (i, j) to (i+1, j+1),
 // plus one edge from (0, 0) to (39, 0): the edge a glue would add, 39 long. The median edge is 1.
@@ -140,5 +140,5 @@ TEST(CoulombBridges, AGluedPoseEndsAtItsCleanPosesFormWhenStartedAgainWithoutThe
   EXPECT_LT(after, 0.5 * before) << "glued vs clean form: " << after << ", without the second run " << before;
 }
 
-}  // namespace
+}  // namespace coulomb_bridges_test
 }  // namespace cshapes

@@ -9,7 +9,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_energy_test {
 
 using Summation = CoulombOptions::Summation;
 
@@ -234,5 +234,5 @@ TEST(CoulombEnergy, SingleAndNoPoint) {
   }
 }
 
-}  // namespace
+}  // namespace coulomb_energy_test
 }  // namespace cshapes

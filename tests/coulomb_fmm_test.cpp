@@ -10,7 +10,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_fmm_test {
 
 // The bench's distributions (data/synthetic.h random_points): uniform cube, unit sphere surface, 20
 // Gaussian clusters of widths 1e-3 … 1e-1.
@@ -174,5 +174,5 @@ TEST(CoulombFmm, RejectsBadOptions) {
   EXPECT_THROW(coulomb_fmm(X, o), std::exception);
 }
 
-}  // namespace
+}  // namespace coulomb_fmm_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_fmm_tree_test {
 
 Points make_points(Index n, const std::string& distribution, unsigned seed) {
   std::mt19937_64 rng(seed);
@@ -153,5 +153,5 @@ TEST(CoulombFmmTree, TheCoulombFormWithAKeptTreeIsTheFormWithout) {
   EXPECT_NEAR(kept.energy / built.energy, 1.0, 1e-4);
 }
 
-}  // namespace
+}  // namespace coulomb_fmm_tree_test
 }  // namespace cshapes

@@ -16,7 +16,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_multiresolution_test {
 
 // Points on and near a coarse surface, off it by up to a fifth of an edge.
 Points points_near(const Mesh& coarse, Index count, unsigned seed) {
@@ -232,5 +232,5 @@ TEST(CoulombMultiresolution, StressCorpusSampleThroughTheCoarsePath) {
   std::printf("%d of %d through the coarse path, %d pass the quality check\n", used, kStressKinds, passed);
 }
 
-}  // namespace
+}  // namespace coulomb_multiresolution_test
 }  // namespace cshapes

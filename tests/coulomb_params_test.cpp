@@ -12,7 +12,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_params_test {
 
 TEST(CoulombParams, ConfigurationsHaveDistinctNamesAndDefaultFirst) {
   const auto& configs = coulomb_params_configs();
@@ -91,5 +91,5 @@ TEST(CoulombParams, GluedBridgesAreMeasuredOnAToscaShape) {
   EXPECT_TRUE(coulomb_params_json({alone})["rows"][0].at("pose_rms").is_null());
 }
 
-}  // namespace
+}  // namespace coulomb_params_test
 }  // namespace cshapes

@@ -14,7 +14,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_start_test {
 
 std::vector<Mesh> biped_poses(int poses, int vertices, std::uint64_t seed = 3) {
   ArticulatedOptions ao;
@@ -239,5 +239,5 @@ TEST(CoulombCanon, PosesOfABipedShareTheirFormBetterThanFromTheInput) {
   EXPECT_LT(sum_ours, 0.5 * sum_inputs);
 }
 
-}  // namespace
+}  // namespace coulomb_start_test
 }  // namespace cshapes

@@ -20,7 +20,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace coulomb_test {
 
 // Smallest principal variance over the total: 0 for a planar point set.
 double flatness(const Points& X) {
@@ -383,11 +383,11 @@ TEST(CoulombCanon, RejectsBadInput) {
   EXPECT_THROW(coulomb_canonical_form(m.V, mesh_edges(m.F), o), Error);
 }
 
-}  // namespace
+}  // namespace coulomb_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace coulomb_test {
 
 // One plain Coulomb step without projection: with the mean-gradient rule every vertex moves c·‖∇_i E‖ and
 // c = factor · L / mean_i ‖∇_i E‖, so the mean displacement is exactly factor · L; with the max rule the
@@ -424,5 +424,5 @@ TEST(CoulombCanon, StepGradientRuleSetsTheMeanOrTheLargestMove) {
   EXPECT_THROW(parse_step_gradient("median"), Error);
 }
 
-}  // namespace
+}  // namespace coulomb_test
 }  // namespace cshapes

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 namespace cshapes {
-namespace {
+namespace csv_test {
 
 TEST(CsvField, QuotesOnlyWhatNeedsIt) {
   EXPECT_EQ(csv_field("plain"), "plain");
@@ -13,5 +13,5 @@ TEST(CsvField, QuotesOnlyWhatNeedsIt) {
   EXPECT_EQ(csv_field("two\nlines"), "\"two\nlines\"");
 }
 
-}  // namespace
+}  // namespace csv_test
 }  // namespace cshapes

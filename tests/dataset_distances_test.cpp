@@ -16,7 +16,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace dataset_distances_test {
 
 namespace fs = std::filesystem;
 
@@ -119,5 +119,5 @@ TEST(DatasetDistances, ACacheFolderThatIsAFileIsRefusedBeforeAnyWork) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace dataset_distances_test
 }  // namespace cshapes

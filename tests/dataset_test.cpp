@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace dataset_test {
 
 void expect_error_mentioning(const std::string& path, const std::string& needle) {
   try {
@@ -194,5 +194,5 @@ TEST(Dataset, Tosca5kFolderHasFourClassesOfSix) {
   EXPECT_EQ(d.entries.back().name, "victoria10");  // numeric, not lexicographic, pose order
 }
 
-}  // namespace
+}  // namespace dataset_test
 }  // namespace cshapes

@@ -9,7 +9,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace distance_csv_test {
 
 TEST(DistanceCsv, RoundTrip) {
   std::string dir = test::scratch_dir("csv");
@@ -152,5 +152,5 @@ TEST(DistanceCsv, MatrixChecksRefuseOrWarnByRule) {
   EXPECT_TRUE(check_distance_matrix(rounded, "m.csv").empty());
 }
 
-}  // namespace
+}  // namespace distance_csv_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace distance_matrix_test {
 
 // The process's mapped bytes now (/proc/self/statm).
 double mapped_bytes() {
@@ -129,5 +129,5 @@ TEST(DistanceMatrixFile, ANegativeOrHugeHeaderCountIsANamedError) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace distance_matrix_test
 }  // namespace cshapes

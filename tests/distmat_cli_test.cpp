@@ -16,7 +16,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace distmat_cli_test {
 
 // Two spheres and two tori of different sizes: a dataset small enough for a CLI test.
 std::string tiny_dataset() {
@@ -128,5 +128,5 @@ TEST(DistmatCli, AnErrorAfterProgressStartsALineOfItsOwn) {
   EXPECT_TRUE(at == 0 || r.err[at - 1] == '\n') << r.err;
 }
 
-}  // namespace
+}  // namespace distmat_cli_test
 }  // namespace cshapes

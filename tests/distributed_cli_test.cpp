@@ -13,7 +13,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace distributed_cli_test {
 
 namespace fs = std::filesystem;
 
@@ -181,5 +181,5 @@ TEST(DistributedCli, RetrievalExperimentOfTwoRanksEqualsOneProcess) {
     EXPECT_EQ(read_file(dir + "/out0/" + f), read_file(dir + "/out2/" + f)) << f;
 }
 
-}  // namespace
+}  // namespace distributed_cli_test
 }  // namespace cshapes

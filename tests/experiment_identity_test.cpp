@@ -14,7 +14,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace experiment_identity_test {
 
 namespace fs = std::filesystem;
 
@@ -61,5 +61,5 @@ TEST(ExperimentDefaults, CliAndCppRunsOfThePaperExperimentWriteTheSameFiles) {
   EXPECT_EQ(a.size(), b.size());
 }
 
-}  // namespace
+}  // namespace experiment_identity_test
 }  // namespace cshapes

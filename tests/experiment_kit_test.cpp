@@ -19,7 +19,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace experiment_kit_test {
 
 namespace fs = std::filesystem;
 
@@ -144,5 +144,5 @@ TEST(Figures, ScriptsAreFoundBesideTheBinaryAndAMissingOneIsSaidNotThrown) {
   EXPECT_EQ(find_python("no_module_named_like_this_xyz"), "");
 }
 
-}  // namespace
+}  // namespace experiment_kit_test
 }  // namespace cshapes

@@ -10,7 +10,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace fast_marching_test {
 
 using test::mean_relative_error;
 
@@ -141,5 +141,5 @@ TEST(FastMarching, ContinuesAPartialField) {
   EXPECT_THROW(fmm.continue_distances(with_inf, all), std::exception);
 }
 
-}  // namespace
+}  // namespace fast_marching_test
 }  // namespace cshapes

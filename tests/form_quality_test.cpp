@@ -9,7 +9,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace form_quality_test {
 
 TEST(FormQuality, IdentityFormHasStretchOne) {
   const Mesh m = icosphere(2);
@@ -130,11 +130,11 @@ TEST(FormQuality, RejectsMismatchedSizes) {
   EXPECT_ANY_THROW(form_quality(m.V, E, m.V, &torn));
 }
 
-}  // namespace
+}  // namespace form_quality_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace form_quality_test {
 
 // A collapsed form can never pass: `canon --method smacof` on a mesh scaled by 1e20 gave 600 rows "0 0 0"
 // with "ok: stretch max 0". All-zero rows, a form shrunk to a point at any scale, and two neighbours
@@ -171,5 +171,5 @@ TEST(FormQuality, AReasonFromTheMethodMakesItNotOk) {
   EXPECT_EQ(q.description.rfind("NOT OK: normalised stress nan; edge stretch (form length / input length) max 1", 0), 0u) << q.description;
 }
 
-}  // namespace
+}  // namespace form_quality_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace generated_shapes_test {
 
 namespace fs = std::filesystem;
 
@@ -93,5 +93,5 @@ TEST(GeneratedShapes, DatasetReadsBackThroughItsManifest) {
             nlohmann::json::parse("[[1, 2]]"));
 }
 
-}  // namespace
+}  // namespace generated_shapes_test
 }  // namespace cshapes

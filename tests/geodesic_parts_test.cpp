@@ -6,7 +6,7 @@
 #include "cshapes/mesh/rigid_transform.h"
 
 namespace cshapes {
-namespace {
+namespace geodesic_parts_test {
 
 Mesh generated(const std::string& class_name, int pose = 0, int vertices = 1500) {
   ArticulatedOptions ao;
@@ -84,5 +84,5 @@ TEST(GeodesicParts, OptionsBoundTheSearch) {
   EXPECT_THROW(geodesic_parts(cloud), Error);
 }
 
-}  // namespace
+}  // namespace geodesic_parts_test
 }  // namespace cshapes

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 namespace cshapes {
-namespace {
+namespace geodesic_stress_test {
 
 // A seeded sample of the stress corpus (scripts/stress_geodesics.py runs any number): one mesh of every
 // kind at 200-1,200 vertices through every geodesic method against exact geodesics, the canonical forms on
@@ -58,5 +58,5 @@ TEST(GeodesicStress, ATooStrictReferenceIsReported) {
   EXPECT_LT(r.geodesics[0].mean_error, geodesic_tolerance("graph"));
 }
 
-}  // namespace
+}  // namespace geodesic_stress_test
 }  // namespace cshapes

@@ -14,7 +14,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace geodesics_cgal_test {
 
 using test::mean_relative_error;
 
@@ -139,5 +139,5 @@ TEST(Geodesics, CatAgainstExact) {
   check_against_exact(cat, {0, 2500}, 0.02, 0.03, "cat0");
 }
 
-}  // namespace
+}  // namespace geodesics_cgal_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace geodesics_test {
 
 Mesh two_spheres() {
   Mesh a = icosphere(2);
@@ -284,5 +284,5 @@ TEST(GeodesicsCli, DisconnectedMeshIsRepairedOrRefusedWithStrict) {
   EXPECT_EQ(kept, 162);
 }
 
-}  // namespace
+}  // namespace geodesics_test
 }  // namespace cshapes

@@ -16,7 +16,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace heat_method_test {
 
 using test::mean_relative_error;
 
@@ -299,5 +299,5 @@ TEST(HeatMethod, DegenerateFacesAreAccepted) {
   }
 }
 
-}  // namespace
+}  // namespace heat_method_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace icp_test {
 
 // TOSCA cat0's 5,000 vertices when the shared data is present, else a generated 5,000-point blob.
 Points test_shape() {
@@ -278,5 +278,5 @@ TEST(AlignCli, RecoversAMirroredCopy) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace icp_test
 }  // namespace cshapes

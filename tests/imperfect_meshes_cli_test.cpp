@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace imperfect_meshes_cli_test {
 
 nlohmann::json info(const std::string& path) {
   test::CliResult r = test::run_cli("info '" + path + "' --json");
@@ -146,5 +146,5 @@ TEST(ImperfectMeshesCli, DistmatGoesThroughImperfectMeshesAndSkipsUnusableOnes) 
   EXPECT_NE(r.err.find("--strict"), std::string::npos) << r.err;
 }
 
-}  // namespace
+}  // namespace imperfect_meshes_cli_test
 }  // namespace cshapes

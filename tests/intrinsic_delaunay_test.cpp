@@ -10,7 +10,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace intrinsic_delaunay_test {
 
 double total_area(const IntrinsicTriangulation& T) {
   double sum = 0;
@@ -137,5 +137,5 @@ TEST(IntrinsicDelaunay, StressCorpusSample) {
   }
 }
 
-}  // namespace
+}  // namespace intrinsic_delaunay_test
 }  // namespace cshapes

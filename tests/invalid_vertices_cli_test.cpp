@@ -10,7 +10,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace invalid_vertices_cli_test {
 
 TEST(InvalidVerticesCli, InfoConvertAndAlignUseTheValidVertices) {
   // A form as canon writes one when a repair dropped vertices: NaN rows, valid = 0.
@@ -52,5 +52,5 @@ TEST(InvalidVerticesCli, InfoConvertAndAlignUseTheValidVertices) {
   EXPECT_LT(j["directed_source_to_target"].get<double>(), 1e-9);
 }
 
-}  // namespace
+}  // namespace invalid_vertices_cli_test
 }  // namespace cshapes

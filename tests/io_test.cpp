@@ -17,7 +17,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace io_test {
 
 namespace fs = std::filesystem;
 
@@ -643,5 +643,5 @@ TEST(IoTosca, Cat0LoadsWithItsKnownCounts) {
   EXPECT_EQ(cat.num_faces(), 9996);
 }
 
-}  // namespace
+}  // namespace io_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace knn_graph_test {
 
 Points random_points(int n, unsigned seed) {
   std::mt19937 rng(seed);
@@ -138,5 +138,5 @@ TEST(KnnGraph, RefusesBadInput) {
   EXPECT_THROW(knn_graph(P), Error);
 }
 
-}  // namespace
+}  // namespace knn_graph_test
 }  // namespace cshapes

@@ -12,7 +12,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace landmark_forms_test {
 
 double bbox_diagonal(const Points& X) {
   return (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
@@ -112,5 +112,5 @@ TEST(LandmarkForms, SmacofFoldRepairOnTosca) {
   EXPECT_LT(aligned_rms(repaired.X, folded.X, true) / bbox_diagonal(folded.X), 0.01);
 }
 
-}  // namespace
+}  // namespace landmark_forms_test
 }  // namespace cshapes

@@ -8,7 +8,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace landmark_geodesics_test {
 
 double mean_edge(const Mesh& m) {
   return edge_lengths(m.V, mesh_edges(m.F)).mean();
@@ -91,11 +91,11 @@ TEST(LandmarkGeodesics, RefusesBadInput) {
   EXPECT_THROW(geodesic_rows_from(a, {0, -1}), Error);
 }
 
-}  // namespace
+}  // namespace landmark_geodesics_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace landmark_geodesics_test {
 
 // A point set's graph (here a mesh's edges, given as a graph): the same landmarks and rows as the mesh's
 // graph geodesics.
@@ -114,5 +114,5 @@ TEST(LandmarkGeodesics, GraphSolverOnGivenEdges) {
   EXPECT_THROW(SingleSourceGeodesics(m.V.topRows(3), two_pieces), Error);
 }
 
-}  // namespace
+}  // namespace landmark_geodesics_test
 }  // namespace cshapes

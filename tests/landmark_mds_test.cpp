@@ -13,7 +13,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace landmark_mds_test {
 
 double bbox_diagonal(const Points& X) {
   return (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
@@ -189,5 +189,5 @@ TEST(LandmarkMds, RefusesBadRows) {
   EXPECT_THROW(landmark_classical_mds(rows, {0, 1, 2, 3}), Error);
 }
 
-}  // namespace
+}  // namespace landmark_mds_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace locate_on_surface_test {
 
 // Distance from p to segment [a, b].
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -217,5 +217,5 @@ TEST(LocateOnSurface, ZeroAreaFacesAreSkippedAndBadInputsRefused) {
             std::string::npos);
 }
 
-}  // namespace
+}  // namespace locate_on_surface_test
 }  // namespace cshapes

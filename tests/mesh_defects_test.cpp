@@ -7,7 +7,7 @@
 #include "tests/imperfect_meshes.h"
 
 namespace cshapes {
-namespace {
+namespace mesh_defects_test {
 
 TEST(MeshDefects, CleanClosedMeshHasNone) {
   MeshDefects d = mesh_defects(icosphere(2));
@@ -136,5 +136,5 @@ TEST(MeshDefects, PointCloudHasNone) {
   EXPECT_EQ(d.isolated_vertices, 0);
 }
 
-}  // namespace
+}  // namespace mesh_defects_test
 }  // namespace cshapes

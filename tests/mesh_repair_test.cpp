@@ -12,7 +12,7 @@
 #include "tests/imperfect_meshes.h"
 
 namespace cshapes {
-namespace {
+namespace mesh_repair_test {
 
 // Every repaired vertex sits where its input vertex is, and every face of the result is an input face
 // (through vertex_map).
@@ -187,5 +187,5 @@ TEST(MeshRepair, DistancesGoBackToTheInputVerticesWithTheNearestCopy) {
   }
 }
 
-}  // namespace
+}  // namespace mesh_repair_test
 }  // namespace cshapes

@@ -10,7 +10,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace mesh_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -175,11 +175,11 @@ TEST(Mesh, ToscaCatIsAClosedSphere) {
   EXPECT_NEAR(info.bbox_diagonal, 224, 5);
 }
 
-}  // namespace
+}  // namespace mesh_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace mesh_test {
 
 TEST(Mesh, FiniteBboxDiagonalSkipsNonFiniteRows) {
   Points V(4, 3);
@@ -190,5 +190,5 @@ TEST(Mesh, FiniteBboxDiagonalSkipsNonFiniteRows) {
   EXPECT_EQ(finite_bbox_diagonal(Points(0, 3)), 0.0);
 }
 
-}  // namespace
+}  // namespace mesh_test
 }  // namespace cshapes

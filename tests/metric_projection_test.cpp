@@ -12,7 +12,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace metric_projection_test {
 
 Points perturbed(const Points& V, double sigma, unsigned seed) {
   std::mt19937 rng(seed);
@@ -273,5 +273,5 @@ TEST(MetricProjection, RejectsBadInput) {
   EXPECT_THROW(MetricProjection(3, E, Eigen::VectorXd::Ones(1), o), Error);
 }
 
-}  // namespace
+}  // namespace metric_projection_test
 }  // namespace cshapes

@@ -8,7 +8,7 @@
 #include <vector>
 
 namespace cshapes {
-namespace {
+namespace morton_test {
 
 using Items = std::vector<std::pair<uint64_t, int32_t>>;
 
@@ -51,5 +51,5 @@ TEST(Morton, SpreadBitsPutsBitKAtBit3K) {
   EXPECT_EQ(morton_spread_bits(uint64_t(1) << 21), 0u);  // bits above 21 are dropped
 }
 
-}  // namespace
+}  // namespace morton_test
 }  // namespace cshapes

@@ -7,7 +7,7 @@
 #include "cshapes/support/error.h"
 
 namespace cshapes {
-namespace {
+namespace nearest_neighbors_test {
 
 Points random_points(Index n, uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -117,5 +117,5 @@ TEST(NearestNeighbors, SinglePointAndEmptyInput) {
   EXPECT_THROW(NearestNeighbors{bad}, Error);
 }
 
-}  // namespace
+}  // namespace nearest_neighbors_test
 }  // namespace cshapes

@@ -24,7 +24,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace noise_experiment_test {
 
 namespace fs = std::filesystem;
 
@@ -380,5 +380,5 @@ TEST(PaperExperimentCli, NoisyPerClassAllAndEveryDistance) {
   EXPECT_NE(bad.err.find("--noisy-per-class"), std::string::npos) << bad.err;
 }
 
-}  // namespace
+}  // namespace noise_experiment_test
 }  // namespace cshapes

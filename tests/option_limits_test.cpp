@@ -21,7 +21,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace option_limits_test {
 
 TEST(OptionLimits, HoldsDescribesAndNamesTheOption) {
   const Limit iterations = integer_limit("coulomb-max-iterations", 0, 1e8);
@@ -145,5 +145,5 @@ TEST(OptionLimits, TheLibraryTheHelpAndTheCliRefusalSayTheSameLimit) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace option_limits_test
 }  // namespace cshapes

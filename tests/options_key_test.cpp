@@ -30,7 +30,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace options_key_test {
 
 // ---- (a) A field list names every member: counted by aggregate initialisation ----
 
@@ -496,5 +496,5 @@ TEST(OptionsKey, ExperimentsStartFromTheLibraryDefaults) {
   EXPECT_EQ(paper.methods, canonical_form_methods());
 }
 
-}  // namespace
+}  // namespace options_key_test
 }  // namespace cshapes

@@ -13,7 +13,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace output_not_input_cli_test {
 
 namespace fs = std::filesystem;
 
@@ -154,5 +154,5 @@ TEST(OutputNotInput, EvaluateRefusesToReplaceItsMatrixOrLabels) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace output_not_input_cli_test
 }  // namespace cshapes

@@ -17,7 +17,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace pairwise_distances_test {
 
 namespace fs = std::filesystem;
 
@@ -320,5 +320,5 @@ TEST(PairwiseDistances, PointsContentKey) {
   EXPECT_NE(points_content_key(X), points_content_key(Y));
 }
 
-}  // namespace
+}  // namespace pairwise_distances_test
 }  // namespace cshapes

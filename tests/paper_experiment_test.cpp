@@ -25,7 +25,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace paper_experiment_test {
 
 namespace fs = std::filesystem;
 
@@ -365,5 +365,5 @@ TEST(PaperReport, WriterSaysWhatTheReportHolds) {
   EXPECT_NE(report.find("`DATA`"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace paper_experiment_test
 }  // namespace cshapes

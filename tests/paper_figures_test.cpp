@@ -11,7 +11,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace paper_figures_test {
 
 namespace fs = std::filesystem;
 
@@ -68,5 +68,5 @@ TEST(PaperFigures, DataOfFigures2To5FromASmallDataset) {
     EXPECT_EQ(again.convergence[k].final_energy, report.convergence[k].final_energy);
 }
 
-}  // namespace
+}  // namespace paper_figures_test
 }  // namespace cshapes

@@ -17,7 +17,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace partial_results_cli_test {
 
 // 2 classes × 3 poses of 400 vertices in a folder (no manifest: the class is the name without digits), plus
 // CLASS9.off in the first class: readable, one component, but scaled to 1e150 with one vertex at 1e300, where
@@ -98,5 +98,5 @@ TEST(PartialResultsCli, DistmatLeavesTheShapeOutAndExitsWithThree) {
   }
 }
 
-}  // namespace
+}  // namespace partial_results_cli_test
 }  // namespace cshapes

@@ -24,7 +24,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace pose_invariance_test {
 
 namespace fs = std::filesystem;
 
@@ -557,5 +557,5 @@ TEST(PoseInvariance, ReportSaysTheTableTheFailuresAndWhatWasNotMeasured) {
   fs::remove_all(out);
 }
 
-}  // namespace
+}  // namespace pose_invariance_test
 }  // namespace cshapes

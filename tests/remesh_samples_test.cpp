@@ -12,7 +12,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace remesh_samples_test {
 
 // Two meshes in one: b's vertices and faces after a's.
 Mesh joined(const Mesh& a, const Mesh& b) {
@@ -91,5 +91,5 @@ TEST(RemeshSamples, AVertexOutOfRangeIsRefused) {
   }
 }
 
-}  // namespace
+}  // namespace remesh_samples_test
 }  // namespace cshapes

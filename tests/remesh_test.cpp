@@ -11,7 +11,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace remesh_test {
 
 void expect_count_within(Index got, Index target, double tolerance) {
   EXPECT_LE(std::abs(static_cast<double>(got - target)), tolerance * static_cast<double>(target))
@@ -216,5 +216,5 @@ TEST(Remesh, CliSubdividesTheRemesh) {
   EXPECT_EQ(Points(r2.V.topRows(v)), r.V);  // the remesh's vertices come first, unmoved
 }
 
-}  // namespace
+}  // namespace remesh_test
 }  // namespace cshapes

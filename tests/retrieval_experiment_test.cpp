@@ -22,7 +22,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace retrieval_experiment_test {
 
 namespace fs = std::filesystem;
 
@@ -157,11 +157,11 @@ TEST(ResampledDataset, TheExperimentRunsOnTheRemeshedShapes) {
   EXPECT_NE(report.find("remeshed to about 120 vertices"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace retrieval_experiment_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace retrieval_experiment_test {
 
 // The command line: --resample's values, and distmat reading a .cla collection with --resample.
 TEST(RetrievalCli, ResampleOptionAndClaCollectionOnDistmat) {
@@ -188,11 +188,11 @@ TEST(RetrievalCli, ResampleOptionAndClaCollectionOnDistmat) {
             (std::vector<std::string>{"sphere0", "sphere1", "sphere2", "torus0", "torus1", "torus2"}));
 }
 
-}  // namespace
+}  // namespace retrieval_experiment_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace retrieval_experiment_test {
 
 // `experiment paper` and `experiment noise` with resample: they run on the remeshed shapes and their reports
 // show the remeshes (the data named is the one given).
@@ -231,5 +231,5 @@ TEST(ResampledDataset, PaperAndNoiseExperimentsRunOnTheRemeshes) {
   EXPECT_NE(noise.find(data), std::string::npos);
 }
 
-}  // namespace
+}  // namespace retrieval_experiment_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 namespace cshapes {
-namespace {
+namespace retrieval_test {
 
 // Seven shapes: 0, 1, 2 of class 0; 3, 4, 5 of class 1; 6 alone in class 2 (too small: not a query, but a
 // result of the others). Symmetric distances, all distinct, so every ranking is unambiguous:
@@ -262,7 +262,7 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace retrieval_test
 // One query against a database (the noise experiment's queries): the rule of evaluate_retrieval.
 TEST(Retrieval, AveragePrecisionOfOneQueryKnownAnswers) {
   // Ranked: index 1 (irrelevant), 2 (relevant, rank 2), 0 (relevant, rank 3): AP = (1/2 + 2/3) / 2.
@@ -281,7 +281,7 @@ TEST(Retrieval, AveragePrecisionOfOneQueryKnownAnswers) {
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace retrieval_test {
 
 // Per-class measures (class_mean) of a hand-made matrix, each ranking chosen, every value worked out by
 // hand from the definitions (eval/retrieval.h): classes A = {0, 1, 2}, B = {3, 4, 5}, R = 2, K = 5.
@@ -322,5 +322,5 @@ TEST(Retrieval, PerClassMeasuresMatchTheHandComputation) {
   EXPECT_NEAR(r.mean.dcg, (a.dcg + b.dcg) / 2, 1e-12);
 }
 
-}  // namespace
+}  // namespace retrieval_test
 }  // namespace cshapes

@@ -12,7 +12,7 @@
 #include "cshapes/data/synthetic.h"
 
 namespace cshapes {
-namespace {
+namespace rigid_transform_test {
 
 double rms_radius(const Points& X) {
   return std::sqrt((X.rowwise() - X.colwise().mean()).rowwise().squaredNorm().mean());
@@ -283,5 +283,5 @@ TEST(AlignedRms, ReproducesThePaperExperimentsVertexwiseRms) {
   }
 }
 
-}  // namespace
+}  // namespace rigid_transform_test
 }  // namespace cshapes

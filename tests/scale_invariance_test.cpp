@@ -20,7 +20,7 @@
 #include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
-namespace {
+namespace scale_invariance_test {
 
 // A posed biped of about 400 vertices: no symmetry that would leave a spectral form's axes to rounding.
 const Mesh& test_mesh() {
@@ -97,5 +97,5 @@ TEST(ScaleInvariance, EveryMethodsFormScalesWithTheMesh) {
   }
 }
 
-}  // namespace
+}  // namespace scale_invariance_test
 }  // namespace cshapes

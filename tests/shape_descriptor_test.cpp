@@ -10,7 +10,7 @@
 #include "cshapes/mesh/rigid_transform.h"
 
 namespace cshapes {
-namespace {
+namespace shape_descriptor_test {
 
 Points box_corners(double a, double b, double c) {
   Points X(8, 3);
@@ -84,5 +84,5 @@ TEST(ShapeDescriptor, RefusesWhatItCannotDescribe) {
                Error);
 }
 
-}  // namespace
+}  // namespace shape_descriptor_test
 }  // namespace cshapes

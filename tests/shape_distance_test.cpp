@@ -8,7 +8,7 @@
 #include "cshapes/support/error.h"
 
 namespace cshapes {
-namespace {
+namespace shape_distance_test {
 
 Points random_points(Index n, uint64_t seed, double sx = 3, double sy = 1.5, double sz = 1) {
   std::mt19937_64 rng(seed);
@@ -135,5 +135,5 @@ TEST(ShapeDistance, RejectsEmpty) {
   EXPECT_THROW(shape_distance_from_nearest(Eigen::VectorXd(0), Eigen::VectorXd::Ones(3)), Error);
 }
 
-}  // namespace
+}  // namespace shape_distance_test
 }  // namespace cshapes

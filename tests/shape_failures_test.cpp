@@ -13,7 +13,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace shape_failures_test {
 
 // Clears the hook whatever the test's outcome.
 struct HookGuard {
@@ -168,11 +168,11 @@ TEST(ShapeFailures, NothingFailedMeansNoReportSection) {
   EXPECT_TRUE(failures.empty());
 }
 
-}  // namespace
+}  // namespace shape_failures_test
 }  // namespace cshapes
 
 namespace cshapes {
-namespace {
+namespace shape_failures_test {
 
 // A form that fails its own quality check (Coulomb with no projection and a huge fixed step: every edge
 // stretched far beyond 5×) is kept, and recorded as such: stage "form quality", not left out, in the report.
@@ -214,5 +214,5 @@ TEST(ShapeFailures, AShapeFailingForSeveralMethodsCountsOnce) {
   EXPECT_EQ(count_left_out(failures), 2);
 }
 
-}  // namespace
+}  // namespace shape_failures_test
 }  // namespace cshapes

@@ -17,7 +17,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace show_mesh_test {
 
 namespace fs = std::filesystem;
 
@@ -160,5 +160,5 @@ TEST(ShowMesh, WithoutItsScriptItFailsSayingWhyAndKeepsTheOldPicture) {
   fs::remove_all(b.dir);
 }
 
-}  // namespace
+}  // namespace show_mesh_test
 }  // namespace cshapes

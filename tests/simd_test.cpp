@@ -29,7 +29,7 @@
 #include "test_support.h"
 
 namespace cshapes {
-namespace {
+namespace simd_test {
 
 // Runs f under each supported target, restoring the target chosen before.
 template <class F>
@@ -266,5 +266,5 @@ TEST(Simd, PaperExperimentRetrievalIsTheSameUnderEveryTarget) {
   });
 }
 
-}  // namespace
+}  // namespace simd_test
 }  // namespace cshapes

@@ -19,7 +19,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace smacof_test {
 
 Points random_points(Index n, unsigned seed, double spread = 1.0) {
   std::mt19937 rng(seed);
@@ -281,5 +281,5 @@ TEST(SmacofCli, BenchAgreesWithScikitLearnOnTheSameProblem) {
   EXPECT_GT(j["speedup_vs_reference"].get<double>(), 0);
 }
 
-}  // namespace
+}  // namespace smacof_test
 }  // namespace cshapes

@@ -17,7 +17,7 @@
 #include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
-namespace {
+namespace spectral_test {
 
 // Largest relative error of values[1..] against exact[1..] (λ_0 = 0 is checked absolutely elsewhere).
 double worst_relative_error(const Eigen::VectorXd& values, const std::vector<double>& exact) {
@@ -359,5 +359,5 @@ TEST(SpectralForms, MethodsReportTheirSpectrumAndNearMultiples) {
   }
 }
 
-}  // namespace
+}  // namespace spectral_test
 }  // namespace cshapes

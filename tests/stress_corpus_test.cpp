@@ -7,7 +7,7 @@
 #include "cshapes/mesh/mesh.h"
 
 namespace cshapes {
-namespace {
+namespace stress_corpus_test {
 
 StressCorpusOptions small() {
   StressCorpusOptions o;
@@ -95,5 +95,5 @@ TEST(StressCorpus, RandomFlipsKeepTheSurfaceClosedAndManifold) {
   EXPECT_GE(*std::min_element(v.begin(), v.end()), 3);
 }
 
-}  // namespace
+}  // namespace stress_corpus_test
 }  // namespace cshapes

@@ -12,7 +12,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace subdivide_test {
 
 using test::signed_volume;
 
@@ -108,5 +108,5 @@ TEST(RefineToVertexCount, SubdivisionsThenSplits) {
   EXPECT_EQ(refine_to_vertex_count(icosphere(0), 42).edge_splits, 0);
 }
 
-}  // namespace
+}  // namespace subdivide_test
 }  // namespace cshapes

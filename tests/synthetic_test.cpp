@@ -11,7 +11,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace synthetic_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -183,5 +183,5 @@ TEST(SwissRollSample, PointsOnTheRollWithExactGeodesics) {
   EXPECT_EQ(random_swiss_roll_points(50, 7).X, random_swiss_roll_points(50, 7).X);
 }
 
-}  // namespace
+}  // namespace synthetic_test
 }  // namespace cshapes

@@ -8,7 +8,7 @@
 #include "cshapes/support/threads.h"
 
 namespace cshapes {
-namespace {
+namespace threads_test {
 
 // With CSHAPES_EXACT_THREADS set the load is not read, so the choice is the request capped at 4 per core.
 TEST(Threads, RefreshChoosesTheRequestedCountAgainAndSetsIt) {
@@ -60,5 +60,5 @@ TEST(Threads, TheCountFollowsTheLoadWithinItsBounds) {
   EXPECT_EQ(omp_get_max_threads(), threads);
 }
 
-}  // namespace
+}  // namespace threads_test
 }  // namespace cshapes

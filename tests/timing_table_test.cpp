@@ -10,7 +10,7 @@
 #include "cshapes/experiments/timing_table.h"
 
 namespace cshapes {
-namespace {
+namespace timing_table_test {
 
 TEST(TimingTable, ARowHoldsEveryColumnMeasured) {
   const Mesh mesh = icosphere(2);
@@ -41,5 +41,5 @@ TEST(TimingTable, MdsColumnsOnlyWhenAskedFor) {
   EXPECT_THROW(time_canonical_forms("sphere", icosphere(1), o), Error);
 }
 
-}  // namespace
+}  // namespace timing_table_test
 }  // namespace cshapes

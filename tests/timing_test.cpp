@@ -7,7 +7,7 @@
 #include <random>
 
 namespace cshapes {
-namespace {
+namespace timing_test {
 
 TEST(Median, UpperMedianKnownAnswers) {
   EXPECT_EQ(median({}), 0.0);
@@ -61,5 +61,5 @@ TEST(Stopwatch, ClocksAdvanceAndRestart) {
   EXPECT_GT(process_cpu_seconds(), 0.0);
 }
 
-}  // namespace
+}  // namespace timing_test
 }  // namespace cshapes

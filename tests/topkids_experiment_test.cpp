@@ -19,7 +19,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace topkids_experiment_test {
 
 namespace fs = std::filesystem;
 
@@ -507,5 +507,5 @@ TEST(TopkidsExperiment, RealNoiseOnePoseInputs) {
   fs::remove_all(o.out);
 }
 
-}  // namespace
+}  // namespace topkids_experiment_test
 }  // namespace cshapes

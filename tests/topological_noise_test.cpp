@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace topological_noise_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -154,5 +154,5 @@ TEST(TopologicalNoise, CliNoiseThenInfoShowsChiMinusTwo) {
   EXPECT_EQ(pairs["pairs"].size(), 2u);
 }
 
-}  // namespace
+}  // namespace topological_noise_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace trust_cli_test {
 
 namespace fs = std::filesystem;
 
@@ -206,5 +206,5 @@ TEST(TrustCli, StressRefusesAnEmptySizeRange) {
   EXPECT_NE(r.err.find("5000"), std::string::npos) << r.err;
 }
 
-}  // namespace
+}  // namespace trust_cli_test
 }  // namespace cshapes

@@ -15,7 +15,7 @@
 #include "tests/test_support.h"
 
 namespace cshapes {
-namespace {
+namespace trust_experiments_test {
 
 namespace fs = std::filesystem;
 
@@ -189,5 +189,5 @@ TEST(TrustExperiments, TopkidsSaysTheSameContentAndTheShapesNotResampled) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace trust_experiments_test
 }  // namespace cshapes
