@@ -323,7 +323,7 @@ namespace {
 // after the other (each run is serial and deterministic), in the wall time of the longer. Progress: the
 // plain run reports, the other only polls, one call at a time; a failure is kept per run, and the plain
 // run's is thrown first, the other's only where the sequence would have met it (the plain run missed the
-// goal: featured_failure). False when not run side by side.
+// goal: featured_failure), or when it is the user's stop. False when not run side by side.
 template <class Measured>
 bool plain_and_featured_side_by_side(const RemeshOptions& o, const SurfaceMesh& input, const Measured& measured,
                                      RemeshResult& plain, std::optional<RemeshResult>& featured,
@@ -358,6 +358,15 @@ bool plain_and_featured_side_by_side(const RemeshOptions& o, const SurfaceMesh& 
     }
   }
   if (plain_failure) std::rethrow_exception(plain_failure);
+  // A stop heard by the other run only (its poll took the user's Ctrl-C) is the user's stop all the same.
+  if (featured_failure) {
+    try {
+      std::rethrow_exception(featured_failure);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (...) {
+    }
+  }
   return true;
 }
 

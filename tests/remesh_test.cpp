@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <atomic>
 #include <cmath>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "cshapes/mesh/io.h"
@@ -192,6 +194,34 @@ TEST(Remesh, SideBySideRunsGiveTheOneThreadResult) {
   omp_set_num_threads(before);
   EXPECT_NE(messages[0], "");
   EXPECT_EQ(messages[0], messages[1]);
+}
+
+// A stop (Ctrl-C) that only the second thread's run hears is still the user's stop: the remesh ends with it,
+// even when the plain run, on the other thread, met the goal and its result would do.
+TEST(Remesh, AStopHeardBySideBySideRunIsNotLost) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  const Mesh sphere = icosphere(4);
+  // Which run the second thread takes is OpenMP's choice: ten tries, so that it is the feature-line run in
+  // some (when it is the plain run, its own failure carries the stop).
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    std::atomic<bool> stopped{false};
+    RemeshOptions o;
+    o.target_vertices = 400;
+    o.progress = [&](const std::string&, double, double) {
+      if (std::this_thread::get_id() != caller && !stopped.exchange(true)) throw Cancelled();
+    };
+    bool cancelled = false;
+    try {
+      remesh(sphere, o);
+    } catch (const Cancelled&) {
+      cancelled = true;
+    }
+    EXPECT_TRUE(stopped.load()) << "try " << attempt;  // the other thread polled
+    EXPECT_TRUE(cancelled) << "try " << attempt;
+  }
+  omp_set_num_threads(before);
 }
 
 // `cshapes remesh --subdivide K`: the remesh, then K midpoint subdivisions: V + E + F-grown counts exactly
