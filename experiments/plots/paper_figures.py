@@ -188,21 +188,21 @@ def fig_correspondence(out, pdf):
     save(fig, out, "fig9_correspondence", pdf)
 
 
-FIGURES = ("fig5_convergence", "fig7_distance_matrices", "fig8_pr", "fig9_correspondence")
+# The figures other than the mesh grids, by name: each drawn from the run's folder (out, spec, pdf).
+FIGURES = {
+    "fig5_convergence": lambda out, spec, pdf: fig_convergence(out, pdf),
+    "fig7_distance_matrices": lambda out, spec, pdf: fig_distance_matrices(out, pdf, spec.get("methods", [])),
+    "fig8_pr": lambda out, spec, pdf: fig_pr(out, pdf),
+    "fig9_correspondence": lambda out, spec, pdf: fig_correspondence(out, pdf),
+}
 
 
 def draw_one(out, spec, name, pdf):
     """Draws figure NAME (a mesh grid or one of FIGURES) of the run in OUT."""
     if name in spec.get("grids", {}):
         mesh_grid(out, name, spec["grids"][name], pdf)
-    elif name == "fig5_convergence":
-        fig_convergence(out, pdf)
-    elif name == "fig7_distance_matrices":
-        fig_distance_matrices(out, pdf, spec.get("methods", []))
-    elif name == "fig8_pr":
-        fig_pr(out, pdf)
-    elif name == "fig9_correspondence":
-        fig_correspondence(out, pdf)
+    else:
+        FIGURES[name](out, spec, pdf)
 
 
 def main():
