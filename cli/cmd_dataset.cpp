@@ -14,11 +14,11 @@ namespace {
 
 struct DatasetListArgs {
   std::string path;
-  bool json = false;
+  bool json = false, allow_outside = false;
 } args;
 
 int run() {
-  Dataset d = read_dataset(args.path);
+  Dataset d = read_dataset(args.path, args.allow_outside);
   const std::vector<ShapeFailure> left_out = left_out_records(d.left_out);
   for (const std::string& line : same_content_notes(d)) warn(line);
   const std::vector<int> labels = d.labels();
@@ -56,6 +56,7 @@ const bool registered =
                       [](CLI::App& app) {
                         app.add_option("PATH", args.path, "folder of meshes, or manifest.csv")->required();
                         app.add_flag("--json", args.json, "print JSON");
+                        add_allow_outside_flag(app, args.allow_outside);
                       },
                       run});
 

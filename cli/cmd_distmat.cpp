@@ -19,7 +19,7 @@ namespace {
 
 struct DistmatArgs {
   std::string data, output, method = "coulomb", cache, metric = "hausdorff", reference;
-  bool strict = false, json = false;
+  bool strict = false, json = false, allow_outside = false;
   int two_stage_k = 0;
   Index resample = 0;          // --resample N: remesh every shape to about N vertices first
   long fail_after_pairs = -1;  // test hook (hidden option): fail after this many pairs on each rank
@@ -38,6 +38,7 @@ int run() {
     throw UsageError("--reference: applies to the two-stage mode only (--two-stage-k)");
   DatasetDistanceOptions o;
   o.data = args.data;
+  o.allow_outside = args.allow_outside;
   o.canon.method = args.method;
   configure_canonical_form(o.canon);                // every method option given on the command line
   o.canon.strict = args.strict;
@@ -100,6 +101,7 @@ const bool registered = register_command(
        app.add_option("DATA", args.data,
                       "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file")
            ->required();
+       add_allow_outside_flag(app, args.allow_outside);
        app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
        app.add_option("--method", args.method,
                       "one of " + canonical_form_method_list() + " (options: the groups below, as in canon)")

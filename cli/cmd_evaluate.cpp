@@ -8,6 +8,7 @@
 
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/eval/retrieval_report.h"
+#include "cshapes/support/output_folder.h"
 #include "cli/command.h"
 #include "cshapes/experiments/figures.h"
 
@@ -19,12 +20,14 @@ struct EvaluateArgs {
   std::string matrix, labels, output;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
-  bool json = false, no_draw = false;
+  bool json = false, no_draw = false, force = false;
 } args;
 
 int run() {
   require_output_directory(args.output);
   require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, args.labels}, "--out");
+  // The previous run's files move aside until this one is complete (a failure brings them back).
+  OutputRun output(args.output, "evaluate", {}, args.force);
   const NamedDistances input = read_distance_csv(args.matrix);
   for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
   std::vector<std::string> classes;
@@ -60,6 +63,7 @@ int run() {
     else
       warn("no figures: " + figures.problem);
   }
+  output.commit();
   return 0;
 }
 
@@ -83,6 +87,7 @@ const bool registered = register_command(
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
        add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
+       add_force_flag(app, args.force);
      },
      run});
 

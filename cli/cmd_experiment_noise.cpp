@@ -91,7 +91,7 @@ const bool registered = register_command(
      "queries among clean shapes and the noisy-vs-clean form distance (cached: reruns resume)",
      [](CLI::App& app) {
        NoiseExperimentOptions& o = args.options;
-       add_data_and_out_options(app, o.data, o.out,
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside,
                                 "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);

@@ -71,7 +71,7 @@ const bool registered = register_command(
      "of topological noise, data for Figures 2-8, Table 1 and report.md (cached: reruns resume)",
      [](CLI::App& app) {
        PaperExperimentOptions& o = args.options;
-       add_data_and_out_options(app, o.data, o.out,
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside,
                                 "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);

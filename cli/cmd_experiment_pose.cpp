@@ -42,7 +42,7 @@ const bool registered = register_command(
      [](CLI::App& app) {
        PoseInvarianceOptions& o = args.options;
        add_data_and_out_options(
-           app, o.data, o.out,
+           app, o.data, o.out, o.force, o.allow_outside,
            "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
            "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
            "clean poses of a class share their faces (vertex i against vertex i)");

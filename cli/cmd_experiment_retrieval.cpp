@@ -70,7 +70,7 @@ const bool registered = register_command(
      [](CLI::App& app) {
        RetrievalExperimentOptions& o = args.options;
        add_data_and_out_options(
-           app, o.data, o.out,
+           app, o.data, o.out, o.force, o.allow_outside,
            "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla "
            "file (model ID: ID.off or mID.off … in the .cla's folder)");
        add_methods_option(app, args.methods);

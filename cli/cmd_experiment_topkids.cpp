@@ -82,7 +82,7 @@ const bool registered = register_command(
      [](CLI::App& app) {
        TopkidsExperimentOptions& o = args.options;
        add_data_and_out_options(
-           app, o.data, o.out,
+           app, o.data, o.out, o.force, o.allow_outside,
            "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)");
        app.add_option("--reference", o.reference, "file stem of the reference pose")->capture_default_str();
        app.add_option(

@@ -1,6 +1,7 @@
 // cshapes generate swissroll | articulated | hand | dataset: shapes made here (deterministic for a seed),
 // written with fixed precision (pipeline/generated_shapes.h): the same seed gives byte-identical files.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/command.h"
@@ -8,10 +9,29 @@
 #include "cshapes/data/dataset.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/pipeline/generated_shapes.h"
+#include "cshapes/support/output_folder.h"
 
 namespace cshapes::cli {
 namespace cmd_generate {
 namespace {
+
+// --force, for every generate command: an existing file of the same name is replaced.
+bool force = false;
+
+// Writes a command's files into a staging folder inside `target`, then moves them into place together; an
+// existing file of the same name is refused (unless --force) before any is moved.
+template <class Write>
+void write_staged(const std::string& target, const Write& write) {
+  const std::string staging = make_staging_folder(target);
+  try {
+    write(staging);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove_all(staging, ec);
+    throw;
+  }
+  publish_staged_files(staging, target, force);
+}
 
 // An option with its default shown in --help and the library's limit applied (support/option_limits.h).
 template <class T>
@@ -29,7 +49,11 @@ int run_swissroll() {
   SwissRollOptions o;
   std::tie(o.nu, o.nv) = swiss_roll_grid(swissroll_vertices);
   Mesh m = swiss_roll(o);
-  write_off_fixed(swissroll_output, m);
+  const std::filesystem::path output(swissroll_output);
+  const std::string folder = output.has_parent_path() ? output.parent_path().string() : ".";
+  write_staged(folder, [&](const std::string& staging) {
+    write_off_fixed((std::filesystem::path(staging) / output.filename()).string(), m);
+  });
   note("wrote " + swissroll_output + " (" + std::to_string(o.nu) + " x " + std::to_string(o.nv) + " = " +
        std::to_string(m.num_vertices()) + " vertices)");
   return 0;
@@ -43,7 +67,14 @@ bool articulated_json = false;
 int run_articulated() {
   require_output_directory(articulated_output);
   const ArticulatedClass c = generate_articulated(articulated_class, articulated);
-  const nlohmann::json j = write_articulated_class(c, articulated_output);
+  nlohmann::json j;
+  write_staged(articulated_output, [&](const std::string& staging) {
+    j = write_articulated_class(c, staging);
+    for (nlohmann::json& pose : j["poses"])  // named where they land, not where they were staged
+      pose["file"] = (std::filesystem::path(articulated_output) /
+                      std::filesystem::path(pose["file"].get<std::string>()).filename())
+                         .string();
+  });
   if (articulated_json) {
     std::cout << j.dump(2) << std::endl;
     return 0;
@@ -65,7 +96,7 @@ int hand_glues = 3;
 int run_hand() {
   require_output_directory(hand_output);
   const GluedHand h = generate_glued_hand(hand_seed, hand_glues);
-  write_glued_hand(h, hand_output);
+  write_staged(hand_output, [&](const std::string& staging) { write_glued_hand(h, staging); });
   MeshInfo a = mesh_info(h.separated), b = mesh_info(h.glued);
   std::printf("hand_separated.off: %ld vertices, genus %ld; hand_glued.off: genus %ld (%zu glues) in %s\n",
               static_cast<long>(a.vertices), a.genus, b.genus, h.glued_pairs.size(), hand_output.c_str());
@@ -79,8 +110,11 @@ bool dataset_json = false;
 
 int run_dataset() {
   require_output_directory(dataset_output);
+  // A dataset is its folder: a rerun into it replaces the previous dataset whole; other files are refused.
+  OutputRun output(dataset_output, "generate dataset", {}, force);
   const std::vector<ArticulatedShape> shapes = make_articulated_dataset(dataset);
   const nlohmann::json summary = write_articulated_dataset(shapes, dataset_output);
+  output.commit();
   if (dataset_json)
     std::cout << summary.dump(2) << std::endl;
   else
@@ -95,7 +129,9 @@ const bool registered_swissroll = register_command(
      [](CLI::App& app) {
        add_limited(app, "--vertices", swissroll_vertices, "about this many vertices (nu x nv, aspect 5:1)",
                    generate_limits::kVertices);
-       app.add_option("-o,--output", swissroll_output, "output mesh")->capture_default_str();
+       app.add_option("-o,--output", swissroll_output, "output mesh (an existing file is refused: --force)")
+           ->capture_default_str();
+       add_force_flag(app, force);
      },
      run_swissroll});
 
@@ -113,6 +149,7 @@ const bool registered_articulated = register_command(
        add_limited(app, "--amplitude", articulated.amplitude, "fraction of the joint ranges used (0..1)",
                    generate_limits::kAmplitude);
        add_out_folder_option(app, articulated_output, "output folder")->capture_default_str();
+       add_force_flag(app, force);
        app.add_flag("--json", articulated_json, "print the summary as JSON");
      },
      run_articulated});
@@ -124,6 +161,7 @@ const bool registered_hand = register_command(
        app.add_option("--seed", hand_seed, "random seed of the gluing")->capture_default_str();
        add_limited(app, "--glue", hand_glues, "number of glues", generate_limits::kGlue);
        add_out_folder_option(app, hand_output, "output folder")->capture_default_str();
+       add_force_flag(app, force);
      },
      run_hand});
 
@@ -132,6 +170,7 @@ const bool registered_dataset = register_command(
      "A synthetic retrieval dataset (articulated classes, clean and noisy poses) with manifest.csv",
      [](CLI::App& app) {
        add_out_folder_option(app, dataset_output, "output folder")->required();
+       add_force_flag(app, force);
        add_limited(app, "--classes", dataset.classes, "number of classes (1..4)", generate_limits::kClasses);
        add_limited(app, "--poses", dataset.poses, "clean poses per class", generate_limits::kPoses);
        add_limited(app, "--noisy", dataset.noisy, "noisy (glued) poses per class", generate_limits::kNoisy);

@@ -58,8 +58,14 @@ void check_options_read_by(const std::string& method, bool history_given = false
 // `canon` (configure_canonical_form). On every rank of an MPI run, so that each stops on a bad command line.
 void prepare_experiment(const std::vector<std::string>& methods, const std::string& out,
                         CanonicalFormOptions& canon);
-// --data and --out as every experiment takes them; data_help says what --data may be.
-void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, const std::string& data_help);
+// --data, --allow-outside, --out and --force as every experiment takes them; data_help says what --data may be.
+void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, bool& force,
+                              bool& allow_outside, const std::string& data_help);
+// --allow-outside: a dataset's manifest or .cla may list files outside its folder (data/dataset.h).
+void add_allow_outside_flag(CLI::App& app, bool& allow_outside);
+// --force: write into an output folder (or over an output file) that holds what cshapes did not write
+// (support/output_folder.h).
+void add_force_flag(CLI::App& app, bool& force);
 // --resample N (pipeline/resampled_dataset.h): every shape of the dataset remeshed to about N vertices first
 // (cached by content); 0, the default: the shapes as they are. On every command that takes a dataset.
 void add_resample_option(CLI::App& app, Index& vertices);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -188,11 +189,26 @@ void prepare_experiment(const std::vector<std::string>& methods, const std::stri
   configure_canonical_form(canon);  // every method option given, as in `cshapes canon`
 }
 
-void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out,
-                              const std::string& data_help) {
+void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, bool& force,
+                              bool& allow_outside, const std::string& data_help) {
   app.add_option("--data", data, data_help)->required();
-  app.add_option("--out", out, "output folder, created when missing (its cache/ makes reruns resume)")
+  add_allow_outside_flag(app, allow_outside);
+  app.add_option("--out", out,
+                 "output folder, created when missing (its cache/ makes reruns resume); a folder holding files "
+                 "cshapes did not write is refused, and a rerun removes the outputs of the previous one")
       ->required();
+  add_force_flag(app, force);
+}
+
+void add_allow_outside_flag(CLI::App& app, bool& allow_outside) {
+  app.add_flag("--allow-outside", allow_outside,
+               "read manifest or .cla entries that lead outside the dataset's folder (refused by default)");
+}
+
+void add_force_flag(CLI::App& app, bool& force) {
+  app.add_flag("--force", force,
+               "write although the outputs' place holds files cshapes did not write (they are left as they "
+               "are, unless this run writes the same name)");
 }
 
 void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) {
@@ -488,10 +504,22 @@ int main(int argc, char** argv) {
       for (int i = 1; i < argc; ++i)
         if (argv[i][0] != '-' && !(i > 1 && std::string(argv[i - 1]) == "--threads"))
           return report("unknown command '" + std::string(argv[i]) + "' (see cshapes --help)", kExitUsage);
+    // A file whose name starts with '-' is read as an option: name it, and say how to write it.
+    std::string hint;
+    for (int i = 1; i < argc && hint.empty(); ++i) {
+      const std::string word = argv[i];
+      if (word.size() < 2 || word[0] != '-' || word == "--") continue;
+      char* end = nullptr;
+      std::strtod(word.c_str(), &end);
+      if (end && *end == '\0') continue;  // a negative number
+      std::error_code ec;
+      if (std::filesystem::exists(word, ec) || word.find_first_of("./") != std::string::npos)
+        hint = "; '" + word + "' was read as an option: write a file whose name starts with '-' as ./" + word;
+    }
     // One line, like every other error (CLI11 would add a second "Run with --help" line), and one exit code.
-    return report(
-        parse_error_message(e) + " (see cshapes " + (g_command.empty() ? "" : g_command + " ") + "--help)",
-        kExitUsage);
+    return report(parse_error_message(e) + hint + " (see cshapes " + (g_command.empty() ? "" : g_command + " ") +
+                      "--help)",
+                  kExitUsage);
   }
 
   CLI::App* selected = &app;

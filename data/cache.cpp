@@ -21,11 +21,10 @@ namespace {
 // Format 3 (current): "CSHCACHE3 <size> <checksum>\n" then the value, the checksum binding the value to
 // the key it was stored under (entry_checksum): an entry copied, swapped or renamed to another key's file
 // is a miss there, never another key's value. Format 2: "CSHCACHE2 <size> <sha256 of the value>\n" (value
-// verified, key not), and format 1 (before checksums): "CSHCACHE1 <size>\n" then the value; both still
-// read, said once per cache.
+// verified, key not), and format 1 (before checksums): "CSHCACHE1 <size>\n" then the value; both are misses
+// (recomputed and rewritten), said once per cache.
 constexpr const char* kMagic = "CSHCACHE3 ";
-constexpr const char* kMagicValueOnly = "CSHCACHE2 ";
-constexpr const char* kMagicUnverified = "CSHCACHE1 ";
+constexpr const char* kMagicOlder = "CSHCACHE";  // formats 1 and 2 share the prefix
 
 // SHA-256 over the key and the value's SHA-256 (no copy of a large value is made).
 std::string entry_checksum(const std::string& key, const std::string& value) {
@@ -81,21 +80,16 @@ std::optional<std::string> DiskCache::get(const std::string& key) const {
       // Anything but a whole entry of a known format (a foreign, truncated or damaged file) is a miss.
       const size_t newline = content.find('\n');
       const std::string header = content.substr(0, newline == std::string::npos ? 0 : newline);
-      const std::string magic = kMagic, value_only = kMagicValueOnly, unverified = kMagicUnverified;
+      const std::string magic = kMagic;
       unsigned long long size = 0;
-      const bool bound = header.compare(0, magic.size(), magic) == 0;
-      if (bound || header.compare(0, value_only.size(), value_only) == 0) {
+      if (header.compare(0, magic.size(), magic) == 0) {
         const std::string fields = header.substr(magic.size());
         const size_t space = fields.find(' ');
         const std::string checksum = space == std::string::npos ? "" : fields.substr(space + 1);
         if (space != std::string::npos && parse_size(fields.substr(0, space), size) &&
             content.size() - newline - 1 == size && checksum.size() == 64) {
           std::string value = content.substr(newline + 1);
-          if ((bound ? entry_checksum(key, value) : sha256_hex(value)) == checksum) {
-            if (!bound && !said_unverified_.exchange(true))
-              cache_warning("cache " + directory_ +
-                            ": reading entries of cache format 2, whose checksum does not cover their key; "
-                            "delete the folder to recompute them");
+          if (entry_checksum(key, value) == checksum) {
             ++hits_;
             return value;
           }
@@ -108,14 +102,12 @@ std::optional<std::string> DiskCache::get(const std::string& key) const {
                         "recomputing it");
           std::remove(path.c_str());
         }
-      } else if (header.compare(0, unverified.size(), unverified) == 0 &&
-                 parse_size(header.substr(unverified.size()), size) && content.size() - newline - 1 == size) {
+      } else if (header.compare(0, std::string(kMagicOlder).size(), kMagicOlder) == 0) {
+        // Formats 1 and 2 do not bind the value to its key (format 1 checks nothing): never trusted; the
+        // recomputed value replaces the entry in the current format.
         if (!said_unverified_.exchange(true))
           cache_warning("cache " + directory_ +
-                        ": reading entries written before checksums (cache format 1) unverified; delete the "
-                        "folder to recompute them");
-        ++hits_;
-        return content.substr(newline + 1);
+                        ": entries of an older cache format (no checksum over their key) are recomputed");
       }
     }
   }

@@ -18,7 +18,8 @@
 // whose bytes changed after they were written is never served; it is removed, counted (damaged()), reported
 // through the warning sink naming the entry's file, and the caller recomputes it. Entries of format 2
 // ("CSHCACHE2 <size> <SHA-256 of the value>\n": the value verified, not its key) and of format 1 ("CSHCACHE1
-// <size>\n", before checksums, unverified) are still read, said once per DiskCache through the sink.
+// <size>\n", before checksums) are never served: they are misses, recomputed and rewritten in the current
+// format, said once per DiskCache through the sink.
 //
 // A write that fails (full disk, read-only folder, a cache folder that is a file) throws cshapes::WriteError
 // (support/error.h) with the path and the system's reason: callers that skip a failing item must rethrow it.

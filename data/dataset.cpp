@@ -119,7 +119,29 @@ Dataset read_folder(const fs::path& folder) {
   return d;
 }
 
-Dataset read_manifest(const fs::path& manifest) {
+// Where `file` (a manifest's or .cla's entry) really is, links followed, when that lies inside `folder` (the
+// dataset's); "" when it lies outside.
+std::string real_path_inside(const fs::path& file, const fs::path& folder) {
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(file, ec), root = fs::weakly_canonical(folder.empty() ? "." : folder, ec);
+  if (ec) return "";
+  auto r = real.begin(), f = root.begin();
+  for (; f != root.end(); ++f, ++r)
+    if (r == real.end() || *r != *f) return "";
+  return real.string();
+}
+
+// The refusal of an entry outside the dataset's folder: names the entry as written and where it leads, never
+// anything read from it.
+[[noreturn]] void refuse_outside(const std::string& where, const std::string& entry, const fs::path& file,
+                                 const fs::path& folder) {
+  std::error_code ec;
+  fail(where, ": '", entry, "' leads to ", fs::weakly_canonical(file, ec).string(),
+       ", outside the dataset's folder ", fs::weakly_canonical(folder.empty() ? "." : folder, ec).string(),
+       " (a dataset is its folder; pass --allow-outside to read files elsewhere)");
+}
+
+Dataset read_manifest(const fs::path& manifest, bool allow_outside) {
   Dataset d;
   d.source = manifest.string();
   const std::string where = manifest.string();
@@ -157,6 +179,8 @@ Dataset read_manifest(const fs::path& manifest) {
     CSHAPES_REQUIRE(!file.empty(), where, ":", line_number, ": empty 'file'");
     if (file.is_relative()) file = manifest.parent_path() / file;
     e.path = file.string();
+    if (!allow_outside && real_path_inside(file, manifest.parent_path()).empty())
+      refuse_outside(where + ":" + std::to_string(line_number), cells[col_file], file, manifest.parent_path());
     CSHAPES_REQUIRE(fs::is_regular_file(file), where, ":", line_number, ": file '", cells[col_file],
                     "' not found (looked for ", e.path, ")");
     e.name = file.stem().string();
@@ -195,7 +219,7 @@ Dataset read_manifest(const fs::path& manifest) {
 }
 
 // A .cla file: its models' files by classification_model_file, in file order; pose = rank in the class.
-Dataset read_classification_dataset(const fs::path& cla) {
+Dataset read_classification_dataset(const fs::path& cla, bool allow_outside) {
   Dataset d;
   d.source = cla.string();
   const Classification c = read_classification(cla.string());
@@ -208,6 +232,8 @@ Dataset read_classification_dataset(const fs::path& cla) {
       CSHAPES_REQUIRE(!e.path.empty(), d.source, ":", cls.model_lines[k], ": model '", id, "' of class '",
                       cls.name, "': no file ", id, ".off (or .ply .obj .stl .vert, or m", id,
                       ".off …) in ", folder);
+      if (!allow_outside && real_path_inside(e.path, folder).empty())
+        refuse_outside(d.source + ":" + std::to_string(cls.model_lines[k]), id, e.path, folder);
       e.name = fs::path(e.path).stem().string();
       e.class_name = cls.name;
       e.pose = static_cast<int>(k);
@@ -292,19 +318,20 @@ std::vector<std::pair<size_t, size_t>> same_content_pairs(const std::vector<Data
   return pairs;
 }
 
-Dataset read_dataset(const std::string& path) {
+Dataset read_dataset(const std::string& path, bool allow_outside) {
   fs::path p(path);
   CSHAPES_REQUIRE(fs::exists(p), path,
                   ": no such file or folder (expected a folder of meshes or a manifest.csv)");
   Dataset d;
   if (fs::is_directory(p)) {
-    d = fs::is_regular_file(p / "manifest.csv") ? read_manifest(p / "manifest.csv") : read_folder(p);
+    d = fs::is_regular_file(p / "manifest.csv") ? read_manifest(p / "manifest.csv", allow_outside)
+                                                : read_folder(p);
   } else if (file_extension(path) == "cla") {
-    d = read_classification_dataset(p);
+    d = read_classification_dataset(p, allow_outside);
   } else {
     CSHAPES_REQUIRE(file_extension(path) == "csv", path,
                     ": expected a folder of meshes, a manifest .csv or a classification .cla file");
-    d = read_manifest(p);
+    d = read_manifest(p, allow_outside);
   }
   for (const auto& e : d.entries)
     if (std::find(d.classes.begin(), d.classes.end(), e.class_name) == d.classes.end())

@@ -6,7 +6,8 @@
 // manifest.csv is read through its manifest.
 //
 // manifest.csv: a header line naming the columns, then one line per shape; comma-separated, no quoting.
-//   file   (required) path of the mesh, relative to the manifest's folder (or absolute)
+//   file   (required) path of the mesh, relative to the manifest's folder (or absolute), inside that folder
+//          (see read_dataset's allow_outside)
 //   class  (required) class label
 //   pose   (optional) integer pose number; default: the file name's trailing digits, else the line's rank in
 //   its class noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
@@ -58,7 +59,10 @@ struct Dataset {
 // Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem: a file
 // listed twice (two paths of one file), two files of one shape name in a manifest, a folder without a mesh
 // file. In a folder, entries named like a mesh that are no shape (see DatasetLeftOut) go to left_out.
-Dataset read_dataset(const std::string& path);
+// A dataset is its folder: a manifest's or .cla's entry that leads outside the folder of the manifest or .cla
+// (a "../" path, an absolute path, a symbolic link; links are followed) is refused naming the line, unless
+// allow_outside (the CLI's --allow-outside; drivers pass it for manifests they wrote themselves).
+Dataset read_dataset(const std::string& path, bool allow_outside = false);
 
 // The pairs of entries (indices, first < second) whose files hold the same bytes (what read_dataset records in
 // Dataset::same_content), in index order: for drivers that gather their shapes without read_dataset (a

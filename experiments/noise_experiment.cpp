@@ -18,6 +18,7 @@
 #include "cshapes/mesh/io.h"
 #include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/data/topological_noise.h"
 #include "cshapes/data/cache.h"
 #include "cshapes/eval/pairwise_distances.h"
@@ -91,7 +92,7 @@ std::optional<Mesh> glue_pose(const Pose& pose, int level, const NoiseExperiment
 // Clean poses per class, in the data's order; a file that cannot be read is skipped with its reason.
 std::vector<Pose> select_poses(const NoiseExperimentOptions& o, std::vector<std::string>& skipped,
                                std::vector<ShapeFailure>& failures) {
-  const Dataset data = read_dataset(o.data);
+  const Dataset data = read_dataset(o.data, o.allow_outside);
   // The folder's entries that are no shape (a loop of links, a FIFO, a second file of one name): left out.
   add_records(failures, left_out_records(data.left_out, o.canon.strict), o.note);
   std::vector<Pose> poses;
@@ -395,8 +396,9 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
   ResampledDataset resampled;
   if (o.resample.vertices > 0) {
     resampled = resample_dataset(o.data, o.resample, ExperimentFolder(o.out).path("resampled"),
-                                 ExperimentFolder(o.out).cache("remeshed"), nullptr, o.note);
+                                 ExperimentFolder(o.out).cache("remeshed"), nullptr, o.note, o.allow_outside);
     o.data = resampled.data;
+    o.allow_outside = true;  // the remeshed collection's manifest lists kept shapes by their own paths
   }
   NoiseRun run(o);
   NoiseExperimentResult& result = run.result;
@@ -434,6 +436,7 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
 
 NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   const auto start = WallClock::now();
+  OutputRun output(o.out, "experiment noise", {"cache"}, o.force);
   NoiseExperimentResult result = run_noise_experiment(o);
   write_noise_outputs(result, o.out);
   if (!o.figure) {
@@ -446,6 +449,7 @@ NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   if (!result.figure) say(o.note, "no figure: " + result.figure_note);
   result.seconds = seconds_since(start);
   write_noise_report(result, o.out);
+  output.commit();
   return result;
 }
 

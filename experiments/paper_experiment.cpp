@@ -18,6 +18,7 @@
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/data/topological_noise.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/eval/distance_csv.h"
@@ -251,7 +252,7 @@ struct ShapeSelection {
 std::vector<Shape> select_shapes(const PaperExperimentOptions& o, const DiskCache& noise_cache,
                                  std::vector<PaperReport::Skipped>& skipped, bool write_files,
                                  std::vector<ShapeFailure>& left_out) {
-  const Dataset data = read_dataset(o.data);
+  const Dataset data = read_dataset(o.data, o.allow_outside);
   left_out = left_out_records(data.left_out, o.canon.strict);
   ShapeSelection selection{o, noise_cache, skipped, write_files, correspondence_folder(o.data), {}, 0};
   for (const std::string& cls : data.classes) selection.select_class(data, cls);
@@ -475,8 +476,9 @@ PaperReport run_paper_experiment(const PaperExperimentOptions& given) {
   ResampledDataset resampled;
   if (o.resample.vertices > 0) {
     resampled = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),
-                                 o.communicator, o.note);
+                                 o.communicator, o.note, o.allow_outside);
     o.data = resampled.data;
+    o.allow_outside = true;  // the remeshed collection's manifest lists kept shapes by their own paths
   }
   ExperimentRun run(o);
   PaperExperimentSummary& summary = run.summary;
@@ -533,8 +535,9 @@ void draw_paper_figures(PaperReport& report) {
 
 PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
   const auto start = WallClock::now();
-  PaperReport report = run_paper_experiment(options);
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  OutputRun output(options.out, "experiment paper", {"cache"}, options.force, &comm);
+  PaperReport report = run_paper_experiment(options);
   if (comm.is_root()) {
     if (options.draw) {
       say(options.note, "== figures");
@@ -549,6 +552,7 @@ PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
     report.summary.seconds = seconds_since(start);
     write_paper_report(report, options.out);
   }
+  output.commit();
   return report.summary;
 }
 

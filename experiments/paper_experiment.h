@@ -36,6 +36,10 @@ namespace cshapes {
 struct PaperExperimentOptions {
   std::string data;                                             // folder of meshes or manifest.csv
   std::string out;                                              // output folder
+  // Write into `out` although it holds files cshapes did not write (support/output_folder.h); they stay.
+  bool force = false;
+  // Read manifest or .cla entries outside the dataset's folder (data/dataset.h: read_dataset).
+  bool allow_outside = false;
   // vertices > 0: every shape remeshed to about that many vertices first (pipeline/resampled_dataset.h,
   // into out/resampled; the report's "Resampling" section). Ground-truth correspondences (corres/) do not
   // survive a remesh: no point-map errors then.

@@ -54,7 +54,7 @@ struct FigureShape {
 // left_out: shapes the experiment left out (pipeline/shape_failures.h), never chosen.
 FigureShape figure_shape(const PaperExperimentOptions& o, const DiskCache& cache,
                          const std::vector<ShapeFailure>& left_out) {
-  Dataset data = read_dataset(o.data);
+  Dataset data = read_dataset(o.data, o.allow_outside);
   const DatasetEntry* chosen = nullptr;
   for (const DatasetEntry& e : data.entries) {
     if (e.noisy) continue;
@@ -254,7 +254,7 @@ void write_figure_data(const PaperExperimentOptions& o, PaperReport& report, con
 
 void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const DiskCache& misc_cache) {
   // The data's cat and michael when it has them, else stand-ins from its first classes.
-  Dataset data = read_dataset(o.data);
+  Dataset data = read_dataset(o.data, o.allow_outside);
   auto first_of = [&](const std::vector<std::string>& wanted, size_t fallback) -> const DatasetEntry* {
     for (const std::string& w : wanted)
       for (const DatasetEntry& e : data.entries)

@@ -20,6 +20,7 @@
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/pipeline/experiment_kit.h"
@@ -78,7 +79,7 @@ void discover_shared_connectivity(const PoseInvarianceOptions& o,
                                   const std::function<bool(const std::string&)>& wanted,
                                   std::vector<PoseShape>& shapes, std::vector<PosePair>& pairs,
                                   std::vector<ShapeFailure>& left_out) {
-  const Dataset data = read_dataset(o.data);
+  const Dataset data = read_dataset(o.data, o.allow_outside);
   left_out = left_out_records(data.left_out, o.canon.strict);  // folder entries that are no shape
   for (const DatasetEntry& e : data.entries)
     if (!e.noisy && wanted(e.name)) shapes.push_back({e.name, e.class_name, e.path, read_mesh(e.path), {}});
@@ -553,9 +554,11 @@ void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions&
 }
 
 PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options) {
+  OutputRun output(options.out, "experiment pose", {"cache"}, options.force);
   PoseInvarianceResult result = run_pose_invariance(options);
   draw_pose_figure(result, options);
   write_pose_invariance_report(result, options, options.out);
+  output.commit();
   return result;
 }
 

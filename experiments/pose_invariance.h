@@ -76,6 +76,10 @@ namespace cshapes {
 struct PoseInvarianceOptions {
   std::string data;  // TOSCA-style or TOPKIDS-style folder, or a shared-connectivity dataset (see above)
   std::string out;   // output folder (its cache/ makes reruns resume)
+  // Write into `out` although it holds files cshapes did not write (support/output_folder.h); they stay.
+  bool force = false;
+  // Read manifest or .cla entries outside the dataset's folder (data/dataset.h: read_dataset).
+  bool allow_outside = false;
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   // Restrict to these shape names (e.g. a tuning half); empty: every shape of the folder.
   std::vector<std::string> shapes;

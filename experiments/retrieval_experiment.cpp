@@ -9,6 +9,7 @@
 #include "cshapes/data/dataset.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/pipeline/dataset_distances.h"
@@ -114,12 +115,13 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
   r.data = o.data;
   if (o.resample.vertices > 0) {
     r.resampling = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),
-                                    &comm, o.note);
+                                    &comm, o.note, o.allow_outside);
     r.resampled = true;
     r.data = r.resampling.data;
     for (const ShapeFailure& record : resample_records(r.resampling)) r.failures.push_back(record);
   }
-  const Dataset data = read_dataset(r.data);
+  // The remeshed collection's manifest lists kept shapes by their own paths.
+  const Dataset data = read_dataset(r.data, o.allow_outside || r.resampled);
   r.shapes = static_cast<int>(data.entries.size());
   r.class_names = data.classes;
   r.class_sizes.assign(data.classes.size(), 0);
@@ -143,6 +145,7 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     const auto method_start = WallClock::now();
     DatasetDistanceOptions dd;
     dd.data = r.data;
+    dd.allow_outside = o.allow_outside || r.resampled;
     dd.canon = o.canon;
     dd.canon.method = method;
     dd.cache_dir = folder.path("cache");
@@ -188,8 +191,9 @@ void draw_retrieval_figures(RetrievalExperimentResult& r, const std::string& fol
 }
 
 RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions& options) {
-  RetrievalExperimentResult r = run_retrieval_experiment(options);
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  OutputRun output(options.out, "experiment retrieval", {"cache"}, options.force, &comm);
+  RetrievalExperimentResult r = run_retrieval_experiment(options);
   if (!comm.is_root()) return r;
   if (options.figures) {
     draw_retrieval_figures(r, options.out);
@@ -198,6 +202,7 @@ RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions&
     r.figures_note = "not requested (--no-draw)";
   }
   write_retrieval_report(r, options.out);
+  output.commit();
   return r;
 }
 

@@ -44,6 +44,10 @@ namespace cshapes {
 struct RetrievalExperimentOptions {
   std::string data;  // folder of meshes, manifest.csv or FILE.cla
   std::string out;   // output folder
+  // Write into `out` although it holds files cshapes did not write (support/output_folder.h); they stay.
+  bool force = false;
+  // Read manifest or .cla entries outside the dataset's folder (data/dataset.h: read_dataset).
+  bool allow_outside = false;
   std::vector<std::string> methods = canonical_form_methods();  // every registered method
   // Method options: the experiments' (heat geodesics for MDS), as `cshapes distmat` and the other experiments.
   CanonicalFormOptions canon = experiment_canonical_form_options();

@@ -16,6 +16,7 @@
 #include "cshapes/mesh/io.h"
 #include "cshapes/support/option_limits.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/data/cache.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
@@ -581,9 +582,11 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
 }
 
 TopkidsExperimentResult topkids_experiment(const TopkidsExperimentOptions& options) {
+  OutputRun output(options.out, "experiment topkids", {"cache"}, options.force);
   TopkidsExperimentResult result = run_topkids_experiment(options);
   draw_topkids_figure(result, options);
   write_topkids_report(result, options, options.out);
+  output.commit();
   return result;
 }
 

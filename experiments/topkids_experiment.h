@@ -89,6 +89,10 @@ constexpr double kMirroredErrorRatio = 0.5;
 struct TopkidsExperimentOptions {
   std::string data;                 // the folder (see above)
   std::string out;                  // output folder; out/cache makes reruns resume
+  // Write into `out` although it holds files cshapes did not write (support/output_folder.h); they stay.
+  bool force = false;
+  // Read manifest or .cla entries outside the dataset's folder (data/dataset.h: read_dataset).
+  bool allow_outside = false;
   std::string reference = "kid00";  // file stem of the reference pose
   std::vector<std::string> poses;   // query poses by file stem; empty: every NAME_ref.txt but the reference's
   // Every registered method by default; empty: the inputs alone.

@@ -125,6 +125,7 @@ class PlyValueReader {
       : name_(name),
         bytes_(bytes),
         format_(format),
+        data_start_(start),
         pos_(start),
         scanner_(name, bytes, false, start, line),
         swap_(format != PlyFormat::ascii &&
@@ -143,7 +144,7 @@ class PlyValueReader {
       std::string_view t;
       if (!scanner_.next(t))
         fail(where(element, index), ": unexpected end of file (truncated?), expected property '", property,
-             "'");
+             "'", counts_note());
       if (is_integer_type(type)) {
         long long v = 0;
         if (!parse_integer(t, v) || v < integer_min(type) || v > integer_max(type))
@@ -159,7 +160,8 @@ class PlyValueReader {
     }
     size_t size = type_size(type);
     if (bytes_.size() - pos_ < size)
-      fail(where(element, index), ": unexpected end of file (truncated?) in property '", property, "'");
+      fail(where(element, index), ": unexpected end of file (truncated?) in property '", property, "'",
+           counts_note());
     unsigned char raw[8];
     std::memcpy(raw, bytes_.data() + pos_, size);
     pos_ += size;
@@ -186,6 +188,23 @@ class PlyValueReader {
     return 0;
   }
 
+  // What the header claims, for messages about a file that ends early: "; the header claims 500 vertex and
+  // 1000 face items, the data section holds 1200 lines" (ASCII: one item per line) or "... N bytes" (binary).
+  void set_claimed(std::string claimed) { claimed_ = std::move(claimed); }
+  std::string counts_note() const {
+    if (claimed_.empty()) return "";
+    if (!ascii()) return detail::concat("; the header claims ", claimed_, ", the data section holds ",
+                                        bytes_.size() - data_start_, " bytes");
+    long long lines = 0;
+    for (size_t k = data_start_, start = k; k <= bytes_.size(); ++k)
+      if (k == bytes_.size() || bytes_[k] == '\n') {
+        lines += bytes_.substr(start, k - start).find_first_not_of(" \t\r") != std::string_view::npos;
+        start = k + 1;
+      }
+    return detail::concat("; the header claims ", claimed_, ", the data section holds ", lines,
+                          " non-empty lines (one item per line)");
+  }
+
   // After the last element: nothing but whitespace (ASCII) or nothing at all (binary) may remain.
   void expect_end() {
     if (ascii()) {
@@ -209,7 +228,9 @@ class PlyValueReader {
   const std::string& name_;
   std::string_view bytes_;
   PlyFormat format_;
+  size_t data_start_ = 0;
   size_t pos_;
+  std::string claimed_;
   TextScanner scanner_;
   bool swap_;
 };
@@ -274,6 +295,10 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
       if (!parse_type(type, property.type))
         fail(scanner.where(), ": unknown property type '", printable(type), "'");
       property.name = plain_name(scanner, scanner.token_on_line("a property name"));
+      for (const PlyProperty& earlier : header.elements.back().properties)
+        if (earlier.name == property.name)
+          fail(scanner.where(), ": property '", printable(property.name), "' appears twice in element '",
+               printable(header.elements.back().name), "' (expected distinct property names)");
       header.elements.back().properties.push_back(property);
     } else {
       fail(scanner.where(), ": unexpected '", printable(keyword), "' in the PLY header");
@@ -420,6 +445,24 @@ void read_polygon(PlyValueReader& reader, const std::string& element, long long 
 MeshFile parse_ply(const std::string& name, std::string_view bytes) {
   PlyHeader header = parse_header(name, bytes);
   PlyValueReader reader(name, bytes, header.data_start, header.data_line, header.format);
+  std::string claimed;
+  for (const PlyElement& element : header.elements) {
+    if (!claimed.empty()) claimed += " and ";
+    claimed += std::to_string(element.count) + " " + printable(element.name);
+  }
+  reader.set_claimed(claimed + (header.elements.size() == 1 ? " item" : " items"));
+  // Binary: the smallest data the header's counts need (a face at least a triangle) against what is there,
+  // so that a count larger than the data is named as such, not as a damaged face further on.
+  long double needed = 0;
+  for (const PlyElement& element : header.elements)
+    for (const PlyProperty& p : element.properties) {
+      const bool face_list = element.name == "face" && p.is_list && p.name.rfind("vertex_ind", 0) == 0;
+      needed += element.count * (p.is_list ? type_size(p.count_type) + (face_list ? 3.0L * type_size(p.type) : 0)
+                                           : static_cast<long double>(type_size(p.type)));
+    }
+  if (!reader.ascii() && needed > static_cast<long double>(reader.remaining_bytes()))
+    fail(name, ": the header claims ", claimed, " items, at least ", static_cast<unsigned long long>(needed),
+         " bytes of data; the file holds ", reader.remaining_bytes(), " after its header (truncated or wrong counts)");
   MeshFile file;
   MeshBuilder builder;
   bool have_vertices = false;

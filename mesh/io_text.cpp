@@ -103,7 +103,9 @@ MeshFile parse_off(const std::string& name, std::string_view text) {
   for (long long f = 0; f < nf; ++f) {
     std::string_view count_token;
     if (!scanner.next(count_token))
-      fail(scanner.where(), ": unexpected end of file (truncated?), expected face ", f, " of ", nf);
+      fail(scanner.where(), ": unexpected end of file (truncated?), expected face ", f, " of ", nf,
+           "; the header claims ", nv, " vertices and ", nf, " faces, the file holds ", f,
+           " face lines after the vertices (truncated, or a count in the header is larger than the file's)");
     long long k = scanner.to_integer(count_token, "a face's vertex count");
     if (k < 3) fail(scanner.where(), ": face ", f, " has ", k, " vertices, expected at least 3");
     if (k > static_cast<long long>(scanner.remaining_bytes()) / 2)

@@ -150,12 +150,15 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
         options.data, options.resample,
         (std::filesystem::path(options.cache_dir) / ("resampled-" + std::to_string(options.resample.vertices)))
             .string(),
-        DiskCache((std::filesystem::path(options.cache_dir) / "remeshed").string()), &comm, options.note);
+        DiskCache((std::filesystem::path(options.cache_dir) / "remeshed").string()), &comm, options.note,
+        options.allow_outside);
   for (const ShapeFailure& record : resample_records(result.resampling)) {
     say(options.note, describe(record));
     result.failures.push_back(record);
   }
-  const Dataset data = read_dataset(options.resample.vertices > 0 ? result.resampling.data : options.data);
+  // The resampled manifest (written here) lists the shapes kept as they were by their own paths.
+  const Dataset data = options.resample.vertices > 0 ? read_dataset(result.resampling.data, true)
+                                                     : read_dataset(options.data, options.allow_outside);
   // The folder's entries that are no shape (resampled: in resample_records above), then same-content pairs.
   add_records(result.failures, left_out_records(data.left_out, options.canon.strict), options.note);
   add_records(result.failures, same_content_records(data), options.note);

@@ -38,6 +38,7 @@ namespace cshapes {
 
 struct DatasetDistanceOptions {
   std::string data;            // folder of meshes (class = name without trailing digits) or manifest.csv
+  bool allow_outside = false;  // read manifest entries outside the dataset's folder (data/dataset.h)
   // The method and its options (canon.name is set per shape): by default the experiments' (heat geodesics for
   // MDS, pipeline/canonical_form_methods.h), so `cshapes distmat` and a C++ caller start from the same options.
   CanonicalFormOptions canon = experiment_canonical_form_options();

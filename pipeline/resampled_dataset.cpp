@@ -164,9 +164,9 @@ void write_resample_csv(const std::string& path, const ResampledDataset& r) {
 
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
-                                  const Communicator* communicator, const NoteFn& note) {
+                                  const Communicator* communicator, const NoteFn& note, bool allow_outside) {
   CSHAPES_REQUIRE(options.vertices >= 4, "resample: expected at least 4 vertices, got ", options.vertices);
-  return resample_dataset(read_dataset(data), options, folder, cache, communicator, note);
+  return resample_dataset(read_dataset(data, allow_outside), options, folder, cache, communicator, note);
 }
 
 ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& options, const std::string& folder,

@@ -72,7 +72,8 @@ struct ResampledDataset {
 // a dataset that cannot be read, and cshapes::WriteError for a folder or cache that cannot be written.
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
-                                  const Communicator* communicator = nullptr, const NoteFn& note = {});
+                                  const Communicator* communicator = nullptr, const NoteFn& note = {},
+                                  bool allow_outside = false);
 // The same for a dataset already read (e.g. the shapes an experiment chose from its folder: only those are
 // remeshed); its source names it in errors.
 ResampledDataset resample_dataset(const Dataset& data, const ResampleOptions& options,

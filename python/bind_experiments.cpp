@@ -18,16 +18,43 @@ namespace py = pybind11;
 
 namespace {
 
+// The methods argument: a list (or tuple) of names, or one string of comma-separated names ('lbo',
+// 'coulomb,cmds'), never a string taken letter by letter.
+std::vector<std::string> method_names(const py::object& methods, const char* function) {
+  std::vector<std::string> names;
+  auto add = [&](const std::string& text) {
+    std::string item;
+    for (size_t k = 0; k <= text.size(); ++k)
+      if (k == text.size() || text[k] == ',') {
+        CSHAPES_REQUIRE(!item.empty(), function, "(): methods: an empty name in '", text, "'");
+        names.push_back(item);
+        item.clear();
+      } else {
+        item += text[k];
+      }
+  };
+  if (py::isinstance<py::str>(methods)) {
+    add(methods.cast<std::string>());
+    return names;
+  }
+  CSHAPES_REQUIRE(py::isinstance<py::list>(methods) || py::isinstance<py::tuple>(methods), function,
+                  "(): methods: expected a list of method names such as ['coulomb', 'lbo'], got ",
+                  std::string(py::str(methods.get_type().attr("__name__"))));
+  for (py::handle m : methods) {
+    CSHAPES_REQUIRE(py::isinstance<py::str>(m), function, "(): methods: expected method names (str), got ",
+                    std::string(py::str(m.get_type().attr("__name__"))));
+    add(m.cast<std::string>());
+  }
+  return names;
+}
+
 py::dict experiment_paper_py(const py::object& data, const py::object& out, const py::object& methods,
                              int poses_per_class, int noisy_per_class, bool table1, bool figures, bool draw,
                              const py::kwargs& kwargs) {
   PaperExperimentOptions o;
   o.data = to_path(data, "data");
   o.out = to_path(out, "out");
-  if (!methods.is_none()) {
-    o.methods.clear();
-    for (py::handle m : methods) o.methods.push_back(py::str(m).cast<std::string>());
-  }
+  if (!methods.is_none()) o.methods = method_names(methods, "experiment_paper");
   CSHAPES_REQUIRE(poses_per_class >= 0, "experiment_paper(): poses_per_class: expected 0 (all) or more, got ",
                   poses_per_class);
   CSHAPES_REQUIRE(noisy_per_class >= -1,
@@ -42,6 +69,8 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.glue = k.int32("glue", o.glue);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
   o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
+  o.force = k.flag("force", o.force);
+  o.allow_outside = k.flag("allow_outside", o.allow_outside);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method =
@@ -75,10 +104,7 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   RetrievalExperimentOptions o;
   o.data = to_path(data, "data");
   o.out = to_path(out, "out");
-  if (!methods.is_none()) {
-    o.methods.clear();
-    for (py::handle m : methods) o.methods.push_back(py::str(m).cast<std::string>());
-  }
+  if (!methods.is_none()) o.methods = method_names(methods, "experiment_retrieval");
   CSHAPES_REQUIRE(resample == 0 || (resample >= 4 && resample <= 100000000),
                   "experiment_retrieval(): resample: expected 0 (off) or a vertex count from 4 to 100000000, got ",
                   resample);
@@ -90,6 +116,8 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
   o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
+  o.force = k.flag("force", o.force);
+  o.allow_outside = k.flag("allow_outside", o.allow_outside);
   k.done();
   o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
   RetrievalExperimentResult r;
@@ -195,7 +223,9 @@ folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds,
 figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
 matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
 correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
-(remesh every shape to about this many vertices first, as the CLI's --resample).
+(remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
+out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
+(read manifest entries outside the dataset's folder).
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
@@ -206,7 +236,10 @@ data: a folder of meshes, a manifest.csv or a Princeton .cla file; out: the outp
 reruns resume). methods [all registered]; resample [0]: remesh every shape to about this many vertices first
 (cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
 the figures.
-Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3].
+Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3],
+force [False] (write into an out folder that holds files cshapes did not write; without it such a folder, a
+dataset's own folder for one, is refused), allow_outside [False] (read manifest or .cla entries outside the
+dataset's folder).
 Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 figures, failures.)");

@@ -8,9 +8,32 @@
 
 namespace cshapes {
 
+namespace detail {
+// A message as it can be printed whole: a NUL byte or another control character quoted from a file (a CSV
+// field, a header token) would cut it short or garble the terminal; each becomes \xHH. Lines and tabs stay.
+inline std::string printable_message(const std::string& message) {
+  static const char digits[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(message.size());
+  for (const char c : message) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 32 && c != '\n' && c != '\t') {
+      out += "\\x";
+      out += digits[u >> 4];
+      out += digits[u & 15];
+    } else if (u == 127) {
+      out += "\\x7f";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+}  // namespace detail
+
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& message) : std::runtime_error(message) {}
+  explicit Error(const std::string& message) : std::runtime_error(detail::printable_message(message)) {}
 };
 
 // A file that cannot be found, opened, created or written (the file system's refusal, not its content):

@@ -13,6 +13,7 @@
 
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/mesh/io.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/data/synthetic.h"
@@ -184,6 +185,9 @@ TEST(PaperExperiment, TheReportFitsTheRun) {
   // A subset without Coulomb and without the figures' data, drawn, in a folder that holds an earlier run's
   // Fig. 4: Fig. 7 and 8 only, no Coulomb settings, no empty claims table, the old figure not linked.
   write_file_atomically(dir + "/out/fig4_tearing.png", [](std::ostream& out) { out << "an earlier run's"; });
+  write_file_atomically(dir + "/out/" + kOutputRecordName, [&](std::ostream& out) {  // as that run recorded it
+    out << read_file(dir + "/out/" + kOutputRecordName) << "file fig4_tearing.png\n";
+  });
   spec = run({"cmds", "diffusion"}, false, true);
   EXPECT_EQ(spec.at("draw"), nlohmann::json({"fig7_distance_matrices", "fig8_pr"}));
   EXPECT_EQ(spec.at("methods"), nlohmann::json({"cmds", "diffusion"}));
