@@ -56,8 +56,9 @@ struct Dataset {
 };
 
 // Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem: a file
-// listed twice (two paths of one file), two files of one shape name in a manifest, a folder without a mesh
-// file. In a folder, entries named like a mesh that are no shape (see DatasetLeftOut) go to left_out.
+// listed twice (two paths of one file), two files of one shape name in a manifest or .cla (biped0.off and
+// sub/biped0.off: both files named), a folder without a mesh file. In a folder, entries named like a mesh
+// that are no shape (see DatasetLeftOut) go to left_out.
 Dataset read_dataset(const std::string& path);
 
 // The pairs of entries (indices, first < second) whose files hold the same bytes (what read_dataset records in
