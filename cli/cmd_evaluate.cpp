@@ -5,6 +5,7 @@
 // matplotlib is found.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cshapes/eval/distance_csv.h"
@@ -25,7 +26,11 @@ struct EvaluateArgs {
 
 int run() {
   require_output_directory(args.output);
-  const std::string& labels = args.labels;
+  // Without --labels, the labels file distmat wrote beside the matrix (D.labels.csv), when there is one.
+  const std::string beside = labels_path_for(args.matrix);
+  const std::string labels = !args.labels.empty()                       ? args.labels
+                             : std::filesystem::is_regular_file(beside) ? beside
+                                                                        : "";
   require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, labels}, "--out");
   const NamedDistances input = read_distance_csv(args.matrix);
   for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
@@ -34,6 +39,7 @@ int run() {
     for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
   } else {
     classes = read_labels_csv(labels, input.names);
+    if (args.labels.empty()) note("classes from " + labels);
   }
   // One class: every result relevant, every measure 1. Refused here with where the classes came from (the
   // library refuses it too, in its own words).
@@ -41,11 +47,13 @@ int run() {
     fail(args.matrix, ": all ", classes.size(), " shapes have class '", classes[0], "' (",
          labels.empty() ? std::string("from their names: cat0 -> cat") : "from " + labels,
          "), so there is no retrieval to measure: give each shape its class with --labels FILE ('name,class' "
-         "lines)");
+         "lines; distmat writes ",
+         beside, ")");
   RetrievalOptions options;
   options.min_class_size = args.min_class_size;
   options.e_measure_depth = args.e_depth;
-  const RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
+  RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
+  report.metrics["classes_from"] = labels.empty() ? "names" : labels;
   write_retrieval_report(args.output, input, report);
   const RetrievalResult& r = report.result;
   if (args.json) {
@@ -86,8 +94,9 @@ const bool registered = register_command(
                           kDistanceMatrixRules)
            ->required();
        app.add_option("--labels", args.labels,
-                      "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> "
-                      "cat); a name given two classes is refused, and so is one class for all shapes");
+                      "classes: 'name,class' lines or one class per line (default: the matrix's labels file "
+                      "that distmat writes, D.labels.csv beside D.csv, else from the names, cat0 -> cat); "
+                      "a name given two classes is refused, and so is one class for all shapes");
        add_out_folder_option(app, args.output, "output folder, created when missing")->required();
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")

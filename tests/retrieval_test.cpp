@@ -254,6 +254,7 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
                     "/out2' --json -q --no-draw");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out2/pr.png"));
+  EXPECT_EQ(nlohmann::json::parse(r.out)["classes_from"], dir + "/labels.csv");
   EXPECT_EQ(nlohmann::json::parse(r.out)["classes"]["cat"]["queries"].get<int>(), 3);
   // All seven in one class: every result would be relevant (mAP 1.0 said nothing): refused, exit 1.
   test::write_text(dir + "/one.csv", "a\na\na\na\na\na\na\n");
@@ -553,6 +554,38 @@ TEST(RetrievalTies, OneClassIsRefused) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("one class"), std::string::npos) << e.what();
   }
+}
+
+// Issue 57: the README's pipeline on a manifest whose file names carry no class (s0 … s8): evaluate took
+// them all for class "s" and said mAP 1.000. Refused, with where classes come from; the labels file distmat
+// writes beside the matrix is read.
+TEST(EvaluateCli, ClassesFromTheLabelsFileBesideTheMatrixElseOneClassIsRefused) {
+  const std::string dir = test::scratch_dir("evaluate_labels");
+  std::vector<std::string> names, classes;
+  Eigen::MatrixXd D(9, 9);
+  for (int i = 0; i < 9; ++i) {
+    names.push_back("s" + std::to_string(i));
+    classes.push_back(std::string(1, static_cast<char>('a' + i / 3)));
+    for (int j = 0; j < 9; ++j) D(i, j) = i == j ? 0.0 : (i / 3 == j / 3 ? 1.0 : 2.0) + 0.01 * (i + j);
+  }
+  write_distance_csv(dir + "/D.csv", names, D);
+  test::CliResult r = test::run_cli("evaluate '" + dir + "/D.csv' --out '" + dir + "/out' -q --no-draw");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("all 9 shapes have class 's' (from their names"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--labels"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/metrics.json"));
+  EXPECT_EQ(labels_path_for(dir + "/D.csv"), dir + "/D.labels.csv");
+  write_labels_csv(labels_path_for(dir + "/D.csv"), names, classes);
+  EXPECT_EQ(read_file(dir + "/D.labels.csv").substr(0, 20), "name,class\ns0,a\ns1,a");
+  r = test::run_cli("evaluate '" + dir + "/D.csv' --out '" + dir + "/out' --json --no-draw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("classes from " + dir + "/D.labels.csv"), std::string::npos) << r.err;
+  const nlohmann::json m = nlohmann::json::parse(r.out);
+  EXPECT_EQ(m["classes_from"], dir + "/D.labels.csv");
+  EXPECT_EQ(m["classes"].size(), 3u);
+  EXPECT_NEAR(m["map"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(m["tied_queries"], 0);
+  std::filesystem::remove_all(dir);
 }
 
 // The report says when ties were met and what was done with them; confusion.csv holds the shares.
