@@ -1,8 +1,9 @@
 // cshapes distmat DIR|manifest.csv -o D.csv --method M: canonical forms of a whole dataset (cached), ICP
 // between every pair, the paper's distance (maximum distance between matched points) as a named CSV matrix
-// that `cshapes evaluate` reads. Every option of the methods (`cshapes canon`'s groups) applies here too.
-// Under `mpirun -np R` the work is split over the ranks (pipeline/dataset_distances.h); rank 0 alone prints
-// and writes the outputs. --two-stage-k K aligns only each shape's K descriptor-nearest candidates.
+// and the shapes' classes beside it (D.labels.csv), which `cshapes evaluate` reads. Every option of the
+// methods (`cshapes canon`'s groups) applies here too. Under `mpirun -np R` the work is split over the ranks
+// (pipeline/dataset_distances.h); rank 0 alone prints and writes the outputs. --two-stage-k K aligns only
+// each shape's K descriptor-nearest candidates.
 #include <filesystem>
 #include <iostream>
 
@@ -34,6 +35,9 @@ int run() {
   std::vector<std::string> inputs = dataset_description_files(args.data);
   inputs.push_back(args.reference);
   require_output_not_input(args.output, inputs, "-o");
+  // The classes beside the matrix: `evaluate D.csv` reads them, whatever the file names say.
+  const std::string labels = labels_path_for(args.output);
+  require_output_not_input(labels, inputs, "-o");
   if (!args.reference.empty() && args.two_stage_k == 0)
     throw UsageError("--reference: applies to the two-stage mode only (--two-stage-k)");
   DatasetDistanceOptions o;
@@ -61,8 +65,10 @@ int run() {
                              : args.metric == "chamfer" ? pd.chamfer
                                                         : pd.rmse;
   write_distance_csv(args.output, result.names, D);
+  write_labels_csv(labels, result.names, result.classes);
   if (args.json) {
     nlohmann::json summary{{"output", args.output},
+                           {"labels", labels},
                            {"shapes", result.names.size()},
                            {"method", args.method},
                            {"metric", args.metric},
@@ -90,7 +96,7 @@ int run() {
     }
     std::cout << summary.dump(2) << std::endl;
   }
-  note("wrote " + args.output);
+  note("wrote " + args.output + " and " + labels);
   return exit_code_for(result.failures);
 }
 
@@ -102,7 +108,10 @@ const bool registered = register_command(
                       "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file")
            ->required();
        add_allow_outside_flag(app, args.allow_outside);
-       app.add_option("-o,--output", args.output, "distance matrix CSV (header: shape names)")->required();
+       app.add_option("-o,--output", args.output,
+                      "distance matrix CSV (header: shape names); the shapes' classes go beside it, D.csv -> "
+                      "D.labels.csv, where evaluate finds them")
+           ->required();
        app.add_option("--method", args.method,
                       "one of " + canonical_form_method_list() + " (options: the groups below, as in canon)")
            ->capture_default_str()

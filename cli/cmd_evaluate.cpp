@@ -1,9 +1,11 @@
-// cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix, written by
-// eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their figures
-// pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with matplotlib is
-// found.
+// cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix (ties: expected
+// values over the orders of the tied results, eval/retrieval.h), written by
+// eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their
+// figures pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with
+// matplotlib is found.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cshapes/eval/distance_csv.h"
@@ -25,21 +27,36 @@ struct EvaluateArgs {
 
 int run() {
   require_output_directory(args.output);
-  require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, args.labels}, "--out");
+  // Without --labels, the labels file distmat wrote beside the matrix (D.labels.csv), when there is one.
+  const std::string beside = labels_path_for(args.matrix);
+  const std::string labels = !args.labels.empty()                       ? args.labels
+                             : std::filesystem::is_regular_file(beside) ? beside
+                                                                        : "";
+  require_outputs_not_inputs(args.output, retrieval_report_files(), {args.matrix, labels}, "--out");
   // The previous run's files move aside until this one is complete (a failure brings them back).
   OutputRun output(args.output, "evaluate", {}, args.force);
   const NamedDistances input = read_distance_csv(args.matrix);
   for (const std::string& line : check_distance_matrix(input, args.matrix)) warn(line);
   std::vector<std::string> classes;
-  if (args.labels.empty()) {
+  if (labels.empty()) {
     for (const std::string& name : input.names) classes.push_back(class_of_shape_name(name));
   } else {
-    classes = read_labels_csv(args.labels, input.names);
+    classes = read_labels_csv(labels, input.names);
+    if (args.labels.empty()) note("classes from " + labels);
   }
+  // One class: every result relevant, every measure 1. Refused here with where the classes came from (the
+  // library refuses it too, in its own words).
+  if (std::all_of(classes.begin(), classes.end(), [&](const std::string& c) { return c == classes[0]; }))
+    fail(args.matrix, ": all ", classes.size(), " shapes have class '", classes[0], "' (",
+         labels.empty() ? std::string("from their names: cat0 -> cat") : "from " + labels,
+         "), so there is no retrieval to measure: give each shape its class with --labels FILE ('name,class' "
+         "lines; distmat writes ",
+         beside, ")");
   RetrievalOptions options;
   options.min_class_size = args.min_class_size;
   options.e_measure_depth = args.e_depth;
-  const RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
+  RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
+  report.metrics["classes_from"] = labels.empty() ? "names" : labels;
   write_retrieval_report(args.output, input, report);
   const RetrievalResult& r = report.result;
   if (args.json) {
@@ -54,6 +71,11 @@ int run() {
     // Retrieval measures in [0, 1] with the field's three decimals (0.926); metrics.json has every digit.
     std::printf("  mAP %.3f   NN %.3f   FT %.3f   ST %.3f   E %.3f   DCG %.3f\n", r.mean.ap, r.mean.nn,
                 r.mean.ft, r.mean.st, r.mean.e, r.mean.dcg);
+    if (r.tied_queries > 0)
+      std::printf(
+          "  %d queries have tied distances: their measures are expected values over the orders of "
+          "the tied results\n",
+          r.tied_queries);
   }
   note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
   if (!args.no_draw) {
@@ -75,10 +97,10 @@ const bool registered = register_command(
                       std::string("distance matrix CSV (header row of shape names, or plain numbers); ") +
                           kDistanceMatrixRules)
            ->required();
-       app.add_option(
-           "--labels", args.labels,
-           "classes: 'name,class' lines or one class per line (default: from the names, cat0 -> cat); a "
-           "name given two classes is refused");
+       app.add_option("--labels", args.labels,
+                      "classes: 'name,class' lines or one class per line (default: the matrix's labels file "
+                      "that distmat writes, D.labels.csv beside D.csv, else from the names, cat0 -> cat); "
+                      "a name given two classes is refused, and so is one class for all shapes");
        add_out_folder_option(app, args.output, "output folder, created when missing")->required();
        app.add_option("--min-class-size", args.min_class_size,
                       "classes with fewer shapes are not used as queries")

@@ -292,6 +292,21 @@ void refuse_files_listed_twice(Dataset& d) {
   d.same_content = same_content_pairs(d.entries);
 }
 
+// Two files of one shape name (biped0.off and sub/biped0.off in a manifest) would be two rows of one name in
+// every distance matrix and labels file, one class lost where names are matched: refused before any work,
+// naming both files. Renaming a file is the user's choice; a name made up here would be a third spelling.
+void refuse_shape_names_twice(const Dataset& d) {
+  std::map<std::string, size_t> by_name;
+  for (size_t k = 0; k < d.entries.size(); ++k) {
+    const auto [it, inserted] = by_name.emplace(d.entries[k].name, k);
+    if (!inserted)
+      fail(d.source, ": ", d.entries[it->second].path, " and ", d.entries[k].path, " are both shape '",
+           d.entries[k].name,
+           "' (a shape's name is its file name without folder and extension): each shape needs its own name, "
+           "its row and column in the distance matrix");
+  }
+}
+
 }  // namespace
 
 std::vector<std::pair<size_t, size_t>> same_content_pairs(const std::vector<DatasetEntry>& entries) {
@@ -337,6 +352,7 @@ Dataset read_dataset(const std::string& path, bool allow_outside) {
     if (std::find(d.classes.begin(), d.classes.end(), e.class_name) == d.classes.end())
       d.classes.push_back(e.class_name);
   refuse_files_listed_twice(d);
+  refuse_shape_names_twice(d);
   return d;
 }
 

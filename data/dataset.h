@@ -57,8 +57,9 @@ struct Dataset {
 };
 
 // Reads a folder, a manifest.csv or a .cla file (by path). Throws cshapes::Error naming the problem: a file
-// listed twice (two paths of one file), two files of one shape name in a manifest, a folder without a mesh
-// file. In a folder, entries named like a mesh that are no shape (see DatasetLeftOut) go to left_out.
+// listed twice (two paths of one file), two files of one shape name in a manifest or .cla (biped0.off and
+// sub/biped0.off: both files named), a folder without a mesh file. In a folder, entries named like a mesh
+// that are no shape (see DatasetLeftOut) go to left_out.
 // A dataset is its folder: a manifest's or .cla's entry that leads outside the folder of the manifest or .cla
 // (a "../" path, an absolute path, a symbolic link; links are followed) is refused naming the line, unless
 // allow_outside (the CLI's --allow-outside; drivers pass it for manifests they wrote themselves).

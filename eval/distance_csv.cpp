@@ -226,6 +226,26 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
   return classes;
 }
 
+std::string labels_path_for(const std::string& matrix_path) {
+  std::filesystem::path path(matrix_path);
+  return path.replace_extension(".labels.csv").string();
+}
+
+void write_labels_csv(const std::string& path, const std::vector<std::string>& names,
+                      const std::vector<std::string>& classes) {
+  CSHAPES_REQUIRE(names.size() == classes.size(), path, ": ", names.size(), " names but ", classes.size(),
+                  " classes");
+  for (size_t i = 0; i < names.size(); ++i)
+    for (const std::string* text : {&names[i], &classes[i]})
+      CSHAPES_REQUIRE(!text->empty() && text->find_first_of(",;\t\n") == std::string::npos, path, ": ",
+                      text == &names[i] ? "shape name" : "class", " '", *text, "' of shape ", i + 1,
+                      " is empty or contains a separator");
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "name,class\n";
+    for (size_t i = 0; i < names.size(); ++i) out << names[i] << ',' << classes[i] << '\n';
+  });
+}
+
 const char* const kDistanceMatrixRules =
     "refused: two shapes of one name, a NaN or a negative distance; warned: an asymmetric matrix (each query "
     "ranks its own row, as given) and a non-zero diagonal (unused: a query is never ranked against itself)";

@@ -55,4 +55,13 @@ std::string class_of_shape_name(const std::string& name);
 //   twice with two classes is refused, naming both lines.
 std::vector<std::string> read_labels_csv(const std::string& path, const std::vector<std::string>& names);
 
+// The labels file that goes with a distance matrix: its path with the extension replaced, D.csv →
+// D.labels.csv. `cshapes distmat` writes it beside every matrix, and `cshapes evaluate` reads it when no
+// --labels is given, so the classes of a manifest reach the measures whatever the file names.
+std::string labels_path_for(const std::string& matrix_path);
+// Writes "name,class" lines under the header "name,class" (what read_labels_csv reads), atomically. Throws
+// naming the file on a name or class that is empty or holds a separator.
+void write_labels_csv(const std::string& path, const std::vector<std::string>& names,
+                      const std::vector<std::string>& classes);
+
 }  // namespace cshapes

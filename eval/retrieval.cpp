@@ -34,11 +34,110 @@ std::vector<int> rank_others(const Eigen::MatrixXd& D, int query) {
   return ranking;
 }
 
+// Natural logarithms of k! for k = 0..n (std::lgamma, accurate to a few ulps at every k: no running sum).
+std::vector<double> log_factorials(int n) {
+  std::vector<double> log_factorial(static_cast<size_t>(n) + 1);
+  for (int k = 0; k <= n; ++k) log_factorial[static_cast<size_t>(k)] = std::lgamma(k + 1.0);
+  return log_factorial;
+}
+
+// A run of results at one distance in a query's ranking: ranks first_rank + 1 … first_rank + size.
+struct TieGroup {
+  int first_rank = 0;  // results ranked before the group
+  int size = 0;
+  int relevant = 0;  // relevant results among them
+};
+
+// The tie groups of a ranking: distances in rank order (increasing), equal only when exactly equal (inf ==
+// inf), and which results are relevant.
+std::vector<TieGroup> tie_groups(const std::vector<double>& ranked_distances,
+                                 const std::vector<char>& ranked_relevant) {
+  std::vector<TieGroup> groups;
+  for (size_t k = 0; k < ranked_distances.size(); ++k) {
+    if (k == 0 || ranked_distances[k] != ranked_distances[k - 1])
+      groups.push_back({static_cast<int>(k), 0, 0});
+    ++groups.back().size;
+    groups.back().relevant += ranked_relevant[k] ? 1 : 0;
+  }
+  return groups;
+}
+
+// The expected precision E[k / rank_k] at each relevant result k = 1..R, in rank order, appended to
+// `precisions`. Alone in its group, the k-th relevant result is at rank first_rank + 1: k / rank_k as without
+// ties, to the bit. Else, the j-th relevant of a group of n holding r is at the group's i-th rank with
+// probability C(i−1, j−1)·C(n−i, r−j)/C(n, r) (McSherry & Najork 2008), i = j … n − r + j.
+void append_expected_precisions(const TieGroup& g, int relevant_before,
+                                const std::vector<double>& log_factorial, std::vector<double>& precisions) {
+  if (g.size == 1) {
+    precisions.push_back(static_cast<double>(relevant_before + 1) / (g.first_rank + 1));
+    return;
+  }
+  auto log_binomial = [&](int a, int b) {
+    return log_factorial[static_cast<size_t>(a)] - log_factorial[static_cast<size_t>(b)] -
+           log_factorial[static_cast<size_t>(a - b)];
+  };
+  const int n = g.size, r = g.relevant;
+  const double log_orders = log_binomial(n, r);
+  for (int j = 1; j <= r; ++j) {
+    double expected_inverse_rank = 0;
+    for (int i = j; i <= n - r + j; ++i)
+      expected_inverse_rank +=
+          std::exp(log_binomial(i - 1, j - 1) + log_binomial(n - i, r - j) - log_orders) / (g.first_rank + i);
+    precisions.push_back((relevant_before + j) * expected_inverse_rank);
+  }
+}
+
+// Expected relevant results among the first `depth` ranks: each rank of a group of n holding r is relevant
+// with probability r/n.
+double expected_relevant_within(const std::vector<TieGroup>& groups, int depth) {
+  double count = 0;
+  for (const TieGroup& g : groups) {
+    if (g.first_rank >= depth) break;
+    if (g.relevant == 0) continue;
+    const int ranks_within = std::min(g.size, depth - g.first_rank);
+    count += static_cast<double>(g.relevant) * ranks_within / g.size;
+  }
+  return count;
+}
+
 // Average precision from the precisions at the ranks of the relevant results, in rank order (every relevant
 // result found, so their count is R): one summation order for every caller, so results agree to the bit.
 double mean_of_precisions(const std::vector<double>& precision_at_relevant) {
   return std::accumulate(precision_at_relevant.begin(), precision_at_relevant.end(), 0.0) /
          static_cast<double>(precision_at_relevant.size());
+}
+
+// Every measure of one query from its ranking in tie groups (R = relevant_total ≥ 1 relevant results, the
+// E-measure over the first `depth`), each the expected value over the orders of tied results (see the
+// header); precision_at_relevant receives E[p_k], k = 1..R. One code path for evaluate_retrieval and
+// average_precision.
+RetrievalScores score_query(const std::vector<TieGroup>& groups, int relevant_total, int depth,
+                            const std::vector<double>& log_factorial,
+                            std::vector<double>& precision_at_relevant) {
+  RetrievalScores s;
+  const double R = relevant_total;
+  s.nn = static_cast<double>(groups.front().relevant) / groups.front().size;
+  s.ft = expected_relevant_within(groups, relevant_total) / R;
+  s.st = expected_relevant_within(groups, 2 * relevant_total) / R;
+  const double e = expected_relevant_within(groups, depth);
+  s.e = e > 0 ? 2 * e / (depth + R) : 0.0;  // 2/(1/P + 1/R) with P = r/K, R = r/(C−1)
+  double dcg = 0;
+  int relevant_before = 0;
+  precision_at_relevant.clear();
+  for (const TieGroup& g : groups) {
+    if (g.relevant == 0) continue;
+    double gains = 0;  // the gains of the group's ranks, each relevant with probability r/n
+    for (int rank = g.first_rank + 1; rank <= g.first_rank + g.size; ++rank)
+      gains += rank == 1 ? 1.0 : 1.0 / std::log2(static_cast<double>(rank));
+    dcg += g.relevant * gains / g.size;
+    append_expected_precisions(g, relevant_before, log_factorial, precision_at_relevant);
+    relevant_before += g.relevant;
+  }
+  double ideal = 1;
+  for (int i = 2; i <= relevant_total; ++i) ideal += 1.0 / std::log2(static_cast<double>(i));
+  s.dcg = dcg / ideal;
+  s.ap = mean_of_precisions(precision_at_relevant);
+  return s;
 }
 
 }  // namespace
@@ -48,6 +147,10 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
   check_input(D, labels);
   CSHAPES_REQUIRE(options.e_measure_depth >= 1, "retrieval: e_measure_depth must be >= 1");
   const int n = static_cast<int>(D.rows());
+  CSHAPES_REQUIRE(std::any_of(labels.begin(), labels.end(), [&](int label) { return label != labels[0]; }),
+                  "retrieval: all ", n,
+                  " shapes have one class, so every result is relevant and every measure would be 1: there "
+                  "is no retrieval to measure (each shape needs its class)");
   const int num_classes = *std::max_element(labels.begin(), labels.end()) + 1;
   std::vector<int> class_size(static_cast<size_t>(num_classes), 0);
   for (int label : labels) ++class_size[static_cast<size_t>(label)];
@@ -61,9 +164,13 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
   result.pr.precision.assign(result.pr.recall.size(), 0.0);
   result.class_mean.assign(static_cast<size_t>(num_classes), RetrievalScores{});
   result.class_queries.assign(static_cast<size_t>(num_classes), 0);
-  result.confusion = Eigen::MatrixXi::Zero(num_classes, num_classes);
+  result.confusion = Eigen::MatrixXd::Zero(num_classes, num_classes);
 
   const int depth = std::min(options.e_measure_depth, n - 1);
+  const std::vector<double> log_factorial = log_factorials(n);
+  std::vector<double> ranked_distances(static_cast<size_t>(n - 1));
+  std::vector<char> ranked_relevant(static_cast<size_t>(n - 1));
+  std::vector<double> precision_at_relevant;  // E[p_k] = E[k / rank_k]
   for (int q = 0; q < n; ++q) {
     const int label = labels[static_cast<size_t>(q)];
     const int relevant_total = class_size[static_cast<size_t>(label)] - 1;  // R = C − 1
@@ -75,31 +182,18 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
     query.query = q;
     query.label = label;
     query.ranking = rank_others(D, q);
-    RetrievalScores& s = query.scores;
-    int found = 0;  // relevant results so far
-    double dcg = 0;
-    std::vector<double> precision_at_relevant;  // p_k = k / rank_k
-    for (int rank = 1; rank <= n - 1; ++rank) {
-      bool relevant = labels[static_cast<size_t>(query.ranking[static_cast<size_t>(rank - 1)])] == label;
-      if (!relevant) continue;
-      ++found;
-      precision_at_relevant.push_back(static_cast<double>(found) / rank);
-      if (rank == 1) s.nn = 1;
-      if (rank <= relevant_total) s.ft += 1;
-      if (rank <= 2 * relevant_total) s.st += 1;
-      if (rank <= depth) s.e += 1;
-      dcg += rank == 1 ? 1.0 : 1.0 / std::log2(static_cast<double>(rank));
+    for (size_t k = 0; k < query.ranking.size(); ++k) {
+      ranked_distances[k] = D(q, query.ranking[k]);
+      ranked_relevant[k] = labels[static_cast<size_t>(query.ranking[k])] == label;
     }
-    const double R = relevant_total;
-    s.ft /= R;
-    s.st /= R;
-    s.e = s.e > 0 ? 2 * s.e / (depth + R) : 0.0;  // 2/(1/P + 1/R) with P = r/K, R = r/(C−1)
-    double ideal = 1;
-    for (int i = 2; i <= relevant_total; ++i) ideal += 1.0 / std::log2(static_cast<double>(i));
-    s.dcg = dcg / ideal;
-    s.ap = mean_of_precisions(precision_at_relevant);
+    const std::vector<TieGroup> groups = tie_groups(ranked_distances, ranked_relevant);
+    query.tied = static_cast<int>(groups.size()) < n - 1;
+    result.tied_queries += query.tied ? 1 : 0;
+    query.scores = score_query(groups, relevant_total, depth, log_factorial, precision_at_relevant);
+    const RetrievalScores& s = query.scores;
 
-    // Interpolated precision at each recall level: the best precision at recall ≥ the level.
+    // Interpolated precision at each recall level: the best (expected) precision at recall ≥ the level.
+    const double R = relevant_total;
     for (size_t l = 0; l < result.pr.recall.size(); ++l) {
       double best = 0;
       for (int k = 1; k <= relevant_total; ++k)
@@ -110,7 +204,12 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
     RetrievalScores& c = result.class_mean[static_cast<size_t>(label)];
     c.nn += s.nn, c.ft += s.ft, c.st += s.st, c.e += s.e, c.dcg += s.dcg, c.ap += s.ap;
     ++result.class_queries[static_cast<size_t>(label)];
-    ++result.confusion(label, labels[static_cast<size_t>(query.ranking.front())]);
+    // The nearest neighbour's class, as NN counts it: each of n tied nearest a share 1/n, added per class.
+    const int nearest = groups.front().size;
+    std::map<int, int> nearest_of_class;
+    for (int k = 0; k < nearest; ++k) ++nearest_of_class[labels[static_cast<size_t>(query.ranking[k])]];
+    for (const auto& [nearest_label, count] : nearest_of_class)
+      result.confusion(label, nearest_label) += static_cast<double>(count) / nearest;
     result.queries.push_back(std::move(query));
   }
   CSHAPES_REQUIRE(!result.queries.empty(), "retrieval: no class has at least ", options.min_class_size,
@@ -135,18 +234,31 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
 }
 
 double average_precision(const std::vector<double>& distances, const std::vector<char>& relevant,
-                         bool* nearest_relevant) {
+                         double* nearest_relevant) {
   CSHAPES_REQUIRE(distances.size() == relevant.size(), "average_precision: ", distances.size(),
                   " distances but ", relevant.size(), " relevance flags");
+  for (size_t k = 0; k < distances.size(); ++k)
+    CSHAPES_REQUIRE(!std::isnan(distances[k]), "average_precision: distance ", k, " is NaN");
   std::vector<int> order(distances.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return distances[a] < distances[b]; });
+  std::vector<double> ranked_distances;
+  std::vector<char> ranked_relevant;
+  for (int k : order) {
+    ranked_distances.push_back(distances[static_cast<size_t>(k)]);
+    ranked_relevant.push_back(relevant[static_cast<size_t>(k)]);
+  }
+  const int relevant_total =
+      static_cast<int>(std::count_if(relevant.begin(), relevant.end(), [](char r) { return r != 0; }));
+  if (nearest_relevant) *nearest_relevant = 0;
+  if (relevant_total == 0) return -1.0;
+  const std::vector<TieGroup> groups = tie_groups(ranked_distances, ranked_relevant);
   std::vector<double> precision_at_relevant;
-  for (size_t rank = 1; rank <= order.size(); ++rank)
-    if (relevant[order[rank - 1]])
-      precision_at_relevant.push_back(static_cast<double>(precision_at_relevant.size() + 1) / rank);
-  if (nearest_relevant) *nearest_relevant = !order.empty() && relevant[order[0]];
-  return precision_at_relevant.empty() ? -1.0 : mean_of_precisions(precision_at_relevant);
+  const RetrievalScores s =
+      score_query(groups, relevant_total, static_cast<int>(distances.size()),
+                  log_factorials(static_cast<int>(distances.size())), precision_at_relevant);
+  if (nearest_relevant) *nearest_relevant = s.nn;
+  return s.ap;
 }
 
 std::vector<int> labels_from_classes(const std::vector<std::string>& classes,

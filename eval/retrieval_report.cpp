@@ -1,5 +1,7 @@
 #include "cshapes/eval/retrieval_report.h"
 
+#include <cmath>
+
 #include "cshapes/support/atomic_file.h"
 
 namespace cshapes {
@@ -7,6 +9,31 @@ namespace cshapes {
 nlohmann::json retrieval_scores_json(const RetrievalScores& s) {
   return {{"map", s.ap}, {"nn", s.nn}, {"ft", s.ft}, {"st", s.st}, {"e", s.e}, {"dcg", s.dcg}};
 }
+
+nlohmann::json confusion_json(const Eigen::MatrixXd& confusion) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Index a = 0; a < confusion.rows(); ++a) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Index b = 0; b < confusion.cols(); ++b) {
+      const double count = confusion(a, b);
+      if (count == std::floor(count) && std::abs(count) < 1e15)
+        row.push_back(static_cast<long long>(count));
+      else
+        row.push_back(count);
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+const char* const kRetrievalConventions =
+    "psbTable: query excluded; tiers over C-1; E over the first min(32, N-1); DCG normalised by the ideal; "
+    "classes with fewer than min_class_size shapes are not queries; PR interpolated (max precision at "
+    "recall >= r), averaged over queries; ties (exactly equal distances): every measure, the PR curve and "
+    "the "
+    "confusion counts are expected values over all orders of the tied results (McSherry & Najork, ECIR "
+    "2008), "
+    "never an order by index";
 
 RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<std::string>& classes,
                                  const RetrievalOptions& options, const std::string& source) {
@@ -22,6 +49,7 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
   metrics["shapes"] = input.names.size();
   metrics["queries"] = r.queries.size();
   metrics["skipped"] = r.skipped;
+  metrics["tied_queries"] = r.tied_queries;
   nlohmann::json per_class = nlohmann::json::object();
   for (size_t c = 0; c < report.class_names.size(); ++c) {
     nlohmann::json entry =
@@ -30,11 +58,7 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
     per_class[report.class_names[c]] = entry;
   }
   metrics["classes"] = per_class;
-  metrics["conventions"] =
-      "psbTable: query excluded; tiers over C-1; E over the first min(32, N-1); DCG normalised by the ideal; "
-      "classes with fewer than min_class_size shapes are not queries; PR interpolated (max precision at "
-      "recall >= r), "
-      "averaged over queries";
+  metrics["conventions"] = kRetrievalConventions;
   metrics["min_class_size"] = options.min_class_size;
 
   return report;
@@ -67,8 +91,9 @@ void write_retrieval_report(const std::string& folder, const NamedDistances& inp
   // A row per class with queries (a class below min_class_size has none), a column per class (any shape
   // may be a nearest neighbour).
   const Index num_classes = static_cast<Index>(report.class_names.size());
-  const Eigen::MatrixXi& confusion = r.confusion;
+  const Eigen::MatrixXd& confusion = r.confusion;
   write_file_atomically(folder + "/confusion.csv", [&](std::ostream& s) {
+    s.precision(10);  // whole counts print as such; shares of tied nearest neighbours with 10 digits
     // Says what its rows and columns are: the query's class down, its nearest neighbour's class across.
     s << "query class / nearest neighbour class";
     for (const std::string& c : report.class_names) s << ',' << c;

@@ -7,7 +7,7 @@
 //   matrix.csv     the matrix grouped by class and normalised (the paper's Fig. 7 image)
 //   confusion.csv  the queries' nearest-neighbour class counts, as NN counts them: a row per class with
 //                  queries (the query's class), a column per class (its nearest neighbour's); the header's
-//                  first cell says so
+//                  first cell says so. Whole numbers unless a query's nearest are tied (shares of one)
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -21,6 +21,13 @@ namespace cshapes {
 
 // {map, nn, ft, st, e, dcg}.
 nlohmann::json retrieval_scores_json(const RetrievalScores& scores);
+
+// The confusion matrix as rows of numbers: a whole count as an integer, a share (tied nearest neighbours,
+// eval/retrieval.h) as a double.
+nlohmann::json confusion_json(const Eigen::MatrixXd& confusion);
+
+// What metrics.json's "conventions" says: psbTable's conventions and the rule for ties.
+extern const char* const kRetrievalConventions;
 
 struct RetrievalReport {
   std::vector<std::string> class_names;  // label order

@@ -298,7 +298,7 @@ NoiseRow retrieval_row(NoiseRun& run, const std::string& m, int level, const cha
       distances.push_back(M(it->second, static_cast<Index>(c)));
       relevant.push_back(poses[c].class_name == poses[p].class_name);
     }
-    bool nn = false;
+    double nn = 0;  // 1 or 0, a share when the nearest are tied
     const double ap = average_precision(distances, relevant, &nn);
     if (ap < 0) continue;  // the only pose of its class: nothing to retrieve
     if (level == 0) clean_ap[{kind, p}] = ap;

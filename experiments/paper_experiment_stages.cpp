@@ -11,29 +11,30 @@
 #include <vector>
 #include <sstream>
 
-#include "cshapes/support/atomic_file.h"
 #include "cshapes/data/dataset.h"
-#include "cshapes/support/error.h"
-#include "cshapes/mesh/io.h"
-#include "cshapes/mesh/mesh_defects.h"
-#include "cshapes/mesh/mesh_repair.h"
-#include "cshapes/mesh/rigid_transform.h"
-#include "cshapes/support/timing.h"
 #include "cshapes/data/topological_noise.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/eval/retrieval.h"
+#include "cshapes/eval/retrieval_report.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/paper_figures.h"
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/icp.h"
 #include "cshapes/matching/shape_distance.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/mesh/mesh_defects.h"
+#include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/distributed.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/glued_meshes.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/timing.h"
 
 namespace cshapes::paper_detail {
 
@@ -56,6 +57,11 @@ void retrieval_stage(ExperimentRun& run) {
   json metrics;
   metrics["shapes"] = names;
   metrics["classes"] = classes;
+  // One class: every shape is relevant to every query, so there is no retrieval to measure
+  // (evaluate_retrieval refuses it); the matrices are written and report.md says why no measure is given.
+  const bool several_classes =
+      std::any_of(labels.begin(), labels.end(), [&](int label) { return label != labels.front(); });
+  if (!several_classes) metrics["retrieval"] = "none: one class, every shape relevant to every query";
   for (const std::string& m : o.methods) {
     std::vector<Points> X;
     std::vector<std::string> keys;
@@ -80,6 +86,7 @@ void retrieval_stage(ExperimentRun& run) {
                                   {"rmse", &pd.rmse}}) {
       if (kind != "hausdorff")
         write_distance_csv((fs::path(o.out) / "distances" / kind / (m + ".csv")).string(), names, *D);
+      if (!several_classes) continue;
       RetrievalResult rr = evaluate_retrieval(*D, labels);
       json jk{{"map", rr.mean.ap},
               {"nn", rr.mean.nn},
@@ -88,10 +95,7 @@ void retrieval_stage(ExperimentRun& run) {
               {"e", rr.mean.e},
               {"dcg", rr.mean.dcg},
               {"pr", {{"recall", rr.pr.recall}, {"precision", rr.pr.precision}}}};
-      std::vector<std::vector<int>> confusion(rr.confusion.rows());
-      for (Index r = 0; r < rr.confusion.rows(); ++r)
-        for (Index c = 0; c < rr.confusion.cols(); ++c) confusion[r].push_back(rr.confusion(r, c));
-      jk["nn_confusion"] = confusion;
+      jk["nn_confusion"] = confusion_json(rr.confusion);
       // Noisy shapes as queries: are they still retrieved with their class?
       double noisy_nn = 0;
       int noisy_queries = 0;
@@ -115,7 +119,7 @@ void retrieval_stage(ExperimentRun& run) {
       }
       jm["by_distance"][kind] = jk;
     }
-    metrics["methods"][m] = jm;
+    metrics["methods"][m] = several_classes ? jm : json::object();
   }
   if (!run.comm.is_root()) return;
   metrics["class_names"] = run.class_names;

@@ -281,11 +281,11 @@ void retrieval(ReportText& t) {
        << "\n";
   }
   if (classes.size() < 2)
-    md << "\n**One class only**: every shape is relevant to every query, so every retrieval measure is 1 by "
-          "construction and says nothing about the methods; the distance matrices (`distances/*.csv`, Fig. "
-          "7) "
-          "and the noise measurements below are what this data can show. Give several classes (file names "
-          "`class<N>`, or a `manifest.csv` with a class column) for a retrieval experiment.\n";
+    md << "\n**One class only**: every shape is relevant to every query, so every retrieval measure would be "
+          "1 by construction and say nothing about the methods: none is given. The distance matrices "
+          "(`distances/*.csv`, Fig. 7) and the noise measurements below are what this data can show. Give "
+          "several classes (file names `class<N>`, or a `manifest.csv` with a class column) for a retrieval "
+          "experiment.\n";
   md << "\nPrinceton Shape Benchmark conventions (psbTable): tiers over C−1, the query excluded, classes of "
         "at "
         "most two shapes not used as queries. Per-method numbers, PR curves and nearest-neighbour confusion "

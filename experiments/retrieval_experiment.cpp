@@ -48,16 +48,6 @@ void write_method_files(const ExperimentFolder& folder, const RetrievalExperimen
   }
 }
 
-json confusion_json(const Eigen::MatrixXi& confusion) {
-  json rows = json::array();
-  for (Index a = 0; a < confusion.rows(); ++a) {
-    std::vector<int> row(static_cast<size_t>(confusion.cols()));
-    for (Index b = 0; b < confusion.cols(); ++b) row[static_cast<size_t>(b)] = confusion(a, b);
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 // retrieval.json: every measure of the run (the figures' input).
 json result_json(const RetrievalExperimentResult& r) {
   json methods = json::array();

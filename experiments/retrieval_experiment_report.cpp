@@ -88,6 +88,7 @@ void confusion_section(std::ostream& out, const RetrievalExperimentResult& r) {
     auto it = m.by_distance.find("hausdorff");
     if (it == m.by_distance.end()) continue;
     const RetrievalReport& rep = it->second;
+    const nlohmann::json counts = confusion_json(rep.result.confusion);  // whole, or shares of tied nearest
     out << "### " << canonical_form_method_title(m.method) << "\n\n| query \\ nearest |";
     for (const std::string& c : rep.class_names) out << ' ' << c << " |";
     out << "\n|---|";
@@ -96,8 +97,8 @@ void confusion_section(std::ostream& out, const RetrievalExperimentResult& r) {
     for (size_t a = 0; a < rep.class_names.size(); ++a) {
       out << "| " << rep.class_names[a] << " |";
       for (size_t b = 0; b < rep.class_names.size(); ++b) {
-        const int n = rep.result.confusion(static_cast<Index>(a), static_cast<Index>(b));
-        out << ' ' << (a == b ? "**" + std::to_string(n) + "**" : std::to_string(n)) << " |";
+        const std::string n = counts[a][b].dump();
+        out << ' ' << (a == b ? "**" + n + "**" : n) << " |";
       }
       out << '\n';
     }

@@ -97,13 +97,7 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
     report = retrieval_report(input, classes, options, "numpy array");
   }
   nlohmann::json j = report.metrics;
-  nlohmann::json confusion = nlohmann::json::array();
-  for (Index a = 0; a < report.result.confusion.rows(); ++a) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Index b = 0; b < report.result.confusion.cols(); ++b) row.push_back(report.result.confusion(a, b));
-    confusion.push_back(row);
-  }
-  j["confusion"] = confusion;
+  j["confusion"] = confusion_json(report.result.confusion);
   j["class_names"] = report.class_names;
   return to_python(j);
 }
@@ -125,9 +119,11 @@ run in parallel with the GIL released.)");
 printed as text): the dict `cshapes evaluate` writes to metrics.json.
 
 Keys: map, nn, ft, st, e, dcg (micro averages over queries, psbTable conventions), pr {recall, precision}
-(interpolated, averaged over queries), classes {name: per-class measures}, queries, skipped, confusion
-(nearest-neighbour class counts, rows and columns in class_names order), class_names. Queries from classes
-smaller than min_class_size are skipped.)");
+(interpolated, averaged over queries), classes {name: per-class measures}, queries, skipped, tied_queries,
+confusion (nearest-neighbour class counts, rows and columns in class_names order), class_names. Queries from
+classes smaller than min_class_size are skipped. Ties (exactly equal distances) count as `evaluate` counts
+them: every measure is its expected value over all orders of the tied shapes (a query's n tied nearest add
+1/n each to the confusion counts). All labels equal raises ValueError: every result would be relevant.)");
 }
 
 }  // namespace cshapes::python

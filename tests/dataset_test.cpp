@@ -109,6 +109,20 @@ TEST(Dataset, AFileListedTwiceIsRefusedByName) {
   expect_error_mentioning(dir + "/twice.csv", "a0.off");
 }
 
+// Issue 57: a manifest listing biped0.off and sub/biped0.off gave two rows named biped0 in distmat's matrix,
+// the second shape's class lost: refused before any work, naming both files.
+TEST(Dataset, TwoFilesOfOneShapeNameAreRefusedNamingBoth) {
+  const std::string dir = test::scratch_dir("dataset_same_name");
+  std::filesystem::create_directories(dir + "/sub");
+  write_mesh(dir + "/biped0.off", icosphere(0, 1.0));
+  write_mesh(dir + "/sub/biped0.off", icosphere(0, 2.0));
+  write_mesh(dir + "/biped1.off", icosphere(0, 3.0));
+  test::write_text(dir + "/manifest.csv",
+                   "file,class\nbiped0.off,biped\nbiped1.off,biped\nsub/biped0.off,hand\n");
+  expect_error_mentioning(dir + "/manifest.csv", "are both shape 'biped0'");
+  expect_error_mentioning(dir + "/manifest.csv", dir + "/biped0.off and " + dir + "/sub/biped0.off");
+}
+
 // Issue 36: a public benchmark holds byte-identical meshes under different names (bird02 = bird10); they
 // are two queries of it, kept and recorded (said by the drivers), not a reason to refuse the collection.
 TEST(Dataset, TwoFilesOfTheSameContentAreBothKeptAndRecorded) {

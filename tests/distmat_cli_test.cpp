@@ -10,9 +10,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "cshapes/mesh/io.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/eval/distance_csv.h"
+#include "cshapes/mesh/io.h"
+#include "cshapes/support/atomic_file.h"
 #include "test_support.h"
 
 namespace cshapes {
@@ -126,6 +127,40 @@ TEST(DistmatCli, AnErrorAfterProgressStartsALineOfItsOwn) {
   const size_t at = r.err.find("cshapes distmat: error: ");
   ASSERT_NE(at, std::string::npos) << r.err;
   EXPECT_TRUE(at == 0 || r.err[at - 1] == '\n') << r.err;
+}
+
+// Issue 57: distmat wrote no classes, so `evaluate D.csv` on a manifest whose file names carry none (s0 …)
+// took them all for one class and said mAP 1.000. The labels file beside the matrix carries them.
+TEST(DistmatCli, WritesTheClassesBesideTheMatrixWhereEvaluateFindsThem) {
+  const std::string dir = tiny_dataset();
+  std::filesystem::create_directories(dir + "/named/sub");
+  const char* files[] = {"sphere0", "sphere1", "torus0", "torus1"};
+  for (int k = 0; k < 4; ++k)
+    std::filesystem::copy_file(dir + "/data/" + files[k] + ".off",
+                               dir + "/named/s" + std::to_string(k) + ".off");
+  test::write_text(dir + "/named/manifest.csv",
+                   "file,class\ns0.off,sphere\ns1.off,sphere\ns2.off,torus\ns3.off,torus\n");
+  const nlohmann::json summary = run_json("-q distmat '" + dir + "/named/manifest.csv' --cache '" + dir +
+                                          "/cache' --method cmds --geodesics graph -o '" + dir + "/D.csv'");
+  EXPECT_EQ(summary["labels"], dir + "/D.labels.csv");
+  EXPECT_EQ(read_file(dir + "/D.labels.csv"), "name,class\ns0,sphere\ns1,sphere\ns2,torus\ns3,torus\n");
+  test::CliResult r = test::run_cli("-q evaluate '" + dir + "/D.csv' --out '" + dir +
+                                    "/eval' --json --no-draw --min-class-size 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json m = nlohmann::json::parse(r.out);
+  EXPECT_EQ(m["classes_from"], dir + "/D.labels.csv");
+  EXPECT_EQ(m["classes"].size(), 2u);
+  // Two files of one shape name: refused before any work, both files named (no matrix, no labels).
+  std::filesystem::copy_file(dir + "/data/torus0.off", dir + "/named/sub/s0.off");
+  test::write_text(dir + "/named/twice.csv", "file,class\ns0.off,sphere\ns1.off,sphere\nsub/s0.off,torus\n");
+  r = test::run_cli("distmat '" + dir + "/named/twice.csv' --cache '" + dir +
+                    "/cache' --method cmds --geodesics graph -o '" + dir + "/twice.csv'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(dir + "/named/s0.off and " + dir + "/named/sub/s0.off are both shape 's0'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/twice.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/twice.labels.csv"));
 }
 
 }  // namespace distmat_cli_test

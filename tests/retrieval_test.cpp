@@ -2,7 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <random>
 
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
@@ -196,7 +202,7 @@ TEST(Retrieval, DistanceMatrixImageAndConfusion) {
   // The queries' nearest neighbours (class in brackets): 0(1)→1(0), 1(0)→0(1), 2(0)→6(2), 3(1)→4(1),
   // 4(1)→3(1), 5(0)→4(1); rows the query's class, columns the neighbour's: class 0 (1, 2, 5): →1, →2, →1 =
   // (0, 2, 1); class 1 (0, 3, 4): →0, →1, →1 = (1, 2, 0); class 2 (shape 6 alone) has no query: a zero row.
-  Eigen::MatrixXi expected(3, 3);
+  Eigen::MatrixXd expected(3, 3);
   expected << 0, 2, 1,  //
       1, 2, 0,          //
       0, 0, 0;
@@ -204,6 +210,7 @@ TEST(Retrieval, DistanceMatrixImageAndConfusion) {
   EXPECT_EQ(r.confusion, expected);
   // Its diagonal over the queries is NN.
   EXPECT_DOUBLE_EQ(r.confusion.trace() / static_cast<double>(r.queries.size()), r.mean.nn);
+  EXPECT_EQ(r.tied_queries, 0);  // all distances distinct
   // Mean distance between class 2 (shape 6) and class 0 (shapes 1, 2, 5): (11 + 0.5 + 19)/3.
   EXPECT_DOUBLE_EQ(image.class_mean_distance(2, 0), (11 + 0.5 + 19) / 3.0);
   EXPECT_TRUE(std::isnan(image.class_mean_distance(2, 2)));  // a single shape: no pair
@@ -241,13 +248,21 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
     for (const char* file : {"pr.png", "confusion.png", "matrix.png"})
       EXPECT_GT(std::filesystem::file_size(dir + "/out/" + file), 1000u) << file << r.err;
   }
-  // Labels from a file override the names: all seven in one class → every result relevant.
-  test::write_text(dir + "/labels.csv", "a\na\na\na\na\na\na\n");
+  // Labels from a file override the names (here cat2 and dog2 swap classes), and metrics.json says so.
+  test::write_text(dir + "/labels.csv", "cat\ncat\ndog\ndog\ndog\ncat\nman\n");
   r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/labels.csv' --out '" + dir +
                     "/out2' --json -q --no-draw");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out2/pr.png"));
-  EXPECT_NEAR(nlohmann::json::parse(r.out)["map"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(nlohmann::json::parse(r.out)["classes_from"], dir + "/labels.csv");
+  EXPECT_EQ(nlohmann::json::parse(r.out)["classes"]["cat"]["queries"].get<int>(), 3);
+  // All seven in one class: every result would be relevant (mAP 1.0 said nothing): refused, exit 1.
+  test::write_text(dir + "/one.csv", "a\na\na\na\na\na\na\n");
+  r = test::run_cli("evaluate '" + dir + "/d.csv' --labels '" + dir + "/one.csv' --out '" + dir +
+                    "/out5' -q --no-draw");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("all 7 shapes have class 'a'"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out5/metrics.json"));
   // The summary says why a shape is not a query (man0: a class of one).
   r = test::run_cli("evaluate '" + dir + "/d.csv' --out '" + dir + "/out4' -q --no-draw");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -266,14 +281,21 @@ TEST(EvaluateCli, WritesMetricsFromANamedMatrix) {
 // One query against a database (the noise experiment's queries): the rule of evaluate_retrieval.
 TEST(Retrieval, AveragePrecisionOfOneQueryKnownAnswers) {
   // Ranked: index 1 (irrelevant), 2 (relevant, rank 2), 0 (relevant, rank 3): AP = (1/2 + 2/3) / 2.
-  bool nn = true;
+  double nn = -1;
   EXPECT_NEAR(average_precision({3, 1, 2}, {1, 0, 1}, &nn), (0.5 + 2.0 / 3) / 2, 1e-15);
-  EXPECT_FALSE(nn);
+  EXPECT_EQ(nn, 0.0);
   EXPECT_DOUBLE_EQ(average_precision({1, 2, 3}, {1, 1, 0}, &nn), 1.0);
-  EXPECT_TRUE(nn);
-  // Ties go to the smaller index (eval/retrieval.h): the irrelevant index 0 comes first.
-  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {0, 1}, &nn), 0.5);
-  EXPECT_FALSE(nn);
+  EXPECT_EQ(nn, 1.0);
+  // A tie (eval/retrieval.h): the relevant entry is first or second with probability 1/2 each, so AP is
+  // (1/1 + 1/2)/2 and nn 1/2, whichever index it has; one ulp apart is no tie.
+  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {0, 1}, &nn), 0.75);
+  EXPECT_EQ(nn, 0.5);
+  EXPECT_DOUBLE_EQ(average_precision({1, 1}, {1, 0}, &nn), 0.75);
+  EXPECT_EQ(nn, 0.5);
+  EXPECT_DOUBLE_EQ(average_precision({1, std::nextafter(1.0, 2.0)}, {0, 1}, &nn), 0.5);
+  EXPECT_EQ(nn, 0.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_DOUBLE_EQ(average_precision({inf, 1, inf}, {1, 0, 0}, &nn), (1.0 / 2 + 1.0 / 3) / 2);  // inf == inf
   EXPECT_EQ(average_precision({1, 2}, {0, 0}), -1.0);  // nothing relevant
   EXPECT_THROW(average_precision({1, 2}, {0}), Error);
 }
@@ -320,6 +342,272 @@ TEST(Retrieval, PerClassMeasuresMatchTheHandComputation) {
   // Equal classes: the micro average is the mean of the class means.
   EXPECT_NEAR(r.mean.ap, (a.ap + b.ap) / 2, 1e-12);
   EXPECT_NEAR(r.mean.dcg, (a.dcg + b.dcg) / 2, 1e-12);
+}
+
+}  // namespace retrieval_test
+}  // namespace cshapes
+
+namespace cshapes {
+namespace retrieval_test {
+
+const double kInf = std::numeric_limits<double>::infinity();
+
+// The reference for ties, a second code path: the measures of a ranking without ties, straight from the
+// definitions (eval/retrieval.h), averaged over every arrangement of the classes within each run of equal
+// distances. Each distinct arrangement stands for the same number of orders of the tied shapes, so their mean
+// is the mean over all orders.
+struct Reference {
+  RetrievalScores scores;
+  std::vector<double> precision;        // E[k / rank_k], k = 1..R
+  std::map<int, double> nearest_class;  // probability that the first result has this class
+};
+
+void add_untied(const std::vector<int>& ranked_classes, int query_class, int depth, double weight,
+                Reference& out) {
+  const int relevant_total =
+      static_cast<int>(std::count(ranked_classes.begin(), ranked_classes.end(), query_class));
+  int found = 0;
+  double ft = 0, st = 0, e = 0, dcg = 0;
+  std::vector<double> precision;
+  for (int rank = 1; rank <= static_cast<int>(ranked_classes.size()); ++rank) {
+    if (ranked_classes[static_cast<size_t>(rank - 1)] != query_class) continue;
+    ++found;
+    precision.push_back(static_cast<double>(found) / rank);
+    ft += rank <= relevant_total;
+    st += rank <= 2 * relevant_total;
+    e += rank <= depth;
+    dcg += rank == 1 ? 1.0 : 1.0 / std::log2(rank);
+  }
+  double ideal = 1;
+  for (int i = 2; i <= relevant_total; ++i) ideal += 1.0 / std::log2(i);
+  double ap = 0;
+  for (double p : precision) ap += p / relevant_total;
+  RetrievalScores& s = out.scores;
+  s.nn += weight * (ranked_classes.front() == query_class);
+  s.ft += weight * ft / relevant_total;
+  s.st += weight * st / relevant_total;
+  s.e += weight * (e > 0 ? 2 * e / (depth + relevant_total) : 0.0);
+  s.dcg += weight * dcg / ideal;
+  s.ap += weight * ap;
+  out.precision.resize(precision.size(), 0.0);
+  for (size_t k = 0; k < precision.size(); ++k) out.precision[k] += weight * precision[k];
+  out.nearest_class[ranked_classes.front()] += weight;
+}
+
+Reference brute_force_expectation(const std::vector<double>& distances, const std::vector<int>& classes,
+                                  int query_class, int depth) {
+  std::vector<size_t> order(distances.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distances[a] < distances[b]; });
+  std::vector<int> ranked;
+  std::vector<size_t> group_starts;
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || distances[order[k]] != distances[order[k - 1]]) group_starts.push_back(k);
+    ranked.push_back(classes[order[k]]);
+  }
+  group_starts.push_back(order.size());
+  for (size_t g = 0; g + 1 < group_starts.size(); ++g)
+    std::sort(ranked.begin() + static_cast<long>(group_starts[g]),
+              ranked.begin() + static_cast<long>(group_starts[g + 1]));
+  std::vector<std::vector<int>> arrangements;
+  std::function<void(size_t)> arrange = [&](size_t g) {
+    if (g + 1 == group_starts.size()) {
+      arrangements.push_back(ranked);
+      return;
+    }
+    auto first = ranked.begin() + static_cast<long>(group_starts[g]);
+    auto last = ranked.begin() + static_cast<long>(group_starts[g + 1]);
+    do arrange(g + 1);
+    while (std::next_permutation(first, last));
+  };
+  arrange(0);
+  Reference reference;
+  for (const std::vector<int>& a : arrangements)
+    add_untied(a, query_class, depth, 1.0 / static_cast<double>(arrangements.size()), reference);
+  return reference;
+}
+
+// Every measure evaluate_retrieval gives, query by query, the PR curve and the confusion matrix against the
+// brute-force expectation.
+void expect_expectations(const Eigen::MatrixXd& D, const std::vector<int>& labels,
+                         const RetrievalOptions& options = {}) {
+  const RetrievalResult r = evaluate_retrieval(D, labels, options);
+  const int n = static_cast<int>(D.rows());
+  const int depth = std::min(options.e_measure_depth, n - 1);
+  std::vector<double> pr(r.pr.recall.size(), 0.0);
+  Eigen::MatrixXd confusion = Eigen::MatrixXd::Zero(r.confusion.rows(), r.confusion.cols());
+  for (const QueryResult& q : r.queries) {
+    std::vector<double> distances;
+    std::vector<int> classes;
+    for (int j = 0; j < n; ++j)
+      if (j != q.query) {
+        distances.push_back(D(q.query, j));
+        classes.push_back(labels[static_cast<size_t>(j)]);
+      }
+    const Reference ref = brute_force_expectation(distances, classes, q.label, depth);
+    const RetrievalScores& s = q.scores;
+    EXPECT_NEAR(s.nn, ref.scores.nn, 1e-12) << "query " << q.query;
+    EXPECT_NEAR(s.ft, ref.scores.ft, 1e-12) << "query " << q.query;
+    EXPECT_NEAR(s.st, ref.scores.st, 1e-12) << "query " << q.query;
+    EXPECT_NEAR(s.e, ref.scores.e, 1e-12) << "query " << q.query;
+    EXPECT_NEAR(s.dcg, ref.scores.dcg, 1e-12) << "query " << q.query;
+    EXPECT_NEAR(s.ap, ref.scores.ap, 1e-12) << "query " << q.query;
+    const double R = static_cast<double>(ref.precision.size());
+    for (size_t l = 0; l < pr.size(); ++l) {
+      double best = 0;
+      for (size_t k = 1; k <= ref.precision.size(); ++k)
+        if (static_cast<double>(k) / R >= r.pr.recall[l] - 1e-12) best = std::max(best, ref.precision[k - 1]);
+      pr[l] += best / static_cast<double>(r.queries.size());
+    }
+    for (const auto& [c, share] : ref.nearest_class) confusion(q.label, c) += share;
+  }
+  for (size_t l = 0; l < pr.size(); ++l) EXPECT_NEAR(r.pr.precision[l], pr[l], 1e-12) << "level " << l;
+  EXPECT_LT((r.confusion - confusion).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// McSherry & Najork (2008), a third path: the expected AP of a query whose n results are all tied, r of them
+// relevant, is (1/r) Σ_{i=1..n} [r/n + (i − 1)·r(r − 1)/(n(n − 1))] / i.
+double expected_ap_all_tied(int n, int r) {
+  double sum = 0;
+  for (int i = 1; i <= n; ++i)
+    sum += (static_cast<double>(r) / n + (i - 1.0) * r * (r - 1) / (static_cast<double>(n) * (n - 1))) / i;
+  return sum / r;
+}
+
+// Issue 57: twelve shapes of three classes at one distance gave mAP 0.505 and NN 0.333 by index order (the
+// class listed first 1.0, the last 0.195). Ranked at random, each query finds its 3 relevant among 11.
+TEST(RetrievalTies, AConstantMatrixGivesTheExpectationOfRandomRanking) {
+  const std::vector<int> labels = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2};
+  const Reference reference =
+      brute_force_expectation(std::vector<double>(11, 1.0), {0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2}, 0, 11);
+  // 1e-12: the brute force sums 11!/(3!·4!·4!) = 11,550 arrangements, each rounded.
+  EXPECT_NEAR(reference.scores.ap, expected_ap_all_tied(11, 3), 1e-12);
+  for (double value : {0.0, 5.0, kInf}) {
+    const Eigen::MatrixXd D = Eigen::MatrixXd::Constant(12, 12, value);
+    const RetrievalResult r = evaluate_retrieval(D, labels);
+    EXPECT_NEAR(r.mean.ap, reference.scores.ap, 1e-12) << value;
+    EXPECT_NEAR(r.mean.nn, 3.0 / 11, 1e-15) << value;
+    EXPECT_NEAR(r.mean.ft, 3.0 / 11, 1e-15) << value;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.class_mean[static_cast<size_t>(c)].ap, r.mean.ap, 1e-15);
+    EXPECT_EQ(r.tied_queries, 12);
+    // Each query's nearest: its own class with probability 3/11, each other class 4/11.
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) EXPECT_NEAR(r.confusion(a, b), 4 * (a == b ? 3.0 : 4.0) / 11, 1e-14);
+    expect_expectations(D, labels);
+  }
+}
+
+// Matrices with many ties (four values, inf among them, not symmetric), classes of 3, 2 and 1: every
+// measure, the PR curve and the confusion matrix are the expectations over all orders of the tied results.
+TEST(RetrievalTies, EveryMeasureIsTheExpectationOverTheOrdersOfTiedResults) {
+  std::mt19937 random(57);
+  const double values[] = {1.0, 2.0, 3.0, kInf};
+  const std::vector<int> labels = {0, 0, 0, 1, 1, 1, 2, 2, 3};
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::MatrixXd D(9, 9);
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j) D(i, j) = i == j ? 0.0 : values[random() % 4];
+    RetrievalOptions options;
+    options.e_measure_depth = 1 + trial % 5;  // cuts through tie groups
+    options.min_class_size = 2 + trial % 2;   // class 2 (two shapes): queries with R = 1, or results only
+    expect_expectations(D, labels, options);
+  }
+}
+
+// The rule for ties makes the measures a function of the matrix, not of the order of its rows.
+TEST(RetrievalTies, TheMeasuresDoNotDependOnTheShapesOrder) {
+  std::mt19937 random(7);
+  const std::vector<int> labels = {0, 0, 0, 1, 1, 1, 1, 2, 2, 2};
+  const int n = static_cast<int>(labels.size());
+  Eigen::MatrixXd D(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) D(i, j) = i == j ? 0.0 : static_cast<double>(random() % 3);
+  std::vector<int> permutation(static_cast<size_t>(n));
+  std::iota(permutation.begin(), permutation.end(), 0);
+  std::shuffle(permutation.begin(), permutation.end(), random);
+  Eigen::MatrixXd P(n, n);
+  std::vector<int> permuted_labels;
+  for (int i = 0; i < n; ++i) {
+    permuted_labels.push_back(labels[static_cast<size_t>(permutation[static_cast<size_t>(i)])]);
+    for (int j = 0; j < n; ++j)
+      P(i, j) = D(permutation[static_cast<size_t>(i)], permutation[static_cast<size_t>(j)]);
+  }
+  const RetrievalResult a = evaluate_retrieval(D, labels), b = evaluate_retrieval(P, permuted_labels);
+  ASSERT_GT(a.tied_queries, 0);
+  ASSERT_EQ(a.queries.size(), b.queries.size());
+  for (const QueryResult& q : b.queries) {
+    const QueryResult& original = a.queries[static_cast<size_t>(permutation[static_cast<size_t>(q.query)])];
+    EXPECT_EQ(q.scores.ap, original.scores.ap) << q.query;
+    EXPECT_EQ(q.scores.nn, original.scores.nn) << q.query;
+    EXPECT_EQ(q.scores.ft, original.scores.ft) << q.query;
+    EXPECT_EQ(q.scores.dcg, original.scores.dcg) << q.query;
+  }
+  EXPECT_NEAR(a.mean.ap, b.mean.ap, 1e-15);
+  for (size_t l = 0; l < a.pr.precision.size(); ++l) EXPECT_NEAR(a.pr.precision[l], b.pr.precision[l], 1e-15);
+}
+
+// One class: every result relevant, every measure 1 whatever the distances: refused, not reported as 1.0.
+TEST(RetrievalTies, OneClassIsRefused) {
+  try {
+    evaluate_retrieval(Eigen::MatrixXd::Constant(9, 9, 1.0), std::vector<int>(9, 0));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("one class"), std::string::npos) << e.what();
+  }
+}
+
+// Issue 57: the README's pipeline on a manifest whose file names carry no class (s0 … s8): evaluate took
+// them all for class "s" and said mAP 1.000. Refused, with where classes come from; the labels file distmat
+// writes beside the matrix is read.
+TEST(EvaluateCli, ClassesFromTheLabelsFileBesideTheMatrixElseOneClassIsRefused) {
+  const std::string dir = test::scratch_dir("evaluate_labels");
+  std::vector<std::string> names, classes;
+  Eigen::MatrixXd D(9, 9);
+  for (int i = 0; i < 9; ++i) {
+    names.push_back("s" + std::to_string(i));
+    classes.push_back(std::string(1, static_cast<char>('a' + i / 3)));
+    for (int j = 0; j < 9; ++j) D(i, j) = i == j ? 0.0 : (i / 3 == j / 3 ? 1.0 : 2.0) + 0.01 * (i + j);
+  }
+  write_distance_csv(dir + "/D.csv", names, D);
+  test::CliResult r = test::run_cli("evaluate '" + dir + "/D.csv' --out '" + dir + "/out' -q --no-draw");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("all 9 shapes have class 's' (from their names"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--labels"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/metrics.json"));
+  EXPECT_EQ(labels_path_for(dir + "/D.csv"), dir + "/D.labels.csv");
+  write_labels_csv(labels_path_for(dir + "/D.csv"), names, classes);
+  EXPECT_EQ(read_file(dir + "/D.labels.csv").substr(0, 20), "name,class\ns0,a\ns1,a");
+  r = test::run_cli("evaluate '" + dir + "/D.csv' --out '" + dir + "/out' --json --no-draw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("classes from " + dir + "/D.labels.csv"), std::string::npos) << r.err;
+  const nlohmann::json m = nlohmann::json::parse(r.out);
+  EXPECT_EQ(m["classes_from"], dir + "/D.labels.csv");
+  EXPECT_EQ(m["classes"].size(), 3u);
+  EXPECT_NEAR(m["map"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(m["tied_queries"], 0);
+  std::filesystem::remove_all(dir);
+}
+
+// The report says when ties were met and what was done with them; confusion.csv holds the shares.
+TEST(EvaluateCli, TiesAreSaidAndTheConfusionHoldsShares) {
+  const std::string dir = test::scratch_dir("evaluate_ties");
+  std::vector<std::string> names;
+  for (const char* c : {"a", "b", "c"})
+    for (int k = 0; k < 4; ++k) names.push_back(c + std::to_string(k));
+  write_distance_csv(dir + "/D.csv", names, Eigen::MatrixXd::Zero(12, 12));
+  test::CliResult r = test::run_cli("evaluate '" + dir + "/D.csv' --out '" + dir + "/out' --no-draw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("mAP 0.420   NN 0.273"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("12 queries have tied distances: their measures are expected values"),
+            std::string::npos)
+      << r.out;
+  const nlohmann::json m = nlohmann::json::parse(read_file(dir + "/out/metrics.json"));
+  EXPECT_NE(m["conventions"].get<std::string>().find("McSherry & Najork"), std::string::npos);
+  EXPECT_EQ(read_file(dir + "/out/confusion.csv"),
+            "query class / nearest neighbour class,a,b,c\n"
+            "a,1.090909091,1.454545455,1.454545455\nb,1.454545455,1.090909091,1.454545455\n"
+            "c,1.454545455,1.454545455,1.090909091\n");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace retrieval_test

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import save  # noqa: E402
+from figure_style import count_text, save  # noqa: E402
 
 
 def read_rows(path):
@@ -87,7 +87,7 @@ def fig_confusion(out, pdf):
         for i in range(len(query_classes)):
             for j in range(len(classes)):
                 if C[i, j]:
-                    ax.text(j, i, f"{C[i, j]:.0f}", ha="center", va="center", fontsize=7,
+                    ax.text(j, i, count_text(C[i, j]), ha="center", va="center", fontsize=7,
                             color="white" if C[i, j] > 0.6 * top else "black")
     ax.set_title(titled("nearest-neighbour confusion of the queries", out), fontsize=10)
     save(fig, out, "confusion", pdf)

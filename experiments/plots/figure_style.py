@@ -16,6 +16,11 @@ DEFAULT_TITLES = {"inputs": "inputs (no canonical form)", "coulomb": "Coulomb", 
                   "spectral-mds": "spectral MDS"}
 
 
+def count_text(count):
+    """A whole count as such; a share (a query's tied nearest neighbours count 1/n each) with two decimals."""
+    return f"{count:.0f}" if count == int(count) else f"{count:.2f}"
+
+
 def method_styles(out):
     """{method: (title, colour)} for every method named in OUT/methods.json (written by the C++ driver from the
     method registry: the one name of each method in tables and figures), plus the defaults above."""

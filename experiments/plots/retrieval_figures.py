@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from figure_style import method_style, method_styles, save  # noqa: E402
+from figure_style import count_text, method_style, method_styles, save  # noqa: E402
 
 DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
 
@@ -96,7 +96,7 @@ def confusion_figure(data, out, pdf):
         for a in range(len(names)):
             for b in range(len(names)):
                 if counts[a, b]:
-                    ax.text(b, a, f"{int(counts[a, b])}", ha="center", va="center", fontsize=7,
+                    ax.text(b, a, count_text(counts[a, b]), ha="center", va="center", fontsize=7,
                             color="white" if share[a, b] > 0.5 else "black")
         ax.set_xticks(range(len(names)))
         ax.set_yticks(range(len(names)))

@@ -74,3 +74,27 @@ def test_retrieval_measures_known_answer():
     m = cshapes.retrieval_measures(D, [0, 0, 0, 1, 1, 1])
     assert m["map"] == 1 and m["nn"] == 1 and m["ft"] == 1
     assert m["confusion"] == [[3, 0], [0, 3]]
+
+
+def test_retrieval_measures_ties_are_expectations():
+    # issue 57: a constant matrix was ranked by index (mAP 0.505, the first class 1.0). Every measure is its
+    # expectation over the orders of the tied shapes: a brute force over the C(11, 3) equally likely places of
+    # a query's 3 relevant shapes among its 11 results is the reference.
+    from itertools import combinations
+
+    places = list(combinations(range(1, 12), 3))
+    expected_ap = sum(sum((k + 1) / rank for k, rank in enumerate(p)) / 3 for p in places) / len(places)
+    labels = ["a"] * 4 + ["b"] * 4 + ["c"] * 4
+    for value in (0.0, 5.0):
+        m = cshapes.retrieval_measures(np.full((12, 12), value), labels)
+        assert m["map"] == pytest.approx(expected_ap, abs=1e-12)
+        assert m["nn"] == pytest.approx(3 / 11, abs=1e-15)
+        assert {c: round(v["map"], 12) for c, v in m["classes"].items()} == {c: round(expected_ap, 12) for c in "abc"}
+        assert m["tied_queries"] == 12
+        assert np.allclose(m["confusion"], 4 * (np.full((3, 3), 4 / 11) - np.eye(3) / 11))
+
+
+def test_retrieval_measures_one_class_is_refused():
+    # every result relevant: every measure would be 1 whatever the distances
+    with pytest.raises(ValueError, match="one class"):
+        cshapes.retrieval_measures(np.ones((5, 5)), ["x"] * 5)
