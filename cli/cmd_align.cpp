@@ -53,6 +53,10 @@ int run() {
       warn((f == &file_a ? args.source : args.target) + ": " + std::to_string(f->invalid_vertices) +
            " invalid vertices (NaN rows, valid = 0) ignored; aligned on the " +
            std::to_string(f->mesh.num_vertices()) + " valid ones");
+  // A set ICP cannot take at any size (fewer than 4 points, all on one line or at one point): named by its file.
+  for (const MeshFile* f : {&file_a, &file_b})
+    if (const std::string refusal = icp_points_refusal(f->mesh.V); !refusal.empty())
+      fail(f == &file_a ? args.source : args.target, ": ", refusal);
   IcpOptions options;
   options.allow_reflections = !args.no_reflections;
   options.symmetric = !args.one_way;

@@ -2,7 +2,9 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <limits>
@@ -17,6 +19,7 @@
 #include "cshapes/support/threads.h"
 #include "cshapes/support/timing.h"
 #include "cshapes/data/cache.h"
+#include "cshapes/mesh/unit_scale.h"
 #include "cshapes/matching/shape_distance.h"
 
 namespace cshapes {
@@ -175,6 +178,7 @@ class PairwiseRun {
     icp_options_ = options.icp;
     icp_options_.parallel = false;
     option_key_ = to_key_string(icp_options_);
+    scaled_icp_options_ = icp_options_;
     threads_ = options.threads > 0 ? options.threads : omp_get_max_threads();
   }
 
@@ -183,6 +187,7 @@ class PairwiseRun {
     comm_.broadcast_from_root(status_);
     result_.cached = static_cast<long>(std::count(status_.begin(), status_.end(), 2));
     choose_share();
+    choose_scale();
     prepare_shapes();
     align_pairs();
     const bool root = gather_over_ranks();
@@ -267,6 +272,23 @@ class PairwiseRun {
       }
   }
 
+  // The factor every shape is aligned at: 1 when ICP takes every shape as it is; else the power of two that
+  // brings the largest shape to unit size (exact), so that a set of any finite scale gives its matrix in its
+  // own units. From all shapes, so that every rank of a distributed run uses the same.
+  void choose_scale() {
+    if (std::all_of(shapes_.begin(), shapes_.end(),
+                    [](const Points& shape) { return icp_size_refusal(finite_rows(shape)).empty(); }))
+      return;
+    scale_ = std::numeric_limits<double>::infinity();
+    for (const Points& shape : shapes_) {
+      const Points points = finite_rows(shape);
+      // A shape ICP refuses at any size (prepare_shapes names it) has no size to go by.
+      if (icp_points_refusal(points).empty()) scale_ = std::min(scale_, power_of_two_unit_scale(points));
+    }
+    if (!std::isfinite(scale_)) scale_ = 1;
+    scaled_icp_options_.max_correspondence_distance *= scale_;
+  }
+
   // Pass 2a: the ICP shapes this rank's pairs need, OpenMP over shapes.
   void prepare_shapes() {
     prepared_.resize(static_cast<size_t>(n_));
@@ -279,8 +301,17 @@ class PairwiseRun {
       try {
         // Vertices a repair dropped are NaN rows (pipeline/canonical_forms.h): aligned and measured without
         // them.
-        prepared_[static_cast<size_t>(i)] =
-            std::make_unique<IcpShape>(finite_rows(shapes_[static_cast<size_t>(i)]), icp_options_);
+        Points points = finite_rows(shapes_[static_cast<size_t>(i)]);
+        if (std::string refusal = icp_points_refusal(points); !refusal.empty())
+          fail("pairwise distances: shape ", i, ": ", refusal);
+        if (scale_ != 1) {
+          points *= scale_;
+          if (std::string refusal = icp_size_refusal(points); !refusal.empty())
+            fail("pairwise distances: shape ", i, " is under ", kIcpSmallestSize,
+                 " times the size of the largest shape; squared distances of both do not fit in a double: "
+                 "scale the shapes to comparable sizes");
+        }
+        prepared_[static_cast<size_t>(i)] = std::make_unique<IcpShape>(points, scaled_icp_options_);
       } catch (...) {
         keep_error();
       }
@@ -300,8 +331,9 @@ class PairwiseRun {
   void align_pair(const Pair& p, long total_todo) {
     PackRecord record{p.source, p.target, {}, {}};
     ShapeDistance d = aligned_shape_distance(*prepared_[static_cast<size_t>(p.source)],
-                                             *prepared_[static_cast<size_t>(p.target)], icp_options_,
+                                             *prepared_[static_cast<size_t>(p.target)], scaled_icp_options_,
                                              &record.alignment);
+    if (scale_ != 1) scale_lengths(1 / scale_, d, &record.alignment);
     record.value = {d.hausdorff, d.chamfer, d.rmse, record.alignment.transform.is_reflection() ? 1 : 0};
     store(p.source, p.target, record.value);  // distinct entries per pair: no race
     std::vector<PackRecord> full;
@@ -398,7 +430,9 @@ class PairwiseRun {
   PairwiseDistanceResult result_;
   Eigen::MatrixXd reflection_;  // summed over ranks as doubles (0 or 1)
   IcpOptions icp_options_;
-  std::string option_key_;
+  std::string option_key_;  // of icp_options_: the pairs' results are in the shapes' own units
+  double scale_ = 1;        // the shapes are aligned multiplied by this (choose_scale)
+  IcpOptions scaled_icp_options_;  // icp_options_ with max_correspondence_distance at that scale
   int threads_ = 1;
   std::vector<Pair> todo_;
   std::vector<std::unique_ptr<IcpShape>> prepared_;

@@ -71,6 +71,11 @@ struct PairwiseDistanceResult {
 
 // shapes: N point sets (canonical forms); rows with a non-finite coordinate (vertices a repair dropped) are
 // left out of the alignment and the distances. keys: N content keys, or empty to hash the coordinates.
+// Any finite scale: when a shape lies outside ICP's sizes (icp_size_refusal), every shape is aligned
+// multiplied by the power of two that brings the largest to unit size, and the results are given in the
+// shapes' own units (a set scaled by s gives its matrix scaled by s, to rounding). Throws naming the shape
+// (its index) when ICP cannot take it at any size (icp_points_refusal: on a line, at one point) or when it is
+// more than about 1e140 times smaller than the largest.
 // Throws on invalid input, and rethrows the first error of any pair (pairs finished before it stay cached);
 // distributed, every rank throws when any rank failed (the failing rank its own error).
 PairwiseDistanceResult pairwise_distances(const std::vector<Points>& shapes,

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <numeric>
 #include <random>
 
 #include "cshapes/support/error.h"
 #include "cshapes/support/morton.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/mesh/unit_scale.h"
 
 namespace cshapes {
 
@@ -37,7 +39,40 @@ std::vector<int> spatial_order(const Points& X) {
   return order;
 }
 
+// The covariance of points already centred: six dot products of columns (cheaper than a general matrix
+// product here).
+Eigen::Matrix3d covariance_of_centred(const Points& centred) {
+  Eigen::Matrix3d covariance;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+      covariance(a, b) = covariance(b, a) =
+          centred.col(a).dot(centred.col(b)) / static_cast<double>(centred.rows());
+  return covariance;
+}
+
 }  // namespace
+
+std::string icp_points_refusal(const Points& points) {
+  const Index n = points.rows();
+  if (n < 4) return detail::concat("ICP needs at least 4 points that span a plane, got ", n);
+  if (!points.allFinite()) return "ICP: the point set has non-finite coordinates";
+  // Rounding: the centring itself leaves a few ulps of the coordinates' magnitude (50 copies of one point do
+  // not centre to exact zeros), and a spread below that says nothing about the shape.
+  constexpr double kRounding = 1024 * std::numeric_limits<double>::epsilon();
+  const double magnitude = points.cwiseAbs().maxCoeff();
+  Points centred = points.rowwise() - points.colwise().mean();
+  if (!(centred.cwiseAbs().maxCoeff() > kRounding * magnitude))
+    return detail::concat("ICP needs points that span a plane; these ", n, " points lie at one point");
+  // At unit size (exact: a power of two), where the covariance neither overflows nor underflows.
+  const double scale = power_of_two_unit_scale(centred);
+  centred *= scale;
+  const Eigen::Matrix3d covariance = covariance_of_centred(centred);
+  const Eigen::Vector3d variances =  // increasing
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  const double along = std::sqrt(std::max(variances[2], 0.0)), across = std::sqrt(std::max(variances[1], 0.0));
+  if (across > 1e-10 * along && across > kRounding * magnitude * scale) return "";
+  return detail::concat("ICP needs points that span a plane; these ", n, " points lie on one line");
+}
 
 std::string icp_size_refusal(const Points& points) {
   if (points.rows() == 0) return "";
@@ -51,25 +86,19 @@ std::string icp_size_refusal(const Points& points) {
 IcpShape::IcpShape(const Points& points, const IcpOptions& options)
     : points_(points), pyramid_(options.pyramid), seed_(options.seed) {
   const Index n = points.rows();
-  CSHAPES_REQUIRE(n >= 4, "ICP needs at least 4 points, got ", n);
-  CSHAPES_REQUIRE(points.allFinite(), "ICP: the point set has non-finite coordinates");
+  if (std::string refusal = icp_points_refusal(points); !refusal.empty()) fail(refusal);
   centroid_ = points.colwise().mean().transpose();
   Points centred = points.rowwise() - centroid_.transpose();
   // ICP works on squared distances: beyond these sizes they overflow or underflow (a shape of size 1e154
   // was refused as "points on a line"). Refused by its size, so that the caller can name the shape.
   if (std::string refusal = icp_size_refusal(points); !refusal.empty()) fail(refusal);
-  Eigen::Matrix3d covariance;  // six dot products of columns (cheaper than a general matrix product here)
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b)
-      covariance(a, b) = covariance(b, a) = centred.col(a).dot(centred.col(b)) / static_cast<double>(n);
+  const Eigen::Matrix3d covariance = covariance_of_centred(centred);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
   // Eigen sorts increasing; principal axes go by decreasing variance.
   variances_ = eig.eigenvalues().reverse();
   axes_ = eig.eigenvectors().rowwise().reverse();
   if (axes_.determinant() < 0) axes_.col(2) *= -1;
   rms_radius_ = std::sqrt(std::max(covariance.trace(), 0.0));
-  CSHAPES_REQUIRE(variances_[1] > 1e-20 * std::max(variances_[0], 1e-300),
-                  "ICP needs points that span a plane at least; these lie on a line or a point");
 
   auto make_level = [&](std::vector<int> indices) {
     auto level = std::make_shared<Level>();

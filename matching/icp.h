@@ -122,12 +122,20 @@ struct IcpOptions {
   }
 };
 
+// Why ICP cannot take `points` at any size ("" when it can): fewer than 4 points, a non-finite coordinate,
+// or points that span no plane (all on one line or at one point: 1 point, copies of one point), which leave
+// the rotation about the line undefined. Decided at unit size (the centred points times a power of two), so
+// the answer does not depend on the units; rounding of the coordinates (a spread within about 1e-13 of their
+// magnitude) counts as no spread. IcpShape throws it; drivers ask first, to name the set.
+std::string icp_points_refusal(const Points& points);
+
 // The sizes (largest distance of a point from the centroid) ICP accepts: squared distances of a million
 // points summed stay within the range of a double.
 inline constexpr double kIcpSmallestSize = 1e-140;
 inline constexpr double kIcpLargestSize = 1e140;
 // Why ICP cannot take `points` by their size ("" when it can): the largest distance from their centroid
-// outside [kIcpSmallestSize, kIcpLargestSize]. IcpShape throws it; drivers ask first, to name the shape.
+// outside [kIcpSmallestSize, kIcpLargestSize]. IcpShape throws it; callers that align at any scale
+// (aligned_shape_distance, pairwise_distances) first bring the sets to unit size by a power of two.
 std::string icp_size_refusal(const Points& points);
 
 // A point set prepared for ICP: centroid, principal axes, a KD-tree, and nested random subsamples of the
@@ -136,7 +144,8 @@ std::string icp_size_refusal(const Points& points);
 // times). Immutable after construction; thread-safe.
 class IcpShape {
  public:
-  // points: n×3, n ≥ 4, finite, of a size within [kIcpSmallestSize, kIcpLargestSize], not all on one line. Uses options.pyramid and options.seed.
+  // points: n×3 that icp_points_refusal accepts (n ≥ 4, finite, spanning a plane), of a size within
+  // [kIcpSmallestSize, kIcpLargestSize]. Uses options.pyramid and options.seed.
   explicit IcpShape(const Points& points, const IcpOptions& options = {});
 
   Index size() const { return points_.rows(); }

@@ -1,6 +1,9 @@
 #include "cshapes/matching/shape_distance.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "cshapes/support/error.h"
 #include "cshapes/mesh/unit_scale.h"
@@ -53,41 +56,47 @@ ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const
   return d;
 }
 
-namespace {
-
-// An alignment computed on both sets multiplied by `scale`, in the units of the sets themselves.
-void unscale(IcpResult& r, double scale) {
-  r.transform.translation /= scale;
-  r.rmse /= scale;
-  for (RigidTransform& T : r.start_transforms) T.translation /= scale;
-  for (double& x : r.start_rmse) x /= scale;
-  for (double& x : r.rmse_history) x /= scale;
-  r.source_to_target_distance /= scale;
-  r.target_to_source_distance /= scale;
+void scale_lengths(double factor, ShapeDistance& distance, IcpResult* alignment) {
+  for (double* x : {&distance.hausdorff, &distance.chamfer, &distance.rmse, &distance.directed_ab,
+                    &distance.directed_ba})
+    *x *= factor;
+  if (!alignment) return;
+  IcpResult& r = *alignment;
+  r.transform.translation *= factor;
+  r.rmse *= factor;
+  for (RigidTransform& T : r.start_transforms) T.translation *= factor;
+  for (double& x : r.start_rmse) x *= factor;
+  for (double& x : r.rmse_history) x *= factor;
+  r.source_to_target_distance *= factor;
+  r.target_to_source_distance *= factor;
 }
-
-}  // namespace
 
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options,
                                      IcpResult* alignment) {
   const Points a_points = finite_rows(A), b_points = finite_rows(B);
-  if (!icp_size_refusal(a_points).empty() || !icp_size_refusal(b_points).empty()) {
-    // Sets too small or too large for squared distances: aligned together at unit size (a power of two:
-    // exact), then measured in their own units. A shared IcpShape stays at its own size (the caller's).
-    Points both(a_points.rows() + b_points.rows(), 3);
-    both << a_points, b_points;
-    const double scale = power_of_two_unit_scale(both);
-    IcpOptions scaled = options;
-    scaled.max_correspondence_distance *= scale;  // absolute_tolerance is relative to the target's radius
-    IcpResult r;
-    ShapeDistance d = aligned_shape_distance(a_points * scale, b_points * scale, scaled, &r);
-    unscale(r, scale);
-    for (double* x : {&d.hausdorff, &d.chamfer, &d.rmse, &d.directed_ab, &d.directed_ba}) *x /= scale;
-    if (alignment) *alignment = std::move(r);
-    return d;
+  // A set ICP cannot take at any size is refused by name before any work.
+  if (std::string refusal = icp_points_refusal(a_points); !refusal.empty()) fail("the source set (A): ", refusal);
+  if (std::string refusal = icp_points_refusal(b_points); !refusal.empty()) fail("the target set (B): ", refusal);
+  if (icp_size_refusal(a_points).empty() && icp_size_refusal(b_points).empty()) {
+    IcpShape a(a_points, options), b(b_points, options);
+    return aligned_shape_distance(a, b, options, alignment);
   }
-  IcpShape a(a_points, options), b(b_points, options);
-  return aligned_shape_distance(a, b, options, alignment);
+  // Sets too small or too large for squared distances: aligned with the larger brought to unit size (a power
+  // of two: exact), then measured in their own units. The bounding-box extent ignores where the sets lie, as
+  // ICP does (it centres them).
+  const double scale = std::min(power_of_two_unit_scale(a_points), power_of_two_unit_scale(b_points));
+  const Points a_scaled = a_points * scale, b_scaled = b_points * scale;
+  const auto too_small = [](const Points& points) { return !icp_size_refusal(points).empty(); };
+  if (too_small(a_scaled) || too_small(b_scaled))
+    fail("ICP: the ", too_small(a_scaled) ? "source set (A)" : "target set (B)", " is under ", kIcpSmallestSize,
+         " times the size of the other; squared distances of both do not fit in a double: scale the sets to "
+         "comparable sizes");
+  IcpOptions scaled = options;
+  scaled.max_correspondence_distance *= scale;  // absolute_tolerance is relative to the target's radius
+  IcpShape a(a_scaled, scaled), b(b_scaled, scaled);
+  ShapeDistance d = aligned_shape_distance(a, b, scaled, alignment);
+  scale_lengths(1 / scale, d, alignment);
+  return d;
 }
 
 }  // namespace cshapes

@@ -38,11 +38,19 @@ ShapeDistance shape_distance(const Points& A, const Points& B);
 ShapeDistance shape_distance(const IcpResult& alignment);
 
 // Aligns A onto B with ICP, then measures: the paper's pipeline for two canonical forms. The Points overload
-// uses only their finite rows (finite_rows).
+// uses only their finite rows (finite_rows), refuses a set ICP cannot take (icp_points_refusal: fewer than 4
+// points, or all on one line or at one point), naming it ("the source set (A)"), and works at any finite
+// scale: sets beyond ICP's sizes are aligned with the larger one brought to unit size by a power of two, the
+// results given in their own units; it refuses sets whose sizes differ by more than a factor of about 1e140.
 // The alignment is returned through `alignment` when non-null.
 ShapeDistance aligned_shape_distance(const Points& A, const Points& B, const IcpOptions& options = {},
                                      IcpResult* alignment = nullptr);
 ShapeDistance aligned_shape_distance(const IcpShape& A, const IcpShape& B, const IcpOptions& options = {},
                                      IcpResult* alignment = nullptr);
+
+// Multiplies every length of a distance and of an alignment (when non-null) by `factor`: distances, RMSEs,
+// translations; rotations stay. With factor 1/s, brings back to their own units the results computed on sets
+// multiplied by s (exact for a power of two).
+void scale_lengths(double factor, ShapeDistance& distance, IcpResult* alignment);
 
 }  // namespace cshapes

@@ -157,17 +157,16 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
         {name, options.empty() ? name : options.front().name, method, "canonical form", error.what(), ""});
     return std::nullopt;
   }
-  // A form ICP cannot take (points on a line, or too far from unit size for its squared distances) leaves
-  // the shape out, named, here, before any alignment: in the pairs it ended the whole run (exit 1).
+  // A form ICP cannot take at any size (too few points, points on a line or at one point) leaves the shape
+  // out, named, here, before any alignment: in the pairs it ended the whole run (exit 1). Its size is no
+  // reason: the pairs are aligned at unit size (eval/pairwise_distances.h).
   for (size_t k = 0; k < forms.size(); ++k) {
-    try {
-      const IcpShape alignable(finite_rows(forms[k].form.X));
-    } catch (const Error& error) {
-      if (options[k].strict) throw;
-      failures.push_back({name, options[k].name, options[k].method, "alignment",
-                          std::string("its form cannot be aligned: ") + error.what(), ""});
-      return std::nullopt;
-    }
+    const std::string refusal = icp_points_refusal(finite_rows(forms[k].form.X));
+    if (refusal.empty()) continue;
+    if (options[k].strict) fail(name, ": its form cannot be aligned: ", refusal);
+    failures.push_back(
+        {name, options[k].name, options[k].method, "alignment", "its form cannot be aligned: " + refusal, ""});
+    return std::nullopt;
   }
   for (size_t k = 0; k < forms.size(); ++k) {
     const std::string& text = forms[k].form.geodesics_fallback;

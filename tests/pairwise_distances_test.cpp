@@ -320,5 +320,43 @@ TEST(PairwiseDistances, PointsContentKey) {
   EXPECT_NE(points_content_key(X), points_content_key(Y));
 }
 
+// Issue 57: the promise "any finite scale". A set scaled by 1e150 or 1e-150 gives the matrix scaled by the
+// same factor, to rounding (ICP refused every shape of it by size, and distmat had "0 usable shapes").
+TEST(PairwiseDistances, MatrixScalesWithTheSetAtAnyFiniteScale) {
+  const std::vector<Points> shapes = small_shapes();
+  const PairwiseDistanceResult unit = pairwise_distances(shapes, {}, fast_options("", 1));
+  for (double s : {1e150, 1e-150}) {
+    SCOPED_TRACE(s);
+    std::vector<Points> scaled;
+    for (const Points& X : shapes) scaled.push_back(X * s);
+    const PairwiseDistanceResult r = pairwise_distances(scaled, {}, fast_options("", 1));
+    for (const auto& [got, want] : {std::pair{&r.hausdorff, &unit.hausdorff}, std::pair{&r.chamfer, &unit.chamfer},
+                                    std::pair{&r.rmse, &unit.rmse}})
+      EXPECT_LE((*got / s - *want).cwiseAbs().maxCoeff(), 1e-9 * want->maxCoeff());
+    EXPECT_EQ(r.reflection, unit.reflection);
+  }
+}
+
+// A shape ICP cannot take at any size is refused by its index; one beside shapes 1e150 times larger too.
+TEST(PairwiseDistances, RefusesAShapeThatSpansNoPlaneByItsIndex) {
+  std::vector<Points> shapes = small_shapes();
+  shapes[2] = Eigen::RowVector3d(1, 2, 3).replicate(50, 1);
+  try {
+    pairwise_distances(shapes, {}, fast_options("", 1));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shape 2: ICP needs points that span a plane"), std::string::npos)
+        << e.what();
+  }
+  shapes = small_shapes();
+  shapes[4] *= 1e150;
+  try {
+    pairwise_distances(shapes, {}, fast_options("", 1));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shape 0 is under"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace pairwise_distances_test
 }  // namespace cshapes

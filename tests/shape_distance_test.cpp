@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cshapes/support/error.h"
 
@@ -129,6 +133,53 @@ TEST(ShapeDistance, AlignedDistanceScalesWithTheSetsAtAnyFiniteScale) {
       EXPECT_NE(std::string(e.what()).find("squared distances"), std::string::npos) << e.what();
     }
   }
+}
+
+// Expects `call` to throw a cshapes::Error whose message holds every one of `parts`.
+template <class Call>
+void expect_error_naming(Call&& call, std::initializer_list<const char*> parts) {
+  try {
+    call();
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    for (const char* part : parts) EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
+// Issue 57: a set that spans no plane (1 point, copies of one point, points on a line) ended the process
+// (unbounded recursion at radius 0). It is refused by name, as source or target, at any scale.
+TEST(ShapeDistance, SetsThatSpanNoPlaneAreRefusedByName) {
+  const Points shape = random_points(200, 11);
+  Points line(30, 3);
+  for (Index i = 0; i < line.rows(); ++i) line.row(i) = Eigen::RowVector3d(1, 2, 3) + 0.1 * i * Eigen::RowVector3d(1, -1, 2);
+  const std::vector<std::pair<Points, const char*>> degenerate = {
+      {Points(Eigen::RowVector3d(1, 2, 3)), "at least 4 points"},
+      {Eigen::RowVector3d(0.1, 0.2, 0.3).replicate(50, 1), "at one point"},
+      {line, "on one line"}};
+  for (const auto& [points, why] : degenerate)
+    for (double s : {1.0, 1e-150, 1e150}) {
+      SCOPED_TRACE(s);
+      expect_error_naming([&] { aligned_shape_distance(points * s, shape); }, {"source set (A)", why});
+      expect_error_naming([&] { aligned_shape_distance(shape, points * s); }, {"target set (B)", why});
+      EXPECT_FALSE(icp_points_refusal(points * s).empty());
+    }
+  EXPECT_EQ(icp_points_refusal(shape * 1e-300), "");  // a set's own size is no reason
+}
+
+// Issue 57: a set of size 1e-150 or 1e150 aligned with one of unit size ended the process (the joint
+// scaling left one of them out of ICP's sizes, and the call recursed without end). Sizes that no double
+// range holds together are refused before any work, naming the set.
+TEST(ShapeDistance, SetsOfIncomparableSizesAreRefusedByName) {
+  const Points A = random_points(300, 12), B = random_points(300, 13);
+  expect_error_naming([&] { aligned_shape_distance(A * 1e-150, B); }, {"source set (A)", "size"});
+  expect_error_naming([&] { aligned_shape_distance(A * 1e150, B); }, {"target set (B)", "size"});
+  // Sizes apart by less than that are aligned (1e-100 beside 1), and measured as the alignment places them.
+  const Points tiny = A * 1e-100;
+  IcpResult alignment;
+  const ShapeDistance d = aligned_shape_distance(tiny, B, {}, &alignment);
+  const ShapeDistance direct = shape_distance(alignment.transform.apply(tiny), B);
+  EXPECT_NEAR(d.hausdorff, direct.hausdorff, 1e-9 * direct.hausdorff);
+  EXPECT_NEAR(d.chamfer, direct.chamfer, 1e-9 * direct.chamfer);
 }
 
 TEST(ShapeDistance, RejectsEmpty) {

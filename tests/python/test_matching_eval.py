@@ -98,3 +98,36 @@ def test_retrieval_measures_one_class_is_refused():
     # every result relevant: every measure would be 1 whatever the distances
     with pytest.raises(ValueError, match="one class"):
         cshapes.retrieval_measures(np.ones((5, 5)), ["x"] * 5)
+
+
+DEGENERATE = {
+    "one point": np.array([[1.0, 2.0, 3.0]]),
+    "50 copies of one point": np.tile([0.1, 0.2, 0.3], (50, 1)),
+    "points on a line": np.outer(np.linspace(0, 1, 30), [1.0, -1.0, 2.0]) + [1.0, 2.0, 3.0],
+}
+
+
+@pytest.mark.parametrize("name", sorted(DEGENERATE))
+def test_sets_that_span_no_plane_are_refused_by_name(name):
+    """Issue 57: icp and shape_distance ended the interpreter (exit 139) on such a set."""
+    points = DEGENERATE[name]
+    V, _ = cshapes.generate("icosphere", subdivisions=2)
+    for call, which in [(lambda: cshapes.icp(points, V), "source set (A)"),
+                        (lambda: cshapes.shape_distance(V, points), "target set (B)"),
+                        (lambda: cshapes.distance_matrix([V, points]), "shape 1")]:
+        with pytest.raises(ValueError, match="span a plane") as error:
+            call()
+        assert which in str(error.value)
+
+
+def test_sets_of_incomparable_sizes_are_refused_and_one_scale_works():
+    """Issue 57: a shape scaled by 1e-150 aligned with the unscaled one ended the interpreter; scaled together
+    by any finite factor, the distance scales with them."""
+    V, _ = cshapes.generate("icosphere", subdivisions=2)
+    for s in (1e-150, 1e150):
+        with pytest.raises(ValueError, match="size"):
+            cshapes.shape_distance(V * s, V)
+        assert cshapes.shape_distance(V * s, 0.9 * V * s) / s == pytest.approx(
+            cshapes.shape_distance(V, 0.9 * V), rel=1e-9)
+        assert cshapes.distance_matrix([V * s, 0.9 * V * s])[0, 1] / s == pytest.approx(
+            cshapes.distance_matrix([V, 0.9 * V])[0, 1], rel=1e-9)
