@@ -212,8 +212,11 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
       result.confusion(label, nearest_label) += static_cast<double>(count) / nearest;
     result.queries.push_back(std::move(query));
   }
-  CSHAPES_REQUIRE(!result.queries.empty(), "retrieval: no class has at least ", options.min_class_size,
-                  " shapes, so there is no query to evaluate");
+  // A query needs another shape of its class, so a class of one shape is never a query, whatever the minimum.
+  const int needed = std::max(options.min_class_size, 2);
+  CSHAPES_REQUIRE(!result.queries.empty(), "retrieval: no class has ", needed,
+                  " shapes or more, so there is no query to evaluate",
+                  options.min_class_size < 2 ? " (a query needs another shape of its own class)" : "");
 
   const double num_queries = static_cast<double>(result.queries.size());
   RetrievalScores& m = result.mean;

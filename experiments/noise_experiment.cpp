@@ -225,6 +225,17 @@ void canonize_every_variant(NoiseRun& run) {
     if (o.progress)
       o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(variants.size()));
   }
+  // A form too far in size from the method's others for ICP to align at one scale: its shape is left out.
+  for (const std::string& m : o.methods) {
+    std::vector<const Points*> pointers;
+    for (size_t i = 0; i < variants.size(); ++i) pointers.push_back(failed[i] ? nullptr : &forms[m][i]);
+    for (size_t i : forms_of_incomparable_size(pointers)) {
+      if (o.canon.strict) fail(variants[i].name, ": ", incomparable_size_reason());
+      failed[i] = 1;
+      result.failures.push_back({variants[i].name, "", m, "alignment", incomparable_size_reason(), ""});
+      say(o.note, "  " + describe(result.failures.back()));
+    }
+  }
   if (std::find(failed.begin(), failed.end(), 1) != failed.end()) {
     // Renumber: poses whose clean form failed go, with their variants; then variants whose form failed.
     std::vector<int> new_pose(poses.size(), -1);

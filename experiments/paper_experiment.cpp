@@ -324,6 +324,23 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   return result;
 }
 
+// Marks failed the shapes whose form by some method is too far in size from that method's other forms for ICP
+// to align at one scale (pipeline/shape_failures.h), each recorded once.
+void leave_out_incomparable_sizes(ExperimentRun& run, std::vector<char>& failed) {
+  for (const std::string& m : run.o.methods) {
+    std::vector<const Points*> forms(run.shapes.size(), nullptr);
+    for (size_t i = 0; i < run.shapes.size(); ++i)
+      if (!failed[i]) forms[i] = &run.forms[m].forms[i].X;
+    for (size_t i : forms_of_incomparable_size(forms)) {
+      if (run.o.canon.strict) fail(run.shapes[i].name, ": ", incomparable_size_reason());
+      failed[i] = 1;
+      run.summary.failures.push_back(
+          {run.shapes[i].name, run.shapes[i].source_path, m, "alignment", incomparable_size_reason(), ""});
+      say(run.o.note, "  " + describe(run.summary.failures.back()));
+    }
+  }
+}
+
 // Leaves the shapes whose forms failed out of the run (failed[i], from canonize_all), by every method. A
 // noisy shape glued here from a pose left out keeps its place in retrieval but loses its reference (no noise
 // measurement, no figure cell).
@@ -410,6 +427,7 @@ void canonical_form_stage(ExperimentRun& run) {
   // The forms the ranks computed were read from the cache in the full pass: count them as computed.
   summary.canonical_forms_computed += computed_by_ranks;
   summary.canonical_forms_cached -= computed_by_ranks;
+  leave_out_incomparable_sizes(run, failed);
   drop_failed_shapes(run, failed);
   report.summary.failures = summary.failures;  // the figures choose among the shapes kept
   report.stage_seconds["canonical forms"] = seconds_since(t);

@@ -94,6 +94,22 @@ void dataset_forms(const Dataset& data, const DiskCache& cache, CanonicalFormOpt
     say(options.note, "[" + std::to_string(i + 1) + "/" + std::to_string(data.entries.size()) + "] " +
                           e.name + (cached ? " (cached)" : ""));
   }
+  // A form far in size from the others (one shape at 1e-100 among shapes at 1) is left out by name: ICP cannot
+  // align it with them at one scale, and in the pairs it would end the whole run.
+  std::vector<const Points*> pointers;
+  for (const Points& X : forms) pointers.push_back(&X);
+  const std::vector<size_t> incomparable = forms_of_incomparable_size(pointers);
+  for (auto k = incomparable.rbegin(); k != incomparable.rend(); ++k) {
+    const auto entry = std::find_if(data.entries.begin(), data.entries.end(),
+                                    [&](const DatasetEntry& e) { return e.name == result.names[*k]; });
+    if (co.strict) fail(entry->path, ": ", incomparable_size_reason());
+    result.failures.push_back({result.names[*k], entry->path, co.method, "alignment", incomparable_size_reason(), ""});
+    say(options.note, describe(result.failures.back()));
+    result.skipped.push_back(entry->path);
+    result.skipped_reasons.push_back(incomparable_size_reason());
+    for (auto* list : {&result.names, &result.classes, &keys}) list->erase(list->begin() + static_cast<long>(*k));
+    forms.erase(forms.begin() + static_cast<long>(*k));
+  }
 }
 
 // Two-stage retrieval's first stage: the descriptor distances of the forms (returned), each form's k nearest

@@ -1,10 +1,14 @@
 #include "cshapes/pipeline/shape_failures.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
 
 #include "cshapes/support/error.h"
+#include "cshapes/mesh/unit_scale.h"
 #include "cshapes/matching/shape_distance.h"
 
 namespace cshapes {
@@ -184,6 +188,35 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
                         "form quality " + description + "; the form is kept and measured as it is"});
   }
   return forms;
+}
+
+std::vector<size_t> forms_of_incomparable_size(const std::vector<const Points*>& forms) {
+  std::vector<double> sizes(forms.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> known;
+  for (size_t k = 0; k < forms.size(); ++k) {
+    if (!forms[k] || forms[k]->rows() == 0) continue;
+    const Points points = finite_rows(*forms[k]);
+    if (points.rows() == 0) continue;
+    // Measured at unit size (a power of two: exact), so neither an overflow nor an underflow decides.
+    const double scale = power_of_two_unit_scale(points);
+    const Eigen::RowVector3d centre = (points * scale).colwise().mean();
+    sizes[k] = std::sqrt(((points * scale).rowwise() - centre).rowwise().squaredNorm().maxCoeff()) / scale;
+    if (std::isfinite(sizes[k]) && sizes[k] > 0) known.push_back(sizes[k]);
+  }
+  std::vector<size_t> out;
+  if (known.empty()) return out;
+  std::nth_element(known.begin(), known.begin() + static_cast<long>(known.size() / 2), known.end());
+  const double median = known[known.size() / 2];
+  for (size_t k = 0; k < forms.size(); ++k)
+    if (sizes[k] > 0 && std::isfinite(sizes[k]) &&
+        (sizes[k] / median > kIncomparableSizeRatio || median / sizes[k] > kIncomparableSizeRatio))
+      out.push_back(k);
+  return out;
+}
+
+std::string incomparable_size_reason() {
+  return "its form is more than 1e70 times smaller or larger than the median form of the set: ICP cannot align "
+         "it with the others at one scale (squared distances of both do not fit in a double)";
 }
 
 }  // namespace cshapes

@@ -84,4 +84,13 @@ std::optional<std::vector<CachedForm>> shape_canonical_forms(const DiskCache& ca
                                                              const std::string& name,
                                                              std::vector<ShapeFailure>& failures);
 
+// The forms (indices into `forms`; null or empty entries skipped) too far in size from the others for ICP to
+// align every pair at one scale (eval/pairwise_distances.h): their size (largest distance of a finite point
+// from the centroid) differs from the median form size by more than kIncomparableSizeRatio, so that any two
+// forms kept differ by at most its square. A whole set at any finite scale keeps every form; one shape at
+// 1e-100 among shapes at 1 is left out. The reason text for such a form is incomparable_size_reason().
+inline constexpr double kIncomparableSizeRatio = 1e70;
+std::vector<size_t> forms_of_incomparable_size(const std::vector<const Points*>& forms);
+std::string incomparable_size_reason();
+
 }  // namespace cshapes

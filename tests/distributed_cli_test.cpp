@@ -73,11 +73,11 @@ TEST(DistributedCli, DistmatOfTwoAndThreeRanksEqualsOneProcess) {
       reference = csv;
     else
       EXPECT_EQ(csv, reference) << ranks << " ranks";
-    // Only rank 0 writes outputs: the output folder holds the CSV and the cache.
+    // Only rank 0 writes outputs: the output folder holds the CSV, its labels and the cache.
     std::vector<std::string> files;
     for (const auto& e : fs::directory_iterator(out)) files.push_back(e.path().filename().string());
     std::sort(files.begin(), files.end());
-    EXPECT_EQ(files, (std::vector<std::string>{".cshapes-cache", "d.csv"}));
+    EXPECT_EQ(files, (std::vector<std::string>{".cshapes-cache", "d.csv", "d.labels.csv"}));
   }
 }
 

@@ -311,6 +311,17 @@ TEST(CauseMessages, ANulByteInAFieldDoesNotCutTheMessage) {
   EXPECT_NE(r.err.find("x\\x00y"), std::string::npos) << r.err;
 }
 
+TEST(CauseMessages, OneShapeClassesSayAQueryNeedsAnotherShape) {
+  // Was: `evaluate --min-class-size 1` on one-shape classes said "no class has at least 1 shapes".
+  const std::string dir = test::scratch_dir("messages-min-class");
+  test::write_text(dir + "/D.csv", ",a0,b0,c0\na0,0,1,2\nb0,1,0,1\nc0,2,1,0\n");
+  const test::CliResult r =
+      test::run_cli("-q evaluate " + q(dir + "/D.csv") + " --out " + q(dir + "/e") + " --min-class-size 1");
+  EXPECT_EQ(r.exit_code, kBadData) << r.err;
+  EXPECT_EQ(r.err.find("at least 1 shapes"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no class has 2 shapes or more"), std::string::npos) << r.err;
+}
+
 TEST(CauseMessages, AFileNamedLikeAnOptionGetsAHint) {
   // Was: `info -weird.off` said "MESH is required".
   const std::string dir = test::scratch_dir("messages-dash");
