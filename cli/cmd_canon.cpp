@@ -36,7 +36,10 @@ int run() {
   require_output_not_input(args.output, inputs, "-o");
   require_output_not_input(args.history, inputs, "--history");
 
-  const Mesh input = read_mesh(args.input);
+  // Rows a canonical form marks invalid (NaN, valid = 0) are not read: said, as the form has fewer rows.
+  const MeshFile file = read_mesh_file(args.input);
+  warn_invalid_vertices_dropped(file, args.input);
+  const Mesh& input = file.mesh;
   if (option_given("--knn") && input.num_faces() > 0)
     usage_fail("--knn applies to point clouds (no faces) only; ", args.input, " has ", input.num_faces(),
                " faces");

@@ -25,9 +25,7 @@ int run() {
   write_options.scalars = file.scalars;
   write_options.colors = file.colors;
   // Rows a canonical form marks invalid (NaN, valid = 0) are not written: the output holds the valid part.
-  if (file.invalid_vertices > 0)
-    warn(std::to_string(file.invalid_vertices) + " invalid vertices (NaN rows, valid = 0) of " + args.input +
-         " dropped, with the " + std::to_string(file.invalid_faces) + " faces on them");
+  warn_invalid_vertices_dropped(file, args.input);
   write_mesh(args.output, file.mesh, write_options);
   note("wrote " + args.output + " (" + std::to_string(file.mesh.num_vertices()) + " vertices, " +
        std::to_string(file.mesh.num_faces()) + " triangles)");

@@ -149,6 +149,10 @@ void require_output_folder_apart(const std::string& out, const std::string& data
 void require_outputs_not_inputs(const std::string& folder, const std::vector<std::string>& names,
                                 const std::vector<std::string>& inputs, const std::string& option);
 
+// Warns, naming the file, when a PLY's invalid vertices (NaN rows with valid = 0, as canonical forms write
+// dropped vertices) were dropped on reading, with the faces on them.
+void warn_invalid_vertices_dropped(const MeshFile& file, const std::string& path);
+
 // Global options (given before or after the command).
 bool quiet();
 int threads();  // 0: OpenMP's default

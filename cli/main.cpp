@@ -200,6 +200,12 @@ void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out
   add_force_flag(app, force);
 }
 
+void warn_invalid_vertices_dropped(const MeshFile& file, const std::string& path) {
+  if (file.invalid_vertices > 0)
+    warn(std::to_string(file.invalid_vertices) + " invalid vertices (NaN rows, valid = 0) of " + path +
+         " dropped, with the " + std::to_string(file.invalid_faces) + " faces on them");
+}
+
 void add_allow_outside_flag(CLI::App& app, bool& allow_outside) {
   app.add_flag("--allow-outside", allow_outside,
                "read manifest or .cla entries that lead outside the dataset's folder (refused by default)");

@@ -197,6 +197,7 @@ Dataset read_manifest(const fs::path& manifest, bool allow_outside) {
       }
       CSHAPES_REQUIRE(!v.empty() && used == v.size(), where, ":", line_number,
                       ": 'pose' must be an integer, got '", v, "'");
+      CSHAPES_REQUIRE(e.pose >= 0, where, ":", line_number, ": 'pose' must be 0 or more, got ", e.pose);
     }
     if (col_noisy >= 0) {
       const std::string& v = cells[col_noisy];

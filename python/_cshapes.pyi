@@ -136,13 +136,15 @@ def retrieval_measures(D: _Array, labels: Sequence[Any], *, names: Sequence[str]
                        min_class_size: int = 3) -> dict[str, Any]: ...
 
 # Experiments
-def experiment_paper(data: _Path, out: _Path, methods: Sequence[str] | None = None, poses_per_class: int = 4,
+def experiment_paper(data: _Path, out: _Path, methods: Sequence[str] | str | None = None, poses_per_class: int = 4,
                      noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, timing_repeats: int = 5, correspondence_samples: int = 300,
-                     strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0) -> dict[str, Any]: ...
-def experiment_retrieval(data: _Path, out: _Path, methods: Sequence[str] | None = None, resample: int = 0,
+                     strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
+                     allow_outside: bool = False) -> dict[str, Any]: ...
+def experiment_retrieval(data: _Path, out: _Path, methods: Sequence[str] | str | None = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
-                         e_depth: int = 32, min_class_size: int = 3) -> dict[str, Any]: ...
+                         e_depth: int = 32, min_class_size: int = 3, force: bool = False,
+                         allow_outside: bool = False) -> dict[str, Any]: ...
 # Pictures
 def show(mesh: _Path | tuple[_Array, _Array], form: _Path | _Array | tuple[_Array, _Array] | CanonicalForm | None = None,
          *, out: _Path, title: str | None = None, view: Literal["pca", "x", "y", "z"] = "pca") -> str: ...

@@ -175,7 +175,9 @@ def manifest_outside(case, rng):
         entry = "link.off"
     with open(os.path.join(case.folder, "data", "manifest.csv")) as f:
         lines = f.read().splitlines()
-    lines.insert(rng.randint(1, len(lines)), "%s,biped" % entry + ",0,0" * (lines[0].count(",") - 1))
+    columns = lines[0].split(",")
+    row = {"file": entry, "class": "biped", "pose": "9", "noisy": "0"}
+    lines.insert(rng.randint(1, len(lines)), ",".join(row[c] for c in columns))
     write(os.path.join(case.folder, "data", "manifest.csv"), "\n".join(lines) + "\n")
     r = case.run("distmat", "data/manifest.csv", "-o", "D.csv", "--method", "lbo")
     case.expect(r.returncode == 1, f"{kind}: exit {r.returncode}, expected 1")

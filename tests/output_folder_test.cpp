@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
@@ -258,6 +259,39 @@ TEST(DatasetFolder, ManifestEntriesOutsideTheFolderAreRefusedWithoutPrintingThem
     EXPECT_EQ(r.err.find("root:x"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--allow-outside"), std::string::npos) << r.err;
   }
+}
+
+TEST(DatasetFolder, ANegativePoseIsRefusedNamingTheLine) {
+  // Was: a negative pose number was replaced by the shape's rank without a word.
+  const std::string dir = test::scratch_dir("dataset-negative-pose");
+  write_mesh(dir + "/a.off", icosphere(1));
+  write_mesh(dir + "/b.off", icosphere(2));
+  test::write_text(dir + "/manifest.csv", "file,class,pose\na.off,x,0\nb.off,x,-3\n");
+  try {
+    read_dataset(dir + "/manifest.csv");
+    FAIL() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("manifest.csv:3: 'pose' must be 0 or more, got -3"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CauseMessages, CanonSaysWhenItDropsInvalidRows) {
+  // Was: canon of a PLY with a valid = 0 row wrote one vertex fewer without a word (info and convert warned).
+  const std::string dir = test::scratch_dir("messages-valid");
+  const Mesh sphere = icosphere(2);
+  WriteOptions options;
+  Eigen::VectorXd valid = Eigen::VectorXd::Ones(sphere.num_vertices());
+  valid[5] = 0;
+  Mesh marked = sphere;
+  marked.V.row(5).setConstant(std::numeric_limits<double>::quiet_NaN());
+  options.scalars.push_back({"valid", valid});
+  write_mesh(dir + "/in.ply", marked, options);
+  const test::CliResult r =
+      test::run_cli("canon " + q(dir + "/in.ply") + " -o " + q(dir + "/out.ply") + " --method lbo");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("1 invalid vertices"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("in.ply"), std::string::npos) << r.err;
 }
 
 // ---- messages that name the cause ----
