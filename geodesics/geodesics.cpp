@@ -65,6 +65,7 @@ HeatMethodOptions heat_options(const GeodesicOptions& o) {
   HeatMethodOptions ho;
   ho.time_factor = o.heat_time_factor;
   ho.intrinsic_delaunay = o.heat_mode == CgalHeatMode::IntrinsicDelaunay;
+  ho.progress = polls_of(o.progress);  // a stop heard in the set-up and solves; reports: the caller's
   return ho;
 }
 

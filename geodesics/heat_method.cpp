@@ -199,11 +199,14 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
                   options.time_factor);
   CSHAPES_REQUIRE(options.block_size >= 1, "heat method: block_size must be at least 1");
   Impl& im = *impl_;
+  const ProgressFn poll = polls_of(options.progress);
+  report_progress_in_parallel(poll, "", 0, 0);
   // Both modes work on mollified lengths (operators/intrinsic_delaunay.h): every triangle, the input's and the
   // flipped ones, has a positive area bounded away from zero, so the Laplacian, the mass matrix and the
   // gradient below are defined on any mesh, degenerate faces included.
   IntrinsicTriangulation T =
       options.intrinsic_delaunay ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  report_progress_in_parallel(poll, "", 0, 0);
   flips_ = T.flips;
   skipped_flips_ = T.skipped_flips;
   mollification_ = T.mollification;
@@ -250,8 +253,8 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   }
   im.source_heat = kHeatPeak * min_mass / std::sqrt(max_diagonal);
   poisson.setFromTriplets(poisson_entries.begin(), poisson_entries.end());
-  im.heat.factorize(heat, "heat method", "heat-flow (M + tL)");
-  im.poisson.factorize(poisson, "heat method", "Poisson (cotangent Laplacian)");
+  im.heat.factorize(heat, "heat method", "heat-flow (M + tL)", poll);
+  im.poisson.factorize(poisson, "heat method", "Poisson (cotangent Laplacian)", poll);
 }
 
 HeatMethod::~HeatMethod() = default;
@@ -281,9 +284,12 @@ Eigen::VectorXd HeatMethod::distances(const std::vector<int>& sources) const {
     CSHAPES_REQUIRE(s >= 0 && s < n, "heat method: source vertex ", s, " out of range 0..", n - 1);
     U(s, 0) = im.source_heat;
   }
+  report_progress_in_parallel(options_.progress, "", 0, 0);
   im.heat.solve(U, work);
+  report_progress_in_parallel(options_.progress, "", 0, 0);
   im.divergence(U, phi);
   im.poisson.solve(phi, work);
+  report_progress_in_parallel(options_.progress, "", 0, 0);
   // φ is defined up to a constant per component: make it zero on average over the component's sources.
   const double inf = std::numeric_limits<double>::infinity();
   int max_label = 0;
@@ -344,10 +350,14 @@ void HeatMethod::for_each_source(
           U(sources[begin + j], j) = im.source_heat;
           source_component[j] = im.component[sources[begin + j]];
         }
+        // Polls between the steps of a block: on a large mesh one block of sources takes seconds.
+        report_progress_in_parallel(options_.progress, "", 0, 0);
         im.heat.solve(U, work);
+        report_progress_in_parallel(options_.progress, "", 0, 0);
         im.find_underflow(U, source_component, underflow);
         im.divergence(U, phi);
         im.poisson.solve(phi, work);
+        report_progress_in_parallel(options_.progress, "", 0, 0);
         // Transpose to one column per source in tiles of rows (the row-major block is too large for the
         // cache).
         columns.resize(n, k);

@@ -60,7 +60,10 @@ struct HeatMethodOptions {
   // needle triangles (TOSCA's: mean error 1.5% instead of 10-25% on cat0). CGAL's "Intrinsic_Delaunay" mode.
   bool intrinsic_delaunay = true;
   int block_size = 32;  // right-hand sides per triangular solve (32-48 is fastest on AVX2 machines)
-  ProgressFn progress;  // distances_each: called as blocks of sources finish
+  // distances_each: called as blocks of sources finish. Also polled (support/progress.h) between the steps
+  // of the constructor (the factorisations: operators/sparse_cholesky.h) and of each solve, so a stop is
+  // heard within one step, never at the end of all sources.
+  ProgressFn progress;
 };
 
 class HeatMethod {

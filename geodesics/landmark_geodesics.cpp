@@ -49,6 +49,7 @@ SingleSourceGeodesics::SingleSourceGeodesics(const Mesh& mesh, const GeodesicOpt
       HeatMethodOptions ho;
       ho.time_factor = options.heat_time_factor;
       ho.intrinsic_delaunay = options.heat_mode == CgalHeatMode::IntrinsicDelaunay;
+      ho.progress = polls_of(options.progress);  // a stop heard in the factorisations and each solve
       impl_->heat = std::make_unique<HeatMethod>(mesh, ho);
       break;
     }

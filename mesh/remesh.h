@@ -37,7 +37,10 @@ struct RemeshOptions {
       0.01;  // Hausdorff goal (× bbox diagonal) that triggers the feature-line fallback
   double presimplify_factor =
       6;  // input with more than this × target vertices: collapse to half of that first; 0: never
-  ProgressFn progress;  // called after every attempt (stage "remesh"), and polled (an empty stage) within one
+  // Called after every attempt (stage "remesh") and polled (an empty stage) within one. done / total counts
+  // attempts over every run the remesh may make (the plain one, then feature-line ones), so it jumps ahead
+  // when a run meets the goal, and reaches total only as remesh() returns.
+  ProgressFn progress;
 };
 
 struct RemeshResult {

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <optional>
 #include <unordered_map>
 
@@ -285,6 +286,30 @@ double remesh_memory_bytes(Index target_vertices) {
 namespace {
 // remesh() on a mesh of about unit size (its options and the mesh already checked).
 RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o);
+
+// The feature-line runs' angles, as factors of feature_angle_deg, in the order they are tried.
+constexpr double kFeatureAngleFactors[] = {1.0, 0.75, 0.5};
+constexpr int kRemeshRuns = 1 + static_cast<int>(std::size(kFeatureAngleFactors));
+
+// Progress over the whole remesh, not over one run: up to kRemeshRuns runs (the plain one, then the
+// feature-line ones) of up to max_attempts attempts each. Attempt a of run r reports r * max_attempts + a out
+// of this total; the last unit is reported by remesh() as it returns, so the progress line never says 100%
+// while a collapse, a Hausdorff distance or another run remains.
+double remesh_progress_total(const RemeshOptions& o) {
+  return static_cast<double>(kRemeshRuns) * o.max_attempts + 1;
+}
+
+// o for run `run` (0: the plain one): its reports placed in the whole remesh's count, its polls passed on.
+RemeshOptions run_options(const RemeshOptions& o, int run) {
+  RemeshOptions r = o;
+  if (o.progress) {
+    r.progress = [&o, run](const std::string& stage, double done, double) {
+      if (stage.empty()) return o.progress("", 0, 0);
+      o.progress(stage, static_cast<double>(run) * o.max_attempts + done, remesh_progress_total(o));
+    };
+  }
+  return r;
+}
 }  // namespace
 
 RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
@@ -308,11 +333,13 @@ RemeshResult remesh(const Mesh& mesh, const RemeshOptions& o) {
   // CGAL's predicates and the AABB tree overflow (1e100: SIGSEGV) or underflow (1e-100: SIGFPE) far from
   // unit size: the work is done at unit size, scaled by an exact power of two, and scaled back.
   const double scale = power_of_two_unit_scale(mesh.V);
-  if (scale == 1) return remesh_at_unit_size(mesh, o);
-  RemeshResult r = remesh_at_unit_size(Mesh{mesh.V * scale, mesh.F}, o);
-  r.mesh.V /= scale;
-  r.target_edge_length /= scale;
-  if (r.hausdorff >= 0) r.hausdorff /= scale;
+  RemeshResult r = remesh_at_unit_size(scale == 1 ? mesh : Mesh{mesh.V * scale, mesh.F}, o);
+  if (scale != 1) {
+    r.mesh.V /= scale;
+    r.target_edge_length /= scale;
+    if (r.hausdorff >= 0) r.hausdorff /= scale;
+  }
+  if (o.progress) o.progress("remesh", remesh_progress_total(o), remesh_progress_total(o));
   return r;
 }
 
@@ -390,7 +417,8 @@ RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
   }
   // Without feature lines the triangles are best; keep the feature lines only when the shape needs them
   // (thin fins such as ears are otherwise cut back by about an edge length, beyond the Hausdorff goal).
-  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0) return remesh_once(input, mesh, o, 0);
+  if (o.feature_angle_deg <= 0 || o.max_hausdorff_fraction <= 0)
+    return remesh_once(input, mesh, run_options(o, 0), 0);
   const double goal = o.max_hausdorff_fraction * bbox_diagonal(mesh.V);
   auto measured = [&](const RemeshOptions& oo, double feature_angle_deg) {
     RemeshResult r = remesh_once(input, mesh, oo, feature_angle_deg);
@@ -401,16 +429,20 @@ RemeshResult remesh_at_unit_size(const Mesh& mesh, const RemeshOptions& o) {
   RemeshResult plain;
   std::optional<RemeshResult> first_featured;
   std::exception_ptr featured_failure;
-  if (!plain_and_featured_side_by_side(o, input, measured, plain, first_featured, featured_failure))
-    plain = measured(o, 0);
+  const RemeshOptions plain_options = run_options(o, 0);
+  if (!plain_and_featured_side_by_side(plain_options, input, measured, plain, first_featured, featured_failure))
+    plain = measured(plain_options, 0);
   if (plain.hausdorff <= goal) return plain;
   if (featured_failure) std::rethrow_exception(featured_failure);
   // Ever more edges count as features (the angle threshold lowered in steps) until the goal is met; the
   // closest result is kept when it never is.
   RemeshResult best = plain;
-  for (double factor : {1.0, 0.75, 0.5}) {
-    RemeshResult featured = factor == 1.0 && first_featured ? std::move(*first_featured)
-                                                            : measured(o, factor * o.feature_angle_deg);
+  int run = 0;
+  for (double factor : kFeatureAngleFactors) {
+    ++run;  // runs 1 to kRemeshRuns - 1 of the progress count
+    RemeshResult featured = factor == 1.0 && first_featured
+                                ? std::move(*first_featured)
+                                : measured(run_options(o, run), factor * o.feature_angle_deg);
     featured.attempts += best.attempts;
     if (featured.hausdorff < best.hausdorff) best = featured;
     if (best.hausdorff <= goal) break;

@@ -41,7 +41,7 @@ class ShiftInvertOp {
     SparseMatrix A = L_;
     const double shift = scale_ * sigma;  // exact: the σ given to Spectra was σ/c
     for (Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= shift * sqrt_mass_[i] * sqrt_mass_[i];
-    cholesky_.factorize(A, what_, "shifted Laplacian (L - sigma M)");
+    cholesky_.factorize(A, what_, "shifted Laplacian (L - sigma M)", progress_);
   }
   void perform_op(const double* x_in, double* y_out) const {
     if (progress_) progress_("", 0, 0);  // a poll: a stop ends Spectra's iteration by the exception
@@ -212,6 +212,7 @@ LaplaceBeltramiEigen laplace_beltrami_eigen(const LaplacianMatrices& matrices,
     return e;
   }
   const SerialEigenProducts serial_eigen_products;  // Spectra's restarts: bit-identical for any thread count
+  report_progress_in_parallel(options.progress, "", 0, 0);  // a poll: the matrices took their time
   auto start = WallClock::now();
   LaplacianMatrices A = matrices;
   guard_massless(A);

@@ -68,8 +68,10 @@ struct LaplaceBeltramiOptions {
   // eigenvalue error of a 5,000-vertex mesh is ~0.1-1% (tests/spectral_test.cpp), so closer pairs may be
   // exact multiples split by discretisation, whose eigenvectors mix freely.
   double near_multiple_gap = 0.02;
-  // Polled (support/progress.h) before each Lanczos product, one sparse triangular solve pair: where a stop
-  // (Ctrl-C in Python) is heard. The factorisation before them is not interrupted.
+  // Polled (support/progress.h) before each Lanczos product, one sparse triangular solve pair, and around
+  // the factorisation before them (operators/sparse_cholesky.h: before its ordering, before and after its
+  // numeric step): where a stop (Ctrl-C in Python) is heard. Neither step of the factorisation is
+  // interrupted inside.
   ProgressFn progress;
 
   // Every field by name, for cache keys (support/option_fields.h).

@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "cshapes/support/error.h"
+#include "cshapes/support/progress.h"
 #include "cshapes/support/simd.h"
 
 #ifdef CSHAPES_HAVE_CHOLMOD
@@ -56,11 +57,21 @@ namespace avx512 {
 
 }  // namespace
 
-void SparseCholesky::factorize(const SparseMatrix& A, const std::string& context, const std::string& what) {
-  n_ = A.rows();
+void SparseCholesky::factorize(const SparseMatrix& A, const std::string& context, const std::string& what,
+                               const ProgressFn& poll) {
+  report_progress_in_parallel(poll, "", 0, 0);
 #ifdef CSHAPES_HAVE_CHOLMOD
-  cholmod_common common;
-  cholmod_start(&common);
+  // CHOLMOD's workspace and factor, freed however this function is left (a poll may throw between steps).
+  struct Cholmod {
+    cholmod_common common;
+    cholmod_factor* factor = nullptr;
+    Cholmod() { cholmod_start(&common); }
+    ~Cholmod() {
+      if (factor) cholmod_free_factor(&factor, &common);
+      cholmod_finish(&common);
+    }
+  } cholmod;
+  cholmod_common& common = cholmod.common;
   common.print = 0;
   common.error_handler = nullptr;
   common.supernodal = CHOLMOD_SIMPLICIAL;
@@ -68,13 +79,17 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::string& context
   SparseMatrix lower = A.triangularView<Eigen::Lower>();
   lower.makeCompressed();
   cholmod_sparse view = sparse_view(lower);
-  cholmod_factor* factor = cholmod_analyze(&view, &common);
+  cholmod_factor*& factor = cholmod.factor;
+  factor = cholmod_analyze(&view, &common);
   bool ok = factor && common.status == CHOLMOD_OK;
+  report_progress_in_parallel(poll, "", 0, 0);
   ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
+  report_progress_in_parallel(poll, "", 0, 0);
   // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
   ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
   const int status = common.status;
   if (ok) {
+    n_ = A.rows();
     const int* p = static_cast<const int*>(factor->p);
     const int* i = static_cast<const int*>(factor->i);
     const double* x = static_cast<const double*>(factor->x);
@@ -84,14 +99,14 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::string& context
     value_.assign(x, x + p[n_]);
     perm_.assign(perm, perm + n_);
   }
-  if (factor) cholmod_free_factor(&factor, &common);
-  cholmod_finish(&common);
   CSHAPES_REQUIRE(ok, context, ": CHOLMOD could not factorise the ", what, " matrix (status ", status,
                   "; not positive definite: degenerate or inverted triangles?)");
 #else
   Eigen::SimplicialLLT<SparseMatrix> llt(A);
+  report_progress_in_parallel(poll, "", 0, 0);
   CSHAPES_REQUIRE(llt.info() == Eigen::Success, context, ": the ", what,
                   " matrix could not be factorised; degenerate triangles?");
+  n_ = A.rows();
   // Eigen: P A Pᵀ = L Lᵀ with (P x)[P.indices()[i]] = x[i]; row k of the permuted system is row perm[k] of A.
   SparseMatrix L = llt.matrixL();
   L.makeCompressed();

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/support/progress.h"
 #include "cshapes/support/types.h"
 
 namespace cshapes {
@@ -23,8 +24,12 @@ class SparseCholesky {
   using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   // A: symmetric with both triangles stored. Throws cshapes::Error "<context>: CHOLMOD could not factorise
-  // the <what> matrix ..." when A is not positive definite.
-  void factorize(const Eigen::SparseMatrix<double>& A, const std::string& context, const std::string& what);
+  // the <what> matrix ..." when A is not positive definite. `poll` (support/progress.h) is polled before the
+  // fill-reducing ordering, before the numeric factorisation and after it: neither step can be interrupted
+  // inside, so a stop is heard at the end of the one under way; whatever it throws leaves this object as it
+  // was.
+  void factorize(const Eigen::SparseMatrix<double>& A, const std::string& context, const std::string& what,
+                 const ProgressFn& poll = {});
   // B (n × k, row-major) is overwritten by A⁻¹ B. `work` is scratch of the same size.
   void solve(Block& B, Block& work) const;
   Index size() const { return n_; }

@@ -299,5 +299,41 @@ TEST(HeatMethod, DegenerateFacesAreAccepted) {
   }
 }
 
+// A stop (Ctrl-C in Python: a progress callback that throws Cancelled, support/progress.h) is heard while the
+// heat method factorises, before any source is solved: on a large mesh the set-up is most of a call.
+TEST(HeatMethod, AStopIsHeardInTheSetUp) {
+  HeatMethodOptions options;
+  int calls = 0;
+  options.progress = [&](const std::string&, double, double) {
+    ++calls;
+    throw Cancelled();
+  };
+  EXPECT_THROW(HeatMethod(torus(40, 20, 2.0, 0.7), options), Cancelled);
+  EXPECT_EQ(calls, 1);
+}
+
+// Within one block of sources a stop is heard between its solves, not only once the block is finished (one
+// block of many sources takes seconds on a large mesh); the first call the callback gets is then a poll.
+TEST(HeatMethod, AStopIsHeardWithinABlockOfSources) {
+  HeatMethodOptions options;
+  options.block_size = 64;  // one block holds every source below
+  bool armed = false;
+  std::string stage_of_the_stop = "none";
+  options.progress = [&](const std::string& stage, double, double) {
+    if (!armed) return;
+    stage_of_the_stop = stage;
+    throw Cancelled();
+  };
+  const HeatMethod heat(torus(40, 20, 2.0, 0.7), options);
+  armed = true;
+  std::vector<int> sources;
+  for (int s = 0; s < 40; ++s) sources.push_back(s * 20);
+  EXPECT_THROW(heat.distances_each(sources), Cancelled);
+  EXPECT_EQ(stage_of_the_stop, "");  // a poll, not the report of a finished block
+  stage_of_the_stop = "none";
+  EXPECT_THROW(heat.distances(sources), Cancelled);  // all sources heated together: polled between solves
+  EXPECT_EQ(stage_of_the_stop, "");
+}
+
 }  // namespace heat_method_test
 }  // namespace cshapes

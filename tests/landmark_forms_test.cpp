@@ -112,5 +112,22 @@ TEST(LandmarkForms, SmacofFoldRepairOnTosca) {
   EXPECT_LT(aligned_rms(repaired.X, folded.X, true) / bbox_diagonal(folded.X), 0.01);
 }
 
+// A stop (Ctrl-C in Python: a progress callback that throws Cancelled, support/progress.h) is heard in the
+// landmark path's set-up (the heat method's factorisations), before the first landmark row is solved: the
+// first call the callback gets is a poll, not the report of a finished row.
+TEST(LandmarkForms, AStopIsHeardBeforeTheFirstLandmarkRow) {
+  const Mesh m = torus(64, 24, 2.0, 0.7);  // 1,536 vertices
+  for (const char* method : {"cmds", "smacof"}) {
+    CanonicalFormOptions o = mds_options(method, MdsSolver::Landmarks);
+    std::string first_stage = "none";
+    o.progress = [&](const std::string& stage, double, double) {
+      first_stage = stage;
+      throw Cancelled();
+    };
+    EXPECT_THROW(canonical_form(m, o), Cancelled) << method;
+    EXPECT_EQ(first_stage, "") << method;
+  }
+}
+
 }  // namespace landmark_forms_test
 }  // namespace cshapes

@@ -224,6 +224,39 @@ TEST(Remesh, AStopHeardBySideBySideRunIsNotLost) {
   omp_set_num_threads(before);
 }
 
+// The progress line says 100% only as remesh() returns: with one attempt per run and a Hausdorff goal no run
+// meets (every feature-line run follows the plain one), every report before the last is below its total,
+// and nothing (no report, no poll: no work) comes after the one at 100%.
+TEST(Remesh, ProgressReachesItsTotalOnlyAtTheEnd) {
+  RemeshOptions o;
+  o.target_vertices = 300;
+  o.max_attempts = 1;
+  o.max_hausdorff_fraction = 1e-9;
+  struct Call {
+    std::string stage;
+    double done, total;
+  };
+  std::vector<Call> calls;
+  o.progress = [&](const std::string& stage, double done, double total) {
+    calls.push_back({stage, done, total});
+  };
+  remesh(icosphere(3), o);
+  Index reports = 0;
+  for (const Call& c : calls) reports += !c.stage.empty();
+  EXPECT_GE(reports, 3);  // the feature-line runs did follow the plain one
+  ASSERT_FALSE(calls.empty());
+  const Call& last = calls.back();
+  EXPECT_EQ(last.stage, "remesh");
+  EXPECT_EQ(last.done, last.total);
+  double previous = 0;
+  for (size_t i = 0; i + 1 < calls.size(); ++i) {
+    if (calls[i].stage.empty()) continue;
+    EXPECT_LT(calls[i].done, calls[i].total) << "report " << i << " of " << calls.size();
+    EXPECT_GE(calls[i].done, previous) << "report " << i;  // never backwards
+    previous = calls[i].done;
+  }
+}
+
 // `cshapes remesh --subdivide K`: the remesh, then K midpoint subdivisions: V + E + F-grown counts exactly
 // (V' = V + E, F' = 4F per round, Euler characteristic kept), still on the unit sphere's polyhedron.
 TEST(Remesh, CliSubdividesTheRemesh) {

@@ -359,5 +359,19 @@ TEST(SpectralForms, MethodsReportTheirSpectrumAndNearMultiples) {
   }
 }
 
+// The shift-invert eigensolver hears a stop (support/progress.h) around its factorisation too, not only
+// before each Lanczos product: it polls more often than it multiplies; a stop at its first poll ends it.
+TEST(LaplaceBeltrami, AStopIsHeardAroundTheFactorisation) {
+  const LaplacianMatrices A = cotangent_laplacian(torus(40, 16));  // 640 vertices: above kDenseEigenVertices
+  LaplaceBeltramiOptions options = with_eigenpairs(10);
+  Index polls = 0;
+  options.progress = [&](const std::string&, double, double) { ++polls; };
+  const LaplaceBeltramiEigen e = laplace_beltrami_eigen(A, options);
+  ASSERT_NE(e.solver, "dense");
+  EXPECT_GT(polls, e.operator_products);
+  options.progress = [&](const std::string&, double, double) { throw Cancelled(); };
+  EXPECT_THROW(laplace_beltrami_eigen(A, options), Cancelled);
+}
+
 }  // namespace spectral_test
 }  // namespace cshapes
