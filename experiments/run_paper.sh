@@ -13,7 +13,10 @@
 #          the figures are still drawn, and the script then exits with 3 (a partial result), as
 #          `cshapes experiment paper` does. --strict stops at the first such shape instead (exit code 1).
 # --out    where everything is written (default: results/). Intermediate results are cached there: rerunning
-#          after an interruption resumes where it stopped.
+#          after an interruption resumes where it stopped. The folder is this script's: it holds the build
+#          log, the generated data and the PDFs beside the experiment's outputs, so the experiment is run with
+#          --force (those files stay as they are; a rerun replaces the experiment's own files and removes the
+#          ones it no longer writes). Point --out at a folder of its own.
 # --pdf    also write every figure as PDF
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -58,7 +61,7 @@ fi
 # Exit code 3: the experiment finished but left shapes out (named in report.md); the figures are still drawn
 # and the code is passed on. Any other failure stops here.
 status=0
-"$cshapes" experiment paper --data "$data" --out "$out" "${extra[@]}" || status=$?
+"$cshapes" experiment paper --data "$data" --out "$out" --force "${extra[@]}" || status=$?
 if [[ $status -ne 0 && $status -ne 3 ]]; then
   exit "$status"
 fi
