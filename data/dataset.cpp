@@ -187,7 +187,7 @@ Dataset read_manifest(const fs::path& manifest, bool allow_outside) {
     e.class_name = cells[col_class];
     CSHAPES_REQUIRE(!e.class_name.empty(), where, ":", line_number, ": empty 'class' for ", cells[col_file]);
     e.pose = pose_from_name(e.name);
-    if (col_pose >= 0) {
+    if (col_pose >= 0 && !cells[col_pose].empty()) {  // an empty cell: not given
       const std::string& v = cells[col_pose];
       size_t used = 0;
       try {
@@ -391,7 +391,8 @@ void write_manifest(const std::string& manifest_path, const std::vector<DatasetE
       }
       CSHAPES_REQUIRE(shown.find(',') == std::string::npos && e.class_name.find(',') == std::string::npos,
                       "write_manifest: commas are not allowed in file or class names: ", shown);
-      out << shown << ',' << e.class_name << ',' << e.pose << ',' << (e.noisy ? 1 : 0) << '\n';
+      out << shown << ',' << e.class_name << ',' << (e.pose >= 0 ? std::to_string(e.pose) : "") << ','
+          << (e.noisy ? 1 : 0) << '\n';
     }
   });
 }

@@ -9,8 +9,9 @@
 //   file   (required) path of the mesh, relative to the manifest's folder (or absolute), inside that folder
 //          (see read_dataset's allow_outside)
 //   class  (required) class label
-//   pose   (optional) integer pose number; default: the file name's trailing digits, else the line's rank in
-//   its class noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
+//   pose   (optional) integer pose number, 0 or more (a negative one is refused; an empty cell is "not
+//          given"); default: the file name's trailing digits, else the line's rank in its class
+//   noisy  (optional) 0/1 (or false/true): whether the shape carries topological noise
 // Any other column, a missing required column, a missing file, or an unreadable value is refused with a
 // message naming the manifest, the line and the column or file. Manifest order is kept.
 // FILE.cla: a Princeton Shape Benchmark classification (data/classification.h), each model id mapped to the
