@@ -461,8 +461,9 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
                                            : static_cast<long double>(type_size(p.type)));
     }
   if (!reader.ascii() && needed > static_cast<long double>(reader.remaining_bytes()))
-    fail(name, ": the header claims ", claimed, " items, at least ", static_cast<unsigned long long>(needed),
-         " bytes of data; the file holds ", reader.remaining_bytes(), " after its header (truncated or wrong counts)");
+    fail(name, ": the header claims ", claimed, " items, at least ",
+         needed < 1e18L ? std::to_string(static_cast<unsigned long long>(needed)) : "1e18", " bytes of data; the file "
+         "holds ", reader.remaining_bytes(), " after its header (truncated or wrong counts)");
   MeshFile file;
   MeshBuilder builder;
   bool have_vertices = false;

@@ -323,6 +323,17 @@ TEST(CauseMessages, PlyHeaderClaimingMoreVerticesNamesTheCounts) {
   }
 }
 
+TEST(CauseMessages, AHugeFaceCountIsNamedWithoutOverflow) {
+  // The fuzzer's find (tests/regressions): a binary PLY claiming 4e11 faces; the size check converted the
+  // bytes they need (5.6e19) to an integer that cannot hold them.
+  try {
+    read_mesh(std::string(CSHAPES_SOURCE_DIR) + "/tests/regressions/ply_face_count_overflows_size_check.ply");
+    FAIL() << "read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the header claims"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CauseMessages, TwoPropertiesOfOneNameBlameTheInput) {
   // Was: `convert dup_x.ply out.ply` blamed the output.
   const std::string dir = test::scratch_dir("messages-dup-x");
