@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
@@ -30,7 +31,8 @@ int run() {
   // The command line first: nothing is read or computed before it passes.
   const Communicator& comm = world_communicator();
   const bool root = comm.is_root();
-  check_options_read_by(args.method);  // every rank: each must stop
+  args.method = method_option(args.method);  // a method from outside is registered under its name here
+  check_options_read_by(args.method);        // every rank: each must stop
   require_output_path(args.output, {"csv"});
   std::vector<std::string> inputs = dataset_description_files(args.data);
   inputs.push_back(args.reference);
@@ -49,6 +51,7 @@ int run() {
   o.cache_dir = args.cache.empty()
                     ? (std::filesystem::path(args.output).parent_path() / ".cshapes-cache").string()
                     : args.cache;
+  set_outside_method_logs((std::filesystem::path(o.cache_dir) / kMethodLogsFolder).string());
   if (root) {  // one voice: the other ranks work silently
     o.progress = progress_printer();
     o.note = note;
@@ -113,9 +116,11 @@ const bool registered = register_command(
                       "D.labels.csv, where evaluate finds them")
            ->required();
        app.add_option("--method", args.method,
-                      "one of " + canonical_form_method_list() + " (options: the groups below, as in canon)")
-           ->capture_default_str()
-           ->check(one_of(canonical_form_methods()));
+                      "one of " + canonical_form_method_list() +
+                          " (options: the groups below, as in canon), or a method from outside: "
+                          "NAME=cmd:'COMMAND with {mesh} and {form}' or NAME=forms:DIR")
+           ->capture_default_str();
+       add_outside_method_options(app);
        app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")
            ->capture_default_str()
            ->check(one_of({"hausdorff", "chamfer", "rmse"}));

@@ -89,6 +89,13 @@ void add_methods_option(CLI::App& app, std::string& methods);
 // --methods' value: each item a registered method, at least one; UsageError naming an unknown one and the
 // known ones otherwise.
 std::vector<std::string> methods_option(const std::string& text);
+// --method's value (distmat): a registered method or one from outside (NAME=cmd:…, NAME=forms:…), registered
+// for the rest of the process; UsageError otherwise. add_outside_method_options adds --method-timeout and
+// --method-version (add_methods_option adds them too).
+std::string method_option(const std::string& text);
+void add_outside_method_options(CLI::App& app);
+// The folder outside command methods keep their output in: FOLDER/method-logs.
+void keep_outside_method_logs(const std::string& folder);
 
 // Exit codes of every command (docs/cli.md): every failure prints one line
 // "cshapes <command>: error: <what>" on stderr.

@@ -70,6 +70,8 @@ std::string find_python(const std::string& imports) {
 void write_method_titles(const std::string& folder) {
   nlohmann::ordered_json titles = nlohmann::ordered_json::object();
   for (const CanonicalFormMethod& method : canonical_form_method_registry()) titles[method.name] = method.title;
+  // Methods from outside after the library's: each its own colour (figure_style.py's EXTRA_COLOURS, in order).
+  for (const CanonicalFormMethod* method : outside_canonical_form_methods()) titles[method->name] = method->title;
   write_file_atomically((fs::path(folder) / "methods.json").string(),
                         [&](std::ostream& out) { out << titles.dump(2) << "\n"; });
 }

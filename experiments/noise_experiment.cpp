@@ -24,6 +24,7 @@
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/outside_methods_report.h"
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/shape_distance.h"
 #include "cshapes/pipeline/experiment_kit.h"
@@ -447,7 +448,8 @@ NoiseExperimentResult run_noise_experiment(const NoiseExperimentOptions& options
 
 NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   const auto start = WallClock::now();
-  OutputRun output(o.out, "experiment noise", {"cache"}, o.force);
+  OutputRun output(o.out, "experiment noise", experiment_kept_folders(), o.force);
+  start_outside_methods(o.out);
   NoiseExperimentResult result = run_noise_experiment(o);
   write_noise_outputs(result, o.out);
   if (!o.figure) {
@@ -460,6 +462,7 @@ NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   if (!result.figure) say(o.note, "no figure: " + result.figure_note);
   result.seconds = seconds_since(start);
   write_noise_report(result, o.out);
+  finish_outside_methods(o.methods, o.out, o.note);
   output.commit();
   return result;
 }

@@ -25,6 +25,7 @@
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/outside_methods_report.h"
 #include "cshapes/experiments/paper_figures.h"
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/icp.h"
@@ -554,7 +555,8 @@ void draw_paper_figures(PaperReport& report) {
 PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
   const auto start = WallClock::now();
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
-  OutputRun output(options.out, "experiment paper", {"cache"}, options.force, &comm);
+  OutputRun output(options.out, "experiment paper", experiment_kept_folders(), options.force, &comm);
+  start_outside_methods(options.out);
   PaperReport report = run_paper_experiment(options);
   if (comm.is_root()) {
     if (options.draw) {
@@ -569,6 +571,7 @@ PaperExperimentSummary paper_experiment(const PaperExperimentOptions& options) {
     }
     report.summary.seconds = seconds_since(start);
     write_paper_report(report, options.out);
+    finish_outside_methods(options.methods, options.out, options.note);
   }
   output.commit();
   return report.summary;

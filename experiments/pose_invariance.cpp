@@ -23,6 +23,7 @@
 #include "cshapes/support/output_folder.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/outside_methods_report.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/remesh_samples.h"
 
@@ -554,10 +555,12 @@ void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions&
 }
 
 PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options) {
-  OutputRun output(options.out, "experiment pose", {"cache"}, options.force);
+  OutputRun output(options.out, "experiment pose", experiment_kept_folders(), options.force);
+  start_outside_methods(options.out);
   PoseInvarianceResult result = run_pose_invariance(options);
   draw_pose_figure(result, options);
   write_pose_invariance_report(result, options, options.out);
+  finish_outside_methods(options.methods, options.out, options.note);
   output.commit();
   return result;
 }

@@ -12,6 +12,7 @@
 #include "cshapes/support/output_folder.h"
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/outside_methods_report.h"
 #include "cshapes/pipeline/dataset_distances.h"
 #include "cshapes/pipeline/experiment_kit.h"
 
@@ -67,6 +68,9 @@ json result_json(const RetrievalExperimentResult& r) {
                        {"pairs_computed", m.pairs_computed},
                        {"pairs_cached", m.pairs_cached},
                        {"seconds", m.seconds},
+                       {"form_seconds_median", m.form_seconds_median},
+                       {"form_peak_memory_bytes", m.form_peak_bytes_max < 0 ? nlohmann::json(nullptr)
+                                                                             : nlohmann::json(m.form_peak_bytes_max)},
                        {"distances", distances}});
   }
   json j{{"data", r.options.data},       {"read", r.data},
@@ -153,6 +157,12 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     m.forms_cached = distances.forms_cached;
     m.pairs_computed = distances.distances.computed;
     m.pairs_cached = distances.distances.cached;
+    if (!distances.form_seconds.empty()) {
+      std::vector<double> t = distances.form_seconds;
+      std::nth_element(t.begin(), t.begin() + static_cast<long>(t.size() / 2), t.end());
+      m.form_seconds_median = t[t.size() / 2];
+      for (double b : distances.form_peak_bytes) m.form_peak_bytes_max = std::max(m.form_peak_bytes_max, b);
+    }
     if (comm.is_root()) write_method_files(folder, o, distances, m);
     m.seconds = seconds_since(method_start);
     r.methods.push_back(std::move(m));
@@ -182,7 +192,8 @@ void draw_retrieval_figures(RetrievalExperimentResult& r, const std::string& fol
 
 RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions& options) {
   const Communicator& comm = options.communicator ? *options.communicator : single_process();
-  OutputRun output(options.out, "experiment retrieval", {"cache"}, options.force, &comm);
+  OutputRun output(options.out, "experiment retrieval", experiment_kept_folders(), options.force, &comm);
+  start_outside_methods(options.out);
   RetrievalExperimentResult r = run_retrieval_experiment(options);
   if (!comm.is_root()) return r;
   if (options.figures) {
@@ -192,6 +203,7 @@ RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions&
     r.figures_note = "not requested (--no-draw)";
   }
   write_retrieval_report(r, options.out);
+  finish_outside_methods(options.methods, options.out, options.note);
   output.commit();
   return r;
 }

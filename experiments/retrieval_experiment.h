@@ -68,6 +68,9 @@ struct RetrievalMethodResult {
   std::map<std::string, RetrievalReport> by_distance;  // per retrieval_distances() entry
   long forms_computed = 0, forms_cached = 0, pairs_computed = 0, pairs_cached = 0;
   double seconds = 0;
+  // Per form, as computed (cached forms keep their time): the median seconds, and the largest peak memory in
+  // bytes of a method run as a program of its own (−1: not measured, an in-process method).
+  double form_seconds_median = 0, form_peak_bytes_max = -1;
 };
 
 struct RetrievalExperimentResult {

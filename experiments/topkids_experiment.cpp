@@ -20,6 +20,7 @@
 #include "cshapes/data/cache.h"
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
+#include "cshapes/experiments/outside_methods_report.h"
 #include "cshapes/matching/nearest_neighbors.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/remesh_samples.h"
@@ -582,10 +583,12 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
 }
 
 TopkidsExperimentResult topkids_experiment(const TopkidsExperimentOptions& options) {
-  OutputRun output(options.out, "experiment topkids", {"cache"}, options.force);
+  OutputRun output(options.out, "experiment topkids", experiment_kept_folders(), options.force);
+  start_outside_methods(options.out);
   TopkidsExperimentResult result = run_topkids_experiment(options);
   draw_topkids_figure(result, options);
   write_topkids_report(result, options, options.out);
+  finish_outside_methods(options.methods, options.out, options.note);
   output.commit();
   return result;
 }

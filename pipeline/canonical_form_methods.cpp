@@ -1,6 +1,8 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 
 #include <algorithm>
+#include <list>
+#include <mutex>
 
 #include "cshapes/support/error.h"
 #include "cshapes/support/option_limits.h"
@@ -33,7 +35,61 @@ void require_same_option(const MethodOption& a, const MethodOption& b, const std
                   "method ", method, ": option '", b.name, "' differs from another method's option of that name");
 }
 
+// The outside methods of the runs in progress, each with its count of users: a list, so that a pointer
+// find_canonical_form_method gave stays valid while other runs register theirs.
+struct OutsideEntry {
+  CanonicalFormMethod method;
+  int users = 0;
+};
+std::mutex& outside_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::list<OutsideEntry>& outside_methods() {
+  static std::list<OutsideEntry> methods;
+  return methods;
+}
+
+const CanonicalFormMethod* find_builtin(const std::string& name) {
+  for (const CanonicalFormMethod& m : registry())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
 }  // namespace
+
+void register_outside_canonical_form_method(CanonicalFormMethod method) {
+  CSHAPES_REQUIRE(!method.name.empty() && method.compute, "a canonical-form method needs a name and compute");
+  if (find_builtin(method.name))
+    fail("method '", method.name, "' is cshapes's own; give your method another name (known: ",
+         canonical_form_method_list(), ")");
+  std::lock_guard<std::mutex> lock(outside_mutex());
+  for (OutsideEntry& e : outside_methods())
+    if (e.method.name == method.name) {
+      if (e.method.key_text != method.key_text || e.method.door != method.door)
+        fail("method '", method.name, "' is in use by another run with another ", e.method.door,
+             " door; give this one another name");
+      ++e.users;
+      return;
+    }
+  outside_methods().push_back({std::move(method), 1});
+}
+
+void unregister_outside_canonical_form_method(const std::string& name) {
+  std::lock_guard<std::mutex> lock(outside_mutex());
+  for (auto it = outside_methods().begin(); it != outside_methods().end(); ++it)
+    if (it->method.name == name) {
+      if (--it->users == 0) outside_methods().erase(it);
+      return;
+    }
+}
+
+std::vector<const CanonicalFormMethod*> outside_canonical_form_methods() {
+  std::lock_guard<std::mutex> lock(outside_mutex());
+  std::vector<const CanonicalFormMethod*> out;
+  for (const OutsideEntry& e : outside_methods()) out.push_back(&e.method);
+  return out;
+}
 
 const std::vector<CanonicalFormMethod>& canonical_form_method_registry() {
   return registry();
@@ -62,8 +118,10 @@ const std::vector<std::string>& canonical_form_methods() {
 }
 
 const CanonicalFormMethod* find_canonical_form_method(const std::string& name) {
-  for (const CanonicalFormMethod& m : canonical_form_method_registry())
-    if (m.name == name) return &m;
+  if (const CanonicalFormMethod* m = find_builtin(name)) return m;
+  std::lock_guard<std::mutex> lock(outside_mutex());
+  for (const OutsideEntry& e : outside_methods())
+    if (e.method.name == name) return &e.method;
   return nullptr;
 }
 

@@ -78,8 +78,21 @@ struct CanonicalFormMethod {
   // The form of `mesh` (already repaired for the method: repair_for_canonical_form), in its vertex order.
   // given: the distances when the caller has them (methods that use the geodesic matrix; ignored otherwise).
   // canonical_form() places the result back at the input's vertices.
-  CanonicalForm (*compute)(const Mesh& mesh, const CanonicalFormOptions& options,
-                           const GivenDistances& given) = nullptr;
+  std::function<CanonicalForm(const Mesh& mesh, const CanonicalFormOptions& options, const GivenDistances& given)>
+      compute;
+  // A method from outside the library (pipeline/outside_methods.h): how it came in ("command", "forms",
+  // "python"; "" for the library's own and for a program's register_canonical_form_method) and what it came
+  // with (the command, the folder, the function), said in every report.
+  std::string door;
+  std::string door_text;
+  // Appended to its cache key: what identifies its code when its options cannot (the command string and the
+  // content of the files it names, a function's source, --method-version).
+  std::string key_text;
+  // Its forms are cached (false: forms read from a folder, where reading is the computation).
+  bool cacheable = true;
+  // It gets the mesh as the experiment has it (no repair, no rescaling) and returns one row per vertex: an
+  // outside method's forms are checked against the mesh it was given, never repaired for it.
+  bool takes_mesh_as_given = false;
 };
 
 // Every registered method, in registration order (coulomb, cmds, smacof, lbo, diffusion, spectral-mds, then
@@ -90,7 +103,15 @@ const std::vector<CanonicalFormMethod>& canonical_form_method_registry();
 //   static const bool registered = register_canonical_form_method(toy_method());
 // Throws for a name already registered or an option declared twice differently. Returns true.
 bool register_canonical_form_method(CanonicalFormMethod method);
-// The method registered under `name`, or null.
+// A method from outside, registered for the length of a run (pipeline/outside_methods.h registers and
+// removes them): found by name like the others, but not in canonical_form_method_registry() (not a default of
+// any experiment). Registering a name in use by a built-in or by another outside method with a different
+// key_text throws; the same name and key_text again counts one more user.
+void register_outside_canonical_form_method(CanonicalFormMethod method);
+void unregister_outside_canonical_form_method(const std::string& name);
+// The outside methods registered now, in registration order.
+std::vector<const CanonicalFormMethod*> outside_canonical_form_methods();
+// The method registered under `name` (built-in first, then outside), or null.
 const CanonicalFormMethod* find_canonical_form_method(const std::string& name);
 // The method registered under `name`; throws cshapes::Error "unknown canonization method 'x'; known:
 // coulomb, cmds, smacof" otherwise.

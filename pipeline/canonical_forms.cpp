@@ -213,6 +213,14 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
   ro.strict = options.strict;
   ro.name = options.name;
   const CanonicalFormMethod& method = canonical_form_method(options.method);
+  if (method.takes_mesh_as_given) {  // an outside method: the mesh as the experiment has it
+    RepairedMesh as_given;
+    as_given.mesh = mesh;
+    as_given.input_vertices = mesh.num_vertices();
+    as_given.vertex_map.resize(mesh.num_vertices());
+    for (Index i = 0; i < mesh.num_vertices(); ++i) as_given.vertex_map[i] = static_cast<int>(i);
+    return as_given;
+  }
   ro.purpose = method.repair_purpose;
   return repair_for(mesh, method.requirements, ro);
 }
@@ -286,7 +294,7 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
   const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
   // Far from unit size, the repaired mesh (a dropped stray vertex no longer sets the size) on a copy scaled
   // by a power of two (exact), and the form scaled back.
-  const double scale = canonical_form_scale(repaired.mesh);
+  const double scale = method.takes_mesh_as_given ? 1.0 : canonical_form_scale(repaired.mesh);
   const Mesh scaled = scale == 1 ? Mesh{} : Mesh{repaired.mesh.V * scale, repaired.mesh.F};
   DistanceMatrix owned;  // read from distances_file, or the given D at unit size
   if (method.uses_geodesic_matrix && !D && !options.distances_file.empty()) {
@@ -357,6 +365,8 @@ std::string canonical_form_key(const CanonicalFormOptions& options) {
       options_key(options, [&method](const char* field) { return method_reads_field(method, field); });
   // The version of the method's arithmetic, from 2 on (at 1 the key is the one from before versions).
   if (method.results_version > 1) key += ";results-v" + std::to_string(method.results_version);
+  // An outside method: its door and what identifies its code (pipeline/outside_methods.h).
+  if (!method.door.empty()) key += ";door=" + method.door + ";" + method.key_text;
   return key;
 }
 
@@ -385,6 +395,10 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
                                     const DistanceMatrix* D, double D_seconds,
                                     const std::string& D_fallback) {
   const std::string key = canonical_form_cache_key(mesh, options);
+  if (!canonical_form_method(options.method).cacheable) {  // forms read from a folder: read again
+    if (was_cached) *was_cached = false;
+    return canonical_form(mesh, options, D, D_seconds, D_fallback);
+  }
   if (std::optional<nlohmann::json> hit = cache.get_json(key)) {
     // The repair (cheap) is redone for its report under this call's name, and so that --strict refuses.
     const RepairedMesh repaired = repair_for_canonical_form(mesh, options);

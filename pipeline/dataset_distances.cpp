@@ -87,6 +87,8 @@ void dataset_forms(const Dataset& data, const DiskCache& cache, CanonicalFormOpt
     if (!form.form.repair_text.empty()) say(options.note, form.form.repair_text);
     const bool cached = form.cached;
     (cached ? result.forms_cached : result.forms_computed)++;
+    result.form_seconds.push_back(form.form.precompute_seconds + form.form.solve_seconds);
+    result.form_peak_bytes.push_back(form.form.details.value("peak_memory_bytes", -1.0));
     forms.push_back(std::move(form.form.X));
     keys.push_back(form.key);
     result.names.push_back(e.name);
@@ -108,6 +110,8 @@ void dataset_forms(const Dataset& data, const DiskCache& cache, CanonicalFormOpt
     result.skipped.push_back(entry->path);
     result.skipped_reasons.push_back(incomparable_size_reason());
     for (auto* list : {&result.names, &result.classes, &keys}) list->erase(list->begin() + static_cast<long>(*k));
+    for (auto* list : {&result.form_seconds, &result.form_peak_bytes})
+      list->erase(list->begin() + static_cast<long>(*k));
     forms.erase(forms.begin() + static_cast<long>(*k));
   }
 }

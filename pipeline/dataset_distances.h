@@ -72,6 +72,10 @@ struct DatasetDistances {
   // pipeline/shape_failures.h. Empty when nothing failed.
   std::vector<ShapeFailure> failures;
   long forms_computed = 0, forms_cached = 0;  // over all ranks
+  // Per usable shape (names' order): what its form cost when it was computed (pre-computation and embedding,
+  // seconds; a cached form keeps the run's that computed it), and the peak memory of the process that computed
+  // it (bytes; a method from outside by the command door; −1 where not measured: in-process methods).
+  std::vector<double> form_seconds, form_peak_bytes;
   PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse (rank 0)
   TwoStageSummary two_stage;
   ResampledDataset resampling;  // with options.resample: what was remeshed, and how well (else empty)

@@ -4,10 +4,19 @@
 // `cshapes show` (experiments/show_mesh.h).
 #include <pybind11/stl.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include "cshapes/experiments/noise_experiment.h"
 #include "cshapes/experiments/paper_experiment.h"
+#include "cshapes/experiments/pose_invariance.h"
+#include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/experiments/show_mesh.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/sha256.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"
@@ -19,33 +28,112 @@ namespace py = pybind11;
 namespace {
 
 // The methods argument: a list (or tuple) of names, or one string of comma-separated names ('lbo',
-// 'coulomb,cmds'), never a string taken letter by letter.
-std::vector<std::string> method_names(const py::object& methods, const char* function) {
+// 'coulomb,cmds'), never a string taken letter by letter. An item may be a method from outside
+// (pipeline/outside_methods.h): "NAME=cmd:COMMAND", "NAME=forms:DIR", or a pair (NAME, fn) with fn(V, F) -> X
+// (n×3), or (NAME, "cmd:COMMAND"|"forms:DIR"). Those are registered while the MethodArgument lives.
+struct MethodArgument {
   std::vector<std::string> names;
-  auto add = [&](const std::string& text) {
+  // A function door holds a Python object: released when this goes, with the GIL held (at the end of the
+  // binding's call, after Computing).
+  std::vector<std::unique_ptr<OutsideMethod>> outside;
+};
+
+// What identifies a Python function's code in the cache key: its module, qualified name and source.
+std::string function_key(const py::object& fn) {
+  std::string key = py::str(py::getattr(fn, "__module__", py::str("?"))).cast<std::string>() + "." +
+                    py::str(py::getattr(fn, "__qualname__", py::str(py::repr(fn)))).cast<std::string>();
+  try {
+    key += ";source=" + sha256_hex(py::module_::import("inspect").attr("getsource")(fn).cast<std::string>());
+  } catch (const py::error_already_set&) {
+    key += ";source=unavailable";  // a builtin or a lambda typed at the prompt: --method-version decides
+  }
+  return key;
+}
+
+OutsideDoor function_door(const py::object& fn, const std::string& name) {
+  OutsideDoor door;
+  door.kind = OutsideDoor::Kind::Function;
+  door.text = py::str(py::getattr(fn, "__qualname__", py::str(py::repr(fn)))).cast<std::string>();
+  door.function_key = function_key(fn);
+  // Called from the library's threads without the GIL: it takes the GIL for the call, and a Python exception
+  // becomes this shape's failure (KeyboardInterrupt stops the run).
+  door.function = [fn = std::make_shared<py::object>(fn), name](const Mesh& mesh,
+                                                                 const std::string& shape) -> Points {
+    py::gil_scoped_acquire gil;
+    try {
+      py::object X = (*fn)(to_numpy(mesh.V), to_numpy(mesh.F));
+      return to_points(X, shape + ": method " + name + ": the form returned", true);
+    } catch (py::error_already_set& e) {
+      if (e.matches(PyExc_KeyboardInterrupt)) throw Cancelled();
+      fail(shape, ": method ", name, ": the function raised ", e.what());
+    }
+  };
+  return door;
+}
+
+MethodArgument method_argument(const py::object& methods, const char* function, Kwargs& k) {
+  OutsideMethodSettings settings;
+  settings.timeout_seconds = k.number("method_timeout", settings.timeout_seconds);
+  CSHAPES_REQUIRE(settings.timeout_seconds > 0, function, "(): method_timeout: expected seconds > 0, got ",
+                  settings.timeout_seconds);
+  settings.version = k.text("method_version", "");
+  MethodArgument out;
+  if (methods.is_none()) return out;
+  auto add_text = [&](const std::string& text) {
     std::string item;
-    for (size_t k = 0; k <= text.size(); ++k)
-      if (k == text.size() || text[k] == ',') {
+    for (size_t c = 0; c <= text.size(); ++c)
+      if (c == text.size() || (text[c] == ',' && !is_outside_method_item(item))) {
         CSHAPES_REQUIRE(!item.empty(), function, "(): methods: an empty name in '", text, "'");
-        names.push_back(item);
+        if (is_outside_method_item(item)) {
+          auto [name, door] = parse_outside_method(item);
+          out.outside.push_back(std::make_unique<OutsideMethod>(name, std::move(door), settings));
+          out.names.push_back(name);
+        } else {
+          out.names.push_back(item);
+        }
         item.clear();
       } else {
-        item += text[k];
+        item += text[c];
       }
   };
   if (py::isinstance<py::str>(methods)) {
-    add(methods.cast<std::string>());
-    return names;
+    add_text(methods.cast<std::string>());
+    return out;
   }
   CSHAPES_REQUIRE(py::isinstance<py::list>(methods) || py::isinstance<py::tuple>(methods), function,
                   "(): methods: expected a list of method names such as ['coulomb', 'lbo'], got ",
                   std::string(py::str(methods.get_type().attr("__name__"))));
   for (py::handle m : methods) {
-    CSHAPES_REQUIRE(py::isinstance<py::str>(m), function, "(): methods: expected method names (str), got ",
+    if (py::isinstance<py::str>(m)) {
+      const std::string text = m.cast<std::string>();
+      // One item of a list is one method: a command may hold commas.
+      if (is_outside_method_item(text)) {
+        auto [name, door] = parse_outside_method(text);
+        out.outside.push_back(std::make_unique<OutsideMethod>(name, std::move(door), settings));
+        out.names.push_back(name);
+      } else {
+        add_text(text);
+      }
+      continue;
+    }
+    CSHAPES_REQUIRE(py::isinstance<py::tuple>(m) && py::len(m) == 2 && py::isinstance<py::str>(m[py::int_(0)]),
+                    function, "(): methods: expected method names (str) or pairs (name, fn) with fn(V, F) -> X, got ",
                     std::string(py::str(m.get_type().attr("__name__"))));
-    add(m.cast<std::string>());
+    const std::string name = m[py::int_(0)].cast<std::string>();
+    const py::object what = py::reinterpret_borrow<py::object>(m[py::int_(1)]);
+    if (py::isinstance<py::str>(what)) {
+      auto [parsed, door] = parse_outside_method(name + "=" + what.cast<std::string>());
+      out.outside.push_back(std::make_unique<OutsideMethod>(parsed, std::move(door), settings));
+    } else {
+      CSHAPES_REQUIRE(PyCallable_Check(what.ptr()), function, "(): methods: (", name,
+                      ", …): expected a function fn(V, F) -> X or a door 'cmd:COMMAND' / 'forms:DIR', got ",
+                      std::string(py::str(what.get_type().attr("__name__"))));
+      out.outside.push_back(std::make_unique<OutsideMethod>(name, function_door(what, name), settings));
+    }
+    out.names.push_back(name);
   }
-  return names;
+  require_canonical_form_methods(out.names, std::string(function) + "(): methods");
+  return out;
 }
 
 py::dict experiment_paper_py(const py::object& data, const py::object& out, const py::object& methods,
@@ -54,7 +142,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   PaperExperimentOptions o;
   o.data = to_path(data, "data");
   o.out = to_path(out, "out");
-  if (!methods.is_none()) o.methods = method_names(methods, "experiment_paper");
+
   CSHAPES_REQUIRE(poses_per_class >= 0, "experiment_paper(): poses_per_class: expected 0 (all) or more, got ",
                   poses_per_class);
   CSHAPES_REQUIRE(noisy_per_class >= -1,
@@ -66,6 +154,8 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.figures = figures;
   o.draw = draw;
   Kwargs k(kwargs, "experiment_paper");
+  const MethodArgument method_list = method_argument(methods, "experiment_paper", k);
+  if (!methods.is_none()) o.methods = method_list.names;
   o.glue = k.int32("glue", o.glue);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
   o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
@@ -104,13 +194,15 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   RetrievalExperimentOptions o;
   o.data = to_path(data, "data");
   o.out = to_path(out, "out");
-  if (!methods.is_none()) o.methods = method_names(methods, "experiment_retrieval");
+
   CSHAPES_REQUIRE(resample == 0 || (resample >= 4 && resample <= 100000000),
                   "experiment_retrieval(): resample: expected 0 (off) or a vertex count from 4 to 100000000, got ",
                   resample);
   o.resample.vertices = static_cast<Index>(resample);
   o.figures = draw;
   Kwargs k(kwargs, "experiment_retrieval");
+  const MethodArgument method_list = method_argument(methods, "experiment_retrieval", k);
+  if (!methods.is_none()) o.methods = method_list.names;
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method =
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
@@ -199,6 +291,99 @@ std::string show_py(const py::object& mesh, const py::object& form, const py::ob
 
 }  // namespace
 
+namespace {
+
+// The experiments' common keywords and the methods argument, for noise, pose and topkids.
+template <class Options>
+void common_experiment_options(Options& o, const py::object& data, const py::object& out, Kwargs& k) {
+  o.data = to_path(data, "data");
+  o.out = to_path(out, "out");
+  o.force = k.flag("force", o.force);
+  o.allow_outside = k.flag("allow_outside", o.allow_outside);
+  o.canon.strict = k.flag("strict", o.canon.strict);
+  o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
+  o.resample.vertices = static_cast<Index>(k.integer("resample", 0, 0));
+}
+
+// The run's results as the CLI writes them (OUT/NAME, a JSON file), with the failures.
+py::dict experiment_result(const std::string& out, const std::string& json_name,
+                           const std::vector<ShapeFailure>& failures) {
+  py::dict result;
+  result["out"] = out;
+  const std::string path = (std::filesystem::path(out) / json_name).string();
+  if (std::filesystem::exists(path)) {
+    std::ifstream in(path);
+    result["results"] = python::to_python(nlohmann::json::parse(in));
+  }
+  result["failures"] = python::to_python(shape_failures_json(failures));
+  return result;
+}
+
+}  // namespace
+
+py::dict experiment_noise_py(const py::object& data, const py::object& out, const py::object& methods, bool draw,
+                             const py::kwargs& kwargs) {
+  NoiseExperimentOptions o;
+  Kwargs k(kwargs, "experiment_noise");
+  const MethodArgument method_list = method_argument(methods, "experiment_noise", k);
+  if (!methods.is_none()) o.methods = method_list.names;
+  common_experiment_options(o, data, out, k);
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
+  o.poses_per_class = k.int32("poses_per_class", o.poses_per_class);
+  if (k.given("levels")) o.levels = k.object("levels").cast<std::vector<int>>();
+  k.done();
+  o.figure = draw;
+  o.progress = stop_on_python_signals();
+  NoiseExperimentResult r;
+  {
+    Computing computing;
+    r = noise_experiment(o);
+  }
+  return experiment_result(o.out, "noise.json", r.failures);
+}
+
+py::dict experiment_pose_py(const py::object& data, const py::object& out, const py::object& methods, bool draw,
+                            const py::kwargs& kwargs) {
+  PoseInvarianceOptions o;
+  Kwargs k(kwargs, "experiment_pose");
+  const MethodArgument method_list = method_argument(methods, "experiment_pose", k);
+  if (!methods.is_none()) o.methods = method_list.names;
+  common_experiment_options(o, data, out, k);
+  o.samples = k.int32("samples", o.samples);
+  o.parts = k.flag("parts", o.parts);
+  if (k.given("shapes")) o.shapes = k.object("shapes").cast<std::vector<std::string>>();
+  k.done();
+  o.figure = draw;
+  o.canon.progress = stop_on_python_signals();
+  PoseInvarianceResult r;
+  {
+    Computing computing;
+    r = pose_experiment(o);
+  }
+  return experiment_result(o.out, "pose_residuals.json", r.failures);
+}
+
+py::dict experiment_topkids_py(const py::object& data, const py::object& out, const py::object& methods, bool draw,
+                               const py::kwargs& kwargs) {
+  TopkidsExperimentOptions o;
+  Kwargs k(kwargs, "experiment_topkids");
+  const MethodArgument method_list = method_argument(methods, "experiment_topkids", k);
+  if (!methods.is_none()) o.methods = method_list.names;
+  common_experiment_options(o, data, out, k);
+  o.reference = k.text("reference", o.reference);
+  o.samples = k.int32("samples", o.samples);
+  if (k.given("poses")) o.poses = k.object("poses").cast<std::vector<std::string>>();
+  k.done();
+  o.figure = draw;
+  o.progress = stop_on_python_signals();
+  TopkidsExperimentResult r;
+  {
+    Computing computing;
+    r = topkids_experiment(o);
+  }
+  return experiment_result(o.out, "topkids.json", r.failures);
+}
+
 void bind_experiments(py::module_& m) {
   m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
         py::arg("title") = py::none(), py::arg("view") = "pca",
@@ -218,28 +403,60 @@ cannot draw. Returns out as a str.)");
         R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
 
 data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
-folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof]; poses_per_class [4]
+folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
+'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
 figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
 matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
 correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
 (remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
 out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
-(read manifest entries outside the dataset's folder).
+(read manifest entries outside the dataset's folder), method_timeout [86400], method_version [''].
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
+  m.def("experiment_noise", &experiment_noise_py, py::arg("data"), py::arg("out"), py::arg("methods") = py::none(),
+        py::arg("draw") = true,
+        R"(Retrieval under topological noise (`cshapes experiment noise`): glued versions of every clean pose.
+
+Keywords: seed [1], poses_per_class [0: all], levels [[0, 1, 2, 4, 8]] (glues per noisy version).)" R"(
+Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
+force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
+(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
+run's JSON file), failures.)");
+  m.def("experiment_pose", &experiment_pose_py, py::arg("data"), py::arg("out"), py::arg("methods") = py::none(),
+        py::arg("draw") = true,
+        R"(Pose residuals against ground-truth correspondence (`cshapes experiment pose`), per part.
+
+Keywords: samples [1000], parts [True], shapes [all] (names to restrict to).)" R"(
+Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
+force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
+(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
+run's JSON file), failures.)");
+  m.def("experiment_topkids", &experiment_topkids_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("draw") = true,
+        R"(SHREC'16 TOPKIDS correspondence curves (`cshapes experiment topkids`).
+
+Keywords: reference ['kid00'], samples [1000], poses [all].)" R"(
+Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
+force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
+(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
+run's JSON file), failures.)");
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("draw") = true,
         R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.
 
 data: a folder of meshes, a manifest.csv or a Princeton .cla file; out: the output folder (its cache/ makes
-reruns resume). methods [all registered]; resample [0]: remesh every shape to about this many vertices first
+reruns resume). methods [all registered; or from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with
+fn(V, F) -> X, docs/outside-methods.md]; resample [0]: remesh every shape to about this many vertices first
 (cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
 the figures.
 Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3],
 force [False] (write into an out folder that holds files cshapes did not write; without it such a folder, a
 dataset's own folder for one, is refused), allow_outside [False] (read manifest or .cla entries outside the
-dataset's folder).
+dataset's folder), method_timeout [86400], method_version [''].
 Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 figures, failures.)");

@@ -1,0 +1,549 @@
+#include "cshapes/pipeline/outside_methods.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <Eigen/Eigenvalues>
+
+#include "cshapes/mesh/io.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/sha256.h"
+#include "cshapes/support/timing.h"
+
+namespace fs = std::filesystem;
+
+namespace cshapes {
+
+struct OutsideMethod::State {
+  std::string name;
+  OutsideDoor door;
+  OutsideMethodSettings settings;
+  std::mutex mutex;  // guards missing (forms of shapes computed on several threads)
+  struct Missing {
+    std::string shape;
+    Mesh mesh;
+  };
+  std::vector<Missing> missing;  // forms door: shapes the folder had no form for, in the order asked
+};
+
+namespace {
+
+std::mutex& logs_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::string& logs_folder() {
+  static std::string folder;
+  return folder;
+}
+
+// The live outside methods' states by name (for forms-needed and reports).
+std::mutex& states_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::map<std::string, std::weak_ptr<OutsideMethod::State>>& states() {
+  static std::map<std::string, std::weak_ptr<OutsideMethod::State>> s;
+  return s;
+}
+std::shared_ptr<OutsideMethod::State> state_of(const std::string& name) {
+  std::lock_guard<std::mutex> lock(states_mutex());
+  auto it = states().find(name);
+  return it == states().end() ? nullptr : it->second.lock();
+}
+
+const std::vector<std::string> kFormExtensions = {".ply", ".off", ".obj", ".xyz", ".npy"};
+
+// The shape's name: the stem of the mesh's path ("cat0" for "data/cat0.off").
+std::string shape_name(const std::string& path) {
+  const std::string stem = fs::path(path).stem().string();
+  return stem.empty() ? path : stem;
+}
+
+// A file name made of the shape's name (letters, digits, '-', '_', '.' kept; anything else '_').
+std::string file_safe(const std::string& name) {
+  std::string out = name;
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+  return out.empty() ? "_" : out;
+}
+
+std::string shell_quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The last `count` non-empty lines of a text, each indented, for an error message.
+std::string last_lines(const std::string& text, size_t count) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) lines.push_back(line);
+  if (lines.empty()) return "";
+  std::string out;
+  for (size_t k = lines.size() > count ? lines.size() - count : 0; k < lines.size(); ++k)
+    out += "\n    " + lines[k];
+  return out;
+}
+
+// The form contract (pipeline/outside_methods.h), checked before the form is used.
+void check_form(const Points& X, const Mesh& mesh, const std::string& where) {
+  CSHAPES_REQUIRE(X.rows() == mesh.num_vertices(), where, ": the form has ", X.rows(),
+                  " rows, expected one per vertex of the mesh given (", mesh.num_vertices(),
+                  "), in the mesh's vertex order");
+  for (Index i = 0; i < X.rows(); ++i)
+    for (int c = 0; c < 3; ++c)
+      CSHAPES_REQUIRE(std::isfinite(X(i, c)), where, ": row ", i, " of the form is not finite (", X(i, 0), ' ',
+                      X(i, 1), ' ', X(i, 2), "); every coordinate must be a finite number");
+  // Spans a plane: the second singular value of the centred points is not negligible beside the first.
+  const Eigen::RowVector3d centre = X.colwise().mean();
+  const Eigen::Matrix3d C = (X.rowwise() - centre).transpose() * (X.rowwise() - centre);
+  const Eigen::Vector3d s = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues().cwiseMax(0);
+  CSHAPES_REQUIRE(s(2) > 0 && s(1) > 1e-20 * s(2), where, ": the form is collapsed (its ", X.rows(),
+                  s(2) > 0 ? " points lie on a line" : " points coincide",
+                  "); a canonical form must span at least a plane");
+}
+
+CanonicalForm form_of(Points X, const std::string& door, double seconds) {
+  CanonicalForm form;
+  form.X = std::move(X);
+  form.valid = Eigen::VectorXd::Ones(form.X.rows());
+  form.solve_seconds = seconds;
+  form.details["door"] = door;
+  return form;
+}
+
+// One run of a command door's program on one mesh.
+CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
+  const std::string shape = shape_name(options.name);
+  const std::string where = options.name + ": method " + st.name;
+  std::string command = st.door.text;
+  // The temporary folder the program works in: the mesh and the form, removed afterwards.
+  std::string pattern = (fs::temp_directory_path() / "cshapes-form-XXXXXX").string();
+  CSHAPES_REQUIRE(mkdtemp(pattern.data()), "cannot create a temporary folder in ",
+                  fs::temp_directory_path().string(), ": ", std::strerror(errno));
+  const fs::path tmp = pattern;
+  struct Remove {
+    fs::path p;
+    ~Remove() {
+      std::error_code ec;
+      fs::remove_all(p, ec);
+    }
+  } remove{tmp};
+  const bool ply_mesh = command.find("{mesh.ply}") != std::string::npos;
+  const std::string mesh_path = (tmp / (ply_mesh ? "mesh.ply" : "mesh.off")).string();
+  std::string form_path = (tmp / "form.xyz").string();
+  for (const std::string ext : {"npy", "ply", "off", "obj", "xyz"})
+    if (command.find("{form." + ext + "}") != std::string::npos) form_path = (tmp / ("form." + ext)).string();
+  auto replace_all = [&command](const std::string& from, const std::string& to) {
+    for (size_t at = command.find(from); at != std::string::npos; at = command.find(from, at + to.size()))
+      command.replace(at, from.size(), to);
+  };
+  for (const std::string key : {"{mesh}", "{mesh.ply}", "{mesh.off}"}) replace_all(key, shell_quoted(mesh_path));
+  for (const std::string key : {"{form}", "{form.npy}", "{form.ply}", "{form.off}", "{form.obj}", "{form.xyz}"})
+    replace_all(key, shell_quoted(form_path));
+  replace_all("{name}", shell_quoted(shape));
+  WriteOptions wo;
+  wo.binary = ply_mesh;
+  write_mesh(mesh_path, mesh, wo);
+
+  const std::string out_path = (tmp / "stdout.txt").string(), err_path = (tmp / "stderr.txt").string();
+  const auto start = WallClock::now();
+  const pid_t pid = fork();
+  CSHAPES_REQUIRE(pid >= 0, where, ": cannot start the command: ", std::strerror(errno));
+  if (pid == 0) {  // the child: only async-signal-safe calls until exec
+    setpgid(0, 0);
+    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = open("/dev/null", O_RDONLY);
+    if (out < 0 || err < 0 || in < 0) _exit(126);
+    dup2(in, 0);
+    dup2(out, 1);
+    dup2(err, 2);
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also here: whichever runs first
+  struct rusage usage {};
+  int status = 0;
+  bool timed_out = false;
+  auto kill_group = [pid] {
+    killpg(pid, SIGTERM);
+    for (int k = 0; k < 100; ++k) {  // two seconds to end, then killed
+      if (waitpid(pid, nullptr, WNOHANG) == pid) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    killpg(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+  };
+  try {
+    for (int k = 0;; ++k) {
+      const pid_t done = wait4(pid, &status, WNOHANG, &usage);
+      if (done == pid) break;
+      CSHAPES_REQUIRE(done == 0 || errno == EINTR, where, ": waiting for the command: ", std::strerror(errno));
+      if (seconds_since(start) > st.settings.timeout_seconds) {
+        timed_out = true;
+        kill_group();
+        break;
+      }
+      if (options.progress && k % 5 == 0) options.progress(st.name, 0, 1);  // a stop throws here
+      std::this_thread::sleep_for(std::chrono::milliseconds(k < 50 ? 2 : 20));
+    }
+  } catch (...) {
+    kill_group();
+    throw;
+  }
+  // The program's own processes may outlive the shell: none is left behind.
+  killpg(pid, SIGKILL);
+  const double seconds = seconds_since(start);
+  const std::string out_text = file_text(out_path), err_text = file_text(err_path);
+  {
+    std::string logs;
+    {
+      std::lock_guard<std::mutex> lock(logs_mutex());
+      logs = logs_folder();
+    }
+    if (!logs.empty()) {
+      const fs::path folder = fs::path(logs) / st.name;
+      fs::create_directories(folder);
+      write_file_atomically((folder / (file_safe(shape) + ".out")).string(),
+                            [&](std::ostream& o) { o << out_text; });
+      write_file_atomically((folder / (file_safe(shape) + ".err")).string(),
+                            [&](std::ostream& o) { o << err_text; });
+    }
+  }
+  const std::string tail = last_lines(err_text.empty() ? out_text : err_text, 5);
+  const std::string said = tail.empty() ? " (it printed nothing)" : "; its last lines:" + tail;
+  if (timed_out)
+    fail(where, ": the command ran past its limit of ", st.settings.timeout_seconds,
+         " s (--method-timeout) and was stopped", said);
+  if (WIFSIGNALED(status))
+    fail(where, ": the command was killed by signal ", WTERMSIG(status), " (", strsignal(WTERMSIG(status)), ")",
+         said);
+  if (WEXITSTATUS(status) != 0)
+    fail(where, ": the command exited with status ", WEXITSTATUS(status),
+         WEXITSTATUS(status) == 127 ? " (command not found?)" : "", said);
+  CSHAPES_REQUIRE(fs::exists(form_path), where, ": the command exited with status 0 but wrote no form at {form}",
+                  said);
+  Points X;
+  try {
+    X = read_form_file(form_path);
+  } catch (const Error& error) {
+    fail(where, ": the form the command wrote cannot be read: ", error.what());
+  }
+  check_form(X, mesh, where);
+  CanonicalForm form = form_of(std::move(X), "command", seconds);
+  form.details["peak_memory_bytes"] = static_cast<double>(usage.ru_maxrss) * 1024.0;
+  return form;
+}
+
+CanonicalForm read_from_folder(OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
+  const std::string shape = shape_name(options.name);
+  const std::string where = options.name + ": method " + st.name;
+  const auto start = WallClock::now();
+  for (const std::string& ext : kFormExtensions) {
+    const fs::path path = fs::path(st.door.text) / (shape + ext);
+    if (!fs::is_regular_file(path)) continue;
+    Points X = read_form_file(path.string());
+    check_form(X, mesh, where + " (" + path.string() + ")");
+    return form_of(std::move(X), "forms", seconds_since(start));
+  }
+  {
+    std::lock_guard<std::mutex> lock(st.mutex);
+    const bool listed = std::any_of(st.missing.begin(), st.missing.end(),
+                                    [&](const OutsideMethod::State::Missing& m) { return m.shape == shape; });
+    if (!listed) st.missing.push_back({shape, mesh});
+  }
+  fail(where, ": no form '", shape, ".{ply,off,obj,xyz,npy}' in ", st.door.text,
+       " (an experiment lists such shapes in OUT/forms-needed/", st.name, ".csv, with their meshes)");
+}
+
+CanonicalForm call_function(const OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
+  const std::string where = options.name + ": method " + st.name;
+  const auto start = WallClock::now();
+  Points X = st.door.function(mesh, options.name);
+  const double seconds = seconds_since(start);
+  check_form(X, mesh, where);
+  return form_of(std::move(X), "python", seconds);
+}
+
+bool valid_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+  });
+}
+
+// What identifies a command's code: the command and the content of each file it names (a script).
+std::string command_key(const std::string& command) {
+  std::string key = "command=" + command;
+  std::istringstream words(command);
+  for (std::string word; words >> word;) {
+    word.erase(std::remove(word.begin(), word.end(), '\''), word.end());
+    word.erase(std::remove(word.begin(), word.end(), '"'), word.end());
+    std::error_code ec;
+    if (word.find('{') == std::string::npos && fs::is_regular_file(word, ec))
+      key += ";file:" + word + "=" + sha256_hex(file_text(word));
+  }
+  return key;
+}
+
+// Reads a .npy array of n×3 doubles or floats.
+Points read_npy(const std::string& path) {
+  const std::string bytes = file_text(path);
+  CSHAPES_REQUIRE(bytes.size() >= 10 && bytes.compare(0, 6, "\x93NUMPY") == 0, path,
+                  ": not a .npy file (expected the magic \\x93NUMPY)");
+  const int major = static_cast<unsigned char>(bytes[6]);
+  size_t header_length = 0, at = 0;
+  if (major == 1) {
+    header_length = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+    at = 10;
+  } else {
+    CSHAPES_REQUIRE(bytes.size() >= 12 && (major == 2 || major == 3), path, ": .npy version ", major,
+                    " is not supported (expected 1, 2 or 3)");
+    for (int k = 3; k >= 0; --k) header_length = (header_length << 8) | static_cast<unsigned char>(bytes[8 + k]);
+    at = 12;
+  }
+  CSHAPES_REQUIRE(at + header_length <= bytes.size(), path, ": truncated .npy header");
+  const std::string header = bytes.substr(at, header_length);
+  at += header_length;
+  auto value_of = [&](const std::string& key) {
+    const size_t k = header.find("'" + key + "'");
+    CSHAPES_REQUIRE(k != std::string::npos, path, ": .npy header without '", key, "': ", header);
+    const size_t colon = header.find(':', k);
+    return header.substr(colon + 1);
+  };
+  const std::string descr = value_of("descr");
+  const bool f8 = descr.find("'<f8'") == 0 || descr.find(" '<f8'") == 0;
+  const bool f4 = descr.find("'<f4'") == 0 || descr.find(" '<f4'") == 0;
+  CSHAPES_REQUIRE(f8 || f4, path, ": .npy of ", descr.substr(0, descr.find(',')),
+                  "; expected little-endian float64 ('<f8') or float32 ('<f4')");
+  const bool fortran = value_of("fortran_order").find("True") < value_of("fortran_order").find(',');
+  const std::string shape_text = value_of("shape");
+  long long rows = -1, cols = -1;
+  CSHAPES_REQUIRE(std::sscanf(shape_text.c_str(), " (%lld, %lld)", &rows, &cols) == 2 && rows >= 0 && cols == 3,
+                  path, ": .npy of shape ", shape_text.substr(0, shape_text.find(')') + 1),
+                  "; expected (n, 3)");
+  const size_t width = f8 ? 8 : 4;
+  CSHAPES_REQUIRE(bytes.size() - at >= static_cast<size_t>(rows) * 3 * width, path, ": .npy data holds ",
+                  bytes.size() - at, " bytes; its shape needs ", rows * 3 * static_cast<long long>(width));
+  Points X(rows, 3);
+  for (long long i = 0; i < rows; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const size_t k = fortran ? static_cast<size_t>(c) * rows + i : static_cast<size_t>(i) * 3 + c;
+      if (f8) {
+        double v;
+        std::memcpy(&v, bytes.data() + at + k * 8, 8);
+        X(i, c) = v;
+      } else {
+        float v;
+        std::memcpy(&v, bytes.data() + at + k * 4, 4);
+        X(i, c) = v;
+      }
+    }
+  return X;
+}
+
+}  // namespace
+
+std::string door_name(OutsideDoor::Kind kind) {
+  switch (kind) {
+    case OutsideDoor::Kind::Command:
+      return "command";
+    case OutsideDoor::Kind::Forms:
+      return "forms";
+    case OutsideDoor::Kind::Function:
+      return "python";
+  }
+  return "";
+}
+
+Points read_form_file(const std::string& path) {
+  if (file_extension(path) == ".npy" || fs::path(path).extension() == ".npy") return read_npy(path);
+  const MeshFile file = read_mesh_file(path);
+  CSHAPES_REQUIRE(file.invalid_vertices == 0, path, ": ", file.invalid_vertices,
+                  " rows are not finite or marked invalid; every row of a form must be a finite point");
+  return file.mesh.V;
+}
+
+bool is_outside_method_item(const std::string& item) {
+  const size_t eq = item.find('=');
+  return eq != std::string::npos;
+}
+
+std::pair<std::string, OutsideDoor> parse_outside_method(const std::string& item) {
+  const size_t eq = item.find('=');
+  CSHAPES_REQUIRE(eq != std::string::npos, "'", item, "' is not NAME=cmd:COMMAND or NAME=forms:DIR");
+  const std::string name = item.substr(0, eq), rest = item.substr(eq + 1);
+  CSHAPES_REQUIRE(valid_name(name), "'", item, "': a method's name is letters, digits, '-' and '_' (it names ",
+                  "files and columns), got '", name, "'");
+  OutsideDoor door;
+  if (rest.rfind("cmd:", 0) == 0) {
+    door.kind = OutsideDoor::Kind::Command;
+    door.text = rest.substr(4);
+    CSHAPES_REQUIRE(door.text.find_first_not_of(" \t") != std::string::npos, "'", item,
+                    "': the command is empty");
+    CSHAPES_REQUIRE(door.text.find("{form") != std::string::npos, "'", item,
+                    "': the command has no {form} (the path where it must write the form)");
+    CSHAPES_REQUIRE(door.text.find("{mesh") != std::string::npos, "'", item,
+                    "': the command has no {mesh} (the path of the mesh it is given)");
+  } else if (rest.rfind("forms:", 0) == 0) {
+    door.kind = OutsideDoor::Kind::Forms;
+    door.text = rest.substr(6);
+    CSHAPES_REQUIRE(!door.text.empty() && fs::is_directory(door.text), "'", item, "': '", door.text,
+                    "' is not a folder (the forms, DIR/SHAPE.{ply,off,obj,xyz,npy})");
+  } else {
+    fail("'", item, "': the door is cmd:COMMAND or forms:DIR, got '", rest.substr(0, rest.find(':')), "'");
+  }
+  return {name, door};
+}
+
+OutsideMethod::OutsideMethod(std::string name, OutsideDoor door, OutsideMethodSettings settings)
+    : name_(std::move(name)), state_(std::make_shared<State>()) {
+  CSHAPES_REQUIRE(valid_name(name_), "a method's name is letters, digits, '-' and '_', got '", name_, "'");
+  CSHAPES_REQUIRE(settings.timeout_seconds > 0, "--method-timeout: expected a positive number of seconds, got ",
+                  settings.timeout_seconds);
+  state_->name = name_;
+  state_->door = std::move(door);
+  state_->settings = std::move(settings);
+  CanonicalFormMethod m;
+  m.name = name_;
+  m.title = name_;
+  m.door = door_name(state_->door.kind);
+  m.door_text = state_->door.text;
+  m.summary = "a method from outside (" + m.door + ")";
+  m.repair_purpose = "method " + name_;
+  m.takes_mesh_as_given = true;
+  const std::string version = ";version=" + state_->settings.version;
+  std::shared_ptr<State> st = state_;
+  switch (state_->door.kind) {
+    case OutsideDoor::Kind::Command:
+      m.key_text = command_key(st->door.text) + version;
+      m.compute = [st](const Mesh& mesh, const CanonicalFormOptions& o, const GivenDistances&) {
+        return run_command(*st, mesh, o);
+      };
+      break;
+    case OutsideDoor::Kind::Forms:
+      m.key_text = "folder=" + fs::absolute(st->door.text).lexically_normal().string() + version;
+      m.cacheable = false;
+      m.compute = [st](const Mesh& mesh, const CanonicalFormOptions& o, const GivenDistances&) {
+        return read_from_folder(*st, mesh, o);
+      };
+      break;
+    case OutsideDoor::Kind::Function:
+      CSHAPES_REQUIRE(static_cast<bool>(st->door.function), "method ", name_, ": no function given");
+      m.key_text = "function=" + st->door.text + ";" + st->door.function_key + version;
+      m.compute = [st](const Mesh& mesh, const CanonicalFormOptions& o, const GivenDistances&) {
+        return call_function(*st, mesh, o);
+      };
+      break;
+  }
+  register_outside_canonical_form_method(std::move(m));
+  std::lock_guard<std::mutex> lock(states_mutex());
+  states()[name_] = state_;
+}
+
+OutsideMethod::~OutsideMethod() {
+  unregister_outside_canonical_form_method(name_);
+  std::lock_guard<std::mutex> lock(states_mutex());
+  auto it = states().find(name_);
+  if (it != states().end() && it->second.lock() == state_) states().erase(it);
+}
+
+OutsideMethodList register_outside_methods(const std::vector<std::string>& items,
+                                           const OutsideMethodSettings& settings) {
+  OutsideMethodList list;
+  for (const std::string& item : items) {
+    if (!is_outside_method_item(item)) {
+      list.names.push_back(item);
+      continue;
+    }
+    auto [name, door] = parse_outside_method(item);
+    list.registered.push_back(std::make_unique<OutsideMethod>(name, std::move(door), settings));
+    list.names.push_back(name);
+  }
+  return list;
+}
+
+void set_outside_method_logs(const std::string& folder) {
+  std::lock_guard<std::mutex> lock(logs_mutex());
+  logs_folder() = folder;
+}
+
+nlohmann::json outside_methods_json(const std::vector<std::string>& methods) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& name : methods) {
+    const CanonicalFormMethod* m = find_canonical_form_method(name);
+    if (m && !m->door.empty()) out.push_back({{"name", name}, {"door", m->door}, {"text", m->door_text}});
+  }
+  return out;
+}
+
+std::string outside_methods_markdown(const std::vector<std::string>& methods) {
+  std::string md;
+  for (const std::string& name : methods) {
+    const CanonicalFormMethod* m = find_canonical_form_method(name);
+    if (!m || m->door.empty()) continue;
+    md += "- **" + name + "**: from outside, by the " + m->door + " door (" +
+          (m->door == "command" ? "command" : m->door == "forms" ? "forms read from" : "function") + " `" +
+          m->door_text + "`)\n";
+  }
+  return md;
+}
+
+std::vector<std::string> write_forms_needed(const std::vector<std::string>& methods, const std::string& out) {
+  std::vector<std::string> written;
+  for (const std::string& name : methods) {
+    const std::shared_ptr<OutsideMethod::State> st = state_of(name);
+    if (!st || st->door.kind != OutsideDoor::Kind::Forms) continue;
+    std::vector<OutsideMethod::State::Missing> missing;
+    {
+      std::lock_guard<std::mutex> lock(st->mutex);
+      missing = st->missing;
+    }
+    if (missing.empty()) continue;
+    const fs::path folder = fs::path(out) / "forms-needed";
+    fs::create_directories(folder / name);
+    std::ostringstream csv;
+    csv << "shape,mesh,form\n";
+    for (const auto& m : missing) {
+      const std::string mesh = name + "/" + file_safe(m.shape) + ".off";
+      write_mesh((folder / mesh).string(), m.mesh);
+      written.push_back((folder / mesh).string());
+      csv << m.shape << ',' << mesh << ',' << (fs::path(st->door.text) / (m.shape + ".ply")).string() << '\n';
+    }
+    const std::string csv_path = (folder / (name + ".csv")).string();
+    write_file_atomically(csv_path, [&](std::ostream& o) { o << csv.str(); });
+    written.push_back(csv_path);
+  }
+  return written;
+}
+
+}  // namespace cshapes
