@@ -248,16 +248,21 @@ CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, cons
   if (WIFSIGNALED(status))
     fail(where, ": the command was killed by signal ", WTERMSIG(status), " (", strsignal(WTERMSIG(status)), ")",
          said);
-  if (WEXITSTATUS(status) != 0)
-    fail(where, ": the command exited with status ", WEXITSTATUS(status),
-         WEXITSTATUS(status) == 127 ? " (command not found?)" : "", said);
+  const int code = WEXITSTATUS(status);
+  if (code > 128 && code <= 128 + 64)  // a shell reports its child's signal as 128 + the signal
+    fail(where, ": the command exited with status ", code, " (128 + signal ", code - 128, ": ",
+         strsignal(code - 128), ")", said);
+  if (code != 0) fail(where, ": the command exited with status ", code, code == 127 ? " (command not found?)" : "", said);
   CSHAPES_REQUIRE(fs::exists(form_path), where, ": the command exited with status 0 but wrote no form at {form}",
                   said);
   Points X;
   try {
     X = read_form_file(form_path);
   } catch (const Error& error) {
-    fail(where, ": the form the command wrote cannot be read: ", error.what());
+    std::string message = error.what();  // the temporary path means nothing once it is gone: {form}
+    for (size_t at = message.find(form_path); at != std::string::npos; at = message.find(form_path))
+      message.replace(at, form_path.size(), "{form}");
+    fail(where, ": the form the command wrote cannot be read: ", message);
   }
   check_form(X, mesh, where);
   CanonicalForm form = form_of(std::move(X), "command", seconds);
