@@ -19,7 +19,8 @@ void start_outside_methods(const std::string& out) {
   set_outside_method_logs((fs::path(out) / kMethodLogsFolder).string());
 }
 
-void finish_outside_methods(const std::vector<std::string>& methods, const std::string& out, const NoteFn& note) {
+void finish_outside_methods(const std::vector<std::string>& methods, const std::string& out, const NoteFn& note,
+                            const std::string& report_name) {
   const nlohmann::json doors = outside_methods_json(methods);
   if (doors.empty()) return;
   for (const std::string& file : write_forms_needed(methods, out))
@@ -28,7 +29,7 @@ void finish_outside_methods(const std::vector<std::string>& methods, const std::
                     file + " with their meshes: compute them into the folder and rerun");
   write_file_atomically((fs::path(out) / "outside-methods.json").string(),
                         [&](std::ostream& o) { o << doors.dump(2) << "\n"; });
-  const fs::path report = fs::path(out) / "report.md";
+  const fs::path report = fs::path(out) / report_name;
   if (!fs::exists(report)) return;
   std::ostringstream text;
   {

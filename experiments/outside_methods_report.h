@@ -17,8 +17,9 @@ void start_outside_methods(const std::string& out);
 
 // After the run, before its outputs are committed: OUT/forms-needed/NAME.csv for each forms-door method that
 // lacked forms (said through `note`), OUT/outside-methods.json (name, door, command or folder of each outside
-// method), and a section "Methods from outside" appended to OUT/report.md when it exists. Nothing when
-// `methods` holds none from outside.
-void finish_outside_methods(const std::vector<std::string>& methods, const std::string& out, const NoteFn& note);
+// method), and a section "Methods from outside" appended to OUT/REPORT (the run's report.md or pose.md) when it
+// exists. Nothing when `methods` holds none from outside.
+void finish_outside_methods(const std::vector<std::string>& methods, const std::string& out, const NoteFn& note,
+                            const std::string& report = "report.md");
 
 }  // namespace cshapes

@@ -560,7 +560,7 @@ PoseInvarianceResult pose_experiment(const PoseInvarianceOptions& options) {
   PoseInvarianceResult result = run_pose_invariance(options);
   draw_pose_figure(result, options);
   write_pose_invariance_report(result, options, options.out);
-  finish_outside_methods(options.methods, options.out, options.note);
+  finish_outside_methods(options.methods, options.out, options.note, "pose.md");
   output.commit();
   return result;
 }

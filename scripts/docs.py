@@ -208,15 +208,20 @@ def blocks(markdown, language):
 def steps(markdown, language):
     """The blocks of one language, each with the ```output block that shows what it prints (None if it has none),
     as (code, expected, line number). An output block belongs to the nearest code block above it; prose between
-    them is allowed."""
-    out = []
+    them is allowed. An output block under a block of another language belongs to that one."""
+    out, last = [], None  # last: the language of the nearest code block above (a page may mix sh and python)
     for info, text, line in fences(markdown):
         if info == language:
             out.append([text, None, line])
+            last = info
         elif info == OUTPUT:
+            if last != language:
+                continue  # the output of another language's block
             if not out or out[-1][1] is not None:
                 raise ValueError(f"line {line}: an ```{OUTPUT} block with no ```{language} block of its own above it")
             out[-1][1] = text
+        else:
+            last = info
     return [tuple(step) for step in out]
 
 

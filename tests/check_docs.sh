@@ -2,7 +2,8 @@
 # The documentation against the program (scripts/docs.py), one CTest test per mode:
 #   tests/check_docs.sh reference BUILD   docs/reference/cli.md is what the commands' --help say now
 #   tests/check_docs.sh commands BUILD    every `cshapes COMMAND --option` in README.md and docs/ exists
-#   tests/check_docs.sh tutorial BUILD    docs/tutorial-cli.md runs from top to bottom in an empty folder, each
+#   tests/check_docs.sh tutorial BUILD    docs/tutorial-cli.md and the shell blocks of docs/outside-methods.md run
+#                                         from top to bottom in an empty folder, each
 #                                         step printing what the page shows under it
 #   tests/check_docs.sh history BUILD     the Results section of the site holds under 5% dated or history text
 #   tests/check_docs.sh readme-table BUILD  README.md's "Results at a glance" table is the results page's
@@ -24,7 +25,8 @@ case "$mode" in
   commands)
     "$python" "$root/scripts/docs.py" check-commands "$build/cshapes" "$root/README.md" "$root"/docs/*.md ;;
   tutorial)
-    "$python" "$root/scripts/docs.py" run-shell "$root/docs/tutorial-cli.md" "$scratch/tutorial" "$build/cshapes" ;;
+    "$python" "$root/scripts/docs.py" run-shell "$root/docs/tutorial-cli.md" "$scratch/tutorial" "$build/cshapes"
+    "$python" "$root/scripts/docs.py" run-shell "$root/docs/outside-methods.md" "$scratch/outside" "$build/cshapes" ;;
   history)
     "$python" "$root/scripts/check_pages.py" results ;;
   readme-table)

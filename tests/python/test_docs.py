@@ -26,3 +26,21 @@ def test_the_python_tutorial_runs(tmp_path):
                         str(tmp_path)], env=env, capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "mAP" in r.stdout
+
+
+def test_the_outside_methods_page_runs(tmp_path):
+    """docs/outside-methods.md: its shell blocks (which write the data and the method) run first, as
+    tests/check_docs.sh does, then its Python block, in the same folder."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)
+    cshapes = ROOT / "build" / "cshapes"
+    if os.environ.get("CSHAPES_CLI"):
+        cshapes = Path(os.environ["CSHAPES_CLI"])
+    page = str(ROOT / "docs" / "outside-methods.md")
+    r = subprocess.run([sys.executable, str(DOCS), "run-shell", page, str(tmp_path), str(cshapes)], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = subprocess.run([sys.executable, str(DOCS), "run-python", page, str(tmp_path)], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "pca mAP" in r.stdout
