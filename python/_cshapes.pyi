@@ -3,7 +3,7 @@
 # tests/python/test_stubs.py checks this file against the module: every function and keyword here exists,
 # every keyword the module reads is here, and each default here gives the same result as leaving it out.
 from os import PathLike
-from typing import Any, Literal, Sequence, overload
+from typing import Any, Callable, Literal, Sequence, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -135,16 +135,35 @@ def distance_matrix(forms: Sequence[_Array | CanonicalForm], *,
 def retrieval_measures(D: _Array, labels: Sequence[Any], *, names: Sequence[str] | None = None,
                        min_class_size: int = 3) -> dict[str, Any]: ...
 
-# Experiments
-def experiment_paper(data: _Path, out: _Path, methods: Sequence[str] | str | None = None, poses_per_class: int = 4,
+# Experiments. methods: names, 'NAME=cmd:COMMAND' / 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
+# (docs/outside-methods.md).
+_Methods = Sequence[str | tuple[str, str | Callable[[np.ndarray, np.ndarray], _Array]]] | str | None
+def experiment_noise(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *, seed: int = 1,
+                     poses_per_class: int = 0, levels: Sequence[int] = (0, 1, 2, 4, 8), strict: bool = False,
+                     geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
+                     allow_outside: bool = False, method_timeout: float = 86400,
+                     method_version: str = "") -> dict[str, Any]: ...
+def experiment_pose(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *, samples: int = 1000,
+                    parts: bool = True, shapes: Sequence[str] | None = None, strict: bool = False,
+                    geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
+                    allow_outside: bool = False, method_timeout: float = 86400,
+                    method_version: str = "") -> dict[str, Any]: ...
+def experiment_topkids(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
+                       reference: str = "kid00", samples: int = 1000, poses: Sequence[str] | None = None,
+                       strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
+                       allow_outside: bool = False, method_timeout: float = 86400,
+                       method_version: str = "") -> dict[str, Any]: ...
+def experiment_paper(data: _Path, out: _Path, methods: _Methods = None, poses_per_class: int = 4,
                      noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, timing_repeats: int = 5, correspondence_samples: int = 300,
                      strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
-                     allow_outside: bool = False) -> dict[str, Any]: ...
-def experiment_retrieval(data: _Path, out: _Path, methods: Sequence[str] | str | None = None, resample: int = 0,
+                     allow_outside: bool = False, method_timeout: float = 86400,
+                     method_version: str = "") -> dict[str, Any]: ...
+def experiment_retrieval(data: _Path, out: _Path, methods: _Methods = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
                          e_depth: int = 32, min_class_size: int = 3, force: bool = False,
-                         allow_outside: bool = False) -> dict[str, Any]: ...
+                         allow_outside: bool = False, method_timeout: float = 86400,
+                         method_version: str = "") -> dict[str, Any]: ...
 # Pictures
 def show(mesh: _Path | tuple[_Array, _Array], form: _Path | _Array | tuple[_Array, _Array] | CanonicalForm | None = None,
          *, out: _Path, title: str | None = None, view: Literal["pca", "x", "y", "z"] = "pca") -> str: ...
