@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -41,7 +42,17 @@ std::string host_name() {
 
 bool process_alive(long pid) {
   if (pid <= 0) return false;
-  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+  if (!(::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) return false;
+  // A process killed outright stays a zombie until its parent reaps it (never, under an init that does not):
+  // it writes nothing more, so it is not alive here (Linux's /proc/PID/stat: "PID (comm) STATE ...").
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (std::getline(stat, line)) {
+    const size_t paren = line.rfind(')');
+    if (paren != std::string::npos && paren + 2 < line.size() && (line[paren + 2] == 'Z' || line[paren + 2] == 'X'))
+      return false;
+  }
+  return true;
 }
 
 // The record: a header line, then "key value" lines; file names are the rest of their line.
