@@ -476,6 +476,7 @@ void retrieval_set(ExperimentRun& run) {
       cost.precompute.push_back(mf.forms[i].precompute_seconds);
       cost.solve.push_back(mf.forms[i].solve_seconds);
       cost.iterations.push_back(mf.forms[i].iterations);
+      cost.peak_bytes.push_back(mf.forms[i].details.value("peak_memory_bytes", -1.0));
     }
     report.cost[m] = cost;
   }

@@ -113,6 +113,9 @@ struct PaperReport {
   struct MethodCost {
     std::vector<double> precompute, solve;
     std::vector<int> iterations;
+    // Peak memory of the process that computed each form (bytes): a method from outside by the command door;
+    // −1 for the library's methods, which run inside cshapes.
+    std::vector<double> peak_bytes;
   };
   std::map<std::string, MethodCost> cost;
   struct NoiseRow {

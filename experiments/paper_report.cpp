@@ -207,19 +207,24 @@ void cost(ReportText& t) {
   for (const std::string& m : o.methods) {
     if (!r.cost.count(m)) continue;
     const auto& c = r.cost.at(m);
-    double pre = 0, solve = 0, it = 0;
+    double pre = 0, solve = 0, it = 0, peak = -1;
     for (size_t k = 0; k < c.solve.size(); ++k) {
       pre += c.precompute[k];
       solve += c.solve[k];
       it += c.iterations[k];
+      if (k < c.peak_bytes.size()) peak = std::max(peak, c.peak_bytes[k]);
     }
     const double n = std::max<double>(1, c.solve.size());
     rows << "| " << method_title(m) << " | " << format_number("%.2f", pre / n) << " | "
-         << format_number("%.2f", solve / n) << " | " << format_number("%.0f", it / n) << " |\n";
+         << format_number("%.2f", solve / n) << " | " << format_number("%.0f", it / n) << " | "
+         << (peak < 0 ? std::string("—") : format_number("%.0f", peak / 1e6)) << " |\n";
   }
   table_or_sentence(md,
-                    "| method | pre-computation (s) | embedding (s) | iterations |\n| --- | --- | --- | --- |\n",
+                    "| method | pre-computation (s) | embedding (s) | iterations | peak memory (MB) |\n"
+                    "| --- | --- | --- | --- | --- |\n",
                     rows.str(), "No canonical form was computed (every shape was left out: see above).");
+  md << "Peak memory: the largest of the program a method from outside runs per shape; — for the library's "
+        "methods, which run inside cshapes.\n";
   md << "\n";
 }
 
