@@ -27,6 +27,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
+#include "cshapes/support/progress.h"
 #include "cshapes/support/sha256.h"
 #include "cshapes/support/timing.h"
 
@@ -141,6 +142,70 @@ CanonicalForm form_of(Points X, const std::string& door, double seconds) {
   return form;
 }
 
+// One run of a shell command in its own process group: stdout and stderr into files, stopped past
+// timeout_seconds (the group killed), `progress` polled while it runs (a stop kills the group and rethrows).
+struct ProcessRun {
+  int status = 0;  // waitpid's
+  bool timed_out = false;
+  struct rusage usage {};
+  double seconds = 0;
+};
+
+ProcessRun run_process(const std::string& command, const std::string& out_path, const std::string& err_path,
+                       double timeout_seconds, const ProgressFn& progress, const std::string& stage,
+                       const std::string& where) {
+  const auto start = WallClock::now();
+  const pid_t pid = fork();
+  CSHAPES_REQUIRE(pid >= 0, where, ": cannot start the command: ", std::strerror(errno));
+  if (pid == 0) {  // the child: only async-signal-safe calls until exec
+    setpgid(0, 0);
+    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = open("/dev/null", O_RDONLY);
+    if (out < 0 || err < 0 || in < 0) _exit(126);
+    dup2(in, 0);
+    dup2(out, 1);
+    dup2(err, 2);
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also here: whichever runs first
+  ProcessRun run;
+  struct rusage& usage = run.usage;
+  int& status = run.status;
+  bool& timed_out = run.timed_out;
+  auto kill_group = [pid] {
+    killpg(pid, SIGTERM);
+    for (int k = 0; k < 100; ++k) {  // two seconds to end, then killed
+      if (waitpid(pid, nullptr, WNOHANG) == pid) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    killpg(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+  };
+  try {
+    for (int k = 0;; ++k) {
+      const pid_t done = wait4(pid, &status, WNOHANG, &usage);
+      if (done == pid) break;
+      CSHAPES_REQUIRE(done == 0 || errno == EINTR, where, ": waiting for the command: ", std::strerror(errno));
+      if (seconds_since(start) > timeout_seconds) {
+        timed_out = true;
+        kill_group();
+        break;
+      }
+      if (progress && k % 5 == 0) progress(stage, 0, 1);  // a stop throws here
+      std::this_thread::sleep_for(std::chrono::milliseconds(k < 50 ? 2 : 20));
+    }
+  } catch (...) {
+    kill_group();
+    throw;
+  }
+  // The program's own processes may outlive the shell: none is left behind.
+  killpg(pid, SIGKILL);
+  run.seconds = seconds_since(start);
+  return run;
+}
+
 // One run of a command door's program on one mesh.
 CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
   const std::string shape = shape_name(options.name);
@@ -176,54 +241,12 @@ CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, cons
   write_mesh(mesh_path, mesh, wo);
 
   const std::string out_path = (tmp / "stdout.txt").string(), err_path = (tmp / "stderr.txt").string();
-  const auto start = WallClock::now();
-  const pid_t pid = fork();
-  CSHAPES_REQUIRE(pid >= 0, where, ": cannot start the command: ", std::strerror(errno));
-  if (pid == 0) {  // the child: only async-signal-safe calls until exec
-    setpgid(0, 0);
-    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int in = open("/dev/null", O_RDONLY);
-    if (out < 0 || err < 0 || in < 0) _exit(126);
-    dup2(in, 0);
-    dup2(out, 1);
-    dup2(err, 2);
-    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  setpgid(pid, pid);  // also here: whichever runs first
-  struct rusage usage {};
-  int status = 0;
-  bool timed_out = false;
-  auto kill_group = [pid] {
-    killpg(pid, SIGTERM);
-    for (int k = 0; k < 100; ++k) {  // two seconds to end, then killed
-      if (waitpid(pid, nullptr, WNOHANG) == pid) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    killpg(pid, SIGKILL);
-    waitpid(pid, nullptr, 0);
-  };
-  try {
-    for (int k = 0;; ++k) {
-      const pid_t done = wait4(pid, &status, WNOHANG, &usage);
-      if (done == pid) break;
-      CSHAPES_REQUIRE(done == 0 || errno == EINTR, where, ": waiting for the command: ", std::strerror(errno));
-      if (seconds_since(start) > st.settings.timeout_seconds) {
-        timed_out = true;
-        kill_group();
-        break;
-      }
-      if (options.progress && k % 5 == 0) options.progress(st.name, 0, 1);  // a stop throws here
-      std::this_thread::sleep_for(std::chrono::milliseconds(k < 50 ? 2 : 20));
-    }
-  } catch (...) {
-    kill_group();
-    throw;
-  }
-  // The program's own processes may outlive the shell: none is left behind.
-  killpg(pid, SIGKILL);
-  const double seconds = seconds_since(start);
+  const ProcessRun run = run_process(command, out_path, err_path, st.settings.timeout_seconds, options.progress,
+                                     st.name, where);
+  const int status = run.status;
+  const bool timed_out = run.timed_out;
+  const struct rusage& usage = run.usage;
+  const double seconds = run.seconds;
   const std::string out_text = file_text(out_path), err_text = file_text(err_path);
   {
     std::string logs;
