@@ -8,6 +8,7 @@
 #include <vector>
 #include <sstream>
 
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/topkids_experiment_detail.h"
 #include "cshapes/support/error.h"
@@ -334,8 +335,8 @@ void write_repairs(std::ostream& s, const TopkidsExperimentResult& r) {
 }
 
 void write_reproduce(std::ostream& s, const TopkidsExperimentOptions& o, const std::string& folder) {
-  s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << folder << " --methods ";
-  for (size_t i = 0; i < o.methods.size(); ++i) s << (i ? "," : "") << o.methods[i];
+  s << "\nReproduce: `cshapes experiment topkids --data " << o.data << " --out " << folder << " --methods "
+    << methods_command_argument(o.methods);
   s << " --samples " << o.samples << (o.icp.try_axis_swaps ? " --icp-axis-swaps" : "")
     << (o.resample.vertices > 0 ? " --resample " + std::to_string(o.resample.vertices) : std::string())
     << "` (canonical forms and scorings are cached in `cache/`).\n";

@@ -534,6 +534,23 @@ nlohmann::json outside_methods_json(const std::vector<std::string>& methods) {
   return out;
 }
 
+std::string methods_command_argument(const std::vector<std::string>& methods) {
+  std::string out;
+  bool door = false;
+  for (const std::string& name : methods) {
+    const CanonicalFormMethod* m = find_canonical_form_method(name);
+    std::string item = name;
+    if (m && !m->door.empty()) {
+      door = true;
+      std::string text;
+      for (char c : m->door_text) text += c == ',' ? std::string("\\,") : std::string(1, c);
+      item += "=" + std::string(m->door == "command" ? "cmd" : m->door == "forms" ? "forms" : "python") + ":" + text;
+    }
+    out += (out.empty() ? "" : ",") + item;
+  }
+  return door ? shell_quoted(out) : out;
+}
+
 std::string outside_methods_markdown(const std::vector<std::string>& methods) {
   std::string md;
   for (const std::string& name : methods) {

@@ -89,6 +89,10 @@ void set_outside_method_logs(const std::string& folder);
 
 // For a report: one entry per outside method among `methods` {name, door, text}; empty for built-ins.
 nlohmann::json outside_methods_json(const std::vector<std::string>& methods);
+// The --methods value that names `methods` again on a command line, each outside method with its door
+// ("lbo,pca=cmd:python3 pca.py {mesh} {form.npy}", a comma in a command as \,), in single quotes when it holds
+// a door; a Python function's door cannot be given on a command line: it shows as NAME=python:FUNCTION.
+std::string methods_command_argument(const std::vector<std::string>& methods);
 // "mine: command `python3 mine.py {mesh} {form}`" lines, one per outside method among `methods`, for reports
 // (Markdown); "" when there are none.
 std::string outside_methods_markdown(const std::vector<std::string>& methods);
