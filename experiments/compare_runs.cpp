@@ -29,7 +29,9 @@ const std::set<std::string> kNotYet = {"experiment paper", "experiment noise", "
 // only forgives a run written by another printer of the same numbers).
 constexpr double kSameResult = 1e-12;
 
+// The six measures: their names in retrieval.json, and in the tables and messages.
 const char* const kMeasureNames[] = {"nn", "ft", "st", "e", "dcg", "map"};
+const char* const kMeasureTitles[] = {"NN", "FT", "ST", "E", "DCG", "mAP"};
 
 // A member of a JSON object that must be there, with a message naming the file and the member.
 const json& member(const json& object, const std::string& key, const std::string& file,
@@ -174,7 +176,7 @@ std::string first_result_difference(const ComparedMethod& a, const ComparedMetho
     if (it == b.scores.end()) return retrieval_distance_title(kind) + " in the first only";
     for (size_t k = 0; k < 6; ++k)
       if (std::abs(score(scores, k) - score(it->second, k)) > kSameResult)
-        return retrieval_distance_title(kind) + " " + kMeasureNames[k] + " " + fixed(score(scores, k), 6) +
+        return retrieval_distance_title(kind) + " " + kMeasureTitles[k] + " " + fixed(score(scores, k), 6) +
                " vs " + fixed(score(it->second, k), 6);
   }
   for (const auto& [kind, scores] : b.scores)
