@@ -67,7 +67,8 @@ const bool registered = register_command(
            ->required();
        add_out_folder_option(app, o.out,
                              "output folder, created when missing (report.md, compare.json, pr.png); not one "
-                             "of the runs' folders");
+                             "of the runs' folders")
+           ->required();
        add_force_flag(app, o.force);
        add_no_draw_flag(app, args.no_draw, "pr.png");
        app.add_flag("--pdf", o.pdf, "also write the figure as pr.pdf");

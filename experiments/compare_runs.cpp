@@ -227,8 +227,8 @@ CompareRunsResult read_compared_runs(const std::vector<std::string>& folders) {
         fail(f.folder, ": not run on the same data as ", files[0].folder, ": ",
              first_input_difference(first.at("inputs").at("shapes"), j.at("inputs").at("shapes"),
                                     files[0].folder, f.folder),
-             " (inputs' digests ", r.inputs_digest.substr(0, 12), "… and ", digest.substr(0, 12),
-             "…); compare merges runs on the same shapes with the same classes only");
+             "; inputs' digests ", r.inputs_digest.substr(0, 12), "… and ", digest.substr(0, 12),
+             "…; compare merges runs on the same shapes with the same classes only");
       for (const auto& [key, value] : r.protocol.items())
         if (!j.at("protocol").contains(key) || j.at("protocol").at(key) != value)
           fail(f.folder, ": run with ", key, " = ", j.at("protocol").value(key, json()).dump(), ", ",
@@ -362,7 +362,8 @@ void write_compare_report(const CompareRunsResult& r, const std::string& folder)
     if (f.size() > 4 && f.substr(f.size() - 4) == ".png") out << "![" << f << "](" << f << ")\n\n";
   out << "## Files\n\n"
          "- `compare.json`: the table above with each method's PR curves and per-class measures, the runs\n"
-         "- `pr.png`: the PR curves, one panel per distance, every method\n"
+         "- `pr.png`: the PR curves, one panel per distance, every method (`pr.pdf` too when asked); "
+         "`methods.json`: the methods' titles the figure uses\n"
          "- each run's own folder holds its matrices, per-class tables, confusion matrices and failures\n";
   ExperimentFolder(folder).write_text("report.md", out.str());
 }
