@@ -113,6 +113,7 @@ std::string first_input_difference(const json& a, const json& b, const std::stri
 struct RunFile {
   std::string folder, path;
   json content;
+  json outside;  // its outside-methods.json (an array of {name, door, text}); empty when it has none
 };
 
 RunFile read_run(const std::string& folder) {
@@ -146,6 +147,11 @@ RunFile read_run(const std::string& folder) {
          ": \"inputs\": its digest is not the digest of its shapes' checksums (the file was edited or "
          "damaged); rerun `cshapes ",
          kSupported, "` into ", folder);
+  const std::string outside = (fs::path(folder) / "outside-methods.json").string();
+  if (fs::is_regular_file(outside, ec)) {
+    run.outside = read_json_file(outside);
+    if (!run.outside.is_array()) fail(outside, ": expected an array of {name, door, text}");
+  }
   member(j, "protocol", run.path);
   if (!member(j, "methods", run.path).is_array()) fail(run.path, ": \"methods\": expected an array");
   if (!member(j, "distances", run.path).is_array()) fail(run.path, ": \"distances\": expected an array");
@@ -184,7 +190,7 @@ std::string first_result_difference(const ComparedMethod& a, const ComparedMetho
   return "";
 }
 
-ComparedMethod method_of(const json& m, size_t run, const std::string& file) {
+ComparedMethod method_of(const json& m, size_t run, const std::string& file, const json& outside) {
   ComparedMethod method;
   const json& name = member(m, "method", file, "\"methods\"");
   if (!name.is_string() || name.get<std::string>().empty())
@@ -193,6 +199,11 @@ ComparedMethod method_of(const json& m, size_t run, const std::string& file) {
   method.title = m.value("title", method.method);
   method.run = run;
   method.shapes = m.value("shapes", 0);
+  for (const json& door : outside)
+    if (door.is_object() && door.value("name", "") == method.method) {
+      method.door = door.value("door", "");
+      method.door_text = door.value("text", "");
+    }
   const std::string where = "method " + method.method;
   for (const auto& [kind, entry] : member(m, "distances", file, where).items()) {
     method.scores[kind] = scores_of(entry, file, where + ", distance " + kind);
@@ -249,7 +260,7 @@ CompareRunsResult read_compared_runs(const std::vector<std::string>& folders) {
           std::find(r.distances.begin(), r.distances.end(), kind.get<std::string>()) == r.distances.end())
         r.distances.push_back(kind.get<std::string>());
     for (const json& m : j.at("methods")) {
-      ComparedMethod method = method_of(m, k, f.path);
+      ComparedMethod method = method_of(m, k, f.path, f.outside);
       run.methods.push_back(method.method);
       auto same = std::find_if(r.methods.begin(), r.methods.end(),
                                [&](const ComparedMethod& other) { return other.method == method.method; });
@@ -287,6 +298,8 @@ void write_compare_json(const CompareRunsResult& r, const std::string& folder) {
                        {"run", r.runs[m.run].folder},
                        {"also_in", also},
                        {"shapes", m.shapes},
+                       {"door", m.door.empty() ? json(nullptr) : json(m.door)},
+                       {"door_text", m.door_text.empty() ? json(nullptr) : json(m.door_text)},
                        {"distances", distances}});
   }
   ExperimentFolder(folder).write_json("compare.json", {{"experiment", r.experiment},
@@ -356,6 +369,17 @@ void write_compare_report(const CompareRunsResult& r, const std::string& folder)
   if (fewer)
     out << "A method with fewer shapes than the collection's " << r.shapes
         << " left some out in its run: its run's report names them and why.\n\n";
+  bool outside = false;
+  for (const ComparedMethod& m : r.methods) outside = outside || !m.door.empty();
+  if (outside) {
+    out << "## Methods from outside\n\nAs their runs name them (outside-methods.json); each ran under the "
+           "protocol of the built-in methods.\n\n";
+    for (const ComparedMethod& m : r.methods)
+      if (!m.door.empty())
+        out << "- **" << m.method << "** (`" << r.runs[m.run].folder << "`): by the " << m.door << " door, `"
+            << m.door_text << "`\n";
+    out << '\n';
+  }
   out << "## Figure\n\n";
   if (r.figures.empty()) out << "Not drawn: " << r.figures_note << "\n\n";
   for (const std::string& f : r.figures)

@@ -14,7 +14,8 @@
 //     same results it is one row, from the first run, the others named beside it.
 //
 // Files under DIR (an OutputRun: a rerun replaces them whole; a failure leaves the previous set):
-//   report.md     one table, method × distance, the retrieval report's six measures, each row's run folder
+//   report.md     one table, method × distance, the retrieval report's six measures, each row's run folder;
+//                 the methods from outside with their doors, as their runs' outside-methods.json name them
 //   compare.json  the same with each method's PR curves and per-class measures, the runs and the inputs'
 //   digest pr.png        the PR curves of every method, one panel per distance
 //   (experiments/plots/compare_figure.py,
@@ -54,6 +55,9 @@ struct ComparedMethod {
   size_t run = 0;               // index into CompareRunsResult::runs: the first run holding it (its numbers)
   std::vector<size_t> also_in;  // later runs holding the same method with the same results
   int shapes = 0;  // shapes of its matrices: fewer than the collection when its run left some out
+  // A method from outside (pipeline/outside_methods.h): its door ("command", "forms", "function") and the
+  // command, folder or function its run's outside-methods.json names; both empty for a built-in method.
+  std::string door, door_text;
   std::map<std::string, RetrievalScores> scores;  // per distance: the six measures, micro averages
   std::map<std::string, nlohmann::json> entries;  // per distance: the run's whole entry (PR curve, per class)
 };

@@ -14,6 +14,7 @@
 #include "cshapes/data/synthetic.h"
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/mesh/io.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/sha256.h"
 #include "tests/test_support.h"
@@ -63,6 +64,12 @@ class CompareRuns : public ::testing::Test {
     run(data, *dir + "/lbo", {"lbo"});
     run(copy, *dir + "/both-on-copy", {"lbo", "cmds"});
     run(other, *dir + "/cmds-other", {"cmds"});
+    // A method from outside by the command door: the input as its own form.
+    OutsideDoor door;
+    door.kind = OutsideDoor::Kind::Command;
+    door.text = "cp {mesh} {form.off}";
+    const OutsideMethod ident("ident", door);
+    run(data, *dir + "/ident", {"ident"});
   }
   static void TearDownTestSuite() { delete dir; }
 
@@ -136,6 +143,20 @@ TEST_F(CompareRuns, SameDataInAnotherFolderIsTheSameDataAndOneMethodIsOneRow) {
   EXPECT_EQ(r.methods[1].method, "lbo");
   EXPECT_EQ(r.methods[1].run, 1u);
   EXPECT_NE(read_text_file(o.out + "/report.md").find("(also `" + o.runs[1] + "`)"), std::string::npos);
+}
+
+TEST_F(CompareRuns, AMethodFromOutsideKeepsItsDoor) {
+  const CompareRunsOptions o = options({"cmds", "ident"}, "with-outside");
+  const CompareRunsResult r = compare_runs(o);
+  ASSERT_EQ(r.methods.size(), 2u);
+  EXPECT_EQ(r.methods[0].door, "");
+  EXPECT_EQ(r.methods[1].method, "ident");
+  EXPECT_EQ(r.methods[1].door, "command");
+  EXPECT_EQ(r.methods[1].door_text, "cp {mesh} {form.off}");
+  const std::string report = read_text_file(o.out + "/report.md");
+  EXPECT_NE(report.find("## Methods from outside"), std::string::npos) << report;
+  EXPECT_NE(report.find("by the command door, `cp {mesh} {form.off}`"), std::string::npos) << report;
+  EXPECT_EQ(read_json(o.out + "/compare.json")["methods"][1]["door"], "command");
 }
 
 TEST_F(CompareRuns, DifferentDataIsRefusedNamingTheShape) {
