@@ -49,6 +49,14 @@ void write_method_files(const ExperimentFolder& folder, const RetrievalExperimen
   }
 }
 
+// What, besides the inputs, makes two runs' measures comparable: the measures' conventions and the
+// resampling.
+json retrieval_protocol_json(const RetrievalExperimentOptions& o) {
+  return {{"e_measure_depth", o.retrieval.e_measure_depth},
+          {"min_class_size", o.retrieval.min_class_size},
+          {"resample_vertices", o.resample.vertices}};
+}
+
 // retrieval.json: every measure of the run (the figures' input).
 json result_json(const RetrievalExperimentResult& r) {
   json methods = json::array();
@@ -73,10 +81,20 @@ json result_json(const RetrievalExperimentResult& r) {
                                                                              : nlohmann::json(m.form_peak_bytes_max)},
                        {"distances", distances}});
   }
-  json j{{"data", r.options.data},       {"read", r.data},
-         {"shapes", r.shapes},           {"classes", r.class_names},
-         {"class_sizes", r.class_sizes}, {"distances", retrieval_distances()},
-         {"methods", methods},           {"failures", shape_failures_json(r.failures)},
+  json shapes_read = json::array();
+  for (const ShapeChecksum& s : r.inputs.shapes)
+    shapes_read.push_back({{"name", s.name}, {"class", s.class_name}, {"sha256", s.sha256}});
+  json j{{"experiment", "retrieval"},
+         {"data", r.options.data},
+         {"read", r.data},
+         {"inputs", {{"digest", r.inputs.digest}, {"shapes", shapes_read}}},
+         {"protocol", retrieval_protocol_json(r.options)},
+         {"shapes", r.shapes},
+         {"classes", r.class_names},
+         {"class_sizes", r.class_sizes},
+         {"distances", retrieval_distances()},
+         {"methods", methods},
+         {"failures", shape_failures_json(r.failures)},
          {"seconds", r.seconds}};
   if (r.resampled) {
     json shapes = json::array();
@@ -131,8 +149,10 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     names.push_back(e.name);
     classes.push_back(e.class_name);
   }
-  if (comm.is_root())
+  if (comm.is_root()) {
     write_classification(folder.path("classes.cla"), classification_from_labels(names, classes));
+    r.inputs = dataset_checksums(r.resampled ? read_dataset(o.data, o.allow_outside) : data);
+  }
   std::set<std::string> unreadable;  // said once, not once per method
   for (const std::string& method : o.methods) {
     say(o.note, "== " + canonical_form_method_title(method) + ": canonical forms and ICP distances");

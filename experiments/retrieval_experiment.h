@@ -19,7 +19,11 @@
 //                                    (eval/distance_csv.h), rows in METHOD/classes.cla's order
 //   METHOD/DISTANCE/                 metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv
 //                                    (eval/retrieval_report.h)
-//   retrieval.json                   every measure of the run, for the figures and other tools
+//   retrieval.json                   every measure of the run, for the figures and other tools; with the
+//                                    inputs' checksums (each shape's SHA-256 and their digest,
+//                                    data/dataset_checksums.h) and the protocol's settings, by which
+//                                    `cshapes compare` (experiments/compare_runs.h) tells runs on the
+//                                    same data
 //   figures/pr.png, per_class.png, confusion.png   (experiments/plots/retrieval_figures.py; matplotlib)
 //   report.md                        write_retrieval_report
 //
@@ -34,6 +38,7 @@
 #include <vector>
 
 #include "cshapes/support/communicator.h"
+#include "cshapes/data/dataset_checksums.h"
 #include "cshapes/eval/retrieval_report.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
@@ -79,6 +84,9 @@ struct RetrievalExperimentResult {
   int shapes = 0;                      // in the collection
   std::vector<std::string> class_names;  // the collection's classes, in order
   std::vector<int> class_sizes;          // shapes per class
+  // The collection's files as given (before any resampling), by content (rank 0): what `cshapes compare`
+  // checks runs against.
+  DatasetChecksums inputs;
   bool resampled = false;
   ResampledDataset resampling;  // when resampled
   std::vector<RetrievalMethodResult> methods;
@@ -99,6 +107,14 @@ void draw_retrieval_figures(RetrievalExperimentResult& result, const std::string
 // report.md in folder from the result alone: the overall table (method × distance), the per-class table of
 // each method, the confusion matrices, the resampling table, the failures, the files.
 void write_retrieval_report(const RetrievalExperimentResult& result, const std::string& folder);
+
+// The pieces of report.md's tables that other reports of retrieval runs share (`cshapes compare`): a
+// distance's title ("Hausdorff (the paper's)"), the header of the six measures (" | NN | FT | ST | E | DCG |
+// mAP |") with its alignment row, and a row's cells of them (three decimals).
+std::string retrieval_distance_title(const std::string& distance);
+extern const char* const kRetrievalMeasuresHeader;
+extern const char* const kRetrievalMeasuresRule;
+std::string retrieval_measures_cells(const RetrievalScores& scores);
 
 // The experiment as `cshapes experiment retrieval` (and cshapes.experiment_retrieval) runs it:
 // run_retrieval_experiment, then the figures and report.md on rank 0.

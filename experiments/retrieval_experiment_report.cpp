@@ -7,29 +7,33 @@
 
 namespace cshapes {
 
-namespace {
-
-std::string measures_cells(const RetrievalScores& s) {
+std::string retrieval_measures_cells(const RetrievalScores& s) {
   return " | " + fixed(s.nn, 3) + " | " + fixed(s.ft, 3) + " | " + fixed(s.st, 3) + " | " + fixed(s.e, 3) +
          " | " + fixed(s.dcg, 3) + " | " + fixed(s.ap, 3) + " |";
 }
 
-const char* const kMeasuresHeader = " | NN | FT | ST | E | DCG | mAP |";
-const char* const kMeasuresRule = "---:|---:|---:|---:|---:|---:|";
+const char* const kRetrievalMeasuresHeader = " | NN | FT | ST | E | DCG | mAP |";
+const char* const kRetrievalMeasuresRule = "---:|---:|---:|---:|---:|---:|";
 
-std::string distance_title(const std::string& kind) {
-  return kind == "hausdorff" ? "Hausdorff (the paper's)" : kind == "chamfer" ? "Chamfer" : "RMSE";
+std::string retrieval_distance_title(const std::string& kind) {
+  return kind == "hausdorff" ? "Hausdorff (the paper's)"
+         : kind == "chamfer" ? "Chamfer"
+         : kind == "rmse"    ? "RMSE"
+                             : kind;
 }
+
+namespace {
 
 void overall_section(std::ostream& out, const RetrievalExperimentResult& r) {
   out << "## Overall\n\nEvery shape a query against all the others; micro averages over the queries.\n\n"
-      << "| method | distance | shapes" << kMeasuresHeader << "\n|---|---|---:|" << kMeasuresRule << '\n';
+      << "| method | distance | shapes" << kRetrievalMeasuresHeader << "\n|---|---|---:|"
+      << kRetrievalMeasuresRule << '\n';
   for (const RetrievalMethodResult& m : r.methods)
     for (const std::string& kind : retrieval_distances()) {
       auto it = m.by_distance.find(kind);
       if (it == m.by_distance.end()) continue;
-      out << "| " << canonical_form_method_title(m.method) << " | " << distance_title(kind) << " | "
-          << m.names.size() << measures_cells(it->second.result.mean) << '\n';
+      out << "| " << canonical_form_method_title(m.method) << " | " << retrieval_distance_title(kind) << " | "
+          << m.names.size() << retrieval_measures_cells(it->second.result.mean) << '\n';
     }
   out << '\n';
 }
@@ -43,16 +47,16 @@ void per_class_section(std::ostream& out, const RetrievalExperimentResult& r) {
     auto it = m.by_distance.find("hausdorff");
     if (it == m.by_distance.end()) continue;
     const RetrievalReport& rep = it->second;
-    out << "### " << canonical_form_method_title(m.method) << "\n\n| class | queries" << kMeasuresHeader
-        << "\n|---|---:|" << kMeasuresRule << '\n';
+    out << "### " << canonical_form_method_title(m.method) << "\n\n| class | queries"
+        << kRetrievalMeasuresHeader << "\n|---|---:|" << kRetrievalMeasuresRule << '\n';
     for (size_t c = 0; c < rep.class_names.size(); ++c) {
       out << "| " << rep.class_names[c] << " | " << rep.result.class_queries[c];
       if (rep.result.class_queries[c] > 0)
-        out << measures_cells(rep.result.class_mean[c]) << '\n';
+        out << retrieval_measures_cells(rep.result.class_mean[c]) << '\n';
       else
         out << " | — | — | — | — | — | — |\n";
     }
-    out << "| **all** | " << rep.result.queries.size() << measures_cells(rep.result.mean) << "\n\n";
+    out << "| **all** | " << rep.result.queries.size() << retrieval_measures_cells(rep.result.mean) << "\n\n";
   }
   out << "### mAP per class, every method and distance\n\n| class |";
   std::string rule = "|---|";
@@ -133,7 +137,9 @@ void write_retrieval_report(const RetrievalExperimentResult& r, const std::strin
       << " classes (";
   for (size_t c = 0; c < r.class_names.size(); ++c)
     out << (c ? ", " : "") << r.class_names[c] << " " << r.class_sizes[c];
-  out << "). Methods: ";
+  out << "). Inputs' digest (SHA-256 over each shape's name, class and file SHA-256; retrieval.json's "
+         "\"inputs\", which `cshapes compare` checks): `"
+      << r.inputs.digest << "`. Methods: ";
   for (size_t k = 0; k < r.methods.size(); ++k)
     out << (k ? ", " : "") << canonical_form_method_title(r.methods[k].method);
   out << ". Distances between canonical forms after ICP: Hausdorff (the paper's), Chamfer, RMSE. "

@@ -1,12 +1,14 @@
 // cshapes.experiment_paper and cshapes.experiment_retrieval: the experiments (experiments/paper_experiment.h,
 // experiments/retrieval_experiment.h) from Python, with the library's defaults, so a run from Python, from C++ and
 // `cshapes experiment paper|retrieval` with the same options writes the same files. cshapes.show: the picture of
-// `cshapes show` (experiments/show_mesh.h).
+// `cshapes show` (experiments/show_mesh.h). cshapes.compare_runs: `cshapes compare`
+// (experiments/compare_runs.h).
 #include <pybind11/stl.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "cshapes/experiments/compare_runs.h"
 #include "cshapes/experiments/noise_experiment.h"
 #include "cshapes/experiments/paper_experiment.h"
 #include "cshapes/experiments/pose_invariance.h"
@@ -236,6 +238,36 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   return result;
 }
 
+py::dict compare_runs_py(const py::object& runs, const py::object& out, bool draw, bool pdf, bool force) {
+  CompareRunsOptions o;
+  CSHAPES_REQUIRE(!py::isinstance<py::str>(runs) && py::isinstance<py::sequence>(runs),
+                  "compare_runs(): runs: expected a list of output folders, got ",
+                  std::string(py::str(py::type::of(runs).attr("__name__"))));
+  for (const py::handle& run : runs) o.runs.push_back(to_path(run, "runs"));
+  o.out = to_path(out, "out");
+  o.figures = draw;
+  o.pdf = pdf;
+  o.force = force;
+  const CompareRunsResult r = compare_runs(o);
+  py::dict measures, from;
+  for (const ComparedMethod& m : r.methods) {
+    py::dict per;
+    for (const auto& [kind, scores] : m.scores)
+      per[py::str(kind)] = python::to_python(retrieval_scores_json(scores));
+    measures[py::str(m.method)] = per;
+    from[py::str(m.method)] = r.runs[m.run].folder;
+  }
+  py::dict result;
+  result["out"] = o.out;
+  result["experiment"] = r.experiment;
+  result["inputs_digest"] = r.inputs_digest;
+  result["shapes"] = r.shapes;
+  result["measures"] = measures;
+  result["runs"] = from;
+  result["figures"] = r.figures;
+  return result;
+}
+
 bool is_path(const py::handle& object) {
   return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
 }
@@ -460,6 +492,17 @@ dataset's folder), method_timeout [86400], method_version [''].
 Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 figures, failures.)");
+  m.def("compare_runs", &compare_runs_py, py::arg("runs"), py::arg("out"), py::kw_only(),
+        py::arg("draw") = true, py::arg("pdf") = false, py::arg("force") = false,
+        R"(Several `experiment retrieval` runs on the same data side by side (`cshapes compare`), nothing recomputed.
+
+runs: two or more output folders of complete runs whose inputs' checksums (retrieval.json) agree, under the
+same protocol; a method in two runs must have the same results in both. Anything else raises ValueError naming
+the folder and what was expected, and writes nothing. out: the output folder (report.md, compare.json, pr.png).
+draw [True]: draw pr.png; pdf [False]: also pr.pdf; force [False]: write into an out folder that holds files
+cshapes did not write.
+Returns a dict: experiment, inputs_digest, shapes, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
+runs {method: the folder its numbers come from}, figures.)");
 }
 
 }  // namespace cshapes::python

@@ -288,6 +288,15 @@ std::string make_staging_folder(const std::string& parent) {
   fail_write("cannot create a staging folder in ", parent, ": ", ec ? ec.message() : "name taken");
 }
 
+OutputFolderOwner output_folder_owner(const std::string& folder) {
+  const OutputRecord record = read_record(folder);
+  OutputFolderOwner owner;
+  if (!record.present) return owner;
+  owner.command = record.command;
+  owner.complete = !record.running;
+  return owner;
+}
+
 std::vector<std::string> publish_staged_files(const std::string& staging, const std::string& target, bool force) {
   struct Cleanup {
     std::string path;

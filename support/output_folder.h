@@ -58,6 +58,16 @@ class OutputRun {
   std::set<std::string> previous_;          // the previous complete run's files, now in .cshapes-previous
 };
 
+// Who owns an output folder by its record: the command ("experiment retrieval"; "" when the folder has no
+// record, or is missing) and whether its last run completed (false while a run writes it, or after one was
+// killed: its files may then be a mix). For a command that reads another's outputs (`cshapes compare`).
+struct OutputFolderOwner {
+  std::string command;
+  bool complete = false;
+};
+// Throws an Error naming the record when the folder holds a record cshapes cannot read.
+OutputFolderOwner output_folder_owner(const std::string& folder);
+
 // Moves every file under `staging` (a folder the caller wrote a result set into) to the same relative path under
 // `target`, after checking that none of them would replace an existing file there (unless `force`): an Error
 // naming the first such file otherwise, and `target` untouched. `staging` is removed in both cases. Returns the
