@@ -118,7 +118,7 @@ struct RunFile {
 
 RunFile read_run(const std::string& folder) {
   require_retrieval_run(folder);
-  RunFile run{folder, (fs::path(folder) / "retrieval.json").string(), json()};
+  RunFile run{folder, (fs::path(folder) / "retrieval.json").string(), json(), json()};
   std::error_code ec;
   if (!fs::is_regular_file(run.path, ec))
     fail(run.path, ": missing (expected the retrieval.json of a complete `cshapes ", kSupported, "` run)");
