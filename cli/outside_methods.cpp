@@ -43,22 +43,11 @@ void add_methods_option(CLI::App& app, std::string& methods) {
 }
 
 std::vector<std::string> method_items(const std::string& option, const std::string& text) {
-  // Commas separate items; "\," is a comma inside a command.
-  std::vector<std::string> items;
-  std::string item;
-  for (size_t k = 0; k <= text.size(); ++k) {
-    if (k + 1 < text.size() && text[k] == '\\' && text[k + 1] == ',') {
-      item += ',';
-      ++k;
-    } else if (k == text.size() || text[k] == ',') {
-      if (item.empty()) usage_fail(option, ": empty item in '", text, "'");
-      items.push_back(item);
-      item.clear();
-    } else {
-      item += text[k];
-    }
+  try {
+    return split_method_items(text, option);
+  } catch (const Error& error) {
+    throw UsageError(error.what());
   }
-  return items;
 }
 
 std::vector<std::string> registered_methods(const std::string& option, const std::vector<std::string>& items) {

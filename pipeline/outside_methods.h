@@ -53,6 +53,9 @@ std::string door_name(OutsideDoor::Kind kind);
 
 // Whether a --methods item is a door ("NAME=cmd:…", "NAME=forms:…"), not a plain method name.
 bool is_outside_method_item(const std::string& item);
+// The items of a comma-separated methods text ("lbo,pca=cmd:python3 pca.py {mesh} {form.npy}"): commas
+// separate items, "\," is a comma inside a command. Throws cshapes::Error naming `context` for an empty item.
+std::vector<std::string> split_method_items(const std::string& text, const std::string& context);
 // Splits "NAME=cmd:COMMAND" or "NAME=forms:DIR". Throws cshapes::Error for another door, an empty command
 // or folder, a folder that does not exist, or a NAME that is not letters, digits, '-', '_' (it names files).
 std::pair<std::string, OutsideDoor> parse_outside_method(const std::string& item);

@@ -81,22 +81,16 @@ MethodArgument method_argument(const py::object& methods, const char* function, 
   settings.version = k.text("method_version", "");
   MethodArgument out;
   if (methods.is_none()) return out;
-  auto add_text = [&](const std::string& text) {
-    std::string item;
-    for (size_t c = 0; c <= text.size(); ++c)
-      if (c == text.size() || (text[c] == ',' && !is_outside_method_item(item))) {
-        CSHAPES_REQUIRE(!item.empty(), function, "(): methods: an empty name in '", text, "'");
-        if (is_outside_method_item(item)) {
-          auto [name, door] = parse_outside_method(item);
-          out.outside.push_back(std::make_unique<OutsideMethod>(name, std::move(door), settings));
-          out.names.push_back(name);
-        } else {
-          out.names.push_back(item);
-        }
-        item.clear();
+  auto add_text = [&](const std::string& text) {  // the CLI's rule: commas separate, "\," is a comma
+    for (const std::string& item : split_method_items(text, std::string(function) + "(): methods")) {
+      if (is_outside_method_item(item)) {
+        auto [name, door] = parse_outside_method(item);
+        out.outside.push_back(std::make_unique<OutsideMethod>(name, std::move(door), settings));
+        out.names.push_back(name);
       } else {
-        item += text[c];
+        out.names.push_back(item);
       }
+    }
   };
   if (py::isinstance<py::str>(methods)) {
     add_text(methods.cast<std::string>());

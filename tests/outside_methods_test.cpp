@@ -100,6 +100,14 @@ TEST(OutsideMethods, EachBrokenFormOrProgramIsRefusedByNameWithTheReason) {
   }
 }
 
+TEST(OutsideMethods, CommasSeparateMethodsAndAnEscapedCommaStaysInTheCommand) {
+  const std::vector<std::string> items = split_method_items("lbo,p=cmd:echo a\\,b {mesh} {form},cmds", "--methods");
+  ASSERT_EQ(items.size(), 3u);
+  EXPECT_EQ(items[1], "p=cmd:echo a,b {mesh} {form}");
+  EXPECT_NE(error_of([] { split_method_items("lbo,,cmds", "--methods"); }).find("--methods: empty item"),
+            std::string::npos);
+}
+
 TEST(OutsideMethods, AFormsDoorReadsByShapeNameAndListsTheShapesItLacks) {
   const std::string dir = test::scratch_dir("outside-forms");
   const Mesh ball = icosphere(2);
