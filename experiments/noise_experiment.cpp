@@ -25,6 +25,7 @@
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/outside_methods_report.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/shape_distance.h"
 #include "cshapes/pipeline/experiment_kit.h"
@@ -207,11 +208,16 @@ void canonize_every_variant(NoiseRun& run) {
   say(o.note, "== canonical forms (" + std::to_string(variants.size()) + " shapes × " +
                   std::to_string(o.methods.size()) + " methods)");
   std::vector<char> failed(variants.size(), 0);
+  auto path_of = [&](const Variant& v) {
+    return v.level == 0 ? poses[static_cast<size_t>(v.pose)].path : run.folder.path("shapes/" + v.name + ".off");
+  };
+  std::vector<ShapeAhead> ahead;
+  for (const Variant& v : variants) ahead.push_back({&v.mesh, path_of(v)});
+  run_commands_ahead(form_cache, ahead, o.canon, o.methods);
   for (size_t i = 0; i < variants.size(); ++i) {
     const Variant& v = variants[i];
     const size_t failures_before = result.failures.size();
-    const std::string path =
-        v.level == 0 ? poses[static_cast<size_t>(v.pose)].path : run.folder.path("shapes/" + v.name + ".off");
+    const std::string path = path_of(v);
     std::optional<std::vector<CachedForm>> computed = shape_canonical_forms(
         form_cache, v.mesh, options_per_method(o.canon, o.methods, path), v.name, result.failures);
     for (size_t k = failures_before; k < result.failures.size(); ++k)

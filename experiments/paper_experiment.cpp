@@ -26,6 +26,8 @@
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/outside_methods_report.h"
+#include "cshapes/pipeline/outside_methods.h"
+#include "cshapes/support/threads.h"
 #include "cshapes/experiments/paper_figures.h"
 #include "cshapes/experiments/paper_report.h"
 #include "cshapes/matching/icp.h"
@@ -278,6 +280,11 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
   }
   failed.assign(shapes.size(), 0);
   const auto start = WallClock::now();
+  std::vector<ShapeAhead> ahead;  // a command door's programs, several at a time
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (!only || (*only)[i]) ahead.push_back({&shapes[i].mesh, shapes[i].source_path});
+  for (const std::string& m : o.methods)
+    if (is_command_door_method(m)) run_commands_ahead(cache, ahead, method_options(o, m, ""), refresh_threads());
   for (size_t i = 0; i < shapes.size(); ++i) {
     if (only && !(*only)[i]) continue;
     const Shape& s = shapes[i];

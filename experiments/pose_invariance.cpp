@@ -24,6 +24,7 @@
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/outside_methods_report.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/remesh_samples.h"
 
@@ -524,6 +525,9 @@ PoseInvarianceResult run_pose_invariance(const PoseInvarianceOptions& o) {
   FormPoints X;
   for (const std::string& f : forms_of_run(o)) X[f].resize(shapes.size());
   std::vector<char> failed(shapes.size(), 0);
+  std::vector<ShapeAhead> ahead;
+  for (const PoseShape& s : shapes) ahead.push_back({&s.mesh, s.path});
+  run_commands_ahead(cache, ahead, o.canon, o.methods);
   for (size_t i = 0; i < shapes.size(); ++i)
     failed[i] = !measure_shape(shapes[i], i, located[i], cache, o, X, result);
   measure_pairs(shapes, pairs, failed, X, part_of, o, result);

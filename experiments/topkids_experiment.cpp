@@ -21,6 +21,7 @@
 #include "cshapes/eval/correspondence_error.h"
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/outside_methods_report.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/matching/nearest_neighbors.h"
 #include "cshapes/pipeline/experiment_kit.h"
 #include "cshapes/pipeline/remesh_samples.h"
@@ -560,6 +561,9 @@ TopkidsExperimentResult run_topkids_experiment(const TopkidsExperimentOptions& o
   const Reference reference = reference_forms(inputs, form_cache, o, r);
   PooledErrors pooled;
   std::set<std::string> left_out;  // poses whose forms failed
+  std::vector<ShapeAhead> ahead;
+  for (const Pose& p : inputs.poses) ahead.push_back({&p.measured, p.measured_path});
+  run_commands_ahead(form_cache, ahead, o.canon, o.methods);
   for (size_t pi = 0; pi < inputs.poses.size(); ++pi) {
     const Pose& p = inputs.poses[pi];
     if (!measure_pose(p, reference, form_cache, misc_cache, o, r, pooled)) left_out.insert(p.name);

@@ -13,7 +13,9 @@
 #include "cshapes/matching/icp.h"
 #include "cshapes/matching/shape_distance.h"
 #include "cshapes/pipeline/distributed.h"
+#include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/threads.h"
 
 namespace cshapes {
 
@@ -61,14 +63,36 @@ long canonize_share(const Dataset& data, const DiskCache& cache, CanonicalFormOp
 void dataset_forms(const Dataset& data, const DiskCache& cache, CanonicalFormOptions co,
                    const DatasetDistanceOptions& options, DatasetDistances& result, std::vector<Points>& forms,
                    std::vector<std::string>& keys) {
+  // A command door's programs run several at a time (run_commands_ahead), a batch of shapes ahead of this
+  // pass, whose meshes are read once for both.
+  const int workers = is_command_door_method(co.method) ? refresh_threads() : 1;
+  const size_t batch = workers > 1 ? static_cast<size_t>(4 * workers) : 1;
+  std::vector<std::optional<Mesh>> meshes;  // the batch's meshes (none: unreadable, said in the pass)
+  size_t batch_start = 0;
   for (size_t i = 0; i < data.entries.size(); ++i) {
     const DatasetEntry& e = data.entries[i];
     co.name = e.path;
+    if (workers > 1 && i == batch_start + meshes.size()) {
+      batch_start = i;
+      meshes.clear();
+      std::vector<ShapeAhead> ahead;
+      for (size_t k = i; k < std::min(i + batch, data.entries.size()); ++k) {
+        try {
+          meshes.emplace_back(read_mesh(data.entries[k].path));
+        } catch (const Error&) {
+          meshes.emplace_back(std::nullopt);
+        }
+      }
+      for (size_t k = 0; k < meshes.size(); ++k)
+        if (meshes[k]) ahead.push_back({&*meshes[k], data.entries[i + k].path});
+      run_commands_ahead(cache, ahead, co, workers);
+    }
     Mesh mesh;
     std::optional<std::vector<CachedForm>> computed;
     const size_t failures_before = result.failures.size();
     try {
-      mesh = read_mesh(e.path);
+      std::optional<Mesh>* read = workers > 1 ? &meshes[i - batch_start] : nullptr;
+      mesh = read && *read ? std::move(**read) : read_mesh(e.path);
     } catch (const Error& error) {
       if (co.strict) throw;
       result.failures.push_back(read_failure(e.name, e.path, error));

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -29,6 +31,7 @@
 #include "cshapes/support/error.h"
 #include "cshapes/support/progress.h"
 #include "cshapes/support/sha256.h"
+#include "cshapes/support/threads.h"
 #include "cshapes/support/timing.h"
 
 namespace fs = std::filesystem;
@@ -45,6 +48,12 @@ struct OutsideMethod::State {
     Mesh mesh;
   };
   std::vector<Missing> missing;  // forms door: shapes the folder had no form for, in the order asked
+  // Command door: results of run_commands_ahead, by ahead_key, each taken by the pass's call for its mesh.
+  struct Ahead {
+    std::optional<CanonicalForm> form;
+    std::string error;  // the failure's message when there is no form
+  };
+  std::map<std::string, Ahead> ahead;
 };
 
 namespace {
@@ -207,7 +216,7 @@ ProcessRun run_process(const std::string& command, const std::string& out_path, 
 }
 
 // One run of a command door's program on one mesh.
-CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
+CanonicalForm run_program(const OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
   const std::string shape = shape_name(options.name);
   const std::string where = options.name + ": method " + st.name;
   std::string command = st.door.text;
@@ -291,6 +300,32 @@ CanonicalForm run_command(const OutsideMethod::State& st, const Mesh& mesh, cons
   CanonicalForm form = form_of(std::move(X), "command", seconds);
   form.details["peak_memory_bytes"] = static_cast<double>(usage.ru_maxrss) * 1024.0;
   return form;
+}
+
+// What identifies one call of a command door's program: the mesh's content and the name it runs under.
+std::string ahead_key(const Mesh& mesh, const std::string& name) {
+  std::string bytes = name + '\n';
+  bytes.append(reinterpret_cast<const char*>(mesh.V.data()), sizeof(double) * static_cast<size_t>(mesh.V.size()));
+  bytes.append(reinterpret_cast<const char*>(mesh.F.data()),
+               sizeof(mesh.F(0, 0)) * static_cast<size_t>(mesh.F.size()));
+  return sha256_hex(bytes);
+}
+
+// The command door's compute: the result run_commands_ahead left for this mesh, else one run now.
+CanonicalForm run_command(OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
+  {
+    std::lock_guard<std::mutex> lock(st.mutex);
+    if (!st.ahead.empty()) {
+      auto it = st.ahead.find(ahead_key(mesh, options.name));
+      if (it != st.ahead.end()) {
+        OutsideMethod::State::Ahead ahead = std::move(it->second);
+        st.ahead.erase(it);
+        if (!ahead.form) throw Error(ahead.error);
+        return std::move(*ahead.form);
+      }
+    }
+  }
+  return run_program(st, mesh, options);
 }
 
 CanonicalForm read_from_folder(OutsideMethod::State& st, const Mesh& mesh, const CanonicalFormOptions& options) {
@@ -473,6 +508,83 @@ OutsideMethodList register_outside_methods(const std::vector<std::string>& items
     list.names.push_back(name);
   }
   return list;
+}
+
+bool is_command_door_method(const std::string& method) {
+  const CanonicalFormMethod* m = find_canonical_form_method(method);
+  return m && m->door == door_name(OutsideDoor::Kind::Command);
+}
+
+void run_commands_ahead(const DiskCache& cache, const std::vector<ShapeAhead>& shapes,
+                        const CanonicalFormOptions& options, int workers) {
+  if (workers < 2 || !is_command_door_method(options.method)) return;
+  const std::shared_ptr<OutsideMethod::State> st = state_of(options.method);
+  if (!st) return;
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    CanonicalFormOptions o = options;
+    o.name = shapes[i].name;
+    if (cache.enabled() && fs::exists(cache.entry_path(canonical_form_cache_key(*shapes[i].mesh, o)))) continue;
+    todo.push_back(i);
+  }
+  if (todo.size() < 2) return;
+  std::mutex progress_mutex;  // the caller's progress is polled by one thread at a time
+  CanonicalFormOptions base = options;
+  if (options.progress)
+    base.progress = [&progress_mutex, progress = options.progress](const std::string& stage, long done, long total) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(stage, done, total);
+    };
+  std::atomic<size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr stopped;  // the first stop (Ctrl-C, an output that cannot be written): rethrown
+  std::mutex stopped_mutex;
+  auto work = [&] {
+    while (!stop) {
+      const size_t k = next++;
+      if (k >= todo.size()) return;
+      const ShapeAhead& shape = shapes[todo[k]];
+      CanonicalFormOptions o = base;
+      o.name = shape.name;
+      OutsideMethod::State::Ahead ahead;
+      try {
+        ahead.form = run_program(*st, *shape.mesh, o);
+      } catch (const FileError&) {  // as shape_canonical_forms: the run stops
+        std::lock_guard<std::mutex> lock(stopped_mutex);
+        if (!stopped) stopped = std::current_exception();
+        stop = true;
+        return;
+      } catch (const Error& error) {
+        ahead.error = error.what();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(stopped_mutex);
+        if (!stopped) stopped = std::current_exception();
+        stop = true;
+        return;
+      }
+      std::lock_guard<std::mutex> lock(st->mutex);
+      st->ahead[ahead_key(*shape.mesh, shape.name)] = std::move(ahead);
+    }
+  };
+  std::vector<std::thread> threads;
+  const size_t count = std::min(todo.size(), static_cast<size_t>(workers));
+  for (size_t t = 0; t < count; ++t) threads.emplace_back(work);
+  for (std::thread& t : threads) t.join();
+  if (stopped) {
+    std::lock_guard<std::mutex> lock(st->mutex);
+    st->ahead.clear();
+    std::rethrow_exception(stopped);
+  }
+}
+
+void run_commands_ahead(const DiskCache& cache, const std::vector<ShapeAhead>& shapes,
+                        const CanonicalFormOptions& base, const std::vector<std::string>& methods) {
+  for (const std::string& method : methods) {
+    if (!is_command_door_method(method)) continue;
+    CanonicalFormOptions options = options_per_method(base, {method}, "").front();
+    options.progress = polls_of(base.progress);  // a stop ends the programs; no per-form reports
+    run_commands_ahead(cache, shapes, options, refresh_threads());
+  }
 }
 
 void set_outside_method_logs(const std::string& folder) {

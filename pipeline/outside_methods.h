@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "cshapes/mesh/mesh.h"
+#include "cshapes/pipeline/canonical_forms.h"
 
 namespace cshapes {
 
@@ -103,6 +104,25 @@ std::string outside_methods_markdown(const std::vector<std::string>& methods);
 // For each forms-door method among `methods` that lacked forms during the run: OUT/forms-needed/NAME.csv
 // (shape,mesh,expected_form) with each shape's mesh beside it (NAME/SHAPE.off). Returns the files written.
 std::vector<std::string> write_forms_needed(const std::vector<std::string>& methods, const std::string& out);
+
+// A command door runs one program per shape, which cshapes cannot parallelise from inside. run_commands_ahead
+// runs the programs for `shapes` (each mesh with the name the caller's pass gives it as options.name)
+// `workers` at a time before that pass, and hands each result, the form or the failure, to the pass's call
+// for the same mesh and name, which then runs nothing: the pass counts, caches, reports and orders everything
+// as without it. Shapes whose form `cache` holds are skipped. Does nothing for a method that is not a command
+// door, or for workers < 2. A stop (options.progress) ends every program and is rethrown.
+struct ShapeAhead {
+  const Mesh* mesh = nullptr;
+  std::string name;
+};
+void run_commands_ahead(const DiskCache& cache, const std::vector<ShapeAhead>& shapes,
+                        const CanonicalFormOptions& options, int workers);
+// The same for every command-door method among `methods`, each shape under the options
+// options_per_method(base, methods, shape.name) gives it, as many at a time as refresh_threads() allows.
+void run_commands_ahead(const DiskCache& cache, const std::vector<ShapeAhead>& shapes,
+                        const CanonicalFormOptions& base, const std::vector<std::string>& methods);
+// Whether `method` is an outside method that enters by the command door.
+bool is_command_door_method(const std::string& method);
 
 // The folders a run keeps between reruns for outside methods (method-logs), beside its cache.
 inline constexpr const char* kMethodLogsFolder = "method-logs";

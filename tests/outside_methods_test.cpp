@@ -100,6 +100,51 @@ TEST(OutsideMethods, EachBrokenFormOrProgramIsRefusedByNameWithTheReason) {
   }
 }
 
+// A command door's programs run several at a time ahead of the pass (run_commands_ahead), which then takes
+// each result, the form or the failure, without running the program again.
+TEST(OutsideMethods, ProgramsRunSeveralAtATimeAheadAndThePassTakesTheirResults) {
+  const std::string dir = test::scratch_dir("outside_ahead");
+  // Each run says it started, then waits (up to 20 s) until every one of the three has started: only runs at
+  // the same time all see that, so each leaves an "overlap" mark. The shape named "bad" then fails.
+  const std::string command = "d=" + dir + "; echo run >> \"$d\"/runs.{name}; touch \"$d\"/started.{name}; "
+      "i=0; while [ $(ls \"$d\" | grep -c started) -lt 3 ] && [ $i -lt 200 ]; do sleep 0.1; i=$((i+1)); done; "
+      "[ $i -lt 200 ] && touch \"$d\"/overlap.{name}; [ {name} = bad ] && { echo bad shape >&2; exit 7; }; "
+      "cp {mesh} {form.off}";
+  OutsideMethod m("ahead", OutsideDoor{OutsideDoor::Kind::Command, command, {}, ""});
+  std::vector<Mesh> meshes;
+  for (int k = 0; k < 3; ++k) {
+    meshes.push_back(icosphere(1));
+    meshes.back().V *= 1.0 + k;
+  }
+  const std::vector<std::string> names = {"one.off", "two.off", "bad.off"};
+  std::vector<ShapeAhead> shapes;
+  for (size_t k = 0; k < 3; ++k) shapes.push_back({&meshes[k], names[k]});
+  run_commands_ahead(DiskCache(), shapes, options_for("ahead"), 3);
+  for (const std::string shape : {"one", "two", "bad"}) {
+    EXPECT_TRUE(fs::exists(dir + "/overlap." + shape)) << shape << " ran alone";
+    EXPECT_TRUE(fs::exists(dir + "/runs." + shape)) << shape;
+  }
+  for (size_t k = 0; k < 2; ++k) {
+    const CanonicalForm form = canonical_form(meshes[k], options_for("ahead", names[k]));
+    EXPECT_EQ((form.X - meshes[k].V).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ(form.details.value("door", ""), "command");
+  }
+  const std::string message = error_of([&] { canonical_form(meshes[2], options_for("ahead", "bad.off")); });
+  EXPECT_NE(message.find("bad.off: method ahead: the command exited with status 7"), std::string::npos) << message;
+  EXPECT_NE(message.find("bad shape"), std::string::npos) << message;
+  // Each program ran once: the pass took the results.
+  for (const std::string shape : {"one", "two", "bad"}) {
+    std::ifstream runs(dir + "/runs." + shape);
+    const std::string text((std::istreambuf_iterator<char>(runs)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, "run\n") << shape;
+  }
+  // A mesh the pass asks for again (taken already) runs the program anew.
+  canonical_form(meshes[0], options_for("ahead", "one.off"));
+  std::ifstream runs(dir + "/runs.one");
+  const std::string text((std::istreambuf_iterator<char>(runs)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "run\nrun\n");
+}
+
 TEST(OutsideMethods, CommasSeparateMethodsAndAnEscapedCommaStaysInTheCommand) {
   const std::vector<std::string> items = split_method_items("lbo,p=cmd:echo a\\,b {mesh} {form},cmds", "--methods");
   ASSERT_EQ(items.size(), 3u);
