@@ -16,6 +16,7 @@
 #include "cshapes/pipeline/mesh_report.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/method_argument.h"
 #include "python/interrupt.h"
 #include "python/kwargs.h"
 
@@ -110,10 +111,34 @@ PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) 
   return out;
 }
 
-PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, const std::string& method,
+// method: a name, "NAME=cmd:COMMAND" / "NAME=forms:DIR", a function fn(V, F) -> X (named by its __name__)
+// or a pair (NAME, fn): a method from outside is registered for this call only (python/method_argument.h).
+PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, const py::object& method_in,
                                   const py::kwargs& kwargs, const char* function) {
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, function);
+  MethodArgument outside;  // released with the GIL held, at the end of this call
+  std::string method;
+  if (py::isinstance<py::str>(method_in) && !is_outside_method_item(method_in.cast<std::string>())) {
+    method = method_in.cast<std::string>();
+  } else {
+    py::object item = method_in;
+    if (PyCallable_Check(item.ptr())) {
+      std::string name = py::str(py::getattr(item, "__name__", py::str("function"))).cast<std::string>();
+      const bool valid = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+      });
+      item = py::make_tuple(valid ? name : std::string("function"), item);
+    }
+    CSHAPES_REQUIRE(py::isinstance<py::str>(item) || py::isinstance<py::tuple>(item), function,
+                    "(): method: expected a method's name, 'NAME=cmd:COMMAND', 'NAME=forms:DIR', a function "
+                    "fn(V, F) -> X or a pair (name, fn), got ",
+                    std::string(py::str(method_in.get_type().attr("__name__"))));
+    py::list items;
+    items.append(item);
+    outside = method_argument(items, function, k);
+    method = outside.names.front();
+  }
   require_canonical_form_methods({method}, std::string(function) + "()");
   const CanonicalFormMethod& m = canonical_form_method(method);
   CanonicalFormOptions o;
@@ -231,6 +256,10 @@ std::string canonical_form_doc() {
       d << "  " << keyword_doc(option) << "\n";
     }
   }
+  d << "\nmethod may also be a method from outside (see docs/outside-methods.md): a function fn(V, F) -> X "
+       "(an (n, 3) array, one row per vertex), a pair (name, fn), 'NAME=cmd:COMMAND' or 'NAME=forms:DIR'; "
+       "keywords method_timeout [86400 s] and method_version ['']. Its form is checked as an experiment checks "
+       "it (one finite row per vertex, spanning a plane) and gets the same quality verdict.\n";
   d << "\nReturns a CanonicalForm.";
   return d.str();
 }
@@ -279,12 +308,12 @@ void bind_canon(py::module_& m) {
   m.def(
       "coulomb",
       [](const py::object& V, const py::object& F, const py::kwargs& kwargs) {
-        return canonical_form_py(V, F, "coulomb", kwargs, "coulomb");
+        return canonical_form_py(V, F, py::str("coulomb"), kwargs, "coulomb");
       },
       py::arg("V"), py::arg("F"), coulomb_doc().c_str());
   m.def(
       "canonical_form",
-      [](const py::object& V, const py::object& F, const std::string& method, const py::kwargs& kwargs) {
+      [](const py::object& V, const py::object& F, const py::object& method, const py::kwargs& kwargs) {
         return canonical_form_py(V, F, method, kwargs, "canonical_form");
       },
       py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb", canonical_form_doc().c_str());

@@ -52,11 +52,13 @@ def generate(module):
     coulomb_keywords = next(m["keywords"] for m in methods if m["name"] == "coulomb")
     by_name = {o["name"]: o for o in options}
     coulomb = [(k, annotation(by_name[k]), default(by_name[k])) for k in coulomb_keywords] + common
-    every = [("method", "str", '"coulomb"')] + [(o["name"], annotation(o), default(o)) for o in options] + common
+    every = ([("method", "_Method", '"coulomb"')] + [(o["name"], annotation(o), default(o)) for o in options] +
+             common + [("method_timeout", "float", "86400.0"), ("method_version", "str", '""')])
     readers = "; ".join(f"{o['name']}: {', '.join(o['methods'])}" for o in options
                         if o["name"] not in coulomb_keywords)
     comment = ("# Each method reads its own keywords (coulomb: those of coulomb(); " + readers +
-               "; every method: knn, strict) and refuses the others, naming the methods that read them.")
+               "; every method: knn, strict; a method from outside: method_timeout, method_version) and refuses "
+               "the others, naming the methods that read them.")
     wrapped, line = [], ""
     for word in comment.split(" "):
         if len(line) + len(word) + 1 > WIDTH:

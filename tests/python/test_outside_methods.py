@@ -77,3 +77,22 @@ def test_a_name_of_the_library_and_a_bad_door_are_refused(dataset, tmp_path):
         cshapes.experiment_retrieval(dataset / "data", tmp_path / "b", methods=[("x", "ssh:true")], draw=False)
     with pytest.raises(ValueError, match="expected a function"):
         cshapes.experiment_retrieval(dataset / "data", tmp_path / "c", methods=[("x", 3)], draw=False)
+
+
+def test_canonical_form_takes_a_function_and_checks_its_form(dataset):
+    V, F = cshapes.read_mesh(dataset / "data" / "biped0.off")
+    form = cshapes.canonical_form(V, F, method=principal_axes)
+    np.testing.assert_array_equal(form.X, principal_axes(V, F))
+    assert form.summary["method"] == "principal_axes" and form.summary["door"] == "python"
+    assert form.summary["form_quality"]["ok"]
+    named = cshapes.canonical_form(V, F, method=("mine", principal_axes))
+    np.testing.assert_array_equal(named.X, form.X)
+    assert "mine" not in [m["name"] for m in cshapes.canonical_form_methods()]  # for the call only
+    with pytest.raises(ValueError, match="method wrong: the form has 5 rows, expected one per vertex"):
+        cshapes.canonical_form(V, F, method=("wrong", lambda V, F: V[:5]))
+    with pytest.raises(ValueError, match="not finite"):
+        cshapes.canonical_form(V, F, method=lambda V, F: V * np.nan)
+    with pytest.raises(ValueError, match="a function fn"):
+        cshapes.canonical_form(V, F, method=3)
+    with pytest.raises(TypeError, match="method_timeout"):  # a built-in method has no time limit
+        cshapes.canonical_form(V, F, method="lbo", method_timeout=5)
