@@ -315,6 +315,17 @@ CanonicalForm canonical_form_of(const Mesh& mesh, const CanonicalFormOptions& op
   CanonicalForm form =
       method.compute(computed_on, options, GivenDistances{D, D_seconds, D ? D_fallback : ""});
   // Every method's form checked the same way, here (on the mesh it was computed on: the check is scale-free).
+  // A point set from outside (options.point_set) has no rows per vertex: nothing to measure or map back.
+  const bool point_set = method.takes_mesh_as_given && form.X.rows() != computed_on.num_vertices();
+  if (point_set) {
+    FormQuality quality;
+    quality.description = "not measured: a point set of " + std::to_string(form.X.rows()) +
+                          " points, not one per vertex (its edges are unknown)";
+    form.quality = quality;
+    form.valid = Eigen::VectorXd::Ones(form.X.rows());
+    say(options.note, options.method + ": form quality " + form.quality->description);
+    return form;
+  }
   form.quality = canonical_form_quality(computed_on, options, form);
   say(options.note, options.method + ": form quality " + form.quality->description);
   if (scale != 1) {
@@ -404,6 +415,11 @@ CanonicalForm cached_canonical_form(const DiskCache& cache, const Mesh& mesh,
     const RepairedMesh repaired = repair_for_canonical_form(mesh, options);
     if (was_cached) *was_cached = true;
     CanonicalForm form = form_from_json(*hit);
+    CSHAPES_REQUIRE(options.point_set || form.X.rows() == mesh.num_vertices(), options.name, ": method ",
+                    options.method, ": the cached form is a point set of ", form.X.rows(),
+                    " points, not one row per vertex (", mesh.num_vertices(),
+                    "): it was given where any point set does (retrieval); this experiment needs one row per "
+                    "vertex, in the mesh's order");
     form.repairs = repaired.actions;
     form.repair_text = repaired.text;
     return form;

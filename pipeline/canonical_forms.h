@@ -89,6 +89,10 @@ struct CanonicalFormOptions {
   // One line per stage result ("coulomb: 620 iterations ..."), for a front end to print; none when unset.
   std::function<void(const std::string&)> note;
   bool strict = false;  // refuse a mesh that needs repair (throws, naming the defects) instead of repairing
+  // A method from outside may give any point set (at least 4 points that span a plane) instead of one row per
+  // vertex in the mesh's order: where nothing needs the correspondence (retrieval, distmat). Its quality is
+  // then not measured (no edges to measure). A cached point set is refused where rows per vertex are needed.
+  bool point_set = false;
   std::string name = "mesh";  // the mesh's name (its path) in messages; not part of the result
 
   // Every field by name, for cache keys (support/option_fields.h). Self: CanonicalFormOptions, const or not.
@@ -113,6 +117,7 @@ struct CanonicalFormOptions {
     // Refuses (a mesh that needs repair, a geodesic fallback) instead of computing something else: a form it
     // lets through is the one computed without it.
     visit("strict", o.strict, kNoEffect);
+    visit("point_set", o.point_set, kNoEffect);  // lets a form through, computes nothing else
     visit("name", o.name, kNoEffect);  // in messages only
   }
 };

@@ -221,6 +221,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   const DiskCache cache(options.cache_dir.empty() ? "" : (cache_dir / "forms").string());
   CanonicalFormOptions co = options.canon;
   if (!co.progress) co.progress = polls_of(options.progress);  // the run's stop, in each form
+  co.point_set = true;  // the pairs need no correspondence: a method from outside may give any point set
   const long computed_by_ranks = comm.size() > 1 ? canonize_share(data, cache, co, comm) : 0;
   std::vector<Points> forms;
   std::vector<std::string> keys;

@@ -124,11 +124,15 @@ std::string last_lines(const std::string& text, size_t count) {
   return out;
 }
 
-// The form contract (pipeline/outside_methods.h), checked before the form is used.
-void check_form(const Points& X, const Mesh& mesh, const std::string& where) {
-  CSHAPES_REQUIRE(X.rows() == mesh.num_vertices(), where, ": the form has ", X.rows(),
-                  " rows, expected one per vertex of the mesh given (", mesh.num_vertices(),
-                  "), in the mesh's vertex order");
+// The form contract (pipeline/outside_methods.h), checked before the form is used. point_set: any number of
+// points will do (CanonicalFormOptions::point_set).
+void check_form(const Points& X, const Mesh& mesh, const std::string& where, bool point_set) {
+  if (point_set)
+    CSHAPES_REQUIRE(X.rows() >= 4, where, ": the form has ", X.rows(), " rows, expected at least 4 points");
+  else
+    CSHAPES_REQUIRE(X.rows() == mesh.num_vertices(), where, ": the form has ", X.rows(),
+                    " rows, expected one per vertex of the mesh given (", mesh.num_vertices(),
+                    "), in the mesh's vertex order");
   for (Index i = 0; i < X.rows(); ++i)
     for (int c = 0; c < 3; ++c)
       CSHAPES_REQUIRE(std::isfinite(X(i, c)), where, ": row ", i, " of the form is not finite (", X(i, 0), ' ',
@@ -296,7 +300,7 @@ CanonicalForm run_program(const OutsideMethod::State& st, const Mesh& mesh, cons
       message.replace(at, form_path.size(), "{form}");
     fail(where, ": the form the command wrote cannot be read: ", message);
   }
-  check_form(X, mesh, where);
+  check_form(X, mesh, where, options.point_set);
   CanonicalForm form = form_of(std::move(X), "command", seconds);
   form.details["peak_memory_bytes"] = static_cast<double>(usage.ru_maxrss) * 1024.0;
   return form;
@@ -336,7 +340,7 @@ CanonicalForm read_from_folder(OutsideMethod::State& st, const Mesh& mesh, const
     const fs::path path = fs::path(st.door.text) / (shape + ext);
     if (!fs::is_regular_file(path)) continue;
     Points X = read_form_file(path.string());
-    check_form(X, mesh, where + " (" + path.string() + ")");
+    check_form(X, mesh, where + " (" + path.string() + ")", options.point_set);
     return form_of(std::move(X), "forms", seconds_since(start));
   }
   {
@@ -354,7 +358,7 @@ CanonicalForm call_function(const OutsideMethod::State& st, const Mesh& mesh, co
   const auto start = WallClock::now();
   Points X = st.door.function(mesh, options.name);
   const double seconds = seconds_since(start);
-  check_form(X, mesh, where);
+  check_form(X, mesh, where, options.point_set);
   return form_of(std::move(X), "python", seconds);
 }
 

@@ -145,6 +145,34 @@ TEST(OutsideMethods, ProgramsRunSeveralAtATimeAheadAndThePassTakesTheirResults) 
   EXPECT_EQ(text, "run\nrun\n");
 }
 
+// Where nothing needs the correspondence (retrieval, distmat: CanonicalFormOptions::point_set), a method from
+// outside may give any point set; elsewhere the same form is refused, from the program or from the cache.
+TEST(OutsideMethods, AnyPointSetWhereNoCorrespondenceIsNeededAndOnlyThere) {
+  const Mesh ball = icosphere(2);
+  OutsideMethod m("half", command("awk 'NR > 2 && NR % 2 == 0 && NF == 3' {mesh} > {form.xyz}"));
+  const std::string message = error_of([&] { canonical_form(ball, options_for("half")); });
+  EXPECT_NE(message.find("expected one per vertex of the mesh given"), std::string::npos) << message;
+  CanonicalFormOptions o = options_for("half");
+  o.point_set = true;
+  const DiskCache cache(test::scratch_dir("outside_point_set"));
+  const CanonicalForm form = cached_canonical_form(cache, ball, o);
+  EXPECT_GT(form.X.rows(), 4);
+  EXPECT_LT(form.X.rows(), ball.num_vertices());
+  ASSERT_TRUE(form.quality.has_value());
+  EXPECT_NE(form.quality->description.find("not measured: a point set of"), std::string::npos);
+  // The same form from the cache: taken where a point set does, refused where rows per vertex are needed.
+  bool cached = false;
+  EXPECT_EQ(cached_canonical_form(cache, ball, o, &cached).X, form.X);
+  EXPECT_TRUE(cached);
+  const std::string refused = error_of([&] { cached_canonical_form(cache, ball, options_for("half")); });
+  EXPECT_NE(refused.find("ball.off: method half: the cached form is a point set of"), std::string::npos) << refused;
+  // Too few points are refused even where a point set does.
+  OutsideMethod few("few", command("head -n 5 {mesh} | tail -n 3 > {form.xyz}"));
+  CanonicalFormOptions f = options_for("few");
+  f.point_set = true;
+  EXPECT_NE(error_of([&] { canonical_form(ball, f); }).find("expected at least 4 points"), std::string::npos);
+}
+
 TEST(OutsideMethods, CommasSeparateMethodsAndAnEscapedCommaStaysInTheCommand) {
   const std::vector<std::string> items = split_method_items("lbo,p=cmd:echo a\\,b {mesh} {form},cmds", "--methods");
   ASSERT_EQ(items.size(), 3u);
@@ -235,8 +263,8 @@ TEST(OutsideMethods, ANpyFormIsReadInEitherOrderAndWidth) {
 TEST(OutsideMethodsCli, ABrokenOutsideMethodLeavesItsShapesOutAndNothingElseChanges) {
   const std::string dir = test::scratch_dir("outside-broken");
   const std::string manifest = test::generated_dataset(dir + "/data", 4, 5, 300);
-  // Shapes are CLASSk, k = 0..4: the first class's five poses each break one way, the others are given
-  // their mesh's coordinates as their form.
+  // Shapes are CLASSk, k = 0..4: the first class's five poses each break one way (a NaN, too few points, a
+  // crash, a hang, no output), the others are given their mesh's coordinates as their form.
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir + "/data"))
     if (e.path().extension() == ".off") names.push_back(e.path().stem().string());
@@ -246,7 +274,7 @@ TEST(OutsideMethodsCli, ABrokenOutsideMethodLeavesItsShapesOutAndNothingElseChan
   const std::string script = dir + "/broken.sh";
   test::write_text(script, "case \"$1\" in\n"
                            "  " + broken_class + "0) awk 'NR==3{print \"nan nan nan\"; exit}' \"$2\" > \"$3\" ;;\n"
-                           "  " + broken_class + "1) tail -n +3 \"$2\" | head -n 7 > \"$3\" ;;\n"
+                           "  " + broken_class + "1) tail -n +3 \"$2\" | head -n 3 > \"$3\" ;;\n"
                            "  " + broken_class + "2) kill -SEGV $$ ;;\n"
                            "  " + broken_class + "3) sleep 60 ;;\n"
                            "  " + broken_class + "4) exit 0 ;;\n"
@@ -266,7 +294,8 @@ TEST(OutsideMethodsCli, ABrokenOutsideMethodLeavesItsShapesOutAndNothingElseChan
     if (f["method"] == "broken") reasons[f["name"]] = f["reason"];
   ASSERT_EQ(reasons.size(), 5u) << r["failures"].dump(2);
   EXPECT_NE(reasons[broken_class + "0"].find("cannot be read"), std::string::npos);
-  EXPECT_NE(reasons[broken_class + "1"].find("the form has 7 rows"), std::string::npos);
+  // Retrieval takes any point set (CanonicalFormOptions::point_set), but not one of 3 points.
+  EXPECT_NE(reasons[broken_class + "1"].find("the form has 3 rows, expected at least 4 points"), std::string::npos);
   EXPECT_NE(reasons[broken_class + "2"].find("signal 11"), std::string::npos);
   EXPECT_NE(reasons[broken_class + "3"].find("ran past its limit of 2 s"), std::string::npos);
   EXPECT_NE(reasons[broken_class + "4"].find("wrote no form"), std::string::npos);
