@@ -40,6 +40,9 @@ bool register_command(Command command);
 // Adds every method's option group ("coulomb options", ...) to app: `canon`, `distmat` and `experiment paper`
 // take the same method options, with the same names and defaults.
 void add_canon_method_options(CLI::App& app);
+// Whether the help lists the advanced options (the single settings a preset covers): under --help-all only.
+// Called before the commands' options are added.
+void show_advanced_method_options(bool show);
 // Applies every method's parsed options to `options` (after a successful parse of such a command).
 void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = false);
 // After a parse: a method option given on the command line that none of `methods` reads is refused

@@ -477,6 +477,10 @@ int main(int argc, char** argv) {
                  "cores busy at the start (set CSHAPES_EXACT_THREADS=1 to keep N)")
       ->check(integer_at_least(0));
   app.add_flag("-q,--quiet", g_quiet, "no progress or notes on stderr");
+  // --help lists the presets, --help-all also the single settings they cover (advanced option groups).
+  app.set_help_all_flag("--help-all", "Print this help message with every advanced option and exit");
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--help-all") show_advanced_method_options(true);
 
   const std::map<CLI::App*, const Command*> leaf = build_command_tree(app);
   check_numeric_options(app);

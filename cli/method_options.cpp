@@ -16,6 +16,7 @@ struct MethodOptionsState {
   // Every CLI option made (one per option and command that takes method options), by option name.
   std::vector<std::pair<std::string, CLI::Option*>> made;
   KnnGraphOptions knn;  // the point-cloud option every method reads
+  bool show_advanced = false;  // --help-all: the advanced options' groups are listed
 };
 MethodOptionsState& state() {
   static MethodOptionsState s;
@@ -57,16 +58,23 @@ void as_usage(const Check& check) {
 
 }  // namespace
 
+void show_advanced_method_options(bool show) { state().show_advanced = show; }
+
 void add_canon_method_options(CLI::App& app) {
   std::vector<std::string> added;
   for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
     CLI::Option_group* group = nullptr;
+    CLI::Option_group* advanced = nullptr;  // named only under --help-all: CLI11 hides a group without a name
     for (const MethodOption& option : method.options) {
       if (std::find(added.begin(), added.end(), option.name) != added.end()) continue;
       added.push_back(option.name);
-      if (!group) group = app.add_option_group(method.name + " options");
+      CLI::Option_group*& into = option.advanced ? advanced : group;
+      if (!into)
+        into = app.add_option_group(!option.advanced ? method.name + " options"
+                                    : state().show_advanced ? "advanced " + method.name + " options"
+                                                            : "");
       CLI::Option* made =
-          group->add_option(cli_flag(option), state().values[option.name], readers_prefix(option) + option.help);
+          into->add_option(cli_flag(option), state().values[option.name], readers_prefix(option) + option.help);
       made->type_name(option.type == MethodOption::Type::Integer  ? "INT"
                       : option.type == MethodOption::Type::Number ? "FLOAT"
                                                                   : "TEXT");

@@ -1,6 +1,7 @@
 // Method coulomb (pipeline/canonical_form_methods.h): the Coulomb canonical form, §2 of the paper
 // (canon/coulomb.h), on the mesh's edges or a point cloud's kNN graph.
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "cshapes/canon/coulomb.h"
 #include "cshapes/canon/coulomb_multiresolution.h"
@@ -85,13 +86,80 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   return form;
 }
 
+// The paper's algorithm as §2 writes it (docs/coulomb-defaults.md, "The paper's preset"): start at the input,
+// plain alternation of one Coulomb step (eq. 4) with the step heuristic c = 0.1 · max d_ij / max ‖∇_i E‖ and
+// the averaged projection (eq. 6); one tear of 1% of the edges by |r − d| after the initial repulsion (100
+// iterations, the end of the paper's "typically 10–100"), with no guard beyond the weakest this code has; no
+// flatten, no second run around glued tubes, no coarse level. What the paper leaves open keeps the default:
+// k = 10 projection sweeps (its Fig. 5 shows 1, 10, 100), the stopping rule, the summation.
+CoulombCanonOptions paper_coulomb_options() {
+  CoulombCanonOptions c;
+  c.scheme = CoulombScheme::Paper;
+  c.start = CoulombStart::Input;
+  c.flatten = 0;
+  c.bridge_detour = 0;
+  c.step_rule = CoulombStepRule::MaxEdge;
+  c.step_gradient = StepGradient::Max;
+  c.step_factor = 0.1;
+  c.coulomb_steps = 1;
+  c.projection.norm = ProjectionNorm::L2;
+  c.tear_fraction = 0.01;
+  c.tear_after = 100;
+  c.tear_times = 1;
+  c.tear_guard = TearGuard::Vertex;
+  c.multiresolution.above_resolution = 0;
+  return c;
+}
+
+// --coulomb-preset: sets every option it covers, first (the options given beside it then change single ones).
+// Its value as read back: "paper" while every field it sets holds the paper's value, else "default".
+MethodOption coulomb_preset_option() {
+  MethodOption o = option_of(
+      "coulomb_preset", MethodOption::Type::Choice,
+      "default: this library's choices (docs/coulomb-defaults.md); paper: the paper's algorithm as §2 writes "
+      "it (start at the input, plain alternation, its step rule, one tear after 100 iterations); the single "
+      "settings, given beside it, change it: see --help-all",
+      {"coulomb"});
+  o.choices = {"default", "paper"};
+  auto covered = [](const CoulombCanonOptions& c) {
+    return std::make_tuple(c.scheme, c.start, c.flatten, c.bridge_detour, c.step_rule, c.step_gradient,
+                           c.step_factor, c.coulomb_steps, c.projection.norm, c.tear_fraction, c.tear_after,
+                           c.tear_times, c.tear_guard, c.multiresolution.above_resolution);
+  };
+  o.get = [covered](const CanonicalFormOptions& c) {
+    return OptionValue(std::string(covered(c.coulomb) == covered(paper_coulomb_options()) ? "paper" : "default"));
+  };
+  o.set = [](CanonicalFormOptions& c, const OptionValue& v) {
+    const CoulombCanonOptions preset =
+        std::get<std::string>(v) == "paper" ? paper_coulomb_options() : CoulombCanonOptions{};
+    CoulombCanonOptions& t = c.coulomb;
+    t.scheme = preset.scheme;
+    t.start = preset.start;
+    t.flatten = preset.flatten;
+    t.bridge_detour = preset.bridge_detour;
+    t.step_rule = preset.step_rule;
+    t.step_gradient = preset.step_gradient;
+    t.step_factor = preset.step_factor;
+    t.coulomb_steps = preset.coulomb_steps;
+    t.projection.norm = preset.projection.norm;
+    t.tear_fraction = preset.tear_fraction;
+    t.tear_after = preset.tear_after;
+    t.tear_times = preset.tear_times;
+    t.tear_guard = preset.tear_guard;
+    t.multiresolution.above_resolution = preset.multiresolution.above_resolution;
+  };
+  return o;
+}
+
 // The options of method coulomb, each once (pipeline/method_options.h): `cshapes canon`'s "coulomb options",
-// coulomb()'s and canonical_form()'s keywords. The start, the step and the projection:
+// coulomb()'s and canonical_form()'s keywords. The preset first (it sets the others), then the start, the
+// step and the projection:
 using Ref = CanonicalFormOptions&;
 std::vector<MethodOption> coulomb_step_options() {
   using C = MethodOption::Condition;
   const std::vector<std::string> f = {"coulomb"};
   std::vector<MethodOption> o;
+  o.push_back(coulomb_preset_option());
   o.push_back(choice_option<CoulombScheme>(
       "scheme",
       "paper: plain alternation of §2.1; momentum: Nesterov with restart (same fixed point, fewer "
@@ -259,6 +327,7 @@ CanonicalFormMethod coulomb_method() {
   m.uses_geodesic_matrix = false;
   m.options = coulomb_step_options();
   for (MethodOption& option : coulomb_tearing_and_stop_options()) m.options.push_back(std::move(option));
+  for (MethodOption& option : m.options) option.advanced = option.name != "coulomb_preset";
   m.reads = {"coulomb"};
   m.has_history = true;
   m.marks_torn = true;

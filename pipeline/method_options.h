@@ -53,6 +53,8 @@ struct MethodOption {
   };
   std::optional<Condition> applies_when;
   bool python = true;  // also a keyword of canonical_form() (false: a file only `cshapes canon` reads)
+  // One of the single settings a preset covers: the CLI's help lists it under --help-all only.
+  bool advanced = false;
 };
 
 // How a front end names options in messages, and what it was given.

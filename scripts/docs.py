@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The generated parts of the documentation, and the checks that keep the written parts true.
 
-  scripts/docs.py cli-reference CSHAPES OUT.md     the CLI reference, from every command's own --help
+  scripts/docs.py cli-reference CSHAPES OUT.md     the CLI reference, from every command's own --help-all
   scripts/docs.py python-api OUT.md                 the Python API reference, from the module's docstrings
                                                     (import cshapes must work: PYTHONPATH=build/python)
   scripts/docs.py check-commands CSHAPES FILE...    every `cshapes COMMAND --option` the FILEs show exists
@@ -31,9 +31,9 @@ import sys
 GLOBAL_OPTIONS_WITH_VALUE = {"--threads"}
 
 
-def run_help(cshapes, path):
-    """The --help text of `cshapes PATH...`, with the binary's own path replaced by `cshapes`."""
-    out = subprocess.run([cshapes, *path, "--help"], capture_output=True, text=True, check=True).stdout
+def run_help(cshapes, path, flag="--help"):
+    """The --help (or --help-all) text of `cshapes PATH...`, with the binary's own path replaced by `cshapes`."""
+    out = subprocess.run([cshapes, *path, flag], capture_output=True, text=True, check=True).stdout
     return out.replace(cshapes, "cshapes")
 
 
@@ -61,13 +61,15 @@ def options(help_text):
 
 
 def command_tree(cshapes):
-    """{(path...): help text} for the program and every command and subcommand."""
+    """{(path...): help text} for the program and every command and subcommand: a command's --help-all (its
+    advanced options too), a group's --help (--help-all would expand every command under it)."""
     tree, todo = {}, [()]
     while todo:
         path = todo.pop(0)
         text = run_help(cshapes, list(path))
-        tree[path] = text
-        todo += [path + (name,) for name in subcommands(text)]
+        names = subcommands(text)
+        tree[path] = text if names else run_help(cshapes, list(path), "--help-all")
+        todo += [path + (name,) for name in names]
     return tree
 
 
@@ -98,7 +100,7 @@ def wrap_help(text, width=100):
 def cli_reference(cshapes, out):
     tree = command_tree(cshapes)
     md = ["# Command-line reference", "",
-          "Generated from each command's own `--help` by `scripts/docs.py cli-reference build/cshapes "
+          "Generated from each command's own `--help-all` by `scripts/docs.py cli-reference build/cshapes "
           "docs/reference/cli.md`; a test fails when this page and the program differ. For what the commands "
           "are for and how they fit together, see [the command line](../cli.md).", ""]
     for path in sorted(tree):

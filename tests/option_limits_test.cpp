@@ -114,7 +114,8 @@ TEST(OptionLimits, TheLibraryTheHelpAndTheCliRefusalSayTheSameLimit) {
     const size_t first_space = c.command.find(' ');
     const std::string help_command = c.command.substr(
         0, c.command.rfind("generate", 0) == 0 ? c.command.find(' ', first_space + 1) : first_space);
-    const test::CliResult help = test::run_cli(help_command + " --help");
+    // --help-all: Coulomb's single settings are listed there (the short help shows its preset).
+    const test::CliResult help = test::run_cli(help_command + " --help-all");
     std::string line;  // the help's line that starts with the option
     std::istringstream lines(help.out);
     for (std::string l; std::getline(lines, l);)

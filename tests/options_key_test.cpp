@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
@@ -22,6 +23,7 @@
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/matching/icp.h"
+#include "cshapes/mesh/io.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/canonical_forms.h"
 #include "cshapes/pipeline/glued_meshes.h"
@@ -494,6 +496,50 @@ TEST(OptionsKey, ExperimentsStartFromTheLibraryDefaults) {
   EXPECT_EQ(options_key(topkids.canon), options_key(defaults));
   EXPECT_EQ(options_key(pose.canon), options_key(defaults));
   EXPECT_EQ(paper.methods, canonical_form_methods());
+}
+
+// --coulomb-preset paper sets the paper's algorithm (§2 as written), first: an option given beside it, before
+// or after it on the command line, changes one setting; the same settings given one by one give the same form.
+TEST(MethodOptions, ThePaperPresetSetsThePapersAlgorithmAndSingleSettingsChangeIt) {
+  const auto all = all_method_options();
+  const auto preset = std::find_if(all.begin(), all.end(), [](const MethodOption* o) {
+    return o->name == "coulomb_preset";
+  });
+  ASSERT_NE(preset, all.end());
+  CanonicalFormOptions o;
+  EXPECT_EQ(option_text((*preset)->get(o)), "default");
+  (*preset)->set(o, std::string("paper"));
+  EXPECT_EQ(option_text((*preset)->get(o)), "paper");
+  EXPECT_EQ(o.coulomb.start, CoulombStart::Input);
+  EXPECT_EQ(o.coulomb.scheme, CoulombScheme::Paper);
+  EXPECT_EQ(o.coulomb.step_rule, CoulombStepRule::MaxEdge);
+  EXPECT_EQ(o.coulomb.step_gradient, StepGradient::Max);
+  EXPECT_EQ(o.coulomb.step_factor, 0.1);
+  EXPECT_EQ(o.coulomb.flatten, 0.0);
+  EXPECT_EQ(o.coulomb.bridge_detour, 0.0);
+  EXPECT_EQ(o.coulomb.projection.norm, ProjectionNorm::L2);
+  EXPECT_EQ(o.coulomb.tear_times, 1);
+  EXPECT_EQ(o.coulomb.tear_after, 100);
+  EXPECT_EQ(o.coulomb.multiresolution.above_resolution, 0);
+  (*preset)->set(o, std::string("default"));
+  EXPECT_EQ(canonical_form_key(o), canonical_form_key(CanonicalFormOptions{}));
+
+  const std::string dir = test::scratch_dir("coulomb_preset");
+  write_mesh(dir + "/shape.off", capsule());
+  auto form = [&](const std::string& options, const std::string& out) {
+    const test::CliResult r = test::run_cli("-q --threads 1 canon " + dir + "/shape.off -o " + dir + "/" + out +
+                                            " " + options);
+    EXPECT_EQ(r.exit_code, 0) << options << "\n" << r.err;
+    std::ifstream in(dir + "/" + out, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  const std::string one_by_one =
+      "--coulomb-start input --flatten 0 --scheme paper --step-rule max-edge --step-gradient max --tear-after 100 "
+      "--tear-times 1 --tear-guard vertex --coulomb-multiresolution-above 0 --projection-steps 3";
+  const std::string preset_then_one = form("--coulomb-preset paper --projection-steps 3", "a.ply");
+  EXPECT_EQ(form("--projection-steps 3 --coulomb-preset paper", "b.ply"), preset_then_one);
+  EXPECT_EQ(form(one_by_one, "c.ply"), preset_then_one);
+  EXPECT_NE(form("--coulomb-preset paper", "d.ply"), preset_then_one);
 }
 
 }  // namespace options_key_test
