@@ -1,6 +1,7 @@
 // cshapes experiment invariance --data DIR --out OUT: how much each method's canonical form changes under
-// transformations of its input that must not change it (renumbering, face order, rigid motion, scale, jitter),
-// and under remeshing, beside its pose variation; a verdict per method (experiments/invariance_experiment.h).
+// transformations of its input that must not change it (renumbering, face order, rigid motion, scale,
+// jitter), and under remeshing, beside its pose variation; a verdict per method
+// (experiments/invariance_experiment.h).
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -34,9 +35,10 @@ std::vector<Index> resolutions(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != item.size() || !(n == 0 || (n >= kSmallestResolution && invariance_limits::kVertices.holds(n))))
-      usage_fail("--vertices: expected 0 (the shapes as given) or a vertex count from ", kSmallestResolution, " to ",
-                 format_limit_number(invariance_limits::kVertices.maximum), ", got '", item, "'");
+    if (used != item.size() ||
+        !(n == 0 || (n >= kSmallestResolution && invariance_limits::kVertices.holds(n))))
+      usage_fail("--vertices: expected 0 (the shapes as given) or a vertex count from ", kSmallestResolution,
+                 " to ", format_limit_number(invariance_limits::kVertices.maximum), ", got '", item, "'");
     if (!seen.insert(n).second) usage_fail("--vertices: ", n, " is given twice");
     out.push_back(static_cast<Index>(n));
   }
@@ -59,8 +61,9 @@ int run() {
   if (args.json) {
     std::cout << invariance_json(r, o).dump(2) << std::endl;
   } else {
-    std::printf("experiment invariance: %zu shapes, %zu resolutions, %s; report: %s/invariance.md\n",
-                r.shapes.size(), r.resolutions.size(), seconds_text(r.seconds).c_str(), o.out.c_str());
+    std::printf("experiment invariance: %zu shapes, %zu resolution%s, %s; report: %s/invariance.md\n",
+                r.shapes.size(), r.resolutions.size(), r.resolutions.size() == 1 ? "" : "s",
+                seconds_text(r.seconds).c_str(), o.out.c_str());
     for (const InvarianceVerdict& v : r.verdicts)
       if (v.resolution < 0)
         std::printf("  %-14s %-12s %s\n", canonical_form_method_title(v.method).c_str(), v.verdict.c_str(),
@@ -76,9 +79,10 @@ const bool registered = register_command(
      "beside its pose variation; a verdict per method, invariance.md and a figure (cached: reruns resume)",
      [](CLI::App& app) {
        InvarianceOptions& o = args.options;
-       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside,
-                                "folder of meshes (class = name without trailing digits), manifest.csv or a .cla "
-                                "file; two clean poses of a class give a pose pair");
+       add_data_and_out_options(
+           app, o.data, o.out, o.force, o.allow_outside,
+           "folder of meshes (class = name without trailing digits), manifest.csv or a .cla "
+           "file; two clean poses of a class give a pose pair");
        add_methods_option(app, args.methods);
        app.add_option("--vertices", args.vertices,
                       "comma-separated resolutions: each shape remeshed to about N vertices first (cached; "
@@ -93,8 +97,9 @@ const bool registered = register_command(
                       "motion's and jitter's")
            ->capture_default_str()
            ->check(within(invariance_limits::kSeed));
-       app.add_option("--tolerance-floor", o.tolerance_floor_percent,
-                      "verdict: an RMSE up to this % of the diagonal passes (or up to --tolerance-pose, the larger)")
+       app.add_option(
+              "--tolerance-floor", o.tolerance_floor_percent,
+              "verdict: an RMSE up to this % of the diagonal passes (or up to --tolerance-pose, the larger)")
            ->capture_default_str()
            ->check(within(invariance_limits::kToleranceFloor));
        app.add_option("--tolerance-pose", o.tolerance_pose_percent,
@@ -102,9 +107,10 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(within(invariance_limits::kTolerancePose));
        add_no_draw_flag(app, args.no_draw, "invariance.png");
-       app.add_flag("--json", args.json,
-                    "print the verdicts and summary as JSON (invariance.json, with its \"failures\") instead of "
-                    "the verdict lines");
+       app.add_flag(
+           "--json", args.json,
+           "print the verdicts and summary as JSON (invariance.json, with its \"failures\") instead of "
+           "the verdict lines");
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

@@ -48,8 +48,9 @@ void check_options(const InvarianceOptions& o) {
   CSHAPES_REQUIRE(!o.vertices.empty(), "experiment invariance: no resolution given (0: the shapes as given)");
   for (Index n : o.vertices) {
     check_limit(kVertices, static_cast<double>(n), "experiment invariance");
-    CSHAPES_REQUIRE(n == 0 || n >= kSmallestResolution, "experiment invariance: vertices: expected 0 (as given) or ",
-                    kSmallestResolution, " or more, got ", n);
+    CSHAPES_REQUIRE(n == 0 || n >= kSmallestResolution,
+                    "experiment invariance: vertices: expected 0 (as given) or ", kSmallestResolution,
+                    " or more, got ", n);
   }
   std::vector<std::string> texts;
   for (Index n : o.vertices) texts.push_back(std::to_string(n));
@@ -145,15 +146,16 @@ std::vector<std::optional<CachedForm>> forms_by_method(const DiskCache& cache, c
                                                        std::vector<ShapeFailure>& failures) {
   std::vector<ShapeFailure> records;
   std::vector<std::optional<CachedForm>> out(o.methods.size());
-  auto all = shape_canonical_forms(cache, mesh, options_per_method(o.canon, o.methods, mesh_name), label, records);
+  auto all =
+      shape_canonical_forms(cache, mesh, options_per_method(o.canon, o.methods, mesh_name), label, records);
   if (all) {
     for (size_t k = 0; k < o.methods.size(); ++k) out[k] = std::move((*all)[k]);
   } else {
     const std::string failed = records.empty() ? "" : records.back().method;
     for (size_t k = 0; k < o.methods.size(); ++k) {
       if (o.methods[k] == failed) continue;
-      auto one = shape_canonical_forms(cache, mesh, options_per_method(o.canon, {o.methods[k]}, mesh_name), label,
-                                       records);
+      auto one = shape_canonical_forms(cache, mesh, options_per_method(o.canon, {o.methods[k]}, mesh_name),
+                                       label, records);
       if (one) out[k] = std::move(one->front());
     }
   }
@@ -174,7 +176,7 @@ struct ShapeCase {
   struct Remesh {
     std::string transformation;  // "remesh-0.8"
     Mesh mesh;
-    std::string name;            // "cat0-v800"
+    std::string name;  // "cat0-v800"
   };
   std::vector<Remesh> remeshes;
 };
@@ -207,13 +209,14 @@ ShapeCase shape_case(const RunShape& s, size_t index, Index resolution, const Re
   return c;
 }
 
-// Measures one shape at one resolution: result.rows, the tallies, and its reference forms (for the pose pairs).
+// Measures one shape at one resolution: result.rows, the tallies, and its reference forms (for the pose
+// pairs).
 std::vector<std::optional<Points>> measure_case(const ShapeCase& c, const DiskCache& cache,
                                                 const InvarianceOptions& o, InvarianceResult& result,
                                                 Tallies& tallies, const std::function<void()>& step) {
   const std::string& name = c.shape->entry.name;
-  const auto reference = forms_by_method(cache, c.reference, c.reference_name, case_label(c, ""), true, o,
-                                         result.failures);
+  const auto reference =
+      forms_by_method(cache, c.reference, c.reference_name, case_label(c, ""), true, o, result.failures);
   step();
   std::vector<std::optional<Points>> forms(o.methods.size());
   std::vector<int> reference_converged(o.methods.size(), -1);
@@ -257,12 +260,13 @@ std::vector<std::optional<Points>> measure_case(const ShapeCase& c, const DiskCa
         continue;
       }
       add_row(k, to_string(e.transform), true, is_seeded(e.transform) ? static_cast<long long>(e.seed) : -1,
-              t.mesh.num_vertices(), exact_form_change(*forms[k], transformed[k]->form.X, t), transformed[k]->form);
+              t.mesh.num_vertices(), exact_form_change(*forms[k], transformed[k]->form.X, t),
+              transformed[k]->form);
     }
   }
   for (const ShapeCase::Remesh& r : c.remeshes) {
-    const auto other = forms_by_method(cache, r.mesh, r.name, case_label(c, r.transformation), true, o,
-                                       result.failures);
+    const auto other =
+        forms_by_method(cache, r.mesh, r.name, case_label(c, r.transformation), true, o, result.failures);
     step();
     for (size_t k = 0; k < o.methods.size(); ++k)
       if (reference[k] && other[k])
@@ -275,19 +279,21 @@ std::vector<std::optional<Points>> measure_case(const ShapeCase& c, const DiskCa
 
 // Every pair of clean poses of one class at one resolution, by every method with both reference forms.
 void measure_pose_pairs(const std::vector<RunShape>& shapes, Index resolution,
-                        const std::vector<std::vector<std::optional<Points>>>& forms, const InvarianceOptions& o,
-                        InvarianceResult& result) {
+                        const std::vector<std::vector<std::optional<Points>>>& forms,
+                        const InvarianceOptions& o, InvarianceResult& result) {
   for (size_t i = 0; i < shapes.size(); ++i)
     for (size_t j = i + 1; j < shapes.size(); ++j) {
       const DatasetEntry& a = shapes[i].entry;
       const DatasetEntry& b = shapes[j].entry;
-      if (a.class_name != b.class_name || a.noisy || b.noisy || forms[i].empty() || forms[j].empty()) continue;
+      if (a.class_name != b.class_name || a.noisy || b.noisy || forms[i].empty() || forms[j].empty())
+        continue;
       for (size_t k = 0; k < o.methods.size(); ++k) {
         if (!forms[i][k] || !forms[j][k]) continue;
         const ShapeDistance d = aligned_shape_distance(*forms[i][k], *forms[j][k], o.icp);
-        const double diagonal = 0.5 * (finite_bbox_diagonal(*forms[i][k]) + finite_bbox_diagonal(*forms[j][k]));
-        result.pose_pairs.push_back(
-            {resolution, o.methods[k], a.name, b.name, a.class_name, d.rmse / diagonal, d.hausdorff / diagonal});
+        const double diagonal =
+            0.5 * (finite_bbox_diagonal(*forms[i][k]) + finite_bbox_diagonal(*forms[j][k]));
+        result.pose_pairs.push_back({resolution, o.methods[k], a.name, b.name, a.class_name,
+                                     d.rmse / diagonal, d.hausdorff / diagonal});
       }
     }
 }
@@ -305,7 +311,8 @@ InvarianceResult run_invariance_experiment(const InvarianceOptions& o) {
   const std::vector<RunShape> shapes = read_shapes(o, result);
   for (const RunShape& s : shapes) result.shapes.push_back(s.entry.name);
   say(o.note, detail::concat("experiment invariance: ", shapes.size(), " shapes, ", o.vertices.size(),
-                             " resolutions, ", o.methods.size(), " methods"));
+                             o.vertices.size() == 1 ? " resolution, " : " resolutions, ", o.methods.size(),
+                             " methods"));
   const RemeshTable remeshes = remesh_shapes(shapes, o, folder, result.failures);
   long usable = 0;
   for (const RunShape& s : shapes) usable += s.readable;
@@ -321,7 +328,8 @@ InvarianceResult run_invariance_experiment(const InvarianceOptions& o) {
     std::vector<std::vector<std::optional<Points>>> forms(shapes.size());
     for (size_t i = 0; i < shapes.size(); ++i) {
       if (!shapes[i].readable) continue;
-      forms[i] = measure_case(shape_case(shapes[i], i, resolution, remeshes), cache, o, result, tallies, step);
+      forms[i] =
+          measure_case(shape_case(shapes[i], i, resolution, remeshes), cache, o, result, tallies, step);
     }
     measure_pose_pairs(shapes, resolution, forms, o, result);
   }
@@ -341,8 +349,8 @@ void draw_invariance_figure(InvarianceResult& result, const InvarianceOptions& o
     result.figure_problem = "no form was compared";
     return;
   }
-  const FigureRun drawn =
-      draw_figure("invariance_figure.py", {options.out}, ExperimentFolder(options.out).path("invariance.png"));
+  const FigureRun drawn = draw_figure("invariance_figure.py", {options.out},
+                                      ExperimentFolder(options.out).path("invariance.png"));
   if (drawn.drawn) result.figure = "invariance.png";
   result.figure_problem = drawn.problem;
 }

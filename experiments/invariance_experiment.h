@@ -22,12 +22,13 @@
 // bound of the correspondence RMSE, which makes the tolerance below the stricter one.
 //
 // The verdict, per method and resolution: pass when every exact transformation's RMSE is at most
-//   tolerance = max(tolerance_floor_percent % of the diagonal, tolerance_pose_percent % of the pose variation)
+//   tolerance = max(tolerance_floor_percent % of the diagonal, tolerance_pose_percent % of the pose
+//   variation)
 // (the floor alone when no two poses of a class are in the run), and every transformed form was computed
 // (a method that fails on a transformed mesh but not on its reference fails; a forms-door method that lacks
-// the form of a transformed mesh is not measured there, its forms listed in OUT/forms-needed). "all": pass at every
-// resolution. The remeshes have no verdict. Each form's convergence (Coulomb's `converged`, SMACOF's stop
-// reason; other methods have none) is recorded per row, and the forms that did not converge counted.
+// the form of a transformed mesh is not measured there, its forms listed in OUT/forms-needed). "all": pass at
+// every resolution. The remeshes have no verdict. Each form's convergence (Coulomb's `converged`, SMACOF's
+// stop reason; other methods have none) is recorded per row, and the forms that did not converge counted.
 //
 // Method failures (pipeline/shape_failures.h): a form that fails is named by the shape and the case ("cat0
 // (1000 vertices, renumber seed 2)") in result.failures and the run goes on without it; the geodesic
@@ -97,17 +98,18 @@ struct InvarianceOptions {
   NoteFn note;          // one line per shape and resolution
 };
 
-struct InvarianceRow {  // one form against its reference
-  Index resolution = 0;         // the resolution asked for (0: as given)
+struct InvarianceRow {   // one form against its reference
+  Index resolution = 0;  // the resolution asked for (0: as given)
   std::string shape, method;
-  std::string transformation;   // to_string(ExactTransform), or "remesh-0.8", "remesh-1.2"
-  bool exact = true;            // an exact transformation (false: a remesh, compared by ICP)
-  long long seed = -1;          // −1: not seeded (the scales, the remeshes)
-  Index vertices = 0;           // of the transformed mesh
+  std::string transformation;      // to_string(ExactTransform), or "remesh-0.8", "remesh-1.2"
+  bool exact = true;               // an exact transformation (false: a remesh, compared by ICP)
+  long long seed = -1;             // −1: not seeded (the scales, the remeshes)
+  Index vertices = 0;              // of the transformed mesh
   double rmse = 0, hausdorff = 0;  // fractions of the reference form's diagonal
-  int converged = -1;             // the transformed form: 1, 0, −1 when the method has no convergence test
-  int reference_converged = -1;  // likewise, the reference form
-  double seconds = 0;  // what computing the transformed form took (its pre-computation and solve, as computed)
+  int converged = -1;              // the transformed form: 1, 0, −1 when the method has no convergence test
+  int reference_converged = -1;    // likewise, the reference form
+  double seconds =
+      0;  // what computing the transformed form took (its pre-computation and solve, as computed)
 };
 
 struct InvariancePosePair {  // two poses of one class, one method, one resolution
@@ -133,12 +135,12 @@ struct InvarianceVerdict {  // one method at one resolution (resolution −1: ev
   int measured = 0;                              // exact rows
   double worst_rmse = NAN;                       // the largest exact RMSE
   std::string worst;                             // where: "cat0, renumber seed 2 (1000 vertices)"
-  int failed_forms = 0;      // transformed forms that failed where the reference form did not
-  int missing_forms = 0;     // transformed forms a forms-door method lacks (not measured, not failed)
-  int converged_known = 0;   // forms with a convergence test (references and transformed)
-  int not_converged = 0;     // of them, those that did not converge
-  std::string verdict;       // "pass", "fail", "not measured"
-  std::string reason;        // why it failed or was not measured ("" for a pass)
+  int failed_forms = 0;     // transformed forms that failed where the reference form did not
+  int missing_forms = 0;    // transformed forms a forms-door method lacks (not measured, not failed)
+  int converged_known = 0;  // forms with a convergence test (references and transformed)
+  int not_converged = 0;    // of them, those that did not converge
+  std::string verdict;      // "pass", "fail", "not measured"
+  std::string reason;       // why it failed or was not measured ("" for a pass)
 };
 
 struct InvarianceResult {

@@ -51,8 +51,8 @@ std::string case_note(const std::string& shape, Index resolution, const std::vec
                       const std::vector<std::string>& methods);
 
 // result.summary and result.verdicts from result.rows, result.pose_pairs and the tallies.
-void summarise(const InvarianceOptions& options, const std::map<std::pair<Index, std::string>, MethodTally>& tallies,
-               InvarianceResult& result);
+void summarise(const InvarianceOptions& options,
+               const std::map<std::pair<Index, std::string>, MethodTally>& tallies, InvarianceResult& result);
 
 // invariance.csv, invariance_pose.csv, invariance_summary.csv and invariance.json.
 void write_data_files(const ExperimentFolder& folder, const InvarianceOptions& options,

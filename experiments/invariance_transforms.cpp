@@ -12,9 +12,9 @@
 namespace cshapes {
 
 const std::vector<ExactTransform>& exact_transforms() {
-  static const std::vector<ExactTransform> all = {ExactTransform::Renumber,  ExactTransform::FaceOrder,
-                                                  ExactTransform::Rigid,     ExactTransform::ScaleDown,
-                                                  ExactTransform::ScaleUp,   ExactTransform::Jitter};
+  static const std::vector<ExactTransform> all = {ExactTransform::Renumber, ExactTransform::FaceOrder,
+                                                  ExactTransform::Rigid,    ExactTransform::ScaleDown,
+                                                  ExactTransform::ScaleUp,  ExactTransform::Jitter};
   return all;
 }
 
@@ -56,9 +56,11 @@ TransformedMesh renumbered(const Mesh& m, std::uint64_t seed) {
   TransformedMesh t;
   t.reference_vertex = random_permutation(m.num_vertices(), seed);
   std::vector<int> new_index(t.reference_vertex.size());
-  for (size_t k = 0; k < new_index.size(); ++k) new_index[static_cast<size_t>(t.reference_vertex[k])] = static_cast<int>(k);
+  for (size_t k = 0; k < new_index.size(); ++k)
+    new_index[static_cast<size_t>(t.reference_vertex[k])] = static_cast<int>(k);
   t.mesh.V.resize(m.V.rows(), 3);
-  for (Index k = 0; k < m.V.rows(); ++k) t.mesh.V.row(k) = m.V.row(t.reference_vertex[static_cast<size_t>(k)]);
+  for (Index k = 0; k < m.V.rows(); ++k)
+    t.mesh.V.row(k) = m.V.row(t.reference_vertex[static_cast<size_t>(k)]);
   t.mesh.F = m.F;
   for (Index f = 0; f < m.F.rows(); ++f)
     for (int c = 0; c < 3; ++c) t.mesh.F(f, c) = new_index[static_cast<size_t>(m.F(f, c))];
@@ -73,7 +75,8 @@ TransformedMesh faces_reordered(const Mesh& m, std::uint64_t seed) {
   t.mesh.F.resize(m.F.rows(), 3);
   for (Index f = 0; f < m.F.rows(); ++f) {
     const Index turn = below(rng, 3);
-    for (int c = 0; c < 3; ++c) t.mesh.F(f, c) = m.F(order[static_cast<size_t>(f)], static_cast<int>((c + turn) % 3));
+    for (int c = 0; c < 3; ++c)
+      t.mesh.F(f, c) = m.F(order[static_cast<size_t>(f)], static_cast<int>((c + turn) % 3));
   }
   return t;
 }
@@ -110,7 +113,8 @@ std::vector<int> random_permutation(Index n, std::uint64_t seed) {
   std::vector<int> p(static_cast<size_t>(n));
   std::iota(p.begin(), p.end(), 0);
   std::mt19937_64 rng(seed);
-  for (Index k = n - 1; k > 0; --k) std::swap(p[static_cast<size_t>(k)], p[static_cast<size_t>(below(rng, k + 1))]);
+  for (Index k = n - 1; k > 0; --k)
+    std::swap(p[static_cast<size_t>(k)], p[static_cast<size_t>(below(rng, k + 1))]);
   return p;
 }
 
@@ -142,7 +146,8 @@ FormChange exact_form_change(const Points& reference, const Points& transformed,
     back.row(at) = transformed.row(k) / how.scale;
   }
   Index usable = 0;
-  for (Index i = 0; i < reference.rows(); ++i) usable += reference.row(i).allFinite() && back.row(i).allFinite();
+  for (Index i = 0; i < reference.rows(); ++i)
+    usable += reference.row(i).allFinite() && back.row(i).allFinite();
   CSHAPES_REQUIRE(usable >= 4, "only ", usable, " vertices are finite in both forms (at least 4 needed)");
   RigidFitOptions fit;
   fit.determinant = 0;

@@ -17,7 +17,8 @@ std::string ExactCase::name(bool words) const {
 
 std::vector<ExactCase> exact_cases(const InvarianceOptions& o) {
   std::vector<ExactCase> cases;
-  for (int k = 0; k < o.seeds; ++k) cases.push_back({ExactTransform::Renumber, o.seed + static_cast<std::uint64_t>(k)});
+  for (int k = 0; k < o.seeds; ++k)
+    cases.push_back({ExactTransform::Renumber, o.seed + static_cast<std::uint64_t>(k)});
   for (ExactTransform t : exact_transforms())
     if (t != ExactTransform::Renumber) cases.push_back({t, o.seed});
   return cases;
@@ -110,7 +111,8 @@ InvarianceVerdict verdict_at(const InvarianceOptions& o, const InvarianceResult&
     v.pose_hausdorff = median(pose_hausdorff);
   }
   v.tolerance = o.tolerance_floor_percent / 100;
-  if (std::isfinite(v.pose_rmse)) v.tolerance = std::max(v.tolerance, o.tolerance_pose_percent / 100 * v.pose_rmse);
+  if (std::isfinite(v.pose_rmse))
+    v.tolerance = std::max(v.tolerance, o.tolerance_pose_percent / 100 * v.pose_rmse);
   for (const InvarianceRow& r : result.rows) {
     if (r.resolution != resolution || r.method != method || !r.exact) continue;
     ++v.measured;
@@ -183,7 +185,8 @@ InvarianceVerdict verdict_overall(const std::vector<InvarianceVerdict>& at) {
 
 }  // namespace
 
-void summarise(const InvarianceOptions& o, const std::map<std::pair<Index, std::string>, MethodTally>& tallies,
+void summarise(const InvarianceOptions& o,
+               const std::map<std::pair<Index, std::string>, MethodTally>& tallies,
                InvarianceResult& result) {
   result.summary.clear();
   result.verdicts.clear();
@@ -195,7 +198,8 @@ void summarise(const InvarianceOptions& o, const std::map<std::pair<Index, std::
     std::vector<InvarianceVerdict> at;
     for (Index resolution : o.vertices) {
       const auto found = tallies.find({resolution, method});
-      at.push_back(verdict_at(o, result, resolution, method, found == tallies.end() ? MethodTally{} : found->second));
+      at.push_back(
+          verdict_at(o, result, resolution, method, found == tallies.end() ? MethodTally{} : found->second));
     }
     result.verdicts.insert(result.verdicts.end(), at.begin(), at.end());
     result.verdicts.push_back(verdict_overall(at));

@@ -427,18 +427,22 @@ py::dict experiment_invariance_py(const py::object& data, const py::object& out,
   o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   if (const py::object v = k.object("vertices"); !v.is_none()) {
     try {
-      o.vertices = py::isinstance<py::int_>(v) ? std::vector<Index>{v.cast<Index>()} : v.cast<std::vector<Index>>();
+      o.vertices =
+          py::isinstance<py::int_>(v) ? std::vector<Index>{v.cast<Index>()} : v.cast<std::vector<Index>>();
     } catch (const py::cast_error&) {
-      fail("experiment_invariance(): vertices: expected a vertex count or a list of them (0: the shapes as given), "
-           "got ", py::repr(v).cast<std::string>());
+      fail("experiment_invariance(): vertices: expected a vertex count or a list of them (0: the shapes as ",
+           "given), got ", py::repr(v).cast<std::string>());
     }
   }
   o.seeds = k.int32("seeds", o.seeds, invariance_limits::kSeeds);
-  o.seed = static_cast<std::uint64_t>(
-      k.integer("seed", static_cast<long long>(o.seed), 0, static_cast<long long>(invariance_limits::kSeed.maximum)));
-  o.tolerance_floor_percent = k.number("tolerance_floor", o.tolerance_floor_percent, invariance_limits::kToleranceFloor);
-  o.tolerance_pose_percent = k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
-  if (const py::object shapes = k.object("shapes"); !shapes.is_none()) o.shapes = shapes.cast<std::vector<std::string>>();
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0,
+                                                static_cast<long long>(invariance_limits::kSeed.maximum)));
+  o.tolerance_floor_percent =
+      k.number("tolerance_floor", o.tolerance_floor_percent, invariance_limits::kToleranceFloor);
+  o.tolerance_pose_percent =
+      k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
+  if (const py::object shapes = k.object("shapes"); !shapes.is_none())
+    o.shapes = shapes.cast<std::vector<std::string>>();
   k.done();
   o.figure = draw;
   o.progress = stop_on_python_signals();

@@ -1,9 +1,9 @@
 // The invariance experiment (experiments/invariance_experiment.h) and its transformations
 // (experiments/invariance_transforms.h): the transformations keep the surface and say where each vertex went;
 // a form that is its mesh passes every exact transformation to rounding; on a generated pair of poses, an
-// eigenmap passes, an order-dependent method from outside fails on the renumberings, and a method that fails on
-// a transformed mesh fails its verdict while the run goes on; the files hold the rows expected; the CLI names
-// a method that fails and ends with exit code 3.
+// eigenmap passes, an order-dependent method from outside fails on the renumberings, and a method that fails
+// on a transformed mesh fails its verdict while the run goes on; the files hold the rows expected; the CLI
+// names a method that fails and ends with exit code 3.
 #include "cshapes/experiments/invariance_experiment.h"
 
 #include <gtest/gtest.h>
@@ -44,7 +44,8 @@ TEST(InvarianceTransforms, KeepTheSurfaceAndSayWhereEachVertexWent) {
   const double diagonal = bbox_diagonal(m.V);
   for (ExactTransform t : exact_transforms()) {
     SCOPED_TRACE(to_string(t));
-    const TransformedMesh a = transform_mesh(m, t, 5), b = transform_mesh(m, t, 5), c = transform_mesh(m, t, 6);
+    const TransformedMesh a = transform_mesh(m, t, 5), b = transform_mesh(m, t, 5),
+                          c = transform_mesh(m, t, 6);
     EXPECT_EQ(a.mesh.V, b.mesh.V);  // deterministic for a seed
     EXPECT_EQ(a.mesh.F, b.mesh.F);
     if (is_seeded(t)) {
@@ -148,7 +149,8 @@ TEST(InvarianceExperiment, AnEigenmapPassesAndAnOrderDependentMethodFails) {
   EXPECT_NE(verdict("sloppy").worst.find("renumber"), std::string::npos) << verdict("sloppy").worst;
   EXPECT_EQ(verdict("fragile").verdict, "fail");
   EXPECT_EQ(verdict("fragile").failed_forms, 2);
-  EXPECT_LT(verdict("fragile").worst_rmse, 2 * kInvarianceJitter);  // the mesh itself: the jitter alone moves it
+  EXPECT_LT(verdict("fragile").worst_rmse,
+            2 * kInvarianceJitter);  // the mesh itself: the jitter alone moves it
   EXPECT_EQ(verdict("given").verdict, "not measured");
   EXPECT_EQ(verdict("given").missing_forms, 2 * 7);
   EXPECT_TRUE(fs::exists(o.out + "/forms-needed/given.csv"));
@@ -169,9 +171,9 @@ TEST(InvarianceExperiment, AnEigenmapPassesAndAnOrderDependentMethodFails) {
 TEST(InvarianceExperiment, TheCliNamesAFailingMethodAndEndsWithExitCode3) {
   const std::string dir = test::scratch_dir("invariance_cli");
   const std::string manifest = test::generated_dataset(dir + "/data", 1, 2, 200);
-  const test::CliResult r = test::run_cli(
-      "experiment invariance --data " + manifest + " --out " + dir + "/out --methods 'cmds,broken=cmd:cat {mesh} {form} "
-      ">/dev/null; exit 1' --seeds 1 --no-draw --json");
+  const test::CliResult r = test::run_cli("experiment invariance --data " + manifest + " --out " + dir +
+                                          "/out --methods 'cmds,broken=cmd:cat {mesh} {form} "
+                                          ">/dev/null; exit 1' --seeds 1 --no-draw --json");
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("broken"), std::string::npos) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
