@@ -6,7 +6,7 @@
 Reads OUT/invariance.csv (a row per resolution, shape, method, transformation and seed: rmse_percent, the RMSE
 after alignment in % of the reference form's diagonal) and OUT/invariance.json (resolutions, methods,
 transformations in order, and per method and resolution its verdict, tolerance_percent and pose_rmse_percent).
-One panel per resolution, sharing a logarithmic y axis of RMSE %: per transformation, each method's rows as
+One panel per resolution (two a row), sharing a logarithmic y axis of RMSE %: per transformation, each method's rows as
 small dots and its largest as a large one, side by side; the remeshes (reported apart) after a vertical rule;
 last, "pose variation", the method's median pose RMSE as a star (the signal the noise is held against). The
 tolerance floor is a grey dashed line over the exact transformations, and a method whose tolerance is above it
@@ -66,10 +66,15 @@ def main():
     floor = meta["tolerance"]["floor_percent"]
 
     width = 0.8 / max(1, len(methods))
-    fig, axes = plt.subplots(1, len(resolutions), figsize=(1.0 + 0.75 * len(columns) * len(resolutions), 4.8),
+    # Two panels a row at most, so that four resolutions stay readable.
+    ncols = min(2, len(resolutions))
+    nrows = math.ceil(len(resolutions) / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(1.0 + 0.75 * len(columns) * ncols, 0.4 + 4.4 * nrows),
                              sharey=True, squeeze=False)
+    for ax in axes.flat[len(resolutions):]:
+        ax.set_visible(False)
     for panel, n in enumerate(resolutions):
-        ax = axes[0][panel]
+        ax = axes.flat[panel]
         ax.set_yscale("log")
         ax.axhspan(zero / 3, zero * 3, color="0.92", zorder=0)
         ax.hlines(floor, -0.5, len(exact) - 0.5, colors=["0.45"], linestyles="dashed", linewidth=1.0, zorder=1)
@@ -99,7 +104,8 @@ def main():
         ax.set_ylim(zero / 3, top)
         ax.set_title(resolution_title(n))
         ax.grid(axis="y", which="major", color="0.9", linewidth=0.6)
-    axes[0][0].set_ylabel("RMSE after alignment, % of the diagonal")
+    for row in axes:
+        row[0].set_ylabel("RMSE after alignment, % of the diagonal")
     axes[0][0].text(0.01, 0.01, "exact 0", transform=axes[0][0].transAxes, fontsize=7, color="0.4", va="bottom")
     handles, labels = axes[0][0].get_legend_handles_labels()
     handles.append(plt.Line2D([], [], color="0.45", linestyle="dashed"))
