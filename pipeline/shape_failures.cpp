@@ -50,12 +50,20 @@ std::string cell(std::string text) {
 }
 }  // namespace
 
-std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures) {
+std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures, LeftOutScope scope) {
   if (failures.empty()) return "";
   std::ostringstream md;
   const int left_out = count_left_out(failures);
   md << "## Shapes left out and fallbacks\n\n";
-  if (left_out > 0)
+  const long forms_left_out =
+      std::count_if(failures.begin(), failures.end(), [](const ShapeFailure& f) { return f.left_out(); });
+  if (scope == LeftOutScope::Form && forms_left_out > 0)
+    md << forms_left_out << (forms_left_out == 1 ? " form" : " forms") << " could not be computed and "
+       << (forms_left_out == 1 ? "was" : "were")
+       << " left out, each named below by its shape, case and method; every other form was measured. The run "
+          "went on and ends with exit code 3 (partial result). `--strict` stops at the first failure "
+          "instead.\n\n";
+  else if (left_out > 0)
     md << left_out << (left_out == 1 ? " shape was" : " shapes were")
        << " left out of every measurement, by every method (so that the methods are compared on the same "
           "shapes); the run went on with the others and ends with exit code 3 (partial result). `--strict` "

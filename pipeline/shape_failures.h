@@ -46,9 +46,14 @@ std::string describe(const ShapeFailure& failure);
 int count_left_out(const std::vector<ShapeFailure>& failures);
 // As JSON: [{name, path, method, stage, reason, fallback}], fallback null for shapes left out.
 nlohmann::json shape_failures_json(const std::vector<ShapeFailure>& failures);
-// report.md's section: "## Shapes left out and fallbacks", a table and a sentence on what it means; "" when
-// there is no record (a report of a run where nothing failed is unchanged).
-std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures);
+// What a run leaves out when a form fails: the shape from every method's measurements (the experiments that
+// compare methods on the same shapes), or only that form (`experiment invariance`: one case of a shape by one
+// method, the shape's other forms measured).
+enum class LeftOutScope { Shape, Form };
+// report.md's section: "## Shapes left out and fallbacks", a table and a sentence on what it means (worded
+// for `scope`); "" when there is no record (a report of a run where nothing failed is unchanged).
+std::string shape_failures_markdown(const std::vector<ShapeFailure>& failures,
+                                    LeftOutScope scope = LeftOutScope::Shape);
 
 // One record per pair of entries whose files hold the same bytes (Dataset::same_content, stage "dataset"):
 // the second entry, kept ("fallback" says so), so that the run says it on stderr, in report.md and the JSON

@@ -31,6 +31,7 @@ from ._cshapes import (  # noqa: E402
     compare_runs,
     coulomb,
     distance_matrix,
+    experiment_invariance,
     experiment_noise,
     experiment_paper,
     experiment_pose,
@@ -53,7 +54,7 @@ from ._cshapes import (  # noqa: E402
 __version__ = _cshapes.__version__
 __all__ = [
     "Alignment", "CanonicalForm", "add_topological_noise", "build_info", "canonical_form", "classical_mds",
-    "compare_runs", "coulomb", "distance_matrix", "experiment_noise", "experiment_paper", "experiment_pose", "experiment_retrieval",
+    "compare_runs", "coulomb", "distance_matrix", "experiment_invariance", "experiment_noise", "experiment_paper", "experiment_pose", "experiment_retrieval",
     "experiment_topkids", "generate", "geodesics", "get_num_threads",
     "icp", "mesh_info", "read_mesh",
     "retrieval_measures", "set_num_threads", "shape_distance", "show", "smacof", "write_mesh",

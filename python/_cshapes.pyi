@@ -160,6 +160,12 @@ def experiment_topkids(data: _Path, out: _Path, methods: _Methods = None, draw: 
                        strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
                        allow_outside: bool = False, method_timeout: float = 86400,
                        method_version: str = "") -> dict[str, Any]: ...
+def experiment_invariance(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
+                          vertices: int | Sequence[int] = (0,), seeds: int = 3, seed: int = 1,
+                          shapes: Sequence[str] | None = None, tolerance_floor: float = 0.05,
+                          tolerance_pose: float = 1.0, strict: bool = False, geodesics: _Geodesics = "heat",
+                          force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
+                          method_version: str = "") -> dict[str, Any]: ...
 def experiment_paper(data: _Path, out: _Path, methods: _Methods = None, poses_per_class: int = 4,
                      noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, timing_repeats: int = 5, correspondence_samples: int = 300,

@@ -2,13 +2,16 @@
 // experiments/retrieval_experiment.h) from Python, with the library's defaults, so a run from Python, from C++ and
 // `cshapes experiment paper|retrieval` with the same options writes the same files. cshapes.show: the picture of
 // `cshapes show` (experiments/show_mesh.h). cshapes.compare_runs: `cshapes compare`
-// (experiments/compare_runs.h).
+// (experiments/compare_runs.h). cshapes.experiment_noise, _pose, _topkids and _invariance: the experiments on a
+// dataset's shapes (experiments/noise_experiment.h, pose_invariance.h, topkids_experiment.h,
+// invariance_experiment.h), with the same keywords.
 #include <pybind11/stl.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "cshapes/experiments/compare_runs.h"
+#include "cshapes/experiments/invariance_experiment.h"
 #include "cshapes/experiments/noise_experiment.h"
 #include "cshapes/experiments/paper_experiment.h"
 #include "cshapes/experiments/pose_invariance.h"
@@ -308,36 +311,51 @@ py::dict experiment_topkids_py(const py::object& data, const py::object& out, co
   return experiment_result(o.out, "topkids.json", r.failures);
 }
 
-void bind_experiments(py::module_& m) {
-  m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
-        py::arg("title") = py::none(), py::arg("view") = "pca",
-        R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
+py::dict experiment_invariance_py(const py::object& data, const py::object& out, const py::object& methods,
+                                  bool draw, const py::kwargs& kwargs) {
+  InvarianceOptions o;
+  Kwargs k(kwargs, "experiment_invariance");
+  const MethodArgument method_list = method_argument(methods, "experiment_invariance", k);
+  if (!methods.is_none()) o.methods = method_list.names;
+  o.data = to_path(data, "data");
+  o.out = to_path(out, "out");
+  o.force = k.flag("force", o.force);
+  o.allow_outside = k.flag("allow_outside", o.allow_outside);
+  o.canon.strict = k.flag("strict", o.canon.strict);
+  o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
+  if (const py::object v = k.object("vertices"); !v.is_none()) {
+    try {
+      o.vertices =
+          py::isinstance<py::int_>(v) ? std::vector<Index>{v.cast<Index>()} : v.cast<std::vector<Index>>();
+    } catch (const py::cast_error&) {
+      fail("experiment_invariance(): vertices: expected a vertex count or a list of them (0: the shapes as ",
+           "given), got ", py::repr(v).cast<std::string>());
+    }
+  }
+  o.seeds = k.int32("seeds", o.seeds, invariance_limits::kSeeds);
+  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0,
+                                                static_cast<long long>(invariance_limits::kSeed.maximum)));
+  o.tolerance_floor_percent =
+      k.number("tolerance_floor", o.tolerance_floor_percent, invariance_limits::kToleranceFloor);
+  o.tolerance_pose_percent =
+      k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
+  if (const py::object shapes = k.object("shapes"); !shapes.is_none())
+    o.shapes = shapes.cast<std::vector<std::string>>();
+  k.done();
+  o.figure = draw;
+  o.progress = stop_on_python_signals();
+  InvarianceResult r;
+  {
+    Computing computing;
+    r = invariance_experiment(o);
+  }
+  return experiment_result(o.out, "invariance.json", r.failures);
+}
 
-mesh: a mesh file, or a (V, F) pair. form [None]: its canonical form, a file as `cshapes canon` writes it
-(dropped vertices: NaN rows with valid = 0), or in memory: a CanonicalForm, an (n, 3) array (drawn with the
-mesh's faces) or a (V, F) pair; NaN rows are not drawn. Both files or both in memory. The form has the mesh's
-vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates as
-red, green and blue). out: the picture, .png or .pdf, never one of the inputs; written atomically. title
-[None]: a line above the picture. view ['pca']: look along the least spread, or 'x', 'y', 'z' along that axis.
-Needs a Python with matplotlib and numpy (/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it
-cannot draw. Returns out as a str.)");
-  m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
-        py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
-        py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
-        R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
+namespace {
 
-data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
-folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
-'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
-(0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
-matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
-correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
-(remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
-out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
-(read manifest entries outside the dataset's folder), method_timeout [86400], method_version [''].
-Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
-(shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
+// experiment_noise, experiment_pose, experiment_topkids and experiment_invariance.
+void bind_dataset_experiments(py::module_& m) {
   m.def("experiment_noise", &experiment_noise_py, py::arg("data"), py::arg("out"), py::arg("methods") = py::none(),
         py::arg("draw") = true,
         R"(Retrieval under topological noise (`cshapes experiment noise`): glued versions of every clean pose.
@@ -368,6 +386,57 @@ force [False], allow_outside [False], method_timeout [86400] and method_version 
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
+  m.def("experiment_invariance", &experiment_invariance_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("draw") = true,
+        R"(How much each canonical form changes under transformations that must not change it
+(`cshapes experiment invariance`): vertex renumbering, face order, rigid motion, scale 1e-6 and 1e3, jitter of
+1e-9 of the diagonal, and, reported apart, remeshing at 0.8x and 1.2x the vertex count; beside each method's
+pose variation, with a verdict per method.
+
+Keywords: vertices [[0]] (resolutions: 0 the shapes as given, N each shape remeshed to about N vertices
+first), seeds [3] (renumberings), seed [1], shapes [all] (names to restrict to), tolerance_floor [0.05] and
+tolerance_pose [1.0] (the verdict's tolerance: the larger of that % of the diagonal and that % of the
+method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'), force
+[False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
+(n×3, one row per vertex of V, in V's order). Writes what the CLI writes (invariance.md, invariance.csv,
+invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); returns a dict: out, results
+(invariance.json: verdicts, summary, ...), failures.)");
+}
+
+}  // namespace
+
+void bind_experiments(py::module_& m) {
+  m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
+        py::arg("title") = py::none(), py::arg("view") = "pca",
+        R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
+
+mesh: a mesh file, or a (V, F) pair. form [None]: its canonical form, a file as `cshapes canon` writes it
+(dropped vertices: NaN rows with valid = 0), or in memory: a CanonicalForm, an (n, 3) array (drawn with the
+mesh's faces) or a (V, F) pair; NaN rows are not drawn. Both files or both in memory. The form has the mesh's
+vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates as
+red, green and blue). out: the picture, .png or .pdf, never one of the inputs; written atomically. title
+[None]: a line above the picture. view ['pca']: look along the least spread, or 'x', 'y', 'z' along that axis.
+Needs a Python with matplotlib and numpy (/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it
+cannot draw. Returns out as a str.)");
+  m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
+        py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
+        R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
+
+data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
+folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
+'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
+(0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
+figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
+matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
+correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
+(remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
+out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
+(read manifest entries outside the dataset's folder), method_timeout [86400], method_version [''].
+Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
+(shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
+  bind_dataset_experiments(m);
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("draw") = true,
         R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.

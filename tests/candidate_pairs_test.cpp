@@ -13,7 +13,8 @@ namespace candidate_pairs_test {
 
 // |x_i − x_j| for x = 0, 1, 3, 7, 8.
 Eigen::MatrixXd line_distances() {
-  const Eigen::VectorXd x = (Eigen::VectorXd(5) << 0, 1, 3, 7, 8).finished();
+  Eigen::VectorXd x(5);
+  x << 0, 1, 3, 7, 8;
   Eigen::MatrixXd D(5, 5);
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j) D(i, j) = std::abs(x[i] - x[j]);

@@ -103,6 +103,7 @@ CALLS = {
                  lambda **k: cshapes.generate("dataset", **k)],
     "experiment_paper": [lambda **k: cshapes.experiment_paper("/nonexistent", "/nonexistent", **k)],
     "experiment_retrieval": [lambda **k: cshapes.experiment_retrieval("/nonexistent", "/nonexistent", **k)],
+    "experiment_invariance": [lambda **k: cshapes.experiment_invariance("/nonexistent", "/nonexistent", **k)],
 }
 
 
