@@ -215,12 +215,15 @@ HeatMethod::HeatMethod(const Mesh& mesh, const HeatMethodOptions& options)
   // L and M: the cotangent operator (operators/cotangent_operator.h), the same matrices as the Laplace–Beltrami
   // eigensolver's; the layout gives the gradients of the hat functions (step 2).
   CotangentOperator op = cotangent_operator(T, n);
+  report_progress_in_parallel(poll, "", 0, 0);
   im.L = std::move(op.L);
   im.mass = std::move(op.mass);
   const SparseMatrix& L = im.L;
   const Eigen::VectorXd& mass = im.mass;
   const double length_sum = layout_gradients(T, im.g, im.rho);
+  report_progress_in_parallel(poll, "", 0, 0);
   pin_components(mesh, mass, im.component, im.pinned);
+  report_progress_in_parallel(poll, "", 0, 0);
 
   // eq. (5): t = m h², h the mean edge length (over half-edges: on a closed mesh, the mean edge length).
   const double h = length_sum / (3.0 * m);

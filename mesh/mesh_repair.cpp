@@ -1,11 +1,14 @@
 #include "cshapes/mesh/mesh_repair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <set>
+#include <utility>
+#include <vector>
 
 #include "cshapes/support/error.h"
+#include "cshapes/support/progress.h"
 #include "cshapes/mesh/mesh_defects.h"
 
 namespace cshapes {
@@ -59,14 +62,23 @@ void act(RepairedMesh& r, const std::string& what, Index count) {
 // no_degenerate_faces) of zero area.
 void drop_bad_faces(RepairedMesh& r, const MeshRequirements& req) {
   Mesh& mesh = r.mesh;
-  std::vector<char> keep(mesh.num_faces(), 1);
-  std::set<std::array<int, 3>> seen;
+  const Index m = mesh.num_faces();
+  std::vector<char> keep(m, 1);
+  // A face repeating an earlier one (its vertices in any order): the faces sorted by their sorted vertices,
+  // every one after the first of a run of equals is a duplicate.
+  std::vector<std::pair<std::array<int, 3>, Index>> by_vertices;
+  by_vertices.reserve(static_cast<size_t>(m));
+  for (Index f = 0; f < m; ++f) by_vertices.push_back({sorted_face(mesh.F, f), f});
+  std::sort(by_vertices.begin(), by_vertices.end());
+  std::vector<char> duplicate(m, 0);
+  for (size_t k = 1; k < by_vertices.size(); ++k)
+    if (by_vertices[k].first == by_vertices[k - 1].first) duplicate[by_vertices[k].second] = 1;
   Index repeated = 0, duplicates = 0, zero_area = 0;
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
+  for (Index f = 0; f < m; ++f) {
     if (face_repeats_vertex(mesh.F, f)) {
       keep[f] = 0;
       ++repeated;
-    } else if (!seen.insert(sorted_face(mesh.F, f)).second) {
+    } else if (duplicate[f]) {
       keep[f] = 0;
       ++duplicates;
     } else if (req.no_degenerate_faces && face_has_zero_area(mesh.V, mesh.F, f)) {
@@ -166,10 +178,15 @@ RepairedMesh repair_for(const Mesh& input, const MeshRequirements& req, const Re
   r.vertex_map.resize(input.num_vertices());
   for (Index v = 0; v < input.num_vertices(); ++v) r.vertex_map[v] = static_cast<int>(v);
   if (!input.is_point_cloud()) {
+    // A stop is heard between the passes: each takes about a second at a million faces.
+    report_progress_in_parallel(options.progress, "", 0, 0);
     drop_bad_faces(r, req);
+    report_progress_in_parallel(options.progress, "", 0, 0);
     if (req.manifold) split_fans(r);
+    report_progress_in_parallel(options.progress, "", 0, 0);
     drop_isolated_vertices(r);
     if (req.single_component && r.mesh.num_vertices() > 0) keep_largest_component(r);
+    report_progress_in_parallel(options.progress, "", 0, 0);
   }
   const std::string purpose = options.purpose.empty() ? "" : " for " + options.purpose;
   if (r.changed()) describe_repair(r, input, options, purpose);

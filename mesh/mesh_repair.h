@@ -30,6 +30,7 @@
 
 #include "cshapes/support/distance_matrix.h"
 #include "cshapes/mesh/mesh.h"
+#include "cshapes/support/progress.h"
 
 namespace cshapes {
 
@@ -63,6 +64,7 @@ struct RepairOptions {
   bool strict = false;        // refuse (throw, naming the defects) instead of repairing
   std::string name = "mesh";  // starts every message (the file's path)
   std::string purpose;        // "the heat method", ...: what the requirements are for, in messages
+  ProgressFn progress;        // polled between the passes (support/progress.h: a stop throws from it)
 };
 
 // Throws cshapes::Error when strict and a repair is needed, or when fewer than min_vertices remain.

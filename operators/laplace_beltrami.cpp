@@ -110,11 +110,13 @@ void finish(LaplaceBeltramiEigen& e, const LaplacianMatrices& A, const LaplaceBe
 
 }  // namespace
 
-LaplacianMatrices cotangent_laplacian(const Mesh& mesh, bool intrinsic_delaunay_triangulation) {
+LaplacianMatrices cotangent_laplacian(const Mesh& mesh, bool intrinsic_delaunay_triangulation, const ProgressFn& poll) {
   const Index n = mesh.num_vertices(), m = mesh.num_faces();
   CSHAPES_REQUIRE(m > 0, "cotangent Laplacian: the mesh has no faces (a point cloud: use the kNN graph)");
+  report_progress_in_parallel(poll, "", 0, 0);
   const IntrinsicTriangulation T =
       intrinsic_delaunay_triangulation ? intrinsic_delaunay(mesh) : intrinsic_triangulation(mesh);
+  report_progress_in_parallel(poll, "", 0, 0);
   LaplacianMatrices out;
   out.kind = intrinsic_delaunay_triangulation ? "intrinsic-delaunay" : "cotangent";
   out.flips = T.flips;
@@ -169,7 +171,7 @@ LaplacianMatrices knn_graph_laplacian(const Points& P, const KnnGraphOptions& kn
 LaplacianMatrices laplace_beltrami_matrices(const Mesh& mesh, const LaplaceBeltramiOptions& options,
                                             const KnnGraphOptions& knn) {
   return mesh.is_point_cloud() ? knn_graph_laplacian(mesh.V, knn)
-                               : cotangent_laplacian(mesh, options.intrinsic_delaunay);
+                               : cotangent_laplacian(mesh, options.intrinsic_delaunay, polls_of(options.progress));
 }
 
 LaplaceBeltramiEigen laplace_beltrami_eigen_dense(const LaplacianMatrices& matrices,

@@ -96,7 +96,8 @@ struct LaplacianMatrices {
 
 // Cotangent stiffness and barycentric mass of a triangle mesh (on its intrinsic Delaunay triangulation when
 // intrinsic_delaunay). Throws on a mesh without faces. Vertices in no face get mass 0 and an empty row.
-LaplacianMatrices cotangent_laplacian(const Mesh& mesh, bool intrinsic_delaunay = true);
+// `poll` (support/progress.h) is polled between the triangulation and the operator.
+LaplacianMatrices cotangent_laplacian(const Mesh& mesh, bool intrinsic_delaunay = true, const ProgressFn& poll = {});
 // The kNN graph Laplacian of a point cloud (see above). Throws for fewer than 2 points.
 LaplacianMatrices knn_graph_laplacian(const Points& P, const KnnGraphOptions& knn = {});
 // The mesh's operator: cotangent_laplacian for triangle meshes, knn_graph_laplacian for point clouds.

@@ -1,6 +1,10 @@
 #include "cshapes/operators/sparse_cholesky.h"
 
 #include <Eigen/SparseCholesky>
+#include <chrono>
+#include <future>
+#include <memory>
+#include <thread>
 
 #include "cshapes/support/error.h"
 #include "cshapes/support/progress.h"
@@ -57,49 +61,81 @@ namespace avx512 {
 
 }  // namespace
 
+#ifdef CSHAPES_HAVE_CHOLMOD
+namespace {
+
+// One CHOLMOD factorisation that owns everything it touches (its copy of the lower triangle, its workspace,
+// its factor and the arrays it fills), so that it can run to its end on a thread nobody waits for.
+struct CholmodJob {
+  SparseMatrix lower;
+  int status = CHOLMOD_OK;
+  bool ok = false;
+  std::vector<int> colptr, row, perm;
+  std::vector<double> value;
+
+  void run() {
+    cholmod_common common;
+    cholmod_start(&common);
+    common.print = 0;
+    common.error_handler = nullptr;
+    common.supernodal = CHOLMOD_SIMPLICIAL;
+    common.final_ll = 1;
+    cholmod_sparse view = sparse_view(lower);
+    cholmod_factor* factor = cholmod_analyze(&view, &common);
+    ok = factor && common.status == CHOLMOD_OK;
+    ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
+    // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
+    ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
+    status = common.status;
+    if (ok) {
+      const Index n = lower.rows();
+      const int* p = static_cast<const int*>(factor->p);
+      const int* i = static_cast<const int*>(factor->i);
+      const double* x = static_cast<const double*>(factor->x);
+      const int* q = static_cast<const int*>(factor->Perm);
+      colptr.assign(p, p + n + 1);
+      row.assign(i, i + p[n]);
+      value.assign(x, x + p[n]);
+      perm.assign(q, q + n);
+    }
+    if (factor) cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+  }
+};
+
+}  // namespace
+#endif
+
 void SparseCholesky::factorize(const SparseMatrix& A, const std::string& context, const std::string& what,
                                const ProgressFn& poll) {
   report_progress_in_parallel(poll, "", 0, 0);
 #ifdef CSHAPES_HAVE_CHOLMOD
-  // CHOLMOD's workspace and factor, freed however this function is left (a poll may throw between steps).
-  struct Cholmod {
-    cholmod_common common;
-    cholmod_factor* factor = nullptr;
-    Cholmod() { cholmod_start(&common); }
-    ~Cholmod() {
-      if (factor) cholmod_free_factor(&factor, &common);
-      cholmod_finish(&common);
-    }
-  } cholmod;
-  cholmod_common& common = cholmod.common;
-  common.print = 0;
-  common.error_handler = nullptr;
-  common.supernodal = CHOLMOD_SIMPLICIAL;
-  common.final_ll = 1;
-  SparseMatrix lower = A.triangularView<Eigen::Lower>();
-  lower.makeCompressed();
-  cholmod_sparse view = sparse_view(lower);
-  cholmod_factor*& factor = cholmod.factor;
-  factor = cholmod_analyze(&view, &common);
-  bool ok = factor && common.status == CHOLMOD_OK;
-  report_progress_in_parallel(poll, "", 0, 0);
-  ok = ok && cholmod_factorize(&view, factor, &common) && common.status == CHOLMOD_OK;
-  report_progress_in_parallel(poll, "", 0, 0);
-  // Packed, monotonic LL': column j is p[j] .. p[j+1]-1, its diagonal first.
-  ok = ok && cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, factor, &common);
-  const int status = common.status;
-  if (ok) {
-    n_ = A.rows();
-    const int* p = static_cast<const int*>(factor->p);
-    const int* i = static_cast<const int*>(factor->i);
-    const double* x = static_cast<const double*>(factor->x);
-    const int* perm = static_cast<const int*>(factor->Perm);
-    colptr_.assign(p, p + n_ + 1);
-    row_.assign(i, i + p[n_]);
-    value_.assign(x, x + p[n_]);
-    perm_.assign(perm, perm + n_);
+  auto job = std::make_shared<CholmodJob>();
+  job->lower = A.triangularView<Eigen::Lower>();
+  job->lower.makeCompressed();
+  if (!poll) {
+    job->run();
+  } else {
+    // Neither the ordering nor the numeric factorisation can be interrupted inside, and at a million vertices
+    // each takes seconds: the job runs on its own thread while this one keeps polling. A stop is answered at
+    // once; the job is left to finish on its own, holding only what it owns, and is then discarded.
+    auto done = std::make_shared<std::promise<void>>();
+    std::future<void> finished = done->get_future();
+    std::thread([job, done] {
+      job->run();
+      done->set_value();
+    }).detach();
+    while (finished.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready)
+      report_progress_in_parallel(poll, "", 0, 0);
   }
-  CSHAPES_REQUIRE(ok, context, ": CHOLMOD could not factorise the ", what, " matrix (status ", status,
+  if (job->ok) {
+    n_ = A.rows();
+    colptr_ = std::move(job->colptr);
+    row_ = std::move(job->row);
+    value_ = std::move(job->value);
+    perm_ = std::move(job->perm);
+  }
+  CSHAPES_REQUIRE(job->ok, context, ": CHOLMOD could not factorise the ", what, " matrix (status ", job->status,
                   "; not positive definite: degenerate or inverted triangles?)");
 #else
   Eigen::SimplicialLLT<SparseMatrix> llt(A);

@@ -24,10 +24,10 @@ class SparseCholesky {
   using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   // A: symmetric with both triangles stored. Throws cshapes::Error "<context>: CHOLMOD could not factorise
-  // the <what> matrix ..." when A is not positive definite. `poll` (support/progress.h) is polled before the
-  // fill-reducing ordering, before the numeric factorisation and after it: neither step can be interrupted
-  // inside, so a stop is heard at the end of the one under way; whatever it throws leaves this object as it
-  // was.
+  // the <what> matrix ..." when A is not positive definite. `poll` (support/progress.h), when set, is polled
+  // every 20 ms while CHOLMOD works on a thread of its own (neither its ordering nor its numeric factorisation
+  // can be interrupted inside): a stop is answered at once, and the abandoned factorisation finishes in the
+  // background and is freed. Whatever the poll throws leaves this object as it was.
   void factorize(const Eigen::SparseMatrix<double>& A, const std::string& context, const std::string& what,
                  const ProgressFn& poll = {});
   // B (n × k, row-major) is overwritten by A⁻¹ B. `work` is scratch of the same size.

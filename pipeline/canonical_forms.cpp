@@ -212,6 +212,7 @@ RepairedMesh repair_for_canonical_form(const Mesh& mesh, const CanonicalFormOpti
   RepairOptions ro;
   ro.strict = options.strict;
   ro.name = options.name;
+  ro.progress = polls_of(options.progress);
   const CanonicalFormMethod& method = canonical_form_method(options.method);
   if (method.takes_mesh_as_given) {  // an outside method: the mesh as the experiment has it
     RepairedMesh as_given;

@@ -10,6 +10,7 @@ MeshGeodesics prepare_mesh_geodesics(const Mesh& mesh, const MeshGeodesicsOption
   ro.strict = options.strict;
   ro.name = options.name;
   ro.purpose = "geodesics (one manifold component, no zero-area faces)";
+  ro.progress = polls_of(options.geodesics.progress);
   MeshGeodesics prepared;
   prepared.repaired = repair_for(mesh, MeshRequirements::manifold_surface(), ro);
   const GeodesicMethod method = options.geodesics.method;
