@@ -1,8 +1,8 @@
 // cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix (ties: expected
 // values over the orders of the tied results, eval/retrieval.h), written by
 // eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their
-// figures pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with
-// matplotlib is found.
+// figures pr.png, confusion.png and matrix.png (.pdf or .svg by --figure-format;
+// experiments/plots/evaluate_figures.py) when Python with matplotlib is found.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +20,7 @@ namespace {
 
 struct EvaluateArgs {
   std::string matrix, labels, output;
+  FigureFormat figure_format = FigureFormat::png;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
   bool json = false, no_draw = false, force = false;
@@ -79,9 +80,11 @@ int run() {
   }
   note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
   if (!args.no_draw) {
-    const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr.png");
+    const FigureFormat format = args.figure_format;
+    const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr", format);
     if (figures.drawn)
-      note("wrote " + args.output + "/pr.png, confusion.png, matrix.png");
+      note("wrote " + args.output + "/" + figure_file_name("pr", format) + ", " +
+           figure_file_name("confusion", format) + ", " + figure_file_name("matrix", format));
     else
       warn("no figures: " + figures.problem);
   }
@@ -109,6 +112,7 @@ const bool registered = register_command(
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
        add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
+       add_figure_format_option(app, args.figure_format);
        add_force_flag(app, args.force);
      },
      run});

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cshapes/support/atomic_file.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -65,8 +66,11 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
 }
 
 std::vector<std::string> retrieval_report_files() {
-  return {"metrics.json",  "pr.csv", "queries.csv",   "matrix.csv",
-          "confusion.csv", "pr.png", "confusion.png", "matrix.png"};
+  std::vector<std::string> files = {"metrics.json", "pr.csv", "queries.csv", "matrix.csv", "confusion.csv"};
+  for (const std::string& format : figure_format_names())
+    for (const char* figure : {"pr", "confusion", "matrix"})
+      files.push_back(std::string(figure) + "." + format);
+  return files;
 }
 
 void write_retrieval_report(const std::string& folder, const NamedDistances& input,

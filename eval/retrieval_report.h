@@ -43,7 +43,8 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
                                  const RetrievalOptions& options = {}, const std::string& source = "");
 
 // The names of the five files above, as write_retrieval_report writes them, and of the figures `cshapes
-// evaluate` draws from them (pr.png, confusion.png, matrix.png): the outputs a run must not take as inputs.
+// evaluate` draws from them (pr, confusion and matrix, as .png, .pdf and .svg): the outputs a run must not
+// take as inputs.
 std::vector<std::string> retrieval_report_files();
 
 // Writes the five files above into `folder` (each atomically).

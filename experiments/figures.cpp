@@ -136,9 +136,19 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
 }
 
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& expected) {
-  if (!figure_script_path(script).empty()) write_method_titles(fs::path(expected).parent_path().string());
-  return run_figure_script(script, args, expected);
+                      const std::string& figure, FigureFormat format) {
+  const fs::path path(figure);
+  if (!figure_script_path(script).empty()) write_method_titles(path.parent_path().string());
+  std::vector<std::string> with_format = args;
+  with_format.push_back("--format=" + to_string(format));
+  return run_figure_script(
+      script, with_format,
+      (path.parent_path() / figure_file_name(path.filename().string(), format)).string());
+}
+
+std::string figure_markdown(const std::string& caption, const std::string& file) {
+  const bool pdf = fs::path(file).extension() == ".pdf";
+  return pdf ? "[" + caption + " (PDF)](" + file + ")" : "![" + caption + "](" + file + ")";
 }
 
 }  // namespace cshapes

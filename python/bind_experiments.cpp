@@ -59,6 +59,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method =
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
@@ -105,6 +106,7 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
   o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
   k.done();
@@ -133,7 +135,8 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   return result;
 }
 
-py::dict compare_runs_py(const py::object& runs, const py::object& out, bool draw, bool pdf, bool force) {
+py::dict compare_runs_py(const py::object& runs, const py::object& out, bool draw,
+                         const std::string& figure_format, bool force) {
   CompareRunsOptions o;
   CSHAPES_REQUIRE(!py::isinstance<py::str>(runs) && py::isinstance<py::sequence>(runs),
                   "compare_runs(): runs: expected a list of output folders, got ",
@@ -141,7 +144,7 @@ py::dict compare_runs_py(const py::object& runs, const py::object& out, bool dra
   for (const py::handle& run : runs) o.runs.push_back(to_path(run, "runs"));
   o.out = to_path(out, "out");
   o.figures = draw;
-  o.pdf = pdf;
+  o.figure_format = parse_figure_format(figure_format);
   o.force = force;
   const CompareRunsResult r = compare_runs(o);
   py::dict measures, from;
@@ -230,6 +233,7 @@ void common_experiment_options(Options& o, const py::object& data, const py::obj
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.resample.vertices = static_cast<Index>(k.integer("resample", 0, 0));
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
 }
 
 // The run's results as the CLI writes them (OUT/NAME, a JSON file), with the failures.
@@ -341,6 +345,7 @@ py::dict experiment_invariance_py(const py::object& data, const py::object& out,
       k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
   if (const py::object shapes = k.object("shapes"); !shapes.is_none())
     o.shapes = shapes.cast<std::vector<std::string>>();
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   k.done();
   o.figure = draw;
   o.progress = stop_on_python_signals();
@@ -362,7 +367,8 @@ void bind_dataset_experiments(py::module_& m) {
 
 Keywords: seed [1], poses_per_class [0: all], levels [[0, 1, 2, 4, 8]] (glues per noisy version).)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -372,7 +378,8 @@ run's JSON file), failures.)");
 
 Keywords: samples [1000], parts [True], shapes [all] (names to restrict to).)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -382,7 +389,8 @@ run's JSON file), failures.)");
 
 Keywords: reference ['kid00'], samples [1000], poses [all].)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -396,8 +404,9 @@ pose variation, with a verdict per method.
 Keywords: vertices [[0]] (resolutions: 0 the shapes as given, N each shape remeshed to about N vertices
 first), seeds [3] (renumberings), seed [1], shapes [all] (names to restrict to), tolerance_floor [0.05] and
 tolerance_pose [1.0] (the verdict's tolerance: the larger of that % of the diagonal and that % of the
-method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'), force
-[False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'),
+figure_format ['png'] ('png', 'pdf' or 'svg'), force [False], allow_outside [False], method_timeout [86400]
+and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes (invariance.md, invariance.csv,
 invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); returns a dict: out, results
@@ -428,12 +437,13 @@ data: a folder of meshes (class = file name without trailing digits) or a manife
 folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
 'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
+figure_data [True] computes the figures' data; draw [True] draws them (beside report.md) when a Python with
 matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
-correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
-(remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
-out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
-(read manifest entries outside the dataset's folder), method_timeout [86400], method_version [''].
+correspondence_samples [300], figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'), strict
+[False], geodesics (MDS; the experiments' default: 'heat'), resample [0] (remesh every shape to about this many
+vertices first, as the CLI's --resample), force [False] (write into an out folder that holds files cshapes did
+not write; without it such a folder is refused), allow_outside [False] (read manifest entries outside the
+dataset's folder), method_timeout [86400], method_version [''].
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
   bind_dataset_experiments(m);
@@ -447,6 +457,7 @@ fn(V, F) -> X, docs/outside-methods.md]; resample [0]: remesh every shape to abo
 (cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
 the figures.
 Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3],
+figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'),
 force [False] (write into an out folder that holds files cshapes did not write; without it such a folder, a
 dataset's own folder for one, is refused), allow_outside [False] (read manifest or .cla entries outside the
 dataset's folder), method_timeout [86400], method_version [''].
@@ -454,14 +465,14 @@ Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 figures, failures.)");
   m.def("compare_runs", &compare_runs_py, py::arg("runs"), py::arg("out"), py::kw_only(),
-        py::arg("draw") = true, py::arg("pdf") = false, py::arg("force") = false,
+        py::arg("draw") = true, py::arg("figure_format") = "png", py::arg("force") = false,
         R"(Several `experiment retrieval` runs on the same data side by side (`cshapes compare`), nothing recomputed.
 
 runs: two or more output folders of complete runs whose inputs' checksums (retrieval.json) agree, under the
 same protocol; a method in two runs must have the same results in both. Anything else raises ValueError naming
 the folder and what was expected, and writes nothing. out: the output folder (report.md, compare.json, pr.png).
-draw [True]: draw pr.png; pdf [False]: also pr.pdf; force [False]: write into an out folder that holds files
-cshapes did not write.
+draw [True]: draw the PR figure; figure_format ['png']: its format, pr.png, pr.pdf or pr.svg; force [False]:
+write into an out folder that holds files cshapes did not write.
 Returns a dict: experiment, inputs_digest, shapes, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 runs {method: the folder its numbers come from}, figures.)");
 }

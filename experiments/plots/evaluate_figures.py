@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Draw the figures of `cshapes evaluate` from the files it wrote into OUT.
 
-  scripts/python.sh experiments/plots/evaluate_figures.py OUT [--pdf]
+  scripts/python.sh experiments/plots/evaluate_figures.py OUT [--format png|pdf|svg]
 
 Reads OUT/pr.csv (recall, precision), OUT/metrics.json (the measures, for the legend), OUT/confusion.csv
 (rows: the query's class; columns: the class of its nearest neighbour; cells: how many queries) and
 OUT/matrix.csv (the distance matrix grouped by class). Writes OUT/pr.png, OUT/confusion.png and OUT/matrix.png
-(and .pdf with --pdf), each through a temporary file.
+(.pdf or .svg by --format), each through a temporary file.
 """
 import argparse
 import csv
@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import count_text, save  # noqa: E402
+from figure_style import add_format_argument, count_text, save  # noqa: E402
 
 
 def read_rows(path):
@@ -46,7 +46,7 @@ def titled(title, out):
     return f"{title}\n{name}" if name else title
 
 
-def fig_pr(out, pdf):
+def fig_pr(out, fmt):
     rows = read_rows(os.path.join(out, "pr.csv"))[1:]
     recall = [float(r[0]) for r in rows]
     precision = [float(r[1]) for r in rows]
@@ -66,10 +66,10 @@ def fig_pr(out, pdf):
     ax.grid(alpha=0.3)
     ax.legend(loc="lower left", fontsize=8)
     ax.set_title(titled("precision-recall, averaged over the queries", out), fontsize=10)
-    save(fig, out, "pr", pdf)
+    save(fig, out, "pr", fmt)
 
 
-def fig_confusion(out, pdf):
+def fig_confusion(out, fmt):
     rows = read_rows(os.path.join(out, "confusion.csv"))
     classes = rows[0][1:]  # every class: a nearest neighbour may be of any
     query_classes = [r[0] for r in rows[1:]]  # the classes with queries (at least min_class_size shapes)
@@ -90,10 +90,10 @@ def fig_confusion(out, pdf):
                     ax.text(j, i, count_text(C[i, j]), ha="center", va="center", fontsize=7,
                             color="white" if C[i, j] > 0.6 * top else "black")
     ax.set_title(titled("nearest-neighbour confusion of the queries", out), fontsize=10)
-    save(fig, out, "confusion", pdf)
+    save(fig, out, "confusion", fmt)
 
 
-def fig_matrix(out, pdf):
+def fig_matrix(out, fmt):
     rows = read_rows(os.path.join(out, "matrix.csv"))
     names = rows[0]
     D = np.array([[float(x) for x in r] for r in rows[1:]])
@@ -106,17 +106,17 @@ def fig_matrix(out, pdf):
         ax.set_yticklabels(names, fontsize=5)
     fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04, label="distance (normalised, grouped by class)")
     ax.set_title(titled("distance matrix", out), fontsize=10)
-    save(fig, out, "matrix", pdf)
+    save(fig, out, "matrix", fmt)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out")
-    p.add_argument("--pdf", action="store_true")
+    add_format_argument(p)
     args = p.parse_args()
-    fig_pr(args.out, args.pdf)
-    fig_confusion(args.out, args.pdf)
-    fig_matrix(args.out, args.pdf)
+    fig_confusion(args.out, args.format)
+    fig_matrix(args.out, args.format)
+    fig_pr(args.out, args.format)  # last: its file is the one the driver waits for
 
 
 if __name__ == "__main__":
