@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "cshapes/experiments/compare_runs.h"
 #include "cshapes/experiments/invariance_experiment.h"
@@ -170,52 +171,59 @@ bool is_path(const py::handle& object) {
   return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
 }
 
-// A (V, F) pair as a Mesh; name: the argument.
-Mesh mesh_pair(const py::handle& pair, const std::string& name) {
-  if (!py::isinstance<py::tuple>(pair) && !py::isinstance<py::list>(pair))
-    fail("show(): ", name, ": expected a path or a (V, F) pair, got ", py::repr(pair).cast<std::string>());
-  const py::sequence items = py::reinterpret_borrow<py::sequence>(pair);
-  if (items.size() != 2) fail("show(): ", name, ": expected a path or a (V, F) pair, got ", items.size(), " items");
-  return to_mesh(items[0], items[1]);
-}
-
-// A form in memory: a CanonicalForm, an (n, 3) array (the mesh's faces) or a (V, F) pair; NaN rows pass.
-Mesh form_in_memory(const py::handle& form) {
-  if (py::hasattr(form, "X") && !py::isinstance<py::array>(form))
-    return Mesh{to_points(form.attr("X"), "form.X", true), Faces(0, 3)};
-  if (py::isinstance<py::tuple>(form) || py::isinstance<py::list>(form)) {
-    const py::sequence items = py::reinterpret_borrow<py::sequence>(form);
-    if (items.size() == 2 && !py::isinstance<py::float_>(items[0]) && !py::isinstance<py::int_>(items[0]))
-      return Mesh{to_points(items[0], "form V", true), to_faces(items[1], "form F")};
+// One panel of show(): a mesh file (any format the library reads), a CanonicalForm (titled by its method), a
+// (V, F) pair, or an (n, 3) array (a form: drawn with the mesh's faces; a mesh: a point cloud). NaN rows pass
+// (vertices a method dropped). name: the argument, in messages.
+ShowPanel show_panel(const py::handle& object, const std::string& name, bool form) {
+  if (is_path(object)) {
+    const std::string path = to_path(object, name);
+    py::gil_scoped_release release;
+    return read_show_panel(path, form);
   }
-  return Mesh{to_points(form, "form", true), Faces(0, 3)};
+  if (py::hasattr(object, "X") && !py::isinstance<py::array>(object)) {
+    std::string method;
+    if (py::hasattr(object, "summary")) {
+      const py::object summary = object.attr("summary");
+      if (py::isinstance<py::dict>(summary) && summary.contains("method"))
+        method = py::str(summary["method"]).cast<std::string>();
+    }
+    return ShowPanel{Mesh{to_points(object.attr("X"), name + ".X", true), Faces(0, 3)},
+                     form_panel_title(method), ""};
+  }
+  const std::string title = form ? form_panel_title("") : "mesh";
+  if (py::isinstance<py::tuple>(object) || py::isinstance<py::list>(object)) {
+    const py::sequence items = py::reinterpret_borrow<py::sequence>(object);
+    if (items.size() == 2 && !py::isinstance<py::float_>(items[0]) && !py::isinstance<py::int_>(items[0]))
+      return ShowPanel{Mesh{to_points(items[0], name + " V", true), to_faces(items[1], name + " F")}, title,
+                       ""};
+  }
+  return ShowPanel{Mesh{to_points(object, name, true), Faces(0, 3)}, title, ""};
 }
 
 std::string show_py(const py::object& mesh, const py::object& form, const py::object& out,
-                    const py::object& title, const std::string& view) {
-  const std::string picture = to_path(out, "out");
+                    const py::object& title, const std::string& view, const py::object& labels,
+                    const py::object& figure_format) {
+  std::optional<FigureFormat> format;
+  if (!figure_format.is_none()) format = parse_figure_format(py::str(figure_format).cast<std::string>());
+  const std::string picture = picture_path(to_path(out, "out"), format);
   ShowOptions options;
   if (!title.is_none()) options.title = py::str(title).cast<std::string>();
   options.view = view;
-  if (is_path(mesh) && (form.is_none() || is_path(form))) {
-    const std::string mesh_path = to_path(mesh, "mesh");
-    const std::string form_path = form.is_none() ? "" : to_path(form, "form");
-    py::gil_scoped_release release;
-    show_mesh_files(mesh_path, form_path, picture, options);
-    return picture;
+  ShowPanel mesh_panel = show_panel(mesh, "mesh", false);
+  std::optional<ShowPanel> form_panel;
+  if (!form.is_none()) form_panel = show_panel(form, "form", true);
+  if (!labels.is_none()) {
+    CSHAPES_REQUIRE(!py::isinstance<py::str>(labels) && py::isinstance<py::sequence>(labels),
+                    "show(): labels: expected a list of panel titles (the mesh's, then the form's), got ",
+                    py::repr(labels).cast<std::string>());
+    const auto titles = labels.cast<std::vector<std::string>>();
+    CSHAPES_REQUIRE(titles.size() <= (form_panel ? 2u : 1u), "show(): labels: ", titles.size(),
+                    " titles for ", form_panel ? "2 panels" : "1 panel", " (the mesh's, then the form's)");
+    if (!titles.empty()) mesh_panel.title = titles[0];
+    if (titles.size() > 1) form_panel->title = titles[1];
   }
-  CSHAPES_REQUIRE(!is_path(mesh) && !is_path(form),
-                  "show(): mesh and form: expected two paths or two arrays, got a path and an array (read the "
-                  "file with read_mesh)");
-  const Mesh in_memory = mesh_pair(mesh, "mesh");
-  if (form.is_none()) {
-    py::gil_scoped_release release;
-    show_meshes(in_memory, nullptr, picture, options);
-  } else {
-    const Mesh form_mesh = form_in_memory(form);
-    py::gil_scoped_release release;
-    show_meshes(in_memory, &form_mesh, picture, options);
-  }
+  py::gil_scoped_release release;
+  show_panels(mesh_panel, form_panel ? &*form_panel : nullptr, picture, options);
   return picture;
 }
 
@@ -417,17 +425,22 @@ invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); r
 
 void bind_experiments(py::module_& m) {
   m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
-        py::arg("title") = py::none(), py::arg("view") = "pca",
+        py::arg("title") = py::none(), py::arg("view") = "pca", py::arg("labels") = py::none(),
+        py::arg("figure_format") = py::none(),
         R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
 
-mesh: a mesh file, or a (V, F) pair. form [None]: its canonical form, a file as `cshapes canon` writes it
-(dropped vertices: NaN rows with valid = 0), or in memory: a CanonicalForm, an (n, 3) array (drawn with the
-mesh's faces) or a (V, F) pair; NaN rows are not drawn. Both files or both in memory. The form has the mesh's
-vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates as
-red, green and blue). out: the picture, .png or .pdf, never one of the inputs; written atomically. title
-[None]: a line above the picture. view ['pca']: look along the least spread, or 'x', 'y', 'z' along that axis.
-Needs a Python with matplotlib and numpy (/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it
-cannot draw. Returns out as a str.)");
+mesh and form [None], each any of, in any mix: a file in any format cshapes reads (a form as `cshapes canon`
+writes it: dropped vertices are NaN rows with valid = 0), a CanonicalForm, a (V, F) pair, or an (n, 3) array
+(a form: drawn with the mesh's faces; a mesh: a point cloud); NaN rows are not drawn. The form has the mesh's
+vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates
+as red, green and blue). Each panel is titled: a form by its method when that is known (a CanonicalForm's, or
+the one `cshapes canon` records in its PLY: 'Coulomb canonical form'), a file by its name, else 'mesh' and
+'canonical form'; labels [None]: titles instead, [mesh's] or [mesh's, form's]. out: the picture, .png, .pdf or
+.svg, never one of the inputs; written atomically. figure_format [None]: 'png', 'pdf' or 'svg', which out's
+extension must then be (added when out has none). title [None]: a line above the picture. view ['pca']: look
+along the least spread, or 'x', 'y', 'z' along that axis. Needs a Python with matplotlib and numpy
+(/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it cannot draw. Returns the picture's path as a
+str.)");
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
         py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
