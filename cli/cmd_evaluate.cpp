@@ -2,7 +2,8 @@
 // values over the orders of the tied results, eval/retrieval.h), written by
 // eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their
 // figures pr.png, confusion.png and matrix.png (.pdf or .svg by --figure-format;
-// experiments/plots/evaluate_figures.py) when Python with matplotlib is found.
+// experiments/plots/evaluate_figures.py) when Python with matplotlib is found, each titled with what the
+// matrix is: --title, else the method, distance and data distmat recorded in the labels file.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +20,7 @@ namespace cmd_evaluate {
 namespace {
 
 struct EvaluateArgs {
-  std::string matrix, labels, output;
+  std::string matrix, labels, output, title;
   FigureFormat figure_format = FigureFormat::png;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
@@ -58,6 +59,11 @@ int run() {
   options.e_measure_depth = args.e_depth;
   RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
   report.metrics["classes_from"] = labels.empty() ? "names" : labels;
+  // What the figures say the matrix is: --title, else what distmat recorded beside the classes.
+  const MatrixDescription recorded = labels.empty() ? MatrixDescription{} : read_matrix_description(labels);
+  report.metrics["description"] = {
+      {"method", recorded.method}, {"distance", recorded.distance}, {"data", recorded.data}};
+  report.metrics["title"] = retrieval_figure_title(args.title, recorded, report);
   write_retrieval_report(args.output, input, report);
   const RetrievalResult& r = report.result;
   if (args.json) {
@@ -113,6 +119,11 @@ const bool registered = register_command(
        app.add_flag("--json", args.json, "print metrics.json to stdout");
        add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
        add_figure_format_option(app, args.figure_format);
+       app.add_option(
+           "--title", args.title,
+           "what the matrix is, in every figure's title (e.g. 'Coulomb, Hausdorff distance, TOSCA'); "
+           "default: the method, distance and data that distmat recorded in the labels file, else "
+           "'unknown method and distance'");
        add_force_flag(app, args.force);
      },
      run});
