@@ -82,7 +82,7 @@ def main():
     colors = position_colors(V, drawn_vertices(V, props))
 
     fig, axes = plt.subplots(1, len(meshes), figsize=(args.panel_size * len(meshes), args.panel_size),
-                             squeeze=False)
+                             squeeze=False, layout="constrained")
     for ax, (V, F, props), label in zip(axes[0], meshes, labels):
         keep = drawn_vertices(V, props)
         if not keep.any():
@@ -93,7 +93,6 @@ def main():
             ax.set_title(wrapped(label, args.panel_size))
     if args.title:
         fig.suptitle(wrapped(args.title, args.panel_size * len(meshes)))
-    fig.tight_layout()
     save_to(fig, args.output)
 
 
