@@ -59,6 +59,7 @@ int run() {
   WriteOptions wo;
   if (form.torn.size()) wo.scalars.push_back({"torn", form.torn});
   if (dropped_some) wo.scalars.push_back({"valid", form.valid});
+  wo.comments.push_back("method " + args.method);  // what made it: `cshapes show` titles the form by it (PLY)
   write_mesh(args.output, Mesh{form.X, input.F}, wo);
   if (!args.history.empty() && !form.history_columns.empty())
     write_csv(args.history, form.history_columns, form.history_rows);

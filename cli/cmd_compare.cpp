@@ -71,7 +71,8 @@ const bool registered = register_command(
            ->required();
        add_force_flag(app, o.force);
        add_no_draw_flag(app, args.no_draw, "pr.png");
-       app.add_flag("--pdf", o.pdf, "also write the figure as pr.pdf");
+       add_figure_format_option(app, o.figure_format);
+       add_renamed(app, "--pdf", "--figure-format pdf", false, "one option for the format of every figure");
        app.add_flag("--json", args.json, "print the summary as JSON");
      },
      run});

@@ -1,9 +1,9 @@
 // cshapes distmat DIR|manifest.csv -o D.csv --method M: canonical forms of a whole dataset (cached), ICP
 // between every pair, the paper's distance (maximum distance between matched points) as a named CSV matrix
-// and the shapes' classes beside it (D.labels.csv), which `cshapes evaluate` reads. Every option of the
-// methods (`cshapes canon`'s groups) applies here too. Under `mpirun -np R` the work is split over the ranks
-// (pipeline/dataset_distances.h); rank 0 alone prints and writes the outputs. --two-stage-k K aligns only
-// each shape's K descriptor-nearest candidates.
+// and the shapes' classes beside it (D.labels.csv, with the method, distance and data in its comment lines),
+// which `cshapes evaluate` reads. Every option of the methods (`cshapes canon`'s groups) applies here too.
+// Under `mpirun -np R` the work is split over the ranks (pipeline/dataset_distances.h); rank 0 alone prints
+// and writes the outputs. --two-stage-k K aligns only each shape's K descriptor-nearest candidates.
 #include <filesystem>
 #include <iostream>
 
@@ -11,6 +11,7 @@
 #include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/eval/distance_csv.h"
+#include "cshapes/matching/shape_distance.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/dataset_distances.h"
 #include "cshapes/pipeline/distributed.h"
@@ -68,7 +69,10 @@ int run() {
                              : args.metric == "chamfer" ? pd.chamfer
                                                         : pd.rmse;
   write_distance_csv(args.output, result.names, D);
-  write_labels_csv(labels, result.names, result.classes);
+  // What the matrix is, for the titles of `evaluate`'s figures (eval/distance_csv.h).
+  const MatrixDescription description{canonical_form_method_title(args.method),
+                                      shape_distance_title(args.metric), dataset_name(args.data)};
+  write_labels_csv(labels, result.names, result.classes, description);
   if (args.json) {
     nlohmann::json summary{{"output", args.output},
                            {"labels", labels},
@@ -113,7 +117,8 @@ const bool registered = register_command(
        add_allow_outside_flag(app, args.allow_outside);
        app.add_option("-o,--output", args.output,
                       "distance matrix CSV (header: shape names); the shapes' classes go beside it, D.csv -> "
-                      "D.labels.csv, where evaluate finds them")
+                      "D.labels.csv, where evaluate finds them (with the method, distance and data, which "
+                      "evaluate's figures name)")
            ->required();
        app.add_option("--method", args.method,
                       "one of " + canonical_form_method_list() +
@@ -123,7 +128,7 @@ const bool registered = register_command(
        add_outside_method_options(app);
        app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")
            ->capture_default_str()
-           ->check(one_of({"hausdorff", "chamfer", "rmse"}));
+           ->check(one_of(shape_distance_kinds()));
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
        app.add_flag(
            "--strict", args.strict,

@@ -1,8 +1,9 @@
 // cshapes evaluate D.csv [--labels L.csv] -o OUT: retrieval measures of a distance matrix (ties: expected
 // values over the orders of the tied results, eval/retrieval.h), written by
 // eval/retrieval_report.h (OUT/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv), and their
-// figures pr.png, confusion.png and matrix.png (experiments/plots/evaluate_figures.py) when Python with
-// matplotlib is found.
+// figures pr.png, confusion.png and matrix.png (.pdf or .svg by --figure-format;
+// experiments/plots/evaluate_figures.py) when Python with matplotlib is found, each titled with what the
+// matrix is: --title, else the method, distance and data distmat recorded in the labels file.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +20,8 @@ namespace cmd_evaluate {
 namespace {
 
 struct EvaluateArgs {
-  std::string matrix, labels, output;
+  std::string matrix, labels, output, title;
+  FigureFormat figure_format = FigureFormat::png;
   int min_class_size = RetrievalOptions{}.min_class_size;
   int e_depth = RetrievalOptions{}.e_measure_depth;
   bool json = false, no_draw = false, force = false;
@@ -57,6 +59,11 @@ int run() {
   options.e_measure_depth = args.e_depth;
   RetrievalReport report = retrieval_report(input, classes, options, args.matrix);
   report.metrics["classes_from"] = labels.empty() ? "names" : labels;
+  // What the figures say the matrix is: --title, else what distmat recorded beside the classes.
+  const MatrixDescription recorded = labels.empty() ? MatrixDescription{} : read_matrix_description(labels);
+  report.metrics["description"] = {
+      {"method", recorded.method}, {"distance", recorded.distance}, {"data", recorded.data}};
+  report.metrics["title"] = retrieval_figure_title(args.title, recorded, report);
   write_retrieval_report(args.output, input, report);
   const RetrievalResult& r = report.result;
   if (args.json) {
@@ -79,9 +86,11 @@ int run() {
   }
   note("wrote " + args.output + "/metrics.json, pr.csv, queries.csv, matrix.csv, confusion.csv");
   if (!args.no_draw) {
-    const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr.png");
+    const FigureFormat format = args.figure_format;
+    const FigureRun figures = draw_figure("evaluate_figures.py", {args.output}, args.output + "/pr", format);
     if (figures.drawn)
-      note("wrote " + args.output + "/pr.png, confusion.png, matrix.png");
+      note("wrote " + args.output + "/" + figure_file_name("pr", format) + ", " +
+           figure_file_name("confusion", format) + ", " + figure_file_name("matrix", format));
     else
       warn("no figures: " + figures.problem);
   }
@@ -109,6 +118,12 @@ const bool registered = register_command(
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
        add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
+       add_figure_format_option(app, args.figure_format);
+       app.add_option(
+           "--title", args.title,
+           "what the matrix is, in every figure's title (e.g. 'Coulomb, Hausdorff distance, TOSCA'); "
+           "default: the method, distance and data that distmat recorded in the labels file, else "
+           "'unknown method and distance'");
        add_force_flag(app, args.force);
      },
      run});

@@ -107,6 +107,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(within(invariance_limits::kTolerancePose));
        add_no_draw_flag(app, args.no_draw, "invariance.png");
+       add_figure_format_option(app, o.figure_format);
        app.add_flag(
            "--json", args.json,
            "print the verdicts and summary as JSON (invariance.json, with its \"failures\") instead of "

@@ -106,6 +106,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(within(noise_limits::kRelax));
        add_no_draw_flag(app, args.no_draw, "noise.png");
+       add_figure_format_option(app, o.figure_format);
        app.add_flag(
            "--strict", o.canon.strict,
            "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "

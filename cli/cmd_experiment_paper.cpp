@@ -101,6 +101,7 @@ const bool registered = register_command(
        add_renamed(app, "--no-figure", "--no-draw", false);
        app.add_flag("--no-draw", args.no_draw,
                     "write the figures' data but do not draw them (drawing needs Python with matplotlib)");
+       add_figure_format_option(app, o.figure_format);
        app.add_option("--figure-vertices", o.figure_vertices,
                       "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
            ->capture_default_str()

@@ -71,6 +71,7 @@ const bool registered = register_command(
            ->check(number_in(0.001, 1.0));
        app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
        add_no_draw_flag(app, args.no_draw, "pose_residuals.png");
+       add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json,
                     "print the summary as JSON (with its \"failures\") instead of pose.md");
        app.add_flag(

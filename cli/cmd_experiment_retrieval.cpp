@@ -86,6 +86,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(2, 1000000));
        add_no_draw_flag(app, args.no_draw, "the figures");
+       add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);

@@ -109,6 +109,7 @@ const bool registered = register_command(
            "with no geodesic fallback; and refuse a mesh a method would have to repair (kid00's "
            "non-manifold edge, ...)");
        add_no_draw_flag(app, args.no_draw, "topkids.png");
+       add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);

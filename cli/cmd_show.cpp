@@ -1,5 +1,8 @@
-// cshapes show MESH [FORM] -o PICTURE.png [--title TEXT] [--view pca|x|y|z]: a picture of a mesh, or of a
-// mesh and its canonical form side by side with the same colour per vertex (experiments/show_mesh.h).
+// cshapes show MESH [FORM] -o PICTURE.png [--title TEXT] [--label TEXT]... [--view pca|x|y|z]
+// [--figure-format png|pdf|svg]: a picture of a mesh, or of a mesh and its canonical form side by side with
+// the same colour per vertex (experiments/show_mesh.h).
+#include <optional>
+
 #include "cli/command.h"
 #include "cshapes/experiments/show_mesh.h"
 
@@ -9,37 +12,63 @@ namespace {
 
 struct ShowArgs {
   std::string mesh, form, output;
+  std::vector<std::string> labels;
+  FigureFormat figure_format = FigureFormat::png;
   ShowOptions options;
 } args;
 
 int run() {
-  require_output_not_input(args.output, {args.mesh, args.form}, "-o");
-  require_output_path(args.output, show_picture_extensions());
-  show_mesh_files(args.mesh, args.form, args.output, args.options);
-  note("wrote " + args.output);
+  if (args.labels.size() > (args.form.empty() ? 1u : 2u))
+    usage_fail("--label: ", args.labels.size(), " titles for ", args.form.empty() ? "1 panel" : "2 panels",
+               " (one --label per panel: the mesh's, then the form's)");
+  std::optional<FigureFormat> format;
+  if (option_given("--figure-format")) format = args.figure_format;
+  std::string picture;
+  try {
+    picture = picture_path(args.output, format);
+  } catch (const Error& e) {
+    throw UsageError(std::string("-o: ") + e.what());
+  }
+  require_output_not_input(picture, {args.mesh, args.form}, "-o");
+  require_output_path(picture, show_picture_extensions());
+  ShowPanel mesh = read_show_panel(args.mesh);
+  std::optional<ShowPanel> form;
+  if (!args.form.empty()) form = read_show_panel(args.form, true);
+  if (!args.labels.empty()) mesh.title = args.labels[0];
+  if (args.labels.size() > 1) form->title = args.labels[1];
+  show_panels(mesh, form ? &*form : nullptr, picture, args.options);
+  note("wrote " + picture);
   return kExitOk;
 }
 
 const bool registered = register_command(
     {{"show"},
-     "Draw a mesh, or a mesh and its canonical form side by side with the same colour per vertex (PNG or "
-     "PDF; needs a Python with matplotlib)",
+     "Draw a mesh, or a mesh and its canonical form side by side with the same colour per vertex (PNG, PDF "
+     "or SVG; needs a Python with matplotlib)",
      [](CLI::App& app) {
-       app.add_option("MESH", args.mesh, "the mesh")->required();
+       app.add_option("MESH", args.mesh, "the mesh, in any format cshapes reads")->required();
        app.add_option("FORM", args.form,
                       "its canonical form (as `cshapes canon` writes it: one vertex row per vertex of MESH; "
                       "dropped vertices, valid = 0, are not drawn)");
-       app.add_option("-o,--output", args.output,
-                      "the picture, .png or .pdf; each vertex coloured by its place on MESH (principal "
-                      "coordinates as red, green, blue)")
+       app.add_option(
+              "-o,--output", args.output,
+              "the picture, .png, .pdf or .svg (without an extension: --figure-format's); each vertex "
+              "coloured by its place on MESH (principal coordinates as red, green, blue)")
            ->required();
        app.add_option("--title", args.options.title, "a line above the picture");
+       app.add_option(
+              "--label", args.labels,
+              "a panel's title, once per panel: the mesh's, then the form's (default: the mesh's file "
+              "name; the form's method when its file records it, as `cshapes canon`'s PLY does, else "
+              "its file name)")
+           ->allow_extra_args(false);
        app.add_option(
               "--view", args.options.view,
               "pca: look along the direction of least spread, the longest extent horizontal; x, y, z: "
               "along that axis")
            ->capture_default_str()
            ->check(one_of(show_views()));
+       add_figure_format_option(app, args.figure_format);
      },
      run});
 

@@ -20,6 +20,7 @@
 
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
+#include "cshapes/support/figure_format.h"
 #include "cshapes/mesh/io.h"
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/option_limits.h"
@@ -77,6 +78,9 @@ void add_resample_option(CLI::App& app, Index& vertices);
 // `--no-draw`; add_renamed keeps an old spelling only to refuse it (exit 2) with a hint naming the new one;
 // `takes_value`: whether the old spelling took a value.
 void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures);
+// `--figure-format png|pdf|svg` on every command that draws: the format, and so the extension, of its figures
+// (support/figure_format.h; the figure scripts' --format); its default is `format`'s value (png).
+CLI::Option* add_figure_format_option(CLI::App& app, FigureFormat& format);
 // `--out DIR` for a command whose output is a folder, with its old spellings `-o` and `--output` refused.
 CLI::Option* add_out_folder_option(CLI::App& app, std::string& folder, const std::string& help);
 // The titles of the registered methods, "Coulomb, classical MDS, …" (`separator` between them, " or " before

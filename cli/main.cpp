@@ -209,6 +209,16 @@ void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) 
   add_renamed(app, "--no-figure", "--no-draw", false);
 }
 
+CLI::Option* add_figure_format_option(CLI::App& app, FigureFormat& format) {
+  return app
+      .add_option_function<std::string>(
+          "--figure-format", [&format](const std::string& name) { format = parse_figure_format(name); },
+          "the figures' format and extension: png, or pdf or svg for a paper (lines and text stay vectors, "
+          "text stays text)")
+      ->check(one_of(figure_format_names()))
+      ->default_str(to_string(format));
+}
+
 CLI::Option* add_out_folder_option(CLI::App& app, std::string& folder, const std::string& help) {
   for (const char* old : {"-o", "--output"})
     add_renamed(app, old, "--out", true, "an output folder is --out in every command, -o a file");

@@ -376,6 +376,20 @@ std::vector<std::string> dataset_description_files(const std::string& path) {
   return {path};
 }
 
+std::string dataset_name(const std::string& path) {
+  fs::path p = fs::path(path).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();  // "tosca5k/"
+  if (p.filename() == "." || p.empty()) p = fs::absolute(p).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) return p.filename().string();
+  if (p.filename() == "manifest.csv") {
+    const fs::path folder = fs::absolute(p).lexically_normal().parent_path();
+    if (!folder.filename().empty()) return folder.filename().string();
+  }
+  return p.stem().string();
+}
+
 void write_manifest(const std::string& manifest_path, const std::vector<DatasetEntry>& entries) {
   const fs::path folder = fs::path(manifest_path).parent_path();
   write_file_atomically(manifest_path, [&](std::ostream& out) {

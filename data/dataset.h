@@ -80,6 +80,11 @@ std::vector<std::string> same_content_notes(const Dataset& d);
 // meshes. No file is read: for checks before any work (check_output_not_input).
 std::vector<std::string> dataset_description_files(const std::string& path);
 
+// The name of the dataset at `path` in titles and reports: a folder's name ("tosca5k"), the folder's name of
+// a manifest.csv, the stem of any other file (a .cla file: "test"). Trailing slashes and "." are resolved
+// lexically; no file is read.
+std::string dataset_name(const std::string& path);
+
 // The class of a file name: the stem without trailing digits and a separator before them ("michael12" ->
 // "michael", "horse_7" -> "horse"); the whole stem when it has no non-digit character.
 std::string class_from_name(const std::string& stem);

@@ -231,8 +231,49 @@ std::string labels_path_for(const std::string& matrix_path) {
   return path.replace_extension(".labels.csv").string();
 }
 
+namespace {
+
+// The description's fields with their names in the labels file, in the order they are written.
+std::vector<std::pair<const char*, std::string*>> description_fields(MatrixDescription& d) {
+  return {{"method", &d.method}, {"distance", &d.distance}, {"data", &d.data}};
+}
+
+}  // namespace
+
+MatrixDescription read_matrix_description(const std::string& labels_path) {
+  MatrixDescription description;
+  std::istringstream in(read_text_file(labels_path));
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] != '#') continue;
+    const std::string comment = trim(t.substr(1));
+    const size_t colon = comment.find(':');
+    if (colon == std::string::npos) continue;
+    for (const auto& [name, field] : description_fields(description))
+      if (comment.compare(0, colon, name) == 0 && std::string(name).size() == colon)
+        *field = trim(comment.substr(colon + 1));
+  }
+  return description;
+}
+
+std::string matrix_description_text(const MatrixDescription& description) {
+  std::string text;
+  const auto add = [&](const std::string& part) {
+    if (!part.empty()) text += (text.empty() ? "" : ", ") + part;
+  };
+  add(description.method);
+  add(description.distance.empty() ? "" : description.distance + " distance");
+  add(description.data);
+  return text;
+}
+
 void write_labels_csv(const std::string& path, const std::vector<std::string>& names,
-                      const std::vector<std::string>& classes) {
+                      const std::vector<std::string>& classes, const MatrixDescription& description) {
+  MatrixDescription recorded = description;
+  for (const auto& [name, field] : description_fields(recorded))
+    CSHAPES_REQUIRE(field->find_first_of("\r\n") == std::string::npos, path, ": the matrix's ", name, " '",
+                    *field, "' holds a line break");
   CSHAPES_REQUIRE(names.size() == classes.size(), path, ": ", names.size(), " names but ", classes.size(),
                   " classes");
   for (size_t i = 0; i < names.size(); ++i)
@@ -241,6 +282,8 @@ void write_labels_csv(const std::string& path, const std::vector<std::string>& n
                       text == &names[i] ? "shape name" : "class", " '", *text, "' of shape ", i + 1,
                       " is empty or contains a separator");
   write_file_atomically(path, [&](std::ostream& out) {
+    for (const auto& [name, field] : description_fields(recorded))
+      if (!field->empty()) out << "# " << name << ": " << *field << '\n';
     out << "name,class\n";
     for (size_t i = 0; i < names.size(); ++i) out << names[i] << ',' << classes[i] << '\n';
   });

@@ -59,9 +59,28 @@ std::vector<std::string> read_labels_csv(const std::string& path, const std::vec
 // D.labels.csv. `cshapes distmat` writes it beside every matrix, and `cshapes evaluate` reads it when no
 // --labels is given, so the classes of a manifest reach the measures whatever the file names.
 std::string labels_path_for(const std::string& matrix_path);
-// Writes "name,class" lines under the header "name,class" (what read_labels_csv reads), atomically. Throws
-// naming the file on a name or class that is empty or holds a separator.
+// What a distance matrix measures, in words for figures and reports: `cshapes distmat` records it in the
+// labels file it writes beside the matrix, as comment lines above the header that every reader of the file
+// skips
+//   # method: Coulomb
+//   # distance: Hausdorff
+//   # data: tosca5k
+// and `cshapes evaluate` names it in its figures' titles. An empty field: not recorded.
+struct MatrixDescription {
+  std::string method;    // the method's title ("Coulomb", "classical MDS")
+  std::string distance;  // the distance between shapes ("Hausdorff")
+  std::string data;      // the collection ("tosca5k")
+};
+// The description in a labels file's comment lines (the fields above, each on a line "# FIELD: VALUE");
+// empty fields for a file without them. Throws naming the file when it cannot be read.
+MatrixDescription read_matrix_description(const std::string& labels_path);
+// "Coulomb, Hausdorff distance, tosca5k": the fields recorded, in that order; "" when none is.
+std::string matrix_description_text(const MatrixDescription& description);
+
+// Writes "name,class" lines under the header "name,class" (what read_labels_csv reads), atomically, with the
+// description's recorded fields as comment lines above them. Throws naming the file on a name or class that
+// is empty or holds a separator, or a description field that holds a line break.
 void write_labels_csv(const std::string& path, const std::vector<std::string>& names,
-                      const std::vector<std::string>& classes);
+                      const std::vector<std::string>& classes, const MatrixDescription& description = {});
 
 }  // namespace cshapes

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cshapes/support/atomic_file.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -60,13 +61,37 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
   metrics["classes"] = per_class;
   metrics["conventions"] = kRetrievalConventions;
   metrics["min_class_size"] = options.min_class_size;
+  // matrix.csv's rows class by class: the figure labels and outlines each block.
+  nlohmann::json blocks = nlohmann::json::array();
+  const DistanceMatrixImage& image = report.image;
+  for (size_t b = 0; b + 1 < image.class_starts.size(); ++b) {
+    const int first = image.class_starts[b], end = image.class_starts[b + 1];
+    if (end <= first) continue;
+    const int label = report.labels[static_cast<size_t>(image.order[static_cast<size_t>(first)])];
+    blocks.push_back({{"class", report.class_names[static_cast<size_t>(label)]},
+                      {"first", first},
+                      {"count", end - first}});
+  }
+  metrics["class_blocks"] = blocks;
 
   return report;
 }
 
 std::vector<std::string> retrieval_report_files() {
-  return {"metrics.json",  "pr.csv", "queries.csv",   "matrix.csv",
-          "confusion.csv", "pr.png", "confusion.png", "matrix.png"};
+  std::vector<std::string> files = {"metrics.json", "pr.csv", "queries.csv", "matrix.csv", "confusion.csv"};
+  for (const std::string& format : figure_format_names())
+    for (const char* figure : {"pr", "confusion", "matrix"})
+      files.push_back(std::string(figure) + "." + format);
+  return files;
+}
+
+std::string retrieval_figure_title(const std::string& given, const MatrixDescription& recorded,
+                                   const RetrievalReport& report) {
+  if (!given.empty()) return given;
+  const std::string described = matrix_description_text(recorded);
+  return (described.empty() ? std::string("unknown method and distance") : described) + ": " +
+         std::to_string(report.labels.size()) + " shapes, " + std::to_string(report.class_names.size()) +
+         " classes";
 }
 
 void write_retrieval_report(const std::string& folder, const NamedDistances& input,

@@ -1,7 +1,8 @@
 // Retrieval measures of a named distance matrix as files and JSON: what `cshapes evaluate` writes and the
 // Python module returns (eval/retrieval.h computes them).
 //
-//   metrics.json   map, nn, ft, st, e, dcg, the PR curve, per-class values, the conventions
+//   metrics.json   map, nn, ft, st, e, dcg, the PR curve, per-class values, the conventions, the class blocks
+//                  of matrix.csv ("class_blocks": class, first row, count)
 //   pr.csv         recall, precision (interpolated, 11 points)
 //   queries.csv    per query: shape, class, nn, ft, st, e, dcg, ap
 //   matrix.csv     the matrix grouped by class and normalised (the paper's Fig. 7 image)
@@ -43,8 +44,15 @@ RetrievalReport retrieval_report(const NamedDistances& input, const std::vector<
                                  const RetrievalOptions& options = {}, const std::string& source = "");
 
 // The names of the five files above, as write_retrieval_report writes them, and of the figures `cshapes
-// evaluate` draws from them (pr.png, confusion.png, matrix.png): the outputs a run must not take as inputs.
+// evaluate` draws from them (pr, confusion and matrix, as .png, .pdf and .svg): the outputs a run must not
+// take as inputs.
 std::vector<std::string> retrieval_report_files();
+
+// What the figures of `cshapes evaluate` say the matrix is, in their titles: `given` as it is (its --title);
+// else the recorded description (matrix_description_text) with the counts, "Coulomb, Hausdorff distance,
+// tosca5k: 24 shapes, 8 classes"; else "unknown method and distance: 24 shapes, 8 classes".
+std::string retrieval_figure_title(const std::string& given, const MatrixDescription& recorded,
+                                   const RetrievalReport& report);
 
 // Writes the five files above into `folder` (each atomically).
 void write_retrieval_report(const std::string& folder, const NamedDistances& input,

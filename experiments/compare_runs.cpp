@@ -313,18 +313,16 @@ void write_compare_json(const CompareRunsResult& r, const std::string& folder) {
                                                        {"build", build_json()}});
 }
 
-void draw_compare_figure(CompareRunsResult& r, const std::string& folder, bool pdf) {
-  std::vector<std::string> args = {folder};
-  if (pdf) args.push_back("--pdf");
-  const FigureRun drawn = draw_figure("compare_figure.py", args, (fs::path(folder) / "pr.png").string());
+void draw_compare_figure(CompareRunsResult& r, const std::string& folder, FigureFormat format) {
+  const FigureRun drawn =
+      draw_figure("compare_figure.py", {folder}, (fs::path(folder) / "pr").string(), format);
   r.figures.clear();
   if (!drawn.drawn) {
     r.figures_note = drawn.problem;
     return;
   }
   r.figures_note.clear();
-  r.figures.push_back("pr.png");
-  if (pdf && fs::exists(fs::path(folder) / "pr.pdf")) r.figures.push_back("pr.pdf");
+  r.figures.push_back(figure_file_name("pr", format));
 }
 
 void write_compare_report(const CompareRunsResult& r, const std::string& folder) {
@@ -382,12 +380,11 @@ void write_compare_report(const CompareRunsResult& r, const std::string& folder)
   }
   out << "## Figure\n\n";
   if (r.figures.empty()) out << "Not drawn: " << r.figures_note << "\n\n";
-  for (const std::string& f : r.figures)
-    if (f.size() > 4 && f.substr(f.size() - 4) == ".png") out << "![" << f << "](" << f << ")\n\n";
+  for (const std::string& f : r.figures) out << figure_markdown(f, f) << "\n\n";
   out << "## Files\n\n"
          "- `compare.json`: the table above with each method's PR curves and per-class measures, the runs\n"
-         "- `pr.png`: the PR curves, one panel per distance, every method (`pr.pdf` too when asked); "
-         "`methods.json`: the methods' titles the figure uses\n"
+         "- `pr.png` (`pr.pdf`, `pr.svg` with `--figure-format`): the PR curves, one panel per distance, "
+         "every method; `methods.json`: the methods' titles the figure uses\n"
          "- each run's own folder holds its matrices, per-class tables, confusion matrices and failures\n";
   ExperimentFolder(folder).write_text("report.md", out.str());
 }
@@ -405,7 +402,7 @@ CompareRunsResult compare_runs(const CompareRunsOptions& o) {
   OutputRun output(o.out, "compare", {}, o.force);
   write_compare_json(r, o.out);
   if (o.figures) {
-    draw_compare_figure(r, o.out, o.pdf);
+    draw_compare_figure(r, o.out, o.figure_format);
     if (!r.figures_note.empty()) say(o.note, "no figure: " + r.figures_note);
   } else {
     r.figures_note = "not requested (--no-draw)";

@@ -19,7 +19,8 @@
 //   compare.json  the same with each method's PR curves and per-class measures, the runs and the inputs'
 //   digest pr.png        the PR curves of every method, one panel per distance
 //   (experiments/plots/compare_figure.py,
-//                 retrieval_figures.py's drawing; pr.pdf too with `pdf`); methods.json beside it
+//                 retrieval_figures.py's drawing; pr.pdf or pr.svg by `figure_format`); methods.json
+//                 beside it
 #pragma once
 
 #include <map>
@@ -29,6 +30,7 @@
 
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/support/progress.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -38,8 +40,9 @@ struct CompareRunsOptions {
   std::string out;  // output folder; may not be one of the runs, nor inside one, nor hold one
   // Write into `out` although it holds files cshapes did not write (support/output_folder.h); they stay.
   bool force = false;
-  bool figures = true;  // draw pr.png (when matplotlib is found)
-  bool pdf = false;     // also pr.pdf
+  bool figures = true;  // draw the PR figure (when matplotlib is found)
+  // Its format: pr.png, pr.pdf or pr.svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   NoteFn note;          // one line per run read
 };
 
@@ -80,8 +83,10 @@ CompareRunsResult read_compared_runs(const std::vector<std::string>& runs);
 
 // compare.json in folder (what the figure script reads; written atomically).
 void write_compare_json(const CompareRunsResult& result, const std::string& folder);
-// pr.png (and pr.pdf) in folder from its compare.json; records what was drawn, or why not, in result.
-void draw_compare_figure(CompareRunsResult& result, const std::string& folder, bool pdf = false);
+// pr.png (pr.pdf, pr.svg: `format`) in folder from its compare.json; records what was drawn, or why not, in
+// result.
+void draw_compare_figure(CompareRunsResult& result, const std::string& folder,
+                         FigureFormat format = FigureFormat::png);
 // report.md in folder from the result alone.
 void write_compare_report(const CompareRunsResult& result, const std::string& folder);
 

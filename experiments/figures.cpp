@@ -1,6 +1,7 @@
 #include "cshapes/experiments/figures.h"
 
 #include <dlfcn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -96,6 +97,29 @@ std::string last_line_of(const std::string& path) {
   return last;
 }
 
+// What a script said when it failed, as its own words: the last line of a Python traceback without the
+// exception's class ("ValueError: x.obj: ..." -> "x.obj: ..."), a sys.exit message as it is.
+std::string said_without_exception_class(const std::string& line) {
+  const size_t colon = line.find(": ");
+  if (colon == std::string::npos || colon == 0) return line;
+  const std::string name = line.substr(0, colon);
+  const bool identifier =
+      name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.") ==
+      std::string::npos;
+  const bool exception =
+      name.size() > 5 && (name.compare(name.size() - 5, 5, "Error") == 0 ||
+                          (name.size() > 9 && name.compare(name.size() - 9, 9, "Exception") == 0));
+  return identifier && exception ? line.substr(colon + 2) : line;
+}
+
+// Why `system` reported a failure, in words: "exited with status 2", "was killed by signal 9".
+std::string status_text(int status) {
+  if (status == -1) return "could not be started";
+  if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return "was killed by signal " + std::to_string(WTERMSIG(status));
+  return "failed";
+}
+
 }  // namespace
 
 FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
@@ -127,18 +151,32 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
   const int status = std::system(command.c_str());
   run.drawn = status == 0 && fs::exists(expected, ec);
   if (!run.drawn) {
-    const std::string said = last_line_of(errors.string());
-    run.problem = "`" + python + " " + path + "` failed (exit status " + std::to_string(status) +
-                  (said.empty() ? std::string() : ": " + said) + "); run it by hand to see why";
+    // The script's own last words when it said any; else how it ended. Either way, the command to see it all.
+    const std::string said = said_without_exception_class(last_line_of(errors.string()));
+    const std::string how =
+        status == 0 ? "wrote no " + fs::path(expected).filename().string() : status_text(status);
+    run.problem = script + ": " + (said.empty() || status == 0 ? how : said) + " (`" + python + " " + path +
+                  "` " + (said.empty() || status == 0 ? "" : how + "; ") +
+                  "run it by hand to see all it printed)";
   }
   fs::remove(errors, ec);
   return run;
 }
 
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& expected) {
-  if (!figure_script_path(script).empty()) write_method_titles(fs::path(expected).parent_path().string());
-  return run_figure_script(script, args, expected);
+                      const std::string& figure, FigureFormat format) {
+  const fs::path path(figure);
+  if (!figure_script_path(script).empty()) write_method_titles(path.parent_path().string());
+  std::vector<std::string> with_format = args;
+  with_format.push_back("--format=" + to_string(format));
+  return run_figure_script(
+      script, with_format,
+      (path.parent_path() / figure_file_name(path.filename().string(), format)).string());
+}
+
+std::string figure_markdown(const std::string& caption, const std::string& file) {
+  const bool pdf = fs::path(file).extension() == ".pdf";
+  return pdf ? "[" + caption + " (PDF)](" + file + ")" : "![" + caption + "](" + file + ")";
 }
 
 }  // namespace cshapes

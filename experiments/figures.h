@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/support/figure_format.h"
+
 namespace cshapes {
 
 // The folder of the figure scripts; "" when none is found.
@@ -41,9 +43,15 @@ struct FigureRun {
 // line it printed on stderr.
 FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
                             const std::string& expected);
-// run_figure_script for the experiments' figures: writes methods.json beside `expected` first
-// (write_method_titles), so the script names every method as the tables do.
+// run_figure_script for every figure a command draws, in `format`: the script is given `--format=FORMAT`
+// after `args` (figure_style.py's add_format_argument), and `figure` is the path of the figure it writes last
+// without its extension (OUT/noise: drawn when OUT/noise.svg exists afterwards). methods.json is written into
+// that figure's folder first (write_method_titles), so the script names every method as the tables do.
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& expected);
+                      const std::string& figure, FigureFormat format);
+
+// A figure's line in a report.md: "![caption](file)" for a picture Markdown shows (PNG, SVG), "[caption
+// (PDF)](file)", a link, for a PDF, which no Markdown viewer shows inline.
+std::string figure_markdown(const std::string& caption, const std::string& file);
 
 }  // namespace cshapes

@@ -349,9 +349,10 @@ void draw_invariance_figure(InvarianceResult& result, const InvarianceOptions& o
     result.figure_problem = "no form was compared";
     return;
   }
-  const FigureRun drawn = draw_figure("invariance_figure.py", {options.out},
-                                      ExperimentFolder(options.out).path("invariance.png"));
-  if (drawn.drawn) result.figure = "invariance.png";
+  const FigureRun drawn =
+      draw_figure("invariance_figure.py", {options.out}, ExperimentFolder(options.out).path("invariance"),
+                  options.figure_format);
+  if (drawn.drawn) result.figure = figure_file_name("invariance", options.figure_format);
   result.figure_problem = drawn.problem;
 }
 

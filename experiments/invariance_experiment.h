@@ -57,6 +57,7 @@
 #include "cshapes/pipeline/shape_failures.h"
 #include "cshapes/support/option_limits.h"
 #include "cshapes/support/progress.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -94,6 +95,8 @@ struct InvarianceOptions {
   IcpOptions icp;  // the alignment of the remeshes' forms and of the pose pairs (`cshapes align`'s defaults)
   // draw_invariance_figure draws OUT/invariance.png; false: it records "not requested (--no-draw)" instead.
   bool figure = true;
+  // The figure's format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   ProgressFn progress;  // stage "invariance": (cases done, cases) over every resolution and shape
   NoteFn note;          // one line per shape and resolution
 };
@@ -151,7 +154,7 @@ struct InvarianceResult {
   std::vector<InvarianceSummaryRow> summary;  // per resolution, method, then transformation in CSV order
   std::vector<InvarianceVerdict> verdicts;    // per method: each resolution, then "all" (resolution −1)
   std::vector<ShapeFailure> failures;
-  std::string figure;          // "invariance.png" when drawn, else ""
+  std::string figure;          // "invariance.png" (.pdf, .svg: options.figure_format) when drawn, else ""
   std::string figure_problem;  // why not
   double seconds = 0;
 };

@@ -10,6 +10,7 @@
 #include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/support/csv.h"
 #include "cshapes/support/format.h"
+#include "cshapes/experiments/figures.h"
 
 namespace cshapes {
 
@@ -305,8 +306,8 @@ std::string invariance_markdown(const InvarianceResult& r, const InvarianceOptio
   for (Index n : r.resolutions) md << resolution_markdown(r, n);
   md << convergence_markdown(r) << "\n## Figure\n\n";
   if (!r.figure.empty())
-    md << "![invariance](" << r.figure
-       << ")\n\nRMSE per transformation (log scale), one colour per method "
+    md << figure_markdown("invariance", r.figure)
+       << "\n\nRMSE per transformation (log scale), one colour per method "
           "(small dots: every row; large: the largest); the tolerance floor as a grey dashed line over the "
           "exact "
           "transformations (a method whose tolerance is above it, its own dashed line), the pose variation "

@@ -461,7 +461,8 @@ NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
   if (!o.figure) {
     result.figure_note = "not requested (`--no-draw`).";
   } else {
-    const FigureRun drawn = draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise.png").string());
+    const FigureRun drawn =
+        draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise").string(), o.figure_format);
     result.figure = drawn.drawn;
     result.figure_note = drawn.problem.empty() ? "" : drawn.problem + ".";
   }

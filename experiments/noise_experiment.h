@@ -45,6 +45,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -69,6 +70,8 @@ struct NoiseExperimentOptions {
   CanonicalFormOptions canon = experiment_canonical_form_options();
   // Draw noise.png (experiments/plots/noise_figure.py, by experiments/figures.h) after the data is written.
   bool figure = true;
+  // The figure's format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   ProgressFn progress;                           // stages "canonical forms", "distances"
   std::function<void(const std::string&)> note;  // one line of progress text
 };
@@ -120,7 +123,7 @@ struct NoiseExperimentResult {
   long glued_computed = 0, glued_cached = 0;
   long canonical_forms_computed = 0, canonical_forms_cached = 0;
   long pairs_computed = 0, pairs_cached = 0;
-  bool figure = false;      // noise.png was drawn
+  bool figure = false;      // noise.png (.pdf, .svg: options.figure_format) was drawn
   std::string figure_note;  // why not, when not
   double seconds = 0;
   // Poses that could not be read and shapes (clean poses or glued versions) whose form failed by some method,

@@ -184,7 +184,9 @@ void write_noise_report(const NoiseExperimentResult& r, const std::string& folde
   }
   md << ".\n\n";
   if (r.figure)
-    md << "![mAP and form distance against the number of glues](noise.png)\n\n";
+    md << figure_markdown("mAP and form distance against the number of glues",
+                          figure_file_name("noise", o.figure_format))
+       << "\n\n";
   else
     md << "No figure: " << r.figure_note << "\n\n";
 

@@ -555,7 +555,8 @@ void draw_paper_figures(PaperReport& report) {
     return;
   }
   const FigureRun drawn =
-      draw_figure("paper_figures.py", {out}, (fs::path(out) / (report.figures.front() + ".png")).string());
+      draw_figure("paper_figures.py", {out}, (fs::path(out) / report.figures.front()).string(),
+                  report.options.figure_format);
   report.figures_drawn = drawn.drawn;
   report.figures_note = drawn.problem;
 }

@@ -30,6 +30,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -59,9 +60,11 @@ struct PaperExperimentOptions {
   bool table1 = true;      // measure Table 1 (remeshes to 3,505 and 22,738 vertices)
   int timing_repeats = 5;  // Table 1: runs per median
   bool figures = true;     // compute the data of Figures 2, 3, 4, 5
-  // Draw every figure (PNG beside report.md: experiments/plots/paper_figures.py, through experiments/figures.h)
+  // Draw every figure (beside report.md: experiments/plots/paper_figures.py, through experiments/figures.h)
   // when a Python with matplotlib is found; report.md says when they could not be drawn, and how to.
   bool draw = true;
+  // The figures' format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   // Figures 3 and 5: remesh their shape to this many vertices first; 0: the data's own resolution (tosca5k:
   // 5,000 vertices, about 23 s for both figures' 13,000 outer iterations).
   int figure_vertices = 0;

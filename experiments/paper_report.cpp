@@ -3,6 +3,7 @@
 #include "cshapes/experiments/paper_report.h"
 
 #include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/experiments/figures.h"
 #include "cshapes/pipeline/experiment_kit.h"
 
 #include <algorithm>
@@ -61,18 +62,21 @@ struct ReportText {
   std::map<std::string, double> noise_rms;  // per method: median RMS noisy vs clean (the noise section's)
 };
 
-// A figure of this run that was drawn: its PNG beside report.md is linked; one that was not drawn (no
-// --draw, no matplotlib, no data for it in this run) is not, so that every link resolves.
+// A figure of this run that was drawn: its file beside report.md (PNG, PDF or SVG: options.figure_format) is
+// linked; one that was not drawn (no --draw, no matplotlib, no data for it in this run) is not, so that every
+// link resolves.
 bool drawn(const ReportText& t, const std::string& name) {
   const auto& f = t.r.figures;
   return t.r.figures_drawn && std::find(f.begin(), f.end(), name) != f.end() &&
-         std::filesystem::exists(std::filesystem::path(t.r.options.out) / (name + ".png"));
+         std::filesystem::exists(std::filesystem::path(t.r.options.out) /
+                                 figure_file_name(name, t.r.options.figure_format));
 }
 
-// The links of the drawn figures among `figures` ({file name, caption}).
+// The links of the drawn figures among `figures` ({name, caption}).
 void figure_links(ReportText& t, const std::vector<std::pair<std::string, std::string>>& figures) {
   for (const auto& [name, caption] : figures)
-    if (drawn(t, name)) t.md << "![" << caption << "](" << name << ".png)\n\n";
+    if (drawn(t, name))
+      t.md << figure_markdown(caption, figure_file_name(name, t.r.options.figure_format)) << "\n\n";
 }
 
 // " (Fig. 7, Fig. 8)" for the figures of this run among `figures`, "" when none.
@@ -117,7 +121,8 @@ void header_and_setup(ReportText& t) {
      << " canonical forms computed, " << r.summary.canonical_forms_cached << " from the cache; "
      << r.summary.pairs_computed << " ICP pairs computed, " << r.summary.pairs_cached << " cached). ";
   if (r.figures_drawn)
-    md << "The figures (PNG beside this report) were drawn by `paper_figures.py` from the CSV/JSON files "
+    md << "The figures (." << to_string(o.figure_format)
+       << " files beside this report) were drawn by `paper_figures.py` from the CSV/JSON files "
           "beside it.\n\n";
   else
     md << "**The figures were not drawn**: " << r.figures_note

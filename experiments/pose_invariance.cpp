@@ -551,9 +551,10 @@ void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions&
   } else if (!options.figure) {
     result.figure_problem = "not requested (--no-draw)";
   } else {
-    const FigureRun drawn = draw_figure("pose_figure.py", {options.out},
-                                        ExperimentFolder(options.out).path("pose_residuals.png"));
-    if (drawn.drawn) result.figure = "pose_residuals.png";
+    const FigureRun drawn =
+        draw_figure("pose_figure.py", {options.out}, ExperimentFolder(options.out).path("pose_residuals"),
+                    options.figure_format);
+    if (drawn.drawn) result.figure = figure_file_name("pose_residuals", options.figure_format);
     result.figure_problem = drawn.problem;
   }
 }

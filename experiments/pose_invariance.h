@@ -70,6 +70,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -95,6 +96,8 @@ struct PoseInvarianceOptions {
   GeodesicPartsOptions part_finder;  // how the parts are found on each class's first pose
   // draw_pose_figure draws OUT/pose_residuals.png; false: it records "not requested (--no-draw)" instead.
   bool figure = true;
+  // The figure's format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   std::function<void(const std::string&)> note;  // one line per shape and pair
 };
 
@@ -187,7 +190,7 @@ struct PoseInvarianceResult {
   std::vector<PosePartRow> parts;                // options.parts: per pair, form and part
   std::vector<PosePartSummaryRow> part_summary;  // per class, part and form
   PoseFigurePair figure_pair;                    // empty a, b when no pair was measured
-  std::string figure;          // "pose_residuals.png" when draw_pose_figure drew it, else ""
+  std::string figure;          // "pose_residuals.png" (.pdf, .svg) when draw_pose_figure drew it, else ""
   std::string figure_problem;  // why it was not drawn
 };
 

@@ -10,6 +10,7 @@
 #include "cshapes/support/csv.h"
 #include "cshapes/support/format.h"
 #include "cshapes/support/timing.h"
+#include "cshapes/experiments/figures.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes {
@@ -223,13 +224,13 @@ std::string parts_markdown(const PoseInvarianceResult& result, const PoseInvaria
 }
 
 // The figure, or why there is none, and how to draw it.
-std::string figure_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
+std::string residuals_markdown(const PoseInvarianceResult& result, const PoseInvarianceOptions& o) {
   const PoseFigurePair& fig = result.figure_pair;
   if (fig.a.empty()) return "";
   std::ostringstream md;
   md << "\n## Residuals of one pair\n\n";
   if (!result.figure.empty())
-    md << "![residuals of " << fig.a << "-" << fig.b << "](" << result.figure << ")\n\n";
+    md << figure_markdown("residuals of " + fig.a + "-" + fig.b, result.figure) << "\n\n";
   else
     md << "No figure (" << result.figure_problem << ").\n\n";
   md << fig.a << " against " << fig.b << " (class " << fig.class_name << "), " << fig.chosen_by
@@ -353,7 +354,7 @@ std::string pose_invariance_markdown(const PoseInvarianceResult& result, const P
        << (r.form == "input" ? "—" : fixed(r.max_stretch, 2)) << " | " << fixed(measured_stress(r.stress), 3)
        << " |\n";
   if (o.parts && !result.classes.empty()) md << parts_markdown(result, o);
-  md << figure_markdown(result, o);
+  md << residuals_markdown(result, o);
   if (result.resampled)
     md << "\n## Resampling\n\n" << resampling_markdown(result.resampling) << "\n" << located_markdown(result);
   if (!result.failures.empty()) md << "\n" << shape_failures_markdown(result.failures);

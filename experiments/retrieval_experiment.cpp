@@ -198,16 +198,19 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
 
 void draw_retrieval_figures(RetrievalExperimentResult& r, const std::string& folder) {
   const std::string figures = (fs::path(folder) / "figures").string();
+  const FigureFormat format = r.options.figure_format;
   const FigureRun drawn =
-      draw_figure("retrieval_figures.py", {folder}, (fs::path(figures) / "pr.png").string());
+      draw_figure("retrieval_figures.py", {folder}, (fs::path(figures) / "pr").string(), format);
   r.figures.clear();
   if (!drawn.drawn) {
     r.figures_note = drawn.problem;
     return;
   }
   r.figures_note.clear();
-  for (const char* name : {"pr.png", "per_class.png", "confusion.png"})
-    if (fs::exists(fs::path(figures) / name)) r.figures.push_back(std::string("figures/") + name);
+  for (const char* name : {"pr", "per_class", "confusion"}) {
+    const std::string file = figure_file_name(name, format);
+    if (fs::exists(fs::path(figures) / file)) r.figures.push_back("figures/" + file);
+  }
 }
 
 RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions& options) {

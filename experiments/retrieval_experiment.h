@@ -24,7 +24,8 @@
 //                                    data/dataset_checksums.h) and the protocol's settings, by which
 //                                    `cshapes compare` (experiments/compare_runs.h) tells runs on the
 //                                    same data
-//   figures/pr.png, per_class.png, confusion.png   (experiments/plots/retrieval_figures.py; matplotlib)
+//   figures/pr.png, per_class.png, confusion.png   (experiments/plots/retrieval_figures.py; matplotlib;
+//                                                  .pdf or .svg by options.figure_format)
 //   report.md                        write_retrieval_report
 //
 // A shape whose form fails by a method is left out of that method's matrices (named in the failures, the
@@ -43,6 +44,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -59,6 +61,8 @@ struct RetrievalExperimentOptions {
   ResampleOptions resample;  // vertices > 0: every shape remeshed to about that many vertices first
   RetrievalOptions retrieval;  // the measures' conventions (eval/retrieval.h: psbTable's)
   bool figures = true;         // draw the figures (when matplotlib is found)
+  // The figures' format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   ProgressFn progress;
   NoteFn note;
   const Communicator* communicator = nullptr;  // the ranks sharing the work; nullptr: this process
@@ -100,8 +104,8 @@ struct RetrievalExperimentResult {
 // run only the counts are filled.
 RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOptions& options);
 
-// Draws the figures from the data files in folder (experiments/plots/retrieval_figures.py); records what was
-// drawn, or why not, in result.
+// Draws the figures from the data files in folder (experiments/plots/retrieval_figures.py), in
+// result.options.figure_format; records what was drawn, or why not, in result.
 void draw_retrieval_figures(RetrievalExperimentResult& result, const std::string& folder);
 
 // report.md in folder from the result alone: the overall table (method × distance), the per-class table of

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/pipeline/experiment_kit.h"
 
@@ -156,7 +157,7 @@ void write_retrieval_report(const RetrievalExperimentResult& r, const std::strin
   confusion_section(out, r);
   out << "## Figures\n\n";
   if (r.figures.empty()) out << "Not drawn: " << r.figures_note << "\n\n";
-  for (const std::string& f : r.figures) out << "![" << f << "](" << f << ")\n\n";
+  for (const std::string& f : r.figures) out << figure_markdown(f, f) << "\n\n";
   out << shape_failures_markdown(r.failures);
   cost_section(out, r);
   out << "## Files\n\n"

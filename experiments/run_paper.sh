@@ -17,7 +17,8 @@
 #          log, the generated data and the PDFs beside the experiment's outputs, so the experiment is run with
 #          --force (those files stay as they are; a rerun replaces the experiment's own files and removes the
 #          ones it no longer writes). Point --out at a folder of its own.
-# --pdf    also write every figure as PDF
+# --pdf    also write every figure as PDF, beside the PNGs (`--figure-format pdf|svg`, passed on to the
+#          experiment, draws them in that format instead)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
@@ -70,7 +71,7 @@ fi
 # PDFs are drawn here on request.
 if [[ ${#pdf[@]} -gt 0 ]]; then
   echo "== figures as PDF" >&2
-  "$root/scripts/python.sh" "$root/build/share/cshapes/plots/paper_figures.py" "$out" --pdf
+  "$root/scripts/python.sh" "$root/build/share/cshapes/plots/paper_figures.py" "$out" --format=pdf
 fi
 echo "== done in $(( $(date +%s) - start )) s: see $out/report.md" >&2
 if [[ $status -eq 3 ]]; then

@@ -79,6 +79,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/figure_format.h"
 
 namespace cshapes {
 
@@ -115,6 +116,8 @@ struct TopkidsExperimentOptions {
   // draw_topkids_figure draws out/topkids.png (experiments/plots/topkids_figure.py); false: it records
   // "not requested (--no-draw)" instead.
   bool figure = true;
+  // The figure's format: png, pdf or svg (support/figure_format.h).
+  FigureFormat figure_format = FigureFormat::png;
   ProgressFn progress;                           // stage "topkids" per pose
   std::function<void(const std::string&)> note;  // one line of progress text (repairs, timings)
 };
@@ -179,7 +182,7 @@ struct TopkidsExperimentResult {
   std::map<std::string, std::string> reference_repair;  // per method: what its repair did to the reference
   std::string scoring_repair;  // the repair of the reference for the scoring geodesics ("" when none)
   double reference_sqrt_area = 0;
-  std::string figure;          // "topkids.png" when draw_topkids_figure drew it, else ""
+  std::string figure;          // "topkids.png" (.pdf, .svg) when draw_topkids_figure drew it, else ""
   std::string figure_problem;  // why it was not drawn (set by draw_topkids_figure)
   long forms_computed = 0, forms_cached = 0, scorings_computed = 0, scorings_cached = 0;
   double seconds = 0;

@@ -167,8 +167,9 @@ void topkids_detail::write_data_files(const ExperimentFolder& folder, const Topk
 void draw_topkids_figure(TopkidsExperimentResult& r, const TopkidsExperimentOptions& o) {
   const ExperimentFolder folder(o.out);
   if (o.figure) {
-    const FigureRun drawn = draw_figure("topkids_figure.py", {o.out}, folder.path("topkids.png"));
-    r.figure = drawn.drawn ? "topkids.png" : "";
+    const FigureRun drawn =
+        draw_figure("topkids_figure.py", {o.out}, folder.path("topkids"), o.figure_format);
+    r.figure = drawn.drawn ? figure_file_name("topkids", o.figure_format) : "";
     r.figure_problem = drawn.problem;
   } else {
     r.figure = "";
@@ -274,7 +275,8 @@ void write_pooled_table(std::ostream& s, const TopkidsExperimentResult& r) {
 
 void write_figure(std::ostream& s, const TopkidsExperimentResult& r, const std::string& folder) {
   if (!r.figure.empty())
-    s << "![cumulative error curves and per-pose errors](topkids.png)\n\nLeft: cumulative error curves "
+    s << figure_markdown("cumulative error curves and per-pose errors", r.figure)
+      << "\n\nLeft: cumulative error curves "
          "(fraction of ground-truth vertices mapped within each error), pooled over the poses, the flip "
          "forgiven per vertex, then per whole map; data in `curves.csv`. Right: each pose's mean error (flip "
          "forgiven per vertex), a dot per pose and method, the bar at the median over poses: poses whose "

@@ -11,6 +11,15 @@
 
 namespace cshapes {
 
+const std::vector<std::string>& shape_distance_kinds() {
+  static const std::vector<std::string> kinds = {"hausdorff", "chamfer", "rmse"};
+  return kinds;
+}
+
+std::string shape_distance_title(const std::string& kind) {
+  return kind == "hausdorff" ? "Hausdorff" : kind == "chamfer" ? "Chamfer" : kind == "rmse" ? "RMSE" : kind;
+}
+
 ShapeDistance shape_distance_from_nearest(const Eigen::VectorXd& a_to_b, const Eigen::VectorXd& b_to_a) {
   CSHAPES_REQUIRE(a_to_b.size() > 0 && b_to_a.size() > 0, "shape distance: empty point set");
   ShapeDistance d;

@@ -9,10 +9,18 @@
 // under a rigid motion (or reflection) applied to both sets.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "cshapes/support/types.h"
 #include "cshapes/matching/icp.h"
 
 namespace cshapes {
+
+// The three distances by the names options and files give them, {"hausdorff", "chamfer", "rmse"}, and each
+// one's title in tables and figures ("Hausdorff", "Chamfer", "RMSE"); an unknown name is its own title.
+const std::vector<std::string>& shape_distance_kinds();
+std::string shape_distance_title(const std::string& kind);
 
 struct ShapeDistance {
   double hausdorff = 0;  // the paper's distance (see above)

@@ -64,6 +64,9 @@ struct WriteOptions {
   // n×3 RGB colours in [0, 255], PLY only; empty for none.
   Colors colors;
   bool binary = false;  // PLY: binary little endian instead of ASCII
+  // PLY only: "comment" lines of the header, after cshapes' own, each one line of printable text (what made
+  // the file: `cshapes canon` writes "method coulomb", which `cshapes show` names its panel by).
+  std::vector<std::string> comments;
 };
 
 // Writes by extension (.off, .ply, .obj, .xyz). Written to a temporary file and renamed: never partial.
@@ -91,6 +94,7 @@ struct MeshFile {
   Index invalid_vertices = 0;      // rows left out (NaN/Inf coordinates, valid = 0)
   Index invalid_faces = 0;         // faces left out because they use such a row
   std::vector<Index> file_vertex;  // mesh vertex k is row file_vertex[k] of the file; empty: the identity
+  std::vector<std::string> comments;  // PLY: the header's comment lines, the text after "comment ", in order
 };
 
 // read_mesh, keeping PLY's per-vertex scalars and colours.

@@ -240,6 +240,7 @@ struct PlyHeader {
   std::vector<PlyElement> elements;
   size_t data_start = 0;
   int data_line = 1;
+  std::vector<std::string> comments;  // the text of each "comment" line
 };
 
 PlyHeader parse_header(const std::string& name, std::string_view bytes) {
@@ -259,6 +260,13 @@ PlyHeader parse_header(const std::string& name, std::string_view bytes) {
       break;
     }
     if (keyword == "comment" || keyword == "obj_info") {
+      if (keyword == "comment") {
+        const size_t start = std::min(scanner.position(), bytes.size());
+        std::string_view text = bytes.substr(start, bytes.find_first_of("\r\n", start) - start);
+        while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
+        while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+        header.comments.emplace_back(text);
+      }
       scanner.skip_line();
     } else if (keyword == "format") {
       std::string_view kind = scanner.token_on_line("ascii, binary_little_endian or binary_big_endian");
@@ -465,6 +473,7 @@ MeshFile parse_ply(const std::string& name, std::string_view bytes) {
          needed < 1e18L ? std::to_string(static_cast<unsigned long long>(needed)) : "1e18", " bytes of data; the file "
          "holds ", reader.remaining_bytes(), " after its header (truncated or wrong counts)");
   MeshFile file;
+  file.comments = header.comments;
   MeshBuilder builder;
   bool have_vertices = false;
   long long nv = 0;
@@ -546,7 +555,12 @@ void write_ply(std::ostream& out, const Mesh& mesh, const WriteOptions& options,
     if (taken) fail(name, ": scalar name '", scalar.name, "' is used twice");
   }
 
+  for (const std::string& comment : options.comments)
+    for (unsigned char c : comment)
+      if (c < 32 || c == 127)
+        fail(name, ": comment '", printable(comment), "' is not one line of printable text");
   out << "ply\nformat " << (options.binary ? "binary_little_endian" : "ascii") << " 1.0\ncomment cshapes\n";
+  for (const std::string& comment : options.comments) out << "comment " << comment << '\n';
   out << "element vertex " << n << "\nproperty double x\nproperty double y\nproperty double z\n";
   for (const VertexScalar& scalar : options.scalars) out << "property double " << scalar.name << '\n';
   if (with_colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";

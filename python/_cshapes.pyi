@@ -145,43 +145,46 @@ def retrieval_measures(D: _Array, labels: Sequence[Any], *, names: Sequence[str]
 # Experiments. methods: names, 'NAME=cmd:COMMAND' / 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 # (docs/outside-methods.md).
 _Methods = Sequence[str | tuple[str, str | Callable[[np.ndarray, np.ndarray], _Array]]] | str | None
+_FigureFormat = Literal["png", "pdf", "svg"]
 def experiment_noise(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *, seed: int = 1,
                      poses_per_class: int = 0, levels: Sequence[int] = (0, 1, 2, 4, 8), strict: bool = False,
-                     geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
-                     allow_outside: bool = False, method_timeout: float = 86400,
+                     geodesics: _Geodesics = "heat", resample: int = 0, figure_format: _FigureFormat = "png",
+                     force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
                      method_version: str = "") -> dict[str, Any]: ...
 def experiment_pose(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *, samples: int = 1000,
                     parts: bool = True, shapes: Sequence[str] | None = None, strict: bool = False,
-                    geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
-                    allow_outside: bool = False, method_timeout: float = 86400,
+                    geodesics: _Geodesics = "heat", resample: int = 0, figure_format: _FigureFormat = "png",
+                    force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
                     method_version: str = "") -> dict[str, Any]: ...
 def experiment_topkids(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
                        reference: str = "kid00", samples: int = 1000, poses: Sequence[str] | None = None,
-                       strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
-                       allow_outside: bool = False, method_timeout: float = 86400,
-                       method_version: str = "") -> dict[str, Any]: ...
+                       strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0,
+                       figure_format: _FigureFormat = "png", force: bool = False, allow_outside: bool = False,
+                       method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
 def experiment_invariance(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
                           vertices: int | Sequence[int] = (0,), seeds: int = 3, seed: int = 1,
                           shapes: Sequence[str] | None = None, tolerance_floor: float = 0.05,
                           tolerance_pose: float = 1.0, strict: bool = False, geodesics: _Geodesics = "heat",
-                          force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
-                          method_version: str = "") -> dict[str, Any]: ...
+                          figure_format: _FigureFormat = "png", force: bool = False, allow_outside: bool = False,
+                          method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
 def experiment_paper(data: _Path, out: _Path, methods: _Methods = None, poses_per_class: int = 4,
                      noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, timing_repeats: int = 5, correspondence_samples: int = 300,
-                     strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0, force: bool = False,
-                     allow_outside: bool = False, method_timeout: float = 86400,
-                     method_version: str = "") -> dict[str, Any]: ...
+                     figure_format: _FigureFormat = "png", strict: bool = False, geodesics: _Geodesics = "heat",
+                     resample: int = 0, force: bool = False, allow_outside: bool = False,
+                     method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
 def experiment_retrieval(data: _Path, out: _Path, methods: _Methods = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
-                         e_depth: int = 32, min_class_size: int = 3, force: bool = False,
-                         allow_outside: bool = False, method_timeout: float = 86400,
+                         e_depth: int = 32, min_class_size: int = 3, figure_format: _FigureFormat = "png",
+                         force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
                          method_version: str = "") -> dict[str, Any]: ...
-def compare_runs(runs: Sequence[_Path], out: _Path, *, draw: bool = True, pdf: bool = False,
+def compare_runs(runs: Sequence[_Path], out: _Path, *, draw: bool = True, figure_format: _FigureFormat = "png",
                  force: bool = False) -> dict[str, Any]: ...
-# Pictures
-def show(mesh: _Path | tuple[_Array, _Array], form: _Path | _Array | tuple[_Array, _Array] | CanonicalForm | None = None,
-         *, out: _Path, title: str | None = None, view: Literal["pca", "x", "y", "z"] = "pca") -> str: ...
+# Pictures. mesh and form: a file, a CanonicalForm, a (V, F) pair or an (n, 3) array, in any mix.
+_Shown = _Path | _Array | tuple[_Array, _Array] | CanonicalForm
+def show(mesh: _Shown, form: _Shown | None = None, *, out: _Path, title: str | None = None,
+         view: Literal["pca", "x", "y", "z"] = "pca", labels: Sequence[str] | None = None,
+         figure_format: _FigureFormat | None = None) -> str: ...
 
 # Threads
 def set_num_threads(n: int) -> None: ...

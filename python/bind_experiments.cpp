@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "cshapes/experiments/compare_runs.h"
 #include "cshapes/experiments/invariance_experiment.h"
@@ -59,6 +60,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method =
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
@@ -105,6 +107,7 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
   o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
   k.done();
@@ -133,7 +136,8 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   return result;
 }
 
-py::dict compare_runs_py(const py::object& runs, const py::object& out, bool draw, bool pdf, bool force) {
+py::dict compare_runs_py(const py::object& runs, const py::object& out, bool draw,
+                         const std::string& figure_format, bool force) {
   CompareRunsOptions o;
   CSHAPES_REQUIRE(!py::isinstance<py::str>(runs) && py::isinstance<py::sequence>(runs),
                   "compare_runs(): runs: expected a list of output folders, got ",
@@ -141,7 +145,7 @@ py::dict compare_runs_py(const py::object& runs, const py::object& out, bool dra
   for (const py::handle& run : runs) o.runs.push_back(to_path(run, "runs"));
   o.out = to_path(out, "out");
   o.figures = draw;
-  o.pdf = pdf;
+  o.figure_format = parse_figure_format(figure_format);
   o.force = force;
   const CompareRunsResult r = compare_runs(o);
   py::dict measures, from;
@@ -167,52 +171,59 @@ bool is_path(const py::handle& object) {
   return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
 }
 
-// A (V, F) pair as a Mesh; name: the argument.
-Mesh mesh_pair(const py::handle& pair, const std::string& name) {
-  if (!py::isinstance<py::tuple>(pair) && !py::isinstance<py::list>(pair))
-    fail("show(): ", name, ": expected a path or a (V, F) pair, got ", py::repr(pair).cast<std::string>());
-  const py::sequence items = py::reinterpret_borrow<py::sequence>(pair);
-  if (items.size() != 2) fail("show(): ", name, ": expected a path or a (V, F) pair, got ", items.size(), " items");
-  return to_mesh(items[0], items[1]);
-}
-
-// A form in memory: a CanonicalForm, an (n, 3) array (the mesh's faces) or a (V, F) pair; NaN rows pass.
-Mesh form_in_memory(const py::handle& form) {
-  if (py::hasattr(form, "X") && !py::isinstance<py::array>(form))
-    return Mesh{to_points(form.attr("X"), "form.X", true), Faces(0, 3)};
-  if (py::isinstance<py::tuple>(form) || py::isinstance<py::list>(form)) {
-    const py::sequence items = py::reinterpret_borrow<py::sequence>(form);
-    if (items.size() == 2 && !py::isinstance<py::float_>(items[0]) && !py::isinstance<py::int_>(items[0]))
-      return Mesh{to_points(items[0], "form V", true), to_faces(items[1], "form F")};
+// One panel of show(): a mesh file (any format the library reads), a CanonicalForm (titled by its method), a
+// (V, F) pair, or an (n, 3) array (a form: drawn with the mesh's faces; a mesh: a point cloud). NaN rows pass
+// (vertices a method dropped). name: the argument, in messages.
+ShowPanel show_panel(const py::handle& object, const std::string& name, bool form) {
+  if (is_path(object)) {
+    const std::string path = to_path(object, name);
+    py::gil_scoped_release release;
+    return read_show_panel(path, form);
   }
-  return Mesh{to_points(form, "form", true), Faces(0, 3)};
+  if (py::hasattr(object, "X") && !py::isinstance<py::array>(object)) {
+    std::string method;
+    if (py::hasattr(object, "summary")) {
+      const py::object summary = object.attr("summary");
+      if (py::isinstance<py::dict>(summary) && summary.contains("method"))
+        method = py::str(summary["method"]).cast<std::string>();
+    }
+    return ShowPanel{Mesh{to_points(object.attr("X"), name + ".X", true), Faces(0, 3)},
+                     form_panel_title(method), ""};
+  }
+  const std::string title = form ? form_panel_title("") : "mesh";
+  if (py::isinstance<py::tuple>(object) || py::isinstance<py::list>(object)) {
+    const py::sequence items = py::reinterpret_borrow<py::sequence>(object);
+    if (items.size() == 2 && !py::isinstance<py::float_>(items[0]) && !py::isinstance<py::int_>(items[0]))
+      return ShowPanel{Mesh{to_points(items[0], name + " V", true), to_faces(items[1], name + " F")}, title,
+                       ""};
+  }
+  return ShowPanel{Mesh{to_points(object, name, true), Faces(0, 3)}, title, ""};
 }
 
 std::string show_py(const py::object& mesh, const py::object& form, const py::object& out,
-                    const py::object& title, const std::string& view) {
-  const std::string picture = to_path(out, "out");
+                    const py::object& title, const std::string& view, const py::object& labels,
+                    const py::object& figure_format) {
+  std::optional<FigureFormat> format;
+  if (!figure_format.is_none()) format = parse_figure_format(py::str(figure_format).cast<std::string>());
+  const std::string picture = picture_path(to_path(out, "out"), format);
   ShowOptions options;
   if (!title.is_none()) options.title = py::str(title).cast<std::string>();
   options.view = view;
-  if (is_path(mesh) && (form.is_none() || is_path(form))) {
-    const std::string mesh_path = to_path(mesh, "mesh");
-    const std::string form_path = form.is_none() ? "" : to_path(form, "form");
-    py::gil_scoped_release release;
-    show_mesh_files(mesh_path, form_path, picture, options);
-    return picture;
+  ShowPanel mesh_panel = show_panel(mesh, "mesh", false);
+  std::optional<ShowPanel> form_panel;
+  if (!form.is_none()) form_panel = show_panel(form, "form", true);
+  if (!labels.is_none()) {
+    CSHAPES_REQUIRE(!py::isinstance<py::str>(labels) && py::isinstance<py::sequence>(labels),
+                    "show(): labels: expected a list of panel titles (the mesh's, then the form's), got ",
+                    py::repr(labels).cast<std::string>());
+    const auto titles = labels.cast<std::vector<std::string>>();
+    CSHAPES_REQUIRE(titles.size() <= (form_panel ? 2u : 1u), "show(): labels: ", titles.size(),
+                    " titles for ", form_panel ? "2 panels" : "1 panel", " (the mesh's, then the form's)");
+    if (!titles.empty()) mesh_panel.title = titles[0];
+    if (titles.size() > 1) form_panel->title = titles[1];
   }
-  CSHAPES_REQUIRE(!is_path(mesh) && !is_path(form),
-                  "show(): mesh and form: expected two paths or two arrays, got a path and an array (read the "
-                  "file with read_mesh)");
-  const Mesh in_memory = mesh_pair(mesh, "mesh");
-  if (form.is_none()) {
-    py::gil_scoped_release release;
-    show_meshes(in_memory, nullptr, picture, options);
-  } else {
-    const Mesh form_mesh = form_in_memory(form);
-    py::gil_scoped_release release;
-    show_meshes(in_memory, &form_mesh, picture, options);
-  }
+  py::gil_scoped_release release;
+  show_panels(mesh_panel, form_panel ? &*form_panel : nullptr, picture, options);
   return picture;
 }
 
@@ -230,6 +241,7 @@ void common_experiment_options(Options& o, const py::object& data, const py::obj
   o.canon.strict = k.flag("strict", o.canon.strict);
   o.canon.geodesics.method = parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.resample.vertices = static_cast<Index>(k.integer("resample", 0, 0));
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
 }
 
 // The run's results as the CLI writes them (OUT/NAME, a JSON file), with the failures.
@@ -341,6 +353,7 @@ py::dict experiment_invariance_py(const py::object& data, const py::object& out,
       k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
   if (const py::object shapes = k.object("shapes"); !shapes.is_none())
     o.shapes = shapes.cast<std::vector<std::string>>();
+  o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   k.done();
   o.figure = draw;
   o.progress = stop_on_python_signals();
@@ -362,7 +375,8 @@ void bind_dataset_experiments(py::module_& m) {
 
 Keywords: seed [1], poses_per_class [0: all], levels [[0, 1, 2, 4, 8]] (glues per noisy version).)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -372,7 +386,8 @@ run's JSON file), failures.)");
 
 Keywords: samples [1000], parts [True], shapes [all] (names to restrict to).)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -382,7 +397,8 @@ run's JSON file), failures.)");
 
 Keywords: reference ['kid00'], samples [1000], poses [all].)" R"(
 Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-force [False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
+method_timeout [86400] and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
 run's JSON file), failures.)");
@@ -396,8 +412,9 @@ pose variation, with a verdict per method.
 Keywords: vertices [[0]] (resolutions: 0 the shapes as given, N each shape remeshed to about N vertices
 first), seeds [3] (renumberings), seed [1], shapes [all] (names to restrict to), tolerance_floor [0.05] and
 tolerance_pose [1.0] (the verdict's tolerance: the larger of that % of the diagonal and that % of the
-method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'), force
-[False], allow_outside [False], method_timeout [86400] and method_version [''] (methods from outside).
+method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'),
+figure_format ['png'] ('png', 'pdf' or 'svg'), force [False], allow_outside [False], method_timeout [86400]
+and method_version [''] (methods from outside).
 methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
 (n×3, one row per vertex of V, in V's order). Writes what the CLI writes (invariance.md, invariance.csv,
 invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); returns a dict: out, results
@@ -408,17 +425,22 @@ invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); r
 
 void bind_experiments(py::module_& m) {
   m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
-        py::arg("title") = py::none(), py::arg("view") = "pca",
+        py::arg("title") = py::none(), py::arg("view") = "pca", py::arg("labels") = py::none(),
+        py::arg("figure_format") = py::none(),
         R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
 
-mesh: a mesh file, or a (V, F) pair. form [None]: its canonical form, a file as `cshapes canon` writes it
-(dropped vertices: NaN rows with valid = 0), or in memory: a CanonicalForm, an (n, 3) array (drawn with the
-mesh's faces) or a (V, F) pair; NaN rows are not drawn. Both files or both in memory. The form has the mesh's
-vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates as
-red, green and blue). out: the picture, .png or .pdf, never one of the inputs; written atomically. title
-[None]: a line above the picture. view ['pca']: look along the least spread, or 'x', 'y', 'z' along that axis.
-Needs a Python with matplotlib and numpy (/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it
-cannot draw. Returns out as a str.)");
+mesh and form [None], each any of, in any mix: a file in any format cshapes reads (a form as `cshapes canon`
+writes it: dropped vertices are NaN rows with valid = 0), a CanonicalForm, a (V, F) pair, or an (n, 3) array
+(a form: drawn with the mesh's faces; a mesh: a point cloud); NaN rows are not drawn. The form has the mesh's
+vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates
+as red, green and blue). Each panel is titled: a form by its method when that is known (a CanonicalForm's, or
+the one `cshapes canon` records in its PLY: 'Coulomb canonical form'), a file by its name, else 'mesh' and
+'canonical form'; labels [None]: titles instead, [mesh's] or [mesh's, form's]. out: the picture, .png, .pdf or
+.svg, never one of the inputs; written atomically. figure_format [None]: 'png', 'pdf' or 'svg', which out's
+extension must then be (added when out has none). title [None]: a line above the picture. view ['pca']: look
+along the least spread, or 'x', 'y', 'z' along that axis. Needs a Python with matplotlib and numpy
+(/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it cannot draw. Returns the picture's path as a
+str.)");
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
         py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
@@ -428,12 +450,13 @@ data: a folder of meshes (class = file name without trailing digits) or a manife
 folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
 'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figure_data [True] computes the figures' data; draw [True] draws them (PNG beside report.md) when a Python with
+figure_data [True] computes the figures' data; draw [True] draws them (beside report.md) when a Python with
 matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
-correspondence_samples [300], strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0]
-(remesh every shape to about this many vertices first, as the CLI's --resample), force [False] (write into an
-out folder that holds files cshapes did not write; without it such a folder is refused), allow_outside [False]
-(read manifest entries outside the dataset's folder), method_timeout [86400], method_version [''].
+correspondence_samples [300], figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'), strict
+[False], geodesics (MDS; the experiments' default: 'heat'), resample [0] (remesh every shape to about this many
+vertices first, as the CLI's --resample), force [False] (write into an out folder that holds files cshapes did
+not write; without it such a folder is refused), allow_outside [False] (read manifest entries outside the
+dataset's folder), method_timeout [86400], method_version [''].
 Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
 (shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
   bind_dataset_experiments(m);
@@ -447,6 +470,7 @@ fn(V, F) -> X, docs/outside-methods.md]; resample [0]: remesh every shape to abo
 (cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
 the figures.
 Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3],
+figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'),
 force [False] (write into an out folder that holds files cshapes did not write; without it such a folder, a
 dataset's own folder for one, is refused), allow_outside [False] (read manifest or .cla entries outside the
 dataset's folder), method_timeout [86400], method_version [''].
@@ -454,14 +478,14 @@ Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/
 returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 figures, failures.)");
   m.def("compare_runs", &compare_runs_py, py::arg("runs"), py::arg("out"), py::kw_only(),
-        py::arg("draw") = true, py::arg("pdf") = false, py::arg("force") = false,
+        py::arg("draw") = true, py::arg("figure_format") = "png", py::arg("force") = false,
         R"(Several `experiment retrieval` runs on the same data side by side (`cshapes compare`), nothing recomputed.
 
 runs: two or more output folders of complete runs whose inputs' checksums (retrieval.json) agree, under the
 same protocol; a method in two runs must have the same results in both. Anything else raises ValueError naming
 the folder and what was expected, and writes nothing. out: the output folder (report.md, compare.json, pr.png).
-draw [True]: draw pr.png; pdf [False]: also pr.pdf; force [False]: write into an out folder that holds files
-cshapes did not write.
+draw [True]: draw the PR figure; figure_format ['png']: its format, pr.png, pr.pdf or pr.svg; force [False]:
+write into an out folder that holds files cshapes did not write.
 Returns a dict: experiment, inputs_digest, shapes, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
 runs {method: the folder its numbers come from}, figures.)");
 }

@@ -36,6 +36,19 @@ TEST(Dataset, ClassAndPoseFromTheFileName) {
   EXPECT_EQ(class_from_name("horse_7"), "horse");
 }
 
+// The name a dataset goes by in titles (evaluate's figures): its folder's, a manifest's folder's, a file's
+// stem.
+TEST(Dataset, TheNameOfADatasetIsItsFoldersOrItsFilesStem) {
+  const std::string dir = test::scratch_dir("tosca5k");
+  const std::string name = std::filesystem::path(dir).filename().string();
+  EXPECT_EQ(dataset_name(dir), name);
+  EXPECT_EQ(dataset_name(dir + "/"), name);
+  EXPECT_EQ(dataset_name(dir + "/manifest.csv"), name);
+  EXPECT_EQ(dataset_name(dir + "/test.cla"), "test");
+  EXPECT_EQ(dataset_name(dir + "/subset.csv"), "subset");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Dataset, FolderIsSortedByClassThenNumericPose) {
   std::string dir = test::scratch_dir("dataset_folder");
   double radius = 1;  // distinct shapes: a file listed twice is refused

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
 #include "tests/test_support.h"
 
@@ -65,6 +66,26 @@ TEST(DistanceCsv, LabelsFile) {
   EXPECT_THROW(read_labels_csv(dir + "/missing.csv", names), Error);
   test::write_text(dir + "/short.csv", "a\nb\n");
   EXPECT_THROW(read_labels_csv(dir + "/short.csv", names), Error);
+  std::filesystem::remove_all(dir);
+}
+
+// What a matrix is (issue 60): written above the classes as comment lines, which the labels reader skips,
+// read back by field; a file without them describes nothing.
+TEST(DistanceCsv, TheLabelsFileDescribesTheMatrix) {
+  std::string dir = test::scratch_dir("labels-description");
+  const std::vector<std::string> names = {"cat0", "dog1"}, classes = {"cat", "dog"};
+  write_labels_csv(dir + "/D.labels.csv", names, classes, {"Coulomb", "Hausdorff", "tosca5k"});
+  EXPECT_EQ(read_labels_csv(dir + "/D.labels.csv", names), classes);
+  const MatrixDescription d = read_matrix_description(dir + "/D.labels.csv");
+  EXPECT_EQ(d.method, "Coulomb");
+  EXPECT_EQ(d.distance, "Hausdorff");
+  EXPECT_EQ(d.data, "tosca5k");
+  EXPECT_EQ(matrix_description_text(d), "Coulomb, Hausdorff distance, tosca5k");
+  EXPECT_EQ(matrix_description_text({"", "Chamfer", ""}), "Chamfer distance");
+  write_labels_csv(dir + "/plain.csv", names, classes);
+  EXPECT_EQ(read_file(dir + "/plain.csv"), "name,class\ncat0,cat\ndog1,dog\n");
+  EXPECT_EQ(matrix_description_text(read_matrix_description(dir + "/plain.csv")), "");
+  EXPECT_THROW(write_labels_csv(dir + "/bad.csv", names, classes, {"two\nlines", "", ""}), Error);
   std::filesystem::remove_all(dir);
 }
 

@@ -143,13 +143,17 @@ TEST(DistmatCli, WritesTheClassesBesideTheMatrixWhereEvaluateFindsThem) {
   const nlohmann::json summary = run_json("-q distmat '" + dir + "/named/manifest.csv' --cache '" + dir +
                                           "/cache' --method cmds --geodesics graph -o '" + dir + "/D.csv'");
   EXPECT_EQ(summary["labels"], dir + "/D.labels.csv");
-  EXPECT_EQ(read_file(dir + "/D.labels.csv"), "name,class\ns0,sphere\ns1,sphere\ns2,torus\ns3,torus\n");
+  // Above the classes, what the matrix is (issue 60): evaluate's figures are titled with it.
+  EXPECT_EQ(read_file(dir + "/D.labels.csv"),
+            "# method: classical MDS\n# distance: Hausdorff\n# data: named\n"
+            "name,class\ns0,sphere\ns1,sphere\ns2,torus\ns3,torus\n");
   test::CliResult r = test::run_cli("-q evaluate '" + dir + "/D.csv' --out '" + dir +
                                     "/eval' --json --no-draw --min-class-size 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json m = nlohmann::json::parse(r.out);
   EXPECT_EQ(m["classes_from"], dir + "/D.labels.csv");
   EXPECT_EQ(m["classes"].size(), 2u);
+  EXPECT_EQ(m["title"], "classical MDS, Hausdorff distance, named: 4 shapes, 2 classes");
   // Two files of one shape name: refused before any work, both files named (no matrix, no labels).
   std::filesystem::copy_file(dir + "/data/torus0.off", dir + "/named/sub/s0.off");
   test::write_text(dir + "/named/twice.csv", "file,class\ns0.off,sphere\ns1.off,sphere\nsub/s0.off,torus\n");

@@ -137,7 +137,7 @@ TEST(Figures, ScriptsAreFoundBesideTheBinaryAndAMissingOneIsSaidNotThrown) {
   ASSERT_FALSE(dir.empty()) << "build/share/cshapes/plots (copied by the build)";
   EXPECT_TRUE(fs::exists(fs::path(dir) / "noise_figure.py"));
   const std::string out = test::scratch_dir("kit-figure");
-  const FigureRun run = draw_figure("no_such_script.py", {out}, out + "/x.png");
+  const FigureRun run = draw_figure("no_such_script.py", {out}, out + "/x", FigureFormat::png);
   EXPECT_FALSE(run.drawn);
   EXPECT_NE(run.problem.find("no_such_script.py"), std::string::npos) << run.problem;
   EXPECT_EQ(shell_quote("it's"), "'it'\\''s'");

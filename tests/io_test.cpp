@@ -146,6 +146,26 @@ TEST(IoRoundTrip, PlyScalarsAndColours) {
   fs::remove_all(dir);
 }
 
+// What made a file, in its header's comment lines (`cshapes canon` records its method: `cshapes show` titles
+// the form by it), read back in order after cshapes' own; a comment of two lines is refused.
+TEST(IoRoundTrip, PlyCommentsAreWrittenAndReadBack) {
+  std::string dir = test::scratch_dir("io-comments");
+  const Mesh mesh = test_mesh();
+  WriteOptions options;
+  options.comments = {"method coulomb", "seed 7  "};
+  for (bool binary : {false, true}) {
+    options.binary = binary;
+    write_mesh(dir + "/c.ply", mesh, options);
+    const MeshFile file = read_mesh_file(dir + "/c.ply");
+    expect_same_mesh(mesh, file.mesh);
+    EXPECT_EQ(file.comments, (std::vector<std::string>{"cshapes", "method coulomb", "seed 7"}));
+  }
+  options.comments = {"two\nlines"};
+  EXPECT_THROW(write_mesh(dir + "/bad.ply", mesh, options), Error);
+  EXPECT_FALSE(fs::exists(dir + "/bad.ply"));
+  fs::remove_all(dir);
+}
+
 TEST(IoWrite, RefusesInconsistentScalarsAndUnknownFormats) {
   std::string dir = test::scratch_dir("io");
   Mesh mesh = test_mesh();

@@ -145,6 +145,49 @@ TEST(ShowMesh, APictureThatIsAnInputOrOfAnotherFormatIsRefused) {
   fs::remove_all(b.dir);
 }
 
+// Issue 60: every format the library reads (the script only ever sees PLY), a form titled by the method its
+// file records, a form dropped rows back in their place, and the picture's format from --figure-format.
+TEST(ShowMesh, PanelsFromAnyFormatTitledByTheirMethod) {
+  const Biped b = biped("show-panels");
+  const std::string obj = b.dir + "/biped0.obj";
+  ASSERT_EQ(test::run_cli("-q convert " + q(b.mesh) + " " + q(obj)).exit_code, 0);
+  const ShowPanel mesh = read_show_panel(obj);
+  EXPECT_EQ(mesh.title, "biped0.obj");
+  EXPECT_EQ(mesh.file, obj);
+  EXPECT_EQ(mesh.mesh.V.rows(), read_mesh(b.mesh).num_vertices());
+  const ShowPanel form = read_show_panel(b.form, true);
+  EXPECT_EQ(form.title, "classical MDS canonical form");  // `cshapes canon` records "method cmds"
+  EXPECT_EQ(read_show_panel(b.form).title, "form.ply");   // as a mesh: its file
+  EXPECT_EQ(recorded_method({"cshapes", "method coulomb"}), "coulomb");
+  EXPECT_EQ(recorded_method({"cshapes"}), "");
+  EXPECT_EQ(form_panel_title("mine"), "mine canonical form");
+  // A form's dropped rows come back in place, NaN, so that it lines up with its mesh.
+  Mesh dropped = read_mesh(b.form);
+  Eigen::VectorXd valid = Eigen::VectorXd::Ones(dropped.num_vertices());
+  valid[5] = 0;
+  dropped.V.row(5).setConstant(std::nan(""));
+  WriteOptions written;
+  written.scalars.push_back({"valid", valid});
+  write_mesh(b.dir + "/dropped.ply", dropped, written);
+  const ShowPanel back = read_show_panel(b.dir + "/dropped.ply", true);
+  ASSERT_EQ(back.mesh.V.rows(), dropped.V.rows());
+  EXPECT_FALSE(back.mesh.V.row(5).allFinite());
+  EXPECT_EQ(back.mesh.V.row(6), dropped.V.row(6));
+  EXPECT_EQ(picture_path("p.png", std::nullopt), "p.png");
+  EXPECT_EQ(picture_path("p.svg", FigureFormat::svg), "p.svg");
+  EXPECT_EQ(picture_path("p", FigureFormat::pdf), "p.pdf");
+  EXPECT_THROW(picture_path("p.png", FigureFormat::svg), Error);
+  if (can_draw()) {
+    const test::CliResult r =
+        test::run_cli("-q show " + q(obj) + " " + q(b.form) + " -o " + q(b.dir + "/p.svg"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string svg = read_file(b.dir + "/p.svg");
+    EXPECT_NE(svg.find("classical MDS canonical form"), std::string::npos);
+    EXPECT_NE(svg.find("biped0.obj"), std::string::npos);
+  }
+  fs::remove_all(b.dir);
+}
+
 TEST(ShowMesh, WithoutItsScriptItFailsSayingWhyAndKeepsTheOldPicture) {
   const Biped b = biped("show-no-script");
   const std::string empty = b.dir + "/no-plots";

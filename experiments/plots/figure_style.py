@@ -1,9 +1,56 @@
-"""What the figure scripts share: each method's name and colour, and an atomic save."""
+"""What the figure scripts share: each method's name and colour, the formats a figure is written in, the sizes
+of a two-column paper, and an atomic save."""
 import json
 import os
 import sys
+import textwrap
 
+import matplotlib
 import matplotlib.pyplot as plt
+
+# The formats every figure can be written in (`--figure-format`, experiments/figures.h), by extension.
+FIGURE_FORMATS = ("png", "pdf", "svg")
+# Text stays text: SVG keeps <text> elements (editable, searchable) instead of glyph outlines, and PDF embeds
+# TrueType (Type 42) fonts, since journals' PDF checkers (IEEE PDF eXpress) refuse matplotlib's default Type 3.
+# The ids and dates that would change at every save are fixed, so the same data gives the same file.
+matplotlib.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "ps.fonttype": 42,
+                            "svg.hashsalt": "cshapes", "savefig.dpi": 150})
+
+# A two-column paper (IEEE, ACM, Elsevier): a column is about 3.5 in wide, the page 7.16 in. A figure drawn at
+# that width prints at its own size, so its text is as large as set here: 8 pt, 7 pt the smallest, as journals
+# ask (at least 6-7 pt after scaling).
+COLUMN_WIDTH = 3.5
+PAGE_WIDTH = 7.16
+SMALLEST_TEXT = 7
+PAPER_STYLE = {"font.size": 8, "axes.titlesize": 8, "axes.labelsize": 8, "xtick.labelsize": SMALLEST_TEXT,
+               "ytick.labelsize": SMALLEST_TEXT, "legend.fontsize": SMALLEST_TEXT, "figure.titlesize": 8,
+               "axes.linewidth": 0.6, "xtick.major.width": 0.6, "ytick.major.width": 0.6,
+               "lines.linewidth": 1.2, "savefig.pad_inches": 0.02, "savefig.dpi": 300}
+
+
+def use_paper_style():
+    """Sets the text and line sizes above (and PNG at 300 dpi, what journals ask of a raster figure) for the
+    figures drawn afterwards in this process."""
+    matplotlib.rcParams.update(PAPER_STYLE)
+
+
+def add_format_argument(parser):
+    """--format png|pdf|svg, the format of every figure a script writes (default png)."""
+    parser.add_argument("--format", choices=FIGURE_FORMATS, default="png",
+                        help="png (default), pdf or svg: what a LaTeX paper includes (text kept as text)")
+
+
+def wrapped(text, width_inches, points=8):
+    """text broken into lines that fit width_inches at a font of `points` (about half an em a character), so
+    that a long title is never cut at the figure's edge: a line too long breaks after its ": " first (what a
+    thing is, then its counts), then between words."""
+    characters = max(12, int(width_inches * 72 / (0.55 * points)))
+    lines = []
+    for line in str(text).split("\n"):
+        head, colon, tail = line.partition(": ")
+        parts = [head + ":", tail] if len(line) > characters and colon and tail else [line]
+        lines += [textwrap.fill(part, characters) for part in parts]
+    return "\n".join(lines)
 
 # Colours of the methods, fixed so a method looks the same in every figure; a method without one here (added
 # later) takes the next of EXTRA_COLOURS in registration order.
@@ -40,17 +87,24 @@ def method_style(styles, m):
     return styles.get(m, (m, None))
 
 
+# The date a PDF or SVG would record: none, so that the same figure gives the same bytes.
+_NO_DATE = {".pdf": {"CreationDate": None}, ".svg": {"Date": None}}
+
+
 def save_to(fig, path, **savefig_options):
-    """Writes the figure to PATH (its format by extension) through a temporary file beside it, so a killed run
-    leaves no partial picture."""
-    tmp = path + ".tmp" + os.path.splitext(path)[1]
-    fig.savefig(tmp, dpi=150, **savefig_options)
+    """Writes the figure to PATH (its format by extension: .png at savefig.dpi, .pdf or .svg as text and lines)
+    through a temporary file beside it, so a killed run leaves no partial picture."""
+    extension = os.path.splitext(path)[1].lower()
+    tmp = path + ".tmp" + extension
+    fig.savefig(tmp, metadata=_NO_DATE.get(extension), **savefig_options)
     os.replace(tmp, path)
 
 
-def save(fig, out, name, pdf):
-    """Writes OUT/NAME.png (and .pdf) through a temporary file, so a killed run leaves no partial figure."""
-    for ext in ["png"] + (["pdf"] if pdf else []):
-        save_to(fig, os.path.join(out, f"{name}.{ext}"), bbox_inches="tight")
+def save(fig, out, name, fmt="png"):
+    """Writes OUT/NAME.FMT (png, pdf or svg) through a temporary file, so a killed run leaves no partial
+    figure."""
+    if fmt not in FIGURE_FORMATS:
+        raise ValueError(f"{name}: unknown figure format {fmt!r} (expected one of {', '.join(FIGURE_FORMATS)})")
+    save_to(fig, os.path.join(out, f"{name}.{fmt}"), bbox_inches="tight")
     plt.close(fig)
-    print(f"wrote {name}.png", file=sys.stderr)
+    print(f"wrote {name}.{fmt}", file=sys.stderr)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw invariance.png of `cshapes experiment invariance` from the files it wrote into OUT.
 
-  scripts/python.sh experiments/plots/invariance_figure.py OUT [--pdf]
+  scripts/python.sh experiments/plots/invariance_figure.py OUT [--format png|pdf|svg]
 
 Reads OUT/invariance.csv (a row per resolution, shape, method, transformation and seed: rmse_percent, the RMSE
 after alignment in % of the reference form's diagonal) and OUT/invariance.json (resolutions, methods,
@@ -11,8 +11,8 @@ small dots and its largest as a large one, side by side; the remeshes (reported 
 last, "pose variation", the method's median pose RMSE as a star (the signal the noise is held against). The
 tolerance floor is a grey dashed line over the exact transformations, and a method whose tolerance is above it
 (1% of a large pose variation) has its own dashed line in its colour. An exact zero (a method that does not
-move at all) is drawn at the bottom of the axis, on a grey band. Writes OUT/invariance.png (and .pdf)
-through a temporary file renamed at the end.
+move at all) is drawn at the bottom of the axis, on a grey band. Writes OUT/invariance.png (.pdf, .svg by
+--format) through a temporary file renamed at the end.
 """
 import argparse
 import csv
@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import method_style, method_styles, save  # noqa: E402
+from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
 
 
 def read_rows(out):
@@ -42,7 +42,7 @@ def resolution_title(n):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out")
-    parser.add_argument("--pdf", action="store_true")
+    add_format_argument(parser)
     args = parser.parse_args()
     with open(os.path.join(args.out, "invariance.json")) as f:
         meta = json.load(f)
@@ -115,7 +115,7 @@ def main():
     fig.tight_layout()
     fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=min(len(labels), 4),
                frameon=False, fontsize=8)
-    save(fig, args.out, "invariance", args.pdf)
+    save(fig, args.out, "invariance", args.format)
 
 
 if __name__ == "__main__":

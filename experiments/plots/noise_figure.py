@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw noise.png of `cshapes experiment noise` from the noise.json it wrote into OUT.
 
-  scripts/python.sh experiments/plots/noise_figure.py OUT [--pdf]
+  scripts/python.sh experiments/plots/noise_figure.py OUT [--format png|pdf|svg]
 
 Three panels against the number of glues per shape: mAP of noisy queries among clean shapes under the
 paper's Hausdorff distance; the same under Chamfer (dashed) and RMSE (dotted); and the median (solid) and mean
@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from figure_style import method_style, method_styles, save  # noqa: E402
+from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
 
 METHOD_MARKER = {"coulomb": "o", "cmds": "s", "smacof": "^", "lbo": "D", "diffusion": "v", "spectral-mds": "P"}
 DISTANCE_STYLE = {"hausdorff": ("Hausdorff", "-"), "chamfer": ("Chamfer", "--"), "rmse": ("RMSE", ":")}
@@ -41,7 +41,7 @@ FEW_POSES = None  # set in main: row -> True when fewer than half of the poses w
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out")
-    p.add_argument("--pdf", action="store_true")
+    add_format_argument(p)
     args = p.parse_args()
     with open(os.path.join(args.out, "noise.json")) as f:
         data = json.load(f)
@@ -111,7 +111,7 @@ def main():
     fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, seed {data.get('seed')}"
                  + ("; hollow markers: levels fewer than half of the poses reached" if few else ""))
     fig.tight_layout()
-    save(fig, args.out, "noise", args.pdf)
+    save(fig, args.out, "noise", args.format)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw every figure of `cshapes experiment paper` from the CSV/JSON/mesh files it wrote into OUT.
 
-  scripts/python.sh experiments/plots/paper_figures.py OUT [--pdf]
+  scripts/python.sh experiments/plots/paper_figures.py OUT [--format png|pdf|svg]
 
 Reads:
   figures.json                  written by the C++ driver: "draw", the figures of this run (only these are
@@ -12,7 +12,7 @@ Reads:
   labels.csv                    shape,class
   metrics.json                  per method: map, nn, ft, st, e, dcg, pr {recall, precision} -> fig8_pr
   correspondence_error.csv      method,error,fraction                                     -> fig9_correspondence
-Writes PNG (and PDF with --pdf) next to them.
+Writes each figure next to them as PNG, or PDF or SVG with --format.
 """
 import argparse
 import concurrent.futures
@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
-from figure_style import method_style, method_styles, save  # noqa: E402
+from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
 
 
 def read_csv(path):
@@ -52,7 +52,7 @@ def red_mask(V, props, spec, out):
     return red if red.any() else None
 
 
-def mesh_grid(out, name, grid, pdf, panel=2.6):
+def mesh_grid(out, name, grid, fmt, panel=2.6):
     """grid: {"rows": [...row titles], "cols": [...col titles], "cells": [[{"mesh", "red"}...]...]}"""
     rows, cols = len(grid["cells"]), max(len(r) for r in grid["cells"])
     fig, axes = plt.subplots(rows, cols, figsize=(panel * cols, panel * rows), squeeze=False)
@@ -70,10 +70,10 @@ def mesh_grid(out, name, grid, pdf, panel=2.6):
     if grid.get("title"):
         fig.suptitle(grid["title"], fontsize=11)
     fig.tight_layout()
-    save(fig, out, name, pdf)
+    save(fig, out, name, fmt)
 
 
-def fig_convergence(out, pdf):
+def fig_convergence(out, fmt):
     path = os.path.join(out, "convergence.csv")
     if not os.path.exists(path):
         return
@@ -97,7 +97,7 @@ def fig_convergence(out, pdf):
     h2, l2 = ax2.get_legend_handles_labels()
     ax1.legend(h1 + h2, l1 + l2, fontsize=7, loc="center right")
     ax1.set_title("Fig. 5: convergence for 1, 10 and 100 projection steps")
-    save(fig, out, "fig5_convergence", pdf)
+    save(fig, out, "fig5_convergence", fmt)
 
 
 def read_matrix(path):
@@ -112,7 +112,7 @@ def read_matrix(path):
     return names, D
 
 
-def fig_distance_matrices(out, pdf, methods):
+def fig_distance_matrices(out, fmt, methods):
     """Fig. 7: one panel per method of the run, all on one colour scale (the 95th percentile of every method's
     distances between different shapes), so the methods can be compared by eye: a method whose distances are
     smaller across the board looks brighter everywhere, not just rescaled."""
@@ -141,10 +141,10 @@ def fig_distance_matrices(out, pdf, methods):
     fig.colorbar(im, ax=list(axes[0]), fraction=0.025, pad=0.02,
                  label="distance (mesh units), one scale for all panels")
     fig.suptitle("Fig. 7: distances between shapes (yellow = close, dark = far)")
-    save(fig, out, "fig7_distance_matrices", pdf)
+    save(fig, out, "fig7_distance_matrices", fmt)
 
 
-def fig_pr(out, pdf):
+def fig_pr(out, fmt):
     path = os.path.join(out, "metrics.json")
     if not os.path.exists(path):
         return
@@ -165,10 +165,10 @@ def fig_pr(out, pdf):
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title("Fig. 8: precision-recall")
-    save(fig, out, "fig8_pr", pdf)
+    save(fig, out, "fig8_pr", fmt)
 
 
-def fig_correspondence(out, pdf):
+def fig_correspondence(out, fmt):
     path = os.path.join(out, "correspondence_error.csv")
     if not os.path.exists(path):
         return
@@ -185,30 +185,30 @@ def fig_correspondence(out, pdf):
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title("Point maps induced by aligning canonical forms")
-    save(fig, out, "fig9_correspondence", pdf)
+    save(fig, out, "fig9_correspondence", fmt)
 
 
-# The figures other than the mesh grids, by name: each drawn from the run's folder (out, spec, pdf).
+# The figures other than the mesh grids, by name: each drawn from the run's folder (out, spec, fmt).
 FIGURES = {
-    "fig5_convergence": lambda out, spec, pdf: fig_convergence(out, pdf),
-    "fig7_distance_matrices": lambda out, spec, pdf: fig_distance_matrices(out, pdf, spec.get("methods", [])),
-    "fig8_pr": lambda out, spec, pdf: fig_pr(out, pdf),
-    "fig9_correspondence": lambda out, spec, pdf: fig_correspondence(out, pdf),
+    "fig5_convergence": lambda out, spec, fmt: fig_convergence(out, fmt),
+    "fig7_distance_matrices": lambda out, spec, fmt: fig_distance_matrices(out, fmt, spec.get("methods", [])),
+    "fig8_pr": lambda out, spec, fmt: fig_pr(out, fmt),
+    "fig9_correspondence": lambda out, spec, fmt: fig_correspondence(out, fmt),
 }
 
 
-def draw_one(out, spec, name, pdf):
+def draw_one(out, spec, name, fmt):
     """Draws figure NAME (a mesh grid or one of FIGURES) of the run in OUT."""
     if name in spec.get("grids", {}):
-        mesh_grid(out, name, spec["grids"][name], pdf)
+        mesh_grid(out, name, spec["grids"][name], fmt)
     else:
-        FIGURES[name](out, spec, pdf)
+        FIGURES[name](out, spec, fmt)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out")
-    p.add_argument("--pdf", action="store_true")
+    add_format_argument(p)
     args = p.parse_args()
     spec_path = os.path.join(args.out, "figures.json")
     if not os.path.exists(spec_path):
@@ -225,10 +225,10 @@ def main():
     order = sorted(draw, key=lambda n: -sum(len(row) for row in grids[n]["cells"]) if n in grids else 0)
     if min(2, os.cpu_count() or 1, len(draw)) < 2:
         for name in order:
-            draw_one(args.out, spec, name, args.pdf)
+            draw_one(args.out, spec, name, args.format)
         return
     with concurrent.futures.ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork")) as pool:
-        for job in [pool.submit(draw_one, args.out, spec, name, args.pdf) for name in order]:
+        for job in [pool.submit(draw_one, args.out, spec, name, args.format) for name in order]:
             job.result()
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw where the pose stays for one pair of `cshapes experiment pose`, from the files it wrote into OUT.
 
-  scripts/python.sh experiments/plots/pose_figure.py OUT [--pdf]
+  scripts/python.sh experiments/plots/pose_figure.py OUT [--format png|pdf|svg]
 
 Reads OUT/pose_residuals.json (a, b, class, chosen_by, forms, titles, rms: the pair, why it was chosen, the
 forms in run order and each one's pose RMS, a fraction of the mean diagonal) and OUT/pose_residuals.csv
@@ -10,8 +10,8 @@ after the pair's whole-shape rigid fit, a fraction of the mean diagonal, empty w
 Draws one panel per form, the samples seen along the direction of least spread of pose b (render_mesh's pca
 view), nearest on top, coloured by residual in % of the diagonal on one colour scale for every panel (up to
 the 98th percentile over the methods' panels, the input left out: its residuals would darken every other
-panel; larger values, most of the input's, in the top colour). Writes OUT/pose_residuals.png (and
-.pdf), through a temporary file renamed at the end.
+panel; larger values, most of the input's, in the top colour). Writes OUT/pose_residuals.png
+(.pdf, .svg by --format), through a temporary file renamed at the end.
 """
 import argparse
 import csv
@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import save  # noqa: E402
+from figure_style import add_format_argument, save  # noqa: E402
 from render_mesh import view_frame  # noqa: E402
 
 
@@ -44,7 +44,7 @@ def read_residuals(out, forms):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out")
-    parser.add_argument("--pdf", action="store_true")
+    add_format_argument(parser)
     args = parser.parse_args()
 
     with open(os.path.join(args.out, "pose_residuals.json")) as f:
@@ -95,7 +95,7 @@ def main():
         bar.set_label("residual, % of the diagonal")
     fig.suptitle(f"{meta['a']} against {meta['b']} (class {meta['class']}): {meta['chosen_by']}\n"
                  f"samples of {meta['b']} coloured by their residual", fontsize=10)
-    save(fig, args.out, "pose_residuals", args.pdf)
+    save(fig, args.out, "pose_residuals", args.format)
 
 
 if __name__ == "__main__":

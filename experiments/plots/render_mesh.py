@@ -69,7 +69,7 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
         colors = np.tile(base_color, (len(P), 1)) if vertex_colors is None else vertex_colors.copy()
         if red is not None:
             colors[np.asarray(red, bool)] = (0.85, 0.1, 0.1)
-        ax.scatter(P[order, 0], P[order, 1], s=2, c=colors[order], linewidths=0)
+        ax.scatter(P[order, 0], P[order, 1], s=2, c=colors[order], linewidths=0, rasterized=True)
         return
     F = np.asarray(F)
     if red is not None:
@@ -94,8 +94,10 @@ def draw_mesh(ax, V, F, red=None, title=None, view="pca", base_color=(0.62, 0.72
         color[red[F].any(axis=1)] = (0.9, 0.1, 0.1)
     color = np.clip(color * shade[:, None], 0, 1)
     order = np.argsort(tri[:, :, 2].mean(axis=1))  # painter's algorithm: far to near
+    # Rasterized in a PDF or SVG (at savefig.dpi): tens of thousands of faces as vector paths make files of
+    # megabytes that viewers draw slowly; titles and labels stay text.
     ax.add_collection(PolyCollection(tri[order, :, :2], facecolors=color[order], edgecolors="none",
-                                     antialiaseds=False))
+                                     antialiaseds=False, rasterized=True))
     if red is not None and 0 < red.sum() <= 64:  # a few marked vertices: make them visible as dots
         ax.scatter(P[red, 0], P[red, 1], s=18, c="red", edgecolors="white", linewidths=0.5, zorder=3)
     lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)

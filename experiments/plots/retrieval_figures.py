@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw the figures of `cshapes experiment retrieval` from the retrieval.json it wrote into OUT.
 
-  scripts/python.sh experiments/plots/retrieval_figures.py OUT [--pdf]
+  scripts/python.sh experiments/plots/retrieval_figures.py OUT [--format png|pdf|svg]
 
 OUT/figures/pr.png: the averaged, interpolated precision-recall curves, one panel per distance (Hausdorff,
 Chamfer, RMSE), one curve per method. OUT/figures/per_class.png: mAP of each class's queries under the
@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from figure_style import count_text, method_style, method_styles, save  # noqa: E402
+from figure_style import count_text, method_style, method_styles, add_format_argument, save  # noqa: E402
 
 DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
 
@@ -34,7 +34,7 @@ def style(m, k):
     return (m.get("title", title), colour) if colour else (m.get("title", m["method"]), f"C{k % 10}")
 
 
-def pr_figure(data, out, pdf):
+def pr_figure(data, out, fmt):
     distances = data["distances"]
     fig, axes = plt.subplots(1, len(distances), figsize=(4.2 * len(distances), 4), squeeze=False)
     for ax, kind in zip(axes[0], distances):
@@ -53,10 +53,10 @@ def pr_figure(data, out, pdf):
         ax.legend(fontsize=8, loc="lower left")
     axes[0][0].set_ylabel("precision (interpolated, mean over queries)")
     fig.suptitle(f"Leave-one-out retrieval, {data['shapes']} shapes in {len(data['classes'])} classes")
-    save(fig, out, "pr", pdf)
+    save(fig, out, "pr", fmt)
 
 
-def per_class_figure(data, out, pdf):
+def per_class_figure(data, out, fmt):
     classes = data["classes"]
     methods = data["methods"]
     width = 0.8 / max(1, len(methods))
@@ -77,10 +77,10 @@ def per_class_figure(data, out, pdf):
     ax.set_title("Per-class mean average precision (Hausdorff distance)")
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1))  # outside: no bar hidden
-    save(fig, out, "per_class", pdf)
+    save(fig, out, "per_class", fmt)
 
 
-def confusion_figure(data, out, pdf):
+def confusion_figure(data, out, fmt):
     methods = [m for m in data["methods"] if "hausdorff" in m["distances"]]
     if not methods:
         return
@@ -105,22 +105,22 @@ def confusion_figure(data, out, pdf):
         ax.set_xlabel("class of the nearest neighbour")
         ax.set_title(f"{style(m, 0)[0]}: NN {d['nn']:.3f}")
     axes[0][0].set_ylabel("class of the query")
-    save(fig, out, "confusion", pdf)
+    save(fig, out, "confusion", fmt)
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out")
-    p.add_argument("--pdf", action="store_true")
+    add_format_argument(p)
     args = p.parse_args()
     with open(os.path.join(args.out, "retrieval.json")) as f:
         data = json.load(f)
     figures = os.path.join(args.out, "figures")
     os.makedirs(figures, exist_ok=True)
     STYLES.update(method_styles(figures))
-    per_class_figure(data, figures, args.pdf)
-    confusion_figure(data, figures, args.pdf)
-    pr_figure(data, figures, args.pdf)  # last: its file is the one the driver waits for
+    per_class_figure(data, figures, args.format)
+    confusion_figure(data, figures, args.format)
+    pr_figure(data, figures, args.format)  # last: its file is the one the driver waits for
 
 
 if __name__ == "__main__":

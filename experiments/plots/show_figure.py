@@ -5,10 +5,13 @@
   scripts/python.sh experiments/plots/show_figure.py MESH [FORM] -o PICTURE.png \
       [--title TEXT] [--view pca|x|y|z] [--label MESH_TITLE [--label FORM_TITLE]]
 
+MESH and FORM are OFF, PLY or XYZ files (meshio.py); `cshapes show` reads every format the library reads and
+hands this script binary PLY files.
 A vertex is coloured by its place on MESH: its coordinates along MESH's principal axes as red, green and
 blue, scaled by the largest extent (a thin axis shifts the colour little), so the same part of the body has
 the same colour in the form. Rows with non-finite coordinates or valid = 0 (vertices a canonical form
-dropped) are not drawn, nor are the faces that use them. PNG, or PDF by extension.
+dropped) are not drawn, nor are the faces that use them. PNG, PDF or SVG by extension. A panel is a column
+of a two-column paper wide (3.5 in), its title in 8 pt broken into lines that fit it.
 """
 import argparse
 import os
@@ -22,7 +25,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
-from figure_style import save_to  # noqa: E402
+from figure_style import COLUMN_WIDTH, save_to, use_paper_style, wrapped  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
 
 
@@ -66,8 +69,9 @@ def main():
     p.add_argument("--title", default=None, help="a line above the picture")
     p.add_argument("--view", default="pca", choices=["pca", "x", "y", "z"])
     p.add_argument("--label", action="append", default=[], help="a panel's title (default: the file name)")
-    p.add_argument("--panel-size", type=float, default=4.0, help="inches per panel")
+    p.add_argument("--panel-size", type=float, default=COLUMN_WIDTH, help="inches per panel")
     args = p.parse_args()
+    use_paper_style()
 
     paths = [args.mesh] + ([args.form] if args.form else [])
     labels = args.label + [os.path.basename(path) for path in paths[len(args.label):]]
@@ -78,16 +82,17 @@ def main():
     colors = position_colors(V, drawn_vertices(V, props))
 
     fig, axes = plt.subplots(1, len(meshes), figsize=(args.panel_size * len(meshes), args.panel_size),
-                             squeeze=False)
+                             squeeze=False, layout="constrained")
     for ax, (V, F, props), label in zip(axes[0], meshes, labels):
         keep = drawn_vertices(V, props)
         if not keep.any():
             sys.exit(f"{label}: no vertex to draw (every row is NaN or valid = 0)")
         drawn_V, drawn_F, drawn_colors = compact(V, F, keep, colors)
-        draw_mesh(ax, drawn_V, drawn_F, title=label, view=args.view, vertex_colors=drawn_colors)
+        draw_mesh(ax, drawn_V, drawn_F, view=args.view, vertex_colors=drawn_colors)
+        if label:
+            ax.set_title(wrapped(label, args.panel_size))
     if args.title:
-        fig.suptitle(args.title)
-    fig.tight_layout()
+        fig.suptitle(wrapped(args.title, args.panel_size * len(meshes)))
     save_to(fig, args.output)
 
 

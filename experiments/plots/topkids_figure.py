@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw the TOPKIDS cumulative error curves of `cshapes experiment topkids` from the files it wrote into OUT.
 
-  scripts/python.sh experiments/plots/topkids_figure.py OUT [--pdf]
+  scripts/python.sh experiments/plots/topkids_figure.py OUT [--format png|pdf|svg]
 
 Reads OUT/curves.csv (method,forgiven,error,fraction: the fraction of ground-truth vertices mapped within each
 geodesic error, in units of sqrt(area) of the reference, pooled over the poses; forgiven = vertex or map, how a
@@ -10,7 +10,7 @@ for the last panel, a strip per method of each pose's mean error (mean_error, fl
 per pose, so that poses whose alignment failed show as their own cluster; where the map is mirrored (the row's
 "mirrored": clearly nearer the mirrored truth, experiments/topkids_experiment.h) a cross at its mean error
 against the truth alone (direct_mean_error), which is what the flip costs when it is not forgiven. Writes
-OUT/topkids.png (and .pdf), through a temporary file renamed at the end.
+OUT/topkids.png (.pdf, .svg by --format), through a temporary file renamed at the end.
 """
 import argparse
 import csv
@@ -24,7 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import method_style, method_styles, save_to  # noqa: E402
+from figure_style import add_format_argument, method_style, method_styles, save  # noqa: E402
 
 
 def draw_pose_strip(ax, rows, summary, styles):
@@ -68,7 +68,7 @@ def draw_pose_strip(ax, rows, summary, styles):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out")
-    parser.add_argument("--pdf", action="store_true")
+    add_format_argument(parser)
     args = parser.parse_args()
 
     # curves[forgiven][method] = (errors, fractions); files without the column are per-vertex curves.
@@ -125,10 +125,7 @@ def main():
             title += f", {samples} ground-truth vertices each"
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    for ext in ["png"] + (["pdf"] if args.pdf else []):
-        save_to(fig, os.path.join(args.out, f"topkids.{ext}"))
-    plt.close(fig)
-    print("wrote topkids.png", file=sys.stderr)
+    save(fig, args.out, "topkids", args.format)
 
 
 if __name__ == "__main__":

@@ -15,8 +15,8 @@ pytest.importorskip("matplotlib")
 pytest.importorskip("numpy")
 
 
-def run_script(name, out):
-    result = subprocess.run([sys.executable, str(PLOTS / name), str(out)], capture_output=True, text=True)
+def run_script(name, out, *args):
+    result = subprocess.run([sys.executable, str(PLOTS / name), str(out), *args], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
 
 
@@ -41,6 +41,20 @@ def test_topkids_figure_draws_curves_and_the_per_pose_strip(tmp_path):
         {"poses": ["kid07", "kid08", "kid09"], "samples_per_pose": 100, "summary": summary, "rows": rows}))
     run_script("topkids_figure.py", tmp_path)
     assert (tmp_path / "topkids.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("fmt", ["pdf", "svg"])
+def test_the_figure_scripts_write_the_format_asked_for(tmp_path, fmt):
+    # --format, as every command's --figure-format passes it (experiments/figures.h): the figure in that format
+    # only, PDF with TrueType fonts (journals refuse Type 3), SVG with its text as text.
+    (tmp_path / "curves.csv").write_text("method,forgiven,error,fraction\ncoulomb,vertex,0,0\ncoulomb,vertex,0.5,1\n")
+    run_script("topkids_figure.py", tmp_path, f"--format={fmt}")
+    data = (tmp_path / f"topkids.{fmt}").read_bytes()
+    assert not (tmp_path / "topkids.png").exists()
+    if fmt == "pdf":
+        assert data[:5] == b"%PDF-" and b"/Type3" not in data
+    else:
+        assert b"<text" in data and b"TOPKIDS" in data
 
 
 def test_topkids_figure_reads_a_folder_without_per_pose_rows(tmp_path):

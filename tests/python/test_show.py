@@ -1,6 +1,7 @@
 """cshapes.show() and `cshapes show` (experiments/show_mesh.h): the same picture from files and from arrays,
 a canonical form's dropped vertices left out, and the refusals (another vertex count, a picture that is an
-input, an unknown format) before anything is written."""
+input, an unknown format) before anything is written. Figures for a paper (OBJ, titles, SVG and PDF, mixes of
+paths and arrays): tests/python/test_figures.py."""
 import struct
 
 import numpy as np
@@ -77,7 +78,7 @@ def test_a_form_of_another_vertex_count_is_refused_naming_both(cli, biped_and_fo
     assert not (tmp_path / "p.png").exists()
 
 
-def test_a_picture_that_is_an_input_or_not_png_or_pdf_is_refused(cli, biped_and_form, tmp_path):
+def test_a_picture_that_is_an_input_or_not_png_pdf_or_svg_is_refused(cli, biped_and_form, tmp_path):
     mesh, form = biped_and_form
     before = form.read_bytes()
     r = cli("show", mesh, form, "-o", form, check=False)
@@ -89,6 +90,7 @@ def test_a_picture_that_is_an_input_or_not_png_or_pdf_is_refused(cli, biped_and_
     assert r.returncode == 2 and ".png" in r.stderr, r.stderr
     with pytest.raises(ValueError, match="view"):
         cshapes.show(mesh, out=tmp_path / "p.png", view="sideways")
-    with pytest.raises(ValueError, match="two paths or two arrays"):
+    # A path and an array mix (tests/python/test_figures.py), but the counts must still agree.
+    with pytest.raises(ValueError, match="the form has 3 vertices"):
         cshapes.show(mesh, np.zeros((3, 3)), out=tmp_path / "p.png")
     assert list(tmp_path.iterdir()) == []

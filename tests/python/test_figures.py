@@ -1,0 +1,215 @@
+"""Figures a journal accepts (issue 60): every figure cshapes draws names what it shows, reads at the size a
+two-column paper prints it, and can be written as PDF or SVG.
+
+- `evaluate`'s pr, confusion and matrix figures are titled with the method, the distance and the data that
+  `distmat` records in the labels file (or `--title`), never the CSV's name; read as SVG text, since SVG keeps
+  text as text. Printed at their width (a column, 3.5 in, or the page, 7.16 in) no text is under 7 pt; every
+  confusion cell has its count, 0 included, beside a colour bar in queries.
+- `--figure-format pdf` writes PDF with TrueType fonts, not the Type 3 fonts journals' checkers refuse.
+- `show` reads every format the library reads (OBJ here), titles a form's panel by its method, says a failing
+  drawing script's own message, and takes any mix of paths, arrays and forms from Python.
+"""
+import os
+import re
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cshapes
+
+ROOT = Path(__file__).resolve().parents[2]
+SVG = "{http://www.w3.org/2000/svg}"
+COLUMN, PAGE = 3.5 * 72, 7.16 * 72  # a two-column paper's column and page widths, in points
+
+
+def can_draw():
+    """Whether cshapes finds a Python with matplotlib (experiments/figures.h looks at $CSHAPES_PYTHON, then
+    /usr/bin/python3, then python3)."""
+    for python in (os.environ.get("CSHAPES_PYTHON"), "/usr/bin/python3", shutil.which("python3")):
+        if python and Path(python).exists():
+            if subprocess.run([python, "-c", "import matplotlib, numpy"], capture_output=True).returncode == 0:
+                return True
+    return False
+
+
+needs_drawing = pytest.mark.skipif(not can_draw(), reason="no Python with matplotlib and numpy")
+
+
+def svg_texts(path):
+    """[(text, font size in pt)] of every <text> element of an SVG drawn by matplotlib with svg.fonttype none
+    (its user unit is the point: 72 per inch)."""
+    texts = []
+    for element in ET.parse(path).getroot().iter(f"{SVG}text"):
+        text = "".join(element.itertext()).strip()
+        style = element.get("style", "")
+        size = re.search(r"font(?:-size)?:\s*(?:[a-z]+\s+)*([0-9.]+)px", style)
+        assert size, f"{path}: a text without a font size: {style!r}"
+        texts.append((text, float(size.group(1))))
+    return texts
+
+
+def svg_width(path):
+    return float(re.match(r"[0-9.]+", ET.parse(path).getroot().get("width")).group(0))
+
+
+def printed_size(font, width):
+    """A text's size once the figure is printed in a two-column paper: a figure up to a column's width (with a
+    little margin) goes in a column, a wider one across the page; scaled down only when wider than that."""
+    room = COLUMN if width <= COLUMN * 1.05 else PAGE
+    return font * min(1.0, room / width)
+
+
+@pytest.fixture(scope="module")
+def described_matrix(tmp_path_factory):
+    """Eight shapes in four classes of two, and the labels file as distmat writes it: the method, distance and
+    data in its comment lines."""
+    folder = tmp_path_factory.mktemp("figures")
+    classes = ["cat", "dog", "horse", "wolf"]
+    names = [f"{c}{i}" for c in classes for i in range(2)]
+    points = np.array([[classes.index(n[:-1]) + 0.3 * (int(n[-1]) - 0.5), 0.2 * k % 0.7] for k, n in
+                       enumerate(names)])
+    D = np.linalg.norm(points[:, None] - points[None], axis=2)
+    matrix = folder / "coulomb-hausdorff.csv"
+    matrix.write_text(",".join(names) + "\n" + "".join(",".join(f"{x:.6f}" for x in row) + "\n" for row in D))
+    (folder / "coulomb-hausdorff.labels.csv").write_text(
+        "# method: Coulomb\n# distance: Hausdorff\n# data: tosca5k\nname,class\n" +
+        "".join(f"{n},{n[:-1]}\n" for n in names))
+    return matrix
+
+
+@needs_drawing
+def test_evaluate_figures_name_the_method_distance_and_data(cli, described_matrix, tmp_path):
+    out = tmp_path / "out"
+    cli("evaluate", described_matrix, "--out", out, "--min-class-size", "2", "--figure-format", "svg")
+    for name in ("pr", "confusion", "matrix"):
+        figure = out / f"{name}.svg"
+        assert figure.exists(), sorted(p.name for p in out.iterdir())
+        words = " ".join(text for text, _ in svg_texts(figure))
+        for named in ("Coulomb", "Hausdorff", "tosca5k", "8 shapes"):
+            assert named in words, f"{name}.svg does not name {named!r}: {words}"
+        assert "coulomb-hausdorff.csv" not in words, f"{name}.svg names the CSV: {words}"
+    assert not list(out.glob("*.png")), "the format asked for, not PNG beside it"
+    metrics = cli.json("evaluate", described_matrix, "--out", tmp_path / "json", "--min-class-size", "2",
+                       "--no-draw", "--json")
+    assert metrics["description"] == {"method": "Coulomb", "distance": "Hausdorff", "data": "tosca5k"}
+    assert metrics["title"] == "Coulomb, Hausdorff distance, tosca5k: 8 shapes, 4 classes"
+
+
+@needs_drawing
+def test_evaluate_title_option_and_an_unknown_matrix(cli, described_matrix, tmp_path):
+    given = tmp_path / "given"
+    cli("evaluate", described_matrix, "--out", given, "--min-class-size", "2", "--figure-format", "svg",
+        "--title", "SMACOF, Chamfer distance, TOSCA")
+    assert "SMACOF, Chamfer distance, TOSCA" in " ".join(t for t, _ in svg_texts(given / "pr.svg"))
+    # Classes from a plain labels file (no description): the figures say what they do not know.
+    plain = tmp_path / "plain.csv"
+    plain.write_text("".join(line + "\n" for line in described_matrix.with_suffix(".labels.csv").read_text()
+                             .splitlines() if not line.startswith("#")))
+    unknown = tmp_path / "unknown"
+    cli("evaluate", described_matrix, "--labels", plain, "--out", unknown, "--min-class-size", "2",
+        "--figure-format", "svg")
+    words = " ".join(t for t, _ in svg_texts(unknown / "matrix.svg"))
+    assert "unknown method and distance" in words and "coulomb-hausdorff.csv" not in words, words
+
+
+@needs_drawing
+def test_evaluate_figures_read_at_a_two_column_papers_size(cli, described_matrix, tmp_path):
+    out = tmp_path / "out"
+    cli("evaluate", described_matrix, "--out", out, "--min-class-size", "2", "--figure-format", "svg")
+    for name in ("pr", "confusion", "matrix"):
+        figure = out / f"{name}.svg"
+        width = svg_width(figure)
+        assert width <= PAGE * 1.05, f"{name}.svg is {width / 72:.2f} in wide, wider than a page"
+        for text, size in svg_texts(figure):
+            assert printed_size(size, width) >= 7 - 1e-6, f"{name}.svg: {text!r} prints at {size} pt"
+    texts = [t for t, _ in svg_texts(out / "confusion.svg")]
+    cells = [t for t in texts if re.fullmatch(r"[0-9]+(\.[0-9]+)?", t)]
+    assert cells.count("0") >= 4 * 4 - 8, f"the empty cells say 0: {texts}"
+    assert "queries" in texts, f"a colour bar in queries: {texts}"
+    names = [t for t, _ in svg_texts(out / "matrix.svg")]
+    assert "cat0" in names and "wolf1" in names, names
+
+
+@needs_drawing
+def test_a_pdf_figure_is_a_pdf_with_truetype_fonts(cli, described_matrix, tmp_path):
+    out = tmp_path / "out"
+    cli("evaluate", described_matrix, "--out", out, "--min-class-size", "2", "--figure-format", "pdf")
+    for name in ("pr", "confusion", "matrix"):
+        data = (out / f"{name}.pdf").read_bytes()
+        assert data[:5] == b"%PDF-", name
+        assert b"/Type3" not in data, f"{name}.pdf has Type 3 fonts, which journals refuse"
+    r = cli("evaluate", described_matrix, "--out", out, "--figure-format", "jpeg", check=False)
+    assert r.returncode == 2 and "png" in r.stderr and "svg" in r.stderr, r.stderr
+
+
+@pytest.fixture(scope="module")
+def obj_and_form(cli, shapes, tmp_path_factory):
+    """A biped as OBJ, and its classical-MDS form as `cshapes canon` writes it (PLY, recording its method)."""
+    folder = tmp_path_factory.mktemp("show-obj")
+    mesh = folder / "biped0.obj"
+    cli("convert", shapes[0], mesh)
+    form = folder / "biped0-cmds.ply"
+    cli("canon", mesh, "-o", form, "--method", "cmds")
+    return mesh, form
+
+
+@needs_drawing
+def test_show_reads_obj_and_titles_the_form_by_its_method(cli, obj_and_form, tmp_path):
+    mesh, form = obj_and_form
+    picture = tmp_path / "pair.svg"
+    cli("show", mesh, form, "-o", picture)
+    texts = [t for t, _ in svg_texts(picture)]
+    assert "biped0.obj" in texts and "classical MDS canonical form" in texts, texts
+    width = svg_width(picture)
+    for text, size in svg_texts(picture):
+        assert printed_size(size, width) >= 7 - 1e-6, f"{text!r} prints at {size} pt"
+    # --label titles the panels; --figure-format gives a picture without an extension its own.
+    cli("show", mesh, form, "-o", tmp_path / "labelled", "--figure-format", "pdf", "--label", "input",
+        "--label", "its form")
+    assert (tmp_path / "labelled.pdf").read_bytes()[:5] == b"%PDF-"
+    r = cli("show", mesh, "-o", tmp_path / "p.png", "--figure-format", "svg", check=False)
+    assert r.returncode == 2 and "p.png" in r.stderr and "svg" in r.stderr, r.stderr
+    long = "a panel title far longer than a column of a two-column paper is wide, which is broken into lines"
+    cli("show", mesh, form, "-o", tmp_path / "long.svg", "--label", long)
+    lines = [t for t, _ in svg_texts(tmp_path / "long.svg")]
+    assert " ".join(lines).count("broken") == 1 and long not in lines, lines
+
+
+@needs_drawing
+def test_a_failing_drawing_script_is_reported_in_its_own_words(cli, obj_and_form, tmp_path):
+    mesh, _ = obj_and_form
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    (plots / "show_figure.py").write_text("raise ValueError('the drawing failed: no room on the canvas')\n")
+    env = dict(os.environ, CSHAPES_PLOTS=str(plots))
+    binary = os.environ.get("CSHAPES_CLI", str(ROOT / "build" / "cshapes"))
+    r = subprocess.run([binary, "show", str(mesh), "-o", str(tmp_path / "p.png")], capture_output=True, text=True,
+                       env=env)
+    assert r.returncode == 1, r.stderr
+    assert "show_figure.py: the drawing failed: no room on the canvas" in r.stderr, r.stderr
+    assert "ValueError" not in r.stderr and "exit status 256" not in r.stderr, r.stderr
+    assert not (tmp_path / "p.png").exists()
+
+
+@needs_drawing
+def test_python_show_takes_any_mix_of_paths_arrays_and_forms(obj_and_form, tmp_path):
+    mesh, form = obj_and_form
+    V, F = cshapes.read_mesh(mesh)
+    X, _ = cshapes.read_mesh(form)
+    computed = cshapes.canonical_form(V, F, method="cmds")
+    for k, (m, f) in enumerate([(mesh, X), ((V, F), form), (mesh, computed), (V, computed)]):
+        assert cshapes.show(m, f, out=tmp_path / f"mix{k}.png") == str(tmp_path / f"mix{k}.png")
+    picture = cshapes.show(mesh, computed, out=tmp_path / "method", figure_format="svg")
+    assert picture == str(tmp_path / "method.svg")
+    texts = [t for t, _ in svg_texts(picture)]
+    assert "classical MDS canonical form" in texts and "biped0.obj" in texts, texts
+    cshapes.show((V, F), X, out=tmp_path / "labels.svg", labels=["pose A", "pose A, classical MDS"])
+    assert {"pose A", "pose A, classical MDS"} <= set(t for t, _ in svg_texts(tmp_path / "labels.svg"))
+    with pytest.raises(ValueError, match="labels"):
+        cshapes.show(mesh, out=tmp_path / "x.png", labels=["a", "b"])
+    with pytest.raises(ValueError, match="figure format"):
+        cshapes.show(mesh, out=tmp_path / "x.png", figure_format="jpeg")
