@@ -1,21 +1,15 @@
 #include "cshapes/pipeline/outside_methods.h"
 
-#include <fcntl.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <sys/resource.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <exception>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -29,6 +23,7 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
+#include "cshapes/support/process_run.h"
 #include "cshapes/support/progress.h"
 #include "cshapes/support/sha256.h"
 #include "cshapes/support/threads.h"
@@ -153,70 +148,6 @@ CanonicalForm form_of(Points X, const std::string& door, double seconds) {
   form.solve_seconds = seconds;
   form.details["door"] = door;
   return form;
-}
-
-// One run of a shell command in its own process group: stdout and stderr into files, stopped past
-// timeout_seconds (the group killed), `progress` polled while it runs (a stop kills the group and rethrows).
-struct ProcessRun {
-  int status = 0;  // waitpid's
-  bool timed_out = false;
-  struct rusage usage {};
-  double seconds = 0;
-};
-
-ProcessRun run_process(const std::string& command, const std::string& out_path, const std::string& err_path,
-                       double timeout_seconds, const ProgressFn& progress, const std::string& stage,
-                       const std::string& where) {
-  const auto start = WallClock::now();
-  const pid_t pid = fork();
-  CSHAPES_REQUIRE(pid >= 0, where, ": cannot start the command: ", std::strerror(errno));
-  if (pid == 0) {  // the child: only async-signal-safe calls until exec
-    setpgid(0, 0);
-    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int in = open("/dev/null", O_RDONLY);
-    if (out < 0 || err < 0 || in < 0) _exit(126);
-    dup2(in, 0);
-    dup2(out, 1);
-    dup2(err, 2);
-    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  setpgid(pid, pid);  // also here: whichever runs first
-  ProcessRun run;
-  struct rusage& usage = run.usage;
-  int& status = run.status;
-  bool& timed_out = run.timed_out;
-  auto kill_group = [pid] {
-    killpg(pid, SIGTERM);
-    for (int k = 0; k < 100; ++k) {  // two seconds to end, then killed
-      if (waitpid(pid, nullptr, WNOHANG) == pid) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    killpg(pid, SIGKILL);
-    waitpid(pid, nullptr, 0);
-  };
-  try {
-    for (int k = 0;; ++k) {
-      const pid_t done = wait4(pid, &status, WNOHANG, &usage);
-      if (done == pid) break;
-      CSHAPES_REQUIRE(done == 0 || errno == EINTR, where, ": waiting for the command: ", std::strerror(errno));
-      if (seconds_since(start) > timeout_seconds) {
-        timed_out = true;
-        kill_group();
-        break;
-      }
-      if (progress && k % 5 == 0) progress(stage, 0, 1);  // a stop throws here
-      std::this_thread::sleep_for(std::chrono::milliseconds(k < 50 ? 2 : 20));
-    }
-  } catch (...) {
-    kill_group();
-    throw;
-  }
-  // The program's own processes may outlive the shell: none is left behind.
-  killpg(pid, SIGKILL);
-  run.seconds = seconds_since(start);
-  return run;
 }
 
 // One run of a command door's program on one mesh.
