@@ -17,7 +17,7 @@ import cshapes
 ROOT = Path(__file__).resolve().parents[2]
 
 METHODS = ["coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"]
-COULOMB = ["scheme", "coulomb_start", "start_landmarks", "flatten", "flatten_plane", "bridge_detour", "step_rule",
+COULOMB = ["coulomb_preset", "scheme", "coulomb_start", "start_landmarks", "flatten", "flatten_plane", "bridge_detour", "step_rule",
            "step_gradient", "step_factor", "fixed_step", "coulomb_steps", "projection_steps", "projection", "l1_floor",
            "dilation",
            "tear_fraction", "tear_after", "tear_times", "tear_interval", "tear_guard", "coulomb_max_iterations",
@@ -58,7 +58,8 @@ def stub_defaults():
     tree = ast.parse((ROOT / "python" / "_cshapes.pyi").read_text())
     node = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "canonical_form")
     return {a.arg: ast.literal_eval(d) for a, d in zip(node.args.kwonlyargs, node.args.kw_defaults)
-            if d is not None and a.arg != "method"}
+            # method_timeout and method_version are a method from outside's (tests/python/test_outside_methods.py)
+            if d is not None and a.arg not in ("method", "method_timeout", "method_version")}
 
 
 DEFAULTS = stub_defaults()
