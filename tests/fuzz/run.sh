@@ -26,7 +26,7 @@ for room in support mesh; do ln -sfn "$root/$room" "$out/include/cshapes/$room";
 eigen=$(pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3)
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
        -I"$out/include" $eigen)
-sources=(mesh/io.cpp mesh/io_text.cpp mesh/io_stl.cpp mesh/io_ply.cpp mesh/mesh.cpp mesh/mesh_defects.cpp support/atomic_file.cpp)
+sources=(mesh/io.cpp mesh/io_text.cpp mesh/io_stl.cpp mesh/io_ply.cpp mesh/io_ply_write.cpp mesh/mesh.cpp mesh/mesh_defects.cpp support/atomic_file.cpp)
 
 # Compilations and fuzzers run as many at a time as there are cores (each is one process on one core).
 max_jobs=$(nproc)
