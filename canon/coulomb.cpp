@@ -475,12 +475,13 @@ class CoulombRun {
     result_.quality = form_quality(X0_, E_, X_, &torn_flags);
     if (!result_.converged) {
       // A form that stopped at the cap is an iterate, not the fixed point: its verdict says so.
+      std::string why = " before its first shape-change check";
+      if (shape_change_ >= 0)
+        why = " with the shape still changing by " + significant(100 * shape_change_) +
+              "% of its bbox diagonal over " + std::to_string(o_.stop_window) + " iterations (converged below " +
+              significant(100 * o_.stop_tolerance * relaxation_) + "%)";
       result_.not_converged =
-          "not converged: stopped at the iteration cap of " + std::to_string(o_.max_iterations) +
-          (shape_change_ < 0 ? std::string(" before its first shape-change check")
-                             : " with the shape still changing by " + significant(100 * shape_change_) +
-                                   "% of its bbox diagonal over " + std::to_string(o_.stop_window) +
-                                   " iterations (converged below " + significant(100 * o_.stop_tolerance) + "%)");
+          "not converged: stopped at the iteration cap of " + std::to_string(o_.max_iterations) + why;
       fail_form_quality(result_.quality, result_.not_converged);
     }
     result_.X = std::move(X_);

@@ -185,7 +185,8 @@ CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance, boo
   result.energy = energy / norm.scale;
   if (want_potentials) {
     result.potential.resize(n);
-    for (Index k = 0; k < n; ++k) result.potential[sorted[static_cast<size_t>(k)]] = potential[k] / norm.scale;
+    for (Index k = 0; k < n; ++k)
+      result.potential[sorted[static_cast<size_t>(k)]] = potential[k] / norm.scale;
   }
   return result;
 }

@@ -139,9 +139,10 @@ std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const E
   if (connected && count > 0) graph = std::make_unique<TearGraph>(num_vertices, E);
   std::vector<Index> chosen;
   for (Index e : order) {
-    // Past `count`, the edges whose deviation lies within kTearMargin of the count-th one are torn with it, so
-    // that the cut between torn and kept lies where the deviations differ by more than rounding could change
-    // (not when the count-th deviation is itself at the rounding's level: undeformed edges are no ties).
+    // Past `count`, the edges whose deviation lies within kTearMargin of the count-th one are torn with it,
+    // so that the cut between torn and kept lies where the deviations differ by more than rounding could
+    // change (not when the count-th deviation is itself at the rounding's level: undeformed edges are no
+    // ties).
     if (static_cast<Index>(chosen.size()) >= count) {
       const double cut = count > 0 ? deviation[chosen[static_cast<size_t>(count - 1)]] : 0.0;
       if (!(cut > tie_floor) || deviation[e] < (1 - kTearMargin) * cut) break;
