@@ -68,123 +68,6 @@ std::string to_string(StepGradient statistic) {
   return statistic == StepGradient::Max ? "max" : "mean";
 }
 
-TearGuard parse_tear_guard(const std::string& name) {
-  if (name == "vertex") return TearGuard::Vertex;
-  if (name == "connected") return TearGuard::Connected;
-  fail("unknown tear guard '", name, "'; known: vertex, connected");
-}
-
-std::string to_string(TearGuard guard) {
-  return guard == TearGuard::Vertex ? "vertex" : "connected";
-}
-
-namespace {
-
-// The edge graph during one tear: adjacency with edge ids, edges removed so far, and a bidirectional
-// breadth-first search that tells whether two vertices are still joined.
-class TearGraph {
- public:
-  TearGraph(Index num_vertices, const Edges& E)
-      : offsets_(num_vertices + 1, 0), removed_(E.rows(), 0), mark_(num_vertices, 0) {
-    for (Index e = 0; e < E.rows(); ++e) {
-      ++offsets_[E(e, 0) + 1];
-      ++offsets_[E(e, 1) + 1];
-    }
-    for (Index i = 0; i < num_vertices; ++i) offsets_[i + 1] += offsets_[i];
-    neighbor_.resize(offsets_.back());
-    edge_.resize(offsets_.back());
-    std::vector<int> fill(offsets_.begin(), offsets_.end() - 1);
-    for (Index e = 0; e < E.rows(); ++e) {
-      for (int side = 0; side < 2; ++side) {
-        const int k = fill[E(e, side)]++;
-        neighbor_[k] = E(e, 1 - side);
-        edge_[k] = static_cast<int>(e);
-      }
-    }
-  }
-
-  void remove(Index e) { removed_[e] = 1; }
-  void restore(Index e) { removed_[e] = 0; }
-
-  // Whether a and b are joined by a path of edges not removed. Grows a search from each end, one vertex at a
-  // time from the smaller frontier; stops when they meet or one side runs out, so it costs O(smaller side).
-  bool joined(int a, int b) {
-    if (a == b) return true;
-    stamp_ += 2;  // marks stamp_ (side a) and stamp_ + 1 (side b): no clearing between searches
-    if (stamp_ > std::numeric_limits<int>::max() - 2) {
-      std::fill(mark_.begin(), mark_.end(), 0);
-      stamp_ = 2;
-    }
-    std::vector<int>* queue[2] = {&queue_a_, &queue_b_};
-    size_t head[2] = {0, 0};
-    queue_a_.assign(1, a);
-    queue_b_.assign(1, b);
-    mark_[a] = stamp_;
-    mark_[b] = stamp_ + 1;
-    while (head[0] < queue_a_.size() && head[1] < queue_b_.size()) {
-      const int side = queue_a_.size() - head[0] <= queue_b_.size() - head[1] ? 0 : 1;
-      const int v = (*queue[side])[head[side]++];
-      for (int k = offsets_[v]; k < offsets_[v + 1]; ++k) {
-        if (removed_[edge_[k]]) continue;
-        const int w = neighbor_[k];
-        if (mark_[w] == stamp_ + 1 - side) return true;  // reached from the other side
-        if (mark_[w] == stamp_ + side) continue;
-        mark_[w] = stamp_ + side;
-        queue[side]->push_back(w);
-      }
-    }
-    return false;
-  }
-
- private:
-  std::vector<int> offsets_, neighbor_, edge_;
-  std::vector<char> removed_;
-  std::vector<int> mark_, queue_a_, queue_b_;
-  int stamp_ = 0;
-};
-
-}  // namespace
-
-std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
-                                        Index num_vertices, Index count, TearGuard guard) {
-  CSHAPES_REQUIRE(rest_lengths.size() == E.rows(), "tearing: ", rest_lengths.size(), " rest lengths for ",
-                  E.rows(), " edges");
-  std::vector<double> deviation(E.rows());
-  for (Index e = 0; e < E.rows(); ++e)
-    deviation[e] = std::abs((X.row(E(e, 0)) - X.row(E(e, 1))).norm() - rest_lengths(e));
-  std::vector<Index> order(E.rows());
-  std::iota(order.begin(), order.end(), Index(0));
-  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return deviation[a] > deviation[b]; });
-  std::vector<int> degree(num_vertices, 0);
-  for (Index e = 0; e < E.rows(); ++e) {
-    ++degree[E(e, 0)];
-    ++degree[E(e, 1)];
-  }
-  const bool connected = guard == TearGuard::Connected;
-  // Vertex: never leave a vertex without edges, a free charge drifting away (prototype). Connected: not with
-  // one edge either (a flapping spike), nor cut off a pair or a patch, which drifts away just the same.
-  const int min_degree = connected ? 2 : 1;
-  std::unique_ptr<TearGraph> graph;
-  if (connected && count > 0) graph = std::make_unique<TearGraph>(num_vertices, E);
-  std::vector<Index> chosen;
-  for (Index e : order) {
-    if (static_cast<Index>(chosen.size()) >= count) break;
-    const int i = E(e, 0), j = E(e, 1);
-    if (degree[i] <= min_degree || degree[j] <= min_degree) continue;
-    if (graph) {
-      graph->remove(e);
-      if (!graph->joined(i, j)) {
-        graph->restore(e);  // a bridge of the remaining graph: tearing it would cut a part off
-        continue;
-      }
-    }
-    --degree[i];
-    --degree[j];
-    chosen.push_back(e);
-  }
-  return chosen;
-}
-
 namespace {
 
 // max_i ‖g_i‖ with one square root (sqrt is monotone, so this is exactly the max of the row norms).
@@ -313,6 +196,7 @@ void check_options(const CoulombCanonOptions& o) {
   check_limit(kStepFactor, o.step_factor, "coulomb");
   check_limit(kFixedStep, o.fixed_step, "coulomb");
   check_limit(kCoulombSteps, o.coulomb_steps, "coulomb");
+  check_limit(kMoveLimit, o.move_limit, "coulomb");
   check_limit(kTearFraction, o.tear_fraction, "coulomb");
   check_limit(kTearAfter, o.tear_after, "coulomb");
   check_limit(kTearTimes, o.tear_times, "coulomb");
@@ -321,6 +205,7 @@ void check_options(const CoulombCanonOptions& o) {
   check_limit(kWindow, o.stop_window, "coulomb");
   check_limit(kTolerance, o.stop_tolerance, "coulomb");
   check_limit(kMomentum, o.momentum, "coulomb");
+  check_limit(kStallWindows, o.stall_windows, "coulomb");
   check_limit(kAccuracy, o.energy.accuracy, "coulomb");
   check_limit(kStartLandmarks, static_cast<double>(o.start_landmarks), "coulomb");
   check_limit(kFlatten, o.flatten, "coulomb");
@@ -332,6 +217,9 @@ void check_options(const CoulombCanonOptions& o) {
 }  // namespace
 
 namespace {
+
+// The least relaxation factor of a stalled iteration: ω = 1/8 takes 8 iterations for one of T's steps.
+constexpr double kSmallestRelaxation = 0.125;
 
 // One run of the iteration from its start to convergence (or max_iterations): the state an outer iteration
 // hands to the next.
@@ -396,7 +284,7 @@ class CoulombRun {
     record.iteration = t;
     double beta = 0;
     if (momentum_) {
-      beta = std::min(o_.momentum, (since_restart_ - 1.0) / (since_restart_ + 2.0));
+      beta = std::min(momentum_cap_, (since_restart_ - 1.0) / (since_restart_ + 2.0));
       Y_.noalias() = X_ + beta * (X_ - X_prev_);
       Y_extrapolated_ = Y_;
     }
@@ -409,6 +297,9 @@ class CoulombRun {
       fail("coulomb: non-finite coordinates at iteration ", t, " (scheme ", to_string(o_.scheme), ", step ",
            record.step, "); try --scheme paper or a smaller --step-factor");
     if (o_.remove_rigid_motion) rigid_align_in_place(Y_, X_);
+    // Relaxed (after stalls without momentum): X + ω (T(X) − X) has the fixed points of T and damps its
+    // oscillations.
+    if (relaxation_ < 1) Y_ = X_ + relaxation_ * (Y_ - X_);
     bool restart = false;
     if (momentum_) {
       // Gradient-mapping restart: the step from the extrapolated point goes back against the momentum.
@@ -418,16 +309,22 @@ class CoulombRun {
     X_.swap(Y_);
     since_restart_ = restart ? 1 : since_restart_ + 1;
     record.momentum = beta;
+    record.relaxation = relaxation_;
     record.mean_violation = violation.mean;
     record.max_violation = violation.max;
 
     // Stopping on the change of the shape over a window, after rigid alignment.
     bool converged = false;
     if (t - snapshot_iteration_ >= o_.stop_window) {
-      shape_change_ = rigid_rms_distance(X_, snapshot_) / std::max(bbox_diagonal(X_), 1e-300);
+      const double diagonal = std::max(bbox_diagonal(X_), 1e-300);
+      shape_change_ = rigid_rms_distance(X_, snapshot_) / diagonal;
       snapshot_ = X_;
       snapshot_iteration_ = t;
-      converged = shape_change_ < o_.stop_tolerance;
+      // Relaxed by ω, the iteration moves ω times as far: the test is on the change the map itself makes. The
+      // last iteration's own change must be as small, or a cycle whose period divides the window would pass.
+      const double limit = o_.stop_tolerance * relaxation_;
+      converged = shape_change_ < limit && rigid_rms_distance(X_, X_prev_) / diagonal < limit;
+      if (momentum_) watch_for_stall();
     }
     const bool tear_pending = tearing_ && tears_done_ < o_.tear_times;
     if (tear_pending && (t >= next_tear_ || converged)) {
@@ -441,6 +338,28 @@ class CoulombRun {
     result_.history.push_back(record);
     if (o_.progress) o_.progress("coulomb", t, o_.max_iterations);
     return converged;
+  }
+
+  // The momentum scheme's safeguard, at the end of each stopping window: a window whose shape change is not
+  // the smallest since the last tear (or the start) counts as stalled; after stall_windows of them in a row
+  // the momentum is dropped (the plain iteration), and at each such run after that the relaxation factor
+  // halves (down to kSmallestRelaxation).
+  void watch_for_stall() {
+    if (o_.stall_windows <= 0) return;
+    if (shape_change_ < smallest_change_) {
+      smallest_change_ = shape_change_;
+      stalled_windows_ = 0;
+      return;
+    }
+    if (++stalled_windows_ < o_.stall_windows) return;
+    if (momentum_cap_ > 0)
+      momentum_cap_ = 0;
+    else
+      relaxation_ = std::max(relaxation_ / 2, kSmallestRelaxation);
+    stalled_windows_ = 0;
+    smallest_change_ = shape_change_;
+    since_restart_ = 1;
+    X_prev_ = X_;
   }
 
   // The iteration's m Coulomb steps (eq. 4) into Y_, from X_ (plain scheme) or from the extrapolated Y_.
@@ -464,14 +383,34 @@ class CoulombRun {
           c = o_.step_factor * scale_ / g;
         }
       }
-      // eq. (4)
-      if (from_x)
-        Y_.noalias() = X_ - c * eval.gradient;
-      else
-        Y_ -= c * eval.gradient;
+      // eq. (4), each vertex's move held within its move limit (CoulombCanonOptions::move_limit).
+      if (from_x) Y_ = X_;
+      const Eigen::VectorXd& limit = move_limits();
+      double largest = 0;
+      int limited = 0;
+      for (Index i = 0; i < n_; ++i) {
+        const double move = c * eval.gradient.row(i).norm();
+        const double factor = move > limit[i] ? limit[i] / move : 1.0;
+        limited += factor < 1;
+        largest = std::max(largest, factor * move);
+        Y_.row(i) -= (factor * c) * eval.gradient.row(i);
+      }
       record.step = c;
-      record.max_move = c * gmax;
+      record.max_move = largest;
+      record.limited_moves = limited;
     }
+  }
+
+  // Per vertex, the longest Coulomb move allowed: move_limit × the rest length of its shortest remaining
+  // edge (infinity without a limit or without edges). Computed once per edge graph (again after a tear).
+  const Eigen::VectorXd& move_limits() {
+    if (move_limit_.size() == n_) return move_limit_;
+    move_limit_ = Eigen::VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
+    if (!(o_.move_limit > 0)) return move_limit_;
+    for (Index e = 0; e < edges_.rows(); ++e)
+      for (int side = 0; side < 2; ++side)
+        move_limit_[edges_(e, side)] = std::min(move_limit_[edges_(e, side)], o_.move_limit * rest_[e]);
+    return move_limit_;
   }
 
   // One tear at `iteration`: the share of the edges the guard allows, by deviation, leaves the edge graph
@@ -488,6 +427,8 @@ class CoulombRun {
     since_restart_ = 1;
     snapshot_ = X_;
     snapshot_iteration_ = iteration;
+    smallest_change_ = std::numeric_limits<double>::infinity();
+    stalled_windows_ = 0;
   }
 
   // Removes the edges `chosen` (rows of edges_) from the edge graph and the projection, recording them as
@@ -516,6 +457,7 @@ class CoulombRun {
     rest_ = std::move(kept_rest);
     original_row_ = std::move(kept_original);
     projection_ = std::make_unique<MetricProjection>(n_, edges_, rest_, o_.projection);
+    move_limit_.resize(0);  // the shortest edges may have changed
   }
 
   // The result after the last iteration t: the energy at the result's accuracy, the violation, the quality,
@@ -531,6 +473,17 @@ class CoulombRun {
     std::vector<bool> torn_flags(E_.rows(), false);
     for (Index e : torn_rows_) torn_flags[e] = true;
     result_.quality = form_quality(X0_, E_, X_, &torn_flags);
+    if (!result_.converged) {
+      // A form that stopped at the cap is an iterate, not the fixed point: its verdict says so.
+      std::string why = " before its first shape-change check";
+      if (shape_change_ >= 0)
+        why = " with the shape still changing by " + significant(100 * shape_change_) +
+              "% of its bbox diagonal over " + std::to_string(o_.stop_window) + " iterations (converged below " +
+              significant(100 * o_.stop_tolerance * relaxation_) + "%)";
+      result_.not_converged =
+          "not converged: stopped at the iteration cap of " + std::to_string(o_.max_iterations) + why;
+      fail_form_quality(result_.quality, result_.not_converged);
+    }
     result_.X = std::move(X_);
     result_.edges = std::move(edges_);
     result_.rest_lengths = std::move(rest_);
@@ -558,6 +511,11 @@ class CoulombRun {
   int tears_done_ = 0, next_tear_ = 0;
   Points X_, X_prev_, Y_, Y_extrapolated_, snapshot_;
   int snapshot_iteration_ = 0;
+  Eigen::VectorXd move_limit_;  // move_limits(), for the current edges
+  double momentum_cap_ = o_.momentum;  // lowered by watch_for_stall
+  double relaxation_ = 1;              // ω, lowered by watch_for_stall once the momentum is gone
+  double smallest_change_ = std::numeric_limits<double>::infinity();  // since the last tear
+  int stalled_windows_ = 0;
   int since_restart_ = 1;  // Nesterov's counter: β = (k−1)/(k+2), 0 right after a (re)start
   double shape_change_ = -1;
 };

@@ -22,6 +22,7 @@
 
 #include "cshapes/canon/coulomb_energy.h"
 #include "cshapes/canon/coulomb_start.h"
+#include "cshapes/canon/coulomb_tearing.h"
 #include "cshapes/canon/form_quality.h"
 #include "cshapes/canon/metric_projection.h"
 #include "cshapes/support/option_fields.h"
@@ -63,20 +64,6 @@ enum class StepGradient {
 StepGradient parse_step_gradient(const std::string& name);  // "max" | "mean"
 std::string to_string(StepGradient statistic);
 
-// Which tears select_edges_to_tear refuses. A part of the edge graph that tearing cuts off feels nothing but
-// the repulsion of the rest: it drifts away for as long as the iteration runs, dragging the faces that joined
-// it to the body across the form (a runaway; form_quality.h flags it). Measured with the default options on
-// topkids (real topological noise): the vertex guard cut off 264 vertices of kid07 and 260 of kid13 (a hand
-// flew 1.45 bbox diagonals off); with tear_fraction 5%, 19 of 24 tosca5k shapes lost a pair or patch
-// (victoria10: 640 vertices, 2.4 diagonals off). The connected guard cut nothing off in all of these, and on
-// cat0, michael0 and dog0 its forms lie within 0.07% (RMS / bbox diagonal) of the vertex guard's, with the
-// same glued bridges torn (coulomb-params, configs default and guard=vertex).
-enum class TearGuard {
-  Vertex,  // keep one edge at every vertex (the rule before the guard): a pair or patch may still be cut off
-  Connected  // keep two edges at every vertex and never split a component of the edge graph
-};
-TearGuard parse_tear_guard(const std::string& name);  // "vertex" | "connected"
-std::string to_string(TearGuard guard);
 
 // The summation options CoulombCanonOptions::energy starts from: auto, accuracy 1e-2 (see there).
 inline CoulombOptions coulomb_canon_summation() {
@@ -91,6 +78,7 @@ namespace coulomb_limits {
 inline constexpr Limit kStepFactor = number_limit("step-factor", 0, kNoLimit, /*minimum_open=*/true);
 inline constexpr Limit kFixedStep = number_limit("fixed-step", 0);
 inline constexpr Limit kCoulombSteps = integer_limit("coulomb-steps", 1, 1e6);
+inline constexpr Limit kMoveLimit = number_limit("move-limit", 0);
 inline constexpr Limit kTearFraction = number_limit("tear-fraction", 0, 0.99);
 inline constexpr Limit kTearAfter = integer_limit("tear-after", 0, 1e8);
 inline constexpr Limit kTearTimes = integer_limit("tear-times", 0, 1e6);
@@ -99,6 +87,7 @@ inline constexpr Limit kMaxIterations = integer_limit("coulomb-max-iterations", 
 inline constexpr Limit kWindow = integer_limit("coulomb-window", 1, 1e8);
 inline constexpr Limit kTolerance = number_limit("coulomb-tolerance", 0);
 inline constexpr Limit kMomentum = number_limit("momentum", 0, 0.999);
+inline constexpr Limit kStallWindows = integer_limit("coulomb-stall-windows", 0, 1e6);
 inline constexpr Limit kAccuracy = number_limit("coulomb-accuracy", 1e-12, 1);
 inline constexpr Limit kMultiresolutionAbove = integer_limit("coulomb-multiresolution-above", 0, 2e9);
 inline constexpr Limit kCoarseVertices = integer_limit("coulomb-coarse-vertices", 4, 1e9);
@@ -202,6 +191,16 @@ struct CoulombCanonOptions {
   StepGradient step_gradient = StepGradient::Mean;
   double fixed_step = 0;  // c for step_rule Fixed (units: length³/charge²); 0: frozen at the first iteration
   int coulomb_steps = 1;  // m: Coulomb steps per outer iteration
+  // No vertex moves farther in one Coulomb step than this × the rest length of its shortest edge (the step's
+  // direction kept); 0: no limit (the paper). Why: the repulsion of the two ends of a short edge is as
+  // stiff as 1/d³, and the step rule, set by the typical vertex, kicked them by several mean edges, past
+  // their neighbours; the projection pulled them back, and that kick and pull grew into an oscillation
+  // (period two, then chaotic), which made the form depend on rounding (renumbered, rescaled or jittered
+  // inputs ended up to 1.7% of the diagonal apart) and kept runs from converging. Held within its shortest
+  // edge, such a vertex gets a kick that no longer depends on its position, and the oscillation has nothing
+  // to grow from. Chosen on tosca5k remeshed to 1,000 vertices (docs/coulomb-defaults.md, "A function of the
+  // shape").
+  double move_limit = 3.0;
   // k (projection.steps), the norm (L2/L1), the L1 floor and the dilation constant of eq. (3).
   MetricProjectionOptions projection;
 
@@ -221,7 +220,9 @@ struct CoulombCanonOptions {
 
   // Stopping: every stop_window iterations, the RMS distance between the shape and the shape stop_window
   // iterations earlier, after rigid alignment (Kabsch, same vertex order), relative to the bounding-box
-  // diagonal. Converged when it is below stop_tolerance and no tear is pending. A single step's energy change
+  // diagonal. Converged when it is below stop_tolerance (× the relaxation factor ω when relaxed, see
+  // stall_windows), the last iteration's own change is too (a cycle whose period divides the window would
+  // otherwise pass), and no tear is pending. A single step's energy change
   // is not used: it fires far too early (prototype: after 431 iterations, the shape still changing by 4%).
   int max_iterations = 3000;
   int stop_window = 20;
@@ -231,6 +232,14 @@ struct CoulombCanonOptions {
   // `momentum` (t counted from the last restart); restarted when the step opposes the momentum
   // (gradient-mapping restart of O'Donoghue & Candès) and at every tear.
   double momentum = 0.9;
+  // Momentum scheme: after this many stopping windows in a row whose shape change is not the smallest since
+  // the last tear (a stall), the momentum is dropped (the plain iteration); after each further stall the
+  // iteration is relaxed, X ← X + ω (T(X) − X), ω halving from 1 down to 1/8: the same fixed points, its
+  // oscillations damped (the stopping test divides the shape change by ω). 0: never. Why: at 1,000 vertices
+  // tosca5k's michael0 and victoria0 never converged with momentum 0.9 (it never restarted), and michael1
+  // not even without momentum (a slow cycle of the iteration, gone with ω = 1/2), so their forms depended on
+  // the iteration cap and on rounding (docs/coulomb-defaults.md, "A function of the shape").
+  int stall_windows = 5;
   // Align each new iterate rigidly onto the previous one (Kabsch): the Coulomb and projection forces are
   // internal, but momentum amplifies round-off rotations into a steady spin (prototype).
   bool remove_rigid_motion = true;
@@ -272,6 +281,7 @@ struct CoulombCanonOptions {
     visit("step_gradient", o.step_gradient);
     visit("fixed_step", o.fixed_step);
     visit("coulomb_steps", o.coulomb_steps);
+    visit("move_limit", o.move_limit);
     visit("projection", o.projection);
     visit("tear_fraction", o.tear_fraction);
     visit("tear_after", o.tear_after);
@@ -282,6 +292,7 @@ struct CoulombCanonOptions {
     visit("stop_window", o.stop_window);
     visit("stop_tolerance", o.stop_tolerance);
     visit("momentum", o.momentum);
+    visit("stall_windows", o.stall_windows);
     visit("remove_rigid_motion", o.remove_rigid_motion);
     visit("energy", o.energy);
     visit("result_accuracy", o.result_accuracy);
@@ -298,10 +309,12 @@ struct CoulombIterationRecord {
   double mean_violation = 0;  // mean |r_ij − d_ij| / d_ij over the remaining edges, after the projection
   double max_violation = 0;   // max of the same
   double step = 0;            // c of eq. (4) (last Coulomb step of the iteration)
-  double max_move = 0;       // c · max_i ‖∇_i E‖: how far the fastest vertex moved in the Coulomb step
+  double max_move = 0;       // how far the fastest vertex moved in the Coulomb step (c · ‖∇_i E‖, or its limit)
+  int limited_moves = 0;     // vertices whose move was held at its limit (CoulombCanonOptions::move_limit)
   int torn_edges = 0;        // edges removed so far
   double shape_change = -1;  // last measured windowed shape change (see stop_window), −1 before the first
   double momentum = 0;       // β used (0: plain step or just restarted)
+  double relaxation = 1;     // ω used (1: not relaxed; CoulombCanonOptions::stall_windows)
   double seconds = 0;        // wall time since the start
 };
 
@@ -315,10 +328,14 @@ struct CoulombCanonResult {
   int iterations = 0;
   bool converged = false;
   std::string stop_reason;    // "converged" or "max_iterations"
+  // Empty when converged; otherwise why not, in one line ("not converged: stopped at the iteration cap of
+  // 3000 with the shape still changing by …"). Such a form is an iterate, not the fixed point: quality.ok is
+  // false and its description leads with this line.
+  std::string not_converged;
   double energy = 0;          // eq. (1) at X (fast summation at options.result_accuracy)
   MetricViolation violation;  // over the remaining edges, at X
   // Stretch of the edges not torn relative to X0 (not to given rest lengths) and runaway vertices
-  // (form_quality.h); quality.ok is false when a vertex ran away.
+  // (form_quality.h); quality.ok is false when a vertex ran away or the iteration did not converge.
   FormQuality quality;
   std::string start;  // where the iteration started (coulomb_start's note)
   std::string flatten_plane;  // whether and where the flatten pulled, and why (empty: flatten 0)
@@ -331,18 +348,8 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
                                           const CoulombCanonOptions& options = {},
                                           const Eigen::VectorXd& rest_lengths = {});
 
-// Selects the edges to tear: the `count` largest deviations |‖x_i − x_j‖ − d_ij|, skipping any edge the guard
-// refuses given the edges already chosen — Vertex: one that would leave a vertex without edges; Connected:
-// one that would leave a vertex with fewer than two edges (a vertex that already has fewer keeps them), or
-// whose endpoints would no longer be joined by a path of remaining edges. Returns row indices into E, by
-// decreasing deviation (fewer than `count` when the guard refuses the rest). Ties are broken by edge index,
-// so the choice is deterministic. Cost: one sort of |E|, plus for Connected a bidirectional breadth-first
-// search per candidate, which stops at the smaller side (a few steps on a mesh, where the endpoints share a
-// triangle).
-std::vector<Index> select_edges_to_tear(const Points& X, const Edges& E, const Eigen::VectorXd& rest_lengths,
-                                        Index num_vertices, Index count,
-                                        TearGuard guard = TearGuard::Connected);
 
+// select_edges_to_tear (which edges a tear removes) and TearGuard live in canon/coulomb_tearing.h.
 // rigid_align, rigid_align_in_place and rigid_rms_distance (Kabsch, same vertex order, reflections
 // excluded), which the iteration uses to remove rigid motion, live in mesh/rigid_transform.h.
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "cshapes/canon/coulomb_fmm.h"
@@ -139,11 +140,22 @@ CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance, boo
   const Index n = X.rows();
   CSHAPES_REQUIRE(n < (Index(1) << 31) - kBlock, "coulomb_direct_float: too many points (", n, ")");
   const NormalizedPoints norm = normalize_points(X, min_distance);
+  // The points in the order of their coordinates (x, then y, then z), so that every float partial sum adds
+  // the same terms in the same order however the points are numbered; points with equal coordinates add
+  // equal terms. sorted[k]: the point in place k.
+  std::vector<Index> sorted(static_cast<size_t>(n));
+  std::iota(sorted.begin(), sorted.end(), Index(0));
+  std::sort(sorted.begin(), sorted.end(), [&X](Index a, Index b) {
+    for (int k = 0; k < 3; ++k)
+      if (X(a, k) != X(b, k)) return X(a, k) < X(b, k);
+    return false;
+  });
   std::vector<float> x(n), y(n), z(n), x_lo(n), y_lo(n), z_lo(n);
-  for (Index i = 0; i < n; ++i) {
-    split_float((X(i, 0) - norm.center[0]) / norm.scale, x[i], x_lo[i]);
-    split_float((X(i, 1) - norm.center[1]) / norm.scale, y[i], y_lo[i]);
-    split_float((X(i, 2) - norm.center[2]) / norm.scale, z[i], z_lo[i]);
+  for (Index k = 0; k < n; ++k) {
+    const Index i = sorted[static_cast<size_t>(k)];
+    split_float((X(i, 0) - norm.center[0]) / norm.scale, x[k], x_lo[k]);
+    split_float((X(i, 1) - norm.center[1]) / norm.scale, y[k], y_lo[k]);
+    split_float((X(i, 2) - norm.center[2]) / norm.scale, z[k], z_lo[k]);
   }
   std::vector<double> potential(n, 0.0), fx(n, 0.0), fy(n, 0.0), fz(n, 0.0);
   const FloatPoints points{x.data(), y.data(), z.data(), x_lo.data(), y_lo.data(), z_lo.data()};
@@ -163,15 +175,18 @@ CoulombEvaluation coulomb_direct_float(const Points& X, double min_distance, boo
   result.gradient.resize(n, 3);
   const double gradient_scale = -2 / (norm.scale * norm.scale);
   double energy = 0;
-  for (Index i = 0; i < n; ++i) {
-    energy += potential[i];
-    result.gradient(i, 0) = gradient_scale * fx[i];
-    result.gradient(i, 1) = gradient_scale * fy[i];
-    result.gradient(i, 2) = gradient_scale * fz[i];
+  for (Index k = 0; k < n; ++k) {
+    const Index i = sorted[static_cast<size_t>(k)];
+    energy += potential[k];
+    result.gradient(i, 0) = gradient_scale * fx[k];
+    result.gradient(i, 1) = gradient_scale * fy[k];
+    result.gradient(i, 2) = gradient_scale * fz[k];
   }
   result.energy = energy / norm.scale;
   if (want_potentials) {
-    result.potential = Eigen::Map<Eigen::VectorXd>(potential.data(), n) / norm.scale;
+    result.potential.resize(n);
+    for (Index k = 0; k < n; ++k)
+      result.potential[sorted[static_cast<size_t>(k)]] = potential[k] / norm.scale;
   }
   return result;
 }

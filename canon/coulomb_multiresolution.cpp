@@ -249,6 +249,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
   out.refine_seconds = seconds_since(start);
   const std::vector<bool> torn_flags = record_torn_edges(E, torn, n, fine);
   fine.quality = form_quality(mesh.V, E, fine.X, &torn_flags);
+  fine.not_converged = coarse_form.not_converged.empty() ? "" : coarse_form.not_converged + " (coarse)";
+  if (!fine.not_converged.empty()) fail_form_quality(fine.quality, fine.not_converged);
   fine.violation = metric_violation(fine.X, kept, kept_rest);
   CoulombOptions final_energy = options.energy;
   final_energy.accuracy = std::min(options.energy.accuracy, options.result_accuracy);

@@ -23,6 +23,53 @@ std::string to_string(CoulombStart start) {
   return start == CoulombStart::Input ? "input" : "landmark-mds";
 }
 
+namespace {
+
+// Whether vertex a comes before vertex b by their coordinates (x, then y, then z): the tie-break of the
+// choices below, so that a tie goes the same way however the vertices are numbered.
+bool before_by_position(const Points& X0, Index a, Index b) {
+  for (int k = 0; k < 3; ++k)
+    if (X0(a, k) != X0(b, k)) return X0(a, k) < X0(b, k);
+  return false;
+}
+
+// The vertex with the largest value (ties: before_by_position).
+Index argmax_by_position(const Eigen::VectorXd& value, const Points& X0) {
+  Index best = 0;
+  for (Index i = 1; i < value.size(); ++i)
+    if (value[i] > value[best] || (value[i] == value[best] && before_by_position(X0, i, best))) best = i;
+  return best;
+}
+
+// The vertex nearest the vertices' centroid (ties: before_by_position).
+Index central_vertex(const Points& X0) {
+  const Eigen::RowVector3d centroid = X0.colwise().mean();
+  return argmax_by_position(-(X0.rowwise() - centroid).rowwise().squaredNorm().transpose(), X0);
+}
+
+}  // namespace
+
+StartLandmarks start_landmarks(const Points& X0, const SingleSourceGeodesics& graph, Index count) {
+  const Index n = X0.rows();
+  CSHAPES_REQUIRE(graph.num_vertices() == n, "coulomb start: ", graph.num_vertices(), " graph vertices for ",
+                  n, " points");
+  const Index L = std::min(count, n);
+  StartLandmarks result;
+  result.rows.resize(L, n);
+  // The sampling starts from one end of a long geodesic: the vertex farthest from the one farthest from the
+  // central vertex (a double sweep; its first landmark is the vertex farthest from that end).
+  const Index far_end = argmax_by_position(graph.distances(static_cast<int>(central_vertex(X0))), X0);
+  Eigen::VectorXd nearest = graph.distances(static_cast<int>(far_end));
+  for (Index k = 0; k < L; ++k) {
+    const Index next = argmax_by_position(nearest, X0);
+    result.landmarks.push_back(static_cast<int>(next));
+    const Eigen::VectorXd row = graph.distances(static_cast<int>(next));
+    result.rows.row(k) = row.transpose();
+    nearest = k == 0 ? row : nearest.cwiseMin(row);
+  }
+  return result;
+}
+
 CoulombStartResult coulomb_start(const Points& X0, const Edges& E, CoulombStart start, Index landmarks) {
   const auto begin = WallClock::now();
   CoulombStartResult result;
@@ -42,10 +89,10 @@ CoulombStartResult coulomb_start(const Points& X0, const Edges& E, CoulombStart 
     return input("the input's coordinates (the edge graph has " + std::to_string(components.count) +
                  " components: no geodesic distance between them)");
   const SingleSourceGeodesics graph(X0, E);
-  const LandmarkGeodesics rows = landmark_geodesics(graph, std::min(landmarks, n));
+  const StartLandmarks rows = start_landmarks(X0, graph, landmarks);
   if (!rows.rows.allFinite())
     return input("the input's coordinates (a landmark's graph distances are not finite)");
-  const LandmarkMdsResult mds = landmark_classical_mds(rows.rows, rows.landmarks);
+  const LandmarkMdsResult mds = landmark_classical_mds_double(rows.rows, rows.landmarks);
   if (!(mds.eigenvalues(2) > 0) || !mds.X.allFinite())
     return input("the input's coordinates (the landmarks' distances span fewer than three dimensions)");
   // The input's mean edge length: the embedding of graph distances is a little larger than the surface

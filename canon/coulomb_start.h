@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "cshapes/support/types.h"
 
@@ -42,6 +43,19 @@ struct CoulombStartResult {
   std::string note;  // one line: what the start is, or why it fell back to the input
   double seconds = 0;
 };
+
+// The landmarks of the LandmarkMds start and their rows of graph distances, in double precision (float rows
+// round a scaled copy's distances differently, and the iteration carries a start's differences into its form:
+// docs/coulomb-defaults.md, "A function of the shape"). Farthest-point sampling from one end of a long
+// geodesic — the vertex farthest from the vertex farthest from the one nearest the centroid — not from a
+// vertex number; exact ties go to the vertex with the smallest coordinates (x, then y, then z). So the
+// landmarks, and the start, are the same however the vertices are numbered. count: L, clamped to n.
+struct StartLandmarks {
+  std::vector<int> landmarks;  // L vertex indices, in the order of the sampling
+  Eigen::MatrixXd rows;        // L × n: rows(k, j) = graph distance from landmarks[k] to vertex j
+};
+class SingleSourceGeodesics;  // geodesics/landmark_geodesics.h
+StartLandmarks start_landmarks(const Points& X0, const SingleSourceGeodesics& graph, Index count);
 
 // The start for the iteration on points X0 joined by edges E (0-based rows into X0). landmarks: L, clamped
 // to n.

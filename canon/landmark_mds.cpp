@@ -18,7 +18,8 @@ namespace {
 // Columns of points processed together: a block's squared distances (L × block doubles) stay small.
 constexpr Index kPointBlock = 1024;
 
-void check_rows(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) {
+template <class Rows>
+void check_rows(const Rows& rows, const std::vector<int>& landmarks) {
   const Index L = rows.rows(), n = rows.cols();
   CSHAPES_REQUIRE(static_cast<Index>(landmarks.size()) == L, "landmark MDS: ", landmarks.size(),
                   " landmarks for ", L, " rows");
@@ -37,7 +38,8 @@ void check_rows(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) 
 }
 
 // The landmarks' distances among themselves, symmetrised ((D + Dᵀ)/2, zero diagonal), L × L.
-Eigen::MatrixXd landmark_block(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) {
+template <class Rows>
+Eigen::MatrixXd landmark_block(const Rows& rows, const std::vector<int>& landmarks) {
   const Index L = rows.rows();
   Eigen::MatrixXd block(L, L);
   for (Index j = 0; j < L; ++j)
@@ -237,7 +239,11 @@ bool mds_uses_landmarks(const MdsSolverOptions& options, Index n, double availab
   return available_bytes >= 0 && matrix_bytes > 0.5 * available_bytes;
 }
 
-LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) {
+namespace {
+
+// Landmark classical MDS of float or double rows (the header's two overloads).
+template <class Rows>
+LandmarkMdsResult landmark_classical_mds_of(const Rows& rows, const std::vector<int>& landmarks) {
   const SerialEigenProducts serial_eigen_products;  // bit-identical for any thread count
   const auto start = WallClock::now();
   check_rows(rows, landmarks);
@@ -251,13 +257,23 @@ LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std:
 #pragma omp parallel for schedule(static)
   for (Index j0 = 0; j0 < n; j0 += kPointBlock) {
     const Index count = std::min(kPointBlock, n - j0);
-    Eigen::MatrixXd delta = rows.middleCols(j0, count).cast<double>().cwiseAbs2();
+    Eigen::MatrixXd delta = rows.middleCols(j0, count).template cast<double>().cwiseAbs2();
     delta.colwise() -= frame.mean_squared;
     result.X.middleRows(j0, count) = (-0.5 * frame.pseudo_inverse * delta).transpose();
   }
   result.X.rowwise() -= result.X.colwise().mean();
   result.seconds = seconds_since(start);
   return result;
+}
+
+}  // namespace
+
+LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks) {
+  return landmark_classical_mds_of(rows, landmarks);
+}
+
+LandmarkMdsResult landmark_classical_mds_double(const Eigen::MatrixXd& rows, const std::vector<int>& landmarks) {
+  return landmark_classical_mds_of(rows, landmarks);
 }
 
 namespace {

@@ -124,6 +124,10 @@ struct LandmarkMdsResult {
 // Landmark classical MDS. rows: L × n distances from landmarks[k] to every point (landmarks[k] < n,
 // distinct).
 LandmarkMdsResult landmark_classical_mds(const Eigen::MatrixXf& rows, const std::vector<int>& landmarks);
+// The same from double rows (a name of its own: a float expression would convert to either): no rounding of
+// the distances to float, so that the embedding follows its input to double precision (the Coulomb start,
+// canon/coulomb_start.h).
+LandmarkMdsResult landmark_classical_mds_double(const Eigen::MatrixXd& rows, const std::vector<int>& landmarks);
 
 // Landmark SMACOF: `smacof` runs on the landmark block (its vertex_weights: empty, or n per-point weights
 // summed over each landmark's Voronoi cell) from `start` (L×3, e.g. the mesh's landmark vertices; empty:

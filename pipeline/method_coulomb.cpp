@@ -49,12 +49,15 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
   form.iterations = r.iterations;
   form.solve_seconds = r.seconds;
   form.seconds_per_iteration = r.iterations ? r.seconds / r.iterations : 0;
-  form.history_columns = {"iteration", "energy",     "mean_violation", "max_violation", "step",
-                          "max_move",  "torn_edges", "shape_change",   "momentum",      "seconds"};
+  form.history_columns = {"iteration",  "energy",   "mean_violation", "max_violation", "step",
+                          "max_move",   "limited_moves", "torn_edges", "shape_change",  "momentum",
+                          "relaxation", "seconds"};
   for (const CoulombIterationRecord& h : r.history)
     form.history_rows.push_back({double(h.iteration), h.energy, h.mean_violation, h.max_violation, h.step,
-                                 h.max_move, double(h.torn_edges), h.shape_change, h.momentum, h.seconds});
+                                 h.max_move, double(h.limited_moves), double(h.torn_edges), h.shape_change,
+                                 h.momentum, h.relaxation, h.seconds});
   form.torn_edges = r.torn_edges;  // left out of the form's quality check
+  form.breakdown = r.not_converged;  // a form that did not converge fails the check, saying so
   form.details = nlohmann::json{{"vertices", mesh.num_vertices()},
                                 {"edges", E.rows()},
                                 {"torn_edges", r.torn_edges.rows()},
@@ -73,6 +76,7 @@ CanonicalForm coulomb_compute(const Mesh& mesh, const CanonicalFormOptions& opti
                                 {"flatten_plane", to_string(co.flatten_plane)},
                                 {"flatten_decision", r.flatten_plane},
                                 {"bridge_detour", co.bridge_detour},
+                                {"move_limit", co.move_limit},
                                 {"step_rule", to_string(co.step_rule)},
                                 {"step_gradient", to_string(co.step_gradient)},
                                 {"projection", to_string(co.projection.norm)},
@@ -108,6 +112,7 @@ CoulombCanonOptions paper_coulomb_options() {
   c.tear_times = 1;
   c.tear_guard = TearGuard::Vertex;
   c.multiresolution.above_resolution = 0;
+  c.move_limit = 0;
   return c;
 }
 
@@ -124,7 +129,7 @@ MethodOption coulomb_preset_option() {
   auto covered = [](const CoulombCanonOptions& c) {
     return std::make_tuple(c.scheme, c.start, c.flatten, c.bridge_detour, c.step_rule, c.step_gradient,
                            c.step_factor, c.coulomb_steps, c.projection.norm, c.tear_fraction, c.tear_after,
-                           c.tear_times, c.tear_guard, c.multiresolution.above_resolution);
+                           c.tear_times, c.tear_guard, c.multiresolution.above_resolution, c.move_limit);
   };
   o.get = [covered](const CanonicalFormOptions& c) {
     return OptionValue(std::string(covered(c.coulomb) == covered(paper_coulomb_options()) ? "paper" : "default"));
@@ -147,6 +152,7 @@ MethodOption coulomb_preset_option() {
     t.tear_times = preset.tear_times;
     t.tear_guard = preset.tear_guard;
     t.multiresolution.above_resolution = preset.multiresolution.above_resolution;
+    t.move_limit = preset.move_limit;
   };
   return o;
 }
@@ -218,6 +224,11 @@ std::vector<MethodOption> coulomb_step_options() {
   o.push_back(integer_option<int>("coulomb_steps", "m: Coulomb steps per outer iteration",
                                   coulomb_limits::kCoulombSteps, f,
                                   [](Ref c) -> int& { return c.coulomb.coulomb_steps; }));
+  o.push_back(number_option("move_limit",
+                            "no vertex moves farther in one Coulomb step than this times its shortest edge "
+                            "(the ends of short edges otherwise rattle and the form depends on rounding); 0: "
+                            "no limit (the paper)",
+                            coulomb_limits::kMoveLimit, f, [](Ref c) -> double& { return c.coulomb.move_limit; }));
   o.push_back(integer_option<int>("projection_steps", "k: projection sweeps per outer iteration",
                                   projection_limits::kSteps, f,
                                   [](Ref c) -> int& { return c.coulomb.projection.steps; }));
@@ -276,6 +287,13 @@ std::vector<MethodOption> coulomb_tearing_and_stop_options() {
                             coulomb_limits::kMomentum, f,
                             [](Ref c) -> double& { return c.coulomb.momentum; }));
   o.back().applies_when = C{"scheme", {"momentum"}, ""};
+  o.push_back(integer_option<int>(
+      "coulomb_stall_windows",
+      "after this many stopping windows in a row without a new smallest shape change (since the last tear), "
+      "the momentum is dropped, and after each further such run the iteration is relaxed (X + w (T(X) - X), w "
+      "halving to 1/8: the same fixed points); 0: never",
+      coulomb_limits::kStallWindows, f, [](Ref c) -> int& { return c.coulomb.stall_windows; }));
+  o.back().applies_when = C{"scheme", {"momentum"}, ""};
   o.push_back(choice_option<CoulombOptions::Summation>(
       "coulomb_summation", "Coulomb sum: auto, direct, direct-float, fast",
       {"auto", "direct", "direct-float", "fast"}, f,
@@ -331,7 +349,9 @@ CanonicalFormMethod coulomb_method() {
   m.reads = {"coulomb"};
   m.has_history = true;
   m.marks_torn = true;
-  m.results_version = 2;  // 2: the kernels without fused multiply-adds, the same bytes under every target
+  // 2: the kernels without fused multiply-adds, the same bytes under every target; 3: the form a function of
+  // the shape (the start's landmarks and rows, the float sum's order, ties in tearing)
+  m.results_version = 3;
   m.compute = coulomb_compute;
   return m;
 }

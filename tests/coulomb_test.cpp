@@ -162,7 +162,12 @@ TEST(Tearing, RemovesCeilFractionAndIsolatesNoVertex) {
   for (double p : {0.01, 0.05, 0.2}) {
     const Index count = static_cast<Index>(std::ceil(p * E.rows()));
     const std::vector<Index> torn = select_edges_to_tear(X, E, rest, m.num_vertices(), count);
-    EXPECT_EQ(static_cast<Index>(torn.size()), count);
+    // `count` edges, and beyond them only ties of the count-th (the icosphere is symmetric).
+    ASSERT_GE(static_cast<Index>(torn.size()), count);
+    auto deviation = [&](Index e) { return std::abs((X.row(E(e, 0)) - X.row(E(e, 1))).norm() - rest(e)); };
+    const double cut = deviation(torn[static_cast<size_t>(count - 1)]);
+    for (size_t k = static_cast<size_t>(count); k < torn.size(); ++k)
+      EXPECT_GE(deviation(torn[k]), (1 - kTearMargin) * cut) << "edge " << torn[k] << " is no tie";
     std::set<Index> unique(torn.begin(), torn.end());
     EXPECT_EQ(unique.size(), torn.size());
     std::vector<int> degree(m.num_vertices(), 0);
@@ -172,7 +177,7 @@ TEST(Tearing, RemovesCeilFractionAndIsolatesNoVertex) {
       ++degree[E(e, 1)];
     }
     for (int d : degree) EXPECT_GE(d, 2);  // the default guard (Connected) keeps two edges per vertex
-    Edges kept(E.rows() - count, 2);
+    Edges kept(E.rows() - static_cast<Index>(torn.size()), 2);
     for (Index e = 0, k = 0; e < E.rows(); ++e)
       if (!unique.count(e)) kept.row(k++) = E.row(e);
     EXPECT_EQ(connected_components(m.num_vertices(), kept).count, 1);
@@ -250,12 +255,14 @@ TEST(CoulombCanon, TearingRemovesEdgesAndMarksVertices) {
   o.tear_fraction = 0.02;
   const Edges E = mesh_edges(m.F);
   const CoulombCanonResult r = coulomb_canonical_form(m.V, E, o);
+  // ceil(2% of the edges), and the edges tied with the last of them (the icosphere is symmetric): a few.
   const Index expected = static_cast<Index>(std::ceil(0.02 * E.rows()));
-  EXPECT_EQ(r.torn_edges.rows(), expected);
-  EXPECT_EQ(r.edges.rows(), E.rows() - expected);
+  EXPECT_GE(r.torn_edges.rows(), expected);
+  EXPECT_LE(r.torn_edges.rows(), expected + expected / 10);
+  EXPECT_EQ(r.edges.rows(), E.rows() - r.torn_edges.rows());
   EXPECT_GT(r.torn_vertices.sum(), 0);
-  EXPECT_LE(r.torn_vertices.sum(), 2.0 * expected);
-  EXPECT_EQ(r.history.back().torn_edges, expected);
+  EXPECT_LE(r.torn_vertices.sum(), 2.0 * r.torn_edges.rows());
+  EXPECT_EQ(r.history.back().torn_edges, r.torn_edges.rows());
 }
 
 TEST(CoulombCanon, HeavyTearingCutsNothingOffAndNothingRunsAway) {
@@ -276,7 +283,9 @@ TEST(CoulombCanon, HeavyTearingCutsNothingOffAndNothingRunsAway) {
 
   o.tear_guard = TearGuard::Connected;
   const CoulombCanonResult r = coulomb_canonical_form(m.V, E, o);
-  EXPECT_EQ(r.torn_edges.rows(), 3 * static_cast<Index>(std::ceil(0.1 * E.rows())));
+  const Index asked = 3 * static_cast<Index>(std::ceil(0.1 * E.rows()));
+  EXPECT_GE(r.torn_edges.rows(), asked);  // and the ties of each tear's last edge (a symmetric sphere)
+  EXPECT_LE(r.torn_edges.rows(), asked + asked / 20);
   EXPECT_TRUE(r.X.allFinite());
   EXPECT_TRUE(r.quality.ok) << r.quality.description;
   EXPECT_EQ(r.quality.detached_vertices, 0);

@@ -471,7 +471,7 @@ TEST(OptionsKey, AMethodsResultsVersionSeparatesItsCachedForms) {
       EXPECT_EQ(canonical_form_cache_key(mesh, o), before_versions) << method.name;
     }
   }
-  EXPECT_EQ(canonical_form_method("coulomb").results_version, 2);
+  EXPECT_EQ(canonical_form_method("coulomb").results_version, 3);
 }
 
 // The experiments start from the library's experiment defaults (heat geodesics), whoever calls them: the CLI
@@ -521,6 +521,7 @@ TEST(MethodOptions, ThePaperPresetSetsThePapersAlgorithmAndSingleSettingsChangeI
   EXPECT_EQ(o.coulomb.tear_times, 1);
   EXPECT_EQ(o.coulomb.tear_after, 100);
   EXPECT_EQ(o.coulomb.multiresolution.above_resolution, 0);
+  EXPECT_EQ(o.coulomb.move_limit, 0.0);
   (*preset)->set(o, std::string("default"));
   EXPECT_EQ(canonical_form_key(o), canonical_form_key(CanonicalFormOptions{}));
 
@@ -535,7 +536,8 @@ TEST(MethodOptions, ThePaperPresetSetsThePapersAlgorithmAndSingleSettingsChangeI
   };
   const std::string one_by_one =
       "--coulomb-start input --flatten 0 --scheme paper --step-rule max-edge --step-gradient max --tear-after 100 "
-      "--tear-times 1 --tear-guard vertex --coulomb-multiresolution-above 0 --projection-steps 3";
+      "--tear-times 1 --tear-guard vertex --coulomb-multiresolution-above 0 --move-limit 0 "
+      "--projection-steps 3";
   const std::string preset_then_one = form("--coulomb-preset paper --projection-steps 3", "a.ply");
   EXPECT_EQ(form("--projection-steps 3 --coulomb-preset paper", "b.ply"), preset_then_one);
   EXPECT_EQ(form(one_by_one, "c.ply"), preset_then_one);
