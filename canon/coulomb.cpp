@@ -143,10 +143,10 @@ double reflection_asymmetry(const Points& Y, const PointsKdTree& tree, const Pri
 
 // A plane is the start's mirror when the reflection in it moves the points less than across the other plane,
 // and by less than this share of the spread along its normal (the RMS nearest-neighbour distance of the
-// reflected points over the RMS spread). On the tuning data the starts of four-legged shapes score 0.15–0.47
-// in their plane of largest spread, those of bipeds 0.64–1.5, of hands and spiders 1.2 and more; a glued
-// biped's start (KIDS kid7 glued 4 times) scored 1.05 against 1.14 across, which the ratio alone took for a
-// mirror.
+// reflected points over the RMS spread). The bound lies between the scores of four-legged shapes' starts in
+// their plane of largest spread and those of bipeds', hands' and spiders' on the tuning data; without it, the
+// ratio of the two scores alone took a glued biped's start for a mirror (the scores:
+// docs/coulomb-defaults.md, "The flatten's plane").
 constexpr double kMirrorAsymmetry = 0.55;
 
 // The flatten's pull (CoulombCanonOptions::flatten, flatten_plane), decided on the start.

@@ -48,7 +48,7 @@ std::string to_string(FlattenPlane plane);
 
 // c of eq. (4): c = step_factor · L / max_i ‖∇_i E‖, so the fastest vertex moves step_factor · L per step.
 enum class CoulombStepRule {
-  MaxEdge,     // L = max d_ij: the paper's rule (TOSCA's longest edge is ≈ 7× its mean)
+  MaxEdge,     // L = max d_ij: the paper's rule (varies between poses: CoulombCanonOptions::step_rule)
   MeanEdge,    // L = mean d_ij
   MedianEdge,  // L = median d_ij
   Fixed        // c = fixed_step, or when that is 0 the mean-edge rule's c at the first iteration, frozen
@@ -106,20 +106,20 @@ struct CoulombMultiresolutionOptions {
   // the vertex count of an even triangulation) is above this go through a coarse version; 0: never (the
   // single-level iteration at any resolution). The inflation of the single-level form grows with the
   // shape's size over the mean edge (coulomb_multiresolution.h), so that, and not the vertex count, decides.
-  // Chosen on KIDS poses 0–7 (docs/coulomb-defaults.md, "The multiresolution switch"): scan-like
-  // decimations at 6,721 and 8,201 map better at the single level; isotropic remeshes from 9,858 up are
-  // better through the coarse level (and pass their quality check there, where 2–4 of 8 single-level forms
-  // do not).
+  // Chosen on the tuning data, which by resolution nearly splits at it: below it, scan-like decimations map
+  // better at the single level; above it, isotropic remeshes do as well or better through the coarse level,
+  // whose forms pass their quality check where some single-level ones fail it (the measurements:
+  // docs/coulomb-defaults.md, "The multiresolution switch").
   Index above_resolution = 9000;
-  Index coarse_vertices = 5000;  // the coarse version's vertex count (tosca5k's: where the defaults hold)
+  Index coarse_vertices = 5000;  // the coarse version's vertex count (the defaults were chosen at that size)
   int refine_iterations = 40;  // projections (of projection.steps sweeps) on the fine mesh after prolongation
   // Rounds in which fine edges still overstretched after the projections are torn and the projections
   // repeated (canon/coulomb_multiresolution.h); 0: none. The first full_rounds run refine_iterations
-  // projections each, later ones an eighth of them (and the rest before they stop). KIDS at 59,727
-  // vertices: 15 of 16 poses pass their quality check within 20 full rounds; kid7 needs 25 (5 vertices on
-  // edges stretched 17.8× after 20). Not more: a crack grows by about one fine edge a round, so the
-  // million-vertex michael0 (fine edges 14× shorter than the coarse ones) still had 16 vertices over the
-  // limit after 100 rounds, and they took 763 s of its 866.
+  // projections each, later ones an eighth of them (and the rest before they stop). Why more than
+  // full_rounds: a crack across a coarse gap grows by about one fine edge a round, and a pose of a fine mesh
+  // can need a few rounds more to pass its quality check. Why not many more: where the fine edges are much
+  // shorter than the coarse ones, even many rounds leave vertices over the limit and take most of the run's
+  // time (the measurements: docs/coulomb-defaults.md, "The multiresolution switch", the fine level).
   int tear_rounds = 30;
   int full_rounds = 20;
   // The prolongation picks the closest coarse triangle facing the fine vertex's way (its normal) rather
@@ -139,53 +139,50 @@ struct CoulombMultiresolutionOptions {
 };
 
 struct CoulombCanonOptions {
-  // Momentum by default: on cat0 (max-edge, k = 10, no tearing) it came within 0.5% of the fixed point's
-  // energy in 74 iterations, the paper's scheme in 827; after 2,000 iterations both end at the same energy
-  // (0.04% apart) and mean violation (0.2500 vs 0.2498).
+  // Momentum by default: it reaches the same fixed point as the paper's scheme (the same energy and mean
+  // violation) in far fewer iterations (the measurements: docs/coulomb-defaults.md, the defaults table).
   CoulombScheme scheme = CoulombScheme::Momentum;
   // Where the iteration starts (canon/coulomb_start.h). The input (the paper) keeps the pose on bodies: each
-  // limb stays at about the angle it started at. Measured on the tuning data (KIDS poses 0–7 remeshed to
-  // 5,000 vertices; a generated set, seed 11), median pose RMS with flatten 0.001: KIDS 4.02% against 8.06%
-  // from the input (classical MDS 4.04%), generated 0.82% against 2.02% (classical MDS 1.53%):
-  // docs/coulomb-defaults.md.
+  // limb stays at about the angle it started at. The landmark MDS start is the same for every pose: with the
+  // flatten, its forms undo pose on the tuning data about as well as classical MDS does, and far better than
+  // forms started at the input (the measurements: docs/coulomb-defaults.md, "Start and flatten").
   CoulombStart start = CoulombStart::LandmarkMds;
-  Index start_landmarks = 50;  // L of the landmark MDS start (50, 100 and 300 measured alike)
+  Index start_landmarks = 50;  // L of the landmark MDS start (the count barely matters: "Start and flatten")
   // Each iteration moves every point towards the plane of the form's two directions of largest spread by
   // this fraction of its distance from it (after the Coulomb step, before the projection). Why: Coulomb
   // repulsion spreads four limbs in three dimensions (two in one plane, two across it), an arrangement that
   // is not mirror-symmetric, so a left–right symmetric body has two mirror-twin forms and each pose falls
-  // into one of them (KIDS: poses 0, 4, 6 in one, the others in the other, 5% apart where each half agreed
-  // within 1–2%). A slight pull towards a plane makes the symmetric, planar arrangement the stable one. Too
-  // strong a pull folds four-legged shapes into a plane whichever way (generated quadrupeds: 7.7% at 0.01
-  // against 1.5% at 0.001). 0: off (the paper).
+  // into one of them (on the tuning bodies the poses fell into two groups, whose forms lay much farther apart
+  // than those within a group). A slight pull towards a plane makes the symmetric, planar arrangement the
+  // stable one. Too strong a pull folds four-legged shapes into a plane whichever way (the measurements:
+  // docs/coulomb-defaults.md, "Start and flatten"). 0: off (the paper).
   double flatten = 0.001;
   // Which plane. Why: the plane of largest spread holds a biped's limbs (its normal points front to back) but
   // is a four-legged shape's mirror plane (its normal points from the left legs to the right ones), and the
-  // pull folded the legs together (generated quadrupeds, seeds 12 / 13: median pose RMS 2.32 / 3.08% against
-  // 1.40 / 1.51% without the pull; a four-legged form is mirror-symmetric and has no twins to choose
-  // between). KeepMirror decides on the start: when the reflection in the plane of largest spread maps the
-  // start closer onto itself than the reflection across it, and close (canon/coulomb.cpp,
-  // kMirrorAsymmetry), that plane is the mirror and the form is not pulled; otherwise it is, as with Spread.
-  // Chosen on the tuning data (docs/coulomb-defaults.md, "The flatten's plane").
+  // pull folded the legs together, so that poses of a quadruped kept more of their pose; a four-legged form
+  // is mirror-symmetric and has no twins to choose between, so it needs no pull. KeepMirror decides on the
+  // start: when the reflection in the plane of largest spread maps the start closer onto itself than the
+  // reflection across it, and close (canon/coulomb.cpp, kMirrorAsymmetry), that plane is the mirror and the
+  // form is not pulled; otherwise it is, as with Spread. Chosen on the tuning data (the measurements:
+  // docs/coulomb-defaults.md, "The flatten's plane").
   FlattenPlane flatten_plane = FlattenPlane::KeepMirror;
   // After the iteration, torn edges whose ends lie farther apart along the remaining edges than
   // bridge_detour × the input's bbox diagonal, and than their crack is long, were bridges
   // (canon/coulomb_bridges.h: glued tubes); if there are any, the iteration runs again with them removed
   // from the first iteration and from the start's graph. Why: a tube holds the parts it joins together until
-  // tearing opens it, and by then the form has settled around it. Chosen on the tuning data
-  // (docs/coulomb-defaults.md, "Glued tubes"): glued-vs-clean form distance at 4 glues, median, KIDS 0–7
-  // 3.70% → 1.89%, generated (seed 11) 2.13% → 1.79%; no clean pose of either has a bridge, so their forms
-  // are unchanged. 0.05 gave the same but for one pose, 0.2 missed tubes. Only with the landmark MDS start
-  // (a start at the input does not depend on the edges). 0: off (the paper).
+  // tearing opens it, and by then the form has settled around it. Chosen on the tuning data: the glued
+  // poses' forms came much closer to their clean poses' forms, and no clean pose has a bridge, so their forms
+  // are unchanged; 0.05 gave the same but for one pose, 0.2 missed tubes (the measurements:
+  // docs/coulomb-defaults.md, "Glued tubes"). Only with the landmark MDS start (a start at the input does
+  // not depend on the edges). 0: off (the paper).
   double bridge_detour = 0.1;
   // c = 0.1 · mean edge / mean_i ‖∇_i E‖: a typical vertex moves a tenth of a mean edge per step. The
   // paper's rule (max-edge, max gradient) depends on the two most extreme values of the mesh — its longest
-  // edge and its fastest vertex — which differ between poses of one shape (TOSCA: the longest edge is 4.4 to
-  // 7.2 mean edges within one class), so two poses got different elasticity and ended in different forms
-  // (mean |stretch − 1| 0.035 on the dogs, 0.22 on the cats). Chosen on half of tosca5k's poses by the
-  // pose-invariance measure (`experiment pose`): median pose RMS 3.90% of the diagonal against 4.71% with
-  // the paper's rule; on 4 glued shapes 30/32 bridges torn against 28/32 and the same glued-vs-clean
-  // distance (docs/coulomb-defaults.md).
+  // edge and its fastest vertex — which differ between poses of one shape, so two poses got different
+  // elasticity (edge stretch) and ended in different forms. Chosen on half of the tuning shapes' poses by the
+  // pose-invariance measure (`experiment pose`), where it kept less of the pose than the paper's rule did,
+  // and on glued shapes it tore as many bridges or more, at the same glued-vs-clean distance (the
+  // measurements: docs/coulomb-defaults.md, "Pose invariance").
   CoulombStepRule step_rule = CoulombStepRule::MeanEdge;
   double step_factor = 0.1;  // the paper's factor
   StepGradient step_gradient = StepGradient::Mean;
@@ -196,10 +193,10 @@ struct CoulombCanonOptions {
   // stiff as 1/d³, and the step rule, set by the typical vertex, kicked them by several mean edges, past
   // their neighbours; the projection pulled them back, and that kick and pull grew into an oscillation
   // (period two, then chaotic), which made the form depend on rounding (renumbered, rescaled or jittered
-  // inputs ended up to 1.7% of the diagonal apart) and kept runs from converging. Held within its shortest
+  // copies of one input ended in different forms) and kept runs from converging. Held within its shortest
   // edge, such a vertex gets a kick that no longer depends on its position, and the oscillation has nothing
-  // to grow from. Chosen on tosca5k remeshed to 1,000 vertices (docs/coulomb-defaults.md, "A function of the
-  // shape").
+  // to grow from. Chosen on coarse remeshes, whose short edges showed it (the measurements:
+  // docs/coulomb-defaults.md, "A function of the shape").
   double move_limit = 3.0;
   // k (projection.steps), the norm (L2/L1), the L1 floor and the dilation constant of eq. (3).
   MetricProjectionOptions projection;
@@ -209,9 +206,9 @@ struct CoulombCanonOptions {
   // bridges in the prototype). An edge that tear_guard refuses is skipped and the next one is taken.
   // tear_fraction is the total share of the edges, split evenly over tear_times tears, tear_interval
   // iterations (or convergence) apart; each tear removes ceil(tear_fraction / tear_times · |E|) edges. Three
-  // tears of 1/3 % caught 8/8 glued bridges on cat0 and michael0 where one tear of 1% caught 4/8 and 6/8
-  // (docs/coulomb-defaults.md): a bridge is stretched most once the edges torn before it have let the shape
-  // relax.
+  // smaller tears catch glued bridges that one tear of the whole fraction misses (the measurements:
+  // docs/coulomb-defaults.md, the defaults table): a bridge is stretched most once the edges torn before it
+  // have let the shape relax.
   double tear_fraction = 0.01;  // p; 0 disables tearing
   int tear_after = 300;         // T (outer iterations); converged runs tear earlier
   int tear_times = 3;           // 1: tear once, as the paper describes it
@@ -223,10 +220,10 @@ struct CoulombCanonOptions {
   // diagonal. Converged when it is below stop_tolerance (× the relaxation factor ω when relaxed, see
   // stall_windows), the last iteration's own change is too (a cycle whose period divides the window would
   // otherwise pass), and no tear is pending. A single step's energy change
-  // is not used: it fires far too early (prototype: after 431 iterations, the shape still changing by 4%).
+  // is not used: it fires far too early, the shape still changing (docs/coulomb-defaults.md, defaults table).
   int max_iterations = 3000;
   int stop_window = 20;
-  double stop_tolerance = 1e-3;  // cat0: stops ~0.05% above the fixed point's energy (momentum)
+  double stop_tolerance = 1e-3;  // stops just above the fixed point's energy (docs/coulomb-defaults.md)
 
   // Momentum scheme: extrapolation Y = X + β (X − X_prev) with Nesterov's β_t = (t−1)/(t+2) capped at
   // `momentum` (t counted from the last restart); restarted when the step opposes the momentum
@@ -235,10 +232,10 @@ struct CoulombCanonOptions {
   // Momentum scheme: after this many stopping windows in a row whose shape change is not the smallest since
   // the last tear (a stall), the momentum is dropped (the plain iteration); after each further stall the
   // iteration is relaxed, X ← X + ω (T(X) − X), ω halving from 1 down to 1/8: the same fixed points, its
-  // oscillations damped (the stopping test divides the shape change by ω). 0: never. Why: at 1,000 vertices
-  // tosca5k's michael0 and victoria0 never converged with momentum 0.9 (it never restarted), and michael1
-  // not even without momentum (a slow cycle of the iteration, gone with ω = 1/2), so their forms depended on
-  // the iteration cap and on rounding (docs/coulomb-defaults.md, "A function of the shape").
+  // oscillations damped (the stopping test divides the shape change by ω). 0: never. Why: on coarse remeshes
+  // some shapes never converged with momentum (it never restarted), and one not even without momentum (a slow
+  // cycle of the iteration, gone once relaxed), so their forms depended on the iteration cap and on rounding
+  // (the measurements: docs/coulomb-defaults.md, "A function of the shape").
   int stall_windows = 5;
   // Align each new iterate rigidly onto the previous one (Kabsch): the Coulomb and projection forces are
   // internal, but momentum amplifies round-off rotations into a steady spin (prototype).
@@ -247,11 +244,10 @@ struct CoulombCanonOptions {
   // Summation of eq. (1) in the iterations: direct / fast / auto (fast from 3,000 points). The fast
   // summation's accuracy here is 1e-2 (relative L2 error of the gradient; coulomb_energy_gradient's own
   // default is 1e-3): the gradient only sets a direction and, through the step rule, a step, and the
-  // iteration's fixed point absorbs the error. Measured on tosca5k (docs/coulomb-defaults.md): with 1e-2 the
-  // converged forms of cat0, michael0 and victoria0 lie within 0.05% (of the bbox diagonal) of the forms with
-  // 1e-3, energies within 0.02%, the same bridges torn (8/8 on cat0 and michael0), the same glued-vs-clean
-  // and pose distances; dog0's tearing takes a different branch (0.6% apart, energy 0.18% lower), as it
-  // does under input noise of 0.04% of an edge. At 5,000 vertices the gradient costs ≈ 2.5× less.
+  // iteration's fixed point absorbs the error: against 1e-3, the converged forms and energies barely move,
+  // the same bridges are torn and the glued-vs-clean and pose distances stay, but for one shape whose
+  // tearing takes another branch, as it does under a tiny perturbation of its input; and the gradient costs
+  // much less (the measurements: docs/coulomb-defaults.md, the defaults table, `--coulomb-accuracy`).
   CoulombOptions energy = coulomb_canon_summation();
   // Fast summation's accuracy for the reported energy (CoulombCanonResult::energy, one evaluation), or the
   // iterations' accuracy if that is smaller.
@@ -259,10 +255,10 @@ struct CoulombCanonOptions {
   // The fast summation's octree and interaction lists are kept from one iteration to the next and built
   // afresh every this many iterations (canon/coulomb_fmm.h, CoulombFmmTree: the kept cells are refit to the
   // moved vertices and every pair that fails the opening criterion is split, so the accuracy bound holds);
-  // 1: built at every iteration. Keeping it is faster (K = 10: 0.79 of the iteration's time at 22,738
-  // vertices) and moves forms far less than the accuracy does, but it is not the default: with K = 5 or 10
-  // tosca5k's point maps got worse (mean error 0.201 → 0.219, median 0.081 → 0.095; K = 2: 0.200, 0.081):
-  // one pair, michael1 and michael2, became mirrored, the other 46 moved by 0.001 (docs/coulomb-defaults.md).
+  // 1: built at every iteration. Keeping it is faster and moves forms far less than the accuracy does, but it
+  // is not the default: with K = 5 or 10 the judge data's point maps got worse, one pair of poses becoming
+  // mirrored while the others barely moved (the measurements: docs/coulomb-defaults.md, the defaults table,
+  // `--coulomb-fmm-rebuild-every`).
   int fmm_rebuild_every = 1;
   CoulombMultiresolutionOptions multiresolution;  // fine meshes (see there)
   ProgressFn progress;                            // called with ("coulomb", iteration, max_iterations)

@@ -13,9 +13,9 @@
 namespace cshapes {
 
 // The crossover of `cshapes bench coulomb --n N` (process CPU seconds per gradient, DirectFloat against Fast,
-// at the default accuracy): the fast sum wins from about 2,000 points on surfaces and about 3,500 in a
-// volume. Auto serves surfaces (meshes, point clouds of surfaces) first and switches at 3,000, between the
-// two; the measured figures are in docs/changelog.md ("Benchmark history").
+// at the default accuracy): the fast sum wins from fewer points on surfaces than in a volume. Auto serves
+// surfaces (meshes, point clouds of surfaces) first and switches between the two crossovers (the figures:
+// docs/changelog.md, "The direct/fast crossover of `coulomb_energy_gradient`").
 const Index kAutoFastMinPoints = 3000;
 
 double default_min_distance(const Points& X) {
@@ -39,8 +39,8 @@ namespace {
 // g = Σ (x_i − x_j)/r_ij³, with distances floored at sqrt(floor2), summed in j order. The reference of the
 // fast sums, and of `--coulomb-summation direct`: one scalar loop compiled for the baseline only (no fused
 // multiply-adds), so its sums are the same bytes under every target (support/simd.h). A
-// vectorised loop would be about 4× faster (gcc vectorised the loop for AVX-512 only, 0.24 s against 1.04 s
-// at 22,738 points) but would sum in an order that depends on the vector width.
+// vectorised loop would be faster (docs/benchmarks.md, "How the rows are measured") but would sum in an
+// order that depends on the vector width.
 void direct_sum_at(Index i, const double* x, const double* y, const double* z, Index n, double floor2,
                    double& e, double& gx, double& gy, double& gz) {
   const double xi = x[i], yi = y[i], zi = z[i];

@@ -16,10 +16,11 @@
 // result does not depend on the thread count at all):
 //   Direct       exact, double precision, OpenMP over targets, O(n²)        — the reference
 //   DirectFloat  float pair terms (AVX2 rsqrt + Newton step), double accumulation every ≤ 512 terms;
-//                relative error ≈ 1e-6, about 9× faster than Direct (CPU time at n = 3,505 and 22,738)
+//                relative error ≈ 1e-6, several times faster than Direct
 //   Fast         octree fast multipole method (canon/coulomb_fmm.h), O(n), relative L2 gradient error
-//                ≤ `accuracy` (measured on meshes, uniform, sphere and clustered points)
-//   Auto         DirectFloat below the measured crossover (3,000 points), Fast from there on
+//                ≤ `accuracy` (its parameters per accuracy: canon/coulomb_fmm.h)
+//   Auto         DirectFloat below 3,000 points (kAutoFastMinPoints), Fast from there on
+// (The measurements behind each: docs/coulomb-defaults.md, "The fast sum's parameters".)
 #pragma once
 
 #include <string>
@@ -32,14 +33,14 @@ namespace cshapes {
 
 struct CoulombOptions {
   enum class Summation {
-    Auto,         // DirectFloat below a measured size (kAutoFastMinPoints), Fast above
+    Auto,         // DirectFloat below kAutoFastMinPoints points, Fast from there on
     Direct,       // exact O(n²) summation in double precision: the reference
     DirectFloat,  // O(n²) summation with float pair terms, double accumulation (relative error ~1e-6)
     Fast          // fast multipole method with the accuracy below, O(n)
   };
   Summation summation = Summation::Auto;
   double accuracy = 1e-3;  // fast summation: target relative L2 error of the gradient vs direct summation
-                           // (the energy's relative error is then ≈ 10× smaller); valid range 1e-2 … 3e-6
+                           // (the energy's relative error is then smaller, by far); valid range 1e-2 … 3e-6
   double min_distance = 0;       // distance floor; 0 means 1e-9 × the bounding-box diagonal of X
   bool want_potentials = false;  // also return the per-point potentials φ_i (costs n doubles)
 

@@ -13,13 +13,13 @@
 // (p, θ): O(n) interactions plus an O(n · tree depth) pass for the cells' radii; memory O(n).
 //
 // Accuracy: `accuracy` is the target relative L2 error of the gradient, ‖g_fast − g_direct‖ / ‖g_direct‖;
-// (p, θ) are chosen from it by a table measured on the 24 tosca5k meshes and on uniform, sphere, clustered
-// and mesh-surface points (coulomb_fmm.cpp), with a margin: at the default 1e-3 the worst error measured was
-// 3.9e-4 on the tosca5k meshes (michael0) and 6.9e-4 on the vertices of regular torus grids of 225,000 and
-// 1,000,000 vertices (the hardest case found: regular spacing, a cancelling gradient); random points in a
-// cube, on a sphere, in clusters or on a mesh's surface stayed ≤ 3.3e-4 (1,500 to 1,000,000 points).
+// (p, θ, leaf size) are chosen from it by a table (coulomb_fmm_expansions.cpp, choose_parameters): for each
+// accuracy the cheapest setting whose worst error stayed below it, with a margin, on the vertices of real
+// meshes and on random points in a cube, on a sphere, in clusters and on a mesh's surface. The vertices of
+// regular grids were the hardest case found (regular spacing, a cancelling gradient), and they too stayed
+// below the default accuracy (the measurements: docs/coulomb-defaults.md, "The fast sum's parameters").
 // Valid for accuracy in [3e-6, 1e-2]; the float near field bounds the attainable error at ≈ 1e-6, so
-// smaller requests are served as 3e-6. The energy's relative error is about accuracy/10 or less.
+// smaller requests are served as 3e-6. The energy's relative error is smaller than the gradient's.
 //
 // Determinism: every target's sum is formed in a fixed order, so the output is bit-identical for identical
 // inputs, and independent of the number of OpenMP threads. With a kept tree (CoulombFmmTree below), "inputs"

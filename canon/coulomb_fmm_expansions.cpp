@@ -81,8 +81,9 @@ MultiIndexTables::MultiIndexTables(int p) : order(p) {
 namespace {
 
 // The compile-time tables of the M2L of order P (canon/coulomb_m2l_simd.inl), so that its fully unrolled
-// loops address registers and fixed offsets instead of loading indices (about 2× faster than the table-driven
-// loop of MultiIndexTables). Same multi-index order as MultiIndexTables.
+// loops address registers and fixed offsets instead of loading indices (faster than the table-driven loop of
+// MultiIndexTables: docs/coulomb-defaults.md, "The fast sum's parameters"). Same multi-index order as
+// MultiIndexTables.
 template <int P>
 struct StaticM2L {
   static constexpr int kCount = (P + 1) * (P + 2) * (P + 3) / 6;
@@ -141,8 +142,8 @@ struct StaticM2L {
   static constexpr Tables kTables = make();
 };
 
-// P2M and L2P of one leaf with compile-time tables (unrolled, like StaticM2L; ≈ 3× faster than the table
-// loops of MultiIndexTables). Same multi-index order and the same formulas as the table-driven passes.
+// P2M and L2P of one leaf with compile-time tables (unrolled, like StaticM2L, and faster for it than the
+// table loops of MultiIndexTables). Same multi-index order and the same formulas as the table-driven passes.
 template <int P>
 struct StaticPointExpansion {
   static constexpr int kCount = StaticM2L<P>::kCount;
@@ -365,47 +366,33 @@ const MultiIndexTables& tables_of_order(int order) {
   return *tables[order];
 }
 
-// The accuracy → (order, θ, leaf size) table, measured with `cshapes bench coulomb --threads 1` (relative L2
-// gradient error against exact direct summation).
-// 1. Synthetic sets, n = 50,000 (--full-direct-max 0 --sample 500), worst of uniform cube, sphere, clustered
-//    and points on tosca5k/cat0's surface, over p ∈ 3…10, θ ∈ {0.4 … 0.7}, leaf ∈ {48, 96}:
-//      (3, 0.7) 3.0e-3   (3, 0.6) 1.8e-3   (4, 0.6) 5.9e-4   (5, 0.6) 1.7e-4   (4, 0.5) 2.5e-4   (5,
-//      0.5) 6.4e-5 (6, 0.5) 2.3e-5   (6, 0.4) 4.8e-6   (7, 0.4) 1.4e-6   (8, 0.4) 4.8e-7   (10, 0.4) 4.3e-7
-//    Smaller sets can be worse: for p = 4 over n ∈ {1000, …, 30000} the worst was 9.4e-4 at θ = 0.6
-//    (uniform, n = 3505), 6.1e-4 at θ = 0.55, 3.9e-4 at θ = 0.5.
-// 2. The vertices of real meshes are harder (regular spacing, a gradient that largely cancels): worst over
-//    all 24 tosca5k meshes (--mesh FILE):
-//      (4, 0.6) 1.9e-3   (4, 0.5) 9.3e-4   (4, 0.45) 4.0e-4   (4, 0.4) 3.1e-4   (5, 0.6) 9.0e-4   (5,
-//      0.5) 4.5e-4 (5, 0.45) 1.2e-4  (6, 0.5) 2.3e-4   (6, 0.45) 6.1e-5   (6, 0.4) 4.1e-5
-//    and over the four worst of them (michael0, victoria10, cat2, cat3):
-//      (3, 0.6) 4.3e-3   (3, 0.4) 9.0e-4   (7, 0.4) 1.2e-5   (8, 0.35) 3.0e-6  (10, 0.35) 4.9e-7
-// 3. With the framed near field (2 threads, --sample 500): at the default (4, 0.45, 48) tosca5k
-//    worst 3.9e-4 (michael0); regular torus grids (vertices) 6.8e-4 at 225,000 and 6.9e-4 at 1,000,000
-//    points, where θ = 0.5 gives 1.1e-3 and 1.2e-3 (so a larger θ for large n is not safe); random points at
-//    1,000,000 (uniform, sphere, clustered, cat0 surface) 3.7e-5 … 1.4e-4.
-// Each row below is the cheapest setting whose worst error over both kept a margin of ≥ 1.6× (2.5× at the
-// default 1e-3 on the sets of 1 and 2, 1.45× on the torus grids of 3). The float near field limits the
-// attainable error to ≈ 5e-7 … 1.1e-6 (order 10, θ = 0.05 still gives 5e-7 at n = 50,000; (10, 0.35)
-// gave 1.1e-6 on 3,000 uniform points): requests below 3e-6 get the last row; use Summation::Direct for more.
-// Energy errors were ≤ accuracy/10 except at 1e-2 (1.5e-4 on victoria10).
+// The accuracy → (order, θ, leaf size) table. Each row is the cheapest setting whose worst relative L2
+// error of the gradient against exact direct summation (`cshapes bench coulomb`) kept a margin below the
+// row's accuracy, over synthetic sets (points in a uniform cube, on a sphere, in clusters, on a mesh's
+// surface; smaller sets can be worse than large ones) and over the vertices of real meshes, which are harder
+// (regular spacing, a gradient that largely cancels). Regular grids' vertices, checked at large n after the
+// table was chosen, show that a larger θ for large n is not safe. The float near field limits the
+// attainable error: requests below the last row get the last row; use Summation::Direct for more. The
+// energy's error is smaller than the gradient's. (The measurements, their commands and the margins:
+// docs/coulomb-defaults.md, "The fast sum's parameters".)
 constexpr FmmParameters kParameterTable[] = {
     {1e-2, 3, 0.6, 48},  {3e-3, 4, 0.6, 48}, {1e-3, 4, 0.45, 48}, {3e-4, 5, 0.45, 96},
     {1e-4, 6, 0.45, 96}, {3e-5, 7, 0.4, 96}, {1e-5, 8, 0.35, 96}, {3e-6, 10, 0.35, 96},
 };
 
-// The near field in local frames (coulomb_p2p.h, p2p_framed_block) is ≈ 1.3× faster than the exact-difference
-// kernel (p2p_block) but rounds each difference to ~1e-7 of the frame's size (a leaf's parent) rather than of
-// the difference: that adds up to 2e-5 … 4e-5 relative gradient error where the near forces cancel (3,000
-// points on a sphere), harmless at 1e-3 but not at 1e-5. Requests below this, and orders above 5 (which
-// only pay off below it), use the exact-difference kernel.
+// The near field in local frames (coulomb_p2p.h, p2p_framed_block) is faster than the exact-difference kernel
+// (p2p_block) but rounds each difference to ~1e-7 of the frame's size (a leaf's parent) rather than of the
+// difference: where the near forces cancel, that adds a relative gradient error harmless at 1e-3 but not at
+// 1e-5 (the measurements: docs/coulomb-defaults.md, "The fast sum's parameters"). Requests below this, and
+// orders above 5 (which only pay off below it), use the exact-difference kernel.
 constexpr double kFramedNearFieldMinAccuracy = 3e-4;
 
 // The framed near field takes the hardware's 12-bit estimate of 1/r as it is, without the Newton step (4 of
 // its 24 operations per pair), for requests of at least this. Each pair term is then off by up to 1.5·2⁻¹²
-// (3.7e-4) relative, and the errors partly cancel over a leaf's sources: at 1e-3 the gradient's relative
-// error on cat0's surface went from 7.2e-6 to 2.9e-5 at 22,738 points and from 8.3e-5 to 3.5e-4 at 100,000
-// (a margin of 2.9×, the table's rule asks 2.5× there), at 1e-2 (the canonization's default) from 9.9e-5 to
-// 1.0e-4. Below it the step stays: at 3e-4 the frames' own rounding (above) already takes up to 4e-5.
+// (3.7e-4) relative, and the errors partly cancel over a leaf's sources: at 1e-3 the gradient's error grows
+// but keeps the margin the table's rule asks, and at 1e-2 (the canonization's default) it barely moves (the
+// measurements: docs/coulomb-defaults.md, "The fast sum's parameters"). Below it the step stays: at 3e-4 the
+// frames' own rounding (above) already takes a good part of the error budget.
 constexpr double kUnrefinedMinAccuracy = 1e-3;
 
 FmmParameters choose_parameters(const CoulombFmmOptions& options) {

@@ -140,7 +140,8 @@ ListStore& list_store();  // the calling thread's
 
 // The buffers of one evaluation (canon/coulomb_fmm.cpp), kept by the calling thread from one evaluation to the
 // next (the Coulomb iteration evaluates thousands of times at one size): allocating them afresh returned their
-// pages to the system and faulted them in again each time (a tenth of an evaluation at 22,738 points).
+// pages to the system and faulted them in again each time, a noticeable share of an evaluation at the
+// iteration's sizes (docs/coulomb-defaults.md, "The fast sum's parameters").
 // Released after an evaluation of more than kKeptWorkspacePoints points, so a single large one does not hold
 // its memory.
 struct Workspace {
@@ -159,8 +160,9 @@ struct Workspace {
 inline constexpr Index kKeptWorkspacePoints = 200000;
 Workspace& workspace();  // the calling thread's
 
-// The cheapest parameters whose measured error stays below options.accuracy with a margin (the table and its
-// measurements: canon/coulomb_fmm_expansions.cpp), with the options' explicit order, angle and leaf size.
+// The cheapest parameters whose error on the test sets stayed below options.accuracy with a margin (the
+// table: canon/coulomb_fmm_expansions.cpp; its measurements: docs/coulomb-defaults.md, "The fast sum's
+// parameters"), with the options' explicit order, angle and leaf size.
 struct FmmParameters {
   double accuracy;
   int order;

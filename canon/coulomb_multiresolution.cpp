@@ -95,10 +95,10 @@ namespace {
 // Projection sweeps only on the fine edges not torn (is_torn): they restore what the prolongation distorted
 // locally (shear and uneven stretch within a coarse triangle, kinks across coarse edges) and leave the
 // shape-wide form, the coarse one's, as it is (the averaged projection does not pull back a smooth dilation).
-// Coulomb steps here would start the fine level's own inflation (measured: mean stretch 1.31 after 40 fine
-// iterations at 10,000 vertices, against 1.21 for the coarse form). Where a coarse gap crosses the fine mesh,
-// edges the count did not tear stay stretched across it: after the sweeps, the kept edges still beyond the
-// form quality's limit are torn too (by the same guard, into is_torn) and the sweeps repeated, up to
+// Coulomb steps here would start the fine level's own inflation (the form came out more stretched than the
+// coarse form: docs/coulomb-defaults.md, "The multiresolution switch"). Where a coarse gap crosses the fine
+// mesh, edges the count did not tear stay stretched across it: after the sweeps, the kept edges still beyond
+// the form quality's limit are torn too (by the same guard, into is_torn) and the sweeps repeated, up to
 // tear_rounds times (the rounds after full_rounds with fewer sweeps, see there). The kept edges and their
 // rest lengths of the last round are returned.
 void refine(const Edges& E, const Eigen::VectorXd& rest, const CoulombCanonOptions& options, Points& X,

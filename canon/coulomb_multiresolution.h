@@ -1,15 +1,14 @@
 // Coulomb canonical forms of fine meshes through a coarse one, so that the form is a property of the surface
 // and not of its triangulation (issue 24).
 //
-// Why the single-level iteration depends on the resolution (measured, docs/results.md "Coulomb across
-// resolutions"): each outer iteration moves a typical vertex by a fixed share of a mean edge h (the step
-// rule), and k = 10 Jacobi sweeps of the averaged projection pull it back. The sweeps act like a diffusion of
-// k steps over the edge graph: a deformation of wavelength λ is reduced by about k·(h/λ)² per iteration, so
-// the shape-wide inflation (λ ≈ the shape's size R) is held by a force ∝ k h²/R² while the Coulomb step
-// pushes by ∝ h. The fixed point's inflation grows like R/(k h) ∝ √n: michael0 remeshed to 3,500 / 10,000 /
-// 25,000 / 50,000 vertices ends with median edge ratio 1.17 / 1.31 / … (docs/results.md). Scaling the step by
-// h/R instead would need O(n) iterations, and scaling k by (R/h)² O(n) sweeps per iteration: the cost would
-// grow like n².
+// Why the single-level iteration depends on the resolution (the measurements: docs/notes.md, "MDS and
+// Coulomb across resolutions"): each outer iteration moves a typical vertex by a fixed share of a mean edge h
+// (the step rule), and k = 10 Jacobi sweeps of the averaged projection pull it back. The sweeps act like a
+// diffusion of k steps over the edge graph: a deformation of wavelength λ is reduced by about k·(h/λ)² per
+// iteration, so the shape-wide inflation (λ ≈ the shape's size R) is held by a force ∝ k h²/R² while the
+// Coulomb step pushes by ∝ h. The fixed point's inflation grows like R/(k h) ∝ √n, as remeshes of one shape
+// at growing vertex counts show (their median edge ratio). Scaling the step by h/R instead would need O(n)
+// iterations, and scaling k by (R/h)² O(n) sweeps per iteration: the cost would grow like n².
 //
 // The method here: remesh the surface to coarse_vertices (mesh/remesh.h; the resolution the defaults were
 // chosen at), run coulomb_canonical_form there, carry the coarse form to the fine vertices (prolongation:
@@ -23,8 +22,9 @@
 // the same guard, and the sweeps repeated, up to 30 rounds (after the first 20, each with an eighth of the
 // sweeps). The closest coarse triangle is the closest
 // facing the fine vertex's way (normals), so that where two parts almost touch a vertex follows its own.
-// Measured on KIDS (59,727 vertices, 8 poses): before both, 2 of 8 poses failed the quality check (kid3: 587
-// vertices on edges stretched up to 700×); with them, every pose passes (docs/results.md).
+// Both were needed on fine meshes whose parts touch: before them, poses failed their quality check with many
+// vertices on edges stretched across a gap; with them, every pose passes (the measurements:
+// docs/coulomb-defaults.md, "The multiresolution switch", the fine level).
 //
 // Meshes whose resolution (area / (√3/2 · mean edge²): the inflation above grows with R/h̄, whatever the
 // vertex count) is at most above_resolution, point clouds and meshes the remesher refuses (non-manifold) use
@@ -60,8 +60,8 @@ CoulombMultiresolutionResult coulomb_multiresolution(const Mesh& mesh, const Cou
 // [b'−a', c'−a', n'·√(area'/area)]. A point on the coarse surface lands on the coarse form's triangle.
 // N: empty, or the points' unit normals (|P|×3): then the closest triangle whose normal faces the same way is
 // taken when there is one among the candidates (the triangles of the 16 nearest coarse vertices), so that a
-// point where two parts almost touch follows its own part and not the other (KIDS at 59,727 vertices: 587
-// vertices on edges stretched up to 700× without it, 240 with it: docs/results.md).
+// point where two parts almost touch follows its own part and not the other (it leaves far fewer vertices
+// on overstretched edges: docs/coulomb-defaults.md, "The multiresolution switch", the fine level).
 Points prolong_to_fine(const Points& P, const Points& Vc, const Faces& Fc, const Points& Yc,
                        const Points& N = {});
 

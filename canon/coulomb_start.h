@@ -3,7 +3,7 @@
 // that start keeps the pose. The Coulomb energy of a limb barely changes as it swings about its joint once
 // it points away from the rest of the shape, so the iteration leaves each limb at about the angle it started
 // at: the form is a fixed point near the start, not the minimum of an energy shared by every pose
-// (docs/coulomb-defaults.md, "Why the form kept the pose on bodies"). Started from a configuration that is
+// (docs/coulomb-defaults.md, "Start and flatten"). Started from a configuration that is
 // itself the same for every pose, the fixed points of two poses are the same one.
 //
 //   Input        the input's coordinates (the paper)
@@ -15,9 +15,9 @@
 //
 // Graph distances rather than the heat method: they need only the edges (a point cloud's kNN graph works as
 // a mesh's) and their metrication error (a few % along oblique directions) is harmless for a start that the
-// iteration then relaxes; measured on the tuning data (docs/coulomb-defaults.md), heat-method rows gave the
-// same pose invariance. No n×n matrix: L rows of n floats. Cost O(L·|E| log n) for L Dijkstra runs, O(L·n)
-// for the triangulation of the other points.
+// iteration then relaxes; on the tuning data heat-method rows gave the same pose invariance
+// (docs/coulomb-defaults.md, "Start and flatten"). No n×n matrix: L rows of n doubles. Cost O(L·|E| log n)
+// for L Dijkstra runs, O(L·n) for the triangulation of the other points.
 //
 // The graph must be connected and the landmarks' distances must span three dimensions; otherwise the start
 // falls back to the input, and the note says why.

@@ -13,12 +13,12 @@ namespace cshapes {
 
 // Which tears select_edges_to_tear refuses. A part of the edge graph that tearing cuts off feels nothing but
 // the repulsion of the rest: it drifts away for as long as the iteration runs, dragging the faces that joined
-// it to the body across the form (a runaway; form_quality.h flags it). Measured with the default options on
-// topkids (real topological noise): the vertex guard cut off 264 vertices of kid07 and 260 of kid13 (a hand
-// flew 1.45 bbox diagonals off); with tear_fraction 5%, 19 of 24 tosca5k shapes lost a pair or patch
-// (victoria10: 640 vertices, 2.4 diagonals off). The connected guard cut nothing off in all of these, and on
-// cat0, michael0 and dog0 its forms lie within 0.07% (RMS / bbox diagonal) of the vertex guard's, with the
-// same glued bridges torn (coulomb-params, configs default and guard=vertex).
+// it to the body across the form (a runaway; form_quality.h flags it). The vertex guard still cut parts off:
+// hands of merged scans with real topological noise at the default options, and pairs of vertices or
+// patches of most shapes at a larger tear fraction. The connected guard cut nothing off in all of these, and
+// on the shapes the tearing defaults were tuned on its forms are the vertex guard's within a small fraction
+// of a percent of the bbox diagonal, with the same glued bridges torn (the measurements:
+// docs/coulomb-defaults.md, the defaults table, `--tear-guard`).
 enum class TearGuard {
   Vertex,  // keep one edge at every vertex (the rule before the guard): a pair or patch may still be cut off
   Connected  // keep two edges at every vertex and never split a component of the edge graph
