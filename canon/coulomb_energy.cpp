@@ -12,10 +12,10 @@
 
 namespace cshapes {
 
-// The crossover of `cshapes bench coulomb --n N` (process CPU seconds per gradient, DirectFloat against Fast,
-// at the default accuracy): the fast sum wins from fewer points on surfaces than in a volume. Auto serves
-// surfaces (meshes, point clouds of surfaces) first and switches between the two crossovers (the figures:
-// docs/changelog.md, "The direct/fast crossover of `coulomb_energy_gradient`").
+// The crossover of `cshapes bench coulomb --points N` (process CPU seconds per gradient, DirectFloat against
+// Fast, at the default accuracy): the fast sum wins from fewer points on surfaces than in a volume. Auto
+// serves surfaces (meshes, point clouds of surfaces) first and switches between the two crossovers (the
+// figures: docs/changelog.md, "The direct/fast crossover of `coulomb_energy_gradient`").
 const Index kAutoFastMinPoints = 3000;
 
 double default_min_distance(const Points& X) {

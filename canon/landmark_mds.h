@@ -55,7 +55,7 @@ namespace landmark_limits {
 // 0 (no repair) or above 1 (a limit below an edge's own length would cut every edge).
 inline constexpr Limit kFoldOverstretch = number_limit("fold-overstretch", 0, 1000);
 // L of landmark MDS (farthest-point sampling; clamped to n).
-inline constexpr Limit kLandmarks = integer_limit("landmarks", 4, 1e6);
+inline constexpr Limit kLandmarks = integer_limit("mds-landmarks", 4, 1e6);
 }  // namespace landmark_limits
 
 // Which solver an MDS canonical form uses: the full n×n matrix, L landmark rows, or the rule of auto

@@ -53,9 +53,9 @@ std::string to_string(SmacofAcceleration acceleration);
 
 // The limits of the options a user sets (support/option_limits.h), named as on the command line.
 namespace smacof_limits {
-inline constexpr Limit kIterations = integer_limit("iters", 0, 1e8);
-inline constexpr Limit kTolerance = number_limit("tolerance", 0);
-inline constexpr Limit kWindow = integer_limit("window", 2, 1000);
+inline constexpr Limit kIterations = integer_limit("smacof-max-iterations", 0, 1e8);
+inline constexpr Limit kTolerance = number_limit("smacof-tolerance", 0);
+inline constexpr Limit kWindow = integer_limit("smacof-window", 2, 1000);
 }  // namespace smacof_limits
 
 struct SmacofOptions {

@@ -143,7 +143,8 @@ const bool registered = register_command(
        app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
        app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")
            ->check(within(icp_limits::kTrim));
-       app.add_option("--tolerance", args.tolerance, "stop when the RMSE changes by less than this fraction")
+       app.add_option("--icp-tolerance", args.tolerance,
+                      "ICP stops when the RMSE changes by less than this fraction")
            ->check(within(icp_limits::kTolerance));
      },
      run});

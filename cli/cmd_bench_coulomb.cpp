@@ -1,9 +1,10 @@
 // cshapes bench coulomb: seconds per Coulomb gradient, fast (FMM) vs direct summation, and the fast method's
 // relative error against direct summation, measured in one run (experiments/bench_coulomb.h).
 //
-//   cshapes bench coulomb --n 100000 --distribution uniform --json
+//   cshapes bench coulomb --points 100000 --distribution uniform --json
 //   cshapes bench coulomb --mesh ../shared/data/tosca5k/cat0.off --json            (the mesh's vertices)
-//   cshapes bench coulomb --mesh ../shared/data/tosca5k/cat0.off --n 100000 --json (n points on its surface)
+//   cshapes bench coulomb --mesh ../shared/data/tosca5k/cat0.off --points 100000 --json (points on its
+//   surface)
 #include <cstdio>
 #include <iostream>
 
@@ -43,11 +44,12 @@ const bool registered = register_command(
     {{"bench", "coulomb"},
      "Coulomb gradient: seconds per evaluation, fast multipole vs direct summation, and the fast error",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "number of points (with --mesh: points sampled on its surface)")
+       app.add_option("--points", options.n, "number of points (with --mesh: points sampled on its surface)")
            ->check(integer_in(0, 100000000));
        app.add_option("--distribution", distribution, "uniform (cube), sphere (surface) or clustered")
            ->check(one_of({"uniform", "sphere", "clustered"}));
-       app.add_option("--mesh", options.mesh, "use a mesh's vertices (or points on its surface with --n)");
+       app.add_option("--mesh", options.mesh,
+                      "use a mesh's vertices (or points on its surface with --points)");
        app.add_option("--repeats", options.repeats,
                       "timed runs of each direct sum, taking turns with the fast runs; the median is reported")
            ->check(integer_at_least(1));

@@ -1,4 +1,4 @@
-// cshapes bench coulomb-iteration (--mesh FILE | --n N) [--repeats R] [--windows W] --json
+// cshapes bench coulomb-iteration (--mesh FILE | --vertices N) [--repeats R] [--windows W] --json
 // Seconds of one outer iteration of the Coulomb canonization (1 Coulomb step + 1 projection sweep) against
 // the paper's Table 1 (experiments/bench_coulomb_iteration.h).
 #include <algorithm>
@@ -36,8 +36,8 @@ const bool registered = register_command(
     {{"bench", "coulomb-iteration"},
      "Seconds of one Coulomb outer iteration (1 gradient step + 1 projection sweep) vs the paper's Table 1",
      [](CLI::App& app) {
-       app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
-       app.add_option("--n", options.n, "vertices of the generated torus")
+       app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --vertices vertices)");
+       app.add_option("--vertices", options.n, "vertices of the generated torus")
            ->capture_default_str()
            ->check(integer_in(16, 100000000));
        app.add_option("--repeats", options.repeats, "iterations timed per window (their median)")

@@ -1,4 +1,5 @@
-// cshapes bench form (--mesh FILE | --n N) --method M [--mds-solver S] [--repeats R] [--reference cmds|none]
+// cshapes bench form (--mesh FILE | --vertices N) --method M [--mds-solver S] [--repeats R] [--reference
+// cmds|none]
 // --json: seconds and peak memory of one canonical form by any method, against full classical MDS in the same
 // run (experiments/bench_form.h).
 #include <cstdio>
@@ -43,8 +44,8 @@ const bool registered = register_command(
      "Seconds and peak memory of one canonical form by any method, against full classical MDS in the same "
      "run",
      [](CLI::App& app) {
-       app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --n vertices)");
-       app.add_option("--n", options.n, "vertices of the generated torus")
+       app.add_option("--mesh", options.mesh, "mesh file (default: a torus of --vertices vertices)");
+       app.add_option("--vertices", options.n, "vertices of the generated torus")
            ->capture_default_str()
            ->check(integer_in(16, 100000000));
        std::vector<std::string> known;

@@ -1,6 +1,6 @@
-// cshapes bench geodesics (--n N | --mesh FILE [--vertices N]) --json: all-pairs geodesic distances by our
-// block heat method against CGAL's Heat_method_3 one source at a time, with errors against exact geodesics
-// (experiments/bench_geodesics.h).
+// cshapes bench geodesics (--vertices N | --mesh FILE [--vertices N]) --json: all-pairs geodesic distances by
+// our block heat method against CGAL's Heat_method_3 one source at a time, with errors against exact
+// geodesics (experiments/bench_geodesics.h).
 #include <iostream>
 
 #include "cli/command.h"
@@ -13,9 +13,14 @@ namespace {
 
 GeodesicsBenchOptions options;
 std::string heat_mode = "idt";
+int vertices =
+    0;  // --vertices: a torus of N vertices, or --mesh refined to N (one meaning: the vertex count)
 bool json = false;
 
 int run() {
+  if (options.mesh.empty() && vertices > 0 && vertices < 16)
+    usage_fail("--vertices: a torus of at least 16 vertices, got ", vertices);
+  (options.mesh.empty() ? options.n : options.vertices) = vertices;
   options.heat_mode = parse_cgal_heat_mode(heat_mode);
   options.notes = {progress_printer(), note};
   const GeodesicsBenchResult r = bench_geodesics(options);
@@ -37,12 +42,12 @@ const bool registered = register_command(
      "All-pairs geodesics: our block heat method vs CGAL's Heat_method_3 one source at a time, errors vs "
      "exact",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "generate a torus refined to exactly N vertices")
-           ->check(integer_in(16, 100000000));
-       app.add_option("--mesh", options.mesh, "benchmark this mesh");
        app.add_option(
-           "--vertices", options.vertices,
-           "refine --mesh to exactly this many vertices (1-to-4 subdivision, then longest-edge splits)");
+              "--vertices", vertices,
+              "without --mesh: a torus of exactly N vertices (at least 16); with --mesh: the mesh refined "
+              "to exactly N vertices (1-to-4 subdivision, then longest-edge splits), 0: as it is")
+           ->check(integer_in(0, 100000000));
+       app.add_option("--mesh", options.mesh, "benchmark this mesh");
        app.add_option("--heat-mode", heat_mode, "idt or direct, for both heat methods")
            ->capture_default_str()
            ->check(one_of({"idt", "direct"}));

@@ -1,6 +1,6 @@
-// cshapes bench icp [--n 5000] [--a A --b B] [--json]: ICP of two ~5,000-point shapes with every starting
-// pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the same
-// points (experiments/bench_icp.h).
+// cshapes bench icp [--points 5000] [--a A --b B] [--json]: ICP of two ~5,000-point shapes with every
+// starting pose (goal: ≤ 20 ms), and the time of one ICP iteration beside Open3D's registration_icp on the
+// same points (experiments/bench_icp.h).
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -51,7 +51,7 @@ const bool registered = register_command(
     {{"bench", "icp"},
      "ICP of two 5,000-point shapes with every starting pose (goal <= 20 ms); per-iteration time vs Open3D",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "points per shape (subsampled; 0 keeps all)")
+       app.add_option("--points", options.n, "points per shape (subsampled; 0 keeps all)")
            ->check(integer_at_least(0));
        app.add_option("--a", options.a, "source shape (default: TOSCA cat0 from the shared data)");
        app.add_option("--b", options.b, "target shape (default: TOSCA cat1)");

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "cshapes/canon/smacof.h"
 #include "cshapes/experiments/bench_smacof.h"
 
 namespace cshapes::cli {
@@ -31,7 +32,7 @@ const bool registered = register_command(
     {{"bench", "smacof"},
      "SMACOF seconds per iteration vs scikit-learn on the same geodesic distance matrix",
      [](CLI::App& app) {
-       app.add_option("--n", options.n, "points of the generated Swiss-roll geodesic matrix")
+       app.add_option("--points", options.n, "points of the generated Swiss-roll geodesic matrix")
            ->capture_default_str()
            ->check(integer_in(4, 100000000));
        app.add_option("--mesh", options.mesh,
@@ -39,7 +40,7 @@ const bool registered = register_command(
        app.add_option("--geodesics", geodesics, "geodesic method for --mesh")->capture_default_str();
        app.add_option("--distances", options.distances,
                       "use this distance matrix (.bin) instead (start: cmds)");
-       app.add_option("--iters", options.iterations, "timed iterations")
+       app.add_option("--iterations", options.iterations, "timed iterations")
            ->capture_default_str()
            ->check(integer_at_least(1));
        app.add_option("--rounds", options.rounds,
@@ -54,12 +55,18 @@ const bool registered = register_command(
            "first that imports it)");
        app.add_flag("--acceleration", options.acceleration,
                     "also count iterations of plain, RRE and MPE SMACOF to the same stress (from cmds)");
-       app.add_option("--tolerance", options.tolerance, "--acceleration: plain SMACOF's stopping tolerance")
-           ->capture_default_str();
-       app.add_option("--max-iters", options.max_iterations, "--acceleration: iteration cap")
-           ->capture_default_str();
-       app.add_option("--window", options.window, "--acceleration: Guttman steps per extrapolation")
-           ->capture_default_str();
+       // SMACOF's settings, named and limited as the method option names them (canon --method smacof).
+       app.add_option("--smacof-tolerance", options.tolerance,
+                      "--acceleration: plain SMACOF's stopping tolerance")
+           ->capture_default_str()
+           ->check(within(smacof_limits::kTolerance));
+       app.add_option("--smacof-max-iterations", options.max_iterations,
+                      "--acceleration: maximum iterations of each run")
+           ->capture_default_str()
+           ->check(within(smacof_limits::kIterations));
+       app.add_option("--smacof-window", options.window, "--acceleration: Guttman steps per extrapolation")
+           ->capture_default_str()
+           ->check(within(smacof_limits::kWindow));
        app.add_option("--seed", options.seed, "random seed of the generated samples")->capture_default_str();
        app.add_flag("--json", json, "print the results as JSON on stdout");
      },

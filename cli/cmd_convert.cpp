@@ -1,6 +1,8 @@
 // cshapes convert IN OUT: between mesh formats (by extension), keeping PLY per-vertex scalars and colours.
 // A PLY's invalid vertices (NaN rows with valid = 0, as canonical forms write dropped vertices) are dropped
 // with the faces on them, and said.
+#include <iostream>
+
 #include "cshapes/mesh/io.h"
 #include "cli/command.h"
 
@@ -12,6 +14,7 @@ struct ConvertArgs {
   std::string input, output;
   bool binary = false;
   bool no_validate = false;
+  bool json = false;
 } args;
 
 int run() {
@@ -29,6 +32,14 @@ int run() {
   write_mesh(args.output, file.mesh, write_options);
   note("wrote " + args.output + " (" + std::to_string(file.mesh.num_vertices()) + " vertices, " +
        std::to_string(file.mesh.num_faces()) + " triangles)");
+  if (args.json)
+    std::cout << nlohmann::json{{"input", args.input},
+                                {"output", args.output},
+                                {"vertices", file.mesh.num_vertices()},
+                                {"faces", file.mesh.num_faces()},
+                                {"binary", args.binary}}
+                     .dump(2)
+              << std::endl;
   return 0;
 }
 
@@ -43,6 +54,7 @@ const bool registered = register_command(
        app.add_flag("--binary", args.binary, "PLY output: binary little endian instead of ASCII");
        app.add_flag("--no-validate", args.no_validate,
                     "convert meshes that fail validation (degenerate faces, non-manifold edges, ...)");
+       app.add_flag("--json", args.json, "print the summary as JSON");
      },
      run});
 

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/command.h"
+#include "cshapes/canon/coulomb.h"
 #include "cshapes/experiments/coulomb_params.h"
 
 namespace cshapes::cli {
@@ -51,8 +52,10 @@ const bool registered = register_command(
                       "comma-separated other pose per shape (same class, corres/*.vts), '' for none")
            ->capture_default_str();
        app.add_option("--bridges", args.bridges, "bridge edges glued per shape")->capture_default_str();
-       app.add_option("--max-iterations", args.max_iterations, "iteration cap per run")
-           ->capture_default_str();
+       app.add_option("--coulomb-max-iterations", args.max_iterations,
+                      "maximum outer iterations of each run (canon's --coulomb-max-iterations)")
+           ->capture_default_str()
+           ->check(within(coulomb_limits::kMaxIterations));
        app.add_flag("--json", args.json, "print the rows as JSON (full precision) instead of the table");
      },
      run});

@@ -90,7 +90,7 @@ const bool registered = register_command(
                     "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
                     "3), with no geodesic fallback; and refuse a mesh a method would have to repair "
                     "(non-manifold for MDS, several components, ...) instead of repairing it");
-       app.add_option("--timing-repeats", o.timing_repeats, "Table 1: runs per median")
+       app.add_option("--table1-repeats", o.timing_repeats, "Table 1: timed runs per median")
            ->capture_default_str()
            ->check(integer_in(1, 1000));
        app.add_flag("--no-table1", args.no_table1,
@@ -106,7 +106,8 @@ const bool registered = register_command(
                       "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
            ->capture_default_str()
            ->check(integer_in(0, 10000000));
-       app.add_option("--fig5-iterations", o.fig5_iterations, "Figure 5: outer iterations per curve")
+       app.add_option("--fig5-max-iterations", o.fig5_iterations,
+                      "Figure 5: maximum outer iterations per curve")
            ->capture_default_str()
            ->check(integer_in(1, 100000000));
        app.add_option("--correspondence-samples", o.correspondence_samples,

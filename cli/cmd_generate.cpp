@@ -43,6 +43,7 @@ void add_limited(CLI::App& app, const std::string& name, T& value, const std::st
 // ---- swissroll ----
 std::string swissroll_output = "swissroll.off";
 long swissroll_vertices = 561;
+bool swissroll_json = false;
 
 int run_swissroll() {
   require_output_path(swissroll_output, {"off"});
@@ -56,6 +57,14 @@ int run_swissroll() {
   });
   note("wrote " + swissroll_output + " (" + std::to_string(o.nu) + " x " + std::to_string(o.nv) + " = " +
        std::to_string(m.num_vertices()) + " vertices)");
+  if (swissroll_json)
+    std::cout << nlohmann::json{{"file", swissroll_output},
+                                {"nu", o.nu},
+                                {"nv", o.nv},
+                                {"vertices", m.num_vertices()},
+                                {"faces", m.num_faces()}}
+                     .dump(2)
+              << std::endl;
   return 0;
 }
 
@@ -92,12 +101,32 @@ int run_articulated() {
 std::string hand_output = ".";
 std::uint64_t hand_seed = 0;
 int hand_glues = 3;
+bool hand_json = false;
 
 int run_hand() {
   require_output_directory(hand_output);
   const GluedHand h = generate_glued_hand(hand_seed, hand_glues);
   write_staged(hand_output, [&](const std::string& staging) { write_glued_hand(h, staging); });
   MeshInfo a = mesh_info(h.separated), b = mesh_info(h.glued);
+  if (hand_json) {
+    const auto file = [](const char* name) { return (std::filesystem::path(hand_output) / name).string(); };
+    std::cout << nlohmann::json{{"seed", hand_seed},
+                                {"glues", h.glued_pairs.size()},
+                                {"separated",
+                                 {{"file", file("hand_separated.off")},
+                                  {"vertices", a.vertices},
+                                  {"faces", a.faces},
+                                  {"genus", a.genus}}},
+                                {"glued",
+                                 {{"file", file("hand_glued.off")},
+                                  {"vertices", b.vertices},
+                                  {"faces", b.faces},
+                                  {"genus", b.genus}}},
+                                {"glued_pairs", file("hand_glued_pairs.json")}}
+                     .dump(2)
+              << std::endl;
+    return 0;
+  }
   std::printf("hand_separated.off: %ld vertices, genus %ld; hand_glued.off: genus %ld (%zu glues) in %s\n",
               static_cast<long>(a.vertices), a.genus, b.genus, h.glued_pairs.size(), hand_output.c_str());
   return 0;
@@ -132,6 +161,7 @@ const bool registered_swissroll = register_command(
        app.add_option("-o,--output", swissroll_output, "output mesh (an existing file is refused: --force)")
            ->capture_default_str();
        add_force_flag(app, force);
+       app.add_flag("--json", swissroll_json, "print the summary as JSON");
      },
      run_swissroll});
 
@@ -162,6 +192,7 @@ const bool registered_hand = register_command(
        add_limited(app, "--glue", hand_glues, "number of glues", generate_limits::kGlue);
        add_out_folder_option(app, hand_output, "output folder")->capture_default_str();
        add_force_flag(app, force);
+       app.add_flag("--json", hand_json, "print the summary as JSON");
      },
      run_hand});
 

@@ -119,7 +119,8 @@ const bool registered = register_command(
        app.add_option(
               "--source", args.source,
               "one source vertex (0-based, input numbering): one row of distances as CSV, to -o NAME.csv "
-              "or stdout")
+              "or stdout; none (the default): all pairs")
+           ->default_str("none")
            ->check(integer_in(0, INT_MAX));
        app.add_flag("--csv", args.csv,
                     "CSV (vertex,distance) for the row of --source; implied by -o NAME.csv or no -o");

@@ -30,7 +30,7 @@ struct RemeshArgs {
 int run() {
   // The command line first, the estimate of the memory needed next: nothing is read before both pass.
   if (!(args.tolerance > 0 && args.tolerance < 0.5))
-    usage_fail("--tolerance: expected a number in (0, 0.5), got ", args.tolerance);
+    usage_fail("--vertex-tolerance: expected a number in (0, 0.5), got ", args.tolerance);
   require_mesh_output_path(args.output);
   require_output_not_input(args.output, {args.input}, "-o");
   require_memory(remesh_memory_bytes(args.vertices), "--vertices " + std::to_string(args.vertices));
@@ -117,7 +117,7 @@ const bool registered = register_command(
        app.add_option("--vertices", args.vertices, "vertex count wanted")
            ->required()
            ->check(integer_at_least(4));
-       app.add_option("--tolerance", args.tolerance, "accepted relative deviation from --vertices")
+       app.add_option("--vertex-tolerance", args.tolerance, "accepted relative deviation from --vertices")
            ->capture_default_str()
            ->check(number_above(0));
        app.add_option("--iterations", args.iterations, "isotropic remeshing iterations per attempt")

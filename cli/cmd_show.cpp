@@ -1,6 +1,7 @@
 // cshapes show MESH [FORM] -o PICTURE.png [--title TEXT] [--label TEXT]... [--view pca|x|y|z]
 // [--figure-format png|pdf|svg]: a picture of a mesh, or of a mesh and its canonical form side by side with
 // the same colour per vertex (experiments/show_mesh.h).
+#include <iostream>
 #include <optional>
 
 #include "cli/command.h"
@@ -15,6 +16,7 @@ struct ShowArgs {
   std::vector<std::string> labels;
   FigureFormat figure_format = FigureFormat::png;
   ShowOptions options;
+  bool json = false;
 } args;
 
 int run() {
@@ -38,6 +40,13 @@ int run() {
   if (args.labels.size() > 1) form->title = args.labels[1];
   show_panels(mesh, form ? &*form : nullptr, picture, args.options);
   note("wrote " + picture);
+  if (args.json) {
+    nlohmann::json panels = nlohmann::json::array();
+    panels.push_back({{"file", args.mesh}, {"title", mesh.title}});
+    if (form) panels.push_back({{"file", args.form}, {"title", form->title}});
+    std::cout << nlohmann::json{{"picture", picture}, {"view", args.options.view}, {"panels", panels}}.dump(2)
+              << std::endl;
+  }
   return kExitOk;
 }
 
@@ -69,6 +78,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(one_of(show_views()));
        add_figure_format_option(app, args.figure_format);
+       app.add_flag("--json", args.json, "print the summary as JSON");
      },
      run});
 

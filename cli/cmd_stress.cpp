@@ -1,6 +1,6 @@
 // cshapes stress --count N --seed S: the corpus of failure-prone meshes (data/stress_corpus.h) through every
 // geodesic method, canonical form and ICP (experiments/geodesic_stress.h); one JSON line per mesh on stdout
-// (or --out), failing meshes saved. scripts/stress_geodesics.py runs it and prints the table.
+// (or -o), failing meshes saved. scripts/stress_geodesics.py runs it and prints the table.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +10,7 @@
 #include "cshapes/mesh/io.h"
 #include "cli/command.h"
 #include "cshapes/experiments/geodesic_stress.h"
+#include "cshapes/pipeline/canonical_form_methods.h"
 
 namespace cshapes::cli {
 namespace cmd_stress {
@@ -21,12 +22,24 @@ struct StressArgs {
   long long count = 18, first = 0;
   std::uint64_t seed = 1;
   long long min_vertices = 200, max_vertices = 30000;
-  std::string tosca, methods = "heat,heat-direct,heat-cgal,fmm,exact,graph", save_failures, out, mesh_out;
-  std::string canon_methods;  // empty: every registered method
+  std::string tosca, geodesic_methods = "heat,heat-direct,heat-cgal,fmm,exact,graph", save_failures, out,
+                     mesh_out;
+  std::string methods;  // canonical-form methods; empty: every registered method
   long long exact_max = 6000, canon_max = 4000;
   int sources = 3;
   bool no_canon = false, no_icp = false;
 } args;
+
+// A name `--geodesic-methods` takes: a geodesic method, or a heat method without intrinsic Delaunay flips.
+bool is_geodesic_method(const std::string& name) {
+  if (name == "heat-direct" || name == "heat-cgal-direct") return true;
+  try {
+    parse_geodesic_method(name);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
 
 int run() {
   StressCorpusOptions corpus;
@@ -46,15 +59,22 @@ int run() {
     return kExitOk;
   }
   GeodesicStressOptions options;
-  options.geodesic_methods = split_list(args.methods);
-  if (options.geodesic_methods.empty()) usage_fail("--methods: give at least one geodesic method");
+  options.geodesic_methods = split_list(args.geodesic_methods);
+  if (options.geodesic_methods.empty()) usage_fail("--geodesic-methods: give at least one geodesic method");
   for (const std::string& m : options.geodesic_methods)
-    if (m != "heat-direct" && m != "heat-cgal-direct") parse_geodesic_method(m);
+    if (!is_geodesic_method(m))
+      usage_fail("--geodesic-methods: unknown geodesic method ", in_quotes(m),
+                 "; known: heat, heat-direct, heat-cgal, heat-cgal-direct, fmm, exact, graph");
+  // --methods is canonical-form methods, as in every command; it once meant the geodesic methods here.
+  for (const std::string& m : split_list(args.methods))
+    if (is_geodesic_method(m))
+      usage_fail("--methods takes canonical-form methods (", canonical_form_method_list(), "); ",
+                 in_quotes(m), " is a geodesic method: give it to --geodesic-methods");
   options.sources = args.sources;
   options.exact_max_vertices = args.exact_max;
   options.canon = !args.no_canon;
   options.canon_max_vertices = args.canon_max;
-  if (!args.canon_methods.empty()) options.canon_methods = methods_option(args.canon_methods);
+  if (!args.methods.empty()) options.canon_methods = methods_option(args.methods);
   options.icp = !args.no_icp;
   if (!args.out.empty()) require_output_path(args.out, {"jsonl", "json"});
   if (!args.save_failures.empty()) fs::create_directories(args.save_failures);
@@ -124,8 +144,9 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(integer_in(50, 10000000));
        app.add_option("--tosca", args.tosca, "a folder of TOSCA .off shapes to draw bases from too");
-       app.add_option("--methods", args.methods, "geodesic methods, comma-separated (heat-direct: ours "
-                                                 "without intrinsic Delaunay flips)")
+       app.add_option(
+              "--geodesic-methods", args.geodesic_methods,
+              "geodesic methods, comma-separated (heat-direct: ours without intrinsic Delaunay flips)")
            ->capture_default_str();
        app.add_option("--sources", args.sources, "source vertices per mesh")
            ->capture_default_str()
@@ -137,7 +158,7 @@ const bool registered = register_command(
        app.add_option("--canon-max", args.canon_max, "canonical forms only on meshes up to this size")
            ->capture_default_str()
            ->check(integer_at_least(0));
-       app.add_option("--canon-methods", args.canon_methods,
+       app.add_option("--methods", args.methods,
                       "canonical-form methods, comma-separated; default: every registered method");
        app.add_flag("--no-canon", args.no_canon, "skip the canonical forms");
        app.add_flag("--no-icp", args.no_icp, "skip ICP");

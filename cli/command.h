@@ -52,7 +52,7 @@ void configure_canonical_form(CanonicalFormOptions& options, bool single_mesh = 
 // fine.
 void check_canon_method_options(const std::vector<std::string>& methods);
 // For a command that runs one method (canon, distmat): an option of a shared group (--geodesics, --distances,
-// --mds-solver, --landmarks, --eigenpairs, ...) that the method reads none of the fields of is refused
+// --mds-solver, --mds-landmarks, --eigenpairs, ...) that the method reads none of the fields of is refused
 // (UsageError naming the methods that read it), as is --history (history_given) for a method without
 // iterations. The table is the methods' own option lists (pipeline/canonical_form_methods.h).
 void check_options_read_by(const std::string& method, bool history_given = false);
@@ -88,6 +88,13 @@ CLI::Option* add_out_folder_option(CLI::App& app, std::string& folder, const std
 std::string method_titles(const std::string& last = ", ");
 void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
                  const std::string& why = "");
+// CLI11's parse error of the command line `argv` for `command` (its path, "bench smacof"; "" for none) as one
+// line, with a hint: an unknown option is named first with the option meant, by edit distance among the
+// command's options or the one it begins ("unknown option --methods; did you mean --method?"), an old
+// spelling misspelt with its new name; a required option the user wrote another way says how to write it
+// ("--output is required: --out is not an option of canon; use -o/--output").
+std::string parse_error_with_hint(const CLI::ParseError& error, CLI::App& app, const std::string& command,
+                                  int argc, char** argv);
 // Whether the user gave this option of a method group (e.g. "--fixed-step") on the command line.
 bool canon_option_given(const std::string& name);
 // The experiments' --methods: canonical-form methods (pipeline/canonical_form_methods.h), comma-separated;

@@ -36,7 +36,9 @@
 #include "cshapes/data/cache.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/distributed.h"
+#include "cshapes/pipeline/method_options.h"
 #include "cshapes/pipeline/outside_methods.h"
+#include "cshapes/pipeline/renamed_options.h"
 
 namespace cshapes::cli {
 
@@ -233,17 +235,6 @@ std::string method_titles(const std::string& last) {
   return text;
 }
 
-void add_renamed(CLI::App& app, const std::string& old_name, const std::string& new_name, bool takes_value,
-                 const std::string& why) {
-  const std::string message = old_name + " is now " + new_name +
-                              (why.empty() ? " (one name per meaning in every command)" : " (" + why + ")");
-  CLI::Option* option =
-      takes_value ? app.add_option_function<std::string>(
-                        old_name, [message](const std::string&) { throw CLI::ValidationError(message); })
-                  : app.add_flag_callback(old_name, [message] { throw CLI::ValidationError(message); });
-  option->group("");  // not in --help
-}
-
 void require_output_directory(const std::string& path) {
   try {
     check_output_directory(path);
@@ -328,25 +319,6 @@ std::string command_in_arguments(CLI::App& app, int argc, char** argv) {
     level = sub;
   }
   return path;
-}
-
-// CLI11's message, on one line, with its conversion failures in the wording of our validators.
-std::string parse_error_message(const CLI::ParseError& error) {
-  std::string message = error.what();
-  for (char& c : message)
-    if (c == '\n') c = ' ';
-  const std::string value_prefix = "The value ", value_middle = " is not an allowed value for ";
-  const size_t middle = message.find(value_middle);
-  if (message.rfind(value_prefix, 0) == 0 && middle != std::string::npos)
-    return message.substr(middle + value_middle.size()) + ": " +
-           in_quotes(message.substr(value_prefix.size(), middle - value_prefix.size())) +
-           " is not a valid value (not a number, or out of range)";
-  const std::string convert_prefix = "Could not convert: ";
-  const size_t equals = message.find(" = ");
-  if (message.rfind(convert_prefix, 0) == 0 && equals != std::string::npos)
-    return message.substr(convert_prefix.size(), equals - convert_prefix.size()) + ": " +
-           in_quotes(message.substr(equals + 3)) + " is not a valid value";
-  return message;
 }
 
 // Every numeric option refuses what is not a number in one wording ("--iterations: expected an integer, got
@@ -435,6 +407,11 @@ std::map<CLI::App*, const Command*> build_command_tree(CLI::App& app) {
     }
     parent->description(cmd.summary);
     if (cmd.add_options) cmd.add_options(*parent);
+    // The command's old spellings (pipeline/renamed_options.h), refused naming the new ones.
+    std::string scope;
+    for (const std::string& part : cmd.path) scope += (scope.empty() ? "" : " ") + part;
+    for (const RenamedOption& renamed : renamed_options_in(scope))
+      add_renamed(*parent, option_flag(renamed.old_name), option_flag(renamed.new_name), true);
     leaf[parent] = &cmd;
   }
   return leaf;
@@ -523,8 +500,8 @@ int main(int argc, char** argv) {
         hint = "; '" + word + "' was read as an option: write a file whose name starts with '-' as ./" + word;
     }
     // One line, like every other error (CLI11 would add a second "Run with --help" line), and one exit code.
-    return report(parse_error_message(e) + hint + " (see cshapes " + (g_command.empty() ? "" : g_command + " ") +
-                      "--help)",
+    return report(parse_error_with_hint(e, app, g_command, argc, argv) + hint + " (see cshapes " +
+                      (g_command.empty() ? "" : g_command + " ") + "--help)",
                   kExitUsage);
   }
 

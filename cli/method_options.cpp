@@ -6,6 +6,7 @@
 
 #include "cli/command.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
+#include "cshapes/pipeline/renamed_options.h"
 
 namespace cshapes::cli {
 
@@ -95,6 +96,9 @@ void add_canon_method_options(CLI::App& app) {
           "the mesh's edges")
       ->capture_default_str()
       ->check(within(kKnnLimit));
+  // The old spellings (pipeline/renamed_options.h), refused naming the new ones.
+  for (const RenamedOption& renamed : renamed_options_in("method options"))
+    add_renamed(app, option_flag(renamed.old_name), option_flag(renamed.new_name), true);
 }
 
 bool canon_option_given(const std::string& flag) {

@@ -68,7 +68,7 @@ CoulombBenchResult bench_coulomb(const CoulombBenchOptions& options) {
       result.distribution = "mesh-surface:" + options.mesh;
     }
   } else {
-    CSHAPES_REQUIRE(options.n >= 2, "bench coulomb: --n must be at least 2 (or give --mesh)");
+    CSHAPES_REQUIRE(options.n >= 2, "bench coulomb: --points must be at least 2 (or give --mesh)");
     X = random_points(options.n, options.distribution, rng);
     result.distribution = to_string(options.distribution);
   }

@@ -20,7 +20,8 @@ namespace cshapes {
 struct FormBenchOptions {
   std::string mesh;               // mesh file; "": a torus of about n vertices
   int n = 5000;                   // vertices of the generated torus, >= 16
-  std::string method = "lbo";     // a registered method (coulomb, cmds, smacof, lbo, diffusion, spectral-mds)
+  std::string method =
+      "coulomb";                  // a registered method (coulomb, cmds, smacof, lbo, diffusion, spectral-mds)
   std::string mds_solver;         // cmds, smacof: full, landmarks or auto; "": the library's default (auto)
   int repeats = 3;                // forms timed (median reported), >= 1
   bool reference = true;          // also time full classical MDS of heat geodesics once

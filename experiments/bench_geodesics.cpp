@@ -29,7 +29,8 @@ Mesh refine_to(Mesh mesh, Index target, std::string& description) {
 }
 
 Mesh benchmark_mesh(const GeodesicsBenchOptions& options, std::string& description) {
-  CSHAPES_REQUIRE((options.n > 0) != !options.mesh.empty(), "give exactly one of --n N and --mesh FILE");
+  CSHAPES_REQUIRE((options.n > 0) != !options.mesh.empty(),
+                  "give exactly one of --vertices N (a torus) and --mesh FILE");
   if (options.n > 0) {
     // A torus (R = 2, r = 0.7) with a near-square grid, then refined to exactly n vertices.
     const int nv = std::max(3, static_cast<int>(std::sqrt(options.n / 2.86)));

@@ -163,7 +163,7 @@ SmacofBenchResult bench_smacof(const SmacofBenchOptions& options) {
     X0 = sub.mesh.V;
     result.matrix = options.mesh + " (" + to_string(go.method) + " geodesics)";
   } else {
-    CSHAPES_REQUIRE(options.n >= 4, "bench smacof: --n must be at least 4");
+    CSHAPES_REQUIRE(options.n >= 4, "bench smacof: --points must be at least 4");
     const SwissRollSample roll = random_swiss_roll_points(options.n, options.seed);
     D = swiss_roll_geodesic_distances(roll);
     X0 = roll.X;

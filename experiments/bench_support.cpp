@@ -25,7 +25,7 @@ Mesh bench_mesh(const std::string& path, int n, std::string& source) {
     source = path;
     return read_mesh(path);
   }
-  CSHAPES_REQUIRE(n >= 16, "--n must be >= 16, got ", n);
+  CSHAPES_REQUIRE(n >= 16, "--vertices must be >= 16, got ", n);
   const int nv = std::max(4, static_cast<int>(std::lround(std::sqrt(n / 3.0))));
   const int nu = (n + nv - 1) / nv;
   source = "torus " + std::to_string(nu) + "x" + std::to_string(nv);

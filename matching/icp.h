@@ -57,7 +57,7 @@ namespace cshapes {
 // align`).
 namespace icp_limits {
 inline constexpr Limit kTrim = number_limit("trim", 0, 0.9);
-inline constexpr Limit kTolerance = number_limit("tolerance", 0);
+inline constexpr Limit kTolerance = number_limit("icp-tolerance", 0);
 }  // namespace icp_limits
 
 struct IcpOptions {

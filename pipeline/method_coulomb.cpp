@@ -179,7 +179,7 @@ std::vector<MethodOption> coulomb_step_options() {
       "input (the paper: the input's coordinates)",
       {"landmark-mds", "input"}, f, [](Ref c) -> CoulombStart& { return c.coulomb.start; }, to_string,
       parse_coulomb_start));
-  o.push_back(integer_option<Index>("start_landmarks", "landmarks of --coulomb-start landmark-mds",
+  o.push_back(integer_option<Index>("coulomb_start_landmarks", "landmarks of --coulomb-start landmark-mds",
                                     coulomb_limits::kStartLandmarks, f,
                                     [](Ref c) -> Index& { return c.coulomb.start_landmarks; }));
   o.back().applies_when = C{"coulomb_start", {"landmark-mds"}, ""};

@@ -282,10 +282,9 @@ std::vector<MethodOption> mds_options() {
       "(landmarks above 12,000 vertices or when the matrix would take more than half the free memory)",
       mds_solver_names(), {"mds_solver"}, [](Ref c) -> MdsSolver& { return c.mds_solver.solver; }, to_string,
       parse_mds_solver));
-  o.push_back(integer_option<Index>("landmarks",
-                                    "landmarks L for --mds-solver landmarks|auto (farthest-point sampling)",
-                                    landmark_limits::kLandmarks, {"mds_solver"},
-                                    [](Ref c) -> Index& { return c.mds_solver.landmarks; }));
+  o.push_back(integer_option<Index>(
+      "mds_landmarks", "landmarks L for --mds-solver landmarks|auto (farthest-point sampling)",
+      landmark_limits::kLandmarks, {"mds_solver"}, [](Ref c) -> Index& { return c.mds_solver.landmarks; }));
   o.back().applies_when = MethodOption::Condition{"mds_solver", {"landmarks", "auto"}, ""};
   return o;
 }
@@ -293,10 +292,12 @@ std::vector<MethodOption> mds_options() {
 std::vector<MethodOption> smacof_options() {
   std::vector<MethodOption> o = mds_options();
   const std::vector<std::string> f = {"smacof"};
-  o.push_back(integer_option<int>("iters", "maximum iterations (passes over D)", smacof_limits::kIterations, f,
+  o.push_back(integer_option<int>("smacof_max_iterations", "maximum iterations (passes over D)",
+                                  smacof_limits::kIterations, f,
                                   [](Ref c) -> int& { return c.smacof.max_iterations; }));
-  o.push_back(number_option("tolerance", "stop when the relative stress decrease is below this",
-                            smacof_limits::kTolerance, f, [](Ref c) -> double& { return c.smacof.tolerance; }));
+  o.push_back(number_option("smacof_tolerance", "stop when the relative stress decrease is below this",
+                            smacof_limits::kTolerance, f,
+                            [](Ref c) -> double& { return c.smacof.tolerance; }));
   o.push_back(choice_option<SmacofInit>("init", "initial configuration: cmds (classical MDS) or mesh",
                                         smacof_init_names(), {"smacof_init"},
                                         [](Ref c) -> SmacofInit& { return c.smacof_init; }, to_string,
@@ -304,8 +305,8 @@ std::vector<MethodOption> smacof_options() {
   o.push_back(choice_option<SmacofAcceleration>(
       "accelerate", "vector extrapolation: none, rre or mpe", {"none", "rre", "mpe"}, f,
       [](Ref c) -> SmacofAcceleration& { return c.smacof.acceleration; }, to_string, parse_smacof_acceleration));
-  o.push_back(integer_option<int>("window", "Guttman steps per extrapolation", smacof_limits::kWindow, f,
-                                  [](Ref c) -> int& { return c.smacof.extrapolation_window; }));
+  o.push_back(integer_option<int>("smacof_window", "Guttman steps per extrapolation", smacof_limits::kWindow,
+                                  f, [](Ref c) -> int& { return c.smacof.extrapolation_window; }));
   o.back().applies_when = MethodOption::Condition{"accelerate", {"rre", "mpe"}, ""};
   o.push_back(choice_option<SmacofWeights>("weights", "pair weights w_i*w_j from uniform or area (vertex areas)",
                                            smacof_weights_names(), {"smacof_weights"},

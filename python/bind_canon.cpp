@@ -184,7 +184,7 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
   const DistanceMatrix D = to_distance_matrix(D_in, "D");
   Kwargs k(kwargs, "smacof");
   CanonicalFormOptions o;
-  read_named_keywords(k, {"iters", "tolerance", "accelerate", "window"}, o);
+  read_named_keywords(k, {"smacof_max_iterations", "smacof_tolerance", "accelerate", "smacof_window"}, o);
   SmacofOptions so = o.smacof;
   CSHAPES_REQUIRE(!k.given("init"), "smacof(): init: pass the start as X0 (None: classical MDS of D)");
   const py::object weights = k.object("weights");
@@ -352,9 +352,9 @@ GIL released.)");
   m.def("smacof", &smacof_py, py::arg("D"), py::arg("X0") = py::none(),
         R"(SMACOF metric MDS of an (n, n) distance matrix D (stored as float32, as the library keeps them).
 
-X0: (n, 3) start; None starts from classical MDS of D. Keywords (the CLI's): iters [300], tolerance
-[1e-5], accelerate ['none'] | 'rre' | 'mpe', window [6] (rre/mpe), weights [None] or n positive vertex
-weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history (passes, normalized_stress,
+X0: (n, 3) start; None starts from classical MDS of D. Keywords (the CLI's): smacof_max_iterations [300],
+smacof_tolerance [1e-5], accelerate ['none'] | 'rre' | 'mpe', smacof_window [6] (rre/mpe), weights [None] or
+n positive vertex weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history (passes, normalized_stress,
 extrapolated per iteration), iterations, summary['smacof'] {normalized_stress, stop_reason, ...}. GIL released.)");
 }
 

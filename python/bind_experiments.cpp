@@ -56,7 +56,7 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   if (!methods.is_none()) o.methods = method_list.names;
   o.glue = k.int32("glue", o.glue);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
-  o.timing_repeats = k.int32("timing_repeats", o.timing_repeats);
+  o.timing_repeats = k.int32("table1_repeats", o.timing_repeats);
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
   o.correspondence_samples = k.int32("correspondence_samples", o.correspondence_samples);
@@ -451,7 +451,7 @@ folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds,
 'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
 (0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
 figure_data [True] computes the figures' data; draw [True] draws them (beside report.md) when a Python with
-matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], timing_repeats [5],
+matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], table1_repeats [5],
 correspondence_samples [300], figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'), strict
 [False], geodesics (MDS; the experiments' default: 'heat'), resample [0] (remesh every shape to about this many
 vertices first, as the CLI's --resample), force [False] (write into an out folder that holds files cshapes did

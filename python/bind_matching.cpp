@@ -78,7 +78,7 @@ IcpOptions read_icp_options(Kwargs& k) {
   o.symmetric = !k.flag("one_way", false);
   o.try_axis_swaps = k.flag("axis_swaps", o.try_axis_swaps);
   o.trim_fraction = k.number("trim", o.trim_fraction, icp_limits::kTrim);
-  o.relative_tolerance = k.number("tolerance", o.relative_tolerance, icp_limits::kTolerance);
+  o.relative_tolerance = k.number("icp_tolerance", o.relative_tolerance, icp_limits::kTolerance);
   return o;
 }
 
@@ -110,8 +110,8 @@ void bind_matching(py::module_& m) {
 
 Starts from the matched principal axes (every sign, reflections included) and the input pose, coarse to
 fine. Keywords (the CLI's): no_reflections [False], one_way [False], axis_swaps [False], trim [0.0] (fraction
-of worst pairs dropped per direction), tolerance [1e-3] (relative RMSE change). Returns an Alignment. The GIL
-is released while it runs.)");
+of worst pairs dropped per direction), icp_tolerance [1e-3] (relative RMSE change). Returns an Alignment. The
+GIL is released while it runs.)");
   m.def("shape_distance", &shape_distance_py, py::arg("A"), py::arg("B"), py::kw_only(),
         py::arg("kind") = "hausdorff", py::arg("align") = true,
         R"(Distance between two point sets after ICP (align=True, the paper's) or as given (align=False).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cshapes/pipeline/method_options.h"
+#include "cshapes/pipeline/renamed_options.h"
 #include "cshapes/support/error.h"
 
 namespace cshapes::python {
@@ -84,10 +86,36 @@ std::string Kwargs::text(const std::string& name, const std::string& fallback) {
   return value.cast<std::string>();
 }
 
+namespace {
+
+// The new name(s) of a keyword renamed (pipeline/renamed_options.h), "" when it was not: the one this
+// function reads, else the method options' for the canonical-form functions, else every one.
+std::string renamed_to(const std::string& name, const std::string& function,
+                       const std::set<std::string>& known) {
+  std::vector<RenamedOption> matches;
+  for (const RenamedOption& r : renamed_options())
+    if (r.python && r.old_name == name) matches.push_back(r);
+  for (const RenamedOption& r : matches)
+    if (known.count(r.new_name)) return r.new_name;
+  const bool canon = function == "canonical_form" || function == "coulomb" || function == "smacof";
+  std::string names;
+  for (const RenamedOption& r : matches)
+    if (!canon || r.scope == "method options")
+      if (names.find(r.new_name) == std::string::npos) names += (names.empty() ? "" : " or ") + r.new_name;
+  return names;
+}
+
+}  // namespace
+
 void Kwargs::done() const {
   for (auto item : kwargs_) {
     const std::string name = item.first.cast<std::string>();
     if (known_.count(name)) continue;
+    const std::string renamed = renamed_to(name, function_, known_);
+    if (!renamed.empty())
+      throw py::type_error(function_ + "() got an unexpected keyword argument '" + name + "': '" + name +
+                           "' is now " + renamed + " (one name per meaning, as the CLI's " +
+                           option_flag(renamed.substr(0, renamed.find(' '))) + ")");
     std::string list;
     for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
     throw py::type_error(function_ + "() got an unexpected keyword argument '" + name +

@@ -57,14 +57,14 @@ def coulomb_rows(out, rows):
         direct = f"direct {g(j['direct_seconds'])} s" + (" (from a sample of targets)" if j.get("direct_extrapolated") else "")
         goal = f"≥ {goals[n]}×" if n in goals else "—"
         met = j["speedup"] >= goals[n] if n in goals else None
-        rows.append(Row(f"Coulomb gradient, n = {n:,} (cat0 surface)", f"coulomb --n {n} --mesh cat0.off",
+        rows.append(Row(f"Coulomb gradient, n = {n:,} (cat0 surface)", f"coulomb --points {n} --mesh cat0.off",
                         f"FMM {g(j['fast_seconds'])} s, error {j['gradient_rel_error']:.1e}", direct, j["speedup"],
                         goal, met))
     for kind, goal in (("surface", 1.4), ("uniform", 1.4)):
         j = load(out, f"coulomb-1000000-{kind}")
         if j:
             args = "--mesh cat0.off" if kind == "surface" else "--distribution uniform"
-            rows.append(Row(f"Coulomb gradient, n = 1,000,000, {kind}", f"coulomb --n 1000000 {args} --repeats 3 --fast-repeats 3",
+            rows.append(Row(f"Coulomb gradient, n = 1,000,000, {kind}", f"coulomb --points 1000000 {args} --repeats 3 --fast-repeats 3",
                             f"FMM {g(j['fast_seconds'])} s, error {j['gradient_rel_error']:.1e}",
                             f"direct ≈ {j['direct_seconds']:.0f} s (extrapolated)", j["speedup"],
                             f"≤ {goal} s (exafmm-t at 3e-4)", j["fast_seconds"] <= goal))
@@ -111,7 +111,7 @@ def other_rows(out, rows, missing):
         if not j:
             continue
         ref = j.get("reference", {})
-        command = f"smacof --n {n}" + (" --iters 5" if n == 22738 else "")
+        command = f"smacof --points {n}" + (" --iterations 5" if n == 22738 else "")
         if "speedup_vs_reference" in j:
             ours = f"{g(j['seconds_per_iteration'])} s"
             if "single_thread" in j:
@@ -135,7 +135,7 @@ def other_rows(out, rows, missing):
         plain = acc["none"]["iterations"]
         parts = [f"{m.upper()} {acc[m]['iterations']}" for m in ("rre", "mpe") if m in acc]
         best = min(acc[m]["iterations"] for m in ("rre", "mpe") if m in acc)
-        rows.append(Row("SMACOF acceleration, cat0", "smacof --mesh cat0.off --acceleration --tolerance 1e-6",
+        rows.append(Row("SMACOF acceleration, cat0", "smacof --mesh cat0.off --acceleration --smacof-tolerance 1e-6",
                         ", ".join(parts) + " iterations", f"plain {plain} iterations", plain / max(best, 1)))
     j = load(out, "icp")
     if j:
@@ -192,7 +192,7 @@ def simd_table(out):
         d = os.path.join(out, "simd-" + target)
         j = load(d, "smacof-3505")
         if j and "speedup_vs_reference" in j:
-            rows.append(Row("SMACOF iteration, n = 3,505", "smacof --n 3505", f"{g(j['seconds_per_iteration'])} s",
+            rows.append(Row("SMACOF iteration, n = 3,505", "smacof --points 3505", f"{g(j['seconds_per_iteration'])} s",
                             "scikit-learn", j["speedup_vs_reference"], "≥ 150×", j["speedup_vs_reference"] >= 150))
         for r in rows:
             short = r.ours.split(";")[0].replace("**", "").replace(" (fast sum at 1e-2, the default)", "")

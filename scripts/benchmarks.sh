@@ -60,17 +60,17 @@ converged_form() {  # the default Coulomb form of cat0, timed by its own summary
 wait_idle
 bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
 bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
-bench coulomb-3505 coulomb --n 3505 --mesh "$data/cat0.off"
-bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
-bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
-bench coulomb-1000000-surface coulomb --n 1000000 --mesh "$data/cat0.off" --repeats 3 --fast-repeats 3
-bench coulomb-1000000-uniform coulomb --n 1000000 --distribution uniform --repeats 3 --fast-repeats 3
+bench coulomb-3505 coulomb --points 3505 --mesh "$data/cat0.off"
+bench coulomb-22738 coulomb --points 22738 --mesh "$data/cat0.off"
+bench coulomb-100000 coulomb --points 100000 --mesh "$data/cat0.off"
+bench coulomb-1000000-surface coulomb --points 1000000 --mesh "$data/cat0.off" --repeats 3 --fast-repeats 3
+bench coulomb-1000000-uniform coulomb --points 1000000 --distribution uniform --repeats 3 --fast-repeats 3
 bench geodesics-3505 geodesics --mesh "$out/cat3505.off" --anchor-samples 3505 --exact-samples 4
 bench geodesics-22738 geodesics --mesh "$out/michael22738.off" --anchor-samples 64 --exact-samples 2 --fmm-samples 32
 wait_idle  # after the geodesics' minutes on both cores
-bench smacof-3505 smacof --n 3505
-bench smacof-22738 smacof --n 22738 --iters 5
-bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --tolerance 1e-6
+bench smacof-3505 smacof --points 3505
+bench smacof-22738 smacof --points 22738 --iterations 5
+bench smacof-cat0-acceleration smacof --mesh "$data/cat0.off" --acceleration --smacof-tolerance 1e-6
 bench icp icp --a "$data/cat0.off" --b "$data/cat1.off"
 # One form by each method against full classical MDS in the same run: the spectral forms at the paper's sizes,
 # every method at 50,000 vertices (there the n × n reference needs 10 GB and minutes: timed once, in the
@@ -96,9 +96,9 @@ for target in $("$cshapes" --version | sed -n 's/^kernels: .*this CPU: \(.*\))$/
   "$cshapes" --version >"$dest/version.txt"
   bench coulomb-iteration-3505 coulomb-iteration --mesh "$out/cat3505.off"
   bench coulomb-iteration-22738 coulomb-iteration --mesh "$out/michael22738.off"
-  bench coulomb-22738 coulomb --n 22738 --mesh "$data/cat0.off"
-  bench coulomb-100000 coulomb --n 100000 --mesh "$data/cat0.off"
-  bench smacof-3505 smacof --n 3505
+  bench coulomb-22738 coulomb --points 22738 --mesh "$data/cat0.off"
+  bench coulomb-100000 coulomb --points 100000 --mesh "$data/cat0.off"
+  bench smacof-3505 smacof --points 3505
   converged_form
   unset CSHAPES_SIMD dest
 done

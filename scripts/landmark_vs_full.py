@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Landmark MDS against the full methods on one mesh: for cmds and smacof, `cshapes canon` with --mds-solver full
-and landmarks (each --landmarks L), the wall time and peak memory (/usr/bin/time -v), and the landmark form's
+and landmarks (each --mds-landmarks L), the wall time and peak memory (/usr/bin/time -v), and the landmark form's
 distance to the full form (same vertices: RMS after the best rigid motion or reflection, in % of the full
 form's bounding-box diagonal), as a Markdown table on stdout. Usage:
 
-    /usr/bin/python3 scripts/landmark_vs_full.py MESH [--landmarks 100,300,1000] [--methods cmds,smacof]
+    /usr/bin/python3 scripts/landmark_vs_full.py MESH [--mds-landmarks 100,300,1000] [--methods cmds,smacof]
         [--geodesics heat] [--work DIR] [--cli build/cshapes] [--skip-full]
 
 Forms already in --work are reused. --skip-full measures landmarks only (no distance column). Timings on a
@@ -22,7 +22,7 @@ import numpy as np
 root = Path(__file__).resolve().parents[1]
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("mesh")
-parser.add_argument("--landmarks", default="100,300,1000")
+parser.add_argument("--mds-landmarks", default="100,300,1000")
 parser.add_argument("--methods", default="cmds,smacof")
 parser.add_argument("--geodesics", default="heat")
 parser.add_argument("--work", default=str(root / "build/landmark_vs_full"))
@@ -44,7 +44,7 @@ def form(method, solver, landmarks):
     if not Path(f"{stem}.json").exists():
         command = ["/usr/bin/time", "-v", args.cli, "canon", args.mesh, "-o", f"{stem}.off", "--method", method,
                    "--geodesics", args.geodesics, "--mds-solver", solver, "--json"]
-        command += ["--landmarks", str(landmarks)] if landmarks else []
+        command += ["--mds-landmarks", str(landmarks)] if landmarks else []
         with open(f"{stem}.time", "w") as err:
             done = subprocess.run(command, stdout=subprocess.PIPE, stderr=err, text=True)
         if done.returncode != 0:
@@ -71,7 +71,7 @@ print("| method | solver | wall s | CPU s | peak MB | distance to full | form qu
 print("| --- | --- | --- | --- | --- | --- | --- |")
 for method in args.methods.split(","):
     full = None if args.skip_full else form(method, "full", 0)
-    runs = ([("full", 0)] if full else []) + [("landmarks", int(L)) for L in args.landmarks.split(",")]
+    runs = ([("full", 0)] if full else []) + [("landmarks", int(L)) for L in args.mds_landmarks.split(",")]
     for solver, L in runs:
         X, s = form(method, solver, L)
         distance = "—" if full is None else \

@@ -200,7 +200,7 @@ TEST(BenchGeodesics, AnchorOnEverySourceIsNotExtrapolated) {
   EXPECT_FALSE(r.anchor_extrapolated);
   EXPECT_EQ(r.anchor.sampled_sources, 200u);
   EXPECT_FALSE(to_json(r)["anchor"].contains("note"));
-  o.mesh = "torus.off";  // both --n and --mesh
+  o.mesh = "torus.off";  // both a torus (n) and --mesh
   EXPECT_THROW(bench_geodesics(o), Error);
 }
 

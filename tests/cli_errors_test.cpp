@@ -157,14 +157,14 @@ TEST(CliRefusals, CountsAndSizesBeforeAnyWork) {
                                " --method cmds --mds-solver full"),
                  kData, "canon", {"501264", "GB"});
   expect_refusal(test::run_cli("canon " + q(in.big) + " -o " + q(in.dir + "/c.ply") +
-                               " --method smacof --mds-solver landmarks --landmarks 200000"),
+                               " --method smacof --mds-solver landmarks --mds-landmarks 200000"),
                  kData, "canon", {"501264", "GB"});
   for (const std::string option : {"--projection-steps -1", "--coulomb-max-iterations -1", "--tear-times -2",
                                    "--coulomb-window 0", "--knn 0", "--step-factor 0", "--momentum 1"})
     expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method coulomb " + option), kUsage,
                    "canon", {option.substr(0, option.find(' '))});
-  expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method smacof --iters -5"), kUsage,
-                 "canon", {"--iters"});
+  expect_refusal(test::run_cli("canon " + q(in.big) + " -o x.ply --method smacof --smacof-max-iterations -5"),
+                 kUsage, "canon", {"--smacof-max-iterations"});
 }
 
 TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
@@ -178,7 +178,7 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
   // the output byte-identical to the default run), nor lbo's --eigenpairs; --history is refused for the
   // methods without iterations.
   for (const std::string option :
-       {"--distances d.bin", "--mds-solver full", "--landmarks 50", "--eigenpairs 12"}) {
+       {"--distances d.bin", "--mds-solver full", "--mds-landmarks 50", "--eigenpairs 12"}) {
     const std::string name = option.substr(0, option.find(' '));
     expect_refusal(test::run_cli(canon + " --method spectral-mds " + option), kUsage, "canon",
                    {name + " applies to --method ", "only, not spectral-mds"});
@@ -195,13 +195,13 @@ TEST(CliRefusals, OptionsOfAnotherMethodAreRefusedByName) {
                  {"--scheme applies to --method coulomb only"});
   expect_refusal(test::run_cli(canon + " --method smacof --tear-fraction 0.1"), kUsage, "canon",
                  {"--tear-fraction applies to --method coulomb only"});
-  expect_refusal(test::run_cli(canon + " --method cmds --iters 5"), kUsage, "canon",
-                 {"--iters applies to --method smacof only"});
+  expect_refusal(test::run_cli(canon + " --method cmds --smacof-max-iterations 5"), kUsage, "canon",
+                 {"--smacof-max-iterations applies to --method smacof only"});
   // ... and options that only one setting of another option reads.
   expect_refusal(test::run_cli(canon + " --method coulomb --fixed-step 0.1"), kUsage, "canon",
                  {"--fixed-step applies to --step-rule fixed only"});
-  expect_refusal(test::run_cli(canon + " --method smacof --window 4"), kUsage, "canon",
-                 {"--window applies to --accelerate rre or mpe only"});
+  expect_refusal(test::run_cli(canon + " --method smacof --smacof-window 4"), kUsage, "canon",
+                 {"--smacof-window applies to --accelerate rre or mpe only"});
   expect_refusal(test::run_cli("geodesics " + q(in.big) + " -o d.bin --method fmm --heat-mode direct"),
                  kUsage, "geodesics", {"--heat-mode applies to --method heat or heat-cgal only"});
   // distmat too, before it reads anything (here a missing folder it never gets to).

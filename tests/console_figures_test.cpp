@@ -93,7 +93,7 @@ TEST(ConsoleFigures, NoiseGivesGapsInMeanEdgeLengthsAndGeodesicsAsAShareOfTheDia
 }
 
 TEST(ConsoleFigures, BenchIcpGivesMillisecondsAndDistancesWithTheirShareOfTheDiagonal) {
-  const test::CliResult r = test::run_cli("-q bench icp --n 300 --repeats 1 --no-open3d");
+  const test::CliResult r = test::run_cli("-q bench icp --points 300 --repeats 1 --no-open3d");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expect_three_figures(find(r.out, "CPU " + kNumber + " ms, wall " + kNumber + " ms \\(goal 20 ms"),
                        "bench icp");

@@ -198,7 +198,7 @@ TEST(CoulombMultiresolution, CliOptionsChooseThePath) {
 // that meshes of 1,800-3,000 vertices take it: no case throws, every form is finite, every mesh the remesher
 // takes goes through the coarse version (else the note says why), and the form-quality verdicts are printed.
 // At the default thresholds the corpus runs by `scripts/stress_geodesics.py --min-vertices 9000 --extra
-// "--methods heat --exact-max 0 --canon-max 40000 --canon-methods coulomb --no-icp"` (docs/results.md).
+// "--geodesic-methods heat --exact-max 0 --canon-max 40000 --methods coulomb --no-icp"` (docs/results.md).
 TEST(CoulombMultiresolution, StressCorpusSampleThroughTheCoarsePath) {
   StressCorpusOptions corpus;
   corpus.min_vertices = 1800;

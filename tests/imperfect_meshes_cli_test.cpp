@@ -77,8 +77,8 @@ TEST(ImperfectMeshesCli, CanonKeepsTheInputVertexCountAndStrictRefuses) {
     SCOPED_TRACE(method);
     const std::string out = dir + "/" + method + ".ply";
     // Options of another method are refused, so each method gets only its own.
-    const std::string limit = method == std::string("coulomb") ? " --coulomb-max-iterations 40"
-                              : method == std::string("smacof") ? " --iters 20"
+    const std::string limit = method == std::string("coulomb")  ? " --coulomb-max-iterations 40"
+                              : method == std::string("smacof") ? " --smacof-max-iterations 20"
                                                                 : "";
     test::CliResult r =
         test::run_cli("canon '" + dir + "/two.off' -o '" + out + "' --method " + method + limit + " --json");

@@ -236,8 +236,9 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
   for (const char* source : {"--geodesics graph", "--distances D.bin"}) {
     std::string args =
         std::string(source) == "--distances D.bin" ? "--distances '" + dir + "/D.bin'" : source;
-    auto r = test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " +
-                           args + " --iters 30 --accelerate rre --history '" + dir + "/h.csv' --json");
+    auto r =
+        test::run_cli("-q canon '" + dir + "/torus.off' -o '" + dir + "/out.off' --method smacof " + args +
+                      " --smacof-max-iterations 30 --accelerate rre --history '" + dir + "/h.csv' --json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Mesh out = read_mesh(dir + "/out.off");
     EXPECT_EQ(out.F, mesh.F);
@@ -267,7 +268,7 @@ TEST(SmacofCli, CanonWritesHistoryAndFiniteForm) {
 }
 
 TEST(SmacofCli, BenchAgreesWithScikitLearnOnTheSameProblem) {
-  auto r = test::run_cli("-q bench smacof --n 300 --iters 5 --json");
+  auto r = test::run_cli("-q bench smacof --points 300 --iterations 5 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["n"], 300);

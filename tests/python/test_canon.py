@@ -57,8 +57,8 @@ def test_multiresolution_options_are_the_cli_options(cli, shapes, tmp_path):
 
 def test_fold_overstretch_is_read_for_landmark_smacof_only(shapes):
     V, F = cshapes.read_mesh(shapes[0])
-    form = cshapes.canonical_form(V, F, method="smacof", mds_solver="landmarks", landmarks=40, iters=10,
-                                  fold_overstretch=0)
+    form = cshapes.canonical_form(V, F, method="smacof", mds_solver="landmarks", mds_landmarks=40,
+                                  smacof_max_iterations=10, fold_overstretch=0)
     assert form.summary["smacof"]["fold_repair"]["replaced_points"] == 0
     with pytest.raises(ValueError, match="fold_overstretch"):
         cshapes.canonical_form(V, F, method="smacof", mds_solver="full", fold_overstretch=2)
@@ -68,10 +68,10 @@ def test_fold_overstretch_is_read_for_landmark_smacof_only(shapes):
         cshapes.canonical_form(V, F, method="cmds", fold_overstretch=2)
 
 
-@pytest.mark.parametrize("method, args", [("cmds", []), ("smacof", ["--iters", "15"])])
+@pytest.mark.parametrize("method, args", [("cmds", []), ("smacof", ["--smacof-max-iterations", "15"])])
 def test_mds_forms_are_the_cli_canon(cli, shapes, tmp_path, method, args):
     V, F = cshapes.read_mesh(shapes[0])
-    kwargs = {"iters": 15} if method == "smacof" else {}
+    kwargs = {"smacof_max_iterations": 15} if method == "smacof" else {}
     form = cshapes.canonical_form(V, F, method=method, **kwargs)
     X, _, summary = cli_form(cli, shapes[0], tmp_path, "--method", method, *args)
     np.testing.assert_array_equal(form.X, X)
@@ -114,10 +114,10 @@ def test_classical_mds_and_smacof_of_a_matrix_recover_a_point_set():
     X = cshapes.classical_mds(D).X
     np.testing.assert_allclose(np.linalg.norm(X[:, None] - X[None], axis=2), D, atol=1e-8 * D.max())
     assert cshapes.classical_mds(D, dim=2).X.shape == (60, 2)
-    s = cshapes.smacof(D.astype(np.float32), iters=50)
+    s = cshapes.smacof(D.astype(np.float32), smacof_max_iterations=50)
     assert s.summary["smacof"]["normalized_stress"] < 1e-6
     assert len(s.history["normalized_stress"]) == s.iterations + 1
-    start = cshapes.smacof(D, X0=P + 0.01, iters=200)
+    start = cshapes.smacof(D, X0=P + 0.01, smacof_max_iterations=200)
     assert start.summary["smacof"]["normalized_stress"] < 1e-6
     assert cshapes.classical_mds(D).summary["classical_mds"]["explained_energy"] > 1 - 1e-9
     with pytest.raises(ValueError, match="dim"):
@@ -138,8 +138,8 @@ def test_options_are_checked_by_name(shapes):
         cshapes.coulomb(V, F, step_factor=-1)
     with pytest.raises(ValueError, match="step_factor: expected a number"):
         cshapes.coulomb(V, F, step_factor="big")
-    with pytest.raises(ValueError, match="iters applies to method 'smacof' only"):
-        cshapes.canonical_form(V, F, method="cmds", iters=3)
+    with pytest.raises(ValueError, match="smacof_max_iterations applies to method 'smacof' only"):
+        cshapes.canonical_form(V, F, method="cmds", smacof_max_iterations=3)
     with pytest.raises(ValueError, match="tear_fraction applies to method 'coulomb' only"):
         cshapes.canonical_form(V, F, method="smacof", tear_fraction=0.1)
 
@@ -185,15 +185,15 @@ NEGATIVE_KEYWORDS = [
     ("coulomb", "tear_fraction", -1.0, "a number in [0, 0.99]"),
     ("coulomb", "tear_after", -1, "an integer 0..100000000"),
     ("coulomb", "momentum", -1.0, "a number in [0, 0.999]"),
-    ("smacof", "iters", -1, "an integer 0..100000000"),
-    ("smacof", "tolerance", -1.0, "a number >= 0"),
+    ("smacof", "smacof_max_iterations", -1, "an integer 0..100000000"),
+    ("smacof", "smacof_tolerance", -1.0, "a number >= 0"),
     ("add_topological_noise", "glue", -1, "an integer 0..10000"),
     ("add_topological_noise", "max_gap", -1.0, "a number >= 0"),
     ("add_topological_noise", "separation", -1.0, "a number in [0, 1]"),
     ("add_topological_noise", "min_ratio", 0.5, "a number >= 1"),
     ("add_topological_noise", "relax", -1, "an integer 0..100"),
     ("icp", "trim", -1.0, "a number in [0, 0.9]"),
-    ("icp", "tolerance", -1.0, "a number >= 0"),
+    ("icp", "icp_tolerance", -1.0, "a number >= 0"),
 ]
 
 
@@ -253,7 +253,8 @@ sys.exit(0)
     "call",
     [
         "coulomb(V, F, coulomb_max_iterations=10**8, coulomb_tolerance=0, tear_fraction=0)",
-        "canonical_form(V, F, method='smacof', geodesics='graph', iters=10**8, tolerance=0)",
+        "canonical_form(V, F, method='smacof', geodesics='graph', smacof_max_iterations=10**8,"
+        " smacof_tolerance=0)",
         # Issue 22: Ctrl-C in every long call, also those whose loops run in OpenMP regions (minutes each).
         "geodesics(*cshapes.generate('icosphere', subdivisions=4), method='exact')",
         "canonical_form(*cshapes.generate('icosphere', subdivisions=4), method='cmds', geodesics='exact')",

@@ -29,13 +29,14 @@ CASES = {
     "canonical_form coulomb": "cshapes.canonical_form(V, F, method='coulomb', coulomb_tolerance=0)",
     "canonical_form cmds": "cshapes.canonical_form(V, F, method='cmds', geodesics='fmm')",
     "canonical_form cmds heat": "cshapes.canonical_form(*BIG, method='cmds')",
-    "canonical_form smacof": "cshapes.canonical_form(V, F, method='smacof', tolerance=0, iters=100000)",
+    "canonical_form smacof": "cshapes.canonical_form(V, F, method='smacof', smacof_tolerance=0,"
+                             " smacof_max_iterations=100000)",
     "canonical_form lbo": "cshapes.canonical_form(V, F, method='lbo', eigenpairs=300)",
     "canonical_form diffusion": "cshapes.canonical_form(V, F, method='diffusion', eigenpairs=300)",
     "canonical_form spectral-mds": "cshapes.canonical_form(V, F, method='spectral-mds', sources=3000)",
     # Classical MDS of D took 0.33 s (before the signal) once its matrix sat in huge pages: DB, 5× the work.
     "classical_mds": "cshapes.classical_mds(DB)",
-    "smacof": "cshapes.smacof(D, iters=100000, tolerance=0)",
+    "smacof": "cshapes.smacof(D, smacof_max_iterations=100000, smacof_tolerance=0)",
     "distance_matrix": "cshapes.distance_matrix([V, V2] * 20)",
     "add_topological_noise": "cshapes.add_topological_noise(V, F, glue=2, geodesics='heat')",
     "generate dataset": "cshapes.generate('dataset')",
