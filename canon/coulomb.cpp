@@ -14,6 +14,7 @@
 #include "cshapes/support/format.h"
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/mesh/point_kdtree.h"
+#include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/timing.h"
 
 namespace cshapes {
@@ -476,7 +477,9 @@ class CoulombRun {
     if (!result_.converged) {
       // A form that stopped at the cap is an iterate, not the fixed point: its verdict says so.
       std::string why = " before its first shape-change check";
-      if (shape_change_ >= 0)
+      if (!(o_.stop_tolerance > 0))
+        why = " (no stopping test: a tolerance of 0 runs every iteration)";
+      else if (shape_change_ >= 0)
         why = " with the shape still changing by " + significant(100 * shape_change_) +
               "% of its bbox diagonal over " + std::to_string(o_.stop_window) + " iterations (converged below " +
               significant(100 * o_.stop_tolerance * relaxation_) + "%)";
@@ -531,13 +534,21 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
   CSHAPES_REQUIRE(n >= 2, "coulomb: need at least 2 vertices, got ", n);
   CSHAPES_REQUIRE(X0.allFinite(), "coulomb: the input coordinates contain NaN or infinity");
   CSHAPES_REQUIRE(E.rows() > 0, "coulomb: the edge graph is empty (a mesh without faces needs a kNN graph)");
+  // A landmark MDS start lies in its own frame (canon/coulomb_start.h), so the iteration does not depend on the
+  // input's orientation; the finished form is turned onto the input (rotation, translation, and a reflection
+  // where the embedding came out mirrored), so that it is seen in the input's pose.
+  auto in_input_frame = [&](CoulombCanonResult r) {
+    if (options.start == CoulombStart::LandmarkMds && r.X.rows() == n && r.X.allFinite())
+      r.X = best_rigid_transform(r.X, X0, /*determinant=*/0).apply(r.X);
+    return r;
+  };
   CoulombRun first(X0, E, options, rest_lengths, start);
   CoulombCanonResult result = first.run();
   if (!(options.bridge_detour > 0) || options.start == CoulombStart::Input || first.torn_rows().empty())
-    return result;
+    return in_input_frame(std::move(result));
   const std::vector<Index> bridges =
       torn_bridges(X0, E, first.torn_rows(), options.bridge_detour * bbox_diagonal(X0));
-  if (bridges.empty()) return result;
+  if (bridges.empty()) return in_input_frame(std::move(result));
   // Again from the embedding of the graph without the bridges, which stay torn from the first iteration; the
   // first run's iterations stay in the history (numbered on), so that the cost is seen.
   CoulombCanonResult again = CoulombRun(X0, E, options, rest_lengths, start, bridges).run();
@@ -549,7 +560,7 @@ CoulombCanonResult coulomb_canonical_form(const Points& X0, const Edges& E,
                  (bridges.size() == 1 ? " bridge" : " bridges") + " (torn edges whose ends lie more than " +
                  significant(options.bridge_detour) +
                  " bbox diagonals, and more than their crack is long, apart along the other edges)";
-  return again;
+  return in_input_frame(std::move(again));
 }
 
 }  // namespace cshapes

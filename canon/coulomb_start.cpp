@@ -8,7 +8,6 @@
 #include "cshapes/support/error.h"
 #include "cshapes/geodesics/landmark_geodesics.h"
 #include "cshapes/mesh/mesh.h"
-#include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/timing.h"
 
 namespace cshapes {
@@ -101,9 +100,11 @@ CoulombStartResult coulomb_start(const Points& X0, const Edges& E, CoulombStart 
   const double current = edge_lengths(mds.X, E).mean();
   if (!(current > 0) || !(target > 0))
     return input("the input's coordinates (edges of length zero in the landmark MDS embedding)");
-  Points X = mds.X * (target / current);
-  X = best_rigid_transform(X, X0, /*determinant=*/0).apply(X);
-  result.X = std::move(X);
+  // The start stays in the embedding's own frame (principal axes of the landmarks' distances), a function of
+  // the distances alone: rotated into the input's frame, the iteration's sums (their order, the fast sum's
+  // octree) would follow the input's orientation, and a rigid motion of the input would lead to another form.
+  // coulomb_canonical_form turns the finished form onto the input.
+  result.X = mds.X * (target / current);
   result.used = true;
   result.seconds = seconds_since(begin);
   result.note = "landmark MDS of graph geodesics from " + std::to_string(rows.landmarks.size()) +

@@ -10,8 +10,9 @@
 //   LandmarkMds  landmark classical MDS (canon/landmark_mds.h) of the shortest-path distances along the
 //                iteration's own edge graph, weighted by the input's edge lengths, from L farthest-point
 //                landmarks: an embedding that depends on the surface's intrinsic geometry and not on its
-//                pose. Scaled so that its mean edge length is the input's, and moved by the best rigid motion
-//                (reflections allowed) onto the input, so that the form stays in the input's frame.
+//                pose. Scaled so that its mean edge length is the input's, and left in its own frame (the
+//                landmarks' principal axes), so that the iteration does not depend on the input's orientation;
+//                coulomb_canonical_form turns the finished form onto the input.
 //
 // Graph distances rather than the heat method: they need only the edges (a point cloud's kNN graph works as
 // a mesh's) and their metrication error (a few % along oblique directions) is harmless for a start that the
@@ -38,7 +39,7 @@ CoulombStart parse_coulomb_start(const std::string& name);  // "input" | "landma
 std::string to_string(CoulombStart start);
 
 struct CoulombStartResult {
-  Points X;          // n×3 start, the input's units and frame
+  Points X;          // n×3 start, in the input's units: the input itself, or the embedding in its own frame
   bool used = true;  // false: the input, because the landmark MDS start could not be made (see note)
   std::string note;  // one line: what the start is, or why it fell back to the input
   double seconds = 0;
