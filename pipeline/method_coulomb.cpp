@@ -350,8 +350,9 @@ CanonicalFormMethod coulomb_method() {
   m.has_history = true;
   m.marks_torn = true;
   // 2: the kernels without fused multiply-adds, the same bytes under every target; 3: the form a function of
-  // the shape (the start's landmarks and rows, the float sum's order, ties in tearing)
-  m.results_version = 3;
+  // the shape (the start's landmarks and rows, the float sum's order, ties in tearing); 4: the start in its own
+  // frame, the form turned onto the input at the end
+  m.results_version = 4;
   m.compute = coulomb_compute;
   return m;
 }

@@ -471,7 +471,7 @@ TEST(OptionsKey, AMethodsResultsVersionSeparatesItsCachedForms) {
       EXPECT_EQ(canonical_form_cache_key(mesh, o), before_versions) << method.name;
     }
   }
-  EXPECT_EQ(canonical_form_method("coulomb").results_version, 3);
+  EXPECT_EQ(canonical_form_method("coulomb").results_version, 4);
 }
 
 // The experiments start from the library's experiment defaults (heat geodesics), whoever calls them: the CLI
