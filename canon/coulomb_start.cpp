@@ -22,31 +22,6 @@ std::string to_string(CoulombStart start) {
   return start == CoulombStart::Input ? "input" : "landmark-mds";
 }
 
-namespace {
-
-// Whether vertex a comes before vertex b by their coordinates (x, then y, then z): the tie-break of the
-// choices below, so that a tie goes the same way however the vertices are numbered.
-bool before_by_position(const Points& X0, Index a, Index b) {
-  for (int k = 0; k < 3; ++k)
-    if (X0(a, k) != X0(b, k)) return X0(a, k) < X0(b, k);
-  return false;
-}
-
-// The vertex with the largest value (ties: before_by_position).
-Index argmax_by_position(const Eigen::VectorXd& value, const Points& X0) {
-  Index best = 0;
-  for (Index i = 1; i < value.size(); ++i)
-    if (value[i] > value[best] || (value[i] == value[best] && before_by_position(X0, i, best))) best = i;
-  return best;
-}
-
-// The vertex nearest the vertices' centroid (ties: before_by_position).
-Index central_vertex(const Points& X0) {
-  const Eigen::RowVector3d centroid = X0.colwise().mean();
-  return argmax_by_position(-(X0.rowwise() - centroid).rowwise().squaredNorm().transpose(), X0);
-}
-
-}  // namespace
 
 StartLandmarks start_landmarks(const Points& X0, const SingleSourceGeodesics& graph, Index count) {
   const Index n = X0.rows();

@@ -137,18 +137,38 @@ LandmarkGeodesics landmark_geodesics(const Mesh& mesh, const LandmarkGeodesicsOp
                   options.count);
   const SingleSourceGeodesics solver(mesh, options.geodesics);
   LandmarkGeodesics result =
-      landmark_geodesics(solver, options.count, options.first_hint, options.geodesics.progress);
+      landmark_geodesics(solver, mesh.V, options.count, options.first_hint, options.geodesics.progress);
   result.seconds = seconds_since(start);
   return result;
 }
 
-LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, Index count, int first_hint,
-                                     const ProgressFn& progress) {
+bool before_by_position(const Points& V, Index a, Index b) {
+  for (int k = 0; k < 3; ++k)
+    if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
+  return false;
+}
+
+Index argmax_by_position(const Eigen::VectorXd& value, const Points& V) {
+  Index best = 0;
+  for (Index i = 1; i < value.size(); ++i)
+    if (value[i] > value[best] || (value[i] == value[best] && before_by_position(V, i, best))) best = i;
+  return best;
+}
+
+Index central_vertex(const Points& V) {
+  const Eigen::RowVector3d centroid = V.colwise().mean();
+  return argmax_by_position(-(V.rowwise() - centroid).rowwise().squaredNorm().transpose(), V);
+}
+
+LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, const Points& V, Index count,
+                                     int first_hint, const ProgressFn& progress) {
   const auto start = WallClock::now();
   const Index n = solver.num_vertices();
   CSHAPES_REQUIRE(count >= 1, "landmark geodesics: the number of landmarks must be at least 1, not ", count);
-  CSHAPES_REQUIRE(first_hint >= 0 && first_hint < n, "landmark geodesics: first_hint ", first_hint,
-                  " out of range 0..", n - 1);
+  CSHAPES_REQUIRE(V.rows() == n, "landmark geodesics: ", V.rows(), " points for ", n, " vertices");
+  CSHAPES_REQUIRE(first_hint >= -1 && first_hint < n, "landmark geodesics: first_hint ", first_hint,
+                  " out of range -1..", n - 1);
+  if (first_hint < 0) first_hint = static_cast<int>(central_vertex(V));
   const Index L = std::min(count, n);
   LandmarkGeodesics result;
   result.rows.resize(L, n);
@@ -156,8 +176,7 @@ LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, Index 
   // nearest(i): distance from vertex i to its nearest landmark so far; the hint's row starts the sampling.
   Eigen::VectorXd nearest = solver.distances(first_hint);
   for (Index k = 0; k < L; ++k) {
-    Index next = 0;
-    nearest.maxCoeff(&next);  // the first maximum: ties go to the lowest index
+    const Index next = argmax_by_position(nearest, V);
     result.landmarks.push_back(static_cast<int>(next));
     const Eigen::VectorXd row = solver.distances(static_cast<int>(next));
     result.rows.row(k) = row.cast<float>().transpose();

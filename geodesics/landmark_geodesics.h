@@ -4,9 +4,10 @@
 // of the distance matrix (spectral embeddings, Nyström approximations) start from.
 //
 // Farthest-point sampling (Gonzalez 1985; the landmark choice of de Silva & Tenenbaum 2004): the first
-// landmark is the vertex farthest from `first_hint` (vertex 0 by default, so the choice does not start at an
-// arbitrary interior vertex but at an extremity), each next one the vertex farthest from all landmarks so far
-// (ties: the lowest index). Every landmark's row is one single-source solve, and the solve that picks the
+// landmark is the vertex farthest from `first_hint` (by default the vertex nearest the vertices' centroid, so
+// the choice starts at an extremity and does not depend on how the vertices are numbered), each next one the
+// vertex farthest from all landmarks so far (ties: the vertex with the smallest coordinates, x then y then z:
+// the same vertex however they are numbered). Every landmark's row is one single-source solve, and the solve that picks the
 // next landmark is the row of the one just chosen, so L landmarks cost L + 1 solves. The L landmarks cover
 // the surface with a covering radius (coverage_radius) that is at most twice the best possible (Gonzalez).
 //
@@ -30,7 +31,8 @@ namespace cshapes {
 
 struct LandmarkGeodesicsOptions {
   Index count = 100;          // L, the number of landmarks (clamped to n)
-  int first_hint = 0;         // farthest-point sampling starts at the vertex farthest from this one
+  int first_hint = -1;        // farthest-point sampling starts at the vertex farthest from this one; −1: the
+                              // vertex nearest the centroid (central_vertex)
   GeodesicOptions geodesics;  // the single-source solver (heat by default); progress: per landmark
 
   // Every field by name, for cache keys (support/option_fields.h). Self: LandmarkGeodesicsOptions, const or not.
@@ -54,10 +56,19 @@ struct LandmarkGeodesics {
 LandmarkGeodesics landmark_geodesics(const Mesh& mesh, const LandmarkGeodesicsOptions& options = {});
 
 class SingleSourceGeodesics;
-// The same with a solver already set up (e.g. graph distances on a point cloud's kNN graph); count and
-// first_hint as in LandmarkGeodesicsOptions, progress per landmark.
-LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, Index count, int first_hint = 0,
-                                     const ProgressFn& progress = {});
+// The same with a solver already set up (e.g. graph distances on a point cloud's kNN graph) on the points V
+// (its vertices: the tie-break and the central vertex); count and first_hint as in LandmarkGeodesicsOptions,
+// progress per landmark.
+LandmarkGeodesics landmark_geodesics(const SingleSourceGeodesics& solver, const Points& V, Index count,
+                                     int first_hint = -1, const ProgressFn& progress = {});
+
+// The choices of farthest-point sampling as functions of the geometry, not of the vertex numbering.
+// Whether vertex a comes before vertex b by its coordinates (x, then y, then z).
+bool before_by_position(const Points& V, Index a, Index b);
+// The index of the largest value (ties: the vertex first by before_by_position).
+Index argmax_by_position(const Eigen::VectorXd& value, const Points& V);
+// The vertex nearest the centroid of V (ties: before_by_position).
+Index central_vertex(const Points& V);
 
 // Rows for given landmark vertices (no sampling): rows(k, j) = d(landmarks[k], j). Throws for an index out of
 // range and on a disconnected mesh.

@@ -133,7 +133,7 @@ LandmarkGeodesics canonical_form_landmark_geodesics(const Mesh& mesh, const Cano
   require_landmark_memory(mesh, options);
   if (mesh.is_point_cloud()) {
     const SingleSourceGeodesics graph(mesh.V, knn_graph(mesh.V, options.knn));
-    return landmark_geodesics(graph, count, 0, options.progress);
+    return landmark_geodesics(graph, mesh.V, count, -1, options.progress);
   }
   LandmarkGeodesicsOptions lo;
   lo.count = count;

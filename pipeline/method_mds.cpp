@@ -399,6 +399,7 @@ CanonicalForm smacof_form(const SmacofResult& r, const SmacofOptions& options) {
 CanonicalFormMethod cmds_method() {
   CanonicalFormMethod m;
   m.name = "cmds";
+  m.results_version = 2;  // 2: landmarks sampled from the central vertex, ties by position (not from vertex 0)
   m.title = "classical MDS";
   m.summary = "classical MDS (Young-Householder) of all-pairs geodesic distances";
   m.requirements = MeshRequirements::manifold_surface();
@@ -414,6 +415,7 @@ CanonicalFormMethod cmds_method() {
 CanonicalFormMethod smacof_method() {
   CanonicalFormMethod m;
   m.name = "smacof";
+  m.results_version = 2;  // 2: landmarks sampled from the central vertex, ties by position (not from vertex 0)
   m.title = "SMACOF";
   m.summary = "SMACOF metric MDS (Guttman transforms) of all-pairs geodesic distances";
   m.requirements = MeshRequirements::manifold_surface();

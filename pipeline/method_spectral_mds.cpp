@@ -69,6 +69,7 @@ CanonicalFormMethod spectral_mds_method() {
       "geodesic rows of farthest-point sources (--geodesics: their solver)";
   m.compute = spectral_mds_compute;
   m.memory_bytes = spectral_mds_memory_bytes;
+  m.results_version = 2;  // 2: sources sampled from the central vertex, ties by position (not from vertex 0)
   using Ref = CanonicalFormOptions&;
   const std::vector<std::string> f = {"spectral_mds"};
   m.options = {laplacian_option(), near_multiple_gap_option(), geodesics_option(),  // geodesics: its rows' solver

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
+#include <random>
 #include <set>
+#include <vector>
 
 #include "cshapes/support/error.h"
 #include "cshapes/data/synthetic.h"
@@ -48,7 +52,9 @@ TEST(LandmarkGeodesics, FarthestPointSamplingByBruteForce) {
   options.count = 20;
   options.geodesics.method = GeodesicMethod::Graph;
   const LandmarkGeodesics lg = landmark_geodesics(m, options);
-  const Eigen::VectorXd from_hint = geodesic_distances(m, {0}, options.geodesics);
+  // The first landmark: the vertex farthest from the central one (nearest the centroid).
+  const Eigen::VectorXd from_hint =
+      geodesic_distances(m, {static_cast<int>(central_vertex(m.V))}, options.geodesics);
   EXPECT_DOUBLE_EQ(from_hint[lg.landmarks[0]], from_hint.maxCoeff());
   EXPECT_EQ(std::set<int>(lg.landmarks.begin(), lg.landmarks.end()).size(), lg.landmarks.size());
   for (size_t k = 1; k < lg.landmarks.size(); ++k) {
@@ -106,12 +112,44 @@ TEST(LandmarkGeodesics, GraphSolverOnGivenEdges) {
   options.geodesics.method = GeodesicMethod::Graph;
   const LandmarkGeodesics on_mesh = landmark_geodesics(m, options);
   const SingleSourceGeodesics graph(m.V, mesh_edges(m.F));
-  const LandmarkGeodesics on_graph = landmark_geodesics(graph, 9);
+  const LandmarkGeodesics on_graph = landmark_geodesics(graph, m.V, 9);
   EXPECT_EQ(on_graph.landmarks, on_mesh.landmarks);
   EXPECT_EQ((on_graph.rows - on_mesh.rows).cwiseAbs().maxCoeff(), 0.0f);
   Edges two_pieces(1, 2);
   two_pieces << 0, 1;
   EXPECT_THROW(SingleSourceGeodesics(m.V.topRows(3), two_pieces), Error);
+}
+
+// Farthest-point sampling is a function of the geometry: on a renumbered mesh it picks the same points
+// (the first from the central vertex, ties by position), and the rows follow them.
+TEST(LandmarkGeodesics, ARenumberedMeshGetsTheSameLandmarks) {
+  const Mesh m = icosphere(3);  // symmetric: distances tie everywhere
+  std::vector<int> order(static_cast<size_t>(m.num_vertices()));
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937 random(3);
+  std::shuffle(order.begin(), order.end(), random);
+  Mesh r;
+  r.V.resize(m.V.rows(), 3);
+  std::vector<int> new_index(order.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    r.V.row(static_cast<Index>(k)) = m.V.row(order[k]);
+    new_index[static_cast<size_t>(order[k])] = static_cast<int>(k);
+  }
+  r.F = m.F;
+  for (Index f = 0; f < r.F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) r.F(f, c) = new_index[static_cast<size_t>(m.F(f, c))];
+  LandmarkGeodesicsOptions options;
+  options.count = 12;
+  options.geodesics.method = GeodesicMethod::Graph;
+  const LandmarkGeodesics a = landmark_geodesics(m, options), b = landmark_geodesics(r, options);
+  ASSERT_EQ(a.landmarks.size(), b.landmarks.size());
+  for (size_t k = 0; k < a.landmarks.size(); ++k) {
+    EXPECT_EQ(order[static_cast<size_t>(b.landmarks[k])], a.landmarks[k]) << k;
+    for (Index j = 0; j < m.num_vertices(); ++j)
+      ASSERT_NEAR(b.rows(static_cast<Index>(k), new_index[static_cast<size_t>(j)]), a.rows(static_cast<Index>(k), j),
+                  1e-5f)
+          << k << " " << j;
+  }
 }
 
 }  // namespace landmark_geodesics_test
