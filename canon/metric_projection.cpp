@@ -28,11 +28,10 @@ namespace {
 constexpr Index kEdgeBlock = 256;
 // Vertices per block of the vertex pass and the copies in and out.
 constexpr Index kVertexBlock = 256;
-// Below this many vertices the sweeps run on one thread. At 5,000 vertices (cat0, k = 10, ≈ 0.5 ms per
-// projection on one thread) two threads make the whole canonization about 12% faster when the cores are free.
-// Each sweep needs two barriers, and a barrier waits for a thread the OS may have descheduled: with another
-// process keeping a core busy one projection can take 6–90 ms, although whole runs are then no slower than
-// with one thread (the fast multipole sum stalls alike).
+// Below this many vertices the sweeps run on one thread: a projection is then too short to pay for two
+// barriers per sweep. Above it two threads are faster when the cores are free; a barrier waits for a thread
+// the OS may have descheduled, so a busy core slows single projections, though not whole runs (the
+// measurements: docs/design.md, "Measured figures behind choices in the code").
 constexpr Index kParallelMinVertices = 2000;
 // Edges per block of the violation's partial sums (violation_block's buffer holds this many).
 constexpr int kViolationBlock = 1024;

@@ -65,9 +65,8 @@ CorrespondenceErrorResult correspondence_error(const Mesh& b, const Eigen::Vecto
 // A ground-truth correspondence file of SHREC'16 "Topological KIDS" (shared/data/topkids/kidNN_ref.txt and
 // kidNN_sym.txt): one line per listed vertex, two 1-based integers "a b": vertex a of the query shape A
 // corresponds to vertex b of the reference B. kidNN_sym.txt has the same form but both columns are vertices
-// of A: b is a's left-right mirror on A itself, so a's mirrored truth on B is ref(b) (on the shared data,
-// ref(b) = kid00_sym(ref(a)) for every listed a; b read as a vertex of B lies a median 14% of the diagonal
-// from the mirror). Not every vertex of A need be listed; a vertex of A listed twice is refused (its truth
+// of A: b is a's left-right mirror on A itself, so a's mirrored truth on B is ref(b) (not b read as a vertex
+// of B, which lies far from the mirror: docs/design.md, "Measured figures behind choices in the code"). Not every vertex of A need be listed; a vertex of A listed twice is refused (its truth
 // would be ambiguous). Blank lines are skipped.
 struct CorrespondencePairs {
   std::vector<int> from;  // 0-based vertices of A, in the file's order

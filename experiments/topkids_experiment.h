@@ -18,10 +18,9 @@
 // symmetric_correspondence_errors): for each ground-truth vertex v used (options.samples, evenly spaced over
 // NAME_ref.txt), the geodesic distance on the reference between map(v) and truth(v) over √area(reference),
 // the smaller of that and the distance to the mirrored truth where NAME_sym.txt has one (the benchmark
-// forgives a symmetric flip). Geodesics by fast marching on the reference repaired to a manifold: against
-// exact geodesics on kid00 (`cshapes geodesics --method exact`, sources 100 and 6000) 1.5-1.7% mean relative
-// error, 0.007 mean and 0.026 at most in units of √area; at an error of 0.25 about 0.004, below the curves'
-// step of 0.005. One scoring per pose serves every method; it is cached (out/cache/misc) by
+// forgives a symmetric flip). Geodesics by fast marching on the reference repaired to a manifold: their
+// error is below the curves' step (the measurement against exact geodesics: docs/design.md, "Measured
+// figures behind choices in the code"). One scoring per pose serves every method; it is cached (out/cache/misc) by
 // the forms' keys, the truth files' contents and the options.
 //
 // The flip is also forgiven per whole map instead (TopkidsRow::whole_map_*), a stricter reading reported

@@ -11,11 +11,10 @@
 //   exact      exact polyhedral geodesics (CGAL's Surface_mesh_shortest_path): slow, for validation.
 //   graph      Dijkstra along mesh edges: exact on the edge graph, an upper bound of the surface geodesic
 //              (typically 5-10% longer on irregular triangulations). Works on point-cloud kNN graphs too.
-// Measured accuracy (mean relative error against exact geodesics, vertices beyond 3 mean edge lengths,
-// `cshapes bench geodesics`): TOSCA cat0 (5,000 vertices): fmm 1.6%, heat (idt) 1.9%, CGAL heat (idt) 2.1%;
-// michael0 refined to 22,738 vertices: fmm 0.96%, heat 0.68%, CGAL heat 0.70%. heat-mode direct is 10-26%
-// on cat0 (needle triangles); graph is typically 5-10% long.
-// Cost per source, one thread, 5,000 vertices: heat 0.12 ms, CGAL heat 1.3 ms, fmm 1.8 ms, exact ~1 s.
+// Accuracy and cost: fmm and heat (intrinsic Delaunay) are within a few % of exact geodesics and closer on
+// finer meshes; heat-mode direct is far off on needle triangles; heat is the cheapest per source, exact by
+// far the dearest (the measurements, `cshapes bench geodesics`: docs/design.md, "Measured figures behind
+// choices in the code").
 //
 // Distances are in the mesh's units. Unreachable vertices (other components) get +infinity in the
 // single-source functions; all-pairs refuses disconnected meshes (an n×n matrix of infinities is useless to
