@@ -138,13 +138,7 @@ TEST(ImperfectMeshesCli, DistmatGoesThroughImperfectMeshesAndSkipsUnusableOnes) 
   EXPECT_EQ(j["shapes"], 3);
   ASSERT_EQ(j["skipped"].size(), 1u);
   // The forms stopped at the short cap are kept and named "not converged"; the one left out is ball3.off.
-  std::vector<nlohmann::json> left_out;
-  for (const nlohmann::json& f : j["failures"]) {
-    if (f["left_out"].get<bool>())
-      left_out.push_back(f);
-    else
-      EXPECT_NE(f["reason"].get<std::string>().find("not converged"), std::string::npos) << f.dump(2);
-  }
+  const std::vector<nlohmann::json> left_out = test::left_out_failures(j);
   ASSERT_EQ(left_out.size(), 1u) << j.dump(2);
   EXPECT_NE(left_out[0]["path"].get<std::string>().find("ball3.off"), std::string::npos);
   EXPECT_NE(r.err.find("ball3.off"), std::string::npos) << r.err;

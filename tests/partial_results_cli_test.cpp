@@ -64,13 +64,7 @@ TEST(PartialResultsCli, ExperimentPaperLeavesTheShapeOutAndExitsWithThree) {
   EXPECT_EQ(j["shapes"], 6);
   // The forms stopped at the short cap are kept and named "not converged" (not left out); one shape is left
   // out: its Coulomb form is computed (on a copy scaled to unit size) but reaches 1e300, and ICP cannot take it.
-  std::vector<nlohmann::json> left_out;
-  for (const nlohmann::json& f : j["failures"]) {
-    if (f["left_out"].get<bool>())
-      left_out.push_back(f);
-    else
-      EXPECT_NE(f["reason"].get<std::string>().find("not converged"), std::string::npos) << f.dump(2);
-  }
+  const std::vector<nlohmann::json> left_out = test::left_out_failures(j);
   ASSERT_EQ(left_out.size(), 1u) << j.dump(2);
   EXPECT_EQ(left_out[0]["stage"], "alignment");
   EXPECT_NE(read_file(dir + "/out/report.md").find("## Shapes left out"), std::string::npos);

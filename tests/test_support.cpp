@@ -151,4 +151,15 @@ std::string generated_dataset(const std::string& dir, int classes, int poses, lo
   return dir + "/manifest.csv";
 }
 
+std::vector<nlohmann::json> left_out_failures(const nlohmann::json& report) {
+  std::vector<nlohmann::json> left_out;
+  for (const nlohmann::json& f : report["failures"]) {
+    if (f["left_out"].get<bool>())
+      left_out.push_back(f);
+    else
+      EXPECT_NE(f["reason"].get<std::string>().find("not converged"), std::string::npos) << f.dump(2);
+  }
+  return left_out;
+}
+
 }  // namespace cshapes::test

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cshapes/mesh/mesh.h"
 
@@ -50,6 +52,10 @@ std::string generated_dataset(const std::string& dir, int classes, int poses, lo
 
 // Writes text to a file (creating parent directories).
 void write_text(const std::string& path, const std::string& text);
+
+// The failures of a run's JSON report (`--json`: "failures") that left their shape out. Every other failure
+// must be a form kept and named "not converged" (a test's short --coulomb-max-iterations): checked here.
+std::vector<nlohmann::json> left_out_failures(const nlohmann::json& report);
 
 }  // namespace cshapes::test
 
