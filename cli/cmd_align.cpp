@@ -105,11 +105,13 @@ int run() {
   }
   const Eigen::Matrix4d M = r.transform.matrix();
   std::printf("%s -> %s\n", args.source.c_str(), args.target.c_str());
-  std::printf("  transform (x -> R x + t)%s\n", r.transform.is_reflection() ? ", a reflection" : "");
-  for (int i = 0; i < 4; ++i)
-    std::printf("    %12.6f %12.6f %12.6f %12.6f\n", M(i, 0), M(i, 1), M(i, 2), M(i, 3));
-  // Three significant figures for people; --json has every digit.
-  std::printf("  distances after alignment, in A's units (%% of B's bounding-box diagonal, %.4g):\n",
+  // Three decimals of R and three significant figures elsewhere, for people; --json has every digit.
+  std::printf("  transform x -> R x + t%s (every digit: --json)\n",
+              r.transform.is_reflection() ? ", a reflection" : "");
+  for (int i = 0; i < 3; ++i)
+    std::printf("    %s %7.3f %7.3f %7.3f   %s %10.3g\n", i == 0 ? "R" : " ", M(i, 0), M(i, 1), M(i, 2),
+                i == 0 ? "t" : " ", M(i, 3));
+  std::printf("  distances after alignment, in A's units (%% of B's bounding-box diagonal, %.3g):\n",
               diagonal);
   for (const auto& [label, value] : {std::pair<const char*, double>{"hausdorff", d.hausdorff},
                                      {"chamfer", d.chamfer},
@@ -121,8 +123,9 @@ int run() {
                               ? "stopped when the RMSE changed by less than " + significant(args.tolerance) +
                                     " of itself"
                               : "stopped: " + r.stop_reason;
-  std::printf("  icp: %d iterations on all points (%d in all, %zu starts), %s, %.3g s\n", r.iterations,
-              r.total_iterations, r.start_transforms.size(), why.c_str(), r.seconds);
+  std::printf("  icp: %s on all points (%d in all, %s), %s, %s\n", counted(r.iterations, "iteration").c_str(),
+              r.total_iterations, counted(static_cast<long long>(r.start_transforms.size()), "start").c_str(),
+              why.c_str(), duration_text(r.seconds).c_str());
   return 0;
 }
 

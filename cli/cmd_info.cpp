@@ -55,13 +55,13 @@ int run() {
       std::printf("  non-manifold edges    %ld\n", static_cast<long>(info.nonmanifold_edges));
     std::printf("  euler characteristic  %ld\n", info.euler_characteristic);
     if (info.genus >= 0) std::printf("  genus                 %ld\n", info.genus);
-    std::printf("  bbox diagonal         %.4g (the mesh's units)\n", info.bbox_diagonal);
+    std::printf("  bbox diagonal         %.3g (the mesh's units)\n", info.bbox_diagonal);
     if (info.bbox_diagonal > 0)
-      std::printf("  mean edge length      %.4g (%.3g%% of the diagonal)\n", info.mean_edge_length,
+      std::printf("  mean edge length      %.3g (%.3g%% of the diagonal)\n", info.mean_edge_length,
                   100 * info.mean_edge_length / info.bbox_diagonal);
     else
-      std::printf("  mean edge length      %.4g\n", info.mean_edge_length);
-    std::printf("  area                  %.4g (square units)\n", info.area);
+      std::printf("  mean edge length      %.3g\n", info.mean_edge_length);
+    std::printf("  area                  %.3g (square units)\n", info.area);
     std::printf("  defects               %s\n", defects.summary().c_str());
   }
   if (args.json) std::cout << (all.size() == 1 ? all[0] : all).dump(2) << std::endl;

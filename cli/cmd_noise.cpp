@@ -43,7 +43,7 @@ int run() {
   o.relax_steps = args.relax;
   TopologicalNoiseResult r = glue_topological_noise(mesh, o);
   if (r.relax_steps_used > 0)
-    note("relaxed " + std::to_string(r.relax_steps_used) + " time(s): gap " + significant(r.max_gap) + " (" +
+    note("relaxed " + counted(r.relax_steps_used, "time") + ": gap " + significant(r.max_gap) + " (" +
          significant(r.max_gap / r.mean_edge_length) + " × the mean edge length), min ratio " +
          significant(r.min_ratio));
   write_mesh(args.output, r.mesh);
@@ -64,9 +64,10 @@ int run() {
     std::cout << j.dump(2) << std::endl;
     return 0;
   }
-  std::printf("%s -> %s: %zu glue(s), euler characteristic %ld -> %ld, genus %ld -> %ld, %d component(s)\n",
-              args.input.c_str(), args.output.c_str(), r.pairs.size(), before.euler_characteristic,
-              after.euler_characteristic, before.genus, after.genus, after.components);
+  std::printf("%s -> %s: %s, euler characteristic %ld -> %ld, genus %ld -> %ld, %s\n", args.input.c_str(),
+              args.output.c_str(), counted(static_cast<long long>(r.pairs.size()), "glue").c_str(),
+              before.euler_characteristic, after.euler_characteristic, before.genus, after.genus,
+              counted(after.components, "component").c_str());
   // Three significant figures; lengths in the mesh's units with a reference (× the mean edge length, % of the
   // geodesic diameter). --json has every digit.
   std::printf(

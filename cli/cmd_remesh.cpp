@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cshapes/support/distance_matrix.h"
+#include "cshapes/support/format.h"
 #include "cshapes/mesh/io.h"
 #include "cshapes/mesh/remesh.h"
 #include "cshapes/mesh/subdivide.h"
@@ -91,18 +92,19 @@ int run() {
               static_cast<long>(remeshed_vertices), args.vertices,
               100 * j["relative_count_error"].get<double>());
   if (args.subdivide > 0)
-    std::printf("  subdivided      %d time(s) -> %ld vertices\n", args.subdivide,
+    std::printf("  subdivided      %s -> %ld vertices\n", counted(args.subdivide, "time").c_str(),
                 static_cast<long>(after.vertices));
-  std::printf("  euler char.     %ld -> %ld, %d component(s), %ld boundary edges\n",
-              before.euler_characteristic, after.euler_characteristic, after.components,
-              static_cast<long>(after.boundary_edges));
+  std::printf("  euler char.     %ld -> %ld, %s, %s\n", before.euler_characteristic,
+              after.euler_characteristic, counted(after.components, "component").c_str(),
+              counted(after.boundary_edges, "boundary edge").c_str());
   std::printf("  hausdorff       %.3g (%.3g%% of the bbox diagonal %.3g)\n", hausdorff, share(hausdorff),
               diagonal);
   std::printf("  min angle       %.3g deg (input %.3g deg), mean smallest angle %.3g deg\n",
               angles_out.min_angle, angles_in.min_angle, angles_out.mean_min_angle);
   std::printf(
-      "  edge length     %.3g (%.3g%% of the bbox diagonal) after %d attempt(s), %ld edges collapsed\n",
-      r.target_edge_length, share(r.target_edge_length), r.attempts, static_cast<long>(r.collapsed_edges));
+      "  edge length     %.3g (%.3g%% of the bbox diagonal) after %s, %s collapsed\n",
+      r.target_edge_length, share(r.target_edge_length), counted(r.attempts, "attempt").c_str(),
+      counted(r.collapsed_edges, "edge").c_str());
   if (r.feature_lines)
     std::printf("  feature lines   edges sharper than %.0f deg kept\n", r.feature_angle_deg);
   return 0;

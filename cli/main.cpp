@@ -253,19 +253,23 @@ ProgressFn progress_printer() {
   struct State {
     WallClock::time_point start = WallClock::now(), last{};
     std::string stage;
+    bool ended = false;  // the stage's "100%" line is out: a second one is not printed
   };
   auto state = std::make_shared<State>();
   return [state, terminal](const std::string& stage, double done, double total) {
     if (stage.empty()) return;  // a poll (support/progress.h): nothing to report
     auto now = WallClock::now();
     bool first = false;
-    if (stage != state->stage) {
+    const bool finished = done >= total;
+    if (stage == state->stage && state->ended && finished) return;
+    // A new stage, or the same stage run again (the next shape's form) after it ended.
+    if (stage != state->stage || state->ended) {
       state->stage = stage;
       state->start = now;
       state->last = now;
+      state->ended = false;
       first = true;
     }
-    const bool finished = done >= total;
     const auto interval = terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(10000);
     if (!finished && !first && now - state->last < interval) return;
     state->last = now;
@@ -280,6 +284,7 @@ ProgressFn progress_printer() {
     if (finished || !terminal) std::fprintf(stderr, "\n");
     std::fflush(stderr);
     g_progress_open = terminal && !finished;
+    state->ended = finished;
   };
 }
 

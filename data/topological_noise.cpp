@@ -9,6 +9,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "cshapes/support/format.h"
 #include "cshapes/support/deterministic_random.h"
 #include "cshapes/support/error.h"
 #include "cshapes/mesh/io.h"
@@ -448,11 +449,11 @@ TopologicalNoiseResult glue_once(const Mesh& mesh, const TopologicalNoiseOptions
       continue;
     }
     fail("noise: found only ", result.pairs.size(), " of ", o.glue_count,
-         " admissible pairs (Euclidean gap <= ", gap, ", geodesic >= ", o.min_ratio,
-         " x gap and >= ", o.min_geodesic_fraction, " x diameter ", diameter,
-         ", normals facing across the gap, tube crossing no face; ", candidates.size(),
-         " pairs within the gap, ", result.geodesic_checks,
-         " geodesic checks); try a larger --max-gap or a smaller --min-ratio");
+         " admissible pairs (Euclidean gap <= ", significant(gap), ", geodesic >= ", significant(o.min_ratio),
+         " x gap and >= ", significant(o.min_geodesic_fraction), " x diameter ", significant(diameter),
+         ", normals facing across the gap, tube crossing no face; ",
+         counted(static_cast<long long>(candidates.size()), "pair"), " within the gap, ",
+         counted(result.geodesic_checks, "geodesic check"), "); try a larger --max-gap or a smaller --min-ratio");
   }
   result.separation = separation;
   result.mesh = current;

@@ -10,6 +10,7 @@
 #include "cshapes/experiments/figures.h"
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/pipeline/experiment_kit.h"
+#include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/output_folder.h"
@@ -398,7 +399,7 @@ CompareRunsResult compare_runs(const CompareRunsOptions& o) {
   // Everything is read and checked before the output folder is claimed: a refusal writes nothing.
   CompareRunsResult r = read_compared_runs(o.runs);
   for (const ComparedRun& run : r.runs)
-    say(o.note, run.folder + ": " + std::to_string(run.methods.size()) + " method(s)");
+    say(o.note, run.folder + ": " + counted(static_cast<long long>(run.methods.size()), "method"));
   OutputRun output(o.out, "compare", {}, o.force);
   write_compare_json(r, o.out);
   if (o.figures) {

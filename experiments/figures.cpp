@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -68,11 +69,15 @@ std::string find_python(const std::string& imports) {
   return "";
 }
 
-void write_method_titles(const std::string& folder) {
+void write_method_titles(const std::string& folder, const std::vector<std::string>& methods) {
   nlohmann::ordered_json titles = nlohmann::ordered_json::object();
-  for (const CanonicalFormMethod& method : canonical_form_method_registry()) titles[method.name] = method.title;
-  // Methods from outside after the library's: each its own colour (figure_style.py's EXTRA_COLOURS, in order).
-  for (const CanonicalFormMethod* method : outside_canonical_form_methods()) titles[method->name] = method->title;
+  if (methods.empty()) {
+    for (const CanonicalFormMethod& method : canonical_form_method_registry()) titles[method.name] = method.title;
+    // Methods from outside after the library's: each its own colour (figure_style.py's EXTRA_COLOURS, in order).
+    for (const CanonicalFormMethod* method : outside_canonical_form_methods())
+      titles[method->name] = method->title;
+  }
+  for (const std::string& m : methods) titles[m] = canonical_form_method_title(m);
   write_file_atomically((fs::path(folder) / "methods.json").string(),
                         [&](std::ostream& out) { out << titles.dump(2) << "\n"; });
 }
@@ -123,7 +128,7 @@ std::string status_text(int status) {
 }  // namespace
 
 FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
-                            const std::string& expected) {
+                            const std::string& expected, const ProgressFn& progress) {
   FigureRun run;
   const std::string path = figure_script_path(script);
   if (path.empty()) {
@@ -147,8 +152,19 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
                                                          "-" + std::to_string(counter++) + ".err");
   std::string command = shell_quote(python) + " " + shell_quote(path);
   for (const std::string& a : args) command += " " + shell_quote(a);
-  command += " >/dev/null 2>" + shell_quote(errors.string());
-  const int status = std::system(command.c_str());
+  command += (progress ? "" : " >/dev/null") + std::string(" 2>") + shell_quote(errors.string());
+  int status = -1;
+  if (!progress) {
+    status = std::system(command.c_str());
+  } else if (FILE* pipe = ::popen(command.c_str(), "r")) {
+    // The script's "progress K N" lines, as it finishes each figure.
+    char line[512];
+    while (std::fgets(line, sizeof line, pipe)) {
+      double done = 0, total = 0;
+      if (std::sscanf(line, "progress %lf %lf", &done, &total) == 2 && total > 0) progress("figures", done, total);
+    }
+    status = ::pclose(pipe);
+  }
   run.drawn = status == 0 && fs::exists(expected, ec);
   if (!run.drawn) {
     // The script's own last words when it said any; else how it ended. Either way, the command to see it all.
@@ -164,14 +180,15 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
 }
 
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& figure, FigureFormat format) {
+                      const std::string& figure, FigureFormat format, const std::vector<std::string>& methods,
+                      const ProgressFn& progress) {
   const fs::path path(figure);
-  if (!figure_script_path(script).empty()) write_method_titles(path.parent_path().string());
+  if (!figure_script_path(script).empty()) write_method_titles(path.parent_path().string(), methods);
   std::vector<std::string> with_format = args;
   with_format.push_back("--format=" + to_string(format));
-  return run_figure_script(
-      script, with_format,
-      (path.parent_path() / figure_file_name(path.filename().string(), format)).string());
+  return run_figure_script(script, with_format,
+                           (path.parent_path() / figure_file_name(path.filename().string(), format)).string(),
+                           progress);
 }
 
 std::string figure_markdown(const std::string& caption, const std::string& file) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/support/progress.h"
 #include "cshapes/support/figure_format.h"
 
 namespace cshapes {
@@ -28,10 +29,12 @@ std::string find_python(const std::string& imports);
 // s in single quotes for /bin/sh (a quote inside becomes '\'').
 std::string shell_quote(const std::string& s);
 
-// FOLDER/methods.json: {"coulomb": "Coulomb", "cmds": "classical MDS", ...} for every registered method
-// (pipeline/canonical_form_methods.h), in registration order: the one name of each method in figures, read
-// by experiments/plots/figure_style.py. Atomic; throws WriteError when it cannot write.
-void write_method_titles(const std::string& folder);
+// FOLDER/methods.json: {"coulomb": "Coulomb", "cmds": "classical MDS", ...}: the one name of each method in
+// figures, read by experiments/plots/figure_style.py. `methods`: the run's methods, in its order (a method no
+// one registered under its own name); empty: every registered method (pipeline/canonical_form_methods.h), in
+// registration order, for a command that does not know which methods its data holds. Atomic; throws
+// WriteError when it cannot write.
+void write_method_titles(const std::string& folder, const std::vector<std::string>& methods = {});
 
 struct FigureRun {
   bool drawn = false;
@@ -40,15 +43,18 @@ struct FigureRun {
 // Runs `PYTHON SCRIPT ARGS...` (script: a file name in plot_scripts_directory(), e.g. "noise_figure.py"),
 // quietly; drawn when it exits 0 and `expected` (a file it writes) exists afterwards. `expected` is removed
 // first, so an old figure is never taken for a new one. When the script fails, `problem` quotes the last
-// line it printed on stderr.
+// line it printed on stderr. With `progress`, each line "progress K N" the script prints on stdout is
+// reported as ("figures", K, N); the script's other output is ignored.
 FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
-                            const std::string& expected);
+                            const std::string& expected, const ProgressFn& progress = {});
 // run_figure_script for every figure a command draws, in `format`: the script is given `--format=FORMAT`
 // after `args` (figure_style.py's add_format_argument), and `figure` is the path of the figure it writes last
 // without its extension (OUT/noise: drawn when OUT/noise.svg exists afterwards). methods.json is written into
-// that figure's folder first (write_method_titles), so the script names every method as the tables do.
+// that figure's folder first (write_method_titles, of `methods`), so the script names every method as the
+// tables do.
 FigureRun draw_figure(const std::string& script, const std::vector<std::string>& args,
-                      const std::string& figure, FigureFormat format);
+                      const std::string& figure, FigureFormat format,
+                      const std::vector<std::string>& methods = {}, const ProgressFn& progress = {});
 
 // A figure's line in a report.md: "![caption](file)" for a picture Markdown shows (PNG, SVG), "[caption
 // (PDF)](file)", a link, for a PDF, which no Markdown viewer shows inline.

@@ -351,7 +351,7 @@ void draw_invariance_figure(InvarianceResult& result, const InvarianceOptions& o
   }
   const FigureRun drawn =
       draw_figure("invariance_figure.py", {options.out}, ExperimentFolder(options.out).path("invariance"),
-                  options.figure_format);
+                  options.figure_format, options.methods);
   if (drawn.drawn) result.figure = figure_file_name("invariance", options.figure_format);
   result.figure_problem = drawn.problem;
 }

@@ -348,7 +348,7 @@ void measure_method(NoiseRun& run, const std::string& m, const std::vector<std::
   say(o.note, "== ICP distances, " + method_title(m));
   PairwiseDistanceOptions po;
   po.cache_dir = run.folder.cache_directory("pairs");
-  po.progress = o.progress;
+  po.progress = renamed_stage(o.progress, "distances, " + method_title(m));
   po.only_pairs = pairs;
   PairwiseDistanceResult pd =
       pairs.empty() ? PairwiseDistanceResult{} : pairwise_distances(run.forms[m], run.form_keys[m], po);
@@ -462,7 +462,8 @@ NoiseExperimentResult noise_experiment(const NoiseExperimentOptions& o) {
     result.figure_note = "not requested (`--no-draw`).";
   } else {
     const FigureRun drawn =
-        draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise").string(), o.figure_format);
+        draw_figure("noise_figure.py", {o.out}, (fs::path(o.out) / "noise").string(), o.figure_format,
+                    o.methods);
     result.figure = drawn.drawn;
     result.figure_note = drawn.problem.empty() ? "" : drawn.problem + ".";
   }

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/support/error.h"
@@ -322,12 +323,13 @@ std::map<std::string, MethodForms> canonize_all(const std::vector<Shape>& shapes
       result[m].forms[i] = std::move(f);
     }
     if (!write_files) continue;
-    if (o.progress)
-      o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
     double elapsed = seconds_since(start);
     say(o.note, detail::concat("  ", s.name, " (", s.mesh.num_vertices(), " vertices) done; ", i + 1, "/",
                                shapes.size(), ", about ",
                                std::lround(elapsed / (i + 1) * (shapes.size() - i - 1)), " s left"));
+    // After the shape's line, so that the stage's closing "100.0%" comes last.
+    if (o.progress)
+      o.progress("canonical forms", static_cast<double>(i + 1), static_cast<double>(shapes.size()));
   }
   return result;
 }
@@ -411,7 +413,16 @@ void canonical_form_stage(ExperimentRun& run) {
   const Communicator& comm = run.comm;
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
-  say(o.note, "== canonical forms (" + std::to_string(run.shapes.size()) + " shapes" +
+  // Named as the report counts them: the retrieval set, and the clean poses kept only as the noisy shapes'
+  // references.
+  const auto references = std::count_if(run.shapes.begin(), run.shapes.end(),
+                                        [](const Shape& s) { return !s.in_retrieval; });
+  say(o.note, "== canonical forms (" + counted(static_cast<long long>(run.shapes.size()), "shape") +
+                  (references > 0 ? ": " + std::to_string(run.shapes.size() - references) +
+                                        " in the retrieval set, " + std::to_string(references) +
+                                        " clean " + (references == 1 ? "pose" : "poses") +
+                                        " kept as the noisy shapes' references"
+                                  : "") +
                   (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
   auto t = WallClock::now();
   long computed_by_ranks = 0;
@@ -556,7 +567,8 @@ void draw_paper_figures(PaperReport& report) {
   }
   const FigureRun drawn =
       draw_figure("paper_figures.py", {out}, (fs::path(out) / report.figures.front()).string(),
-                  report.options.figure_format);
+                  report.options.figure_format, report.options.methods,
+                  renamed_stage(report.options.progress, "drawing the figures"));
   report.figures_drawn = drawn.drawn;
   report.figures_note = drawn.problem;
 }

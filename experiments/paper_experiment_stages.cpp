@@ -71,7 +71,7 @@ void retrieval_stage(ExperimentRun& run) {
     }
     PairwiseDistanceOptions po;
     po.cache_dir = (fs::path(o.out) / "cache" / "pairs").string();
-    po.progress = o.progress;
+    po.progress = renamed_stage(o.progress, "distances, " + method_title(m));
     po.communicator = &run.comm;
     PairwiseDistanceResult pd = pairwise_distances(X, keys, po);
     run.summary.pairs_computed += pd.computed;
@@ -171,10 +171,12 @@ void noise_stage(ExperimentRun& run) {
       report.pose_variation[m] = median(within);
     }
     write_file_atomically((fs::path(o.out) / "noise_effect.csv").string(), [&](std::ostream& out) {
-      out << "shape,method,vertexwise_rms,hausdorff,icp_rmse\n";
+      // In % of the bounding-box diagonal, as report.md gives them.
+      out << "shape,method,vertexwise_rms_percent,hausdorff_percent,icp_rmse_percent\n";
+      out.precision(10);
       for (const auto& r : report.noise)
-        out << r.shape << ',' << r.method << ',' << r.vertexwise_rms << ',' << r.hausdorff << ','
-            << r.icp_rmse << '\n';
+        out << r.shape << ',' << r.method << ',' << 100 * r.vertexwise_rms << ',' << 100 * r.hausdorff << ','
+            << 100 * r.icp_rmse << '\n';
     });
   }
   report.stage_seconds["noise effect"] = seconds_since(t);
@@ -364,7 +366,7 @@ void figure_stage(ExperimentRun& run) {
     figures.push_back("fig8_pr");
   }
   if (report.correspondence_pairs > 0) figures.push_back("fig9_correspondence");
-  const json spec{{"methods", methods}, {"draw", figures}, {"grids", grids}};
+  const json spec{{"methods", methods}, {"draw", figures}, {"grids", grids}, {"data", dataset_name(o.data)}};
   write_file_atomically((fs::path(o.out) / "figures.json").string(),
                         [&](std::ostream& out) { out << spec.dump(2) << '\n'; });
 }

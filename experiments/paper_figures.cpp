@@ -9,6 +9,7 @@
 
 #include "cshapes/canon/coulomb.h"
 #include "cshapes/data/articulated.h"
+#include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/support/error.h"
@@ -188,7 +189,11 @@ void figure3_iterations(const PaperExperimentOptions& o, PaperReport& report, co
         co.flatten = 0;
         co.stop_tolerance = 0;  // no early stop: the figure shows the iterations
         co.max_iterations = target - done;
-        co.progress = polls_of(o.canon.progress);
+        // One bar over every piece: the iterations done so far out of the last snapshot's.
+        if (const ProgressFn& base = o.progress ? o.progress : o.canon.progress)
+          co.progress = [base, done, last = o.fig3_iterations.back()](const std::string& s, double d, double) {
+            base(s.empty() ? s : "Fig. 3 iterations", done + d, last);
+          };
         co.tear_times = 1;  // the figure tears once, at tear_after
         if (torn_already) {
           co.tear_fraction = 0;
@@ -236,6 +241,8 @@ void figure5_convergence(const PaperExperimentOptions& o, PaperReport& report, c
       co.coulomb.tear_fraction = 0;  // the curves of one constraint set
       co.coulomb.stop_tolerance = 0;
       co.coulomb.max_iterations = o.fig5_iterations;
+      co.progress = renamed_stage(o.progress ? o.progress : o.canon.progress,
+                                  "Fig. 5, " + counted(k, "projection step"));
       CanonicalForm f = cached_canonical_form(form_cache, fs_shape.mesh, co);
       // history columns: iteration, energy, mean_violation, ...
       for (const auto& h : f.history_rows) rows.push_back({double(k), h[0], h[1], h[2]});
@@ -293,6 +300,7 @@ void measure_table1(const PaperExperimentOptions& o, PaperReport& report, const 
   TimingOptions to;
   to.repeats = o.timing_repeats;
   to.geodesics = o.canon.geodesics;
+  to.progress = o.progress ? o.progress : o.canon.progress;
   std::vector<std::vector<double>> csv;
   for (const Target& t : targets) {
     Mesh mesh;

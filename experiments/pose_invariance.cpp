@@ -553,7 +553,7 @@ void draw_pose_figure(PoseInvarianceResult& result, const PoseInvarianceOptions&
   } else {
     const FigureRun drawn =
         draw_figure("pose_figure.py", {options.out}, ExperimentFolder(options.out).path("pose_residuals"),
-                    options.figure_format);
+                    options.figure_format, options.methods);
     if (drawn.drawn) result.figure = figure_file_name("pose_residuals", options.figure_format);
     result.figure_problem = drawn.problem;
   }

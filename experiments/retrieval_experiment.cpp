@@ -200,7 +200,8 @@ void draw_retrieval_figures(RetrievalExperimentResult& r, const std::string& fol
   const std::string figures = (fs::path(folder) / "figures").string();
   const FigureFormat format = r.options.figure_format;
   const FigureRun drawn =
-      draw_figure("retrieval_figures.py", {folder}, (fs::path(figures) / "pr").string(), format);
+      draw_figure("retrieval_figures.py", {folder}, (fs::path(figures) / "pr").string(), format,
+                  r.options.methods);
   r.figures.clear();
   if (!drawn.drawn) {
     r.figures_note = drawn.problem;

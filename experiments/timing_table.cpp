@@ -10,7 +10,8 @@
 
 namespace cshapes {
 
-double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy, int fmm_rebuild_every) {
+double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy, int fmm_rebuild_every,
+                                 const ProgressFn& progress) {
   CSHAPES_REQUIRE(repeats >= 1, "timing: repeats must be >= 1");
   CoulombCanonOptions o;
   o.scheme = CoulombScheme::Paper;  // Table 1: a single Coulomb step and a single projection step
@@ -26,6 +27,7 @@ double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy,
   if (fmm_rebuild_every > 0) o.fmm_rebuild_every = fmm_rebuild_every;
   const int cycle = o.fmm_rebuild_every;
   if (cycle > 1) o.max_iterations = cycle * std::max(1, repeats / cycle) + 1;
+  o.progress = progress;
   const CoulombCanonResult r = coulomb_canonical_form(mesh.V, mesh_edges(mesh.F), o);
   std::vector<double> per_iteration;
   for (size_t k = 1; k < r.history.size(); ++k)
@@ -53,11 +55,16 @@ TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const
     if (d.size() == 0) fail(shape, ": no edges");
   }
   row.coulomb_precompute = median(pre);
-  row.coulomb_iteration = coulomb_iteration_seconds(mesh, options.repeats);
+  const std::string stage = "Table 1, " + shape + ": ";
+  row.coulomb_iteration = coulomb_iteration_seconds(mesh, options.repeats, 0, 0,
+                                                    renamed_stage(options.progress, stage + "Coulomb iterations"));
 
   if (options.mds) {
     auto start = WallClock::now();
-    DistanceMatrix D = all_pairs_geodesics(mesh, options.geodesics);
+    GeodesicOptions geodesics = options.geodesics;
+    geodesics.progress = renamed_stage(options.progress, stage + "all-pairs geodesics");
+    DistanceMatrix D = all_pairs_geodesics(mesh, geodesics);
+    const ProgressFn passes_progress = renamed_stage(options.progress, stage + "SMACOF passes");
     row.mds_precompute = seconds_since(start);
     // Start from the mesh itself (centred): the pass costs the same from any start.
     Points X = mesh.V.rowwise() - mesh.V.colwise().mean();
@@ -68,6 +75,7 @@ TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const
       double s = seconds_since(t);
       if (r > 0) passes.push_back(s);  // the first pass warms the caches
       X = g.X_next;
+      if (passes_progress) passes_progress("passes", r + 1, options.repeats + 1);
     }
     row.mds_iteration = median(passes);
     row.mds_measured = true;

@@ -19,6 +19,9 @@ struct TimingOptions {
   int repeats = 5;            // timed runs per measurement (the median is reported)
   GeodesicOptions geodesics;  // MDS pre-computation
   bool mds = true;            // false: skip the MDS columns (e.g. when n² floats do not fit)
+  // Each measurement's progress, as ("Table 1, <shape>: all-pairs geodesics" | "…: SMACOF passes" | "…:
+  // Coulomb iterations", done, total); polls (an empty stage) pass through, so a stop is heard.
+  ProgressFn progress;
 };
 
 struct TimingRow {
@@ -31,7 +34,7 @@ struct TimingRow {
   bool mds_measured = false;
 };
 
-// Measures one row. The mesh must be one connected component. Progress through options.geodesics.progress.
+// Measures one row. The mesh must be one connected component. Progress through options.progress.
 TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const TimingOptions& options = {});
 
 // Seconds of one outer Coulomb iteration (1 gradient step + 1 projection sweep), median of `repeats`, with
@@ -41,6 +44,6 @@ TimingRow time_canonical_forms(const std::string& shape, const Mesh& mesh, const
 // canonization's default); above 1, the median of the means of consecutive runs of that many iterations, each
 // of which holds one rebuild (the cost per iteration over a whole cycle).
 double coulomb_iteration_seconds(const Mesh& mesh, int repeats, double accuracy = 0,
-                                 int fmm_rebuild_every = 0);
+                                 int fmm_rebuild_every = 0, const ProgressFn& progress = {});
 
 }  // namespace cshapes

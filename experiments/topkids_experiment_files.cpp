@@ -168,7 +168,7 @@ void draw_topkids_figure(TopkidsExperimentResult& r, const TopkidsExperimentOpti
   const ExperimentFolder folder(o.out);
   if (o.figure) {
     const FigureRun drawn =
-        draw_figure("topkids_figure.py", {o.out}, folder.path("topkids"), o.figure_format);
+        draw_figure("topkids_figure.py", {o.out}, folder.path("topkids"), o.figure_format, o.methods);
     r.figure = drawn.drawn ? figure_file_name("topkids", o.figure_format) : "";
     r.figure_problem = drawn.problem;
   } else {

@@ -233,7 +233,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
                   result.skipped.size(), " skipped), a distance matrix needs at least 2");
   PairwiseDistanceOptions po = options.pairs;
   po.cache_dir = options.cache_dir.empty() ? "" : (cache_dir / "pairs").string();
-  po.progress = options.progress;
+  po.progress = renamed_stage(options.progress, "distances, " + canonical_form_method_title(co.method));
   po.communicator = &comm;
 
   // Two-stage: descriptors rank the candidates, ICP aligns only those pairs.

@@ -1,6 +1,7 @@
 // Method diffusion (pipeline/canonical_form_methods.h): the diffusion map [CL06] at time t = c/λ_1, c =
 // options.diffusion.time (scale-free: relative to the shape's own spectrum), scaled into the mesh's units
 // (canon/spectral_embedding.h).
+#include "cshapes/support/format.h"
 #include "cshapes/support/timing.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/spectral_method.h"
@@ -23,8 +24,8 @@ CanonicalForm diffusion_compute(const Mesh& mesh, const CanonicalFormOptions& op
   s.summary["time"] = t;
   s.summary["scale"] = diffusion_form_scale(s.eigen, t);
   s.summary["energy_kept"] = kept;
-  say(options.note, "diffusion: t = " + std::to_string(options.diffusion.time) + "/λ1 = " + std::to_string(t) +
-                        "; 3 axes keep " + std::to_string(100 * kept) +
+  say(options.note, "diffusion: t = " + significant(options.diffusion.time) + "/λ1 = " + significant(t) +
+                        "; 3 axes keep " + significant(100 * kept) +
                         "% of the mean squared diffusion distance (of the computed eigenpairs)");
   form.details = std::move(s.summary);
   return form;

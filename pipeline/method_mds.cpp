@@ -160,10 +160,10 @@ CanonicalForm landmark_mds_form(const Mesh& mesh, const CanonicalFormOptions& op
                                         {"overstretched_edges_left", r.overstretched_edges},
                                         {"kept", r.repair_kept}};
     if (r.replaced_points > 0)
-      say(options.note, "landmark SMACOF: " + std::to_string(r.replaced_points) +
-                            " points interpolated across a fold placed again from their neighbours (" +
-                            std::to_string(r.repair_rounds) + " rounds, " +
-                            std::to_string(r.overstretched_edges) + " edges still overstretched" +
+      say(options.note, "landmark SMACOF: " + counted(r.replaced_points, "point") +
+                            " interpolated across a fold placed again from their neighbours (" +
+                            counted(r.repair_rounds, "round") + ", " +
+                            counted(r.overstretched_edges, "edge") + " still overstretched" +
                             (r.repair_kept ? ")" : "; not kept: no fewer than before)"));
     say(options.note, "landmark SMACOF: landmarks' normalised stress " +
                           significant(r.landmark_normalized_stress) + "; other points' stress " +
@@ -221,9 +221,9 @@ CanonicalForm mds_form(const Mesh& mesh, const CanonicalFormOptions& options,
     require_smacof_range(*given, options.name);
     SmacofResult sr = smacof(*given, X0, so);
     say(options.note, "SMACOF: normalised stress " + significant(sr.stress_history.front()) + " -> " +
-                          significant(sr.normalized_stress) + " in " + std::to_string(sr.iterations) +
-                          " iterations (" + sr.stop_reason + "), " + significant(sr.seconds_per_iteration) +
-                          " s per iteration");
+                          significant(sr.normalized_stress) + " in " + counted(sr.iterations, "iteration") +
+                          " (" + sr.stop_reason + "), " + duration_text(sr.seconds_per_iteration) +
+                          " per iteration");
     set_smacof_result(form, sr);
     summary["smacof"] = smacof_summary(sr, so);
     summary["smacof"]["init"] = to_string(options.smacof_init);

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <optional>
 
+#include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/support/distance_matrix.h"
@@ -281,7 +282,7 @@ std::string resampling_markdown(const ResampledDataset& r) {
         static_cast<long>(r.options.vertices), static_cast<long>(fewest), static_cast<long>(most), r.computed,
         r.cached, 100 * worst_hausdorff, smallest_angle,
         kept
-            ? (" " + std::to_string(kept) + " shape(s) kept at their own resolution (see the table).").c_str()
+            ? (" " + counted(kept, "shape") + " kept at their own resolution (see the table).").c_str()
             : "");
   }
   text += line;

@@ -27,4 +27,18 @@ inline std::string seconds_text(double s) {
   return significant(s) + " s";
 }
 
+// A duration in the unit that reads best, three significant figures: 46.81 → "46.8 s", 0.2083 → "208 ms",
+// 0.000111 → "111 µs" (a table of times from microseconds to minutes, read without counting zeros).
+inline std::string duration_text(double s) {
+  if (!std::isfinite(s) || std::abs(s) >= 1) return seconds_text(s);
+  if (std::abs(s) >= 1e-3) return significant(1e3 * s) + " ms";
+  return significant(1e6 * s) + " µs";
+}
+
+// A count with its noun, singular or plural as the count asks: counted(1, "glue") → "1 glue",
+// counted(2, "glue") → "2 glues", counted(2, "vertex", "vertices") → "2 vertices".
+inline std::string counted(long long n, const std::string& singular, const std::string& plural = "") {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
+}
+
 }  // namespace cshapes

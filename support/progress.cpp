@@ -23,4 +23,9 @@ ProgressFn polls_of(const ProgressFn& fn) {
   return [fn](const std::string&, double, double) { fn("", 0, 0); };
 }
 
+ProgressFn renamed_stage(const ProgressFn& fn, const std::string& stage) {
+  if (!fn) return {};
+  return [fn, stage](const std::string& s, double done, double total) { fn(s.empty() ? s : stage, done, total); };
+}
+
 }  // namespace cshapes

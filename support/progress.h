@@ -37,6 +37,10 @@ class Cancelled {
 // empty when fn is.
 ProgressFn polls_of(const ProgressFn& fn);
 
+// fn with every report under `stage` (a stage run once per method, or per shape, named so that its lines say
+// which: "distances, classical MDS"); polls pass through as polls. Empty when fn is.
+ProgressFn renamed_stage(const ProgressFn& fn, const std::string& stage);
+
 // Calls fn (when set) from inside an OpenMP parallel region, one thread at a time. An exception it throws
 // leaves the critical section before it propagates (an exception must not cross one), so the loop's own
 // per-iteration catch takes it and rethrows it after the region.

@@ -5,8 +5,10 @@
 
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "cshapes/support/format.h"
+#include "cshapes/support/progress.h"
 #include "test_support.h"
 
 namespace cshapes {
@@ -44,6 +46,50 @@ TEST(ConsoleFigures, SecondsTextHasThreeFiguresAndItsUnit) {
   EXPECT_EQ(seconds_text(0.013812), "0.0138 s");
   EXPECT_EQ(seconds_text(98.553), "98.6 s");
   EXPECT_EQ(seconds_text(4677.3), "4677 s");  // whole seconds, not "4.68e+03 s"
+}
+
+TEST(ConsoleFigures, DurationsInTheUnitThatReadsBestAndCountsWithTheirNouns) {
+  EXPECT_EQ(duration_text(46.81), "46.8 s");
+  EXPECT_EQ(duration_text(0.2083), "208 ms");
+  EXPECT_EQ(duration_text(0.000111), "111 µs");
+  EXPECT_EQ(counted(1, "glue"), "1 glue");
+  EXPECT_EQ(counted(2, "glue"), "2 glues");
+  EXPECT_EQ(counted(0, "iteration"), "0 iterations");
+  EXPECT_EQ(counted(1, "vertex", "vertices"), "1 vertex");
+  EXPECT_EQ(counted(3, "vertex", "vertices"), "3 vertices");
+}
+
+// A renamed stage reports under its new name, and a poll stays a poll.
+TEST(ConsoleFigures, ARenamedStageKeepsPollsAsPolls) {
+  std::vector<std::string> stages;
+  const ProgressFn renamed = renamed_stage(
+      [&](const std::string& stage, double, double) { stages.push_back(stage); }, "distances, Coulomb");
+  renamed("distances", 1, 2);
+  renamed("", 0, 0);
+  EXPECT_EQ(stages, (std::vector<std::string>{"distances, Coulomb", ""}));
+  EXPECT_FALSE(renamed_stage({}, "x"));
+}
+
+// align: R to three decimals, t and the distances to three significant figures, counts with their nouns;
+// canon --method diffusion: its time and energy to three figures (it printed "t = 1.000000/λ1 = 3067.026961").
+TEST(ConsoleFigures, AlignAndTheDiffusionMapPrintThreeFigures) {
+  const std::string dir = test::scratch_dir("console-figures-align");
+  ASSERT_EQ(test::run_cli("-q generate swissroll -o " + q(dir + "/roll.off")).exit_code, 0);
+  const test::CliResult canon = test::run_cli("canon " + q(dir + "/roll.off") + " -o " + q(dir + "/d.ply") +
+                                              " --method diffusion");
+  ASSERT_EQ(canon.exit_code, 0) << canon.err;
+  expect_three_figures(find(canon.err, "t = " + kNumber + "/λ1 = " + kNumber + "; 3 axes keep " + kNumber + "%"),
+                       "diffusion");
+  ASSERT_EQ(test::run_cli("-q canon " + q(dir + "/roll.off") + " -o " + q(dir + "/l.ply") + " --method lbo")
+                .exit_code,
+            0);
+  const test::CliResult r = test::run_cli("align " + q(dir + "/d.ply") + " " + q(dir + "/l.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::smatch rows = find(r.out, R"(R +(-?\d\.\d{3}) +(-?\d\.\d{3}) +(-?\d\.\d{3}) +t +)" + kNumber);
+  EXPECT_LE(significant_digits(rows[4].str()), 3) << rows[0].str();
+  expect_three_figures(find(r.out, R"(diagonal, )" + kNumber + R"(\):)"), "align");
+  find(r.out, R"(icp: (1 iteration|[02-9]\d* iterations|1\d+ iterations) on all points \(\d+ in all, (1 start|\d+ starts)\))");
+  EXPECT_EQ(r.out.find("0.000000"), std::string::npos) << r.out;
 }
 
 TEST(ConsoleFigures, RemeshGivesLengthsWithTheirShareOfTheDiagonalAndAnglesInDegrees) {

@@ -123,7 +123,7 @@ TEST(DistmatCli, AnErrorAfterProgressStartsALineOfItsOwn) {
                                     "/cache' --method cmds --geodesics graph --test-fail-after-pairs 1 -o '" +
                                     dir + "/out.csv'");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  ASSERT_NE(r.err.find("[distances]"), std::string::npos) << r.err;  // a progress line was shown
+  ASSERT_NE(r.err.find("[distances, "), std::string::npos) << r.err;  // a progress line, naming the method
   const size_t at = r.err.find("cshapes distmat: error: ");
   ASSERT_NE(at, std::string::npos) << r.err;
   EXPECT_TRUE(at == 0 || r.err[at - 1] == '\n') << r.err;

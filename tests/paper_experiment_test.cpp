@@ -90,17 +90,17 @@ PaperExperimentOptions small_run(const std::string& dir, const std::string& out)
 }
 
 // `experiment paper` draws its own figures: with a Python that has matplotlib, Fig. 7 and Fig. 8 land beside
-// report.md, with methods.json naming each method as the tables do; without the scripts, the report says the
-// figures were not drawn, why, and the run still succeeds.
+// report.md, with methods.json naming each method of the run as the tables do; without the scripts, the report
+// says the figures were not drawn, why, and the run still succeeds.
 TEST(PaperExperiment, DrawsItsFiguresOrSaysWhyNot) {
   const std::string dir = dataset_with_an_unusable_shape("paper_draws", false);
   PaperExperimentOptions o = small_run(dir, "drawn");
   o.draw = true;
   PaperReport r = run_paper_experiment(o);
   draw_paper_figures(r);
-  const nlohmann::json titles = nlohmann::json::parse(read_file(o.out + "/methods.json"));
-  EXPECT_EQ(titles.at("cmds"), "classical MDS");
-  EXPECT_EQ(titles.at("smacof"), canonical_form_method("smacof").title);
+  const nlohmann::ordered_json titles = nlohmann::ordered_json::parse(read_file(o.out + "/methods.json"));
+  // The run's methods, in its order, and no other (a report of two methods does not name six).
+  EXPECT_EQ(titles.dump(), R"({"coulomb":"Coulomb","cmds":"classical MDS"})");
   if (find_python("matplotlib, numpy").empty()) {
     EXPECT_FALSE(r.figures_drawn);
     EXPECT_NE(r.figures_note.find("matplotlib"), std::string::npos) << r.figures_note;
@@ -366,6 +366,62 @@ TEST(PaperReport, WriterSaysWhatTheReportHolds) {
   EXPECT_NE(report.find("bad3"), std::string::npos) << "the shape left out is named";
   EXPECT_NE(report.find("line 4: expected 3 numbers"), std::string::npos) << "with its reason";
   EXPECT_NE(report.find("`DATA`"), std::string::npos);
+}
+
+// The report's sentences fit the methods run: with one MDS method, no "better MDS" and no range over one
+// method; with two, "the better of the two" and a range with each end named; the claims not checked are named
+// with what they would need; Table 1's times read with their units.
+TEST(PaperReport, SentencesFitTheMethodsRun) {
+  const auto report_of = [](const std::vector<std::string>& methods, const std::string& name) {
+    PaperReport r;
+    r.options.data = "DATA";
+    r.options.methods = methods;
+    r.options.table1 = false;
+    r.options.figures = false;
+    r.shapes = {{"cat0", "cat", false, true, 100, "", "none", {}}, {"dog0", "dog", false, true, 100, "", "none", {}}};
+    double rms = 0.01;
+    for (const std::string& m : methods) {
+      PaperReport::Retrieval x{m == "coulomb" ? 0.75 : m == "cmds" ? 0.5 : 0.625, 1, 0.5, 1, 0.25, 0.875, -1};
+      r.retrieval[m] = x;
+      for (const char* kind : {"hausdorff", "chamfer", "rmse"}) r.retrieval_by_distance[m][kind] = x;
+      r.noise.push_back({"cat0_noisy", m, rms, 2 * rms, rms});
+      r.pose_variation[m] = 0.02;
+      rms += 0.01;
+    }
+    r.summary.shapes = 2;
+    r.table1.push_back({"swissroll", 561, 0.0879, 0.000135, 0.00013, 0.000325, true});
+    const std::string dir = test::scratch_dir(name);
+    write_paper_report(r, dir);
+    std::ifstream in(dir + "/report.md");
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  const std::string one = report_of({"coulomb", "cmds"}, "paper-report-one-mds");
+  EXPECT_NE(one.find("vs 0.500 (classical MDS) under the paper's Hausdorff distance"), std::string::npos) << one;
+  EXPECT_EQ(one.find("better"), std::string::npos) << one;
+  EXPECT_NE(one.find("vs 2.00% (classical MDS);"), std::string::npos) << one;
+  EXPECT_EQ(one.find("2.00%–2.00%"), std::string::npos) << one;
+  EXPECT_NE(one.find("Not checked by this run:\n\n- the cost per iteration and the pre-computation (Table 1): "
+                     "would need Table 1"),
+            std::string::npos)
+      << one;
+  EXPECT_NE(one.find("- more projection steps, less metric distortion (Fig. 5): would need"), std::string::npos)
+      << one;
+  EXPECT_NE(one.find("Ours: median of 5 runs"), std::string::npos) << one;
+  EXPECT_NE(one.find("| swissroll | 561 | 87.9 ms (140 ms) | 135 µs (30 ms) | 130 µs (3 ms) | 325 µs (10 ms) |"),
+            std::string::npos)
+      << one;
+
+  const std::string two = report_of({"coulomb", "cmds", "smacof"}, "paper-report-two-mds");
+  EXPECT_NE(two.find("vs 0.625 (SMACOF, the better of the two MDS methods run)"), std::string::npos) << two;
+  EXPECT_NE(two.find("vs 2.00% (classical MDS) to 3.00% (SMACOF);"), std::string::npos) << two;
+
+  const std::string none = report_of({"lbo"}, "paper-report-no-claims");
+  EXPECT_NE(none.find("- retrieval against MDS (Fig. 8) and robustness to topological noise (Fig. 2, 6): would "
+                      "need the paper's method (`--methods` with `coulomb`) and an MDS method"),
+            std::string::npos)
+      << none;
 }
 
 }  // namespace paper_experiment_test

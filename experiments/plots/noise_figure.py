@@ -19,6 +19,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
 
@@ -70,13 +71,11 @@ def main():
         ax_h.plot(xs(x), y, "-", marker=marker, color=color, label=label)
         for d in ("chamfer", "rmse"):
             x, y, _ = series(rows, m, d, "map")
-            ax_other.plot(xs(x), y, DISTANCE_STYLE[d][1], marker=marker, ms=4, color=color,
-                          label=f"{label}, {DISTANCE_STYLE[d][0]}")
+            ax_other.plot(xs(x), y, DISTANCE_STYLE[d][1], marker=marker, ms=4, color=color)
         x, med, _ = series(rows, m, "hausdorff", "form_rms_median")
         _, mean, _ = series(rows, m, "hausdorff", "form_rms_mean")
-        ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color, label=f"{label}, median")
-        ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1,
-                     label=f"{label}, mean")
+        ax_form.plot(xs(x), [100 * v for v in med], "-", marker=marker, color=color)
+        ax_form.plot(xs(x), [100 * v for v in mean], "--", marker=marker, ms=3, mfc="none", color=color, lw=1)
         # Levels fewer than half of the poses reached: lone hollow markers, not joined to the curves.
         x, y, _ = series(rows, m, "hausdorff", "map", few=True)
         ax_h.plot(xs(x), y, ls="none", marker=marker, mfc="none", color=color)
@@ -90,7 +89,7 @@ def main():
         ax.set_ylim(0, 1.02)
         ax.set_ylabel("mAP (noisy queries among clean shapes)")
     ax_h.set_title("retrieval, Hausdorff distance (the paper's)")
-    ax_other.set_title("retrieval, Chamfer (dashed) and RMSE (dotted)")
+    ax_other.set_title("retrieval, Chamfer and RMSE distances")
     ax_form.set_title("glued vs clean canonical form (median, mean)")
     ax_form.set_ylabel("RMS after rigid fit, % of bbox diagonal")
     ax_form.set_ylim(bottom=0)
@@ -103,14 +102,23 @@ def main():
         ax.set_xlabel("glues per shape (below: poses glued so often)")
         ax.set_xticks(range(len(levels)))
         ax.set_xlim(-0.4, len(levels) - 0.6)
-        ax.set_xticklabels(labels, fontsize=8)
+        ax.set_xticklabels(labels, fontsize=9)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, handlelength=3.5)
+    # Line styles in black, one small key per panel that uses them; the methods' colours in one key below all
+    # three panels (a legend per panel of 12 entries covered the curves and read at 7 pt).
+    for ax, keys in ((ax_other, [("Chamfer", "--"), ("RMSE", ":")]), (ax_form, [("median", "-"), ("mean", "--")])):
+        ax.legend(handles=[Line2D([], [], color="black", ls=ls, label=text) for text, ls in keys], fontsize=9,
+                  handlelength=3, loc="best")
+    handles = [Line2D([], [], color=method_style(styles, m)[1], marker=METHOD_MARKER.get(m, "o"),
+                      label=method_style(styles, m)[0]) for m in methods]
+    fig.legend(handles=handles, loc="lower center", ncol=min(len(methods), 6), fontsize=10, frameon=False,
+               bbox_to_anchor=(0.5, -0.01))
     q_text = f"{queries[0]}" if len(queries) == 1 else f"{queries[0]}–{queries[-1]}"
     few = any(FEW_POSES(r) and r["form_poses"] > 0 for r in rows)
-    fig.suptitle(f"Topological noise: {n_poses} poses, {q_text} queries per level, seed {data.get('seed')}"
+    name = os.path.basename(os.path.normpath(data["data"])) + ", " if data.get("data") else ""
+    fig.suptitle(f"Topological noise: {name}{n_poses} poses, {q_text} queries per level, seed {data.get('seed')}"
                  + ("; hollow markers: levels fewer than half of the poses reached" if few else ""))
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     save(fig, args.out, "noise", args.format)
 
 

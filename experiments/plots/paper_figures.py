@@ -6,7 +6,8 @@
 Reads:
   figures.json                  written by the C++ driver: "draw", the figures of this run (only these are
                                 drawn: files of an earlier run into the same folder are not taken for this
-                                run's); "methods", the methods of this run; "grids", the meshes of Fig. 2/3/4/6
+                                run's); "methods", the methods of this run; "grids", the meshes of Fig. 2/3/4/6;
+                                "data", the data's name for the titles
   convergence.csv               projection_steps,iteration,energy,mean_violation         -> fig5_convergence
   distances/<method>.csv        distance matrix, header "shape,<names...>"                -> fig7_distance_matrices
   labels.csv                    shape,class
@@ -85,9 +86,9 @@ def fig_convergence(out, fmt):
         sel = [r for r in rows if int(r["projection_steps"]) == k]
         it = [int(r["iteration"]) for r in sel]
         ls = styles[k_index % len(styles)]
-        ax1.plot(it, [float(r["energy"]) for r in sel], "tab:red", ls=ls, label=f"energy, {k} proj. steps")
-        ax2.plot(it, [float(r["mean_violation"]) for r in sel], "tab:blue", ls=ls,
-                 label=f"violation, {k} proj. steps")
+        steps = f"{k} proj. step" + ("" if k == 1 else "s")
+        ax1.plot(it, [float(r["energy"]) for r in sel], "tab:red", ls=ls, label=f"energy, {steps}")
+        ax2.plot(it, [float(r["mean_violation"]) for r in sel], "tab:blue", ls=ls, label=f"violation, {steps}")
     ax1.set_xlabel("outer iteration")
     ax1.set_ylabel("Coulomb energy", color="tab:red")
     ax2.set_ylabel("mean relative metric violation", color="tab:blue")
@@ -95,7 +96,9 @@ def fig_convergence(out, fmt):
     ax2.set_yscale("log")
     h1, l1 = ax1.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
-    ax1.legend(h1 + h2, l1 + l2, fontsize=7, loc="center right")
+    # Below the axes, off the curves (which cross the whole plot).
+    ax1.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2,
+               frameon=False)
     ax1.set_title("Fig. 5: convergence for 1, 10 and 100 projection steps")
     save(fig, out, "fig5_convergence", fmt)
 
@@ -112,7 +115,12 @@ def read_matrix(path):
     return names, D
 
 
-def fig_distance_matrices(out, fmt, methods):
+def data_suffix(spec):
+    """", DATA" for a title when figures.json names the data; "" otherwise (a folder written before it did)."""
+    return f", {spec['data']}" if spec.get("data") else ""
+
+
+def fig_distance_matrices(out, fmt, methods, data=""):
     """Fig. 7: one panel per method of the run, all on one colour scale (the 95th percentile of every method's
     distances between different shapes), so the methods can be compared by eye: a method whose distances are
     smaller across the board looks brighter everywhere, not just rescaled."""
@@ -129,8 +137,10 @@ def fig_distance_matrices(out, fmt, methods):
         im = ax.imshow(D, cmap="viridis_r", vmin=0, vmax=vmax, interpolation="nearest")
         ax.set_xticks(range(len(names)))
         ax.set_yticks(range(len(names)))
-        ax.set_xticklabels(names, rotation=90, fontsize=6)
-        ax.set_yticklabels(names, fontsize=6)
+        # As large as the rows allow (8 pt up to 20 shapes), so that the names read when printed.
+        size = 8 if len(names) <= 20 else max(4, 160 / len(names))
+        ax.set_xticklabels(names, rotation=90, fontsize=size)
+        ax.set_yticklabels(names, fontsize=size)
         # class boundaries
         classes = [n.rstrip("0123456789").replace("_noisy", "") for n in names]
         for i in range(1, len(classes)):
@@ -138,13 +148,15 @@ def fig_distance_matrices(out, fmt, methods):
                 ax.axhline(i - 0.5, color="white", lw=1)
                 ax.axvline(i - 0.5, color="white", lw=1)
         ax.set_title(method_style(styles, m)[0])
+    # The forms' units: each method's form keeps the scale of the input's geodesic or edge lengths.
     fig.colorbar(im, ax=list(axes[0]), fraction=0.025, pad=0.02,
-                 label="distance (mesh units), one scale for all panels")
-    fig.suptitle("Fig. 7: distances between shapes (yellow = close, dark = far)")
+                 label="Hausdorff distance (form units), one scale for all panels")
+    fig.suptitle(f"Fig. 7: Hausdorff distances between ICP-aligned canonical forms{data} "
+                 "(yellow = close, dark = far)")
     save(fig, out, "fig7_distance_matrices", fmt)
 
 
-def fig_pr(out, fmt):
+def fig_pr(out, fmt, data=""):
     path = os.path.join(out, "metrics.json")
     if not os.path.exists(path):
         return
@@ -164,7 +176,7 @@ def fig_pr(out, fmt):
     ax.set_ylim(0, 1.02)
     ax.grid(alpha=0.3)
     ax.legend()
-    ax.set_title("Fig. 8: precision-recall")
+    ax.set_title(f"Fig. 8: precision-recall, Hausdorff distance{data}")
     save(fig, out, "fig8_pr", fmt)
 
 
@@ -191,8 +203,9 @@ def fig_correspondence(out, fmt):
 # The figures other than the mesh grids, by name: each drawn from the run's folder (out, spec, fmt).
 FIGURES = {
     "fig5_convergence": lambda out, spec, fmt: fig_convergence(out, fmt),
-    "fig7_distance_matrices": lambda out, spec, fmt: fig_distance_matrices(out, fmt, spec.get("methods", [])),
-    "fig8_pr": lambda out, spec, fmt: fig_pr(out, fmt),
+    "fig7_distance_matrices": lambda out, spec, fmt: fig_distance_matrices(out, fmt, spec.get("methods", []),
+                                                                           data_suffix(spec)),
+    "fig8_pr": lambda out, spec, fmt: fig_pr(out, fmt, data_suffix(spec)),
     "fig9_correspondence": lambda out, spec, fmt: fig_correspondence(out, fmt),
 }
 
@@ -223,13 +236,17 @@ def main():
     # which about halves the wall time on two cores; each picture is drawn as it would be alone.
     grids = spec.get("grids", {})
     order = sorted(draw, key=lambda n: -sum(len(row) for row in grids[n]["cells"]) if n in grids else 0)
+    # "progress K N" on stdout as each figure is done: `cshapes experiment paper` reports it.
     if min(2, os.cpu_count() or 1, len(draw)) < 2:
-        for name in order:
+        for k, name in enumerate(order):
             draw_one(args.out, spec, name, args.format)
+            print(f"progress {k + 1} {len(order)}", flush=True)
         return
     with concurrent.futures.ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork")) as pool:
-        for job in [pool.submit(draw_one, args.out, spec, name, args.format) for name in order]:
+        jobs = [pool.submit(draw_one, args.out, spec, name, args.format) for name in order]
+        for k, job in enumerate(concurrent.futures.as_completed(jobs)):
             job.result()
+            print(f"progress {k + 1} {len(order)}", flush=True)
 
 
 if __name__ == "__main__":
