@@ -150,7 +150,9 @@ FigureRun run_figure_script(const std::string& script, const std::vector<std::st
   static std::atomic<long> counter{0};
   const fs::path errors = fs::temp_directory_path(ec) / ("cshapes-figure-" + std::to_string(::getpid()) +
                                                          "-" + std::to_string(counter++) + ".err");
-  std::string command = shell_quote(python) + " " + shell_quote(path);
+  // With progress, the script is asked for its "progress K N" lines (CSHAPES_FIGURE_PROGRESS=1).
+  std::string command = std::string(progress ? "CSHAPES_FIGURE_PROGRESS=1 " : "") + shell_quote(python) + " " +
+                        shell_quote(path);
   for (const std::string& a : args) command += " " + shell_quote(a);
   command += (progress ? "" : " >/dev/null") + std::string(" 2>") + shell_quote(errors.string());
   int status = -1;

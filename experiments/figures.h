@@ -43,8 +43,8 @@ struct FigureRun {
 // Runs `PYTHON SCRIPT ARGS...` (script: a file name in plot_scripts_directory(), e.g. "noise_figure.py"),
 // quietly; drawn when it exits 0 and `expected` (a file it writes) exists afterwards. `expected` is removed
 // first, so an old figure is never taken for a new one. When the script fails, `problem` quotes the last
-// line it printed on stderr. With `progress`, each line "progress K N" the script prints on stdout is
-// reported as ("figures", K, N); the script's other output is ignored.
+// line it printed on stderr. With `progress`, the script runs with CSHAPES_FIGURE_PROGRESS=1, and each line
+// "progress K N" it prints on stdout is reported as ("figures", K, N); its other output is ignored.
 FigureRun run_figure_script(const std::string& script, const std::vector<std::string>& args,
                             const std::string& expected, const ProgressFn& progress = {});
 // run_figure_script for every figure a command draws, in `format`: the script is given `--format=FORMAT`

@@ -27,12 +27,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import FuncFormatter  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from meshio import read_mesh  # noqa: E402
 from render_mesh import draw_mesh  # noqa: E402
-from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
+from figure_style import (COLUMN_WIDTH, PAGE_WIDTH, add_format_argument, method_style, method_styles,  # noqa: E402
+                          save, use_paper_style, wrapped)
 
 
 def read_csv(path):
@@ -54,9 +56,11 @@ def red_mask(V, props, spec, out):
 
 
 def mesh_grid(out, name, grid, fmt, panel=2.6):
-    """grid: {"rows": [...row titles], "cols": [...col titles], "cells": [[{"mesh", "red"}...]...]}"""
+    """grid: {"rows": [...row titles], "cols": [...col titles], "cells": [[{"mesh", "red"}...]...]}. At most a
+    page wide (the panels shrink to fit), its text at the paper style's sizes."""
     rows, cols = len(grid["cells"]), max(len(r) for r in grid["cells"])
-    fig, axes = plt.subplots(rows, cols, figsize=(panel * cols, panel * rows), squeeze=False)
+    panel = min(panel, (PAGE_WIDTH - 0.3) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(panel * cols + 0.3, panel * rows + 0.3), squeeze=False)
     for r, row in enumerate(grid["cells"]):
         for c in range(cols):
             ax = axes[r][c]
@@ -64,12 +68,14 @@ def mesh_grid(out, name, grid, fmt, panel=2.6):
             if c >= len(row) or not row[c] or not os.path.exists(os.path.join(out, row[c]["mesh"])):
                 continue
             V, F, props = read_mesh(os.path.join(out, row[c]["mesh"]))
-            draw_mesh(ax, V, F, red_mask(V, props, row[c].get("red"), out), row[c].get("title"))
+            title = row[c].get("title")
+            draw_mesh(ax, V, F, red_mask(V, props, row[c].get("red"), out), wrapped(title, panel) if title else None)
+            ax.title.set_fontsize(8)
         if grid.get("rows"):
             axes[r][0].text(-0.05, 0.5, grid["rows"][r], transform=axes[r][0].transAxes, rotation=90,
-                            va="center", ha="right", fontsize=10)
+                            va="center", ha="right", fontsize=8)
     if grid.get("title"):
-        fig.suptitle(grid["title"], fontsize=11)
+        fig.suptitle(wrapped(grid["title"], PAGE_WIDTH), fontsize=8)
     fig.tight_layout()
     save(fig, out, name, fmt)
 
@@ -79,7 +85,7 @@ def fig_convergence(out, fmt):
     if not os.path.exists(path):
         return
     rows = read_csv(path)
-    fig, ax1 = plt.subplots(figsize=(6.4, 4))
+    fig, ax1 = plt.subplots(figsize=(COLUMN_WIDTH, 2.6))
     ax2 = ax1.twinx()
     styles = ["-", "--", ":", "-."]
     for k_index, k in enumerate(sorted({int(r["projection_steps"]) for r in rows})):
@@ -94,11 +100,16 @@ def fig_convergence(out, fmt):
     ax2.set_ylabel("mean relative metric violation", color="tab:blue")
     ax1.set_yscale("log")
     ax2.set_yscale("log")
+    # Plain numbers on the log axes ("0.01", "40000"): mathtext's "10^-2" has a superscript under 7 pt. The
+    # minor ticks are labelled only on an axis within one decade, as matplotlib's default does.
+    for ax in (ax1, ax2):
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.yaxis.set_minor_formatter(FuncFormatter(
+            lambda v, _, ax=ax: f"{v:g}" if ax.get_ylim()[1] < 10 * ax.get_ylim()[0] else ""))
     h1, l1 = ax1.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     # Below the axes, off the curves (which cross the whole plot).
-    ax1.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2,
-               frameon=False)
+    ax1.legend(h1 + h2, l1 + l2, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
     ax1.set_title("Fig. 5: convergence for 1, 10 and 100 projection steps")
     save(fig, out, "fig5_convergence", fmt)
 
@@ -131,28 +142,38 @@ def fig_distance_matrices(out, fmt, methods, data=""):
     matrices = {m: read_matrix(os.path.join(folder, m + ".csv")) for m in methods}
     off_diagonal = np.concatenate([D[~np.eye(len(D), dtype=bool)] for _, D in matrices.values()])
     vmax = np.percentile(off_diagonal, 95) if off_diagonal.size else 1.0
-    fig, axes = plt.subplots(1, len(methods), figsize=(4.3 * len(methods) + 0.8, 4.4), squeeze=False)
-    for ax, m in zip(axes[0], methods):
+    # A page wide, at most three panels a row.
+    cols = min(3, len(methods))
+    rows = (len(methods) + cols - 1) // cols
+    panel = (PAGE_WIDTH - 0.9) / cols
+    fig, axes = plt.subplots(rows, cols, figsize=(PAGE_WIDTH, panel * rows + 0.5), squeeze=False)
+    for ax in axes.flat[len(methods):]:
+        ax.axis("off")
+    for k, (ax, m) in enumerate(zip(axes.flat, methods)):
         names, D = matrices[m]
         im = ax.imshow(D, cmap="viridis_r", vmin=0, vmax=vmax, interpolation="nearest")
-        ax.set_xticks(range(len(names)))
-        ax.set_yticks(range(len(names)))
-        # As large as the rows allow (8 pt up to 20 shapes), so that the names read when printed.
-        size = 8 if len(names) <= 20 else max(4, 160 / len(names))
-        ax.set_xticklabels(names, rotation=90, fontsize=size)
-        ax.set_yticklabels(names, fontsize=size)
-        # class boundaries
         classes = [n.rstrip("0123456789").replace("_noisy", "") for n in names]
-        for i in range(1, len(classes)):
-            if classes[i] != classes[i - 1]:
-                ax.axhline(i - 0.5, color="white", lw=1)
-                ax.axvline(i - 0.5, color="white", lw=1)
+        starts = [i for i in range(len(classes)) if i == 0 or classes[i] != classes[i - 1]]
+        # Each shape named while the names fit at 7 pt (a row at least 8 pt tall), each class block otherwise.
+        if panel * 72 / max(1, len(names)) >= 8:
+            ticks, labels = range(len(names)), names
+        else:
+            ends = starts[1:] + [len(names)]
+            ticks, labels = [(a + b - 1) / 2 for a, b in zip(starts, ends)], [classes[a] for a in starts]
+        ax.set_xticks(ticks)
+        ax.set_yticks(ticks)
+        ax.set_xticklabels(labels, rotation=90)
+        # The rows' names at the left of each row of panels only (the same order in every panel).
+        ax.set_yticklabels(labels if k % cols == 0 else [])
+        for i in starts[1:]:  # class boundaries
+            ax.axhline(i - 0.5, color="white", lw=1)
+            ax.axvline(i - 0.5, color="white", lw=1)
         ax.set_title(method_style(styles, m)[0])
     # The forms' units: each method's form keeps the scale of the input's geodesic or edge lengths.
-    fig.colorbar(im, ax=list(axes[0]), fraction=0.025, pad=0.02,
+    fig.colorbar(im, ax=list(axes.flat), fraction=0.025, pad=0.02,
                  label="Hausdorff distance (form units), one scale for all panels")
-    fig.suptitle(f"Fig. 7: Hausdorff distances between ICP-aligned canonical forms{data} "
-                 "(yellow = close, dark = far)")
+    fig.suptitle(wrapped(f"Fig. 7: Hausdorff distances between ICP-aligned canonical forms{data} "
+                         "(yellow = close, dark = far)", PAGE_WIDTH))
     save(fig, out, "fig7_distance_matrices", fmt)
 
 
@@ -163,7 +184,7 @@ def fig_pr(out, fmt, data=""):
     with open(path) as f:
         metrics = json.load(f)
     styles = method_styles(out)
-    fig, ax = plt.subplots(figsize=(5, 4.2))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.0))
     for m, v in metrics.get("methods", metrics).items():
         if not isinstance(v, dict) or "pr" not in v:
             continue
@@ -176,7 +197,7 @@ def fig_pr(out, fmt, data=""):
     ax.set_ylim(0, 1.02)
     ax.grid(alpha=0.3)
     ax.legend()
-    ax.set_title(f"Fig. 8: precision-recall, Hausdorff distance{data}")
+    ax.set_title(wrapped(f"Fig. 8: precision-recall, Hausdorff distance{data}", COLUMN_WIDTH))
     save(fig, out, "fig8_pr", fmt)
 
 
@@ -186,7 +207,7 @@ def fig_correspondence(out, fmt):
         return
     rows = read_csv(path)
     styles = method_styles(out)
-    fig, ax = plt.subplots(figsize=(5, 4))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 2.8))
     for m in dict.fromkeys(r["method"] for r in rows):
         sel = [r for r in rows if r["method"] == m]
         label, color = method_style(styles, m)
@@ -196,7 +217,7 @@ def fig_correspondence(out, fmt):
     ax.set_ylim(0, 1.02)
     ax.grid(alpha=0.3)
     ax.legend()
-    ax.set_title("Point maps induced by aligning canonical forms")
+    ax.set_title(wrapped("Point maps induced by aligning canonical forms", COLUMN_WIDTH))
     save(fig, out, "fig9_correspondence", fmt)
 
 
@@ -223,6 +244,7 @@ def main():
     p.add_argument("out")
     add_format_argument(p)
     args = p.parse_args()
+    use_paper_style()
     spec_path = os.path.join(args.out, "figures.json")
     if not os.path.exists(spec_path):
         sys.exit(f"paper_figures.py: {spec_path} is missing: run `cshapes experiment paper --out {args.out}` first")
@@ -236,17 +258,21 @@ def main():
     # which about halves the wall time on two cores; each picture is drawn as it would be alone.
     grids = spec.get("grids", {})
     order = sorted(draw, key=lambda n: -sum(len(row) for row in grids[n]["cells"]) if n in grids else 0)
-    # "progress K N" on stdout as each figure is done: `cshapes experiment paper` reports it.
+    # "progress K N" on stdout as each figure is done, when `cshapes experiment paper` asks for it to report.
+    def done(k):
+        if os.environ.get("CSHAPES_FIGURE_PROGRESS"):
+            print(f"progress {k + 1} {len(order)}", flush=True)
+
     if min(2, os.cpu_count() or 1, len(draw)) < 2:
         for k, name in enumerate(order):
             draw_one(args.out, spec, name, args.format)
-            print(f"progress {k + 1} {len(order)}", flush=True)
+            done(k)
         return
     with concurrent.futures.ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("fork")) as pool:
         jobs = [pool.submit(draw_one, args.out, spec, name, args.format) for name in order]
         for k, job in enumerate(concurrent.futures.as_completed(jobs)):
             job.result()
-            print(f"progress {k + 1} {len(order)}", flush=True)
+            done(k)
 
 
 if __name__ == "__main__":

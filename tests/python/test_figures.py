@@ -9,10 +9,12 @@ two-column paper prints it, and can be written as PDF or SVG.
 - `show` reads every format the library reads (OBJ here), titles a form's panel by its method, says a failing
   drawing script's own message, and takes any mix of paths, arrays and forms from Python.
 """
+import json
 import os
 import re
 import shutil
 import subprocess
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -41,14 +43,17 @@ needs_drawing = pytest.mark.skipif(not can_draw(), reason="no Python with matplo
 
 def svg_texts(path):
     """[(text, font size in pt)] of every <text> element of an SVG drawn by matplotlib with svg.fonttype none
-    (its user unit is the point: 72 per inch)."""
+    (its user unit is the point: 72 per inch); a text drawn by mathtext ("10" and a superscript) gives each of
+    its <tspan> parts."""
     texts = []
-    for element in ET.parse(path).getroot().iter(f"{SVG}text"):
-        text = "".join(element.itertext()).strip()
-        style = element.get("style", "")
-        size = re.search(r"font(?:-size)?:\s*(?:[a-z]+\s+)*([0-9.]+)px", style)
-        assert size, f"{path}: a text without a font size: {style!r}"
-        texts.append((text, float(size.group(1))))
+    for text_element in ET.parse(path).getroot().iter(f"{SVG}text"):
+        parts = [text_element] if text_element.get("style") else list(text_element.iter(f"{SVG}tspan"))
+        for element in parts or [text_element]:
+            text = "".join(element.itertext()).strip()
+            style = element.get("style", "")
+            size = re.search(r"font(?:-size)?:\s*(?:[a-z]+\s+)*([0-9.]+)px", style)
+            assert size, f"{path}: a text without a font size: {style!r}"
+            texts.append((text, float(size.group(1))))
     return texts
 
 
@@ -213,3 +218,60 @@ def test_python_show_takes_any_mix_of_paths_arrays_and_forms(obj_and_form, tmp_p
         cshapes.show(mesh, out=tmp_path / "x.png", labels=["a", "b"])
     with pytest.raises(ValueError, match="figure format"):
         cshapes.show(mesh, out=tmp_path / "x.png", figure_format="jpeg")
+
+
+def experiment_figure_data(folder):
+    """Hand-made data files of `experiment paper` (Fig. 5, 7, 8, 9, for three methods of 15 shapes) and of
+    `experiment noise` (six methods, five levels), as the C++ drivers write them."""
+    methods = ["coulomb", "cmds", "lbo"]
+    (folder / "convergence.csv").write_text("projection_steps,iteration,energy,mean_violation\n" + "".join(
+        f"{k},{i},{1000.0 / i + k},{0.1 / (i + k)}\n" for k in (1, 10, 100) for i in range(1, 60)))
+    (folder / "correspondence_error.csv").write_text("method,error,fraction\n" + "".join(
+        f"{m},{0.05 * i},{min(1.0, 0.1 * i * s)}\n" for m, s in zip(methods, (1.5, 1.0, 0.8)) for i in range(11)))
+    (folder / "metrics.json").write_text(json.dumps({"methods": {
+        m: {"map": a, "pr": {"recall": [0.25, 0.5, 0.75, 1.0], "precision": [1.0, a, a * a, a ** 3]}}
+        for m, a in zip(methods, (0.9, 0.7, 0.8))}}))
+    names = [f"{c}{i}" for c in ("cat", "centaur", "david", "dog", "horse") for i in range(3)]
+    (folder / "distances").mkdir()
+    rng = np.random.default_rng(1)
+    for m in methods:
+        D = rng.uniform(1, 5, (15, 15))
+        D = D + D.T
+        np.fill_diagonal(D, 0)
+        (folder / "distances" / f"{m}.csv").write_text(
+            ",".join(names) + "\n" + "".join(",".join(f"{x:.4f}" for x in row) + "\n" for row in D))
+    draw = ["fig5_convergence", "fig7_distance_matrices", "fig8_pr", "fig9_correspondence"]
+    (folder / "figures.json").write_text(json.dumps({"draw": draw, "grids": {}, "methods": methods,
+                                                     "data": "tosca5k"}))
+    six = ["coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"]
+    rows = [{"method": m, "distance": d, "level": L, "map": 0.9 - 0.1 * L * (m != "coulomb"), "queries": 20,
+             "form_poses": 24 if L < 4 else 17, "form_rms_median": 0.01 * L, "form_rms_mean": 0.012 * L}
+            for m in six for d in ("hausdorff", "chamfer", "rmse") for L in range(5)]
+    (folder / "noise.json").write_text(json.dumps({"rows": rows, "levels": list(range(5)), "methods": six,
+                                                   "poses": [f"p{k}" for k in range(24)], "seed": 1,
+                                                   "data": "../shared/data/tosca5k"}))
+    return draw
+
+
+@needs_drawing
+def test_the_experiments_figures_read_at_a_two_column_papers_size(tmp_path):
+    # Fig. 7 was 4.3 in a method wide (26 in for six) and the noise figure 14 in, their text printing at 3-5 pt;
+    # each now fits a column or the page, with no text under 7 pt once printed, and names what it shows.
+    draw = experiment_figure_data(tmp_path)
+    plots = ROOT / "experiments" / "plots"
+    for script in ("paper_figures.py", "noise_figure.py"):
+        result = subprocess.run([sys.executable, str(plots / script), str(tmp_path), "--format=svg"],
+                                capture_output=True, text=True)
+        assert result.returncode == 0, result.stderr
+    for name in draw + ["noise"]:
+        figure = tmp_path / f"{name}.svg"
+        width = svg_width(figure)
+        assert width <= PAGE * 1.05, f"{name}.svg is {width / 72:.2f} in wide, wider than a page"
+        for text, size in svg_texts(figure):
+            assert printed_size(size, width) >= 7 - 1e-6, f"{name}.svg: {text!r} prints at {size} pt"
+    titles = " ".join(t for t, _ in svg_texts(tmp_path / "fig8_pr.svg"))
+    assert "Hausdorff" in titles and "tosca5k" in titles, titles
+    texts = [t for t, _ in svg_texts(tmp_path / "noise.svg")]
+    assert sum(t in ("Coulomb", "classical MDS", "SMACOF", "LBO eigenmap") for t in texts) == 4, \
+        f"one key of the methods, each named once: {texts}"
+    assert any("tosca5k" in t for t in texts), texts
