@@ -16,7 +16,7 @@ import cshapes
 
 ROOT = Path(__file__).resolve().parents[2]
 
-FUNCTIONS = sorted(n for n in cshapes.__all__ if inspect.isfunction(getattr(cshapes, n)))
+FUNCTIONS = sorted(n for n in cshapes.__all__ if not inspect.isclass(getattr(cshapes, n)))
 # The calls that can take more than a few seconds, each with its progress= keyword.
 LONG_CALLS = ["add_topological_noise", "canonical_form", "classical_mds", "coulomb", "distance_matrix",
               "experiment_invariance", "experiment_noise", "experiment_paper", "experiment_pose",
