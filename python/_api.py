@@ -305,8 +305,8 @@ DOCS = {
         raises="ValueError\n    A source that is not a vertex index, heat_mode with another method, a mesh "
                "refused by strict=True.\nKeyboardInterrupt\n    Ctrl-C, heard every 64 sources.",
         examples=">>> V, F = cshapes.generate('icosphere', subdivisions=3)\n"
-                 ">>> d = cshapes.geodesics(V, F, 0, method='exact')\n>>> round(float(d.max()), 2)  # half the "
-                 "unit sphere's great circle\n3.14"),
+                 ">>> d = cshapes.geodesics(V, F, 0, method='exact')\n>>> round(float(d.max()), 2)  # about π: half "
+                 "a great circle\n3.13"),
     "add_topological_noise": dict(
         summary="Topological noise the paper's way: glue almost-touching spots by short tubes "
                 "(``cshapes noise``).",
@@ -377,7 +377,7 @@ DOCS = {
                "heard at each iteration.",
         examples=">>> (V, F), = cshapes.generate('articulated', class_='hand', poses=1, vertices=3000)\n"
                  ">>> form = cshapes.coulomb(V, F, progress=False)\n>>> form\n"
-                 "<cshapes.CanonicalForm: coulomb, 3,000 points, 612 iterations, 1.92 s>"),
+                 "<cshapes.CanonicalForm: coulomb, 3,000 points, 480 iterations, 0.959 s>"),
     "canonical_form": dict(
         summary="A canonical form by any method, as the CLI's ``cshapes canon`` computes it.",
         description="Each method reads its own keywords and refuses the others, naming the methods that read "
@@ -423,8 +423,10 @@ DOCS = {
                 "distances after it in the inputs' units: hausdorff (the paper's), chamfer, rmse, with the "
                 "correspondences.",
         raises="ValueError\n    Arrays of the wrong shape or not finite, a keyword outside its limit.",
-        examples=">>> a = cshapes.icp(form1.X, form0.X)\n>>> a\n<cshapes.Alignment: hausdorff 0.0871 (4.06% "
-                 "of B's bbox diagonal), rmse 0.0203 (0.945%) in the inputs' units, 37 ICP iterations>"),
+        examples=">>> poses = cshapes.generate('articulated', class_='hand', poses=2, vertices=3000)\n"
+                 ">>> form0, form1 = (cshapes.coulomb(V, F) for V, F in poses)\n"
+                 ">>> cshapes.icp(form1.X, form0.X)\n<cshapes.Alignment: hausdorff 5.53 (2.74% of B's bbox "
+                 "diagonal), rmse 0.949 (0.471%) in the inputs' units, 69 ICP iterations>"),
     "shape_distance": dict(
         summary="Distance between two point sets after ICP (align=True, the paper's) or as given.",
         description="Rows with NaN (vertices dropped by a repair) are left out.",

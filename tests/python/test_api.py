@@ -281,3 +281,16 @@ def test_version_is_the_projects():
     project = re.search(r"project\(cshapes\s+VERSION\s+([\d.]+)", (ROOT / "CMakeLists.txt").read_text())
     assert project, "CMakeLists.txt: project(cshapes VERSION ...)"
     assert cshapes.__version__ == project.group(1) == cshapes.build_info()["version"]
+
+
+@pytest.mark.parametrize("name", ["build_info", "canonical_form_methods", "generate", "geodesics", "mesh_info",
+                                  "method_options"])
+def test_the_examples_that_need_no_files_print_what_they_show(name):
+    """The Examples of the functions whose examples are quick and deterministic, run as doctests (the others
+    read files or print timings)."""
+    import doctest
+    test = doctest.DocTestParser().get_doctest(getattr(cshapes, name).__doc__, {"cshapes": cshapes}, name,
+                                               None, 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    runner.run(test)
+    assert runner.failures == 0 and runner.tries > 0, name
