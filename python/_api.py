@@ -702,7 +702,15 @@ def render_doc(name, signature, per_kind, options, readers):
         entries += _wrap_lines(text)
     if entries:
         lines += ["", "Parameters", "----------"] + entries
-    for title, key in (("Returns", "returns"), ("Raises", "raises"), ("Examples", "examples")):
+    if name == "canonical_form":  # the methods, each with the keywords it reads, from their registrations
+        all_options = _cshapes.method_options()
+        flags = {o["flag"]: o["name"] for o in all_options}
+        choices = {o["name"]: o["choices"] for o in all_options}
+        notes = "\n".join(f"method={m['name']!r}\n    {_keyword_text(m['summary'], flags, choices).rstrip('.')}. "
+                          f"Keywords: {', '.join(m['keywords'] + ['knn', 'strict'])}."
+                          for m in _cshapes.canonical_form_methods())
+        doc = dict(doc, notes=notes)
+    for title, key in (("Returns", "returns"), ("Raises", "raises"), ("Notes", "notes"), ("Examples", "examples")):
         if doc.get(key):
             lines += [""] + (_section(title, doc[key]) if key != "examples" else [title, "-" * len(title)] +
                              doc[key].split("\n"))

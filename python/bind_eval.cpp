@@ -44,7 +44,7 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   // Capped as the CLI caps --threads (support/threads.h): 100,000 threads crashed inside the OpenMP runtime.
   if (o.threads > 0)
     o.threads = threads_for_computation(o.threads, 1, [](const std::string& line) {
-      py::module_::import("warnings").attr("warn")("cshapes.distance_matrix: threads: " + line);
+      warn("cshapes.distance_matrix: threads: " + line);
     });
   const PairwiseDistanceResult r = progress.run([&] { return pairwise_distances(shapes, {}, o); });
   return to_numpy(metric == "hausdorff" ? r.hausdorff : metric == "chamfer" ? r.chamfer : r.rmse);
@@ -84,7 +84,7 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
   // The rules `cshapes evaluate` applies (eval/distance_csv.h): negative distances and two shapes of one name
   // refused, an asymmetric matrix and a non-zero diagonal warned; min_class_size as --min-class-size.
   for (const std::string& line : check_distance_matrix(input, "retrieval_measures(): D"))
-    py::module_::import("warnings").attr("warn")("cshapes.retrieval_measures: " + line);
+    warn("cshapes.retrieval_measures: " + line);
   CSHAPES_REQUIRE(min_class_size >= 1, "retrieval_measures(): min_class_size: expected an integer >= 1, got ",
                   min_class_size);
   RetrievalOptions options;

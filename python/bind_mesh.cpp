@@ -124,11 +124,10 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
     else
       D_rows = geodesic_rows(mesh, prepared, rows, options);
   });
-  auto warnings = py::module_::import("warnings");
   if (prepared.repaired.changed())
-    warnings.attr("warn")("cshapes.geodesics: " + prepared.repaired.text +
-                          "; distances are given at the input's vertices (NaN where a vertex was dropped)");
-  if (!prepared.warning.empty()) warnings.attr("warn")("cshapes.geodesics: " + prepared.warning);
+    warn("cshapes.geodesics: " + prepared.repaired.text +
+         "; distances are given at the input's vertices (NaN where a vertex was dropped)");
+  if (!prepared.warning.empty()) warn("cshapes.geodesics: " + prepared.warning);
   if (sources.is_none()) return to_numpy(D);
   if (one) return to_numpy(Eigen::VectorXd(D_rows.row(0).transpose()));
   return to_numpy(D_rows);

@@ -294,3 +294,11 @@ def test_the_examples_that_need_no_files_print_what_they_show(name):
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     runner.run(test)
     assert runner.failures == 0 and runner.tries > 0, name
+
+
+def test_warnings_point_at_the_callers_line():
+    W, G = cshapes.generate("icosphere", subdivisions=1)
+    two = (np.vstack([W, W + 3]), np.vstack([G, G + len(W)]))  # two components: repaired, with a warning
+    with pytest.warns(UserWarning, match="cshapes.geodesics") as caught:
+        cshapes.geodesics(*two, 0, method="graph")
+    assert caught[0].filename == __file__, caught[0].filename
