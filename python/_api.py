@@ -217,6 +217,9 @@ def _method_options():
     out = {}
     for o in options:
         help_text = _keyword_text(o["help"], flags, choices)
+        first = re.match(r"[A-Za-z_-]*", help_text).group(0)
+        if len(first) > 1 and first not in o["choices"]:  # a sentence, not a value ("paper: ...") or a symbol
+            help_text = help_text[0].upper() + help_text[1:]
         if not help_text.endswith("."):
             help_text += "."
         if o["limit"]:
@@ -291,8 +294,10 @@ def render_doc(name, signature, per_kind, options, readers):
         lines += [""] + _wrap_lines(doc["description"], indent="")
     entries = []
     for p in signature.parameters.values():
-        option = options.get(p.name) if name in ("coulomb", "canonical_form", "smacof") else None
-        if p.name in params:
+        # A method's option, unless this function takes the keyword its own way (smacof's weights: an array).
+        own = p.name in params
+        option = options.get(p.name) if name in ("coulomb", "canonical_form", "smacof") and not own else None
+        if own:
             text = params[p.name]
         elif option is not None:
             text = option["text"]
