@@ -4,7 +4,7 @@ Arrays: V (n, 3) float64 coordinates, F (m, 3) int32/int64 vertex indices, D (n,
 dtype and any strides are accepted (copied once into the library's layout). Every function shows its options
 with their defaults (help(cshapes.coulomb), inspect.signature); options are keywords, named as the CLI names
 them in snake_case, with the library's defaults. Long computations release the GIL and report progress
-(progress=True, or a function; by default a bar when stderr is a terminal).
+(progress=True, or a function; by default a bar on a terminal for calls longer than a second).
 
 The extension is cshapes._cshapes. Before loading it (and with it libgomp, which reads its settings once)
 this package bounds OpenMP's spin-wait as the CLI does (GOMP_SPINCOUNT=1000, docs/python.md) unless

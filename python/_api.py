@@ -34,14 +34,18 @@ class ProgressBar:
     """progress=True: one line on stderr, rewritten in place, as the CLI prints its stages:
     ``[coulomb]  42.0% (about 12 s left)``, then ``[coulomb] 100.0% in 3.41 s`` and a new line."""
 
-    def __init__(self, stream=None):
+    def __init__(self, stream=None, delay=0.0):
+        """delay: seconds of the call before the bar shows (a call done sooner prints nothing)."""
         self.stream = stream if stream is not None else sys.stderr
         self.stage = None
-        self.start = time.monotonic()
+        self.start = self.created = time.monotonic()
+        self.delay = delay
         self.width = 0  # of the line written last, so a shorter one leaves no tail
 
     def __call__(self, stage, fraction, seconds_left):
         now = time.monotonic()
+        if now - self.created < self.delay:
+            return
         if stage != self.stage:
             if self.width:
                 self.stream.write("\n")
@@ -71,11 +75,18 @@ def _seconds_text(s):
     return f"{s:.0f} s" if s >= 1000 else f"{s:.3g} s"
 
 
+# progress=None on a terminal: the bar of the calls that take longer than this (a quick call prints nothing).
+DEFAULT_BAR_DELAY = 1.0
+
+
 def _progress_callback(progress):
     """progress= as the extension takes it: None (no reports) or a callable; and the bar to close after."""
     if progress is None:
         stream = sys.stderr
-        progress = stream is not None and hasattr(stream, "isatty") and stream.isatty()
+        if stream is not None and hasattr(stream, "isatty") and stream.isatty():
+            bar = ProgressBar(delay=DEFAULT_BAR_DELAY)
+            return bar, bar
+        return None, None
     if progress is True:
         bar = ProgressBar()
         return bar, bar

@@ -12,7 +12,7 @@ import numpy.typing as npt
 _Path = str | PathLike[str]
 _Array = npt.ArrayLike
 _Geodesics = Literal["fmm", "heat", "heat-cgal", "exact", "graph"]
-# progress= of the long calls: None (a bar when stderr is a terminal), True (a bar), False, or a function
+# progress= of the long calls: None (a bar on a terminal after a second), True (a bar), False, or a function
 # progress(stage, fraction, seconds_left) (cshapes/_api.py).
 _Progress = bool | Callable[[str, float, float | None], object] | None
 

@@ -13,7 +13,8 @@ COMMON = {
            "the edges. Given with faces, it is refused.",
     "strict": "Refuse a mesh that needs repair (several components, non-manifold edges, ...) instead of "
               "repairing it for the method (summary['repair'] says what a repair did).",
-    "progress": "Reports while the call runs. None: a bar on stderr when stderr is a terminal, else nothing. "
+    "progress": "Reports while the call runs. None: on a terminal, the bar once the call has run for a second "
+                "(a quicker call prints nothing); elsewhere (a log, a notebook) nothing. "
                 "True: the bar, always: one line rewritten in place, ``[stage]  42.0% (about 12 s left)``. "
                 "False: nothing. A function ``progress(stage, fraction, seconds_left)``: called with the stage's "
                 "name (str), the fraction done (0..1, never decreasing within a stage) and the seconds it has "

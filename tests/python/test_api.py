@@ -221,12 +221,15 @@ def test_progress_true_draws_a_bar_and_the_default_draws_none_off_a_terminal(cap
         cshapes.coulomb(V, F, progress="yes")
 
 
-def test_the_default_draws_the_bar_on_a_terminal(monkeypatch):
+def test_the_default_draws_the_bar_on_a_terminal_for_calls_longer_than_a_second(monkeypatch):
     class Terminal(io.StringIO):
         def isatty(self):
             return True
 
     monkeypatch.setattr(sys, "stderr", Terminal())
+    cshapes.coulomb(V, F)  # done within the bar's delay: nothing
+    assert sys.stderr.getvalue() == ""
+    monkeypatch.setattr(cshapes._api, "DEFAULT_BAR_DELAY", 0.0)
     cshapes.coulomb(V, F)
     assert "[coulomb] 100.0% in " in sys.stderr.getvalue()
 
