@@ -17,6 +17,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -277,8 +278,8 @@ ProgressFn progress_printer() {
     const double fraction = total > 0 ? done / total : 1.0;
     std::fprintf(stderr, "%s[%s] %5.1f%%", terminal ? "\r" : "", stage.c_str(), 100.0 * fraction);
     // An estimate only once it means something: after 3 s and 5% of the stage.
-    if (!finished && elapsed >= 3 && fraction >= 0.05)
-      std::fprintf(stderr, " (about %.0f s left)%s", elapsed * (1 / fraction - 1), terminal ? "   " : "");
+    if (const std::optional<double> left = seconds_left_estimate(elapsed, fraction))
+      std::fprintf(stderr, " (about %.0f s left)%s", *left, terminal ? "   " : "");
     if (finished)
       std::fprintf(stderr, " in %s%s", seconds_text(elapsed).c_str(), terminal ? "            " : "");
     if (finished || !terminal) std::fprintf(stderr, "\n");

@@ -1,5 +1,6 @@
 # Type stubs of cshapes._cshapes: every function with its keywords and their defaults, for editors, type
-# checkers and readers (the functions themselves take most keywords through **kwargs, in the CLI's names).
+# checkers and readers, and the one declaration of the signatures of the Python functions: cshapes/_api.py
+# gives each function of cshapes these parameters (inspect.signature, help()).
 # tests/python/test_stubs.py checks this file against the module: every function and keyword here exists,
 # every keyword the module reads is here, and each default here gives the same result as leaving it out.
 from os import PathLike
@@ -11,6 +12,9 @@ import numpy.typing as npt
 _Path = str | PathLike[str]
 _Array = npt.ArrayLike
 _Geodesics = Literal["fmm", "heat", "heat-cgal", "exact", "graph"]
+# progress= of the long calls: None (a bar on a terminal after a second), True (a bar), False, or a function
+# progress(stage, fraction, seconds_left) (cshapes/_api.py).
+_Progress = bool | Callable[[str, float, float | None], object] | None
 
 __version__: str
 GOMP_SPINCOUNT: int
@@ -27,6 +31,7 @@ class CanonicalForm:
     iterations: int
     summary: dict[str, Any]
     seconds: float
+    method: str
 
 class Alignment:
     """A rigid alignment of A onto B: B ≈ A @ R.T + t (R orthogonal; det -1 when reflection)."""
@@ -51,11 +56,12 @@ def write_mesh(path: _Path, V: _Array, F: _Array, *, binary: bool = False, **ver
 def mesh_info(V: _Array, F: _Array) -> dict[str, Any]: ...
 def geodesics(V: _Array, F: _Array, sources: int | Sequence[int] | None = None, *,
               method: Literal["heat", "heat-cgal", "fmm", "exact", "graph"] = "heat",
-              heat_mode: Literal["idt", "direct"] | None = None, strict: bool = False) -> np.ndarray: ...
+              heat_mode: Literal["idt", "direct"] | None = None, strict: bool = False,
+              progress: _Progress = None) -> np.ndarray: ...
 def add_topological_noise(V: _Array, F: _Array, *, glue: int = 1, seed: int = 0, max_gap: float = 0.0,
                           gap_edges: float = 6.0, min_ratio: float = 5.0, min_fraction: float = 0.1,
                           separation: float = 0.15, relax: int = 0, geodesics: _Geodesics = "graph",
-                          return_info: bool = False) -> Any: ...
+                          return_info: bool = False, progress: _Progress = None) -> Any: ...
 @overload
 def generate(kind: Literal["swissroll"], *, vertices: int = 561) -> tuple[np.ndarray, np.ndarray]: ...
 @overload
@@ -92,12 +98,13 @@ def coulomb(V: _Array, F: _Array, *, coulomb_preset: Literal["default", "paper"]
             coulomb_summation: Literal["auto", "direct", "direct-float", "fast"] = "auto",
             coulomb_accuracy: float = 0.01, coulomb_fmm_rebuild_every: int = 1,
             coulomb_multiresolution_above: int = 9000, coulomb_coarse_vertices: int = 5000,
-            coulomb_tear_rounds: int = 30, knn: int = 8, strict: bool = False) -> CanonicalForm: ...
+            coulomb_tear_rounds: int = 30, knn: int = 8, strict: bool = False,
+            progress: _Progress = None) -> CanonicalForm: ...
 # Each method reads its own keywords (coulomb: those of coulomb(); geodesics: cmds, smacof, spectral-mds; mds_solver:
 # cmds, smacof; mds_landmarks: cmds, smacof; smacof_max_iterations: smacof; smacof_tolerance: smacof; init: smacof;
 # accelerate: smacof; smacof_window: smacof; weights: smacof; fold_overstretch: smacof; laplacian: lbo, diffusion,
 # spectral-mds; eigenpairs: lbo, diffusion; near_multiple_gap: lbo, diffusion, spectral-mds; diffusion_time:
-# diffusion; basis: spectral-mds; sources: spectral-mds; every method: knn, strict; a method from outside:
+# diffusion; basis: spectral-mds; sources: spectral-mds; every method: knn, strict, progress; a method from outside:
 # method_timeout, method_version) and refuses the others, naming the methods that read them.
 def canonical_form(V: _Array, F: _Array, *, method: _Method = "coulomb",
                    coulomb_preset: Literal["default", "paper"] = "default",
@@ -125,13 +132,13 @@ def canonical_form(V: _Array, F: _Array, *, method: _Method = "coulomb",
                    fold_overstretch: float = 3.0,
                    laplacian: Literal["intrinsic-delaunay", "cotangent"] = "intrinsic-delaunay", eigenpairs: int = 10,
                    near_multiple_gap: float = 0.02, diffusion_time: float = 1.0, basis: int = 40, sources: int = 120,
-                   knn: int = 8, strict: bool = False, method_timeout: float = 86400.0,
-                   method_version: str = "") -> CanonicalForm: ...
+                   knn: int = 8, strict: bool = False, method_timeout: float = 86400.0, method_version: str = "",
+                   progress: _Progress = None) -> CanonicalForm: ...
 # </generated>
-def classical_mds(D: _Array, dim: int = 3) -> CanonicalForm: ...
+def classical_mds(D: _Array, dim: int = 3, *, progress: _Progress = None) -> CanonicalForm: ...
 def smacof(D: _Array, X0: _Array | None = None, *, smacof_max_iterations: int = 300,
            smacof_tolerance: float = 1e-05, accelerate: Literal["none", "rre", "mpe"] = "none",
-           smacof_window: int = 6, weights: _Array | None = None) -> CanonicalForm: ...
+           smacof_window: int = 6, weights: _Array | None = None, progress: _Progress = None) -> CanonicalForm: ...
 
 # Matching and evaluation
 def icp(A: _Array, B: _Array, *, no_reflections: bool = False, one_way: bool = False, axis_swaps: bool = False,
@@ -143,7 +150,7 @@ def distance_matrix(forms: Sequence[_Array | CanonicalForm], *,
                     metric: Literal["hausdorff", "chamfer", "rmse"] = "hausdorff", cache: _Path | None = None,
                     threads: int = 0, no_reflections: bool = False, one_way: bool = False,
                     axis_swaps: bool = False, trim: float = 0.0,
-                    icp_tolerance: float = 0.001) -> np.ndarray: ...
+                    icp_tolerance: float = 0.001, progress: _Progress = None) -> np.ndarray: ...
 def retrieval_measures(D: _Array, labels: Sequence[Any], *, names: Sequence[str] | None = None,
                        min_class_size: int = 3) -> dict[str, Any]: ...
 
@@ -155,34 +162,37 @@ def experiment_noise(data: _Path, out: _Path, methods: _Methods = None, draw: bo
                      poses_per_class: int = 0, levels: Sequence[int] = (0, 1, 2, 4, 8), strict: bool = False,
                      geodesics: _Geodesics = "heat", resample: int = 0, figure_format: _FigureFormat = "png",
                      force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
-                     method_version: str = "") -> dict[str, Any]: ...
+                     method_version: str = "", progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_pose(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *, samples: int = 1000,
                     parts: bool = True, shapes: Sequence[str] | None = None, strict: bool = False,
                     geodesics: _Geodesics = "heat", resample: int = 0, figure_format: _FigureFormat = "png",
                     force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
-                    method_version: str = "") -> dict[str, Any]: ...
+                    method_version: str = "", progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_topkids(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
                        reference: str = "kid00", samples: int = 1000, poses: Sequence[str] | None = None,
                        strict: bool = False, geodesics: _Geodesics = "heat", resample: int = 0,
                        figure_format: _FigureFormat = "png", force: bool = False, allow_outside: bool = False,
-                       method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
+                       method_timeout: float = 86400, method_version: str = "",
+                       progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_invariance(data: _Path, out: _Path, methods: _Methods = None, draw: bool = True, *,
                           vertices: int | Sequence[int] = (0,), seeds: int = 3, seed: int = 1,
                           shapes: Sequence[str] | None = None, tolerance_floor: float = 0.05,
                           tolerance_pose: float = 1.0, strict: bool = False, geodesics: _Geodesics = "heat",
                           figure_format: _FigureFormat = "png", force: bool = False, allow_outside: bool = False,
-                          method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
+                          method_timeout: float = 86400, method_version: str = "",
+                          progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_paper(data: _Path, out: _Path, methods: _Methods = None, poses_per_class: int = 4,
                      noisy_per_class: int = 1, table1: bool = True, figure_data: bool = True, draw: bool = True, *,
                      glue: int = 2, seed: int = 1, table1_repeats: int = 5, correspondence_samples: int = 300,
                      figure_format: _FigureFormat = "png", strict: bool = False, geodesics: _Geodesics = "heat",
                      resample: int = 0, force: bool = False, allow_outside: bool = False,
-                     method_timeout: float = 86400, method_version: str = "") -> dict[str, Any]: ...
+                     method_timeout: float = 86400, method_version: str = "",
+                     progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_retrieval(data: _Path, out: _Path, methods: _Methods = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
                          e_depth: int = 32, min_class_size: int = 3, figure_format: _FigureFormat = "png",
                          force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
-                         method_version: str = "") -> dict[str, Any]: ...
+                         method_version: str = "", progress: _Progress = None) -> dict[str, Any]: ...
 def compare_runs(runs: Sequence[_Path], out: _Path, *, draw: bool = True, figure_format: _FigureFormat = "png",
                  force: bool = False) -> dict[str, Any]: ...
 # Pictures. mesh and form: a file, a CanonicalForm, a (V, F) pair or an (n, 3) array, in any mix.

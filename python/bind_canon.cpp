@@ -5,20 +5,21 @@
 
 #include <algorithm>
 #include <iterator>
-#include <sstream>
 
 #include "cshapes/canon/classical_mds.h"
 #include "cshapes/canon/smacof.h"
-#include "cshapes/support/error.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/canonical_forms.h"
-#include "cshapes/pipeline/method_options.h"
 #include "cshapes/pipeline/mesh_report.h"
+#include "cshapes/pipeline/method_options.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
 #include "python/bindings.h"
 #include "python/convert.h"
-#include "python/method_argument.h"
 #include "python/interrupt.h"
 #include "python/kwargs.h"
+#include "python/method_argument.h"
+#include "python/progress.h"
 
 namespace cshapes::python {
 
@@ -33,7 +34,20 @@ struct PyCanonicalForm {
   int iterations = 0;
   py::object summary;  // dict: what `cshapes canon --json` prints for the method
   double seconds = 0;  // wall time: geodesics or graph set-up plus the solve
+  std::string method;  // the method's name ('coulomb', 'cmds', ...; a method from outside: its name)
 };
+
+// "<cshapes.CanonicalForm: coulomb, 5,000 points, 50 iterations, 0.615 s>": what a person reads first; the
+// arrays and the full precision are in the attributes.
+std::string form_repr(const PyCanonicalForm& f) {
+  const py::tuple shape = f.X.attr("shape");
+  const long long n = shape[0].cast<long long>(), dim = py::len(shape) > 1 ? shape[1].cast<long long>() : 1;
+  const long long kept = py::int_(f.valid.attr("sum")()).cast<long long>();
+  std::string points = kept == n ? counted(n, "point") : grouped(kept) + " of " + counted(n, "point");
+  if (dim != 3) points += " in " + std::to_string(dim) + "-D";
+  return "<cshapes.CanonicalForm: " + (f.method.empty() ? "" : f.method + ", ") + points + ", " +
+         counted(f.iterations, "iteration") + ", " + seconds_text(f.seconds) + ">";
+}
 
 OptionFace python_face(const Kwargs& k) {
   OptionFace face;
@@ -108,6 +122,7 @@ PyCanonicalForm to_python(const CanonicalForm& form, const std::string& method) 
   out.iterations = form.iterations;
   out.summary = python::to_python(canonical_form_summary(form, method));
   out.seconds = form.precompute_seconds + form.solve_seconds;
+  out.method = method;
   return out;
 }
 
@@ -149,32 +164,26 @@ PyCanonicalForm canonical_form_py(const py::object& V, const py::object& F, cons
     fail("knn applies to point clouds (no faces) only; this mesh has ", mesh.num_faces(), " faces");
   read_method_keywords(k, m, o);
   o.strict = k.flag("strict", false);
+  const PythonProgress progress(k.object("progress"), function);
   k.done();
   o.name = std::string(function) + "() mesh";
-  // Ctrl-C is heard at each iteration of the methods and every 64 sources of the geodesics
-  // (python/interrupt.h).
-  o.progress = stop_on_python_signals();
-  CanonicalForm form;
-  {
-    Computing computing;
-    form = canonical_form(mesh, o);
-  }
+  // Reports (and Ctrl-C) at each iteration of the methods and every 64 sources of the geodesics
+  // (python/progress.h).
+  o.progress = progress.fn();
+  const CanonicalForm form = progress.run([&] { return canonical_form(mesh, o); });
   return to_python(form, method);
 }
 
-PyCanonicalForm classical_mds_py(const py::object& D_in, int dim) {
+PyCanonicalForm classical_mds_py(const py::object& D_in, int dim, const py::object& progress_in) {
   CSHAPES_REQUIRE(dim >= 1 && dim <= 3,
                   "classical_mds(): dim: expected 1, 2 or 3 (the embedding is 3-D; "
                   "lower dimensions are its leading axes), got ",
                   dim);
   const Eigen::MatrixXd D = to_matrix(D_in, "D");
-  ClassicalMdsResult r;
   ClassicalMdsOptions options;
-  options.progress = stop_on_python_signals();
-  {
-    Computing computing;
-    r = classical_mds(D, options);
-  }
+  const PythonProgress progress(progress_in, "classical_mds");
+  options.progress = progress.fn();
+  const ClassicalMdsResult r = progress.run([&] { return classical_mds(D, options); });
   PyCanonicalForm out = to_python(classical_mds_form(r), "cmds");
   out.X = to_numpy(Eigen::MatrixXd(r.X.leftCols(dim)));
   return out;
@@ -188,6 +197,7 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
   SmacofOptions so = o.smacof;
   CSHAPES_REQUIRE(!k.given("init"), "smacof(): init: pass the start as X0 (None: classical MDS of D)");
   const py::object weights = k.object("weights");
+  const PythonProgress progress(k.object("progress"), "smacof");
   k.done();
   CSHAPES_REQUIRE(!py::isinstance<py::str>(weights),
                   "smacof(): weights: pass n vertex weights as an array (area weights need the mesh: use "
@@ -195,73 +205,9 @@ PyCanonicalForm smacof_py(const py::object& D_in, const py::object& X0_in, const
   if (!weights.is_none()) so.vertex_weights = to_vector(weights, "weights");
   const bool have_start = !X0_in.is_none();
   Points X0 = have_start ? to_points(X0_in, "X0") : Points();
-  so.progress = stop_on_python_signals();
-  SmacofResult r;
-  {
-    Computing computing;
-    r = have_start ? smacof(D, X0, so) : smacof(D, so);
-  }
+  so.progress = progress.fn();
+  const SmacofResult r = progress.run([&] { return have_start ? smacof(D, X0, so) : smacof(D, so); });
   return to_python(smacof_form(r, so), "smacof");
-}
-
-// One keyword as the docstrings list it: "name ['default'] a | b" or "name [default]".
-std::string keyword_doc(const MethodOption& option) {
-  const std::string fallback = option_text(option_default(option));
-  std::string line = option.name + " [";
-  if (option.type == MethodOption::Type::Choice) {
-    line += "'" + fallback + "']";
-    for (size_t k = 0; k < option.choices.size(); ++k) line += (k == 0 ? " " : " | ") + option.choices[k];
-  } else {
-    line += fallback + "]";
-  }
-  return line + ": " + option.help;
-}
-
-std::string coulomb_doc() {
-  std::ostringstream d;
-  d << "The Coulomb canonical form of a mesh (paper §2): electrostatic repulsion under edge-length "
-       "constraints.\n\n"
-       "V (n, 3) coordinates, F (m, 3) vertex indices (an empty F: a point cloud, joined by its kNN graph).\n"
-       "Keywords, named as `cshapes canon --method coulomb` names them (defaults in brackets):\n";
-  for (const MethodOption& option : canonical_form_method("coulomb").options)
-    if (option.python) d << "  " << keyword_doc(option) << "\n";
-  d << "  knn [" << KnnGraphOptions{}.k
-    << "]: point clouds: neighbours of the kNN graph; strict [False]: refuse a mesh that needs repair\n\n"
-       "Returns a CanonicalForm: X (n, 3) in the input's vertex order and units, torn (n,) 1 at vertices of "
-       "torn edges, history {energy, mean_violation, ...} per iteration, iterations, summary (dict), "
-       "seconds.\n"
-       "A mesh with several components or other defects is repaired for the method first (summary['repair'] "
-       "says what); dropped vertices are NaN rows with valid = 0. The GIL is released while it runs.";
-  return d.str();
-}
-
-// canonical_form()'s help: each method and its keywords, from the methods' own option lists (the lists the
-// refusals use).
-std::string canonical_form_doc() {
-  std::ostringstream d;
-  d << "A canonical form by any method, as `cshapes canon --method M` computes it.\n\n"
-       "Each method reads its own keywords (defaults in brackets) and refuses the others, naming the methods "
-       "that read them. Every method: knn [8] (point clouds: the kNN graph standing in for the edges), strict "
-       "[False] (refuse a mesh that needs repair).\n";
-  std::vector<std::string> described;
-  for (const CanonicalFormMethod& method : canonical_form_method_registry()) {
-    d << "\nmethod='" << method.name << "' (" << method.title << "): " << method.summary << "\n";
-    for (const MethodOption& option : method.options) {
-      if (!option.python) continue;
-      if (std::find(described.begin(), described.end(), option.name) != described.end()) {
-        d << "  " << option.name << " (as above)\n";
-        continue;
-      }
-      described.push_back(option.name);
-      d << "  " << keyword_doc(option) << "\n";
-    }
-  }
-  d << "\nmethod may also be a method from outside (see docs/outside-methods.md): a function fn(V, F) -> X "
-       "(an (n, 3) array, one row per vertex), a pair (name, fn), 'NAME=cmd:COMMAND' or 'NAME=forms:DIR'; "
-       "keywords method_timeout [86400 s] and method_version ['']. Its form is checked as an experiment checks "
-       "it (one finite row per vertex, spanning a plane) and gets the same quality verdict.\n";
-  d << "\nReturns a CanonicalForm.";
-  return d.str();
 }
 
 // The options of every registered method, for scripts/make_stub.py and the docs: name, type, default,
@@ -291,32 +237,38 @@ py::list method_options_py() {
 }  // namespace
 
 void bind_canon(py::module_& m) {
+  // The docstrings here are one line each: cshapes/_api.py gives the Python functions their signatures and
+  // numpy-style documentation, the keywords' from the methods' own option declarations (method_options()).
   py::class_<PyCanonicalForm>(m, "CanonicalForm",
                               "A canonical form: X (n, 3), valid (n,), torn (n,) or None, history (dict of "
-                              "per-iteration columns), iterations, summary (dict), seconds")
-      .def_readonly("X", &PyCanonicalForm::X)
-      .def_readonly("valid", &PyCanonicalForm::valid)
-      .def_readonly("torn", &PyCanonicalForm::torn)
-      .def_readonly("history", &PyCanonicalForm::history)
-      .def_readonly("iterations", &PyCanonicalForm::iterations)
-      .def_readonly("summary", &PyCanonicalForm::summary)
-      .def_readonly("seconds", &PyCanonicalForm::seconds)
-      .def("__repr__", [](const PyCanonicalForm& f) {
-        return "<cshapes.CanonicalForm: " + py::str(f.X.attr("shape")).cast<std::string>() + " points, " +
-               std::to_string(f.iterations) + " iterations, " + std::to_string(f.seconds) + " s>";
-      });
+                              "per-iteration columns), iterations, summary (dict), seconds, method")
+      .def_readonly("X", &PyCanonicalForm::X,
+                    "(n, 3) float64: the form, in the input's vertex order and units "
+                    "(NaN rows where valid is 0)")
+      .def_readonly("valid", &PyCanonicalForm::valid,
+                    "(n,) float64: 1 for vertices in the form, 0 for vertices a repair dropped")
+      .def_readonly("torn", &PyCanonicalForm::torn,
+                    "(n,) float64, 1 at vertices of torn edges (coulomb), or None")
+      .def_readonly("history", &PyCanonicalForm::history,
+                    "dict: column name -> (iterations,) float64 (energy, mean_violation, ... per iteration)")
+      .def_readonly("iterations", &PyCanonicalForm::iterations, "iterations the solver ran")
+      .def_readonly("summary", &PyCanonicalForm::summary, "dict: what `cshapes canon --json` prints")
+      .def_readonly("seconds", &PyCanonicalForm::seconds, "wall time in seconds: set-up plus the solve")
+      .def_readonly("method", &PyCanonicalForm::method, "the method's name ('coulomb', 'cmds', ...)")
+      .def("__repr__", &form_repr);
   m.def(
       "coulomb",
       [](const py::object& V, const py::object& F, const py::kwargs& kwargs) {
         return canonical_form_py(V, F, py::str("coulomb"), kwargs, "coulomb");
       },
-      py::arg("V"), py::arg("F"), coulomb_doc().c_str());
+      py::arg("V"), py::arg("F"), "The Coulomb canonical form of a mesh: see help(cshapes.coulomb).");
   m.def(
       "canonical_form",
       [](const py::object& V, const py::object& F, const py::object& method, const py::kwargs& kwargs) {
         return canonical_form_py(V, F, method, kwargs, "canonical_form");
       },
-      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb", canonical_form_doc().c_str());
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("method") = "coulomb",
+      "A canonical form by any method: see help(cshapes.canonical_form).");
   m.def(
       "canonical_form_methods",
       [] {
@@ -335,27 +287,14 @@ void bind_canon(py::module_& m) {
         }
         return methods;
       },
-      R"(The methods canonical_form() takes, in the library's order (pipeline/canonical_form_methods.h): a list
-of dicts {name, title, summary, uses_geodesic_matrix, keywords}; name is what method= takes, title the
-method's name in figures and tables ('Coulomb', 'classical MDS', 'SMACOF'), keywords the options it reads
-(besides knn and strict).)");
+      "The methods canonical_form() takes: see help(cshapes.canonical_form_methods).");
   m.def("method_options", &method_options_py,
-        R"(Every option of the registered methods, once each: a list of dicts {name, flag, type ('int', 'float',
-'str'), default, choices, limit, help, methods}; name is the keyword of canonical_form(), flag the CLI's option,
-methods the methods that read it. scripts/make_stub.py writes the stub's signatures from it.)");
-  m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3,
-        R"(Classical MDS of an (n, n) distance matrix D (any real dtype; symmetric, zero diagonal).
-
-Returns a CanonicalForm whose X is (n, dim), centred, in the units of D; dim 1..3 (the leading axes of the
-3-D embedding). summary['classical_mds']: eigenvalues, most_negative_eigenvalue, explained_energy, ...
-GIL released.)");
+        "Every option of the registered methods: see help(cshapes.method_options).");
+  m.def("classical_mds", &classical_mds_py, py::arg("D"), py::arg("dim") = 3, py::kw_only(),
+        py::arg("progress") = py::none(),
+        "Classical MDS of a distance matrix: see help(cshapes.classical_mds).");
   m.def("smacof", &smacof_py, py::arg("D"), py::arg("X0") = py::none(),
-        R"(SMACOF metric MDS of an (n, n) distance matrix D (stored as float32, as the library keeps them).
-
-X0: (n, 3) start; None starts from classical MDS of D. Keywords (the CLI's): smacof_max_iterations [300],
-smacof_tolerance [1e-5], accelerate ['none'] | 'rre' | 'mpe', smacof_window [6] (rre/mpe), weights [None] or
-n positive vertex weights (pair weights w_i w_j). Returns a CanonicalForm: X (n, 3), history (passes, normalized_stress,
-extrapolated per iteration), iterations, summary['smacof'] {normalized_stress, stop_reason, ...}. GIL released.)");
+        "SMACOF metric MDS of a distance matrix: see help(cshapes.smacof).");
 }
 
 }  // namespace cshapes::python

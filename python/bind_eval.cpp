@@ -5,13 +5,14 @@
 
 #include <cmath>
 
-#include "cshapes/support/error.h"
-#include "cshapes/support/threads.h"
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/eval/retrieval_report.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/kwargs.h"
+#include "python/progress.h"
 
 namespace cshapes::python {
 
@@ -33,8 +34,9 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   const py::object cache = k.object("cache");
   o.cache_dir = cache.is_none() ? "" : to_path(cache, "cache");
   o.threads = k.int32("threads", 0);
-  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h), between pairs and in each
-  o.icp.progress = o.progress;            // and each pair's ICP steps
+  const PythonProgress progress(k.object("progress"), "distance_matrix");
+  o.progress = progress.fn();             // reports and Ctrl-C (python/progress.h), between pairs
+  o.icp.progress = polls_of(o.progress);  // and Ctrl-C in each pair's ICP steps
   k.done();
   CSHAPES_REQUIRE(metric == "hausdorff" || metric == "chamfer" || metric == "rmse",
                   "distance_matrix(): metric: expected 'hausdorff', 'chamfer' or 'rmse', got '", metric, "'");
@@ -42,13 +44,9 @@ py::array_t<double> distance_matrix_py(const py::sequence& forms, const py::kwar
   // Capped as the CLI caps --threads (support/threads.h): 100,000 threads crashed inside the OpenMP runtime.
   if (o.threads > 0)
     o.threads = threads_for_computation(o.threads, 1, [](const std::string& line) {
-      py::module_::import("warnings").attr("warn")("cshapes.distance_matrix: threads: " + line);
+      warn("cshapes.distance_matrix: threads: " + line);
     });
-  PairwiseDistanceResult r;
-  {
-    Computing computing;
-    r = pairwise_distances(shapes, {}, o);
-  }
+  const PairwiseDistanceResult r = progress.run([&] { return pairwise_distances(shapes, {}, o); });
   return to_numpy(metric == "hausdorff" ? r.hausdorff : metric == "chamfer" ? r.chamfer : r.rmse);
 }
 
@@ -86,7 +84,7 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
   // The rules `cshapes evaluate` applies (eval/distance_csv.h): negative distances and two shapes of one name
   // refused, an asymmetric matrix and a non-zero diagonal warned; min_class_size as --min-class-size.
   for (const std::string& line : check_distance_matrix(input, "retrieval_measures(): D"))
-    py::module_::import("warnings").attr("warn")("cshapes.retrieval_measures: " + line);
+    warn("cshapes.retrieval_measures: " + line);
   CSHAPES_REQUIRE(min_class_size >= 1, "retrieval_measures(): min_class_size: expected an integer >= 1, got ",
                   min_class_size);
   RetrievalOptions options;
@@ -105,25 +103,12 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
 }  // namespace
 
 void bind_eval(py::module_& m) {
+  // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("distance_matrix", &distance_matrix_py, py::arg("forms"),
-        R"(The all-pairs distance matrix of canonical forms: ICP between every pair, then the distance.
-
-forms: a sequence of (n_i, 3) arrays or CanonicalForm objects (their X; NaN rows are left out). Keywords:
-metric ['hausdorff'] (the paper's) | 'chamfer' | 'rmse'; cache [''] a folder where each pair's result is
-kept (a rerun, or a killed run restarted, recomputes nothing cached); threads [0: OpenMP's default];
-and the ICP keywords of icp(). Returns an (N, N) float64 symmetric matrix with a zero diagonal. The pairs
-run in parallel with the GIL released.)");
+        "The all-pairs distance matrix of canonical forms: see help(cshapes.distance_matrix).");
   m.def("retrieval_measures", &retrieval_measures_py, py::arg("D"), py::arg("labels"), py::kw_only(),
         py::arg("names") = py::none(), py::arg("min_class_size") = 3,
-        R"(Retrieval measures of an (N, N) distance matrix with one class label per shape (any hashable
-printed as text): the dict `cshapes evaluate` writes to metrics.json.
-
-Keys: map, nn, ft, st, e, dcg (micro averages over queries, psbTable conventions), pr {recall, precision}
-(interpolated, averaged over queries), classes {name: per-class measures}, queries, skipped, tied_queries,
-confusion (nearest-neighbour class counts, rows and columns in class_names order), class_names. Queries from
-classes smaller than min_class_size are skipped. Ties (exactly equal distances) count as `evaluate` counts
-them: every measure is its expected value over all orders of the tied shapes (a query's n tied nearest add
-1/n each to the confusion counts). All labels equal raises ValueError: every result would be relevant.)");
+        "Retrieval measures of a distance matrix: see help(cshapes.retrieval_measures).");
 }
 
 }  // namespace cshapes::python

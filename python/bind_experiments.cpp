@@ -16,9 +16,9 @@
 #include "cshapes/experiments/noise_experiment.h"
 #include "cshapes/experiments/paper_experiment.h"
 #include "cshapes/experiments/pose_invariance.h"
-#include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/experiments/retrieval_experiment.h"
 #include "cshapes/experiments/show_mesh.h"
+#include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/shape_failures.h"
@@ -27,6 +27,7 @@
 #include "python/convert.h"
 #include "python/interrupt.h"
 #include "python/method_argument.h"
+#include "python/progress.h"
 
 namespace cshapes::python {
 
@@ -68,13 +69,10 @@ py::dict experiment_paper_py(const py::object& data, const py::object& out, cons
   CSHAPES_REQUIRE(o.resample.vertices == 0 || o.resample.vertices >= 4,
                   "experiment_paper(): resample: expected 0 (off) or at least 4 vertices, got ",
                   o.resample.vertices);
+  const PythonProgress progress(k.object("progress"), "experiment_paper");
   k.done();
-  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
-  PaperExperimentSummary s;
-  {
-    Computing computing;
-    s = paper_experiment(o);
-  }
+  o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const PaperExperimentSummary s = progress.run([&] { return paper_experiment(o); });
   py::dict result;
   result["out"] = o.out;
   result["shapes"] = s.shapes;
@@ -110,13 +108,10 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
+  const PythonProgress progress(k.object("progress"), "experiment_retrieval");
   k.done();
-  o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
-  RetrievalExperimentResult r;
-  {
-    Computing computing;
-    r = retrieval_experiment(o);
-  }
+  o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const RetrievalExperimentResult r = progress.run([&] { return retrieval_experiment(o); });
   py::dict measures;
   for (const RetrievalMethodResult& m : r.methods) {
     py::dict per;
@@ -270,14 +265,11 @@ py::dict experiment_noise_py(const py::object& data, const py::object& out, cons
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
   o.poses_per_class = k.int32("poses_per_class", o.poses_per_class);
   if (k.given("levels")) o.levels = k.object("levels").cast<std::vector<int>>();
+  const PythonProgress progress(k.object("progress"), "experiment_noise");
   k.done();
   o.figure = draw;
-  o.progress = stop_on_python_signals();
-  NoiseExperimentResult r;
-  {
-    Computing computing;
-    r = noise_experiment(o);
-  }
+  o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const NoiseExperimentResult r = progress.run([&] { return noise_experiment(o); });
   return experiment_result(o.out, "noise.json", r.failures);
 }
 
@@ -291,14 +283,11 @@ py::dict experiment_pose_py(const py::object& data, const py::object& out, const
   o.samples = k.int32("samples", o.samples);
   o.parts = k.flag("parts", o.parts);
   if (k.given("shapes")) o.shapes = k.object("shapes").cast<std::vector<std::string>>();
+  const PythonProgress progress(k.object("progress"), "experiment_pose");
   k.done();
   o.figure = draw;
-  o.canon.progress = stop_on_python_signals();
-  PoseInvarianceResult r;
-  {
-    Computing computing;
-    r = pose_experiment(o);
-  }
+  o.canon.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const PoseInvarianceResult r = progress.run([&] { return pose_experiment(o); });
   return experiment_result(o.out, "pose_residuals.json", r.failures);
 }
 
@@ -312,14 +301,11 @@ py::dict experiment_topkids_py(const py::object& data, const py::object& out, co
   o.reference = k.text("reference", o.reference);
   o.samples = k.int32("samples", o.samples);
   if (k.given("poses")) o.poses = k.object("poses").cast<std::vector<std::string>>();
+  const PythonProgress progress(k.object("progress"), "experiment_topkids");
   k.done();
   o.figure = draw;
-  o.progress = stop_on_python_signals();
-  TopkidsExperimentResult r;
-  {
-    Computing computing;
-    r = topkids_experiment(o);
-  }
+  o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const TopkidsExperimentResult r = progress.run([&] { return topkids_experiment(o); });
   return experiment_result(o.out, "topkids.json", r.failures);
 }
 
@@ -354,14 +340,11 @@ py::dict experiment_invariance_py(const py::object& data, const py::object& out,
   if (const py::object shapes = k.object("shapes"); !shapes.is_none())
     o.shapes = shapes.cast<std::vector<std::string>>();
   o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
+  const PythonProgress progress(k.object("progress"), "experiment_invariance");
   k.done();
   o.figure = draw;
-  o.progress = stop_on_python_signals();
-  InvarianceResult r;
-  {
-    Computing computing;
-    r = invariance_experiment(o);
-  }
+  o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+  const InvarianceResult r = progress.run([&] { return invariance_experiment(o); });
   return experiment_result(o.out, "invariance.json", r.failures);
 }
 
@@ -369,125 +352,39 @@ namespace {
 
 // experiment_noise, experiment_pose, experiment_topkids and experiment_invariance.
 void bind_dataset_experiments(py::module_& m) {
-  m.def("experiment_noise", &experiment_noise_py, py::arg("data"), py::arg("out"), py::arg("methods") = py::none(),
-        py::arg("draw") = true,
-        R"(Retrieval under topological noise (`cshapes experiment noise`): glued versions of every clean pose.
-
-Keywords: seed [1], poses_per_class [0: all], levels [[0, 1, 2, 4, 8]] (glues per noisy version).)" R"(
-Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
-method_timeout [86400] and method_version [''] (methods from outside).
-methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
-(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
-run's JSON file), failures.)");
-  m.def("experiment_pose", &experiment_pose_py, py::arg("data"), py::arg("out"), py::arg("methods") = py::none(),
-        py::arg("draw") = true,
-        R"(Pose residuals against ground-truth correspondence (`cshapes experiment pose`), per part.
-
-Keywords: samples [1000], parts [True], shapes [all] (names to restrict to).)" R"(
-Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
-method_timeout [86400] and method_version [''] (methods from outside).
-methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
-(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
-run's JSON file), failures.)");
+  m.def("experiment_noise", &experiment_noise_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("draw") = true,
+        "Retrieval under topological noise: see help(cshapes.experiment_noise).");
+  m.def("experiment_pose", &experiment_pose_py, py::arg("data"), py::arg("out"),
+        py::arg("methods") = py::none(), py::arg("draw") = true,
+        "Pose residuals, per part: see help(cshapes.experiment_pose).");
   m.def("experiment_topkids", &experiment_topkids_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("draw") = true,
-        R"(SHREC'16 TOPKIDS correspondence curves (`cshapes experiment topkids`).
-
-Keywords: reference ['kid00'], samples [1000], poses [all].)" R"(
-Keywords common to the three: strict [False], geodesics (MDS; the experiments' default: 'heat'), resample [0],
-figure_format ['png'] (the figure's format: 'png', 'pdf' or 'svg'), force [False], allow_outside [False],
-method_timeout [86400] and method_version [''] (methods from outside).
-methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
-(n×3, one row per vertex of V, in V's order). Writes what the CLI writes; returns a dict: out, results (the
-run's JSON file), failures.)");
+        "SHREC'16 TOPKIDS correspondence curves: see help(cshapes.experiment_topkids).");
   m.def("experiment_invariance", &experiment_invariance_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("draw") = true,
-        R"(How much each canonical form changes under transformations that must not change it
-(`cshapes experiment invariance`): vertex renumbering, face order, rigid motion, scale 1e-6 and 1e3, jitter of
-1e-9 of the diagonal, and, reported apart, remeshing at 0.8x and 1.2x the vertex count; beside each method's
-pose variation, with a verdict per method.
-
-Keywords: vertices [[0]] (resolutions: 0 the shapes as given, N each shape remeshed to about N vertices
-first), seeds [3] (renumberings), seed [1], shapes [all] (names to restrict to), tolerance_floor [0.05] and
-tolerance_pose [1.0] (the verdict's tolerance: the larger of that % of the diagonal and that % of the
-method's median pose variation), strict [False], geodesics (MDS; the experiments' default: 'heat'),
-figure_format ['png'] ('png', 'pdf' or 'svg'), force [False], allow_outside [False], method_timeout [86400]
-and method_version [''] (methods from outside).
-methods: names, and methods from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', or (NAME, fn) with fn(V, F) -> X
-(n×3, one row per vertex of V, in V's order). Writes what the CLI writes (invariance.md, invariance.csv,
-invariance_summary.csv, invariance_pose.csv, invariance.json, invariance.png); returns a dict: out, results
-(invariance.json: verdicts, summary, ...), failures.)");
+        "How much each canonical form changes under what must not change it: see "
+        "help(cshapes.experiment_invariance).");
 }
 
 }  // namespace
 
 void bind_experiments(py::module_& m) {
+  // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
         py::arg("title") = py::none(), py::arg("view") = "pca", py::arg("labels") = py::none(),
-        py::arg("figure_format") = py::none(),
-        R"(A picture of a mesh, or of a mesh and its canonical form side by side (`cshapes show`).
-
-mesh and form [None], each any of, in any mix: a file in any format cshapes reads (a form as `cshapes canon`
-writes it: dropped vertices are NaN rows with valid = 0), a CanonicalForm, a (V, F) pair, or an (n, 3) array
-(a form: drawn with the mesh's faces; a mesh: a point cloud); NaN rows are not drawn. The form has the mesh's
-vertex count. Each vertex takes the same colour in both panels: its place on the mesh (principal coordinates
-as red, green and blue). Each panel is titled: a form by its method when that is known (a CanonicalForm's, or
-the one `cshapes canon` records in its PLY: 'Coulomb canonical form'), a file by its name, else 'mesh' and
-'canonical form'; labels [None]: titles instead, [mesh's] or [mesh's, form's]. out: the picture, .png, .pdf or
-.svg, never one of the inputs; written atomically. figure_format [None]: 'png', 'pdf' or 'svg', which out's
-extension must then be (added when out has none). title [None]: a line above the picture. view ['pca']: look
-along the least spread, or 'x', 'y', 'z' along that axis. Needs a Python with matplotlib and numpy
-(/usr/bin/python3, $CSHAPES_PYTHON); ValueError saying why when it cannot draw. Returns the picture's path as a
-str.)");
+        py::arg("figure_format") = py::none(), "A picture of a mesh and its form: see help(cshapes.show).");
   m.def("experiment_paper", &experiment_paper_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("poses_per_class") = 4, py::arg("noisy_per_class") = 1,
         py::arg("table1") = true, py::arg("figure_data") = true, py::arg("draw") = true,
-        R"(The paper's experiment end to end (`cshapes experiment paper`), with the library's defaults.
-
-data: a folder of meshes (class = file name without trailing digits) or a manifest.csv; out: the output
-folder (its cache/ makes reruns resume). methods [all registered: coulomb, cmds, smacof; or from outside:
-'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with fn(V, F) -> X, docs/outside-methods.md]; poses_per_class [4]
-(0: all); noisy_per_class [1] (-1: a glued version of every clean pose); table1 [True] measures Table 1;
-figure_data [True] computes the figures' data; draw [True] draws them (beside report.md) when a Python with
-matplotlib is found (report.md says when not). Keywords: glue [2], seed [1], table1_repeats [5],
-correspondence_samples [300], figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'), strict
-[False], geodesics (MDS; the experiments' default: 'heat'), resample [0] (remesh every shape to about this many
-vertices first, as the CLI's --resample), force [False] (write into an out folder that holds files cshapes did
-not write; without it such a folder is refused), allow_outside [False] (read manifest entries outside the
-dataset's folder), method_timeout [86400], method_version [''].
-Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); returns the summary as a dict
-(shapes, seconds, counts, figures_drawn, failures). The same options give the same files as the CLI and C++.)");
+        "The paper's experiment end to end: see help(cshapes.experiment_paper).");
   bind_dataset_experiments(m);
   m.def("experiment_retrieval", &experiment_retrieval_py, py::arg("data"), py::arg("out"),
         py::arg("methods") = py::none(), py::arg("resample") = 0, py::arg("draw") = true,
-        R"(A whole collection as a retrieval benchmark (`cshapes experiment retrieval`), with the library's defaults.
-
-data: a folder of meshes, a manifest.csv or a Princeton .cla file; out: the output folder (its cache/ makes
-reruns resume). methods [all registered; or from outside: 'NAME=cmd:COMMAND', 'NAME=forms:DIR', (NAME, fn) with
-fn(V, F) -> X, docs/outside-methods.md]; resample [0]: remesh every shape to about this many vertices first
-(cached by content; the report gives each remesh's Hausdorff distance and smallest angle); draw [True] draws
-the figures.
-Keywords: strict [False], geodesics (MDS; the experiments' default: 'heat'), e_depth [32], min_class_size [3],
-figure_format ['png'] (the figures' format: 'png', 'pdf' or 'svg'),
-force [False] (write into an out folder that holds files cshapes did not write; without it such a folder, a
-dataset's own folder for one, is refused), allow_outside [False] (read manifest or .cla entries outside the
-dataset's folder), method_timeout [86400], method_version [''].
-Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv/.txt/.matrix, classes.cla, ...);
-returns a dict: shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
-figures, failures.)");
+        "A collection as a retrieval benchmark: see help(cshapes.experiment_retrieval).");
   m.def("compare_runs", &compare_runs_py, py::arg("runs"), py::arg("out"), py::kw_only(),
         py::arg("draw") = true, py::arg("figure_format") = "png", py::arg("force") = false,
-        R"(Several `experiment retrieval` runs on the same data side by side (`cshapes compare`), nothing recomputed.
-
-runs: two or more output folders of complete runs whose inputs' checksums (retrieval.json) agree, under the
-same protocol; a method in two runs must have the same results in both. Anything else raises ValueError naming
-the folder and what was expected, and writes nothing. out: the output folder (report.md, compare.json, pr.png).
-draw [True]: draw the PR figure; figure_format ['png']: its format, pr.png, pr.pdf or pr.svg; force [False]:
-write into an out folder that holds files cshapes did not write.
-Returns a dict: experiment, inputs_digest, shapes, measures {method: {distance: {map, nn, ft, st, e, dcg}}},
-runs {method: the folder its numbers come from}, figures.)");
+        "Several retrieval runs side by side: see help(cshapes.compare_runs).");
 }
 
 }  // namespace cshapes::python

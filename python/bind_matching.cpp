@@ -1,8 +1,9 @@
 // cshapes.icp and shape_distance: rigid alignment of two point sets and the paper's distances after it
 // (matching/icp.h, matching/shape_distance.h), as `cshapes align` computes them.
-#include "cshapes/support/error.h"
 #include "cshapes/matching/icp.h"
 #include "cshapes/matching/shape_distance.h"
+#include "cshapes/support/error.h"
+#include "cshapes/support/format.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"
@@ -16,9 +17,22 @@ struct PyAlignment {
   py::object R, t, transform, aligned, correspondences, correspondence_distances;
   bool reflection = false;
   double rmse = 0, hausdorff = 0, chamfer = 0, icp_rmse = 0, seconds = 0;
+  double diagonal = 0;  // B's bounding-box diagonal: the scale the repr gives the distances against
   int iterations = 0;
   std::string stop_reason;
 };
+
+// "<cshapes.Alignment: hausdorff 0.0123 (0.615% of B's bbox diagonal), rmse 0.00456 (0.228%) in the inputs'
+// units, 12 ICP iterations>": three significant figures, in the inputs' units and against B's bounding-box
+// diagonal (the scale the benchmark's distances are read at); the full precision is in the attributes.
+std::string alignment_repr(const PyAlignment& a) {
+  const auto percent = [&](double d) { return significant(100 * d / a.diagonal) + "%"; };
+  const bool scaled = a.diagonal > 0;
+  return "<cshapes.Alignment: hausdorff " + significant(a.hausdorff) +
+         (scaled ? " (" + percent(a.hausdorff) + " of B's bbox diagonal)" : "") + ", rmse " +
+         significant(a.rmse) + (scaled ? " (" + percent(a.rmse) + ")" : "") + " in the inputs' units, " +
+         counted(a.iterations, "ICP iteration") + (a.reflection ? ", a reflection>" : ">");
+}
 
 PyAlignment icp_py(const py::object& A_in, const py::object& B_in, const py::kwargs& kwargs) {
   const Points A = to_points(A_in, "A"), B = to_points(B_in, "B");
@@ -47,6 +61,7 @@ PyAlignment icp_py(const py::object& A_in, const py::object& B_in, const py::kwa
   out.iterations = r.total_iterations;
   out.stop_reason = r.stop_reason;
   out.seconds = r.seconds;
+  if (B.rows() > 0) out.diagonal = (B.colwise().maxCoeff() - B.colwise().minCoeff()).norm();
   return out;
 }
 
@@ -101,23 +116,13 @@ void bind_matching(py::module_& m) {
       .def_readonly("iterations", &PyAlignment::iterations, "ICP steps over every start and level")
       .def_readonly("stop_reason", &PyAlignment::stop_reason)
       .def_readonly("seconds", &PyAlignment::seconds)
-      .def("__repr__", [](const PyAlignment& a) {
-        return "<cshapes.Alignment: hausdorff " + std::to_string(a.hausdorff) + ", rmse " +
-               std::to_string(a.rmse) + (a.reflection ? ", a reflection>" : ">");
-      });
+      .def("__repr__", &alignment_repr);
+  // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("icp", &icp_py, py::arg("A"), py::arg("B"),
-        R"(Rigid ICP alignment of point set A (n, 3) onto B (k, 3), as `cshapes align` does it.
-
-Starts from the matched principal axes (every sign, reflections included) and the input pose, coarse to
-fine. Keywords (the CLI's): no_reflections [False], one_way [False], axis_swaps [False], trim [0.0] (fraction
-of worst pairs dropped per direction), icp_tolerance [1e-3] (relative RMSE change). Returns an Alignment. The
-GIL is released while it runs.)");
+        "Rigid ICP alignment of A onto B: see help(cshapes.icp).");
   m.def("shape_distance", &shape_distance_py, py::arg("A"), py::arg("B"), py::kw_only(),
         py::arg("kind") = "hausdorff", py::arg("align") = true,
-        R"(Distance between two point sets after ICP (align=True, the paper's) or as given (align=False).
-
-kind: hausdorff (largest nearest-neighbour distance, the paper's), chamfer (mean), rmse. Rows with NaN
-(vertices dropped by a repair) are left out. ICP keywords as for icp().)");
+        "Distance between two point sets after ICP: see help(cshapes.shape_distance).");
 }
 
 }  // namespace cshapes::python

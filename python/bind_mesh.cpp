@@ -4,15 +4,16 @@
 #include <pybind11/stl.h>
 
 #include "cshapes/data/articulated.h"
-#include "cshapes/support/error.h"
-#include "cshapes/mesh/io.h"
 #include "cshapes/data/synthetic.h"
 #include "cshapes/data/topological_noise.h"
+#include "cshapes/mesh/io.h"
 #include "cshapes/pipeline/mesh_geodesics.h"
 #include "cshapes/pipeline/mesh_report.h"
+#include "cshapes/support/error.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/kwargs.h"
+#include "python/progress.h"
 
 namespace cshapes::python {
 
@@ -72,7 +73,8 @@ py::object mesh_info_py(const py::object& V, const py::object& F) {
 }
 
 py::object geodesics_py(const py::object& V, const py::object& F, const py::object& sources,
-                        const std::string& method, const py::object& heat_mode, bool strict) {
+                        const std::string& method, const py::object& heat_mode, bool strict,
+                        const py::object& progress_in) {
   const Mesh mesh = to_mesh(V, F);
   MeshGeodesicsOptions options;
   options.geodesics.method = parse_geodesic_method(method);
@@ -85,7 +87,8 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
     options.geodesics.heat_mode = parse_cgal_heat_mode(py::str(heat_mode).cast<std::string>());
   }
   options.strict = strict;
-  options.geodesics.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
+  const PythonProgress progress(progress_in, "geodesics");
+  options.geodesics.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
   std::vector<int> rows;
   // One index: an int, a numpy integer or a 0-d array; a numpy array of indices is a sequence of them (numpy
   // arrays have __index__ too, which raised TypeError for np.array([0, 5])).
@@ -114,19 +117,17 @@ py::object geodesics_py(const py::object& V, const py::object& F, const py::obje
   MeshGeodesics prepared;
   Eigen::MatrixXd D_rows;
   DistanceMatrix D;
-  {
-    Computing computing;
+  progress.run([&] {
     prepared = prepare_mesh_geodesics(mesh, options);
     if (sources.is_none())
       D = geodesic_all_pairs(mesh, prepared, options);
     else
       D_rows = geodesic_rows(mesh, prepared, rows, options);
-  }
-  auto warnings = py::module_::import("warnings");
+  });
   if (prepared.repaired.changed())
-    warnings.attr("warn")("cshapes.geodesics: " + prepared.repaired.text +
-                          "; distances are given at the input's vertices (NaN where a vertex was dropped)");
-  if (!prepared.warning.empty()) warnings.attr("warn")("cshapes.geodesics: " + prepared.warning);
+    warn("cshapes.geodesics: " + prepared.repaired.text +
+         "; distances are given at the input's vertices (NaN where a vertex was dropped)");
+  if (!prepared.warning.empty()) warn("cshapes.geodesics: " + prepared.warning);
   if (sources.is_none()) return to_numpy(D);
   if (one) return to_numpy(Eigen::VectorXd(D_rows.row(0).transpose()));
   return to_numpy(D_rows);
@@ -146,13 +147,10 @@ py::object add_topological_noise_py(const py::object& V, const py::object& F, co
   o.relax_steps = k.int32("relax", o.relax_steps, noise_limits::kRelax);
   o.geodesic.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesic.method)));
   const bool info = k.flag("return_info", false);
-  o.geodesic.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
+  const PythonProgress progress(k.object("progress"), "add_topological_noise");
+  o.geodesic.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
   k.done();
-  TopologicalNoiseResult r;
-  {
-    Computing computing;
-    r = glue_topological_noise(mesh, o);
-  }
+  const TopologicalNoiseResult r = progress.run([&] { return glue_topological_noise(mesh, o); });
   if (!info) return mesh_tuple(r.mesh);
   return py::make_tuple(to_numpy(r.mesh.V), to_numpy(r.mesh.F), to_python(topological_noise_json(r)));
 }
@@ -244,60 +242,20 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
 }  // namespace
 
 void bind_mesh(py::module_& m) {
+  // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("read_mesh", &read_mesh_py, py::arg("path"), py::kw_only(), py::arg("fields") = false,
-        R"(Reads a mesh or point cloud: .off, .ply, .obj, .stl, .vert/.tri (TOSCA), .xyz.
-
-Returns (V, F): V (n, 3) float64 coordinates in the file's units, F (m, 3) int32 vertex indices (0-based;
-(0, 3) for a point cloud). With fields=True, (V, F, fields): PLY's other per-vertex properties as 1-D
-float64 arrays (and "colors", (n, 3) uint8). Reading is lenient: only malformed files are refused
-(ValueError naming the file and line or element; OSError when the file cannot be opened). Defects a
-real mesh may have (non-manifold edges, duplicate faces, several components) are described by mesh_info.)");
+        "Reads a mesh or point cloud: see help(cshapes.read_mesh).");
   m.def("write_mesh", &write_mesh_py, py::arg("path"), py::arg("V"), py::arg("F"), py::kw_only(),
-        py::arg("binary") = false,
-        R"(Writes V (n, 3) and F (m, 3) by the path's extension (.off, .ply, .obj, .xyz), atomically.
-
-Further keywords are per-vertex fields written as PLY double properties, e.g. write_mesh("a.ply", V, F,
-torn=form.torn). binary=True writes binary little-endian PLY. Coordinates must be finite, except in PLY
-rows whose "valid" field is 0. Reading the file back gives exactly the same V (17 significant digits).)");
+        py::arg("binary") = false, "Writes a mesh: see help(cshapes.write_mesh).");
   m.def("mesh_info", &mesh_info_py, py::arg("V"), py::arg("F"),
-        R"(Counts, topology and size of a mesh, and its defects: the dict `cshapes info --json` prints.
-
-Keys: vertices, faces, edges, components, isolated_vertices, boundary_edges, boundary_loops,
-nonmanifold_edges, euler_characteristic, genus (-1 when undefined), bbox_diagonal, mean_edge_length, area
-(mesh units), and defects: {summary, any, nonmanifold_edges: {count, examples}, nonmanifold_vertices,
-isolated_vertices, duplicate_faces, repeated_vertex_faces, zero_area_faces, zero_length_edges, components,
-component_sizes, boundary_edges, boundary_loops}.)");
+        "Counts, topology, size and defects of a mesh: see help(cshapes.mesh_info).");
   m.def("geodesics", &geodesics_py, py::arg("V"), py::arg("F"), py::arg("sources") = py::none(),
         py::kw_only(), py::arg("method") = "heat", py::arg("heat_mode") = py::none(),
-        py::arg("strict") = false,
-        R"(Geodesic distances on a triangle mesh, in mesh units.
-
-sources: None for all pairs ((n, n) float32, as the library stores them: n^2 * 4 bytes); a vertex index for
-one row ((n,) float64); a sequence of k indices for k rows ((k, n) float64, row r from sources[r]).
-method: heat (ours, the fastest), heat-cgal, fmm (fast marching), exact (slow), graph (Dijkstra on edges).
-heat_mode: idt (intrinsic Delaunay, when not given) or direct; heat and heat-cgal only. A mesh that is not one manifold component is repaired
-first (a warning says what) and the distances are given at the input's vertices: NaN where a vertex was
-dropped. strict=True refuses such a mesh instead (ValueError naming its defects).)");
+        py::arg("strict") = false, py::arg("progress") = py::none(),
+        "Geodesic distances on a triangle mesh: see help(cshapes.geodesics).");
   m.def("add_topological_noise", &add_topological_noise_py, py::arg("V"), py::arg("F"),
-        R"(Topological noise the paper's way: glue almost-touching spots by short tubes (cshapes noise).
-
-Keywords (the CLI's, defaults in brackets): glue [1] tubes to add, seed [0], max_gap [0: gap_edges mean
-edge lengths], gap_edges [6], min_ratio [5] (geodesic >= ratio x Euclidean), min_fraction [0.1] (of the
-geodesic diameter), separation [0.15], relax [0] retries with a wider gap, geodesics ["graph"],
-return_info [False]. Returns (V, F) with the same vertices and K more handles; with return_info=True,
-(V, F, info) where info has the glued pairs, tube rims and distances. The input must be one manifold
-component; ValueError says how many admissible pairs were found when fewer than glue exist.)");
-  m.def("generate", &generate_py, py::arg("kind"),
-        R"(Shapes made here, deterministic for a seed (cshapes generate).
-
-generate("swissroll", vertices=561) -> (V, F), the Swiss roll of Table 1
-generate("icosphere", subdivisions=3, radius=1.0) -> (V, F)
-generate("articulated", class_="biped", poses=5, seed=0, vertices=3500, amplitude=1.0) -> [(V, F), ...]
-    poses of one synthetic class (biped, quadruped, hand, spider), same faces and vertex order
-generate("hand", seed=0, glue=3) -> {"separated": (V, F), "glued": (V, F), "glued_pairs": [...]}
-generate("dataset", classes=4, poses=5, noisy=1, glue=2, seed=0, vertices=3500)
-    -> [{"name", "class", "pose", "noisy", "V", "F", "glued_pairs"}, ...]
-The CLI writes these shapes as OFF with 6 decimals; these arrays are not rounded.)");
+        "Topological noise the paper's way: see help(cshapes.add_topological_noise).");
+  m.def("generate", &generate_py, py::arg("kind"), "Shapes made here: see help(cshapes.generate).");
 }
 
 }  // namespace cshapes::python

@@ -191,4 +191,8 @@ py::object to_python(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+void warn(const std::string& message) {
+  py::module_::import("warnings").attr("warn")(message, py::arg("stacklevel") = 2);
+}
+
 }  // namespace cshapes::python

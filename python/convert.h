@@ -66,6 +66,10 @@ py::array_t<int> to_numpy(const Eigen::VectorXi& v);     // 1-D int32
 // A str or os.PathLike (pathlib.Path) as a path; anything else is refused naming the argument.
 std::string to_path(const py::handle& path, const std::string& name);
 
+// A UserWarning shown at the line that called the cshapes function: two frames up, past the Python wrapper
+// every function has (cshapes/_api.py).
+void warn(const std::string& message);
+
 // JSON as Python objects (dict, list, str, float, int, bool, None), the CLI's --json output in Python form.
 py::object to_python(const nlohmann::json& j);
 

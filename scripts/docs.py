@@ -116,14 +116,15 @@ def python_api(out):
           "Generated from the module's own docstrings by `scripts/docs.py python-api docs/reference/python.md` "
           "(with `PYTHONPATH=build/python`); a test fails when this page and the module differ. For a "
           "walk-through, see [the Python module](../python.md) and [the Python tutorial](../tutorial-python.md); "
-          "the signatures with every keyword and its default are also in the module's type stubs "
-          "(`cshapes/_cshapes.pyi`), which editors read.", "",
+          "each function's signature lists every keyword with its default, as `inspect.signature` and "
+          "`help()` show it (the type stubs `cshapes/_cshapes.pyi`, which editors read, say the same).", "",
           "```text", inspect.cleandoc(cshapes.__doc__ or ""), "```", ""]
     for name in sorted(n for n in dir(cshapes) if not n.startswith("_")):
         obj = getattr(cshapes, name)
         if inspect.ismodule(obj) or not (callable(obj) or inspect.isclass(obj)):
             continue
-        md += [f"## {name}", "", "```text", (inspect.getdoc(obj) or "(no docstring)").rstrip(), "```", ""]
+        head = [f"{name}{inspect.signature(obj)}", ""] if inspect.isfunction(obj) else []
+        md += [f"## {name}", "", "```text", *head, (inspect.getdoc(obj) or "(no docstring)").rstrip(), "```", ""]
         if inspect.isclass(obj):
             for member in sorted(m for m in dir(obj) if not m.startswith("_")):
                 doc = inspect.getdoc(getattr(obj, member))

@@ -51,14 +51,15 @@ def generate(module):
     methods = module.canonical_form_methods()
     coulomb_keywords = next(m["keywords"] for m in methods if m["name"] == "coulomb")
     by_name = {o["name"]: o for o in options}
-    coulomb = [(k, annotation(by_name[k]), default(by_name[k])) for k in coulomb_keywords] + common
+    progress = [("progress", "_Progress", "None")]
+    coulomb = [(k, annotation(by_name[k]), default(by_name[k])) for k in coulomb_keywords] + common + progress
     every = ([("method", "_Method", '"coulomb"')] + [(o["name"], annotation(o), default(o)) for o in options] +
-             common + [("method_timeout", "float", "86400.0"), ("method_version", "str", '""')])
+             common + [("method_timeout", "float", "86400.0"), ("method_version", "str", '""')] + progress)
     readers = "; ".join(f"{o['name']}: {', '.join(o['methods'])}" for o in options
                         if o["name"] not in coulomb_keywords)
     comment = ("# Each method reads its own keywords (coulomb: those of coulomb(); " + readers +
-               "; every method: knn, strict; a method from outside: method_timeout, method_version) and refuses "
-               "the others, naming the methods that read them.")
+               "; every method: knn, strict, progress; a method from outside: method_timeout, method_version) and "
+               "refuses the others, naming the methods that read them.")
     wrapped, line = [], ""
     for word in comment.split(" "):
         if len(line) + len(word) + 1 > WIDTH:

@@ -35,10 +35,21 @@ inline std::string duration_text(double s) {
   return significant(1e6 * s) + " µs";
 }
 
-// A count with its noun, singular or plural as the count asks: counted(1, "glue") → "1 glue",
-// counted(2, "glue") → "2 glues", counted(2, "vertex", "vertices") → "2 vertices".
+// A count with thousands separators: 5000 → "5,000", 22738 → "22,738", -1234 → "-1,234".
+inline std::string grouped(long long n) {
+  std::string digits = std::to_string(n < 0 ? -n : n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return (n < 0 ? "-" : "") + out;
+}
+
+// A count with its noun, singular or plural as the count asks, thousands grouped: counted(1, "glue") →
+// "1 glue", counted(2, "glue") → "2 glues", counted(2, "vertex", "vertices") → "2 vertices",
+// counted(5000, "point") → "5,000 points".
 inline std::string counted(long long n, const std::string& singular, const std::string& plural = "") {
-  return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
+  return grouped(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
 }
 
 }  // namespace cshapes

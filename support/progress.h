@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "cshapes/support/error.h"
@@ -20,6 +21,13 @@ using NoteFn = std::function<void(const std::string&)>;
 // One line on a note channel, when there is one: the one way the library speaks.
 inline void say(const NoteFn& note, const std::string& line) {
   if (note) note(line);
+}
+
+// The seconds a stage has left, from its elapsed seconds and the fraction done, once an estimate means
+// something: after 3 s and 5% of the stage (earlier ones swing widely); nullopt before, and when finished.
+inline std::optional<double> seconds_left_estimate(double elapsed, double fraction) {
+  if (fraction >= 1 || elapsed < 3 || fraction < 0.05) return std::nullopt;
+  return elapsed * (1 / fraction - 1);
 }
 
 // What a progress callback throws to stop a computation at the user's request (Ctrl-C in Python). Not a

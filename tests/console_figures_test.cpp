@@ -59,6 +59,28 @@ TEST(ConsoleFigures, DurationsInTheUnitThatReadsBestAndCountsWithTheirNouns) {
   EXPECT_EQ(counted(3, "vertex", "vertices"), "3 vertices");
 }
 
+TEST(ConsoleFigures, CountsAreGroupedAndTheirNounsAgree) {
+  EXPECT_EQ(grouped(0), "0");
+  EXPECT_EQ(grouped(999), "999");
+  EXPECT_EQ(grouped(1000), "1,000");
+  EXPECT_EQ(grouped(22738), "22,738");
+  EXPECT_EQ(grouped(1234567), "1,234,567");
+  EXPECT_EQ(grouped(-1234), "-1,234");
+  EXPECT_EQ(counted(50, "iteration"), "50 iterations");
+  EXPECT_EQ(counted(5000, "point"), "5,000 points");
+  EXPECT_EQ(counted(22738, "vertex", "vertices"), "22,738 vertices");
+}
+
+// The time left a progress report gives (the CLI's line and Python's progress=): none until 3 s and 5% of
+// the stage, none once it is done.
+TEST(ConsoleFigures, TimeLeftOnlyOnceTheEstimateMeansSomething) {
+  EXPECT_FALSE(seconds_left_estimate(2.9, 0.5));
+  EXPECT_FALSE(seconds_left_estimate(10, 0.04));
+  EXPECT_FALSE(seconds_left_estimate(10, 1.0));
+  ASSERT_TRUE(seconds_left_estimate(3, 0.25));
+  EXPECT_DOUBLE_EQ(*seconds_left_estimate(3, 0.25), 9);
+}
+
 // A renamed stage reports under its new name, and a poll stays a poll.
 TEST(ConsoleFigures, ARenamedStageKeepsPollsAsPolls) {
   std::vector<std::string> stages;

@@ -60,8 +60,9 @@ def stub_defaults():
     tree = ast.parse((ROOT / "python" / "_cshapes.pyi").read_text())
     node = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "canonical_form")
     return {a.arg: ast.literal_eval(d) for a, d in zip(node.args.kwonlyargs, node.args.kw_defaults)
-            # method_timeout and method_version are a method from outside's (tests/python/test_outside_methods.py)
-            if d is not None and a.arg not in ("method", "method_timeout", "method_version")}
+            # method_timeout and method_version are a method from outside's (tests/python/test_outside_methods.py),
+            # progress every long call's (tests/python/test_api.py)
+            if d is not None and a.arg not in ("method", "method_timeout", "method_version", "progress")}
 
 
 DEFAULTS = stub_defaults()

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The toy method (tests/toy_method/method_toy.cpp) in a Python module built with it (build/toy_python, on
 PYTHONPATH): listed by canonical_form_methods() with its keywords, computed by canonical_form(method='toy'),
-its keywords refused by the other methods, and its signature in the stub scripts/make_stub.py writes for this
-module (the committed stub, written for the library's methods, then fails the stub check). Run by CTest
+its keywords refused by the other methods, shown in canonical_form()'s signature and docstring, and its
+signature in the stub scripts/make_stub.py writes for this module (the committed stub, written for the library's methods, then fails the stub check). Run by CTest
 (ToyMethod.PythonModuleAndStub); exits 1 at the first failed check."""
 import importlib.util
+import inspect
 import sys
 from pathlib import Path
 
@@ -46,6 +47,13 @@ try:
 except ValueError as e:
     check("toy_scale applies to method 'toy' only, not 'coulomb'" in str(e), str(e))
 
+# Its keywords in canonical_form()'s signature and documentation, from its own declarations (cshapes/_api.py).
+signature = inspect.signature(cshapes.canonical_form)
+check(signature.parameters["toy_scale"].default == 2.0 and signature.parameters["toy_mirror"].default == "none",
+      f"canonical_form()'s signature shows the toy's keywords: {signature}")
+check("toy_scale : float, default 2.0" in cshapes.canonical_form.__doc__,
+      "canonical_form()'s docstring describes toy_scale")
+
 spec = importlib.util.spec_from_file_location("make_stub", ROOT / "scripts" / "make_stub.py")
 make_stub = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(make_stub)
@@ -55,4 +63,4 @@ check('toy_scale: float = 2.0' in block and 'toy_mirror: Literal["none", "x", "y
 check("toy_scale: toy" in block, "the generated stub's comment names toy as toy_scale's reader")
 committed = (ROOT / "python" / "_cshapes.pyi").read_text()
 check(block not in committed, "the committed stub (the library's methods) differs from this module's")
-print("toy method: listed, computed, refused elsewhere, in the generated stub")
+print("toy method: listed, computed, refused elsewhere, in the signature, the docstring and the generated stub")
