@@ -413,16 +413,14 @@ void canonical_form_stage(ExperimentRun& run) {
   const Communicator& comm = run.comm;
   PaperExperimentSummary& summary = run.summary;
   PaperReport& report = run.report;
-  // Named as the report counts them: the retrieval set, and the clean poses kept only as the noisy shapes'
-  // references.
-  const auto references = std::count_if(run.shapes.begin(), run.shapes.end(),
+  // Counted as the report counts them: the retrieval set, and the clean poses kept as references only.
+  const long n = static_cast<long>(run.shapes.size()),
+             references = std::count_if(run.shapes.begin(), run.shapes.end(),
                                         [](const Shape& s) { return !s.in_retrieval; });
-  say(o.note, "== canonical forms (" + counted(static_cast<long long>(run.shapes.size()), "shape") +
-                  (references > 0 ? ": " + std::to_string(run.shapes.size() - references) +
-                                        " in the retrieval set, " + std::to_string(references) +
-                                        " clean " + (references == 1 ? "pose" : "poses") +
-                                        " kept as the noisy shapes' references"
-                                  : "") +
+  say(o.note, "== canonical forms (" + counted(n, "shape") +
+                  (references == 0 ? ""
+                                   : ": " + std::to_string(n - references) + " in the retrieval set, " +
+                                         counted(references, "clean pose") + " kept as references") +
                   (comm.size() > 1 ? ", over " + std::to_string(comm.size()) + " ranks)" : ")"));
   auto t = WallClock::now();
   long computed_by_ranks = 0;
