@@ -214,9 +214,14 @@ RetrievalResult evaluate_retrieval(const Eigen::MatrixXd& D, const std::vector<i
   }
   // A query needs another shape of its class, so a class of one shape is never a query, whatever the minimum.
   const int needed = std::max(options.min_class_size, 2);
-  CSHAPES_REQUIRE(!result.queries.empty(), "retrieval: no class has ", needed,
-                  " shapes or more, so there is no query to evaluate",
-                  options.min_class_size < 2 ? " (a query needs another shape of its own class)" : "");
+  CSHAPES_REQUIRE(
+      !result.queries.empty(), "retrieval: no class has ", needed,
+      " shapes or more, so there is no query to evaluate",
+      options.min_class_size < 2 ? " (a query needs another shape of its own class)"
+      : options.min_class_size > 2
+          ? " (the Princeton benchmark leaves classes of fewer as queries out; a minimum class size of "
+            "2, `--min-class-size 2` or min_class_size=2, takes classes of two)"
+          : "");
 
   const double num_queries = static_cast<double>(result.queries.size());
   RetrievalScores& m = result.mean;
