@@ -367,6 +367,18 @@ TEST(CauseMessages, OneShapeClassesSayAQueryNeedsAnotherShape) {
   EXPECT_NE(r.err.find("no class has 2 shapes or more"), std::string::npos) << r.err;
 }
 
+TEST(CauseMessages, ClassesOfTwoSayHowToTakeThem) {
+  // Was: "no class has 3 shapes or more", with no word on why 3 or how to evaluate classes of two.
+  const std::string dir = test::scratch_dir("messages-classes-of-two");
+  test::write_text(dir + "/D.csv", ",a0,a1,b0,b1\na0,0,1,2,3\na1,1,0,3,2\nb0,2,3,0,1\nb1,3,2,1,0\n");
+  test::CliResult r = test::run_cli("-q evaluate " + q(dir + "/D.csv") + " --out " + q(dir + "/e") + " --no-draw");
+  EXPECT_EQ(r.exit_code, kBadData) << r.err;
+  EXPECT_NE(r.err.find("`--min-class-size 2`"), std::string::npos) << r.err;
+  r = test::run_cli("-q evaluate " + q(dir + "/D.csv") + " --out " + q(dir + "/e") +
+                    " --no-draw --min-class-size 2");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST(CauseMessages, AFileNamedLikeAnOptionGetsAHint) {
   // Was: `info -weird.off` said "MESH is required".
   const std::string dir = test::scratch_dir("messages-dash");
