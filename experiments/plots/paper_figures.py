@@ -140,6 +140,8 @@ def fig_distance_matrices(out, fmt, methods, data=""):
         return
     styles = method_styles(out)
     matrices = {m: read_matrix(os.path.join(folder, m + ".csv")) for m in methods}
+    labels_path = os.path.join(out, "labels.csv")
+    class_of = {r["shape"]: r["class"] for r in read_csv(labels_path)} if os.path.exists(labels_path) else {}
     off_diagonal = np.concatenate([D[~np.eye(len(D), dtype=bool)] for _, D in matrices.values()])
     vmax = np.percentile(off_diagonal, 95) if off_diagonal.size else 1.0
     # A page wide, at most three panels a row.
@@ -152,7 +154,8 @@ def fig_distance_matrices(out, fmt, methods, data=""):
     for k, (ax, m) in enumerate(zip(axes.flat, methods)):
         names, D = matrices[m]
         im = ax.imshow(D, cmap="viridis_r", vmin=0, vmax=vmax, interpolation="nearest")
-        classes = [n.rstrip("0123456789").replace("_noisy", "") for n in names]
+        # Each shape's class from labels.csv ("cat4_noisy" is a cat); from its name where there is none.
+        classes = [class_of.get(n) or n.replace("_noisy", "").rstrip("0123456789") for n in names]
         starts = [i for i in range(len(classes)) if i == 0 or classes[i] != classes[i - 1]]
         # Each shape named while the names fit at 7 pt (a row at least 8 pt tall), each class block otherwise.
         if panel * 72 / max(1, len(names)) >= 8:
@@ -170,10 +173,8 @@ def fig_distance_matrices(out, fmt, methods, data=""):
             ax.axvline(i - 0.5, color="white", lw=1)
         ax.set_title(method_style(styles, m)[0])
     # The forms' units: each method's form keeps the scale of the input's geodesic or edge lengths.
-    fig.colorbar(im, ax=list(axes.flat), fraction=0.025, pad=0.02,
-                 label="Hausdorff distance (form units), one scale for all panels")
-    fig.suptitle(wrapped(f"Fig. 7: Hausdorff distances between ICP-aligned canonical forms{data} "
-                         "(yellow = close, dark = far)", PAGE_WIDTH))
+    fig.colorbar(im, ax=list(axes.flat), fraction=0.025, pad=0.02, label="Hausdorff distance (form units)")
+    fig.suptitle(f"Fig. 7: Hausdorff distances between ICP-aligned forms{data} (one scale; yellow = close)")
     save(fig, out, "fig7_distance_matrices", fmt)
 
 
