@@ -19,7 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from figure_style import count_text, method_style, method_styles, add_format_argument, save  # noqa: E402
+from figure_style import (PAGE_WIDTH, add_format_argument, count_text, method_style, method_styles,  # noqa: E402
+                          save, use_paper_style, wrapped)
 
 DISTANCE_TITLE = {"hausdorff": "Hausdorff (the paper's)", "chamfer": "Chamfer", "rmse": "RMSE"}
 
@@ -36,7 +37,8 @@ def style(m, k):
 
 def pr_figure(data, out, fmt):
     distances = data["distances"]
-    fig, axes = plt.subplots(1, len(distances), figsize=(4.2 * len(distances), 4), squeeze=False)
+    # A page wide, text at 7-8 pt once printed.
+    fig, axes = plt.subplots(1, len(distances), figsize=(PAGE_WIDTH, 2.8), squeeze=False)
     for ax, kind in zip(axes[0], distances):
         for k, m in enumerate(data["methods"]):
             d = m["distances"].get(kind)
@@ -50,9 +52,11 @@ def pr_figure(data, out, fmt):
         ax.set_xlim(0, 1)
         ax.set_ylim(0, 1.02)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc="lower left")
-    axes[0][0].set_ylabel("precision (interpolated, mean over queries)")
-    fig.suptitle(f"Leave-one-out retrieval, {data['shapes']} shapes in {len(data['classes'])} classes")
+        ax.legend(loc="lower left")
+    axes[0][0].set_ylabel("precision (interpolated)")
+    fig.suptitle(wrapped(f"Leave-one-out retrieval, {data['shapes']} shapes in {len(data['classes'])} classes",
+                         PAGE_WIDTH))
+    fig.tight_layout()
     save(fig, out, "pr", fmt)
 
 
@@ -60,7 +64,7 @@ def per_class_figure(data, out, fmt):
     classes = data["classes"]
     methods = data["methods"]
     width = 0.8 / max(1, len(methods))
-    fig, ax = plt.subplots(figsize=(max(6, 0.6 * len(classes) * max(1, len(methods)) + 2), 4))
+    fig, ax = plt.subplots(figsize=(PAGE_WIDTH, 2.6))
     x = np.arange(len(classes))
     for k, m in enumerate(methods):
         d = m["distances"].get("hausdorff")
@@ -76,7 +80,9 @@ def per_class_figure(data, out, fmt):
     ax.set_ylim(0, 1.05)
     ax.set_title("Per-class mean average precision (Hausdorff distance)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1))  # outside: no bar hidden
+    # Below the axes: no bar hidden.
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25 if len(classes) > 8 else -0.12),
+              ncol=min(len(methods), 6), frameon=False)
     save(fig, out, "per_class", fmt)
 
 
@@ -85,8 +91,16 @@ def confusion_figure(data, out, fmt):
     if not methods:
         return
     n = len(methods)
-    fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 4.2), squeeze=False)
-    for ax, m in zip(axes[0], methods):
+    classes = max(len(m["distances"]["hausdorff"]["class_names"]) for m in methods)
+    # A page wide: three panels a row, two when there are many classes.
+    cols = min(n, 3 if classes <= 12 else 2)
+    rows = (n + cols - 1) // cols
+    panel = min(2.9, (PAGE_WIDTH - 0.6) / cols)  # one method: a column's width, not a page's
+    fig, axes = plt.subplots(rows, cols, figsize=(panel * cols + 0.6, panel * rows + 0.6), squeeze=False)
+    for ax in axes.flat[n:]:
+        ax.axis("off")
+    cell = panel * 72 / max(1, classes)  # points per row
+    for ax, m in zip(axes.flat, methods):
         d = m["distances"]["hausdorff"]
         names = d["class_names"]
         counts = np.array(d["confusion"], dtype=float)
@@ -95,16 +109,18 @@ def confusion_figure(data, out, fmt):
         ax.imshow(share, vmin=0, vmax=1, cmap="Blues")
         for a in range(len(names)):
             for b in range(len(names)):
-                if counts[a, b]:
+                if counts[a, b] and cell >= 12:  # a count where it fits at 7 pt
                     ax.text(b, a, count_text(counts[a, b]), ha="center", va="center", fontsize=7,
                             color="white" if share[a, b] > 0.5 else "black")
         ax.set_xticks(range(len(names)))
         ax.set_yticks(range(len(names)))
-        ax.set_xticklabels(names, rotation=90, fontsize=7)
-        ax.set_yticklabels(names, fontsize=7)
+        # The classes' names while they fit at 7 pt, none otherwise (the colours still show the diagonal).
+        ax.set_xticklabels(names if cell >= 8 else [], rotation=90)
+        ax.set_yticklabels(names if cell >= 8 else [])
         ax.set_xlabel("class of the nearest neighbour")
         ax.set_title(f"{style(m, 0)[0]}: NN {d['nn']:.3f}")
-    axes[0][0].set_ylabel("class of the query")
+    for row in axes:
+        row[0].set_ylabel("class of the query")
     save(fig, out, "confusion", fmt)
 
 
@@ -113,6 +129,7 @@ def main():
     p.add_argument("out")
     add_format_argument(p)
     args = p.parse_args()
+    use_paper_style()
     with open(os.path.join(args.out, "retrieval.json")) as f:
         data = json.load(f)
     figures = os.path.join(args.out, "figures")

@@ -250,20 +250,29 @@ def experiment_figure_data(folder):
     (folder / "noise.json").write_text(json.dumps({"rows": rows, "levels": list(range(5)), "methods": six,
                                                    "poses": [f"p{k}" for k in range(24)], "seed": 1,
                                                    "data": "../shared/data/tosca5k"}))
+    classes = [f"class{k}" for k in range(20)]
+    kinds = ("hausdorff", "chamfer", "rmse")
+    (folder / "retrieval.json").write_text(json.dumps({"shapes": 400, "classes": classes, "distances": kinds,
+                                                       "methods": [{"method": m, "distances": {kind: {
+        "map": 0.8, "nn": 0.9, "pr": {"recall": [0.5, 1.0], "precision": [0.9, 0.7]},
+        "classes": {c: {"map": 0.5 + 0.02 * k} for k, c in enumerate(classes)}, "class_names": classes,
+        "confusion": (19 * np.eye(20) + 1).tolist()} for kind in kinds}} for m in six]}))
     return draw
 
 
 @needs_drawing
 def test_the_experiments_figures_read_at_a_two_column_papers_size(tmp_path):
-    # Fig. 7 was 4.3 in a method wide (26 in for six) and the noise figure 14 in, their text printing at 3-5 pt;
+    # Fig. 7 was 4.3 in a method wide (26 in for six), the noise figure 14 in, retrieval's confusion figure 4.2 in
+    # a method and its per-class bars 74 in for 20 classes and six methods, their text printing at 1-5 pt;
     # each now fits a column or the page, with no text under 7 pt once printed, and names what it shows.
     draw = experiment_figure_data(tmp_path)
     plots = ROOT / "experiments" / "plots"
-    for script in ("paper_figures.py", "noise_figure.py"):
+    for script in ("paper_figures.py", "noise_figure.py", "retrieval_figures.py"):
         result = subprocess.run([sys.executable, str(plots / script), str(tmp_path), "--format=svg"],
                                 capture_output=True, text=True)
         assert result.returncode == 0, result.stderr
-    for name in draw + ["noise"]:
+    # experiment retrieval's three figures: 400 shapes of 20 classes, six methods
+    for name in draw + ["noise", "figures/pr", "figures/per_class", "figures/confusion"]:
         figure = tmp_path / f"{name}.svg"
         width = svg_width(figure)
         assert width <= PAGE * 1.05, f"{name}.svg is {width / 72:.2f} in wide, wider than a page"
