@@ -20,7 +20,7 @@
 // when cshapes was built with it, Eigen's SimplicialLLT otherwise. The triangular solves are ours: one pass over the factor per block of
 // right-hand sides stored row by row, so each nonzero of L is one k-wide vectorised AXPY (CHOLMOD's own solve
 // handles at most 4 columns per pass, and its supernodal solve depends on the BLAS, the reference one here).
-// Measured at 5,000 vertices (TOSCA cat0), one thread: 0.12 ms per source against 1.3 ms for CGAL.
+// Its cost per source against CGAL's: docs/design.md, "Measured figures behind choices in the code".
 //
 // Conventions: distances in the mesh's units; vertices in components without a source are +infinity, isolated
 // vertices too. Mesh: any triangles, degenerate ones included: both modes work on edge lengths mollified so

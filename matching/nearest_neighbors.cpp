@@ -20,11 +20,10 @@ namespace {
 // 4 at a time without a branch per point; splits put a multiple of kLeaf points on the left, so every leaf
 // but the last is full. Large leaves suit ICP: a query lies off the other surface by about the RMSE, several
 // point spacings, so its search ball meets many small cells and a deep tree costs a mispredicted branch per
-// node. Measured on `cshapes bench icp` (TOSCA cat0/cat1, whole alignment): leaves of 8 → 1.06× the time of
-// nanoflann with leaves of 10, 16 → 0.70×, 32 → 0.62×, 48 → 0.60×, 64 → 0.59×. Tried and dropped: a tight
-// bounding box per leaf checked before its scan (1.09× the time: one more unpredictable branch per leaf), and
-// a single-precision first scan of each leaf with an exact rescan when it might hold a better point (1.04×:
-// of the 3.3 leaves an ICP query meets, 1.1 need the rescan).
+// node: the time falls as the leaves grow, up to 64. Tried and dropped, both slower: a tight bounding box per
+// leaf checked before its scan (one more unpredictable branch per leaf), and a single-precision first scan of
+// each leaf with an exact rescan when it might hold a better point (most leaves a query meets need the
+// rescan). The measurements: docs/design.md, "Measured figures behind choices in the code".
 constexpr int kLeaf = 64;
 static_assert(kLeaf % 16 == 0, "leaves are scanned 4 vectors of 4 at a time");
 

@@ -2,8 +2,8 @@
 // Python module per call).
 //
 // Every parallel loop ends at a barrier, so one thread that shares its core with another busy process holds
-// all the others back: with one of two cores busy, `canon` on dog0 takes up to 10× longer with 2 threads
-// than with 1, and libgomp's default spinning between loops makes it worse (docs/cli.md, "Threads"). So: the
+// all the others back: with a core busy, two threads can take many times longer than one, and libgomp's
+// default spinning between loops makes it worse (measured in docs/cli.md, "Threads"). So: the
 // requested count (0: OpenMP's default), at most 4 per core, and no more than the cores that other runnable
 // tasks leave idle (/proc/loadavg), unless CSHAPES_EXACT_THREADS is set (to anything but 0).
 #pragma once
