@@ -11,7 +11,7 @@ import json
 import os
 
 import retrieval_figures
-from figure_style import add_format_argument, method_styles
+from figure_style import add_format_argument, method_styles, use_paper_style
 
 
 def main():
@@ -21,6 +21,7 @@ def main():
     args = p.parse_args()
     with open(os.path.join(args.out, "compare.json")) as f:
         data = json.load(f)
+    use_paper_style()
     retrieval_figures.STYLES.update(method_styles(args.out))
     retrieval_figures.pr_figure(data, args.out, args.format)
 

@@ -1,6 +1,7 @@
 """What the figure scripts share: each method's name and colour, the formats a figure is written in, the sizes
 of a two-column paper, and an atomic save."""
 import json
+import math
 import os
 import sys
 import textwrap
@@ -32,6 +33,20 @@ def use_paper_style():
     """Sets the text and line sizes above (and PNG at 300 dpi, what journals ask of a raster figure) for the
     figures drawn afterwards in this process."""
     matplotlib.rcParams.update(PAPER_STYLE)
+
+
+_SUPERSCRIPTS = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
+
+
+def powers_of_ten(value, _position=None):
+    """A log axis's tick as 10 with its exponent in Unicode superscripts (10\u207b\u00b9\u00b3): one text at the
+    tick's size, where matplotlib's mathtext draws the exponent at 70% of it (5 pt on a 7 pt tick)."""
+    if value <= 0:
+        return ""
+    exponent = round(math.log10(value))
+    if abs(math.log10(value) - exponent) > 1e-9:
+        return ""
+    return "1" if exponent == 0 else "10" + str(exponent).translate(_SUPERSCRIPTS)
 
 
 def add_format_argument(parser):

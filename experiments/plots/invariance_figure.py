@@ -11,7 +11,8 @@ small dots and its largest as a large one, side by side; the remeshes (reported 
 last, "pose variation", the method's median pose RMSE as a star (the signal the noise is held against). The
 tolerance floor is a grey dashed line over the exact transformations, and a method whose tolerance is above it
 (1% of a large pose variation) has its own dashed line in its colour. An exact zero (a method that does not
-move at all) is drawn at the bottom of the axis, on a grey band. Writes OUT/invariance.png (.pdf, .svg by
+move at all) is drawn at the bottom of the axis, on a grey band. A page wide (a column for one resolution) at a
+two-column paper's text sizes. Writes OUT/invariance.png (.pdf, .svg by
 --format) through a temporary file renamed at the end.
 """
 import argparse
@@ -25,9 +26,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import method_style, method_styles, add_format_argument, save  # noqa: E402
+from figure_style import (COLUMN_WIDTH, PAGE_WIDTH, add_format_argument, method_style, method_styles,  # noqa: E402
+                          powers_of_ten, save, use_paper_style)
 
 
 def read_rows(out):
@@ -66,18 +69,20 @@ def main():
     floor = meta["tolerance"]["floor_percent"]
 
     width = 0.8 / max(1, len(methods))
-    # Two panels a row at most, so that four resolutions stay readable.
+    # Two panels a row at most, a page wide (a column for one resolution), text at 7-8 pt once printed.
+    use_paper_style()
     ncols = min(2, len(resolutions))
     nrows = math.ceil(len(resolutions) / ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(1.0 + 0.75 * len(columns) * ncols, 0.4 + 4.4 * nrows),
+    fig, axes = plt.subplots(nrows, ncols, figsize=(PAGE_WIDTH if ncols > 1 else COLUMN_WIDTH, 2.4 * nrows),
                              sharey=True, squeeze=False)
     for ax in axes.flat[len(resolutions):]:
         ax.set_visible(False)
     for panel, n in enumerate(resolutions):
         ax = axes.flat[panel]
         ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(powers_of_ten))
         ax.axhspan(zero / 3, zero * 3, color="0.92", zorder=0)
-        ax.hlines(floor, -0.5, len(exact) - 0.5, colors=["0.45"], linestyles="dashed", linewidth=1.0, zorder=1)
+        ax.hlines(floor, -0.5, len(exact) - 0.5, colors=["0.45"], linestyles="dashed", linewidth=0.8, zorder=1)
         for k, m in enumerate(methods):
             title, colour = method_style(styles, m)
             offset = (k - (len(methods) - 1) / 2) * width
@@ -86,18 +91,18 @@ def main():
                       if int(r["resolution"]) == n and r["method"] == m and r["transformation"] == t]
                 if not ys:
                     continue
-                ax.scatter([x + offset] * len(ys), ys, s=8, color=colour, alpha=0.5, linewidths=0, zorder=2)
-                ax.scatter([x + offset], [max(ys)], s=36, color=colour, zorder=3,
+                ax.scatter([x + offset] * len(ys), ys, s=2, color=colour, alpha=0.5, linewidths=0, zorder=2)
+                ax.scatter([x + offset], [max(ys)], s=9, color=colour, linewidths=0, zorder=3,
                            label=title if (panel == 0 and x == 0) else None)
             v = verdicts.get((n, m), {})
             if v.get("tolerance_percent") and v["tolerance_percent"] > floor * (1 + 1e-9):
                 ax.hlines(v["tolerance_percent"], -0.5, len(exact) - 0.5, colors=[colour], linestyles="dashed",
-                          linewidth=1.0, zorder=1)
+                          linewidth=0.8, zorder=1)
             if v.get("pose_rmse_percent"):
-                ax.scatter([len(transformations) + offset], [v["pose_rmse_percent"]], marker="*", s=110,
-                           color=colour, zorder=3)
+                ax.scatter([len(transformations) + offset], [v["pose_rmse_percent"]], marker="*", s=28,
+                           color=colour, linewidths=0, zorder=3)
         for x in (len(exact) - 0.5, len(transformations) - 0.5):
-            ax.axvline(x, color="0.6", linewidth=0.8)
+            ax.axvline(x, color="0.6", linewidth=0.6)
         ax.set_xticks(range(len(columns)))
         ax.set_xticklabels(columns, rotation=40, ha="right")
         ax.set_xlim(-0.6, len(columns) - 0.4)
@@ -105,16 +110,16 @@ def main():
         ax.set_title(resolution_title(n))
         ax.grid(axis="y", which="major", color="0.9", linewidth=0.6)
     for row in axes:
-        row[0].set_ylabel("RMSE after alignment, % of the diagonal")
+        row[0].set_ylabel("RMSE after alignment,\n% of the diagonal")
     axes[0][0].text(0.01, 0.01, "exact 0", transform=axes[0][0].transAxes, fontsize=7, color="0.4", va="bottom")
     handles, labels = axes[0][0].get_legend_handles_labels()
     handles.append(plt.Line2D([], [], color="0.45", linestyle="dashed"))
     labels.append(f"tolerance floor ({floor:g}%)")
-    handles.append(plt.Line2D([], [], color="0.3", marker="*", linestyle="none", markersize=10))
+    handles.append(plt.Line2D([], [], color="0.3", marker="*", linestyle="none", markersize=6))
     labels.append("pose variation (median)")
-    fig.tight_layout()
+    fig.tight_layout(h_pad=0.6, w_pad=0.8)
     fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=min(len(labels), 4),
-               frameon=False, fontsize=8)
+               frameon=False)
     save(fig, args.out, "invariance", args.format)
 
 

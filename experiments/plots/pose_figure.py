@@ -10,8 +10,9 @@ after the pair's whole-shape rigid fit, a fraction of the mean diagonal, empty w
 Draws one panel per form, the samples seen along the direction of least spread of pose b (render_mesh's pca
 view), nearest on top, coloured by residual in % of the diagonal on one colour scale for every panel (up to
 the 98th percentile over the methods' panels, the input left out: its residuals would darken every other
-panel; larger values, most of the input's, in the top colour). Writes OUT/pose_residuals.png
-(.pdf, .svg by --format), through a temporary file renamed at the end.
+panel; larger values, most of the input's, in the top colour). A column wide for up to two forms, else a page
+wide with four panels a row, at a two-column paper's text sizes; the points are rasterized in a PDF or SVG.
+Writes OUT/pose_residuals.png (.pdf, .svg by --format), through a temporary file renamed at the end.
 """
 import argparse
 import csv
@@ -27,7 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_style import add_format_argument, save  # noqa: E402
+from figure_style import (COLUMN_WIDTH, PAGE_WIDTH, add_format_argument, save, use_paper_style,  # noqa: E402
+                          wrapped)
 from render_mesh import view_frame  # noqa: E402
 
 
@@ -66,35 +68,38 @@ def main():
     top = float(np.percentile(finite, 98)) if finite.size else 1.0
     top = top if top > 0 else 1.0
 
+    # A column for up to two forms, else the page with up to four panels a row; text at 7-8 pt once printed.
+    use_paper_style()
     cols = min(len(forms), 4)
     rows = int(math.ceil(len(forms) / cols))
+    width = COLUMN_WIDTH if cols <= 2 else PAGE_WIDTH
+    panel = (width - 0.7) / cols  # 0.7 in for the colour bar and its label
     span = np.ptp(S[:, :2], axis=0)
     aspect = span[1] / span[0] if span[0] > 0 else 1.0
-    width = 3.2
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols + 0.8, max(2.5, width * aspect) * rows + 0.9),
-                             squeeze=False)
-    size = max(1.0, min(12.0, 6000.0 / len(P)))
+    height = min(max(1.2, panel * aspect), 2.2 * panel) + 0.35  # the panel's title above it
+    fig, axes = plt.subplots(rows, cols, figsize=(width, height * rows + 0.45), squeeze=False, layout="constrained")
+    size = max(0.3, min(6.0, 2000.0 / len(P)))
     image = None
     for k, form in enumerate(forms):
         ax = axes[k // cols][k % cols]
         shown = order[np.isfinite(R[order, k])]  # a sample the form dropped has no residual
         if len(shown):
             image = ax.scatter(S[shown, 0], S[shown, 1], c=R[shown, k], cmap="viridis", vmin=0, vmax=top, s=size,
-                               linewidths=0)
+                               linewidths=0, rasterized=True)
         else:
             ax.text(0.5, 0.5, "no residual", ha="center", va="center", transform=ax.transAxes)
         rms = meta.get("rms", {}).get(form)
         title = titles.get(form, form)
-        ax.set_title(title + (f"\npose RMS {100 * rms:.2f}%" if rms is not None else ""), fontsize=9)
+        ax.set_title(wrapped(title, panel) + (f"\npose RMS {100 * rms:.2f}%" if rms is not None else ""))
         ax.set_aspect("equal")
         ax.axis("off")
     for k in range(len(forms), rows * cols):
         axes[k // cols][k % cols].axis("off")
     if image is not None:
-        bar = fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.8, extend="max")
+        bar = fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.85, extend="max", fraction=0.05, pad=0.01)
         bar.set_label("residual, % of the diagonal")
-    fig.suptitle(f"{meta['a']} against {meta['b']} (class {meta['class']}): {meta['chosen_by']}\n"
-                 f"samples of {meta['b']} coloured by their residual", fontsize=10)
+    fig.suptitle(wrapped(f"{meta['a']} against {meta['b']} (class {meta['class']}): {meta['chosen_by']}\n"
+                         f"samples of {meta['b']} coloured by their residual", width))
     save(fig, args.out, "pose_residuals", args.format)
 
 

@@ -284,3 +284,86 @@ def test_the_experiments_figures_read_at_a_two_column_papers_size(tmp_path):
     assert sum(t in ("Coulomb", "classical MDS", "SMACOF", "LBO eigenmap") for t in texts) == 4, \
         f"one key of the methods, each named once: {texts}"
     assert any("tosca5k" in t for t in texts), texts
+
+
+def other_experiment_figure_data(folder):
+    """Hand-made data files of `experiment topkids` (six methods and the inputs, nine poses), `experiment pose`
+    (the input and six forms), `experiment invariance` (six methods at four resolutions) and `compare` (seven
+    methods from two runs), as the C++ drivers write them; {script: its folder}."""
+    six = ["coulomb", "cmds", "smacof", "lbo", "diffusion", "spectral-mds"]
+    rng = np.random.default_rng(2)
+    topkids = folder / "topkids"
+    topkids.mkdir()
+    errors = np.linspace(0, 0.5, 101)
+    methods = ["inputs"] + six
+    (topkids / "curves.csv").write_text("method,forgiven,error,fraction\n" + "".join(
+        f"{m},{kind},{e},{min(1.0, e * (1.5 + k / 3))}\n" for kind in ("vertex", "map") for k, m in enumerate(methods)
+        for e in errors))
+    poses = [f"kid{k:02d}" for k in range(7, 16)]
+    rows = [{"method": m, "pose": p, "mean_error": float(rng.uniform(0.1, 0.6)), "mirrored": bool(k % 3 == 0),
+             "direct_mean_error": float(rng.uniform(0.3, 0.6))} for m in methods for k, p in enumerate(poses)]
+    summary = [{"method": m, "poses": 9, "mirrored_poses": 3, "median_pose_mean_error": 0.2, "mean_error": 0.25,
+                "median_error": 0.2, "under_0.25": 0.6, "whole_map_mean_error": 0.3, "whole_map_under_0.25": 0.5}
+               for m in methods]
+    (topkids / "topkids.json").write_text(json.dumps({"summary": summary, "poses": poses, "rows": rows,
+                                                      "samples_per_pose": 1000}))
+    pose = folder / "pose"
+    pose.mkdir()
+    forms = ["input"] + six
+    (pose / "pose_residuals.json").write_text(json.dumps({
+        "a": "cat0", "b": "cat2", "class": "cat", "forms": forms, "rms": {f: 0.05 for f in forms},
+        "chosen_by": "the pair with the median Coulomb pose RMS (3 of 6 pairs by increasing RMS)",
+        "titles": {"input": "input", "coulomb": "Coulomb", "cmds": "classical MDS", "smacof": "SMACOF",
+                   "lbo": "LBO eigenmap", "diffusion": "diffusion map", "spectral-mds": "spectral MDS"}}))
+    P = rng.normal(size=(900, 3)) * [3.0, 1.0, 0.3]
+    (pose / "pose_residuals.csv").write_text(f"sample,vertex,x,y,z,part,{','.join(forms)}\n" + "".join(
+        f"{k},{k},{p[0]},{p[1]},{p[2]},0," + ",".join(f"{abs(r):.4f}" for r in rng.normal(0, 0.05, len(forms)))
+        + "\n" for k, p in enumerate(P)))
+    invariance = folder / "invariance"
+    invariance.mkdir()
+    transformations = ["renumber", "face-order", "rigid", "scale-1e-6", "scale-1e3", "jitter", "remesh-0.8",
+                       "remesh-1.2"]
+    resolutions = [1000, 2000, 3500, 5000]
+    (invariance / "invariance.csv").write_text(
+        "resolution,shape,method,transformation,group,seed,vertices,rmse_percent\n" + "".join(
+            f"{n},cat{s},{m},{t},{'remeshed' if t.startswith('remesh') else 'exact'},1,{n},"
+            f"{0.0 if t == 'face-order' and m == 'cmds' else 10 ** rng.uniform(-14, 0.5)}\n"
+            for n in resolutions for s in range(3) for m in six for t in transformations))
+    (invariance / "invariance.json").write_text(json.dumps({
+        "resolutions": resolutions, "methods": six, "transformations": transformations,
+        "tolerance": {"floor_percent": 0.05, "pose_percent": 1.0},
+        "verdicts": [{"resolution": n, "method": m, "verdict": "pass", "tolerance_percent": 0.05 if m != "lbo"
+                      else 0.08, "pose_rmse_percent": 3.0} for n in resolutions for m in six]}))
+    compare = folder / "compare"
+    compare.mkdir()
+    classes = [f"class{k}" for k in range(4)]
+    kinds = ["hausdorff", "chamfer", "rmse"]
+    (compare / "compare.json").write_text(json.dumps({"shapes": 24, "classes": classes, "distances": kinds,
+                                                      "methods": [{"method": m, "title": m, "distances": {kind: {
+        "map": 0.8, "pr": {"recall": [0.25, 0.5, 0.75, 1.0], "precision": [1.0, 0.9, 0.8, 0.6]}} for kind in kinds}}
+        for m in six + ["principal-axes"]]}))
+    return {"topkids_figure.py": topkids, "pose_figure.py": pose, "invariance_figure.py": invariance,
+            "compare_figure.py": compare}
+
+
+@needs_drawing
+def test_topkids_pose_invariance_and_compare_figures_read_at_a_papers_size(tmp_path):
+    # The TOPKIDS figure was 16 in wide (its legends carried tables), the pose figure 13 in, the invariance
+    # figure 14 in, compare's PR figure at matplotlib's 10 pt: each now fits a column or the page, no text under
+    # 7 pt once printed.
+    plots = ROOT / "experiments" / "plots"
+    drawn = {"topkids_figure.py": "topkids", "pose_figure.py": "pose_residuals",
+             "invariance_figure.py": "invariance", "compare_figure.py": "pr"}
+    for script, folder in other_experiment_figure_data(tmp_path).items():
+        result = subprocess.run([sys.executable, str(plots / script), str(folder), "--format=svg"],
+                                capture_output=True, text=True)
+        assert result.returncode == 0, f"{script}: {result.stderr}"
+        figure = folder / f"{drawn[script]}.svg"
+        width = svg_width(figure)
+        assert width <= PAGE * 1.05, f"{figure.name} is {width / 72:.2f} in wide, wider than a page"
+        for text, size in svg_texts(figure):
+            assert printed_size(size, width) >= 7 - 1e-6, f"{figure.name}: {text!r} prints at {size} pt"
+    texts = [t for t, _ in svg_texts(tmp_path / "topkids" / "topkids.svg")]
+    assert any("TOPKIDS" in t for t in texts) and texts.count("Coulomb") == 1, texts
+    titles = " ".join(t for t, _ in svg_texts(tmp_path / "pose" / "pose_residuals.svg"))
+    assert "cat0 against cat2" in titles and "spectral MDS" in titles, titles
