@@ -215,13 +215,10 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
     o.seed = static_cast<std::uint64_t>(k.integer("seed", 0, 0));
     o.rest.target_vertices =
         k.int32("vertices", static_cast<int>(o.rest.target_vertices), generate_limits::kVertices);
+    const PythonProgress progress(k.object("progress"), "generate");
     k.done();
-    o.progress = stop_on_python_signals();  // Ctrl-C (python/interrupt.h)
-    std::vector<ArticulatedShape> shapes;
-    {
-      Computing computing;
-      shapes = make_articulated_dataset(o);
-    }
+    o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
+    const std::vector<ArticulatedShape> shapes = progress.run([&] { return make_articulated_dataset(o); });
     py::list out;
     for (const ArticulatedShape& s : shapes) {
       py::dict d;

@@ -20,7 +20,7 @@ FUNCTIONS = sorted(n for n in cshapes.__all__ if not inspect.isclass(getattr(csh
 # The calls that can take more than a few seconds, each with its progress= keyword.
 LONG_CALLS = ["add_topological_noise", "canonical_form", "classical_mds", "coulomb", "distance_matrix",
               "experiment_invariance", "experiment_noise", "experiment_paper", "experiment_pose",
-              "experiment_retrieval", "experiment_topkids", "geodesics", "smacof"]
+              "experiment_retrieval", "experiment_topkids", "generate", "geodesics", "smacof"]  # generate: a dataset
 
 HAND = cshapes.generate("articulated", class_="hand", poses=2, vertices=400, seed=3)
 V, F = HAND[0]
@@ -193,6 +193,16 @@ def test_progress_callback_of_distances_and_geodesics():
     recorder = Recorder()
     cshapes.geodesics(V, F, method="fmm", progress=recorder)
     check_reports(recorder.calls, "geodesics")
+
+
+def test_progress_callback_of_a_generated_dataset():
+    # A dataset takes most of a minute at 5,000 vertices: its progress counts the shapes made.
+    recorder = Recorder()
+    shapes = cshapes.generate("dataset", classes=1, poses=2, noisy=0, vertices=800, progress=recorder)
+    check_reports(recorder.calls, "dataset")
+    assert len(shapes) == 2 and len(recorder.calls) >= 2
+    with pytest.raises(TypeError, match="progress"):
+        cshapes.generate("icosphere", progress=recorder)  # only the dataset reads it
 
 
 def test_the_callbacks_exception_stops_the_call_and_is_raised():
