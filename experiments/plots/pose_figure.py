@@ -73,11 +73,11 @@ def main():
     cols = min(len(forms), 4)
     rows = int(math.ceil(len(forms) / cols))
     width = COLUMN_WIDTH if cols <= 2 else PAGE_WIDTH
-    panel = (width - 0.7) / cols  # 0.7 in for the colour bar and its label
+    panel = width / cols
     span = np.ptp(S[:, :2], axis=0)
     aspect = span[1] / span[0] if span[0] > 0 else 1.0
     height = min(max(1.2, panel * aspect), 2.2 * panel) + 0.35  # the panel's title above it
-    fig, axes = plt.subplots(rows, cols, figsize=(width, height * rows + 0.45), squeeze=False, layout="constrained")
+    fig, axes = plt.subplots(rows, cols, figsize=(width, height * rows + 0.9), squeeze=False, layout="constrained")
     size = max(0.3, min(6.0, 2000.0 / len(P)))
     image = None
     for k, form in enumerate(forms):
@@ -96,7 +96,9 @@ def main():
     for k in range(len(forms), rows * cols):
         axes[k // cols][k % cols].axis("off")
     if image is not None:
-        bar = fig.colorbar(image, ax=axes.ravel().tolist(), shrink=0.85, extend="max", fraction=0.05, pad=0.01)
+        # Below the panels, where its label fits whatever the panels' height.
+        bar = fig.colorbar(image, ax=axes.ravel().tolist(), location="bottom", shrink=0.5, aspect=40, extend="max",
+                           pad=0.02)
         bar.set_label("residual, % of the diagonal")
     fig.suptitle(wrapped(f"{meta['a']} against {meta['b']} (class {meta['class']}): {meta['chosen_by']}\n"
                          f"samples of {meta['b']} coloured by their residual", width))
