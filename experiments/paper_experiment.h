@@ -34,6 +34,22 @@
 
 namespace cshapes {
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// paper`'s flags and experiment_paper()'s keywords.
+namespace paper_experiment_options {
+inline const OptionDeclaration kGlue{"glue", "--glue", "glues per noisy shape made here"};
+inline const OptionDeclaration kSeed{"seed", "--seed", "seed of the noise placement"};
+inline const OptionDeclaration kTable1Repeats{"table1_repeats", "--table1-repeats",
+                                              "Table 1: timed runs per median"};
+inline const OptionDeclaration kCorrespondenceSamples{
+    "correspondence_samples", "--correspondence-samples",
+    "ground-truth samples per pair for the point-map error (0: skip)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
+inline const std::vector<const OptionDeclaration*> kAll = {&kGlue, &kSeed, &kTable1Repeats,
+                                                           &kCorrespondenceSamples};
+}  // namespace paper_experiment_options
+
 struct PaperExperimentOptions {
   std::string data;                                             // folder of meshes or manifest.csv
   std::string out;                                              // output folder

@@ -48,6 +48,20 @@
 
 namespace cshapes {
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// retrieval`'s flags and experiment_retrieval()'s keywords.
+namespace retrieval_experiment_options {
+inline const OptionDeclaration kEDepth{"e_depth", "--e-depth",
+                                       "results the E-measure looks at (psbTable: 32)"};
+inline const OptionDeclaration kMinClassSize{
+    "min_class_size", "--min-class-size",
+    "classes with fewer shapes give no queries (their shapes are still results)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla file (model ID: "
+    "ID.off or mID.off … in the .cla's folder)"};
+inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize};
+}  // namespace retrieval_experiment_options
+
 struct RetrievalExperimentOptions {
   std::string data;  // folder of meshes, manifest.csv or FILE.cla
   std::string out;   // output folder

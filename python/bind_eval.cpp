@@ -13,6 +13,7 @@
 #include "python/convert.h"
 #include "python/kwargs.h"
 #include "python/progress.h"
+#include "python/declared_options.h"
 
 namespace cshapes::python {
 
@@ -103,6 +104,7 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
 }  // namespace
 
 void bind_eval(py::module_& m) {
+  declare_keywords("distance_matrix", icp_options::kAll);
   // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("distance_matrix", &distance_matrix_py, py::arg("forms"),
         "The all-pairs distance matrix of canonical forms: see help(cshapes.distance_matrix).");
