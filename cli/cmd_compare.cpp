@@ -67,7 +67,7 @@ const bool registered = register_command(
            ->required();
        add_out_folder_option(app, o.out, option_help(kCompareOutOption, OptionSkin::Cli))->required();
        add_force_flag(app, o.force);
-       add_no_draw_flag(app, args.no_draw, "pr.png");
+       add_no_draw_flag(app, args.no_draw, kCompareDrawOption);
        add_figure_format_option(app, o.figure_format);
        add_renamed(app, "--pdf", "--figure-format pdf", false, "one option for the format of every figure");
        app.add_flag("--json", args.json, "print the summary as JSON");

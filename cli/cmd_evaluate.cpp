@@ -117,7 +117,7 @@ const bool registered = register_command(
        app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
-       add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
+       add_no_draw_flag(app, args.no_draw, kEvaluateDrawOption);
        add_figure_format_option(app, args.figure_format);
        app.add_option(
            "--title", args.title,

@@ -88,7 +88,7 @@ const bool registered = register_command(
        add_declared(app, invariance_options::kToleranceFloor, o.tolerance_floor_percent)
            ->capture_default_str();
        add_declared(app, invariance_options::kTolerancePose, o.tolerance_pose_percent)->capture_default_str();
-       add_no_draw_flag(app, args.no_draw, "invariance.png");
+       add_no_draw_flag(app, args.no_draw, invariance_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag(
            "--json", args.json,

@@ -102,7 +102,7 @@ const bool registered = register_command(
                       "where a pose offers too few spots: widen the gap (×1.5) up to this many times")
            ->capture_default_str()
            ->check(within(noise_limits::kRelax));
-       add_no_draw_flag(app, args.no_draw, "noise.png");
+       add_no_draw_flag(app, args.no_draw, noise_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        add_declared_flag(app, kStrictRunOption, o.canon.strict);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");

@@ -89,17 +89,12 @@ const bool registered = register_command(
        add_declared(app, paper_experiment_options::kTable1Repeats, o.timing_repeats)
            ->capture_default_str()
            ->check(integer_in(1, 1000));
-       app.add_flag("--no-table1", args.no_table1,
-                    "skip Table 1, the seconds of pre-computation and of one iteration at 561, 3,505 and 22,738 "
-                    "vertices, and the report's two claims on cost; Table 1 remeshes a biped to 22,738 vertices "
-                    "and computes its all-pairs geodesic matrix (2.1 GB of memory; about 1-2 minutes on two "
-                    "cores, with progress)");
-       app.add_flag("--no-figure-data", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       add_declared_flag(app, paper_experiment_options::kTable1, args.no_table1);
+       add_declared_flag(app, paper_experiment_options::kFigureData, args.no_figures);
        add_renamed(app, "--no-figures", "--no-figure-data", false,
                    "it skips the data of Figures 2-6; --no-draw only skips the drawing");
        add_renamed(app, "--no-figure", "--no-draw", false);
-       app.add_flag("--no-draw", args.no_draw,
-                    "write the figures' data but do not draw them (drawing needs Python with matplotlib)");
+       add_declared_flag(app, paper_experiment_options::kDraw, args.no_draw);
        add_figure_format_option(app, o.figure_format);
        app.add_option("--figure-vertices", o.figure_vertices,
                       "Figures 3 and 5: remesh their shape to this size first (0: as it is)")

@@ -65,8 +65,8 @@ const bool registered = register_command(
               "extremity's distance to the centre")
            ->capture_default_str()
            ->check(number_in(0.001, 1.0));
-       app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
-       add_no_draw_flag(app, args.no_draw, "pose_residuals.png");
+       add_declared_flag(app, pose_experiment_options::kParts, args.no_parts);
+       add_no_draw_flag(app, args.no_draw, pose_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json,
                     "print the summary as JSON (with its \"failures\") instead of pose.md");

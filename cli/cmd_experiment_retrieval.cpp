@@ -79,7 +79,7 @@ const bool registered = register_command(
        add_declared(app, retrieval_experiment_options::kMinClassSize, o.retrieval.min_class_size)
            ->capture_default_str()
            ->check(integer_in(2, 1000000));
-       add_no_draw_flag(app, args.no_draw, "the figures");
+       add_no_draw_flag(app, args.no_draw, retrieval_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);

@@ -99,7 +99,7 @@ const bool registered = register_command(
                     "ICP also starts from the principal-axis poses with two axes exchanged (12 more starts; "
                     "default off, as in the retrieval)");
        add_declared_flag(app, kStrictRunOption, o.canon.strict);
-       add_no_draw_flag(app, args.no_draw, "topkids.png");
+       add_no_draw_flag(app, args.no_draw, topkids_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);

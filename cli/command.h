@@ -77,9 +77,10 @@ void add_force_flag(CLI::App& app, bool& force);
 void add_resample_option(CLI::App& app, Index& vertices);
 // One name per meaning in every command: `--out DIR` for an output folder, `-o, --output FILE` for an output
 // file, `--no-draw` for "do not draw the figures", `--json` for JSON on stdout. add_no_draw_flag declares
-// `--no-draw`; add_renamed keeps an old spelling only to refuse it (exit 2) with a hint naming the new one;
-// `takes_value`: whether the old spelling took a value.
-void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures);
+// `--no-draw` from the command's declaration of draw (negated: "draw noise.png ..."); add_renamed keeps an
+// old spelling only to refuse it (exit 2) with a hint naming the new one; `takes_value`: whether the old
+// spelling took a value.
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const OptionDeclaration& draw);
 // `--figure-format png|pdf|svg` on every command that draws: the format, and so the extension, of its figures
 // (support/figure_format.h; the figure scripts' --format); its default is `format`'s value (png).
 CLI::Option* add_figure_format_option(CLI::App& app, FigureFormat& format);

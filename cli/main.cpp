@@ -202,8 +202,8 @@ void add_force_flag(CLI::App& app, bool& force) {
   add_declared_flag(app, kForceOption, force);
 }
 
-void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) {
-  app.add_flag("--no-draw", no_draw, "do not draw " + figures + " (drawing needs Python with matplotlib)");
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const OptionDeclaration& draw) {
+  add_declared_flag(app, draw, no_draw);
   add_renamed(app, "--no-figures", "--no-draw", false);
   add_renamed(app, "--no-figure", "--no-draw", false);
 }

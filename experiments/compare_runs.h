@@ -39,6 +39,8 @@ namespace cshapes {
 inline const OptionDeclaration kCompareOutOption{
     "out", "--out",
     "output folder, created when missing (report.md, compare.json, the PR figure); not one of the runs' folders"};
+inline const OptionDeclaration kCompareDrawOption =
+    negated_option("draw", "--no-draw", "draw the PR figure, pr.png (drawing needs Python with matplotlib)");
 
 struct CompareRunsOptions {
   std::vector<std::string>

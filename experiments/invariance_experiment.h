@@ -96,8 +96,10 @@ inline const OptionDeclaration kTolerancePose{
 inline const OptionDeclaration kData{"data", "--data",
     "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file; two clean poses of a "
     "class give a pose pair"};
-inline const std::vector<const OptionDeclaration*> kAll = {&kVertices, &kSeeds, &kSeed, &kToleranceFloor,
-                                                           &kTolerancePose};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw invariance.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kDraw, &kVertices,       &kSeeds,
+                                                           &kSeed, &kToleranceFloor, &kTolerancePose};
 }  // namespace invariance_options
 
 // The remeshes reported apart: factors of the reference's vertex count.

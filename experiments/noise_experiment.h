@@ -60,7 +60,9 @@ inline const OptionDeclaration kSeed{"seed", "--seed",
                                      "base seed of the glues (each pose and level derives its own)"};
 inline const OptionDeclaration kData{"data", "--data",
     "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
-inline const std::vector<const OptionDeclaration*> kAll = {&kLevels, &kSeed};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw noise.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kLevels, &kSeed, &kDraw};
 }  // namespace noise_experiment_options
 
 struct NoiseExperimentOptions {

@@ -83,6 +83,10 @@ inline const OptionDeclaration kData{"data", "--data",
     "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + kidNN_ref.txt (every "
     "kidNN against kid00), or a dataset (folder or manifest.csv) whose clean poses of a class share their faces "
     "(vertex i against vertex i)"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw pose_residuals.png (drawing needs Python with matplotlib)");
+inline const OptionDeclaration kParts =
+    negated_option("parts", "--no-parts", "report the residuals per part (pose_parts.csv)");
 }  // namespace pose_experiment_options
 
 struct PoseInvarianceOptions {

@@ -59,7 +59,9 @@ inline const OptionDeclaration kMinClassSize{
 inline const OptionDeclaration kData{"data", "--data",
     "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla file (model ID: "
     "ID.off or mID.off … in the .cla's folder)"};
-inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw the figures (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize, &kDraw};
 }  // namespace retrieval_experiment_options
 
 struct RetrievalExperimentOptions {

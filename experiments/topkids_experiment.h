@@ -100,7 +100,9 @@ inline const OptionDeclaration kSamples{
     "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)"};
 inline const OptionDeclaration kData{"data", "--data",
     "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)"};
-inline const std::vector<const OptionDeclaration*> kAll = {&kReference, &kPoses, &kSamples};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw topkids.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kReference, &kPoses, &kSamples, &kDraw};
 }  // namespace topkids_options
 
 struct TopkidsExperimentOptions {

@@ -25,7 +25,6 @@ COMMON = {
                "comma-separated names, or methods from outside: ``'NAME=cmd:COMMAND'``, "
                "``'NAME=forms:DIR'``, or a pair ``(NAME, fn)`` with ``fn(V, F) -> X`` (n, 3), one row per "
                "vertex of V in V's order (docs/outside-methods.md). None: every registered method.",
-    "draw": "Draw the figures, when a Python with matplotlib is found (the report says when not).",
     "seed": "The seed of every random choice: the same seed, the same result.",
     "D": "(n, n) distance matrix, any real dtype: symmetric, zero diagonal.",
 }
@@ -255,9 +254,7 @@ DOCS = {
         description="Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); the same "
                     "options give the same files as the CLI and C++.",
         params={"poses_per_class": "Clean poses per class; 0: all.",
-                "noisy_per_class": "Glued versions per class; -1: one of every clean pose.",
-                "table1": "Measure Table 1 (the methods' timings, the run's longest part).",
-                "figure_data": "Compute the figures' data."},
+                "noisy_per_class": "Glued versions per class; -1: one of every clean pose."},
         returns="dict\n    out, shapes, seconds, canonical_forms_computed, canonical_forms_cached, "
                 "pairs_computed, pairs_cached, figures_drawn, failures.",
         raises=_EXPERIMENT_RAISES,
@@ -281,7 +278,6 @@ DOCS = {
         examples=">>> cshapes.experiment_noise('data/synthetic', 'out/noise', methods=['coulomb'], levels=[0, 2])"),
     "experiment_pose": dict(
         summary="Pose residuals against ground-truth correspondence, per part (``cshapes experiment pose``).",
-        params={"parts": "Report the residuals per part."},
         returns="dict\n    out, results (the run's pose_residuals.json), failures.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> cshapes.experiment_pose('data/synthetic', 'out/pose', methods=['coulomb', 'lbo'])"),
@@ -306,8 +302,7 @@ DOCS = {
         description="A method in two runs must have the same results in both. Anything else raises ValueError "
                     "naming the folder and what was expected, and writes nothing.",
         params={"runs": "Two or more output folders of complete runs on the same inputs (their checksums in "
-                        "retrieval.json agree), under the same protocol.",
-                "draw": "Draw the PR figure."},
+                        "retrieval.json agree), under the same protocol."},
         returns="dict\n    experiment, inputs_digest, shapes, measures {method: {distance: {...}}}, runs "
                 "{method: the folder its numbers come from}, figures.",
         raises="ValueError\n    Runs that cannot be compared, naming the folder.",

@@ -384,13 +384,15 @@ void declare_experiment_keywords() {
                    {&kFigureFormatOption, &kForceOption, &kAllowOutsideOption, &kShapesOption});
   declare_keywords("experiment_invariance", outside);
   declare_keywords("experiment_invariance", invariance_options::kAll);
-  declare_keywords("compare_runs", {&kCompareOutOption, &kFigureFormatOption, &kForceOption});
+  declare_keywords("compare_runs",
+                   {&kCompareOutOption, &kCompareDrawOption, &kFigureFormatOption, &kForceOption});
   declare_keywords("show", {&show_options::kTitle, &show_options::kView, &kFigureFormatOption});
   declare_keywords("canonical_form", outside);
   declare_keywords("experiment_paper", paper_experiment_options::kAll);
   declare_keywords("experiment_retrieval", retrieval_experiment_options::kAll);
   declare_keywords("experiment_noise", noise_experiment_options::kAll);
-  declare_keywords("experiment_pose", {&pose_experiment_options::kSamples});
+  declare_keywords("experiment_pose", {&pose_experiment_options::kSamples, &pose_experiment_options::kDraw,
+                                       &pose_experiment_options::kParts});
   declare_keywords("experiment_topkids", topkids_options::kAll);
   for (const char* f : {"experiment_paper", "experiment_retrieval", "experiment_noise", "experiment_pose",
                         "experiment_topkids", "experiment_invariance"})

@@ -35,6 +35,7 @@ void bind_option_declarations(py::module_& m) {
             py::list choices;
             for (const std::string& c : o->choices) choices.append(c);
             d["choices"] = choices;
+            d["negated"] = o->negated;
             list.append(d);
           }
           out[py::str(function)] = list;

@@ -15,8 +15,9 @@ namespace cshapes::python {
 
 // Records that `function` (its Python name) takes these declared options as keywords.
 void declare_keywords(const std::string& function, const std::vector<const OptionDeclaration*>& options);
-// Adds cshapes.option_declarations(): {function: [{keyword, flag, help, cli_help, limit, choices}, ...]};
-// help as Python spells it, cli_help as `--help` shows it, limit in words ("a number in [0, 0.9]") or None.
+// Adds cshapes.option_declarations(): {function: [{keyword, flag, help, cli_help, limit, choices, negated},
+// ...]}; help as Python spells it, cli_help as `--help` shows it, limit in words ("a number in [0, 0.9]") or
+// None, negated: the flag turns off what the keyword turns on (--no-draw, draw=True).
 void bind_option_declarations(pybind11::module_& m);
 
 }  // namespace cshapes::python

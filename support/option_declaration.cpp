@@ -1,6 +1,7 @@
 #include "cshapes/support/option_declaration.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace cshapes {
 
@@ -10,8 +11,14 @@ std::string keyword_flag(const std::string& keyword) {
   return flag;
 }
 
+OptionDeclaration negated_option(std::string keyword, std::string flag, std::string help) {
+  OptionDeclaration option(std::move(keyword), std::move(flag), std::move(help));
+  option.negated = true;
+  return option;
+}
+
 std::string option_help(const OptionDeclaration& option, OptionSkin skin) {
-  std::string out;
+  std::string out = option.negated && skin == OptionSkin::Cli ? "do not " : "";
   const std::string& text = option.help;
   for (size_t k = 0; k < text.size();) {
     const size_t open = text.find('{', k);

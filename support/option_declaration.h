@@ -12,7 +12,9 @@
 //
 // A help text that names another option writes its Python keyword in braces, "{gap_edges}": the CLI shows
 // "--gap-edges", Python "gap_edges" (option_help). The text is a phrase without a final full stop, as the
-// CLI's help lines are; Python capitalises it and ends it.
+// CLI's help lines are; Python capitalises it and ends it. A flag that says the opposite of its keyword
+// (`--no-draw` for draw=True) is declared `negated`, its help saying what the keyword does ("draw noise.png
+// ..."): the CLI shows "do not draw noise.png ...".
 #pragma once
 
 #include <optional>
@@ -30,6 +32,7 @@ struct OptionDeclaration {
   std::string help;                  // one text for both skins; other options as "{keyword}"
   std::optional<Limit> limit;        // the library's limit of a number (support/option_limits.h), if any
   std::vector<std::string> choices;  // a choice's names, in order (empty: not a choice)
+  bool negated = false;              // the CLI's flag turns off what the keyword (true) turns on
 
   OptionDeclaration(std::string keyword_, std::string flag_, std::string help_,
                     std::optional<Limit> limit_ = std::nullopt, std::vector<std::string> choices_ = {})
@@ -42,8 +45,11 @@ struct OptionDeclaration {
 
 enum class OptionSkin { Cli, Python };
 
+// A flag that turns off what its keyword turns on: negated_option("draw", "--no-draw", "draw noise.png").
+OptionDeclaration negated_option(std::string keyword, std::string flag, std::string help);
+
 // The declaration's help for one skin: every "{keyword}" written as that skin spells an option ("--gap-edges"
-// or "gap_edges").
+// or "gap_edges"); a negated flag's on the CLI after "do not ".
 std::string option_help(const OptionDeclaration& option, OptionSkin skin);
 // The CLI's spelling of a keyword: "--" + its kebab-case ("gap_edges" -> "--gap-edges").
 std::string keyword_flag(const std::string& keyword);

@@ -3,7 +3,7 @@
 that one declaration (cshapes.option_declarations()), never from a second text in cshapes/_docs.py.
 
 Which keywords have a CLI counterpart is read from the CLI itself: a keyword whose flag (``--`` + its
-kebab-case) the function's command lists in its --help-all. Each must be declared (or be a canonical-form
+kebab-case, or ``--no-`` + it: draw=True and ``--no-draw``) the function's command lists in its --help-all. Each must be declared (or be a canonical-form
 method's option, declared as a MethodOption), unless it is listed below with the reason it is not yet.
 """
 import inspect
@@ -28,6 +28,10 @@ COMMANDS = {
     "experiment_invariance": ["experiment", "invariance"],
     "compare_runs": ["compare"],
     "show": ["show"],
+    "distance_matrix": ["distmat"],
+    "retrieval_measures": ["evaluate"],
+    "canonical_form": ["canon"],
+    "coulomb": ["canon"],
 }
 
 # Keywords with a flag of the same name on their command that are not declared yet, each with its reason.
@@ -39,6 +43,17 @@ NOT_YET_DECLARED = {
     ("experiment_noise", "poses_per_class"): "CLI 'all', Python 0",
     # Python takes more forms than the CLI's comma-separated names: lists, (NAME, fn) pairs with a function.
     **{(f, "methods"): "Python's own forms" for f in COMMANDS if f.startswith("experiment_")},
+    ("canonical_form", "method"): "Python also takes a function or a (NAME, fn) pair",
+    ("retrieval_measures", "labels"): "Python a list of labels, the CLI a file",
+    ("distance_matrix", "cache"): "Python None: no cache; distmat's default: a folder beside the output",
+    # Not declared yet: each the same option on both skins, still described twice.
+    ("distance_matrix", "metric"): "to declare beside shape_distance_kinds() (matching/shape_distance.h)",
+    ("retrieval_measures", "min_class_size"): "to declare for evaluate (its limit, >= 1, is not the "
+                                              "experiment's, 2..1000000)",
+    ("canonical_form", "knn"): "to declare: the point-cloud option of every method",
+    ("coulomb", "knn"): "to declare: the point-cloud option of every method",
+    ("canonical_form", "strict"): "to declare: canon's --strict",
+    ("coulomb", "strict"): "to declare: canon's --strict",
 }
 
 
@@ -121,8 +136,10 @@ def test_every_keyword_with_a_cli_counterpart_is_declared_and_the_cli_shows_its_
         cli_help = flags_and_help(cli, command)
         for keyword in inspect.signature(getattr(cshapes, function)).parameters:
             flag = "--" + keyword.replace("_", "-")
-            if flag not in cli_help or keyword in method_options and flag == "--geodesics" and \
-                    function.startswith("experiment_"):
+            if flag not in cli_help and "--no-" + flag[2:] in cli_help:
+                flag = "--no-" + flag[2:]  # draw=True is --no-draw's opposite
+            if flag not in cli_help or keyword in method_options and (
+                    function in ("canonical_form", "coulomb") or flag == "--geodesics"):
                 continue  # no counterpart, or a canonical-form method's option (a MethodOption)
             o = declared.get(function, {}).get(keyword)
             if (function, keyword) in NOT_YET_DECLARED:
@@ -130,5 +147,6 @@ def test_every_keyword_with_a_cli_counterpart_is_declared_and_the_cli_shows_its_
                 continue
             assert o is not None, (f"{function}(): {keyword} has a CLI counterpart ({' '.join(command)} {flag}) "
                                    "but no declaration: declare it in the library (support/option_declaration.h)")
+            assert o["flag"] == flag and o["negated"] == (flag != "--" + keyword.replace("_", "-")), o
             assert shows_help(cli_help[flag], o["cli_help"]), (
                 f"cshapes {' '.join(command)} {flag}: its help is not its declaration's: {cli_help[flag]!r}")
