@@ -12,8 +12,6 @@ COMMON = {
          "cloud, joined by its k-nearest-neighbour graph.",
     "knn": "Point clouds (no faces) only: the neighbours each point is joined to in the graph that stands in for "
            "the edges. Given with faces, it is refused.",
-    "strict": "Refuse a mesh that needs repair (several components, non-manifold edges, ...) instead of "
-              "repairing it for the method (summary['repair'] says what a repair did).",
     "progress": "Reports while the call runs. None: on a terminal, the bar once the call has run for a second "
                 "(a quicker call prints nothing); elsewhere (a log, a notebook) nothing. "
                 "True: the bar, always: one line rewritten in place, ``[stage]  42.0% (about 12 s left)``. "
@@ -224,7 +222,6 @@ DOCS = {
                 "(``cshapes distmat``).",
         description="The pairs run in parallel with the GIL released.",
         params={"forms": "(n_i, 3) arrays or CanonicalForm objects (their X; NaN rows are left out), at least 2.",
-                "metric": "'hausdorff' (the paper's), 'chamfer' or 'rmse'.",
                 "cache": "A folder where each pair's result is kept: a rerun, or a killed run restarted, "
                          "recomputes nothing cached. None: no cache.",
                 "threads": "Threads for the pairs; 0: OpenMP's default."},
@@ -240,8 +237,7 @@ DOCS = {
                     "distances) count as evaluate counts them: every measure is its expected value over all "
                     "orders of the tied shapes.",
         params={"D": "(N, N) distances.", "labels": "One class label per shape (any hashable, as text; 1 and "
-                "1.0 are one class).", "names": "Shape names for the report; None: 0..N-1.",
-                "min_class_size": "The smallest class whose shapes are queries."},
+                "1.0 are one class).", "names": "Shape names for the report; None: 0..N-1."},
         returns="dict\n    map, nn, ft, st, e, dcg (micro averages over queries, psbTable conventions), pr "
                 "{recall, precision}, classes {name: per-class measures}, queries, skipped, tied_queries, "
                 "confusion, class_names.",

@@ -388,6 +388,8 @@ void declare_experiment_keywords() {
                    {&kCompareOutOption, &kCompareDrawOption, &kFigureFormatOption, &kForceOption});
   declare_keywords("show", {&show_options::kTitle, &show_options::kView, &kFigureFormatOption});
   declare_keywords("canonical_form", outside);
+  declare_keywords("canonical_form", {&kStrictFormOption});
+  declare_keywords("coulomb", {&kStrictFormOption});
   declare_keywords("experiment_paper", paper_experiment_options::kAll);
   declare_keywords("experiment_retrieval", retrieval_experiment_options::kAll);
   declare_keywords("experiment_noise", noise_experiment_options::kAll);

@@ -47,13 +47,8 @@ NOT_YET_DECLARED = {
     ("retrieval_measures", "labels"): "Python a list of labels, the CLI a file",
     ("distance_matrix", "cache"): "Python None: no cache; distmat's default: a folder beside the output",
     # Not declared yet: each the same option on both skins, still described twice.
-    ("distance_matrix", "metric"): "to declare beside shape_distance_kinds() (matching/shape_distance.h)",
-    ("retrieval_measures", "min_class_size"): "to declare for evaluate (its limit, >= 1, is not the "
-                                              "experiment's, 2..1000000)",
-    ("canonical_form", "knn"): "to declare: the point-cloud option of every method",
-    ("coulomb", "knn"): "to declare: the point-cloud option of every method",
-    ("canonical_form", "strict"): "to declare: canon's --strict",
-    ("coulomb", "strict"): "to declare: canon's --strict",
+    ("canonical_form", "knn"): "to declare: the point-cloud option of every method (cli/method_options.cpp)",
+    ("coulomb", "knn"): "to declare: the point-cloud option of every method (cli/method_options.cpp)",
 }
 
 
