@@ -138,17 +138,11 @@ const bool registered = register_command(
        app.add_option("B", args.target, "target mesh or point cloud")->required();
        app.add_option("-o,--output", args.output, "write A after alignment (with A's faces)");
        app.add_flag("--json", args.json, "print JSON");
-       app.add_flag(
-           "--no-reflections", args.no_reflections,
-           "rotations only (by default mirror images are tried too: MDS embeddings are defined only up to "
-           "reflection)");
-       app.add_flag("--one-way", args.one_way, "match A to B only (default: both directions)");
-       app.add_flag("--axis-swaps", args.axis_swaps, "also start from principal axes exchanged pairwise");
-       app.add_option("--trim", args.trim, "fraction of worst pairs dropped per direction (trimmed ICP)")
-           ->check(within(icp_limits::kTrim));
-       app.add_option("--icp-tolerance", args.tolerance,
-                      "ICP stops when the RMSE changes by less than this fraction")
-           ->check(within(icp_limits::kTolerance));
+       add_declared_flag(app, icp_options::kNoReflections, args.no_reflections);
+       add_declared_flag(app, icp_options::kOneWay, args.one_way);
+       add_declared_flag(app, icp_options::kAxisSwaps, args.axis_swaps);
+       add_declared(app, icp_options::kTrim, args.trim);
+       add_declared(app, icp_options::kTolerance, args.tolerance);
      },
      run});
 

@@ -90,10 +90,7 @@ const bool registered = register_command(
            ->capture_default_str()
            ->check(one_of(known));
        app.add_option("--history", args.history, "write the per-iteration history as CSV");
-       app.add_flag(
-           "--strict", args.strict,
-           "refuse a mesh the method would have to repair (non-manifold for MDS, several components, "
-           "duplicate faces, ...) instead of repairing it");
+       add_declared_flag(app, kStrictFormOption, args.strict);
        app.add_flag("--json", args.json, "print a JSON summary on stdout");
        add_canon_method_options(app);
      },

@@ -65,12 +65,9 @@ const bool registered = register_command(
               "data (their retrieval.json's inputs' digest) with the same protocol; a method in two runs "
               "must have the same results in both (other experiments' outputs are refused)")
            ->required();
-       add_out_folder_option(app, o.out,
-                             "output folder, created when missing (report.md, compare.json, pr.png); not one "
-                             "of the runs' folders")
-           ->required();
+       add_out_folder_option(app, o.out, option_help(kCompareOutOption, OptionSkin::Cli))->required();
        add_force_flag(app, o.force);
-       add_no_draw_flag(app, args.no_draw, "pr.png");
+       add_no_draw_flag(app, args.no_draw, kCompareDrawOption);
        add_figure_format_option(app, o.figure_format);
        add_renamed(app, "--pdf", "--figure-format pdf", false, "one option for the format of every figure");
        app.add_flag("--json", args.json, "print the summary as JSON");

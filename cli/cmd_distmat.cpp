@@ -126,9 +126,7 @@ const bool registered = register_command(
                           "NAME=cmd:'COMMAND with {mesh} and {form}' or NAME=forms:DIR")
            ->capture_default_str();
        add_outside_method_options(app);
-       app.add_option("--metric", args.metric, "hausdorff (the paper's), chamfer or rmse")
-           ->capture_default_str()
-           ->check(one_of(shape_distance_kinds()));
+       add_declared(app, kMetricOption, args.metric)->capture_default_str();
        app.add_option("--cache", args.cache, "cache folder (default: .cshapes-cache beside the output)");
        app.add_flag(
            "--strict", args.strict,

@@ -111,13 +111,11 @@ const bool registered = register_command(
                       "that distmat writes, D.labels.csv beside D.csv, else from the names, cat0 -> cat); "
                       "a name given two classes is refused, and so is one class for all shapes");
        add_out_folder_option(app, args.output, "output folder, created when missing")->required();
-       app.add_option("--min-class-size", args.min_class_size,
-                      "classes with fewer shapes are not used as queries")
-           ->check(integer_at_least(1));
+       add_declared(app, kEvaluateMinClassSizeOption, args.min_class_size)->check(integer_at_least(1));
        app.add_option("--e-depth", args.e_depth, "results the E-measure looks at")
            ->check(integer_at_least(1));
        app.add_flag("--json", args.json, "print metrics.json to stdout");
-       add_no_draw_flag(app, args.no_draw, "pr.png, confusion.png and matrix.png");
+       add_no_draw_flag(app, args.no_draw, kEvaluateDrawOption);
        add_figure_format_option(app, args.figure_format);
        app.add_option(
            "--title", args.title,

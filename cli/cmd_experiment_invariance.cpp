@@ -79,43 +79,22 @@ const bool registered = register_command(
      "beside its pose variation; a verdict per method, invariance.md and a figure (cached: reruns resume)",
      [](CLI::App& app) {
        InvarianceOptions& o = args.options;
-       add_data_and_out_options(
-           app, o.data, o.out, o.force, o.allow_outside,
-           "folder of meshes (class = name without trailing digits), manifest.csv or a .cla "
-           "file; two clean poses of a class give a pose pair");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, invariance_options::kData);
        add_methods_option(app, args.methods);
-       app.add_option("--vertices", args.vertices,
-                      "comma-separated resolutions: each shape remeshed to about N vertices first (cached; "
-                      "OUT/resampled/N), 0 the shapes as given")
+       add_declared(app, invariance_options::kVertices, args.vertices)->capture_default_str();
+       add_declared(app, kShapesOption, args.shapes);
+       add_declared(app, invariance_options::kSeeds, o.seeds)->capture_default_str();
+       add_declared(app, invariance_options::kSeed, o.seed)->capture_default_str();
+       add_declared(app, invariance_options::kToleranceFloor, o.tolerance_floor_percent)
            ->capture_default_str();
-       app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
-       app.add_option("--seeds", o.seeds, "vertex renumberings per shape and resolution")
-           ->capture_default_str()
-           ->check(within(invariance_limits::kSeeds));
-       app.add_option("--seed", o.seed,
-                      "the first renumbering's seed (the next ones count up), and the face order's, rigid "
-                      "motion's and jitter's")
-           ->capture_default_str()
-           ->check(within(invariance_limits::kSeed));
-       app.add_option(
-              "--tolerance-floor", o.tolerance_floor_percent,
-              "verdict: an RMSE up to this % of the diagonal passes (or up to --tolerance-pose, the larger)")
-           ->capture_default_str()
-           ->check(within(invariance_limits::kToleranceFloor));
-       app.add_option("--tolerance-pose", o.tolerance_pose_percent,
-                      "verdict: an RMSE up to this % of the method's median pose variation passes")
-           ->capture_default_str()
-           ->check(within(invariance_limits::kTolerancePose));
-       add_no_draw_flag(app, args.no_draw, "invariance.png");
+       add_declared(app, invariance_options::kTolerancePose, o.tolerance_pose_percent)->capture_default_str();
+       add_no_draw_flag(app, args.no_draw, invariance_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag(
            "--json", args.json,
            "print the verdicts and summary as JSON (invariance.json, with its \"failures\") instead of "
            "the verdict lines");
-       app.add_flag(
-           "--strict", o.canon.strict,
-           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
-           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },

@@ -91,26 +91,20 @@ const bool registered = register_command(
      "queries among clean shapes and the noisy-vs-clean form distance (cached: reruns resume)",
      [](CLI::App& app) {
        NoiseExperimentOptions& o = args.options;
-       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside,
-                                "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, noise_experiment_options::kData);
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);
-       app.add_option("--levels", args.levels, "comma-separated glue counts per noisy version (0: clean)")
-           ->capture_default_str();
+       add_declared(app, noise_experiment_options::kLevels, args.levels)->capture_default_str();
        app.add_option("--poses-per-class", args.poses, "clean poses per class, or 'all'")
            ->capture_default_str();
-       app.add_option("--seed", o.seed, "base seed of the glues (each pose and level derives its own)")
-           ->capture_default_str();
+       add_declared(app, noise_experiment_options::kSeed, o.seed)->capture_default_str();
        app.add_option("--relax-steps", o.relax_steps,
                       "where a pose offers too few spots: widen the gap (×1.5) up to this many times")
            ->capture_default_str()
            ->check(within(noise_limits::kRelax));
-       add_no_draw_flag(app, args.no_draw, "noise.png");
+       add_no_draw_flag(app, args.no_draw, noise_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
-       app.add_flag(
-           "--strict", o.canon.strict,
-           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
-           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);

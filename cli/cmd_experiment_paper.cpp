@@ -71,8 +71,7 @@ const bool registered = register_command(
      "of topological noise, data for Figures 2-8, Table 1 and report.md (cached: reruns resume)",
      [](CLI::App& app) {
        PaperExperimentOptions& o = args.options;
-       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside,
-                                "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, paper_experiment_options::kData);
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);
        app.add_option("--poses-per-class", args.poses, "clean poses per class in the retrieval set, or 'all'")
@@ -82,28 +81,20 @@ const bool registered = register_command(
               "topologically noisy shapes per class (the data's, else glued here from another pose), or "
               "'all': the data's and a glued version of every clean pose of the class")
            ->capture_default_str();
-       app.add_option("--glue", o.glue, "glues per noisy shape made here")
+       add_declared(app, paper_experiment_options::kGlue, o.glue)
            ->capture_default_str()
            ->check(integer_in(1, 1000));
-       app.add_option("--seed", o.seed, "seed of the noise placement")->capture_default_str();
-       app.add_flag("--strict", o.canon.strict,
-                    "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
-                    "3), with no geodesic fallback; and refuse a mesh a method would have to repair "
-                    "(non-manifold for MDS, several components, ...) instead of repairing it");
-       app.add_option("--table1-repeats", o.timing_repeats, "Table 1: timed runs per median")
+       add_declared(app, paper_experiment_options::kSeed, o.seed)->capture_default_str();
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
+       add_declared(app, paper_experiment_options::kTable1Repeats, o.timing_repeats)
            ->capture_default_str()
            ->check(integer_in(1, 1000));
-       app.add_flag("--no-table1", args.no_table1,
-                    "skip Table 1, the seconds of pre-computation and of one iteration at 561, 3,505 and 22,738 "
-                    "vertices, and the report's two claims on cost; Table 1 remeshes a biped to 22,738 vertices "
-                    "and computes its all-pairs geodesic matrix (2.1 GB of memory; about 1-2 minutes on two "
-                    "cores, with progress)");
-       app.add_flag("--no-figure-data", args.no_figures, "skip the data of Figures 2, 3, 4, 5 and 6");
+       add_declared_flag(app, paper_experiment_options::kTable1, args.no_table1);
+       add_declared_flag(app, paper_experiment_options::kFigureData, args.no_figures);
        add_renamed(app, "--no-figures", "--no-figure-data", false,
                    "it skips the data of Figures 2-6; --no-draw only skips the drawing");
        add_renamed(app, "--no-figure", "--no-draw", false);
-       app.add_flag("--no-draw", args.no_draw,
-                    "write the figures' data but do not draw them (drawing needs Python with matplotlib)");
+       add_declared_flag(app, paper_experiment_options::kDraw, args.no_draw);
        add_figure_format_option(app, o.figure_format);
        app.add_option("--figure-vertices", o.figure_vertices,
                       "Figures 3 and 5: remesh their shape to this size first (0: as it is)")
@@ -113,8 +104,7 @@ const bool registered = register_command(
                       "Figure 5: maximum outer iterations per curve")
            ->capture_default_str()
            ->check(integer_in(1, 100000000));
-       app.add_option("--correspondence-samples", o.correspondence_samples,
-                      "ground-truth samples per pair for the point-map error (0: skip)")
+       add_declared(app, paper_experiment_options::kCorrespondenceSamples, o.correspondence_samples)
            ->capture_default_str()
            ->check(integer_in(0, 100000000));
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");

@@ -41,15 +41,11 @@ const bool registered = register_command(
      "stretch and geodesic stress (cached: reruns resume)",
      [](CLI::App& app) {
        PoseInvarianceOptions& o = args.options;
-       add_data_and_out_options(
-           app, o.data, o.out, o.force, o.allow_outside,
-           "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + "
-           "kidNN_ref.txt (every kidNN against kid00), or a dataset (folder or manifest.csv) whose "
-           "clean poses of a class share their faces (vertex i against vertex i)");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, pose_experiment_options::kData);
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);
-       app.add_option("--shapes", args.shapes, "only these shapes (comma-separated names); default: all");
-       app.add_option("--samples", o.samples, "ground-truth correspondences per pair (evenly spaced; 0: all)")
+       add_declared(app, kShapesOption, args.shapes);
+       add_declared(app, pose_experiment_options::kSamples, o.samples)
            ->capture_default_str()
            ->check(integer_in(0, 100000000));
        app.add_option("--stress-sources", o.stress_sources,
@@ -69,15 +65,12 @@ const bool registered = register_command(
               "extremity's distance to the centre")
            ->capture_default_str()
            ->check(number_in(0.001, 1.0));
-       app.add_flag("--no-parts", args.no_parts, "no per-part breakdown (pose_parts.csv)");
-       add_no_draw_flag(app, args.no_draw, "pose_residuals.png");
+       add_declared_flag(app, pose_experiment_options::kParts, args.no_parts);
+       add_no_draw_flag(app, args.no_draw, pose_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json,
                     "print the summary as JSON (with its \"failures\") instead of pose.md");
-       app.add_flag(
-           "--strict", o.canon.strict,
-           "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code 3), "
-           "with no geodesic fallback; and refuse a mesh a method would have to repair");
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
        app.footer(kPartialResultHelp);
        add_canon_method_options(app);
      },

@@ -69,23 +69,17 @@ const bool registered = register_command(
      "(cached: reruns resume)",
      [](CLI::App& app) {
        RetrievalExperimentOptions& o = args.options;
-       add_data_and_out_options(
-           app, o.data, o.out, o.force, o.allow_outside,
-           "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla "
-           "file (model ID: ID.off or mID.off … in the .cla's folder)");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, retrieval_experiment_options::kData);
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);
-       app.add_flag("--strict", o.canon.strict,
-                    "stop at the first shape that fails (exit code 1) instead of leaving it out (exit code "
-                    "3), with no geodesic fallback; and refuse a mesh a method would have to repair");
-       app.add_option("--e-depth", o.retrieval.e_measure_depth, "results the E-measure looks at (psbTable: 32)")
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
+       add_declared(app, retrieval_experiment_options::kEDepth, o.retrieval.e_measure_depth)
            ->capture_default_str()
            ->check(integer_in(1, 1000000));
-       app.add_option("--min-class-size", o.retrieval.min_class_size,
-                      "classes with fewer shapes give no queries (their shapes are still results)")
+       add_declared(app, retrieval_experiment_options::kMinClassSize, o.retrieval.min_class_size)
            ->capture_default_str()
            ->check(integer_in(2, 1000000));
-       add_no_draw_flag(app, args.no_draw, "the figures");
+       add_no_draw_flag(app, args.no_draw, retrieval_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);

@@ -81,17 +81,12 @@ const bool registered = register_command(
      "report.md (cached: reruns resume)",
      [](CLI::App& app) {
        TopkidsExperimentOptions& o = args.options;
-       add_data_and_out_options(
-           app, o.data, o.out, o.force, o.allow_outside,
-           "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)");
-       app.add_option("--reference", o.reference, "file stem of the reference pose")->capture_default_str();
-       app.add_option(
-           "--poses", args.poses,
-           "comma-separated query poses (file stems); default: every NAME_ref.txt but the reference's");
+       add_data_and_out_options(app, o.data, o.out, o.force, o.allow_outside, topkids_options::kData);
+       add_declared(app, topkids_options::kReference, o.reference)->capture_default_str();
+       add_declared(app, topkids_options::kPoses, args.poses);
        add_methods_option(app, args.methods);
        add_resample_option(app, o.resample.vertices);
-       app.add_option("--samples", o.samples,
-                      "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)")
+       add_declared(app, topkids_options::kSamples, o.samples)
            ->capture_default_str()
            ->check(integer_in(0, 100000000));
        app.add_option("--scoring-geodesics", args.scoring_geodesics,
@@ -103,12 +98,8 @@ const bool registered = register_command(
        app.add_flag("--icp-axis-swaps", o.icp.try_axis_swaps,
                     "ICP also starts from the principal-axis poses with two axes exchanged (12 more starts; "
                     "default off, as in the retrieval)");
-       app.add_flag(
-           "--strict", o.canon.strict,
-           "stop at the first pose that fails (exit code 1) instead of leaving it out (exit code 3), "
-           "with no geodesic fallback; and refuse a mesh a method would have to repair (kid00's "
-           "non-manifold edge, ...)");
-       add_no_draw_flag(app, args.no_draw, "topkids.png");
+       add_declared_flag(app, kStrictRunOption, o.canon.strict);
+       add_no_draw_flag(app, args.no_draw, topkids_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");
        app.footer(kPartialResultHelp);

@@ -104,18 +104,9 @@ const bool registered = register_command(
        app.add_option("-o,--output", args.output,
                       "output: D.bin (CSHDIST1 header, n, then n×n float32 row-major), or CSV with --source; "
                       "'-' or omitted with --source: stdout");
-       app.add_option(
-              "--method", args.method,
-              "heat (ours: block solves, CHOLMOD), heat-cgal (CGAL Heat_method_3, one source at a time), "
-              "fmm (fast marching), exact (CGAL Surface_mesh_shortest_path; slow), graph (Dijkstra on "
-              "edges)")
-           ->capture_default_str()
-           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       add_declared(app, geodesic_options::kMethod, args.method)->capture_default_str();
        args.heat_mode_option =
-           app.add_option("--heat-mode", args.heat_mode,
-                          "heat methods: idt (intrinsic Delaunay; accurate on poor triangles) or direct")
-               ->capture_default_str()
-               ->check(one_of({"idt", "direct"}));
+           add_declared(app, geodesic_options::kHeatMode, args.heat_mode)->capture_default_str();
        app.add_option(
               "--source", args.source,
               "one source vertex (0-based, input numbering): one row of distances as CSV, to -o NAME.csv "
@@ -124,9 +115,7 @@ const bool registered = register_command(
            ->check(integer_in(0, INT_MAX));
        app.add_flag("--csv", args.csv,
                     "CSV (vertex,distance) for the row of --source; implied by -o NAME.csv or no -o");
-       app.add_flag("--strict", args.strict,
-                    "refuse a mesh that needs repair (non-manifold, several components, ...) instead of "
-                    "repairing it");
+       add_declared_flag(app, kStrictGeodesicsOption, args.strict);
        app.add_flag("--json", args.json, "print a JSON summary on stdout");
      },
      run});

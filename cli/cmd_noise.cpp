@@ -91,35 +91,15 @@ const bool registered = register_command(
      [](CLI::App& app) {
        app.add_option("MESH", args.input, "input mesh (one component, manifold)")->required();
        app.add_option("-o,--output", args.output, "output mesh (same vertices, K handles more)")->required();
-       app.add_option("--glue", args.glue, "number of glues K (each adds a handle: chi drops by 2)")
-           ->capture_default_str()
-           ->check(within(noise_limits::kGlue));
-       app.add_option("--seed", args.seed, "random seed (picks among admissible pairs)")
-           ->capture_default_str();
-       app.add_option("--max-gap", args.max_gap,
-                      "largest Euclidean gap, mesh units (default: --gap-edges x mean edge)")
-           ->check(within(noise_limits::kMaxGap));
-       app.add_option("--gap-edges", args.gap_edges, "default gap in mean edge lengths")
-           ->capture_default_str()
-           ->check(within(noise_limits::kGapEdges));
-       app.add_option("--min-ratio", args.min_ratio, "geodesic must be >= this x Euclidean")
-           ->capture_default_str()
-           ->check(within(noise_limits::kMinRatio));
-       app.add_option("--min-fraction", args.min_fraction, "geodesic must be >= this x geodesic diameter")
-           ->capture_default_str()
-           ->check(within(noise_limits::kMinFraction));
-       app.add_option("--separation", args.separation,
-                      "glued spots this x diameter apart (halved when needed)")
-           ->capture_default_str()
-           ->check(within(noise_limits::kSeparation));
-       app.add_option(
-              "--relax", args.relax,
-              "when too few pairs qualify, up to this many times widen the gap 1.5x and lower the ratio 0.8x")
-           ->capture_default_str()
-           ->check(within(noise_limits::kRelax));
-       app.add_option("--geodesics", args.geodesic_method, "geodesic method")
-           ->capture_default_str()
-           ->check(one_of({"heat", "heat-cgal", "fmm", "exact", "graph"}));
+       add_declared(app, noise_options::kGlue, args.glue)->capture_default_str();
+       add_declared(app, noise_options::kSeed, args.seed)->capture_default_str();
+       add_declared(app, noise_options::kMaxGap, args.max_gap);
+       add_declared(app, noise_options::kGapEdges, args.gap_edges)->capture_default_str();
+       add_declared(app, noise_options::kMinRatio, args.min_ratio)->capture_default_str();
+       add_declared(app, noise_options::kMinFraction, args.min_fraction)->capture_default_str();
+       add_declared(app, noise_options::kSeparation, args.separation)->capture_default_str();
+       add_declared(app, noise_options::kRelax, args.relax)->capture_default_str();
+       add_declared(app, noise_options::kGeodesics, args.geodesic_method)->capture_default_str();
        app.add_option("--pairs-json", args.pairs_json, "write the glued vertex pairs and tube rims as JSON");
        app.add_flag("--json", args.json, "print the summary as JSON");
      },

@@ -64,19 +64,14 @@ const bool registered = register_command(
               "the picture, .png, .pdf or .svg (without an extension: --figure-format's); each vertex "
               "coloured by its place on MESH (principal coordinates as red, green, blue)")
            ->required();
-       app.add_option("--title", args.options.title, "a line above the picture");
+       add_declared(app, show_options::kTitle, args.options.title);
        app.add_option(
               "--label", args.labels,
               "a panel's title, once per panel: the mesh's, then the form's (default: the mesh's file "
               "name; the form's method when its file records it, as `cshapes canon`'s PLY does, else "
               "its file name)")
            ->allow_extra_args(false);
-       app.add_option(
-              "--view", args.options.view,
-              "pca: look along the direction of least spread, the longest extent horizontal; x, y, z: "
-              "along that axis")
-           ->capture_default_str()
-           ->check(one_of(show_views()));
+       add_declared(app, show_options::kView, args.options.view)->capture_default_str();
        add_figure_format_option(app, args.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON");
      },

@@ -27,6 +27,7 @@
 #include "cshapes/support/progress.h"
 #include "cshapes/pipeline/canonical_forms.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes::cli {
 
@@ -62,9 +63,10 @@ void check_options_read_by(const std::string& method, bool history_given = false
 // `canon` (configure_canonical_form). On every rank of an MPI run, so that each stops on a bad command line.
 void prepare_experiment(const std::vector<std::string>& methods, const std::string& out,
                         CanonicalFormOptions& canon);
-// --data, --allow-outside, --out and --force as every experiment takes them; data_help says what --data may be.
+// --data, --allow-outside, --out and --force as every experiment takes them; data_option declares --data (what
+// it may be, in the experiment's words).
 void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, bool& force,
-                              bool& allow_outside, const std::string& data_help);
+                              bool& allow_outside, const OptionDeclaration& data_option);
 // --allow-outside: a dataset's manifest or .cla may list files outside its folder (data/dataset.h).
 void add_allow_outside_flag(CLI::App& app, bool& allow_outside);
 // --force: write into an output folder (or over an output file) that holds what cshapes did not write
@@ -75,9 +77,10 @@ void add_force_flag(CLI::App& app, bool& force);
 void add_resample_option(CLI::App& app, Index& vertices);
 // One name per meaning in every command: `--out DIR` for an output folder, `-o, --output FILE` for an output
 // file, `--no-draw` for "do not draw the figures", `--json` for JSON on stdout. add_no_draw_flag declares
-// `--no-draw`; add_renamed keeps an old spelling only to refuse it (exit 2) with a hint naming the new one;
-// `takes_value`: whether the old spelling took a value.
-void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures);
+// `--no-draw` from the command's declaration of draw (negated: "draw noise.png ..."); add_renamed keeps an
+// old spelling only to refuse it (exit 2) with a hint naming the new one; `takes_value`: whether the old
+// spelling took a value.
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const OptionDeclaration& draw);
 // `--figure-format png|pdf|svg` on every command that draws: the format, and so the extension, of its figures
 // (support/figure_format.h; the figure scripts' --format); its default is `format`'s value (png).
 CLI::Option* add_figure_format_option(CLI::App& app, FigureFormat& format);
@@ -150,6 +153,19 @@ std::string in_quotes(const std::string& text);
 // The library's limit of an option (support/option_limits.h): the help shows it, the parser applies it, in the
 // library's own words, so the CLI, the Python module and the library agree.
 CLI::Validator within(const Limit& limit);
+
+// An option declared in the library (support/option_declaration.h): its flag, its help as the CLI spells it
+// (option_help), and its limit (within) or choices (one_of) as the check. The caller chains the rest
+// (capture_default_str, a default_str, ...).
+template <class T>
+CLI::Option* add_declared(CLI::App& app, const OptionDeclaration& declaration, T& value) {
+  CLI::Option* option = app.add_option(declaration.flag, value, option_help(declaration, OptionSkin::Cli));
+  if (declaration.limit) option->check(within(*declaration.limit));
+  if (!declaration.choices.empty()) option->check(one_of(declaration.choices));
+  return option;
+}
+// A declared flag (no value): --no-reflections.
+CLI::Option* add_declared_flag(CLI::App& app, const OptionDeclaration& declaration, bool& value);
 
 // Refuses (UsageError) an output path that cannot be written, before any work: see check_output_path in
 // support/atomic_file.h. mesh: the extensions write_mesh knows.

@@ -40,6 +40,8 @@
 #include "cshapes/pipeline/method_options.h"
 #include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/renamed_options.h"
+#include "cshapes/support/output_folder.h"
+#include "cshapes/data/dataset.h"
 
 namespace cshapes::cli {
 
@@ -179,13 +181,10 @@ void prepare_experiment(const std::vector<std::string>& methods, const std::stri
 }
 
 void add_data_and_out_options(CLI::App& app, std::string& data, std::string& out, bool& force,
-                              bool& allow_outside, const std::string& data_help) {
-  app.add_option("--data", data, data_help)->required();
+                              bool& allow_outside, const OptionDeclaration& data_option) {
+  add_declared(app, data_option, data)->required();
   add_allow_outside_flag(app, allow_outside);
-  app.add_option("--out", out,
-                 "output folder, created when missing (its cache/ makes reruns resume); a folder holding files "
-                 "cshapes did not write is refused, and a rerun removes the outputs of the previous one")
-      ->required();
+  add_declared(app, kOutFolderOption, out)->required();
   add_force_flag(app, force);
 }
 
@@ -196,18 +195,15 @@ void warn_invalid_vertices_dropped(const MeshFile& file, const std::string& path
 }
 
 void add_allow_outside_flag(CLI::App& app, bool& allow_outside) {
-  app.add_flag("--allow-outside", allow_outside,
-               "read manifest or .cla entries that lead outside the dataset's folder (refused by default)");
+  add_declared_flag(app, kAllowOutsideOption, allow_outside);
 }
 
 void add_force_flag(CLI::App& app, bool& force) {
-  app.add_flag("--force", force,
-               "write although the outputs' place holds files cshapes did not write (they are left as they "
-               "are, unless this run writes the same name)");
+  add_declared_flag(app, kForceOption, force);
 }
 
-void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) {
-  app.add_flag("--no-draw", no_draw, "do not draw " + figures + " (drawing needs Python with matplotlib)");
+void add_no_draw_flag(CLI::App& app, bool& no_draw, const OptionDeclaration& draw) {
+  add_declared_flag(app, draw, no_draw);
   add_renamed(app, "--no-figures", "--no-draw", false);
   add_renamed(app, "--no-figure", "--no-draw", false);
 }
@@ -215,10 +211,10 @@ void add_no_draw_flag(CLI::App& app, bool& no_draw, const std::string& figures) 
 CLI::Option* add_figure_format_option(CLI::App& app, FigureFormat& format) {
   return app
       .add_option_function<std::string>(
-          "--figure-format", [&format](const std::string& name) { format = parse_figure_format(name); },
-          "the figures' format and extension: png, or pdf or svg for a paper (lines and text stay vectors, "
-          "text stays text)")
-      ->check(one_of(figure_format_names()))
+          kFigureFormatOption.flag,
+          [&format](const std::string& name) { format = parse_figure_format(name); },
+          option_help(kFigureFormatOption, OptionSkin::Cli))
+      ->check(one_of(kFigureFormatOption.choices))
       ->default_str(to_string(format));
 }
 

@@ -21,14 +21,10 @@ std::vector<std::unique_ptr<OutsideMethod>>& outside_methods() {
 }  // namespace
 
 void add_outside_method_options(CLI::App& app) {
-  app.add_option("--method-timeout", g_outside_settings.timeout_seconds,
-                 "a method from outside (NAME=cmd:COMMAND): the limit of one run, in seconds; a run past it is "
-                 "stopped and its shape left out for that method")
+  add_declared(app, outside_method_options::kTimeout, g_outside_settings.timeout_seconds)
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--method-version", g_outside_settings.version,
-                 "a method from outside: a tag in its cache key; change it to recompute forms the cache holds "
-                 "(the command string and the files it names are in the key already)");
+  add_declared(app, outside_method_options::kVersion, g_outside_settings.version);
 }
 
 void add_methods_option(CLI::App& app, std::string& methods) {

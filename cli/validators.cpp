@@ -13,6 +13,7 @@
 #include "cshapes/support/distance_matrix.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/format.h"
+#include "cshapes/pipeline/resampled_dataset.h"
 
 namespace cshapes::cli {
 
@@ -117,6 +118,10 @@ CLI::Validator within(const Limit& limit) {
       },
       limit.brief());
 }
+CLI::Option* add_declared_flag(CLI::App& app, const OptionDeclaration& declaration, bool& value) {
+  return app.add_flag(declaration.flag, value, option_help(declaration, OptionSkin::Cli));
+}
+
 CLI::Validator one_of(const std::vector<std::string>& names) {
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -129,9 +134,7 @@ CLI::Validator one_of(const std::vector<std::string>& names) {
 }
 
 void add_resample_option(CLI::App& app, Index& vertices) {
-  app.add_option("--resample", vertices,
-                 "remesh every shape to about N vertices first (CGAL isotropic remeshing, cached by content; "
-                 "the report gives each remesh's Hausdorff distance and smallest angle); 0: as they are")
+  add_declared(app, kResampleOption, vertices)
       ->capture_default_str()
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {

@@ -24,8 +24,18 @@
 #include <vector>
 
 #include "cshapes/mesh/mesh.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `--allow-outside` and allow_outside=: a dataset's manifest or .cla may list files outside its folder
+// (declared once, support/option_declaration.h).
+inline const OptionDeclaration kAllowOutsideOption{
+    "allow_outside", "--allow-outside",
+    "read manifest or .cla entries that lead outside the dataset's folder (refused by default)"};
+// `--shapes` and shapes=: a run restricted to some shapes of the dataset, by name.
+inline const OptionDeclaration kShapesOption{
+    "shapes", "--shapes", "only these shapes (names; comma-separated on the command line); default: all"};
 
 struct DatasetEntry {
   std::string path;        // path to the mesh file (as found, or resolved against the manifest's folder)

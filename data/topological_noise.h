@@ -28,6 +28,7 @@
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/option_fields.h"
 #include "cshapes/support/option_limits.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
@@ -45,6 +46,47 @@ inline constexpr Limit kMinFraction = number_limit("min-fraction", 0, 1);
 inline constexpr Limit kSeparation = number_limit("separation", 0, 1);
 inline constexpr Limit kRelax = integer_limit("relax", 0, 100);
 }  // namespace noise_limits
+
+// The options a user sets, each declared once (support/option_declaration.h): `cshapes noise`'s flags and
+// add_topological_noise()'s keywords, with one help text.
+namespace noise_options {
+inline const OptionDeclaration kGlue{
+    "glue", "--glue", "tubes to add, K (each adds a handle: the Euler characteristic drops by 2)",
+    noise_limits::kGlue};
+inline const OptionDeclaration kSeed{
+    "seed", "--seed", "the seed that picks among the admissible pairs: the same seed, the same glues"};
+inline const OptionDeclaration kMaxGap{
+    "max_gap", "--max-gap",
+    "the largest Euclidean gap a tube may bridge, in mesh units; 0: {gap_edges} mean edge lengths",
+    noise_limits::kMaxGap};
+inline const OptionDeclaration kGapEdges{
+    "gap_edges", "--gap-edges", "the gap when {max_gap} is 0, in mean edge lengths", noise_limits::kGapEdges};
+inline const OptionDeclaration kMinRatio{
+    "min_ratio", "--min-ratio",
+    "a glued pair's geodesic distance is at least this many times its Euclidean one",
+    noise_limits::kMinRatio};
+inline const OptionDeclaration kMinFraction{
+    "min_fraction", "--min-fraction",
+    "a glued pair's geodesic distance is at least this fraction of the geodesic diameter",
+    noise_limits::kMinFraction};
+inline const OptionDeclaration kSeparation{
+    "separation", "--separation",
+    "glued spots at least this fraction of the geodesic diameter apart (halved when the shape offers too few "
+    "places)",
+    noise_limits::kSeparation};
+inline const OptionDeclaration kRelax{
+    "relax", "--relax",
+    "when too few pairs qualify, up to this many times widen the gap 1.5x and lower the ratio 0.8x",
+    noise_limits::kRelax};
+inline const OptionDeclaration kGeodesics{"geodesics", "--geodesics",
+                                          "the geodesic method that measures the pairs: graph (Dijkstra on "
+                                          "the edges, the fastest), heat, heat-cgal, "
+                                          "fmm (fast marching) or exact",
+                                          std::nullopt, geodesic_method_names()};
+// In the order `cshapes noise --help` lists them.
+inline const std::vector<const OptionDeclaration*> kAll = {
+    &kGlue, &kSeed, &kMaxGap, &kGapEdges, &kMinRatio, &kMinFraction, &kSeparation, &kRelax, &kGeodesics};
+}  // namespace noise_options
 
 struct TopologicalNoiseOptions {
   int glue_count = 1;                  // K: tubes to add (each adds one handle)

@@ -17,8 +17,14 @@
 
 #include "cshapes/eval/distance_csv.h"
 #include "cshapes/eval/retrieval.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `cshapes evaluate --min-class-size` and retrieval_measures(min_class_size=) (declared once,
+// support/option_declaration.h); the CLI refuses a size below 1.
+inline const OptionDeclaration kEvaluateMinClassSizeOption{
+    "min_class_size", "--min-class-size", "classes with fewer shapes are not used as queries"};
 
 // {map, nn, ft, st, e, dcg}.
 nlohmann::json retrieval_scores_json(const RetrievalScores& scores);

@@ -31,8 +31,16 @@
 #include "cshapes/eval/retrieval.h"
 #include "cshapes/support/progress.h"
 #include "cshapes/support/figure_format.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `cshapes compare --out` and compare_runs(out=) (declared once, support/option_declaration.h).
+inline const OptionDeclaration kCompareOutOption{
+    "out", "--out",
+    "output folder, created when missing (report.md, compare.json, the PR figure); not one of the runs' folders"};
+inline const OptionDeclaration kCompareDrawOption =
+    negated_option("draw", "--no-draw", "draw the PR figure, pr.png (drawing needs Python with matplotlib)");
 
 struct CompareRunsOptions {
   std::vector<std::string>

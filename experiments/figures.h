@@ -17,8 +17,13 @@
 
 #include "cshapes/support/progress.h"
 #include "cshapes/support/figure_format.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `cshapes evaluate --no-draw` (declared once, support/option_declaration.h).
+inline const OptionDeclaration kEvaluateDrawOption = negated_option(
+    "draw", "--no-draw", "draw pr.png, confusion.png and matrix.png (drawing needs Python with matplotlib)");
 
 // The folder of the figure scripts; "" when none is found.
 std::string plot_scripts_directory();

@@ -72,6 +72,36 @@ inline constexpr Limit kToleranceFloor = number_limit("tolerance-floor", 0, 100)
 inline constexpr Limit kTolerancePose = number_limit("tolerance-pose", 0, 100);
 }  // namespace invariance_limits
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// invariance`'s flags and experiment_invariance()'s keywords.
+namespace invariance_options {
+inline const OptionDeclaration kVertices{
+    "vertices", "--vertices",
+    "the resolutions (a list; comma-separated on the command line): each shape remeshed to about N vertices "
+    "first (cached; OUT/resampled/N), 0 the shapes as given"};
+inline const OptionDeclaration kSeeds{"seeds", "--seeds", "vertex renumberings per shape and resolution",
+                                      invariance_limits::kSeeds};
+inline const OptionDeclaration kSeed{"seed", "--seed",
+                                     "the first renumbering's seed (the next ones count up), and the face "
+                                     "order's, rigid motion's and jitter's",
+                                     invariance_limits::kSeed};
+inline const OptionDeclaration kToleranceFloor{
+    "tolerance_floor", "--tolerance-floor",
+    "verdict: an RMSE up to this % of the diagonal passes (or up to {tolerance_pose}, the larger)",
+    invariance_limits::kToleranceFloor};
+inline const OptionDeclaration kTolerancePose{
+    "tolerance_pose", "--tolerance-pose",
+    "verdict: an RMSE up to this % of the method's median pose variation passes",
+    invariance_limits::kTolerancePose};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file; two clean poses of a "
+    "class give a pose pair"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw invariance.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kDraw, &kVertices,       &kSeeds,
+                                                           &kSeed, &kToleranceFloor, &kTolerancePose};
+}  // namespace invariance_options
+
 // The remeshes reported apart: factors of the reference's vertex count.
 inline constexpr double kInvarianceRemeshFactors[] = {0.8, 1.2};
 

@@ -49,6 +49,22 @@
 
 namespace cshapes {
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// noise`'s flags and experiment_noise()'s keywords.
+namespace noise_experiment_options {
+inline const OptionDeclaration kLevels{"levels", "--levels",
+                                       "glue counts, one noisy version of every clean pose per count (0: the "
+                                       "clean shape); a list, comma-separated "
+                                       "on the command line"};
+inline const OptionDeclaration kSeed{"seed", "--seed",
+                                     "base seed of the glues (each pose and level derives its own)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw noise.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kLevels, &kSeed, &kDraw};
+}  // namespace noise_experiment_options
+
 struct NoiseExperimentOptions {
   std::string data;  // folder of meshes or manifest.csv; shapes the data marks noisy are not used
   std::string out;   // output folder (its cache/ makes reruns resume)

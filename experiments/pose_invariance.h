@@ -74,6 +74,21 @@
 
 namespace cshapes {
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// pose`'s flags and experiment_pose()'s keywords.
+namespace pose_experiment_options {
+inline const OptionDeclaration kSamples{"samples", "--samples",
+                                        "ground-truth correspondences per pair (evenly spaced; 0: all)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder: NAME.off + corres/NAME.vts (pairs within a class), or kid00.off + kidNN.off + kidNN_ref.txt (every "
+    "kidNN against kid00), or a dataset (folder or manifest.csv) whose clean poses of a class share their faces "
+    "(vertex i against vertex i)"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw pose_residuals.png (drawing needs Python with matplotlib)");
+inline const OptionDeclaration kParts =
+    negated_option("parts", "--no-parts", "report the residuals per part (pose_parts.csv)");
+}  // namespace pose_experiment_options
+
 struct PoseInvarianceOptions {
   std::string data;  // TOSCA-style or TOPKIDS-style folder, or a shared-connectivity dataset (see above)
   std::string out;   // output folder (its cache/ makes reruns resume)

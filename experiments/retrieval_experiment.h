@@ -48,6 +48,22 @@
 
 namespace cshapes {
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// retrieval`'s flags and experiment_retrieval()'s keywords.
+namespace retrieval_experiment_options {
+inline const OptionDeclaration kEDepth{"e_depth", "--e-depth",
+                                       "results the E-measure looks at (psbTable: 32)"};
+inline const OptionDeclaration kMinClassSize{
+    "min_class_size", "--min-class-size",
+    "classes with fewer shapes give no queries (their shapes are still results)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder of meshes (class = name without trailing digits), manifest.csv, or a Princeton .cla file (model ID: "
+    "ID.off or mID.off … in the .cla's folder)"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw the figures (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize, &kDraw};
+}  // namespace retrieval_experiment_options
+
 struct RetrievalExperimentOptions {
   std::string data;  // folder of meshes, manifest.csv or FILE.cla
   std::string out;   // output folder

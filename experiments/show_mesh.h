@@ -21,6 +21,7 @@
 
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/figure_format.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
@@ -44,6 +45,16 @@ struct ShowPanel {
 const std::vector<std::string>& show_views();
 // The picture formats show_panels writes, by extension: figure_format_names(), {"png", "pdf", "svg"}.
 const std::vector<std::string>& show_picture_extensions();
+
+// The options a user sets, each declared once (support/option_declaration.h): `cshapes show`'s flags and
+// show()'s keywords.
+namespace show_options {
+inline const OptionDeclaration kTitle{"title", "--title", "a line above the picture"};
+inline const OptionDeclaration kView{
+    "view", "--view",
+    "pca: look along the direction of least spread, the longest extent horizontal; x, y, z: along that axis",
+    std::nullopt, show_views()};
+}  // namespace show_options
 
 // The method recorded in a mesh file's PLY comments ("coulomb" from the line "comment method coulomb" that
 // `cshapes canon` writes); "" when it has none (any other file).

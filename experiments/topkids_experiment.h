@@ -86,6 +86,25 @@ namespace cshapes {
 // against the truth (see above).
 constexpr double kMirroredErrorRatio = 0.5;
 
+// The experiment's own options, each declared once (support/option_declaration.h): `cshapes experiment
+// topkids`'s flags and experiment_topkids()'s keywords.
+namespace topkids_options {
+inline const OptionDeclaration kReference{
+    "reference", "--reference", "file stem of the reference pose, the null shape every pose is matched to"};
+inline const OptionDeclaration kPoses{
+    "poses", "--poses",
+    "query poses, by file stem (comma-separated on the command line); default: every NAME_ref.txt but the "
+    "reference's"};
+inline const OptionDeclaration kSamples{
+    "samples", "--samples",
+    "ground-truth vertices scored per pose, evenly spaced over NAME_ref.txt (0: all)"};
+inline const OptionDeclaration kData{"data", "--data",
+    "folder with REFERENCE.off and, per query pose, NAME.off, NAME_ref.txt (NAME_sym.txt)"};
+inline const OptionDeclaration kDraw =
+    negated_option("draw", "--no-draw", "draw topkids.png (drawing needs Python with matplotlib)");
+inline const std::vector<const OptionDeclaration*> kAll = {&kReference, &kPoses, &kSamples, &kDraw};
+}  // namespace topkids_options
+
 struct TopkidsExperimentOptions {
   std::string data;                 // the folder (see above)
   std::string out;                  // output folder; out/cache makes reruns resume

@@ -156,6 +156,11 @@ GeodesicMethod parse_geodesic_method(const std::string& name) {
   fail("unknown geodesic method '", name, "'; known: heat, heat-cgal, fmm, exact, graph");
 }
 
+const std::vector<std::string>& geodesic_method_names() {
+  static const std::vector<std::string> names = {"heat", "heat-cgal", "fmm", "exact", "graph"};
+  return names;
+}
+
 std::string to_string(GeodesicMethod method) {
   switch (method) {
     case GeodesicMethod::Heat:

@@ -32,6 +32,7 @@
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/support/option_fields.h"
 #include "cshapes/support/progress.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
@@ -46,6 +47,25 @@ enum class GeodesicMethod {
 // Parses "heat", "heat-cgal", "fmm", "exact", "graph"; throws listing the known names otherwise.
 GeodesicMethod parse_geodesic_method(const std::string& name);
 std::string to_string(GeodesicMethod method);
+// {"heat", "heat-cgal", "fmm", "exact", "graph"}: the names parse_geodesic_method takes, in the enum's order.
+const std::vector<std::string>& geodesic_method_names();
+
+// The options of `cshapes geodesics` and geodesics() in Python, each declared once
+// (support/option_declaration.h).
+namespace geodesic_options {
+inline const OptionDeclaration kMethod{
+    "method", "--method",
+    "heat (ours: block solves, CHOLMOD; the fastest), heat-cgal (CGAL's Heat_method_3, one source at a "
+    "time), "
+    "fmm (fast marching), exact (CGAL's Surface_mesh_shortest_path; slow) or graph (Dijkstra on the edges)",
+    std::nullopt, geodesic_method_names()};
+inline const OptionDeclaration kHeatMode{
+    "heat_mode",
+    "--heat-mode",
+    "heat and heat-cgal only: idt (intrinsic Delaunay, the default; accurate on poor triangles) or direct",
+    std::nullopt,
+    {"idt", "direct"}};
+}  // namespace geodesic_options
 
 struct GeodesicOptions {
   GeodesicMethod method = GeodesicMethod::Heat;  // see the table above

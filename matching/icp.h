@@ -47,6 +47,7 @@
 #include "cshapes/mesh/rigid_transform.h"
 #include "cshapes/support/types.h"
 #include "cshapes/matching/nearest_neighbors.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
@@ -59,6 +60,29 @@ namespace icp_limits {
 inline constexpr Limit kTrim = number_limit("trim", 0, 0.9);
 inline constexpr Limit kTolerance = number_limit("icp-tolerance", 0);
 }  // namespace icp_limits
+
+// The options a user sets, each declared once (support/option_declaration.h): `cshapes align`'s flags and the
+// keywords of icp(), shape_distance() and distance_matrix() in Python, with one help text.
+namespace icp_options {
+inline const OptionDeclaration kNoReflections{"no_reflections", "--no-reflections",
+                                              "rotations only (det R = +1); by default mirror images are "
+                                              "tried too, as MDS embeddings are defined only up "
+                                              "to a reflection"};
+inline const OptionDeclaration kOneWay{"one_way", "--one-way",
+                                       "match A to B only (by default both directions: A to B and B to A)"};
+inline const OptionDeclaration kAxisSwaps{"axis_swaps", "--axis-swaps",
+                                          "also start from the principal axes exchanged pairwise (for shapes "
+                                          "whose principal variances nearly tie)"};
+inline const OptionDeclaration kTrim{
+    "trim", "--trim", "the fraction of the worst pairs dropped per direction at each step (trimmed ICP)",
+    icp_limits::kTrim};
+inline const OptionDeclaration kTolerance{
+    "icp_tolerance", "--icp-tolerance",
+    "ICP stops when the RMSE changes by less than this fraction of itself", icp_limits::kTolerance};
+// In the order `cshapes align --help` lists them.
+inline const std::vector<const OptionDeclaration*> kAll = {&kNoReflections, &kOneWay, &kAxisSwaps, &kTrim,
+                                                           &kTolerance};
+}  // namespace icp_options
 
 struct IcpOptions {
   // Starting poses (see the method above).

@@ -14,12 +14,16 @@
 
 #include "cshapes/support/types.h"
 #include "cshapes/matching/icp.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
 // The three distances by the names options and files give them, {"hausdorff", "chamfer", "rmse"}, and each
 // one's title in tables and figures ("Hausdorff", "Chamfer", "RMSE"); an unknown name is its own title.
 const std::vector<std::string>& shape_distance_kinds();
+// `cshapes distmat --metric` and distance_matrix(metric=) (declared once, support/option_declaration.h).
+inline const OptionDeclaration kMetricOption{"metric", "--metric", "hausdorff (the paper's), chamfer or rmse",
+                                             std::nullopt, shape_distance_kinds()};
 std::string shape_distance_title(const std::string& kind);
 
 struct ShapeDistance {

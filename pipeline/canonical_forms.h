@@ -40,8 +40,16 @@
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/support/option_fields.h"
 #include "cshapes/data/cache.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `cshapes canon --strict` and strict= of canonical_form() and coulomb() (declared once,
+// support/option_declaration.h): CanonicalFormOptions::strict for one mesh.
+inline const OptionDeclaration kStrictFormOption{
+    "strict", "--strict",
+    "refuse a mesh the method would have to repair (non-manifold for MDS, several components, duplicate "
+    "faces, ...) instead of repairing it (the summary's repair entry says what a repair did)"};
 
 // SMACOF's start: classical MDS of the same distances ("cmds"), or the input's coordinates ("mesh").
 enum class SmacofInit { ClassicalMds, Mesh };

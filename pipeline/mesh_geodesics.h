@@ -14,8 +14,16 @@
 #include "cshapes/geodesics/geodesics.h"
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/mesh/mesh_repair.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `cshapes geodesics --strict` and geodesics(strict=) (declared once, support/option_declaration.h).
+inline const OptionDeclaration kStrictGeodesicsOption{
+    "strict", "--strict",
+    "refuse a mesh that needs repair (non-manifold, several components, ...) instead of repairing it: an "
+    "error "
+    "names its defects"};
 
 struct MeshGeodesicsOptions {
   GeodesicOptions geodesics;  // method (heat by default), heat mode, progress

@@ -29,8 +29,23 @@
 
 #include "cshapes/mesh/mesh.h"
 #include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// The door's options a user sets, each declared once (support/option_declaration.h): `--method-timeout` and
+// `--method-version` of every command that takes a method from outside, and the same keywords in Python.
+namespace outside_method_options {
+inline const OptionDeclaration kTimeout{"method_timeout", "--method-timeout",
+                                        "a method from outside (NAME=cmd:COMMAND): the limit of one run, in "
+                                        "seconds; a run past it is stopped and "
+                                        "its shape left out for that method"};
+inline const OptionDeclaration kVersion{"method_version", "--method-version",
+                                        "a method from outside: a tag in its cache key; change it to "
+                                        "recompute forms the cache holds (the command "
+                                        "string and the files it names are in the key already)"};
+inline const std::vector<const OptionDeclaration*> kAll = {&kTimeout, &kVersion};
+}  // namespace outside_method_options
 
 // A door's settings, the same for every outside method of a run.
 struct OutsideMethodSettings {

@@ -30,8 +30,17 @@
 #include "cshapes/support/types.h"
 #include "cshapes/data/cache.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `--resample N` and resample= on every command and function that takes a dataset (declared once,
+// support/option_declaration.h); 0 or a count from 4 to 100,000,000 (what the check below and the CLI
+// accept).
+inline const OptionDeclaration kResampleOption{
+    "resample", "--resample",
+    "remesh every shape to about N vertices first (CGAL isotropic remeshing, cached by content; the report "
+    "gives each remesh's Hausdorff distance and smallest angle); 0: as they are"};
 
 struct ResampleOptions {
   Index vertices = 0;       // vertices wanted per shape (about: within `tolerance`); 0: no resampling

@@ -21,8 +21,19 @@
 #include "cshapes/support/progress.h"
 #include "cshapes/data/cache.h"
 #include "cshapes/pipeline/canonical_forms.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `--strict` and strict= of every run over a dataset (the experiments), declared once
+// (support/option_declaration.h).
+inline const OptionDeclaration kStrictRunOption{
+    "strict", "--strict",
+    "stop at the first shape that fails (an error; exit code 1 on the command line) instead of leaving it "
+    "out "
+    "(named in the failures; exit code 3), with no geodesic fallback; and refuse a mesh a method would have "
+    "to "
+    "repair (non-manifold for MDS, several components, ...) instead of repairing it"};
 
 struct ShapeFailure {
   std::string name;    // the shape (file stem, or the name of a shape made here)

@@ -48,6 +48,7 @@ get_num_threads = _functions["get_num_threads"]
 icp = _functions["icp"]
 mesh_info = _functions["mesh_info"]
 method_options = _functions["method_options"]
+option_declarations = _functions["option_declarations"]
 read_mesh = _functions["read_mesh"]
 retrieval_measures = _functions["retrieval_measures"]
 set_num_threads = _functions["set_num_threads"]
@@ -63,5 +64,6 @@ __all__ = [
     "canonical_form_methods", "classical_mds", "compare_runs", "coulomb", "distance_matrix",
     "experiment_invariance", "experiment_noise", "experiment_paper", "experiment_pose", "experiment_retrieval",
     "experiment_topkids", "generate", "geodesics", "get_num_threads", "icp", "mesh_info", "method_options",
-    "read_mesh", "retrieval_measures", "set_num_threads", "shape_distance", "show", "smacof", "write_mesh",
+    "option_declarations", "read_mesh", "retrieval_measures", "set_num_threads", "shape_distance", "show",
+    "smacof", "write_mesh",
 ]

@@ -9,6 +9,10 @@ Where each part comes from (declared once, derived here):
 - the canonical-form keywords' descriptions, types, limits and choices: those declarations themselves
   (pipeline/method_options.h, via cshapes._cshapes.method_options()), the ones `cshapes canon --help` shows,
   with the CLI's spellings (``--step-rule fixed``) turned into keywords (``step_rule='fixed'``);
+- the keywords a function shares with a CLI option (icp()'s trim is `cshapes align --trim`, every
+  experiment's resample is `--resample`): their descriptions, limits and choices from the options' own
+  declarations in the library (support/option_declaration.h, via cshapes._cshapes.option_declarations()),
+  the text `--help` shows, with other options named as Python names them;
 - every other parameter's description and each function's prose: cshapes/_docs.py.
 
 A call passes on only what was given (never the defaults), so the extension still tells "given" from "left
@@ -239,6 +243,28 @@ def _method_options():
     return out
 
 
+def _sentence(text, choices=()):
+    """A help phrase as a docstring's sentence: capitalised (unless it begins with a value, "heat (ours...)"
+    or a symbol) and ended by a full stop."""
+    first = re.match(r"[A-Za-z_-]*", text).group(0)
+    if (len(first) > 1 or first == "a") and first not in choices:
+        text = text[0].upper() + text[1:]
+    return text if text.endswith(".") else text + "."
+
+
+def declared_options():
+    """{function: {keyword: declaration}} of the keywords each function shares with a CLI option, each with its
+    docstring text (the declaration's help, then its limit in words)."""
+    out = {}
+    for function, declarations in _cshapes.option_declarations().items():
+        for o in declarations:
+            text = _sentence(o["help"], o["choices"])
+            if o["limit"]:
+                text += f" Limit: {o['limit']}."
+            out.setdefault(function, {})[o["keyword"]] = dict(o, text=text)
+    return out
+
+
 # --------------------------------------------------------------------------------------------------------
 # numpy-style docstrings
 
@@ -296,8 +322,10 @@ def _section(title, body):
     return lines
 
 
-def render_doc(name, signature, per_kind, options, readers):
-    """The numpy-style docstring of function `name`."""
+def render_doc(name, signature, per_kind, options, readers, declared=None):
+    """The numpy-style docstring of function `name`; declared: its keywords that have a CLI counterpart
+    (declared_options()[name])."""
+    declared = declared or {}
     doc = DOCS.get(name, {})
     params = doc.get("params", {})
     lines = _wrap_lines(doc.get("summary", name + "."), indent="")
@@ -307,8 +335,13 @@ def render_doc(name, signature, per_kind, options, readers):
     for p in signature.parameters.values():
         # A method's option, unless this function takes the keyword its own way (smacof's weights: an array).
         own = p.name in params
-        option = options.get(p.name) if name in ("coulomb", "canonical_form", "smacof") and not own else None
-        if own:
+        # The experiments' geodesics is the MDS methods' option (`cshapes experiment ... --geodesics`).
+        method_keyword = name in ("coulomb", "canonical_form", "smacof") or (
+            name.startswith("experiment_") and p.name == "geodesics")
+        option = options.get(p.name) if method_keyword and not own else None
+        if p.name in declared:
+            text = declared[p.name]["text"]
+        elif own:
             text = params[p.name]
         elif option is not None:
             text = option["text"]
@@ -436,8 +469,10 @@ def wrapped_functions():
     for name in ("coulomb", "canonical_form"):
         signatures[name] = (_with_method_options(name, signatures[name][0], options), {})
     readers = {n: o["methods"] for n, o in options.items()}
+    declared = declared_options()
     out = {}
     for name, (signature, per_kind) in signatures.items():
         extension = getattr(_cshapes, name)
-        out[name] = _wrap(name, extension, signature, render_doc(name, signature, per_kind, options, readers))
+        out[name] = _wrap(name, extension, signature,
+                          render_doc(name, signature, per_kind, options, readers, declared.get(name)))
     return out

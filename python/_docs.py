@@ -1,6 +1,7 @@
 """The prose of the Python functions' documentation (cshapes/_api.py renders it in numpy style): each function's
-summary, description, Returns, Raises and Examples, and the descriptions of the parameters that are not a
-canonical-form method's option (those come from the options' own declarations). A parameter several functions
+summary, description, Returns, Raises and Examples, and the descriptions of the parameters that are neither a
+canonical-form method's option nor a keyword with a CLI counterpart (those come from the options' own
+declarations in the library: cshapes.method_options(), cshapes.option_declarations()). A parameter several functions
 share is described once, in COMMON. Text for people: keywords as Python spells them, never the CLI's flags
 (tests/python/test_api.py)."""
 
@@ -11,8 +12,6 @@ COMMON = {
          "cloud, joined by its k-nearest-neighbour graph.",
     "knn": "Point clouds (no faces) only: the neighbours each point is joined to in the graph that stands in for "
            "the edges. Given with faces, it is refused.",
-    "strict": "Refuse a mesh that needs repair (several components, non-manifold edges, ...) instead of "
-              "repairing it for the method (summary['repair'] says what a repair did).",
     "progress": "Reports while the call runs. None: on a terminal, the bar once the call has run for a second "
                 "(a quicker call prints nothing); elsewhere (a log, a notebook) nothing. "
                 "True: the bar, always: one line rewritten in place, ``[stage]  42.0% (about 12 s left)``. "
@@ -24,33 +23,10 @@ COMMON = {
                "comma-separated names, or methods from outside: ``'NAME=cmd:COMMAND'``, "
                "``'NAME=forms:DIR'``, or a pair ``(NAME, fn)`` with ``fn(V, F) -> X`` (n, 3), one row per "
                "vertex of V in V's order (docs/outside-methods.md). None: every registered method.",
-    "data": "The dataset: a folder of meshes (the class of a shape: its file name without trailing digits) or a "
-            "manifest.csv.",
-    "out": "The output folder; its cache/ makes a rerun (or a killed run restarted) resume.",
-    "draw": "Draw the figures, when a Python with matplotlib is found (the report says when not).",
-    "geodesics": "The geodesic method for the MDS methods: 'heat' (ours, the fastest), 'heat-cgal', 'fmm' "
-                 "(fast marching), 'exact' (slow), 'graph' (Dijkstra on the edges).",
-    "resample": "Remesh every shape to about this many vertices first (cached by content); 0: the shapes as "
-                "given.",
-    "figure_format": "The figures' format: 'png', 'pdf' or 'svg' (what a LaTeX paper includes).",
-    "force": "Write into an output folder that holds files cshapes did not write; without it such a folder is "
-             "refused.",
-    "allow_outside": "Read manifest entries that lie outside the dataset's folder.",
-    "method_timeout": "Methods from outside: the seconds one shape may take before it is stopped and counted "
-                      "as that shape's failure.",
-    "method_version": "Methods from outside: a version string that enters the cache key, so a changed method "
-                      "is recomputed.",
-    "shapes": "Names of the shapes to restrict the run to; None: all.",
     "seed": "The seed of every random choice: the same seed, the same result.",
-    "no_reflections": "Refuse reflections: only proper rotations (det R = +1).",
-    "one_way": "Match A to B only (the default matches both directions).",
-    "axis_swaps": "Also start from the principal axes exchanged pairwise.",
-    "trim": "Fraction of the worst pairs dropped per direction at each step (trimmed ICP), 0..0.99.",
-    "icp_tolerance": "ICP stops when the relative change of the RMSE falls below this.",
     "D": "(n, n) distance matrix, any real dtype: symmetric, zero diagonal.",
 }
 
-# The ICP keywords, in the order icp() takes them.
 _CANONICAL_FORM_RETURNS = (
     "CanonicalForm\n"
     "    ``X`` (n, 3) in the input's vertex order and units (NaN rows where ``valid`` is 0: vertices a repair "
@@ -106,12 +82,7 @@ DOCS = {
                     "distances are given at the input's vertices: NaN where a vertex was dropped.",
         params={"sources": "None: all pairs, (n, n) float32 as the library stores them (n² × 4 bytes); a vertex "
                            "index: one row (n,) float64; a sequence of k indices: (k, n) float64, row r from "
-                           "sources[r].",
-                "method": "'heat' (ours, the fastest), 'heat-cgal', 'fmm' (fast marching), 'exact' (slow), "
-                          "'graph' (Dijkstra on the edges).",
-                "heat_mode": "'idt' (intrinsic Delaunay, when not given) or 'direct'; heat and heat-cgal only.",
-                "strict": "Refuse a mesh that needs repair (ValueError naming its defects) instead of repairing "
-                          "it."},
+                           "sources[r]."},
         returns="numpy.ndarray\n    (n,), (k, n) or (n, n), as sources asks.",
         raises="ValueError\n    A source that is not a vertex index, heat_mode with another method, a mesh "
                "refused by strict=True.\nKeyboardInterrupt\n    Ctrl-C, heard every 64 sources.",
@@ -123,17 +94,7 @@ DOCS = {
                 "(``cshapes noise``).",
         description="The vertices stay the same; each glue adds a handle. The input must be one manifold "
                     "component.",
-        params={"glue": "Tubes to add.",
-                "max_gap": "The largest Euclidean gap a tube may bridge, in mesh units; 0: gap_edges mean edge "
-                           "lengths.",
-                "gap_edges": "The gap when max_gap is 0, in mean edge lengths.",
-                "min_ratio": "A glued pair's geodesic distance is at least this many times its Euclidean one.",
-                "min_fraction": "A glued pair's geodesic distance is at least this fraction of the geodesic "
-                                "diameter.",
-                "separation": "Tubes at least this fraction of the geodesic diameter apart.",
-                "relax": "Retries with a wider gap when too few pairs qualify.",
-                "geodesics": "The geodesic method that measures the pairs (see geodesics()).",
-                "return_info": "Also return what was glued."},
+        params={"return_info": "Also return what was glued."},
         returns="(V, F) or (V, F, info)\n    The glued mesh; info: the glued pairs, the tubes' rims and their "
                 "distances.",
         raises="ValueError\n    Fewer admissible pairs than glue (saying how many were found), or a mesh that "
@@ -168,6 +129,15 @@ DOCS = {
                 "takes, title the method's name in figures and tables ('Coulomb', 'classical MDS', 'SMACOF'), "
                 "keywords the options it reads (besides knn and strict).",
         examples=">>> [m['name'] for m in cshapes.canonical_form_methods()][:3]\n['coulomb', 'cmds', 'smacof']"),
+    "option_declarations": dict(
+        summary="The keywords each function shares with a CLI option, declared once in the library: what the "
+                "CLI's help and this documentation are made from.",
+        returns="dict\n    {function: [{keyword, flag, help, cli_help, limit, choices}, ...]}: keyword as the "
+                "function takes it, flag the CLI's option, help as this documentation gives it, cli_help as the "
+                "CLI's help shows it, limit in words ('a number in [0, 0.9]') or None, choices the names a "
+                "choice takes.",
+        examples=">>> [o['keyword'] for o in cshapes.option_declarations()['icp']][:2]\n"
+                 "['no_reflections', 'one_way']"),
     "method_options": dict(
         summary="Every option of the registered methods, once each: what the CLI, this documentation and the "
                 "stub are made from.",
@@ -198,9 +168,7 @@ DOCS = {
                     "method_version; its form is checked as an experiment checks it (one finite row per vertex, "
                     "spanning a plane) and gets the same quality verdict.",
         params={"method": "A registered method (canonical_form_methods(): 'coulomb', 'cmds', 'smacof', 'lbo', "
-                          "'diffusion', 'spectral-mds', ...) or a method from outside (see above).",
-                "method_timeout": "Methods from outside: seconds before the method is stopped.",
-                "method_version": "Methods from outside: a version string that enters the cache key."},
+                          "'diffusion', 'spectral-mds', ...) or a method from outside (see above)."},
         returns=_CANONICAL_FORM_RETURNS,
         raises="ValueError\n    Bad arrays, an unknown method, a keyword outside its limit or given where it "
                "does not apply, a mesh refused by strict=True.\nTypeError\n    A keyword the method does not "
@@ -254,7 +222,6 @@ DOCS = {
                 "(``cshapes distmat``).",
         description="The pairs run in parallel with the GIL released.",
         params={"forms": "(n_i, 3) arrays or CanonicalForm objects (their X; NaN rows are left out), at least 2.",
-                "metric": "'hausdorff' (the paper's), 'chamfer' or 'rmse'.",
                 "cache": "A folder where each pair's result is kept: a rerun, or a killed run restarted, "
                          "recomputes nothing cached. None: no cache.",
                 "threads": "Threads for the pairs; 0: OpenMP's default."},
@@ -270,8 +237,7 @@ DOCS = {
                     "distances) count as evaluate counts them: every measure is its expected value over all "
                     "orders of the tied shapes.",
         params={"D": "(N, N) distances.", "labels": "One class label per shape (any hashable, as text; 1 and "
-                "1.0 are one class).", "names": "Shape names for the report; None: 0..N-1.",
-                "min_class_size": "The smallest class whose shapes are queries."},
+                "1.0 are one class).", "names": "Shape names for the report; None: 0..N-1."},
         returns="dict\n    map, nn, ft, st, e, dcg (micro averages over queries, psbTable conventions), pr "
                 "{recall, precision}, classes {name: per-class measures}, queries, skipped, tied_queries, "
                 "confusion, class_names.",
@@ -284,12 +250,7 @@ DOCS = {
         description="Writes what the CLI writes (metrics.json, distances/, canon/, report.md, ...); the same "
                     "options give the same files as the CLI and C++.",
         params={"poses_per_class": "Clean poses per class; 0: all.",
-                "noisy_per_class": "Glued versions per class; -1: one of every clean pose.",
-                "table1": "Measure Table 1 (the methods' timings, the run's longest part).",
-                "figure_data": "Compute the figures' data.",
-                "glue": "Glues per noisy shape.",
-                "table1_repeats": "Timing runs per Table 1 entry (the median is reported).",
-                "correspondence_samples": "Points sampled for the correspondence figure."},
+                "noisy_per_class": "Glued versions per class; -1: one of every clean pose."},
         returns="dict\n    out, shapes, seconds, canonical_forms_computed, canonical_forms_cached, "
                 "pairs_computed, pairs_cached, figures_drawn, failures.",
         raises=_EXPERIMENT_RAISES,
@@ -299,9 +260,6 @@ DOCS = {
         summary="A whole collection as a retrieval benchmark (``cshapes experiment retrieval``).",
         description="Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv, classes.cla, "
                     "...).",
-        params={"data": "A folder of meshes, a manifest.csv or a Princeton .cla file.",
-                "e_depth": "The depth of the E-measure.",
-                "min_class_size": "The smallest class whose shapes are queries."},
         returns="dict\n    out, shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, "
                 "st, e, dcg}}}, figures, failures.",
         raises=_EXPERIMENT_RAISES,
@@ -310,23 +268,17 @@ DOCS = {
     "experiment_noise": dict(
         summary="Retrieval under topological noise (``cshapes experiment noise``): glued versions of every "
                 "clean pose.",
-        params={"poses_per_class": "Clean poses per class; 0: all.",
-                "levels": "Glues per noisy version, one version per level.",
-                "seed": "The seed of the glues."},
+        params={"poses_per_class": "Clean poses per class; 0: all."},
         returns="dict\n    out, results (the run's noise.json), failures.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> cshapes.experiment_noise('data/synthetic', 'out/noise', methods=['coulomb'], levels=[0, 2])"),
     "experiment_pose": dict(
         summary="Pose residuals against ground-truth correspondence, per part (``cshapes experiment pose``).",
-        params={"samples": "Points sampled per shape.", "parts": "Report the residuals per part."},
         returns="dict\n    out, results (the run's pose_residuals.json), failures.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> cshapes.experiment_pose('data/synthetic', 'out/pose', methods=['coulomb', 'lbo'])"),
     "experiment_topkids": dict(
         summary="SHREC'16 TOPKIDS correspondence curves (``cshapes experiment topkids``).",
-        params={"reference": "The null shape every pose is matched to.",
-                "samples": "Points sampled per shape.",
-                "poses": "Names of the poses; None: all."},
         returns="dict\n    out, results (the run's topkids.json), failures.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> cshapes.experiment_topkids('data/topkids', 'out/topkids', methods=['coulomb'])"),
@@ -337,11 +289,6 @@ DOCS = {
                     "diagonal, and, reported apart, remeshing at 0.8x and 1.2x the vertex count; beside each "
                     "method's pose variation, with a verdict per method. Writes invariance.md, .csv, "
                     "_summary.csv, _pose.csv, .json and the figure.",
-        params={"vertices": "Resolutions: 0 the shapes as given, N each shape remeshed to about N vertices first.",
-                "seeds": "Renumberings per shape.",
-                "seed": "The seed of the renumberings.",
-                "tolerance_floor": "The verdict's tolerance: at least this % of the bbox diagonal ...",
-                "tolerance_pose": "... and at least this % of the method's median pose variation."},
         returns="dict\n    out, results (invariance.json: verdicts, summary, ...), failures.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> cshapes.experiment_invariance('data/synthetic', 'out/inv', methods=['coulomb'], seeds=2)"),
@@ -351,9 +298,7 @@ DOCS = {
         description="A method in two runs must have the same results in both. Anything else raises ValueError "
                     "naming the folder and what was expected, and writes nothing.",
         params={"runs": "Two or more output folders of complete runs on the same inputs (their checksums in "
-                        "retrieval.json agree), under the same protocol.",
-                "out": "The output folder: report.md, compare.json, the PR figure.",
-                "draw": "Draw the PR figure.", "figure_format": "The PR figure's format: 'png', 'pdf' or 'svg'."},
+                        "retrieval.json agree), under the same protocol."},
         returns="dict\n    experiment, inputs_digest, shapes, measures {method: {distance: {...}}}, runs "
                 "{method: the folder its numbers come from}, figures.",
         raises="ValueError\n    Runs that cannot be compared, naming the folder.",
@@ -368,12 +313,9 @@ DOCS = {
                         "(a point cloud).",
                 "form": "The same kinds, with the mesh's vertex count (an array is drawn with the mesh's "
                         "faces); None: the mesh alone. NaN rows are not drawn.",
-                "out": "The picture, .png, .pdf or .svg, never one of the inputs; written atomically.",
-                "title": "A line above the picture.",
-                "view": "'pca': look along the least spread; 'x', 'y', 'z': along that axis.",
-                "labels": "Panel titles instead: [mesh's] or [mesh's, form's].",
-                "figure_format": "'png', 'pdf' or 'svg', which out's extension must then be (added when out "
-                                 "has none)."},
+                "out": "The picture, .png, .pdf or .svg (without an extension: figure_format's; with one, "
+                       "figure_format must agree), never one of the inputs; written atomically.",
+                "labels": "Panel titles instead: [mesh's] or [mesh's, form's]."},
         returns="str\n    The picture's path.",
         raises="ValueError\n    Inputs that do not match, or why it cannot draw.",
         examples=">>> cshapes.show('cat0.obj', cshapes.coulomb(V, F), out='cat0.pdf')"),

@@ -7,12 +7,14 @@
 
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/eval/retrieval_report.h"
+#include "cshapes/matching/shape_distance.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/kwargs.h"
 #include "python/progress.h"
+#include "python/declared_options.h"
 
 namespace cshapes::python {
 
@@ -103,6 +105,9 @@ py::object retrieval_measures_py(const py::object& D_in, const py::sequence& lab
 }  // namespace
 
 void bind_eval(py::module_& m) {
+  declare_keywords("distance_matrix", icp_options::kAll);
+  declare_keywords("distance_matrix", {&kMetricOption});
+  declare_keywords("retrieval_measures", {&kEvaluateMinClassSizeOption});
   // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("distance_matrix", &distance_matrix_py, py::arg("forms"),
         "The all-pairs distance matrix of canonical forms: see help(cshapes.distance_matrix).");

@@ -22,12 +22,14 @@
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/outside_methods.h"
 #include "cshapes/pipeline/shape_failures.h"
+#include "cshapes/support/output_folder.h"
 #include "cshapes/support/sha256.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/interrupt.h"
 #include "python/method_argument.h"
 #include "python/progress.h"
+#include "python/declared_options.h"
 
 namespace cshapes::python {
 
@@ -330,13 +332,11 @@ py::dict experiment_invariance_py(const py::object& data, const py::object& out,
            "given), got ", py::repr(v).cast<std::string>());
     }
   }
-  o.seeds = k.int32("seeds", o.seeds, invariance_limits::kSeeds);
+  o.seeds = k.int32(invariance_options::kSeeds, o.seeds);
   o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0,
                                                 static_cast<long long>(invariance_limits::kSeed.maximum)));
-  o.tolerance_floor_percent =
-      k.number("tolerance_floor", o.tolerance_floor_percent, invariance_limits::kToleranceFloor);
-  o.tolerance_pose_percent =
-      k.number("tolerance_pose", o.tolerance_pose_percent, invariance_limits::kTolerancePose);
+  o.tolerance_floor_percent = k.number(invariance_options::kToleranceFloor, o.tolerance_floor_percent);
+  o.tolerance_pose_percent = k.number(invariance_options::kTolerancePose, o.tolerance_pose_percent);
   if (const py::object shapes = k.object("shapes"); !shapes.is_none())
     o.shapes = shapes.cast<std::vector<std::string>>();
   o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
@@ -369,7 +369,47 @@ void bind_dataset_experiments(py::module_& m) {
 
 }  // namespace
 
+namespace {
+// The keywords each function shares with its command's flags, documented by their declarations.
+void declare_experiment_keywords() {
+  const std::vector<const OptionDeclaration*> outside = outside_method_options::kAll;
+  std::vector<const OptionDeclaration*> common = {&kResampleOption, &kFigureFormatOption, &kForceOption,
+                                                  &kAllowOutsideOption};
+  common.insert(common.end(), outside.begin(), outside.end());
+  for (const char* f : {"experiment_paper", "experiment_retrieval", "experiment_noise", "experiment_topkids"})
+    declare_keywords(f, common);
+  declare_keywords("experiment_pose", common);
+  declare_keywords("experiment_pose", {&kShapesOption});
+  declare_keywords("experiment_invariance",
+                   {&kFigureFormatOption, &kForceOption, &kAllowOutsideOption, &kShapesOption});
+  declare_keywords("experiment_invariance", outside);
+  declare_keywords("experiment_invariance", invariance_options::kAll);
+  declare_keywords("compare_runs",
+                   {&kCompareOutOption, &kCompareDrawOption, &kFigureFormatOption, &kForceOption});
+  declare_keywords("show", {&show_options::kTitle, &show_options::kView, &kFigureFormatOption});
+  declare_keywords("canonical_form", outside);
+  declare_keywords("canonical_form", {&kStrictFormOption});
+  declare_keywords("coulomb", {&kStrictFormOption});
+  declare_keywords("experiment_paper", paper_experiment_options::kAll);
+  declare_keywords("experiment_retrieval", retrieval_experiment_options::kAll);
+  declare_keywords("experiment_noise", noise_experiment_options::kAll);
+  declare_keywords("experiment_pose", {&pose_experiment_options::kSamples, &pose_experiment_options::kDraw,
+                                       &pose_experiment_options::kParts});
+  declare_keywords("experiment_topkids", topkids_options::kAll);
+  for (const char* f : {"experiment_paper", "experiment_retrieval", "experiment_noise", "experiment_pose",
+                        "experiment_topkids", "experiment_invariance"})
+    declare_keywords(f, {&kStrictRunOption, &kOutFolderOption});
+  declare_keywords("experiment_paper", {&paper_experiment_options::kData});
+  declare_keywords("experiment_retrieval", {&retrieval_experiment_options::kData});
+  declare_keywords("experiment_noise", {&noise_experiment_options::kData});
+  declare_keywords("experiment_pose", {&pose_experiment_options::kData});
+  declare_keywords("experiment_topkids", {&topkids_options::kData});
+  declare_keywords("experiment_invariance", {&invariance_options::kData});
+}
+}  // namespace
+
 void bind_experiments(py::module_& m) {
+  declare_experiment_keywords();
   // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("show", &show_py, py::arg("mesh"), py::arg("form") = py::none(), py::kw_only(), py::arg("out"),
         py::arg("title") = py::none(), py::arg("view") = "pca", py::arg("labels") = py::none(),

@@ -8,6 +8,7 @@
 #include "python/convert.h"
 #include "python/interrupt.h"
 #include "python/kwargs.h"
+#include "python/declared_options.h"
 
 namespace cshapes::python {
 
@@ -89,15 +90,17 @@ double shape_distance_py(const py::object& A_in, const py::object& B_in, const s
 // The `cshapes align` options.
 IcpOptions read_icp_options(Kwargs& k) {
   IcpOptions o;
-  o.allow_reflections = !k.flag("no_reflections", false);
-  o.symmetric = !k.flag("one_way", false);
-  o.try_axis_swaps = k.flag("axis_swaps", o.try_axis_swaps);
-  o.trim_fraction = k.number("trim", o.trim_fraction, icp_limits::kTrim);
-  o.relative_tolerance = k.number("icp_tolerance", o.relative_tolerance, icp_limits::kTolerance);
+  o.allow_reflections = !k.flag(icp_options::kNoReflections, false);
+  o.symmetric = !k.flag(icp_options::kOneWay, false);
+  o.try_axis_swaps = k.flag(icp_options::kAxisSwaps, o.try_axis_swaps);
+  o.trim_fraction = k.number(icp_options::kTrim, o.trim_fraction);
+  o.relative_tolerance = k.number(icp_options::kTolerance, o.relative_tolerance);
   return o;
 }
 
 void bind_matching(py::module_& m) {
+  declare_keywords("icp", icp_options::kAll);
+  declare_keywords("shape_distance", icp_options::kAll);
   py::class_<PyAlignment>(
       m, "Alignment", "A rigid alignment of A onto B: B ≈ A @ R.T + t (R orthogonal; det -1 when reflection)")
       .def_readonly("R", &PyAlignment::R, "(3, 3) orthogonal matrix")

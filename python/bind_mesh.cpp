@@ -14,6 +14,7 @@
 #include "python/convert.h"
 #include "python/kwargs.h"
 #include "python/progress.h"
+#include "python/declared_options.h"
 
 namespace cshapes::python {
 
@@ -137,15 +138,17 @@ py::object add_topological_noise_py(const py::object& V, const py::object& F, co
   const Mesh mesh = to_mesh(V, F);
   Kwargs k(kwargs, "add_topological_noise");
   TopologicalNoiseOptions o;
-  o.glue_count = k.int32("glue", o.glue_count, noise_limits::kGlue);
-  o.seed = static_cast<std::uint64_t>(k.integer("seed", static_cast<long long>(o.seed), 0));
-  o.max_gap = k.number("max_gap", o.max_gap, noise_limits::kMaxGap);
-  o.gap_edge_lengths = k.number("gap_edges", o.gap_edge_lengths, noise_limits::kGapEdges);
-  o.min_ratio = k.number("min_ratio", o.min_ratio, noise_limits::kMinRatio);
-  o.min_geodesic_fraction = k.number("min_fraction", o.min_geodesic_fraction, noise_limits::kMinFraction);
-  o.min_separation_fraction = k.number("separation", o.min_separation_fraction, noise_limits::kSeparation);
-  o.relax_steps = k.int32("relax", o.relax_steps, noise_limits::kRelax);
-  o.geodesic.method = parse_geodesic_method(k.text("geodesics", to_string(o.geodesic.method)));
+  o.glue_count = k.int32(noise_options::kGlue, o.glue_count);
+  o.seed =
+      static_cast<std::uint64_t>(k.integer(noise_options::kSeed.keyword, static_cast<long long>(o.seed), 0));
+  o.max_gap = k.number(noise_options::kMaxGap, o.max_gap);
+  o.gap_edge_lengths = k.number(noise_options::kGapEdges, o.gap_edge_lengths);
+  o.min_ratio = k.number(noise_options::kMinRatio, o.min_ratio);
+  o.min_geodesic_fraction = k.number(noise_options::kMinFraction, o.min_geodesic_fraction);
+  o.min_separation_fraction = k.number(noise_options::kSeparation, o.min_separation_fraction);
+  o.relax_steps = k.int32(noise_options::kRelax, o.relax_steps);
+  o.geodesic.method =
+      parse_geodesic_method(k.text(noise_options::kGeodesics.keyword, to_string(o.geodesic.method)));
   const bool info = k.flag("return_info", false);
   const PythonProgress progress(k.object("progress"), "add_topological_noise");
   o.geodesic.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
@@ -239,6 +242,9 @@ py::object generate_py(const std::string& kind, const py::kwargs& kwargs) {
 }  // namespace
 
 void bind_mesh(py::module_& m) {
+  declare_keywords("geodesics",
+                   {&geodesic_options::kMethod, &geodesic_options::kHeatMode, &kStrictGeodesicsOption});
+  declare_keywords("add_topological_noise", noise_options::kAll);
   // One-line docstrings: cshapes/_api.py documents the Python functions (signature, numpy sections).
   m.def("read_mesh", &read_mesh_py, py::arg("path"), py::kw_only(), py::arg("fields") = false,
         "Reads a mesh or point cloud: see help(cshapes.read_mesh).");

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cshapes/support/option_limits.h"
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes::python {
 
@@ -34,6 +35,14 @@ class Kwargs {
   double number(const std::string& name, double fallback, const Limit& limit);
   int int32(const std::string& name, int fallback, const Limit& limit);
   bool flag(const std::string& name, bool fallback);
+  // A declared option's keyword (support/option_declaration.h), checked against its limit when it has one.
+  double number(const OptionDeclaration& option, double fallback) {
+    return option.limit ? number(option.keyword, fallback, *option.limit) : number(option.keyword, fallback);
+  }
+  int int32(const OptionDeclaration& option, int fallback) {
+    return option.limit ? int32(option.keyword, fallback, *option.limit) : int32(option.keyword, fallback);
+  }
+  bool flag(const OptionDeclaration& option, bool fallback) { return flag(option.keyword, fallback); }
   std::string text(const std::string& name, const std::string& fallback);
   // The object itself (None when absent); for arrays and other non-scalar options.
   py::object object(const std::string& name);

@@ -9,6 +9,7 @@
 #include "cshapes/support/threads.h"
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/declared_options.h"
 
 namespace py = pybind11;
 
@@ -64,4 +65,5 @@ CLI's names (--tear-fraction -> tear_fraction) and defaults. Long computations r
   cshapes::python::bind_matching(m);
   cshapes::python::bind_eval(m);
   cshapes::python::bind_experiments(m);
+  cshapes::python::bind_option_declarations(m);
 }

@@ -6,6 +6,7 @@
 
 #include <string>
 #include <vector>
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
 
@@ -16,6 +17,13 @@ const std::vector<std::string>& figure_format_names();
 std::string to_string(FigureFormat format);
 // The format of a name ("svg"); throws cshapes::Error naming the formats for any other.
 FigureFormat parse_figure_format(const std::string& name);
+// `--figure-format` and figure_format= on every command and function that draws (declared once,
+// support/option_declaration.h).
+inline const OptionDeclaration kFigureFormatOption{"figure_format", "--figure-format",
+                                                   "the figures' format and extension: png, or pdf or svg "
+                                                   "for a paper (lines and text stay vectors, text stays "
+                                                   "text)",
+                                                   std::nullopt, figure_format_names()};
 // "NAME.EXT": the file a figure called NAME is written to in `format` ("pr", svg -> "pr.svg").
 std::string figure_file_name(const std::string& name, FigureFormat format);
 

@@ -21,8 +21,22 @@
 #include <set>
 #include <string>
 #include <vector>
+#include "cshapes/support/option_declaration.h"
 
 namespace cshapes {
+
+// `--force` and force=: the option a user sets to write where files cshapes did not write are (declared once,
+// support/option_declaration.h).
+// `--out DIR` and out= of every run over a dataset (the experiments).
+inline const OptionDeclaration kOutFolderOption{
+    "out", "--out",
+    "output folder, created when missing (its cache/ makes reruns, and a killed run restarted, resume); a "
+    "folder holding files cshapes did not write is refused, and a rerun removes the outputs of the previous "
+    "one"};
+inline const OptionDeclaration kForceOption{
+    "force", "--force",
+    "write although the outputs' place holds files cshapes did not write (they are left as they are, unless "
+    "this run writes the same name)"};
 
 class Communicator;
 
