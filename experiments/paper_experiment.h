@@ -48,8 +48,8 @@ inline const OptionDeclaration kData{"data", "--data",
     "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
 inline const OptionDeclaration kTable1 = negated_option(
     "table1", "--no-table1",
-    "measure Table 1, the seconds of pre-computation and of one iteration at 561, 3,505 and 22,738 vertices, "
-    "and check the report's two claims on cost: the run's longest part, as Table 1 remeshes a biped to "
+    "measure Table 1 (the seconds of pre-computation and of one iteration at 561, 3,505 and 22,738 "
+    "vertices), which checks the report's two claims on cost; the run's longest part: it remeshes a biped to "
     "22,738 vertices and computes its all-pairs geodesic matrix (2.1 GB of memory; about 1-2 minutes on two "
     "cores, with progress)");
 inline const OptionDeclaration kFigureData =
