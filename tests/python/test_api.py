@@ -196,7 +196,7 @@ def test_progress_callback_of_distances_and_geodesics():
 
 
 def test_progress_callback_of_a_generated_dataset():
-    # A dataset takes most of a minute at 5,000 vertices: its progress counts the shapes made.
+    # Making a dataset is one of the long calls: its progress counts the shapes made.
     recorder = Recorder()
     shapes = cshapes.generate("dataset", classes=1, poses=2, noisy=0, vertices=800, progress=recorder)
     check_reports(recorder.calls, "dataset")
