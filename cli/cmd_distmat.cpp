@@ -111,9 +111,7 @@ const bool registered = register_command(
     {{"distmat"},
      "Distance matrix of a dataset: canonical forms (cached), ICP between all pairs, the paper's distance",
      [](CLI::App& app) {
-       app.add_option("DATA", args.data,
-                      "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file")
-           ->required();
+       app.add_option("DATA", args.data, option_help(kDataOption, OptionSkin::Cli))->required();
        add_allow_outside_flag(app, args.allow_outside);
        app.add_option("-o,--output", args.output,
                       "distance matrix CSV (header: shape names); the shapes' classes go beside it, D.csv -> "

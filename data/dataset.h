@@ -33,6 +33,10 @@ namespace cshapes {
 inline const OptionDeclaration kAllowOutsideOption{
     "allow_outside", "--allow-outside",
     "read manifest or .cla entries that lead outside the dataset's folder (refused by default)"};
+// `--data` and data=: a dataset as every command that reads one takes it (an experiment that needs more of it
+// says so in its own declaration, after this text).
+inline const OptionDeclaration kDataOption{
+    "data", "--data", "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
 // `--shapes` and shapes=: a run restricted to some shapes of the dataset, by name.
 inline const OptionDeclaration kShapesOption{
     "shapes", "--shapes", "only these shapes (names; comma-separated on the command line); default: all"};

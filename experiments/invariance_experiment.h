@@ -52,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/data/dataset.h"
 #include "cshapes/matching/icp.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/shape_failures.h"
@@ -94,8 +95,7 @@ inline const OptionDeclaration kTolerancePose{
     "verdict: an RMSE up to this % of the method's median pose variation passes",
     invariance_limits::kTolerancePose};
 inline const OptionDeclaration kData{"data", "--data",
-    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file; two clean poses of a "
-    "class give a pose pair"};
+                                     kDataOption.help + "; two clean poses of a class give a pose pair"};
 inline const OptionDeclaration kDraw =
     negated_option("draw", "--no-draw", "draw invariance.png (drawing needs Python with matplotlib)");
 inline const std::vector<const OptionDeclaration*> kAll = {&kDraw, &kVertices,       &kSeeds,

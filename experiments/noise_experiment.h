@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/data/dataset.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
@@ -58,8 +59,7 @@ inline const OptionDeclaration kLevels{"levels", "--levels",
                                        "on the command line"};
 inline const OptionDeclaration kSeed{"seed", "--seed",
                                      "base seed of the glues (each pose and level derives its own)"};
-inline const OptionDeclaration kData{"data", "--data",
-    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
+inline const OptionDeclaration& kData = kDataOption;
 inline const OptionDeclaration kDraw =
     negated_option("draw", "--no-draw", "draw noise.png (drawing needs Python with matplotlib)");
 inline const std::vector<const OptionDeclaration*> kAll = {&kLevels, &kSeed, &kDraw};

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "cshapes/data/dataset.h"
 #include "cshapes/support/communicator.h"
 #include "cshapes/experiments/timing_table.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
@@ -44,8 +45,7 @@ inline const OptionDeclaration kTable1Repeats{"table1_repeats", "--table1-repeat
 inline const OptionDeclaration kCorrespondenceSamples{
     "correspondence_samples", "--correspondence-samples",
     "ground-truth samples per pair for the point-map error (0: skip)"};
-inline const OptionDeclaration kData{"data", "--data",
-    "folder of meshes (class = name without trailing digits), manifest.csv or a .cla file"};
+inline const OptionDeclaration& kData = kDataOption;
 inline const OptionDeclaration kTable1 = negated_option(
     "table1", "--no-table1",
     "measure Table 1 (the seconds of pre-computation and of one iteration at 561, 3,505 and 22,738 "
