@@ -132,10 +132,7 @@ const bool registered = register_command(
            "with no geodesic fallback; and refuse a mesh the method would have to repair");
        app.footer(kPartialResultHelp);
        app.add_flag("--json", args.json, "print a JSON summary");
-       app.add_option(
-              "--two-stage-k", args.two_stage_k,
-              "two-stage retrieval: align only each shape's K nearest candidates by a cheap descriptor; "
-              "other pairs rank after them (0: all pairs, exact)")
+       add_declared(app, kTwoStageKOption, args.two_stage_k)
            ->capture_default_str()
            ->check(integer_at_least(0));
        app.add_option("--reference", args.reference,

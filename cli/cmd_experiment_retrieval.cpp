@@ -7,6 +7,7 @@
 #include "cli/command.h"
 #include "cshapes/support/format.h"
 #include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/pipeline/dataset_distances.h"
 #include "cshapes/pipeline/distributed.h"
 
 namespace cshapes::cli {
@@ -37,6 +38,11 @@ int run() {
   for (const RetrievalMethodResult& m : r.methods) {
     nlohmann::json per = nlohmann::json::object();
     for (const auto& [kind, report] : m.by_distance) per[kind] = retrieval_scores_json(report.result.mean);
+    if (o.two_stage_k > 0) {
+      per["two_stage"] = {{"k", o.two_stage_k}, {"pairs_aligned", m.pairs_aligned}};
+      if (m.recall >= 0) per["two_stage"]["recall_at_k"] = m.recall;
+      for (const auto& [kind, scores] : m.exact) per["two_stage"]["exact"][kind] = retrieval_scores_json(scores);
+    }
     methods[m.method] = per;
   }
   if (args.json) {
@@ -55,8 +61,13 @@ int run() {
                 r.class_names.size(), seconds_text(r.seconds).c_str(), o.out.c_str());
     for (const RetrievalMethodResult& m : r.methods) {
       const RetrievalScores& s = m.by_distance.at("hausdorff").result.mean;
-      std::printf("  %-14s mAP %.3f  NN %.3f  FT %.3f  ST %.3f  (Hausdorff)\n",
+      std::printf("  %-14s mAP %.3f  NN %.3f  FT %.3f  ST %.3f  (Hausdorff)",
                   canonical_form_method_title(m.method).c_str(), s.ap, s.nn, s.ft, s.st);
+      if (o.two_stage_k > 0) std::printf("  two-stage: %ld pairs aligned", m.pairs_aligned);
+      if (m.recall >= 0) std::printf(", recall@%d %.3f", o.two_stage_k, m.recall);
+      const auto exact = m.exact.find("hausdorff");
+      if (exact != m.exact.end()) std::printf(", exact mAP %.3f", exact->second.ap);
+      std::printf("\n");
     }
   }
   return exit_code_for(r.failures);
@@ -79,6 +90,8 @@ const bool registered = register_command(
        add_declared(app, retrieval_experiment_options::kMinClassSize, o.retrieval.min_class_size)
            ->capture_default_str()
            ->check(integer_in(2, 1000000));
+       add_declared(app, kTwoStageKOption, o.two_stage_k)->capture_default_str()->check(integer_at_least(0));
+       add_declared(app, retrieval_experiment_options::kTwoStageReference, o.two_stage_reference);
        add_no_draw_flag(app, args.no_draw, retrieval_experiment_options::kDraw);
        add_figure_format_option(app, o.figure_format);
        app.add_flag("--json", args.json, "print the summary as JSON (with its \"failures\")");

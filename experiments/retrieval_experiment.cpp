@@ -5,7 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include <omp.h>
+
 #include "cshapes/data/classification.h"
+#include "cshapes/support/atomic_file.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/support/error.h"
 #include "cshapes/support/timing.h"
@@ -52,9 +55,12 @@ void write_method_files(const ExperimentFolder& folder, const RetrievalExperimen
 // What, besides the inputs, makes two runs' measures comparable: the measures' conventions and the
 // resampling.
 json retrieval_protocol_json(const RetrievalExperimentOptions& o) {
-  return {{"e_measure_depth", o.retrieval.e_measure_depth},
-          {"min_class_size", o.retrieval.min_class_size},
-          {"resample_vertices", o.resample.vertices}};
+  json j{{"e_measure_depth", o.retrieval.e_measure_depth},
+         {"min_class_size", o.retrieval.min_class_size},
+         {"resample_vertices", o.resample.vertices}};
+  // Only in two-stage runs: exact runs keep the protocol of the runs before the mode existed.
+  if (o.two_stage_k > 0) j["two_stage_k"] = o.two_stage_k;
+  return j;
 }
 
 // retrieval.json: every measure of the run (the figures' input).
@@ -80,6 +86,15 @@ json result_json(const RetrievalExperimentResult& r) {
                        {"form_peak_memory_bytes", m.form_peak_bytes_max < 0 ? nlohmann::json(nullptr)
                                                                              : nlohmann::json(m.form_peak_bytes_max)},
                        {"distances", distances}});
+    if (r.options.two_stage_k > 0) {
+      json& two = methods.back()["two_stage"];
+      two = {{"k", r.options.two_stage_k}, {"pairs_aligned", m.pairs_aligned}};
+      if (m.recall >= 0) two["recall_at_k"] = m.recall;
+      if (!m.exact.empty()) {
+        two["reference"] = r.options.two_stage_reference;
+        for (const auto& [kind, scores] : m.exact) two["exact"][kind] = retrieval_scores_json(scores);
+      }
+    }
   }
   json shapes_read = json::array();
   for (const ShapeChecksum& s : r.inputs.shapes)
@@ -95,7 +110,9 @@ json result_json(const RetrievalExperimentResult& r) {
          {"distances", retrieval_distances()},
          {"methods", methods},
          {"failures", shape_failures_json(r.failures)},
-         {"seconds", r.seconds}};
+         {"seconds", r.seconds},
+         {"cores", r.cores},
+         {"profile", stage_times_json(r.profile)}};
   if (r.resampled) {
     json shapes = json::array();
     for (const ResampledShape& s : r.resampling.shapes)
@@ -111,6 +128,60 @@ json result_json(const RetrievalExperimentResult& r) {
   return j;
 }
 
+// Two-stage options checked before any work: a reference without K, a reference that is not an exact run's
+// folder of every method asked for, or one that this run would write into.
+void check_two_stage(const RetrievalExperimentOptions& o) {
+  CSHAPES_REQUIRE(o.two_stage_k >= 0, "experiment retrieval: two-stage K = ", o.two_stage_k, ", expected >= 0");
+  if (o.two_stage_reference.empty()) return;
+  CSHAPES_REQUIRE(o.two_stage_k > 0, "experiment retrieval: --two-stage-reference ", o.two_stage_reference,
+                  ": applies to the two-stage mode only (--two-stage-k K > 0)");
+  const fs::path ref = fs::weakly_canonical(o.two_stage_reference), out = fs::weakly_canonical(o.out);
+  CSHAPES_REQUIRE(ref != out, "experiment retrieval: --two-stage-reference ", o.two_stage_reference,
+                  " is the output folder: a run replaces its folder's outputs, so the exact run would be lost; "
+                  "give the two-stage run another --out");
+  for (const std::string& method : o.methods)
+    for (const std::string& kind : retrieval_distances()) {
+      const fs::path file = ref / method / (kind + ".csv");
+      CSHAPES_REQUIRE(fs::is_regular_file(file), "experiment retrieval: --two-stage-reference ",
+                      o.two_stage_reference, ": no ", (fs::path(method) / (kind + ".csv")).string(),
+                      " (expected the output folder of an exact `cshapes experiment retrieval` run of the "
+                      "same collection with method ", method, ")");
+      CSHAPES_REQUIRE(fs::is_regular_file(ref / method / "classes.cla"), "experiment retrieval: ",
+                      "--two-stage-reference ", o.two_stage_reference, ": no ", method, "/classes.cla");
+    }
+  const std::string protocol = (ref / "retrieval.json").string();
+  if (fs::is_regular_file(protocol)) {
+    const json j = json::parse(read_text_file(protocol));
+    CSHAPES_REQUIRE(!j.contains("protocol") || !j["protocol"].contains("two_stage_k"),
+                    "experiment retrieval: --two-stage-reference ", o.two_stage_reference,
+                    ": a two-stage run (two_stage_k = ", j["protocol"].value("two_stage_k", json()).dump(),
+                    "), expected an exact one");
+  }
+}
+
+// The exact run's measures of `method` under each distance, from its matrices and classes, with this run's
+// conventions.
+std::map<std::string, RetrievalScores> exact_measures(const RetrievalExperimentOptions& o,
+                                                      const std::string& method) {
+  const fs::path ref = fs::path(o.two_stage_reference) / method;
+  std::map<std::string, std::string> class_of;
+  for (const ClassificationClass& c : read_classification((ref / "classes.cla").string()).classes)
+    for (const std::string& model : c.models) class_of[model] = c.name;
+  std::map<std::string, RetrievalScores> exact;
+  for (const std::string& kind : retrieval_distances()) {
+    const NamedDistances named = read_distance_csv((ref / (kind + ".csv")).string());
+    std::vector<std::string> classes;
+    for (const std::string& name : named.names) {
+      const auto it = class_of.find(name);
+      CSHAPES_REQUIRE(it != class_of.end(), (ref / (kind + ".csv")).string(), ": shape '", name,
+                      "' is in no class of ", (ref / "classes.cla").string());
+      classes.push_back(it->second);
+    }
+    exact.emplace(kind, retrieval_report(named, classes, o.retrieval, (ref / (kind + ".csv")).string()).result.mean);
+  }
+  return exact;
+}
+
 }  // namespace
 
 RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOptions& o) {
@@ -118,6 +189,7 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
   const Communicator& comm = o.communicator ? *o.communicator : single_process();
   CSHAPES_REQUIRE(!o.methods.empty(), "experiment retrieval: no method given");
   require_canonical_form_methods(o.methods, "experiment retrieval");
+  check_two_stage(o);
   const ExperimentFolder folder(o.out);
   RetrievalExperimentResult r;
   r.options = o;
@@ -125,9 +197,12 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
   r.options.note = {};
   r.options.communicator = nullptr;
   r.data = o.data;
+  r.cores = std::max(1, omp_get_num_procs());
   if (o.resample.vertices > 0) {
+    const Stopwatch watch;
     r.resampling = resample_dataset(o.data, o.resample, folder.path("resampled"), folder.cache("remeshed"),
                                     &comm, o.note, o.allow_outside);
+    r.profile.push_back(stage_time("resample", "", watch));
     r.resampled = true;
     r.data = r.resampling.data;
     for (const ShapeFailure& record : resample_records(r.resampling)) r.failures.push_back(record);
@@ -166,7 +241,12 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     dd.progress = o.progress;
     dd.note = o.note;
     dd.communicator = &comm;
+    dd.two_stage_k = o.two_stage_k;
+    if (!o.two_stage_reference.empty())
+      dd.reference = (fs::path(o.two_stage_reference) / method / "hausdorff.csv").string();
     const DatasetDistances distances = dataset_distances(dd);
+    r.profile.insert(r.profile.end(), distances.profile.begin(), distances.profile.end());
+    const Stopwatch measures;
     for (const ShapeFailure& f : distances.failures)
       if (!f.method.empty() || unreadable.insert(f.path).second) r.failures.push_back(f);
     RetrievalMethodResult m;
@@ -183,7 +263,11 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
       m.form_seconds_median = t[t.size() / 2];
       for (double b : distances.form_peak_bytes) m.form_peak_bytes_max = std::max(m.form_peak_bytes_max, b);
     }
+    m.pairs_aligned = distances.distances.pairs;
+    m.recall = distances.two_stage.recall;
     if (comm.is_root()) write_method_files(folder, o, distances, m);
+    if (comm.is_root() && !o.two_stage_reference.empty()) m.exact = exact_measures(o, method);
+    r.profile.push_back(stage_time("measures", method, measures));
     m.seconds = seconds_since(method_start);
     r.methods.push_back(std::move(m));
   }
@@ -221,8 +305,14 @@ RetrievalExperimentResult retrieval_experiment(const RetrievalExperimentOptions&
   RetrievalExperimentResult r = run_retrieval_experiment(options);
   if (!comm.is_root()) return r;
   if (options.figures) {
+    const Stopwatch watch;
     draw_retrieval_figures(r, options.out);
     if (!r.figures_note.empty()) say(options.note, "no figures: " + r.figures_note);
+    r.profile.push_back(stage_time("figures", "", watch));
+    // retrieval.json again, with the figures' time in its profile (the figures read the first one).
+    json out = result_json(r);
+    out["build"] = build_json();
+    ExperimentFolder(options.out).write_json("retrieval.json", out);
   } else {
     r.figures_note = "not requested (--no-draw)";
   }

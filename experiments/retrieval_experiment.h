@@ -45,6 +45,7 @@
 #include "cshapes/pipeline/resampled_dataset.h"
 #include "cshapes/pipeline/shape_failures.h"
 #include "cshapes/support/figure_format.h"
+#include "cshapes/support/stage_time.h"
 
 namespace cshapes {
 
@@ -61,7 +62,13 @@ inline const OptionDeclaration kData{"data", "--data",
     "ID.off or mID.off … in the .cla's folder)"};
 inline const OptionDeclaration kDraw =
     negated_option("draw", "--no-draw", "draw the figures (drawing needs Python with matplotlib)");
-inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize, &kDraw};
+inline const OptionDeclaration kTwoStageReference{
+    "two_stage_reference", "--two-stage-reference",
+    "two-stage: the output folder of an exact run of the same collection and methods (a run without "
+    "--two-stage-k), read, never written; each method's recall@K and its exact measures are reported beside "
+    "the two-stage ones"};
+inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize, &kDraw,
+                                                           &kTwoStageReference};
 }  // namespace retrieval_experiment_options
 
 struct RetrievalExperimentOptions {
@@ -75,6 +82,11 @@ struct RetrievalExperimentOptions {
   // Method options: the experiments' (heat geodesics for MDS), as `cshapes distmat` and the other experiments.
   CanonicalFormOptions canon = experiment_canonical_form_options();
   ResampleOptions resample;  // vertices > 0: every shape remeshed to about that many vertices first
+  // Two-stage mode (pipeline/dataset_distances.h; 0: every pair aligned, the exact run): ICP on each shape's
+  // two_stage_k descriptor-nearest candidates only. two_stage_reference: an exact run's output folder (its
+  // METHOD/hausdorff.csv and measures), for recall@K and the exact measures beside the two-stage ones.
+  int two_stage_k = 0;
+  std::string two_stage_reference;
   RetrievalOptions retrieval;  // the measures' conventions (eval/retrieval.h: psbTable's)
   bool figures = true;         // draw the figures (when matplotlib is found)
   // The figures' format: png, pdf or svg (support/figure_format.h).
@@ -96,6 +108,11 @@ struct RetrievalMethodResult {
   // Per form, as computed (cached forms keep their time): the median seconds, and the largest peak memory in
   // bytes of a method run as a program of its own (−1: not measured, an in-process method).
   double form_seconds_median = 0, form_peak_bytes_max = -1;
+  // Two-stage mode: the pairs aligned (of N(N−1)/2); with a reference, recall@K under the Hausdorff distance
+  // (pipeline/dataset_distances.h) and the exact run's measures under each distance (its METHOD/ files).
+  long pairs_aligned = 0;
+  double recall = -1;
+  std::map<std::string, RetrievalScores> exact;
 };
 
 struct RetrievalExperimentResult {
@@ -114,6 +131,11 @@ struct RetrievalExperimentResult {
   std::vector<std::string> figures;    // drawn, relative to out
   std::string figures_note;            // why not, when not drawn
   double seconds = 0;
+  // Where the time went, in order (support/stage_time.h): "resample"; per method "forms", "pairs" and
+  // "measures" (the matrices' files and the measures under each distance); "figures" when drawn. `cores`: the
+  // machine's (what cpu / wall is out of).
+  std::vector<StageTime> profile;
+  int cores = 0;
 };
 
 // The measurement and its data files (everything above but report.md). On ranks other than 0 of a distributed

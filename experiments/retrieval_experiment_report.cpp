@@ -111,6 +111,39 @@ void confusion_section(std::ostream& out, const RetrievalExperimentResult& r) {
   }
 }
 
+// Two-stage mode: what was aligned, the recall of the candidates and, with a reference, the measures beside
+// the exact run's.
+void two_stage_section(std::ostream& out, const RetrievalExperimentResult& r) {
+  const RetrievalExperimentOptions& o = r.options;
+  if (o.two_stage_k <= 0) return;
+  out << "## Two-stage retrieval\n\nICP aligned only each shape's " << o.two_stage_k
+      << " nearest candidates by a cheap descriptor of its form (moments and the D2 distribution, "
+         "matching/shape_descriptor.h); every other pair ranks after them, in descriptor order. recall@K: "
+         "the share of each shape's true "
+      << o.two_stage_k
+      << " nearest (Hausdorff, the exact run's matrix) that its candidates held; 1 means every query's "
+         "first K results are the exact run's.";
+  if (o.two_stage_reference.empty())
+    out << " No exact run was given (--two-stage-reference), so no recall and no exact measures.";
+  else
+    out << " Exact run: `" << o.two_stage_reference << "`.";
+  out << "\n\n| method | pairs aligned | of all pairs | recall@K | mAP | mAP exact | NN | NN exact |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const RetrievalMethodResult& m : r.methods) {
+    const long n = static_cast<long>(m.names.size()), all = n * (n - 1) / 2;
+    const RetrievalScores& s = m.by_distance.at("hausdorff").result.mean;
+    const auto exact = m.exact.find("hausdorff");
+    const bool have = exact != m.exact.end();
+    out << "| " << canonical_form_method_title(m.method) << " | " << m.pairs_aligned << " | "
+        << percent(all > 0 ? static_cast<double>(m.pairs_aligned) / static_cast<double>(all) : NAN, 1)
+        << " | " << (m.recall >= 0 ? fixed(m.recall, 3) : std::string("—")) << " | " << fixed(s.ap, 3) << " | "
+        << (have ? fixed(exact->second.ap, 3) : std::string("—")) << " | " << fixed(s.nn, 3) << " | "
+        << (have ? fixed(exact->second.nn, 3) : std::string("—")) << " |\n";
+  }
+  out << "\nMeasures under the Hausdorff distance (the paper's); the other distances' are in retrieval.json "
+         "(\"two_stage\").\n\n";
+}
+
 void cost_section(std::ostream& out, const RetrievalExperimentResult& r) {
   out << "## Cost\n\nMeasured under whatever else ran on the machine; cached items cost nothing on a "
          "rerun.\n\n"
@@ -125,6 +158,15 @@ void cost_section(std::ostream& out, const RetrievalExperimentResult& r) {
   out << "Seconds per form: as computed (a cached form keeps the time of the run that computed it). Peak "
          "memory: of the program a method from outside runs per shape (its largest); — for the library's "
          "methods, which run inside cshapes.\n\n";
+  if (r.profile.empty()) return;
+  out << "### Where the time went\n\nPer stage: wall and CPU seconds (this process's threads and the programs "
+         "it ran: methods from outside, the figures' Python), the cores kept busy on average (CPU / wall) and "
+         "the share of the machine's "
+      << r.cores
+      << " cores left idle. Forms: reading the files and the canonical forms (cached ones are read); pairs: "
+         "ICP and the distances of every pair; measures: the matrices' files and the measures. Also in "
+         "retrieval.json's \"profile\".\n\n"
+      << stage_times_markdown(r.profile, r.cores) << '\n';
 }
 
 }  // namespace
@@ -153,6 +195,7 @@ void write_retrieval_report(const RetrievalExperimentResult& r, const std::strin
       << o.retrieval.min_class_size << " shapes give no queries.\n\n";
   if (r.resampled) out << "## Resampling\n\n" << resampling_markdown(r.resampling) << '\n';
   overall_section(out, r);
+  two_stage_section(out, r);
   per_class_section(out, r);
   confusion_section(out, r);
   out << "## Figures\n\n";

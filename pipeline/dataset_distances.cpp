@@ -1,5 +1,7 @@
 #include "cshapes/pipeline/dataset_distances.h"
 
+#include "cshapes/support/timing.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <optional>
@@ -189,6 +191,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   CSHAPES_REQUIRE(options.resample.vertices == 0 || !options.cache_dir.empty(), options.data,
                   ": resampling needs a cache folder (the remeshed shapes are written there)");
   DatasetDistances result;
+  Stopwatch watch;
   if (options.resample.vertices > 0)
     result.resampling = resample_dataset(
         options.data, options.resample,
@@ -196,10 +199,12 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
             .string(),
         DiskCache((std::filesystem::path(options.cache_dir) / "remeshed").string()), &comm, options.note,
         options.allow_outside);
+  if (options.resample.vertices > 0) result.profile.push_back(stage_time("resample", "", watch));
   for (const ShapeFailure& record : resample_records(result.resampling)) {
     say(options.note, describe(record));
     result.failures.push_back(record);
   }
+  watch.restart();
   // The resampled manifest (written here) lists the shapes kept as they were by their own paths.
   const Dataset data = options.resample.vertices > 0 ? read_dataset(result.resampling.data, true)
                                                      : read_dataset(options.data, options.allow_outside);
@@ -231,6 +236,8 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   result.forms_cached -= computed_by_ranks;
   CSHAPES_REQUIRE(forms.size() >= 2, options.data, ": ", forms.size(), " usable shapes (",
                   result.skipped.size(), " skipped), a distance matrix needs at least 2");
+  result.profile.push_back(stage_time("forms", co.method, watch));
+  watch.restart();
   PairwiseDistanceOptions po = options.pairs;
   po.cache_dir = options.cache_dir.empty() ? "" : (cache_dir / "pairs").string();
   po.progress = renamed_stage(options.progress, "distances, " + canonical_form_method_title(co.method));
@@ -246,6 +253,7 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
       rank_unmeasured_last(*M, descriptor_distances);
     if (!options.reference.empty()) result.two_stage.recall = reference_recall(reference, options, result);
   }
+  result.profile.push_back(stage_time("pairs", co.method, watch));
   return result;
 }
 

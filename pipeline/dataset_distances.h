@@ -27,6 +27,8 @@
 #include <vector>
 
 #include "cshapes/support/communicator.h"
+#include "cshapes/support/stage_time.h"
+#include "cshapes/support/option_declaration.h"
 #include "cshapes/eval/pairwise_distances.h"
 #include "cshapes/matching/shape_descriptor.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
@@ -35,6 +37,12 @@
 #include "cshapes/pipeline/shape_failures.h"
 
 namespace cshapes {
+
+// `--two-stage-k K` of `cshapes distmat` and `experiment retrieval`, two_stage_k= in Python (declared once).
+inline const OptionDeclaration kTwoStageKOption{
+    "two_stage_k", "--two-stage-k",
+    "two-stage retrieval: align only each shape's K nearest candidates by a cheap descriptor; other pairs "
+    "rank after them (0: all pairs, exact)"};
 
 struct DatasetDistanceOptions {
   std::string data;            // folder of meshes (class = name without trailing digits) or manifest.csv
@@ -78,6 +86,10 @@ struct DatasetDistances {
   std::vector<double> form_seconds, form_peak_bytes;
   PairwiseDistanceResult distances;  // N×N over `names`: hausdorff (the paper's), chamfer, rmse (rank 0)
   TwoStageSummary two_stage;
+  // Where this call's time went (support/timing.h), on this rank: "resample" (with options.resample),
+  // "forms" (reading the files, the forms computed or read from the cache) and "pairs" (the candidates of
+  // two-stage mode, the alignments and distances), each with the method's name.
+  std::vector<StageTime> profile;
   ResampledDataset resampling;  // with options.resample: what was remeshed, and how well (else empty)
 };
 

@@ -1,5 +1,6 @@
 #include "cshapes/pipeline/experiment_kit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -74,6 +75,46 @@ std::string fixed(double value, int decimals) {
 std::string percent(double fraction, int decimals) {
   if (!std::isfinite(fraction)) return "—";
   return fixed(100 * fraction, decimals) + "%";
+}
+
+nlohmann::json stage_times_json(const std::vector<StageTime>& profile) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const StageTime& t : profile)
+    stages.push_back({{"stage", t.stage},
+                      {"method", t.method},
+                      {"wall_seconds", t.wall_seconds},
+                      {"cpu_seconds", t.cpu_seconds}});
+  return stages;
+}
+
+std::string stage_times_markdown(const std::vector<StageTime>& profile, int cores) {
+  double wall = 0, cpu = 0;
+  for (const StageTime& t : profile) {
+    wall += t.wall_seconds;
+    cpu += t.cpu_seconds;
+  }
+  std::string out =
+      "| stage | method | wall s | CPU s | cores busy | idle |\n|---|---|---:|---:|---:|---:|\n";
+  auto row = [&](const std::string& stage, const std::string& method, double w, double c) {
+    const double busy = w > 0 ? c / w : NAN;
+    out += "| " + stage + " | " + method + " | " + fixed(w, 1) + " | " + fixed(c, 1) + " | " + fixed(busy, 2) +
+           " | " + percent(std::isfinite(busy) ? std::max(0.0, 1 - busy / std::max(1, cores)) : NAN, 0) +
+           " |\n";
+  };
+  double small_wall = 0, small_cpu = 0;
+  int small = 0;
+  for (const StageTime& t : profile) {
+    if (t.wall_seconds < 0.01 * wall) {
+      small_wall += t.wall_seconds;
+      small_cpu += t.cpu_seconds;
+      ++small;
+      continue;
+    }
+    row(t.stage, t.method.empty() ? "—" : t.method, t.wall_seconds, t.cpu_seconds);
+  }
+  if (small > 0) row(std::to_string(small) + " short stages", "—", small_wall, small_cpu);
+  row("**total**", "", wall, cpu);
+  return out;
 }
 
 }  // namespace cshapes

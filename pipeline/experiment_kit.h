@@ -17,9 +17,11 @@
 #include <nlohmann/json_fwd.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "cshapes/support/progress.h"
 #include "cshapes/data/cache.h"
+#include "cshapes/support/stage_time.h"
 
 namespace cshapes {
 
@@ -70,5 +72,13 @@ std::string fixed(double value, int decimals);
 std::string percent(double fraction, int decimals = 2);
 // value by a printf format of one double ("%.3f", "%+.3f"); "—" when NaN.
 std::string format_number(const char* format, double value);
+
+// A run's profile (support/stage_time.h) as JSON, one object per stage: {"stage", "method", "wall_seconds",
+// "cpu_seconds"}.
+nlohmann::json stage_times_json(const std::vector<StageTime>& profile);
+// The same as a report's table: stage, method, wall and CPU seconds, the cores kept busy (CPU / wall) and the
+// share of the `cores` left idle, with a total row; stages of less than a hundredth of the total wall time
+// are summed into one row.
+std::string stage_times_markdown(const std::vector<StageTime>& profile, int cores);
 
 }  // namespace cshapes

@@ -191,7 +191,8 @@ def experiment_paper(data: _Path, out: _Path, methods: _Methods = None, poses_pe
                      progress: _Progress = None) -> dict[str, Any]: ...
 def experiment_retrieval(data: _Path, out: _Path, methods: _Methods = None, resample: int = 0,
                          draw: bool = True, *, strict: bool = False, geodesics: _Geodesics = "heat",
-                         e_depth: int = 32, min_class_size: int = 3, figure_format: _FigureFormat = "png",
+                         e_depth: int = 32, min_class_size: int = 3, two_stage_k: int = 0,
+                         two_stage_reference: _Path | None = None, figure_format: _FigureFormat = "png",
                          force: bool = False, allow_outside: bool = False, method_timeout: float = 86400,
                          method_version: str = "", progress: _Progress = None) -> dict[str, Any]: ...
 def compare_runs(runs: Sequence[_Path], out: _Path, *, draw: bool = True, figure_format: _FigureFormat = "png",

@@ -261,7 +261,8 @@ DOCS = {
         description="Writes what the CLI writes (report.md, retrieval.json, METHOD/DISTANCE.csv, classes.cla, "
                     "...).",
         returns="dict\n    out, shapes, classes, seconds, resampled, measures {method: {distance: {map, nn, ft, "
-                "st, e, dcg}}}, figures, failures.",
+                "st, e, dcg}}}, figures, failures; with two_stage_k > 0, two_stage {method: {k, pairs_aligned, "
+                "recall_at_k and exact {distance: measures} when two_stage_reference is given}}.",
         raises=_EXPERIMENT_RAISES,
         examples=">>> r = cshapes.experiment_retrieval('data/tosca', 'out/tosca', methods='coulomb,lbo')\n"
                  ">>> r['measures']['coulomb']['hausdorff']['map']"),

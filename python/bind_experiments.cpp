@@ -17,6 +17,7 @@
 #include "cshapes/experiments/paper_experiment.h"
 #include "cshapes/experiments/pose_invariance.h"
 #include "cshapes/experiments/retrieval_experiment.h"
+#include "cshapes/pipeline/dataset_distances.h"
 #include "cshapes/experiments/show_mesh.h"
 #include "cshapes/experiments/topkids_experiment.h"
 #include "cshapes/pipeline/canonical_form_methods.h"
@@ -107,6 +108,11 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
       parse_geodesic_method(k.text("geodesics", to_string(o.canon.geodesics.method)));
   o.retrieval.e_measure_depth = k.int32("e_depth", o.retrieval.e_measure_depth);
   o.retrieval.min_class_size = k.int32("min_class_size", o.retrieval.min_class_size);
+  o.two_stage_k = k.int32("two_stage_k", o.two_stage_k);
+  CSHAPES_REQUIRE(o.two_stage_k >= 0, "experiment_retrieval(): two_stage_k: expected an integer >= 0, got ",
+                  o.two_stage_k);
+  if (k.given("two_stage_reference"))
+    o.two_stage_reference = to_path(k.object("two_stage_reference"), "two_stage_reference");
   o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
@@ -114,17 +120,24 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   k.done();
   o.progress = progress.fn();  // reports and Ctrl-C (python/progress.h)
   const RetrievalExperimentResult r = progress.run([&] { return retrieval_experiment(o); });
-  py::dict measures;
+  py::dict measures, two_stage;
   for (const RetrievalMethodResult& m : r.methods) {
     py::dict per;
     for (const auto& [kind, report] : m.by_distance)
       per[py::str(kind)] = python::to_python(retrieval_scores_json(report.result.mean));
     measures[py::str(m.method)] = per;
+    if (o.two_stage_k > 0) {
+      nlohmann::json two{{"k", o.two_stage_k}, {"pairs_aligned", m.pairs_aligned}};
+      if (m.recall >= 0) two["recall_at_k"] = m.recall;
+      for (const auto& [kind, scores] : m.exact) two["exact"][kind] = retrieval_scores_json(scores);
+      two_stage[py::str(m.method)] = python::to_python(two);
+    }
   }
   py::dict result;
   result["out"] = o.out;
   result["shapes"] = r.shapes;
   result["classes"] = r.class_names;
+  if (o.two_stage_k > 0) result["two_stage"] = two_stage;
   result["seconds"] = r.seconds;
   result["resampled"] = r.resampled;
   result["measures"] = measures;
@@ -392,6 +405,7 @@ void declare_experiment_keywords() {
   declare_keywords("coulomb", {&kStrictFormOption});
   declare_keywords("experiment_paper", paper_experiment_options::kAll);
   declare_keywords("experiment_retrieval", retrieval_experiment_options::kAll);
+  declare_keywords("experiment_retrieval", {&kTwoStageKOption});
   declare_keywords("experiment_noise", noise_experiment_options::kAll);
   declare_keywords("experiment_pose", {&pose_experiment_options::kSamples, &pose_experiment_options::kDraw,
                                        &pose_experiment_options::kParts});

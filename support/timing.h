@@ -11,6 +11,9 @@
 #pragma once
 
 #include <chrono>
+#include <string>
+
+#include "cshapes/support/stage_time.h"
 #include <vector>
 
 namespace cshapes {
@@ -26,6 +29,10 @@ double process_cpu_seconds();
 // CPU seconds used so far by the calling thread (origin arbitrary: use differences).
 double thread_cpu_seconds();
 
+// CPU seconds used so far by the child processes this process started and waited for (methods from
+// outside, the figures' Python), their children included (origin arbitrary: use differences).
+double children_cpu_seconds();
+
 // Wall and process CPU time since construction (or the last restart()).
 class Stopwatch {
  public:
@@ -33,11 +40,16 @@ class Stopwatch {
   void restart();
   double wall_seconds() const { return seconds_since(wall_start_); }
   double cpu_seconds() const { return process_cpu_seconds() - cpu_start_; }
+  // The CPU seconds of the child processes waited for meanwhile.
+  double children_cpu_seconds() const { return cshapes::children_cpu_seconds() - children_start_; }
 
  private:
   WallClock::time_point wall_start_;
-  double cpu_start_ = 0;
+  double cpu_start_ = 0, children_start_ = 0;
 };
+
+// The stage measured by `watch` since its start.
+StageTime stage_time(std::string stage, std::string method, const Stopwatch& watch);
 
 // The median of repeated measurements, by one rule: the upper median, i.e. the ⌊n/2⌋-th smallest value
 // (0-based). For an odd count the middle value; for an even count the larger of the two middle values, not

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cshapes/support/atomic_file.h"
+#include "cshapes/support/error.h"
 #include "cshapes/data/classification.h"
 #include "cshapes/data/dataset.h"
 #include "cshapes/mesh/io.h"
@@ -90,6 +91,105 @@ TEST(RetrievalExperiment, EndToEndFilesMeasuresAndResume) {
   EXPECT_EQ(again.methods[0].pairs_computed, 0);
   EXPECT_EQ(again.methods[0].pairs_cached, 15);
   EXPECT_EQ(read_text_file(o.out + "/cmds/hausdorff.csv"), matrix);
+}
+
+// The profile: every stage of every method, in order, with its times; and the same in retrieval.json.
+TEST(RetrievalExperiment, ProfileNamesEveryStageWithItsTimes) {
+  const std::string dir = test::scratch_dir("retrieval-experiment-profile");
+  RetrievalExperimentOptions o = fast_options(dir);
+  o.methods = {"cmds", "lbo"};
+  o.figures = false;
+  const RetrievalExperimentResult r = retrieval_experiment(o);
+  std::vector<std::string> stages;
+  for (const StageTime& t : r.profile) {
+    stages.push_back(t.stage + ":" + t.method);
+    EXPECT_GE(t.wall_seconds, 0) << t.stage;
+    EXPECT_GE(t.cpu_seconds, 0) << t.stage;
+  }
+  EXPECT_EQ(stages, (std::vector<std::string>{"forms:cmds", "pairs:cmds", "measures:cmds", "forms:lbo",
+                                              "pairs:lbo", "measures:lbo"}));
+  double wall = 0;
+  for (const StageTime& t : r.profile) wall += t.wall_seconds;
+  EXPECT_LE(wall, r.seconds * 1.01 + 1e-3);  // the stages do not overlap
+  EXPECT_GE(r.cores, 1);
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(o.out + "/retrieval.json"));
+  ASSERT_EQ(j["profile"].size(), 6u);
+  EXPECT_EQ(j["profile"][1]["stage"], "pairs");
+  EXPECT_EQ(j["profile"][1]["method"], "cmds");
+  EXPECT_NE(read_text_file(o.out + "/report.md").find("### Where the time went"), std::string::npos);
+}
+
+// Two-stage mode beside an exact run: the candidates' pairs only, recall@K and the exact measures from the
+// reference; K = N − 1 aligns every pair and gives the exact run's matrices and measures.
+TEST(RetrievalExperiment, TwoStageReportsRecallAndTheExactMeasures) {
+  const std::string dir = test::scratch_dir("retrieval-experiment-two-stage");
+  RetrievalExperimentOptions exact = fast_options(dir);
+  exact.figures = false;
+  const RetrievalExperimentResult e = retrieval_experiment(exact);
+  const RetrievalScores exact_scores = e.methods[0].by_distance.at("hausdorff").result.mean;
+
+  RetrievalExperimentOptions o = exact;
+  o.out = dir + "/two-stage";
+  o.two_stage_k = 1;
+  o.two_stage_reference = exact.out;
+  const RetrievalExperimentResult r = retrieval_experiment(o);
+  const RetrievalMethodResult& m = r.methods[0];
+  EXPECT_LT(m.pairs_aligned, 15);  // each shape's nearest candidate: at most 6 distinct pairs
+  EXPECT_LE(m.pairs_aligned, 6);
+  EXPECT_GE(m.recall, 0);
+  EXPECT_LE(m.recall, 1);
+  ASSERT_EQ(m.exact.count("hausdorff"), 1u);
+  EXPECT_EQ(m.exact.at("hausdorff").ap, exact_scores.ap);
+  EXPECT_EQ(m.exact.at("hausdorff").nn, exact_scores.nn);
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(o.out + "/retrieval.json"));
+  EXPECT_EQ(j["protocol"]["two_stage_k"], 1);
+  EXPECT_EQ(j["methods"][0]["two_stage"]["pairs_aligned"], m.pairs_aligned);
+  EXPECT_NE(read_text_file(o.out + "/report.md").find("## Two-stage retrieval"), std::string::npos);
+  // The exact run's protocol has no two-stage key (runs before the mode existed compare with it).
+  EXPECT_FALSE(nlohmann::json::parse(read_text_file(exact.out + "/retrieval.json"))["protocol"].contains(
+      "two_stage_k"));
+
+  o.out = dir + "/all-candidates";
+  o.two_stage_k = 5;
+  const RetrievalExperimentResult all = retrieval_experiment(o);
+  EXPECT_EQ(all.methods[0].pairs_aligned, 15);
+  EXPECT_EQ(all.methods[0].recall, 1.0);
+  EXPECT_EQ(read_text_file(o.out + "/cmds/hausdorff.csv"), read_text_file(exact.out + "/cmds/hausdorff.csv"));
+  EXPECT_EQ(all.methods[0].by_distance.at("hausdorff").result.mean.ap, exact_scores.ap);
+}
+
+// The message of the cshapes::Error that f throws ("" when it throws none).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RetrievalExperiment, TwoStageRefusesAReferenceItWouldOverwriteOrCannotUse) {
+  const std::string dir = test::scratch_dir("retrieval-experiment-two-stage-refusals");
+  RetrievalExperimentOptions exact = fast_options(dir);
+  exact.figures = false;
+  retrieval_experiment(exact);
+  RetrievalExperimentOptions o = exact;
+  o.two_stage_reference = exact.out;
+  o.out = dir + "/two-stage";
+  // Without K.
+  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("applies to the two-stage mode only"),
+            std::string::npos);
+  o.two_stage_k = 2;
+  // Into the reference's own folder: the rerun would remove the exact run's outputs.
+  o.out = exact.out;
+  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("the exact run would be lost"), std::string::npos);
+  EXPECT_TRUE(fs::exists(exact.out + "/cmds/hausdorff.csv"));
+  // A method the reference did not run.
+  o.out = dir + "/two-stage";
+  o.methods = {"lbo"};
+  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("no lbo/hausdorff.csv"), std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out + "/lbo"));
 }
 
 // The run returns the data and writes no report; the writer makes report.md from the result alone.
