@@ -257,4 +257,54 @@ DatasetDistances dataset_distances(const DatasetDistanceOptions& options) {
   return result;
 }
 
+std::map<std::string, long> precompute_shared_geodesic_forms(const DatasetDistanceOptions& options,
+                                                             const std::vector<std::string>& methods,
+                                                             std::vector<StageTime>* profile) {
+  std::map<std::string, long> computed;
+  const Communicator& comm = options.communicator ? *options.communicator : single_process();
+  std::vector<CanonicalFormOptions> shared;
+  std::string joined;
+  for (const std::string& method : methods) {
+    const CanonicalFormMethod* m = find_canonical_form_method(method);
+    if (!m || !m->uses_geodesic_matrix) continue;
+    CanonicalFormOptions co = options.canon;
+    co.method = method;
+    co.point_set = true;  // as dataset_distances sets it: the same cache keys
+    co.note = {};
+    co.progress = polls_of(options.progress);
+    shared.push_back(co);
+    joined += (joined.empty() ? "" : "+") + method;
+  }
+  if (shared.size() < 2 || options.cache_dir.empty() || comm.size() > 1) return computed;
+  const Stopwatch watch;
+  const Dataset data = read_dataset(options.data, options.allow_outside);
+  const DiskCache cache((std::filesystem::path(options.cache_dir) / "forms").string());
+  for (size_t i = 0; i < data.entries.size(); ++i) {
+    const DatasetEntry& e = data.entries[i];
+    if (options.progress)
+      options.progress("canonical forms, " + joined, static_cast<double>(i),
+                       static_cast<double>(data.entries.size()));
+    Mesh mesh;
+    try {
+      mesh = read_mesh(e.path);
+    } catch (const Error&) {
+      continue;  // the method's pass says why
+    }
+    for (CanonicalFormOptions& co : shared) co.name = e.path;
+    // Landmark MDS (a large mesh) computes no full matrix: nothing to share, the methods' passes do it.
+    if (mds_uses_landmarks(shared.front(), mesh.num_vertices())) continue;
+    try {
+      const std::vector<CachedForm> forms = cached_canonical_forms(cache, mesh, shared);
+      for (size_t k = 0; k < forms.size(); ++k)
+        if (!forms[k].cached) ++computed[shared[k].method];
+    } catch (const WriteError&) {
+      throw;  // the cache cannot be written: every later stage would fail too
+    } catch (const Error&) {
+      // the method's pass meets the same error and reports it (or stops, under strict)
+    }
+  }
+  if (profile) profile->push_back(stage_time("forms", joined, watch));
+  return computed;
+}
+
 }  // namespace cshapes

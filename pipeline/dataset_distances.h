@@ -23,6 +23,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -94,5 +95,19 @@ struct DatasetDistances {
 };
 
 DatasetDistances dataset_distances(const DatasetDistanceOptions& options);
+
+// Several methods over one dataset (`cshapes experiment retrieval`): the forms of the methods that embed the
+// full geodesic matrix (classical MDS and SMACOF at the same geodesic settings), computed shape by shape into
+// the cache (options.cache_dir/forms) before the methods' own passes, so that each shape's matrix is computed
+// once for all of them (pipeline/canonical_forms.h: cached_canonical_forms shares it). The forms are the
+// same bytes a method's own pass computes (the cache keys are the same). dataset_distances then reads them
+// from the cache, and meets and reports a shape that failed here (nothing is said or thrown here, unless the
+// cache cannot be written). Nothing happens with fewer than two such methods, without a cache, or across
+// ranks (options.communicator with R > 1: each method's pass shares its forms over the ranks instead).
+// options.data must already be what dataset_distances reads (resampled, when it resamples). Returns the forms
+// computed per method, and appends the stage to `profile` ("forms", the methods joined by '+').
+std::map<std::string, long> precompute_shared_geodesic_forms(const DatasetDistanceOptions& options,
+                                                             const std::vector<std::string>& methods,
+                                                             std::vector<StageTime>* profile = nullptr);
 
 }  // namespace cshapes

@@ -119,6 +119,34 @@ TEST(RetrievalExperiment, ProfileNamesEveryStageWithItsTimes) {
   EXPECT_NE(read_text_file(o.out + "/report.md").find("### Where the time went"), std::string::npos);
 }
 
+// Classical MDS and SMACOF share each shape's geodesic matrix: computed once, ahead of their passes, and the
+// same matrices (to the byte) and counts as runs of each method alone.
+TEST(RetrievalExperiment, MdsMethodsShareTheGeodesicMatrixWithTheSameResults) {
+  const std::string dir = test::scratch_dir("retrieval-experiment-shared-geodesics");
+  RetrievalExperimentOptions o = fast_options(dir);
+  o.methods = {"cmds", "smacof"};
+  o.figures = false;
+  const RetrievalExperimentResult both = retrieval_experiment(o);
+  ASSERT_FALSE(both.profile.empty());
+  EXPECT_EQ(both.profile.front().stage, "forms");
+  EXPECT_EQ(both.profile.front().method, "cmds+smacof");
+  for (const RetrievalMethodResult& m : both.methods) {
+    EXPECT_EQ(m.forms_computed, 6) << m.method;
+    EXPECT_EQ(m.forms_cached, 0) << m.method;
+  }
+  for (const std::string& method : o.methods) {
+    RetrievalExperimentOptions alone = o;
+    alone.methods = {method};
+    alone.out = dir + "/alone-" + method;
+    const RetrievalExperimentResult a = retrieval_experiment(alone);
+    EXPECT_EQ(a.methods[0].forms_computed, 6);
+    for (const std::string& kind : retrieval_distances())
+      EXPECT_EQ(read_text_file(alone.out + "/" + method + "/" + kind + ".csv"),
+                read_text_file(o.out + "/" + method + "/" + kind + ".csv"))
+          << method << " " << kind;
+  }
+}
+
 // Two-stage mode beside an exact run: the candidates' pairs only, recall@K and the exact measures from the
 // reference; K = N − 1 aligns every pair and gives the exact run's matrices and measures.
 TEST(RetrievalExperiment, TwoStageReportsRecallAndTheExactMeasures) {
