@@ -11,13 +11,14 @@
 #include <vector>
 
 #include "cshapes/support/error.h"
+#include "cshapes/support/simd.h"
 
 namespace cshapes {
 
 namespace {
 
 // Points per leaf. A leaf's coordinates are kLeaf consecutive doubles per axis (structure of arrays), scanned
-// 4 at a time without a branch per point; splits put a multiple of kLeaf points on the left, so every leaf
+// a vector at a time (4 or 8 doubles, by instruction set) without a branch per point; splits put a multiple of kLeaf points on the left, so every leaf
 // but the last is full. Large leaves suit ICP: a query lies off the other surface by about the RMSE, several
 // point spacings, so its search ball meets many small cells and a deep tree costs a mispredicted branch per
 // node: the time falls as the leaves grow, up to 64. Tried and dropped, both slower: a tight bounding box per
@@ -25,7 +26,7 @@ namespace {
 // each leaf with an exact rescan when it might hold a better point (most leaves a query meets need the
 // rescan). The measurements: docs/design.md, "Measured figures behind choices in the code".
 constexpr int kLeaf = 64;
-static_assert(kLeaf % 16 == 0, "leaves are scanned 4 vectors of 4 at a time");
+static_assert(kLeaf % 32 == 0, "leaves are scanned 4 vectors of up to 8 at a time");
 
 // One node of the tree, stored in depth-first order: an inner node's first child follows it.
 struct Node {
@@ -35,6 +36,49 @@ struct Node {
   int axis = -1;   // 0, 1, 2; −1 for a leaf
   int second = 0;  // inner node: index of the second child; leaf: its first slot (a multiple of kLeaf)
 };
+
+// What the search reads: the nodes, the leaves' coordinates (slot order), the bounding box of all points.
+struct TreeArrays {
+  const Node* nodes;
+  const double *x, *y, *z;
+  double box_low[3], box_high[3];
+};
+using FindFn = void (*)(const TreeArrays&, const double*, double&, int&);
+
+// The search per instruction set (support/simd.h): vectors of 4 doubles in pairs of SSE2 registers or in
+// AVX2's, of 8 in AVX-512's. The same bytes from each (nearest_neighbors_search.inl).
+namespace baseline {
+constexpr int kLanes = 4;
+#include "cshapes/matching/nearest_neighbors_search.inl"
+}  // namespace baseline
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2 {
+constexpr int kLanes = 4;
+#include "cshapes/matching/nearest_neighbors_search.inl"
+}  // namespace avx2
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx2,avx512f,avx512vl,avx512dq,avx512bw")
+namespace avx512 {
+constexpr int kLanes = 8;
+#include "cshapes/matching/nearest_neighbors_search.inl"
+}  // namespace avx512
+#pragma GCC pop_options
+
+FindFn find_for(SimdTarget target) {
+  switch (target) {
+    case SimdTarget::Avx512:
+      return avx512::find_entry;
+    case SimdTarget::Avx2:
+      return avx2::find_entry;
+    case SimdTarget::Baseline:
+      break;
+  }
+  return baseline::find_entry;
+}
 
 }  // namespace
 
@@ -57,50 +101,12 @@ struct NearestNeighbors::Impl {
     double xyz[3];
     int row;
   };
+  // The search of this process's instruction set (support/simd.h), chosen when the tree is built.
+  FindFn find_for_target = nullptr;
   int build(std::vector<BuildItem>& items, int begin, int end, int& next_slot);
-  void scan_leaf(int first_slot, const double* q, double& best_d2, int& best_slot) const;
-  void search(int node, const double* q, double box_d2, double* axis_d2, double& best_d2,
-              int& best_slot) const;
   // Exact nearest slot to q among points nearer than sqrt(best_d2); best_slot unchanged if none.
   void find(const double* q, double& best_d2, int& best_slot) const;
 };
-
-// The leaf's squared distances 4 at a time (GCC/Clang vector extensions: AVX2 when the target has it, pairs
-// of SSE2 operations otherwise), then one horizontal minimum: no branch per point.
-void NearestNeighbors::Impl::scan_leaf(int first_slot, const double* q, double& best_d2,
-                                       int& best_slot) const {
-  typedef double Vec4 __attribute__((vector_size(32), aligned(8), may_alias));
-  const size_t s = static_cast<size_t>(first_slot);
-  const Vec4 qx = {q[0], q[0], q[0], q[0]}, qy = {q[1], q[1], q[1], q[1]}, qz = {q[2], q[2], q[2], q[2]};
-  Vec4 d2[kLeaf / 4];
-  // Four running minima: independent dependency chains. A padding slot's NaN distance never replaces one
-  // (NaN < v is false), so they start from best_d2 rather than from a first distance that may be NaN.
-  // (No vector passes through a function: without AVX that would change the calling convention, -Wpsabi.)
-  const Vec4 start = {best_d2, best_d2, best_d2, best_d2};
-  Vec4 running[4] = {start, start, start, start};
-  for (int b = 0; b < kLeaf / 4; b += 4) {
-    for (int u = 0; u < 4; ++u) {
-      const Vec4 px = *reinterpret_cast<const Vec4*>(&x[s + 4 * (b + u)]);
-      const Vec4 py = *reinterpret_cast<const Vec4*>(&y[s + 4 * (b + u)]);
-      const Vec4 pz = *reinterpret_cast<const Vec4*>(&z[s + 4 * (b + u)]);
-      const Vec4 dx = px - qx, dy = py - qy, dz = pz - qz;
-      d2[b + u] = dx * dx + dy * dy + dz * dz;
-      running[u] = d2[b + u] < running[u] ? d2[b + u] : running[u];
-    }
-  }
-  Vec4 least0 = running[0], least1 = running[1], least2 = running[2], least3 = running[3];
-  least0 = least1 < least0 ? least1 : least0;
-  least2 = least3 < least2 ? least3 : least2;
-  const Vec4 least = least2 < least0 ? least2 : least0;
-  const double m = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
-  if (!(m < best_d2)) return;
-  for (int k = 0; k < kLeaf; ++k)
-    if (d2[k / 4][k % 4] == m) {
-      best_d2 = m;
-      best_slot = first_slot + k;
-      return;
-    }
-}
 
 namespace {
 
@@ -190,47 +196,10 @@ int NearestNeighbors::Impl::build(std::vector<BuildItem>& items, int begin, int 
   return id;
 }
 
-void NearestNeighbors::Impl::search(int node, const double* q, double box_d2, double* axis_d2,
-                                    double& best_d2, int& best_slot) const {
-  const Node& n = nodes[static_cast<size_t>(node)];
-  if (n.axis < 0) {
-    scan_leaf(n.second, q, best_d2, best_slot);
-    return;
-  }
-  const int axis = n.axis;
-  const double v = q[axis];
-  int nearer, farther;
-  double cut;  // squared distance along `axis` from q to the farther child's side
-  if ((v - n.low) + (v - n.high) < 0) {
-    nearer = node + 1;
-    farther = n.second;
-    cut = (v - n.high) * (v - n.high);
-  } else {
-    nearer = n.second;
-    farther = node + 1;
-    cut = (v - n.low) * (v - n.low);
-  }
-  search(nearer, q, box_d2, axis_d2, best_d2, best_slot);
-  const double saved = axis_d2[axis];
-  const double farther_d2 = box_d2 + cut - saved;
-  if (farther_d2 < best_d2) {
-    axis_d2[axis] = cut;
-    search(farther, q, farther_d2, axis_d2, best_d2, best_slot);
-    axis_d2[axis] = saved;
-  }
-}
-
 void NearestNeighbors::Impl::find(const double* q, double& best_d2, int& best_slot) const {
-  // Squared distance from q to the bounding box, per axis: the search's lower bound.
-  double axis_d2[3];
-  double box_d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double below = box_low[k] - q[k], above = q[k] - box_high[k];
-    const double d = below > 0 ? below : above > 0 ? above : 0.0;
-    axis_d2[k] = d * d;
-    box_d2 += axis_d2[k];
-  }
-  search(0, q, box_d2, axis_d2, best_d2, best_slot);
+  const TreeArrays t{nodes.data(), x.data(), y.data(), z.data(), {box_low[0], box_low[1], box_low[2]},
+                     {box_high[0], box_high[1], box_high[2]}};
+  find_for_target(t, q, best_d2, best_slot);
 }
 
 NearestNeighbors::NearestNeighbors(const Points& points) : impl_(std::make_unique<Impl>()) {
@@ -256,6 +225,7 @@ NearestNeighbors::NearestNeighbors(const Points& points) : impl_(std::make_uniqu
   t.build(items, 0, n, next_slot);
   t.box_low = points.colwise().minCoeff().transpose();
   t.box_high = points.colwise().maxCoeff().transpose();
+  t.find_for_target = find_for(simd_target());
 }
 
 NearestNeighbors::~NearestNeighbors() = default;
