@@ -7,6 +7,11 @@
                                                several runs of scripts/benchmarks.sh: each row with a ratio
                                                from the run of the median ratio, the runs' ratios beside it
                                                (rows without a ratio, and the other tables, from OUT1)
+  [OUT ...] --collection RUN [--collection RUN2 ...]
+                                               also (alone, without OUT) the section "A whole collection": the profile of each
+                                               `cshapes experiment retrieval` run folder (its retrieval.json),
+                                               e.g. the exact run and a two-stage run of the 400-shape collection
+                                               (scripts/make_benchmark400.py)
 
 Exits 1 when an anchor that should have run did not (scikit-learn or Open3D missing:
 scripts/install-deps.sh --with-anchors), naming the reason the benchmark gave. Standard library only.
@@ -329,10 +334,64 @@ def markdown(out, rows, run_count=1):
     p("to 30% between runs on this machine; ratios measured in one run hold better than absolute times.")
 
 
+def collection_section(runs):
+    """The section 'A whole collection' from `cshapes experiment retrieval` run folders."""
+    p = print
+    p("\n## A whole collection\n")
+    p("`cshapes experiment retrieval` over a collection, every stage timed by the run itself (the report's \"Where")
+    p("the time went\", `retrieval.json`'s `\"profile\"`): wall and CPU seconds (CPU / wall: the cores kept busy).")
+    p("The collection is made by `scripts/make_benchmark400.py ../shared/data COLLECTION` (20 classes of 20 shapes")
+    p("at 700–28,000 vertices, with near-duplicates and glued shapes); each run starts from an empty output folder.\n")
+    for run in runs:
+        j = json.load(open(os.path.join(run, "retrieval.json")))
+        methods = [m["method"] for m in j["methods"]]
+        two = j.get("protocol", {}).get("two_stage_k")
+        resample = j.get("protocol", {}).get("resample_vertices", 0)
+        command = (f"cshapes experiment retrieval --data COLLECTION --out OUT --methods {','.join(methods)}" +
+                   (f" --resample {resample}" if resample else "") + (f" --two-stage-k {two}" if two else ""))
+        p(f"**{j['shapes']} shapes, {len(methods)} methods" + (f", two-stage K = {two}" if two else ", exact (all pairs)") +
+          f":** `{command}`\n")
+        p("| stage | " + " | ".join(["remesh"] + methods + ["figures", "total"]) + " |")
+        p("| --- | " + " | ".join("---:" for _ in range(len(methods) + 3)) + " |")
+        prof = j.get("profile", [])
+        def cell(stage, method):
+            rows = [t for t in prof if t["stage"] == stage and (method is None or t["method"] == method or
+                                                              method in t["method"].split("+"))]
+            if not rows:
+                return "—"
+            w = sum(t["wall_seconds"] for t in rows)
+            c = sum(t["cpu_seconds"] for t in rows)
+            return f"{w:.0f} s ({c / w:.1f})" if w > 0 else "0 s"
+        for stage in ("forms", "pairs", "measures"):
+            total_w = sum(t["wall_seconds"] for t in prof if t["stage"] == stage)
+            p(f"| {stage} | — | " + " | ".join(cell(stage, m) for m in methods) + f" | — | {total_w:.0f} s |")
+        w = sum(t["wall_seconds"] for t in prof)
+        c = sum(t["cpu_seconds"] for t in prof)
+        p(f"| **all** | {cell('resample', None)} | " + " | ".join("" for _ in methods) +
+          f" | {cell('figures', None)} | **{w / 60:.1f} min** ({c / w:.1f}) |")
+        if two:
+            recalls = [(m["method"], m.get("two_stage", {}).get("recall_at_k")) for m in j["methods"]]
+            p("\nrecall@K: " + ", ".join(f"{m} {r:.3f}" if r is not None else f"{m} —" for m, r in recalls) + ".")
+        p("")
+    p("A cell of a method's forms shared with another (classical MDS and SMACOF compute each shape's geodesic")
+    p("matrix once for both) shows their joint stage in both columns.")
+
+
 def main(argv):
     args = argv[1:]
+    collections = []
+    while "--collection" in args:
+        k = args.index("--collection")
+        if k + 1 >= len(args):
+            print(__doc__, file=sys.stderr)
+            return 2
+        collections.append(args[k + 1])
+        del args[k:k + 2]
     as_markdown = bool(args) and args[-1] == "--markdown"
     outs = args[:-1] if as_markdown else args
+    if not outs and collections:  # the section alone, to update the page's section by itself
+        collection_section(collections)
+        return 0
     if not outs or any(o.startswith("--") for o in outs):
         print(__doc__, file=sys.stderr)
         return 2
@@ -346,6 +405,8 @@ def main(argv):
     out = outs[0]
     if as_markdown:
         markdown(out, rows, len(outs))
+        if collections:
+            collection_section(collections)
     else:
         print(f"{'row':60s} {'ours':>40s}   {'reference, same run':>40s}   ratio")
         for r in rows:
@@ -353,6 +414,8 @@ def main(argv):
             print(f"{r.what:60s} {r.ours:>40s}   {r.reference:>40s}   {ratio:>8s}  {r.goal}{verdict(r.met)}")
         for what, cells in simd_table(out).items():
             print(f"{what:60s} " + "   ".join(f"{t}: {c}" for t, c in cells.items() if t != "goal"))
+        if collections:
+            collection_section(collections)
     for m in missing:
         print(f"benchmark_ratios: an anchor did not run: {m} (scripts/install-deps.sh --with-anchors)",
               file=sys.stderr)
