@@ -16,8 +16,8 @@
 //
 // Output folder: NAME.off per shape, manifest.csv (the input's classes, poses and noisy flags, in its
 // order: data/dataset.h) and resample.csv (the measures per shape). Distributed (R > 1 ranks): each rank
-// remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0 writes the folder; every
-// rank returns the same paths (the folder must be one that every rank sees).
+// remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0
+// writes the folder; every rank returns the same paths (the folder must be one that every rank sees).
 #pragma once
 
 #include <limits>
