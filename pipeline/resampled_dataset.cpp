@@ -1,12 +1,15 @@
 #include "cshapes/pipeline/resampled_dataset.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
@@ -16,6 +19,7 @@
 #include "cshapes/mesh/io.h"
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/support/option_fields.h"
+#include "cshapes/support/threads.h"
 #include "cshapes/mesh/remesh.h"
 #include "cshapes/pipeline/experiment_kit.h"
 
@@ -218,17 +222,66 @@ std::vector<std::string> shape_notes(const ResampledShape& s, size_t k, size_t n
   return lines;
 }
 
-// One call's remeshing: each entry's outcome in the dataset's order, the notes said as each is done.
+// How many shapes to remesh at once: `wanted`, or fewer when the memory does not hold that many remeshes
+// (remesh_memory_bytes each, by require_memory's rule); one at least (checked before any work).
+int shapes_at_once(int wanted, Index vertices) {
+  for (int threads = wanted; threads > 1; --threads) {
+    try {
+      require_memory(threads * remesh_memory_bytes(vertices), "remeshing shapes at once");
+      return threads;
+    } catch (const Error&) {
+    }
+  }
+  return 1;
+}
+
+// One call's remeshing: each entry's outcome in the dataset's order, the notes said as shapes finish.
 class ResampleRun {
  public:
   ResampleRun(const Dataset& d, const ResampleOptions& options, const std::string& folder,
               const DiskCache& cache, bool writes, const NoteFn& note)
       : d_(d), options_(options), folder_(folder), cache_(cache), writes_(writes), note_(note) {
     outcomes_.resize(d.entries.size());
+    stop_polls_ = [this](const std::string&, double, double) {
+      if (stop_) throw Cancelled();  // another shape failed or the note stopped the run: abandon this remesh
+    };
   }
 
-  // Every entry, one after the other in the dataset's order (on ranks each read from the cache the ranks
-  // filled).
+  // Single process: the first entry of each content, several at once (one per thread), the largest files
+  // first, in blocks with the thread count chosen again before each (support/threads.h). The later entries
+  // of a content are left to remesh_the_rest, which reads the first one's remesh from the cache as one
+  // after the other would. The first failure is rethrown once every thread has stopped.
+  void remesh_concurrently() {
+    keys_.resize(d_.entries.size());
+    std::set<std::string> keys_seen;
+    std::vector<size_t> firsts;
+    for (size_t i = 0; i < d_.entries.size(); ++i) {
+      keys_[i] = remesh_key_of(d_.entries[i].path, options_);
+      if (keys_[i] && keys_seen.insert(*keys_[i]).second) firsts.push_back(i);
+    }
+    keyed_ = true;
+    const std::vector<size_t> order = largest_first(d_, std::move(firsts));
+    const long count = static_cast<long>(order.size());
+    const long block = std::max(32L, 16L * refresh_threads());
+    for (long first = 0; first < count && !stop_; first += block) {
+      const long last = std::min(count, first + block);
+      const int wanted = static_cast<int>(std::min<long>(refresh_threads(), last - first));
+      const int threads = shapes_at_once(wanted, options_.vertices);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+      for (long k = first; k < last; ++k) {
+        if (stop_) continue;
+        try {
+          resample(order[static_cast<size_t>(k)], stop_polls_);
+        } catch (...) {
+          keep_error();
+        }
+      }
+    }
+    if (error_) std::rethrow_exception(error_);
+  }
+
+  // The entries not done yet, one after the other in the dataset's order: on ranks all of them (each read
+  // from the cache the ranks filled), else the later entries of a content and the files with no key.
   void remesh_the_rest() {
     for (size_t i = 0; i < d_.entries.size(); ++i)
       if (!outcomes_[i].done) resample(i, {});
@@ -241,17 +294,33 @@ class ResampleRun {
  private:
   void resample(size_t i, const ProgressFn& polls) {
     const DatasetEntry& e = d_.entries[i];
-    ShapeOutcome outcome =
-        resample_entry(e, remesh_key_of(e.path, options_), options_, folder_, cache_, writes_, polls);
+    ShapeOutcome outcome = resample_entry(e, keyed_ ? keys_[i] : remesh_key_of(e.path, options_), options_,
+                                          folder_, cache_, writes_, polls);
     tell(outcome);
-    outcomes_[i] = std::move(outcome);
+    outcomes_[i] = std::move(outcome);  // each thread its own entries: no race
   }
 
-  // The shape's notes (k: the entries done so far).
+  // The shape's notes, one shape at a time; none once the run is stopping. What the note throws (a stop)
+  // leaves the critical section before it propagates.
   void tell(const ShapeOutcome& outcome) {
-    const size_t k = ++done_;
-    if (outcome.shape)
-      for (const std::string& line : shape_notes(*outcome.shape, k, d_.entries.size())) say(note_, line);
+    std::exception_ptr failure;
+#pragma omp critical(cshapes_resample_notes)
+    if (!stop_) {
+      const size_t k = ++done_;
+      try {
+        if (outcome.shape)
+          for (const std::string& line : shape_notes(*outcome.shape, k, d_.entries.size())) say(note_, line);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+  }
+
+  void keep_error() {
+#pragma omp critical(cshapes_resample_error)
+    if (!error_) error_ = std::current_exception();
+    stop_ = true;
   }
 
   const Dataset& d_;
@@ -261,7 +330,12 @@ class ResampleRun {
   const bool writes_;
   const NoteFn& note_;
   std::vector<ShapeOutcome> outcomes_;
+  std::vector<std::optional<std::string>> keys_;  // each entry's remesh_key_of, once keyed_
+  bool keyed_ = false;
   size_t done_ = 0;  // entries done, the notes' k
+  std::atomic<bool> stop_{false};
+  std::exception_ptr error_;
+  ProgressFn stop_polls_;  // the concurrent remeshes' polls: abandon when stop_
 };
 
 }  // namespace
@@ -300,6 +374,7 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
   say(note, "== resampling " + std::to_string(d.entries.size()) + " shapes to about " +
                 std::to_string(options.vertices) + " vertices (cached in " + cache.directory() + ")");
   ResampleRun run(d, options, folder, cache, comm.is_root(), note);
+  if (comm.size() == 1) run.remesh_concurrently();
   run.remesh_the_rest();
   std::vector<DatasetEntry> entries;
   for (const ShapeOutcome& outcome : run.outcomes()) {
