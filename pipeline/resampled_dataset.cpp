@@ -1,12 +1,15 @@
 #include "cshapes/pipeline/resampled_dataset.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include "cshapes/support/format.h"
 #include "cshapes/support/atomic_file.h"
@@ -16,6 +19,7 @@
 #include "cshapes/mesh/io.h"
 #include "cshapes/mesh/mesh_repair.h"
 #include "cshapes/support/option_fields.h"
+#include "cshapes/support/threads.h"
 #include "cshapes/mesh/remesh.h"
 #include "cshapes/pipeline/experiment_kit.h"
 
@@ -37,7 +41,9 @@ MeshRequirements remesh_requirements() {
 
 // The remesh of one input and its measures, as cached: {V, F, input_vertices, hausdorff, min_angle_in,
 // min_angle, mean_min_angle, note} or, when it is kept as it is, {kept: reason, input_vertices, min_angle_in}.
-json compute_remesh(const Mesh& input, const ResampleOptions& options, const std::string& path) {
+// polls: remesh()'s progress, which may throw to abandon the remesh (then nothing is cached).
+json compute_remesh(const Mesh& input, const ResampleOptions& options, const std::string& path,
+                    const ProgressFn& polls) {
   const AngleStats in = angle_stats(input);
   json value{{"input_vertices", input.num_vertices()}, {"min_angle_in", in.min_angle}};
   if (input.is_point_cloud()) {
@@ -51,6 +57,7 @@ json compute_remesh(const Mesh& input, const ResampleOptions& options, const std
   RemeshOptions o;
   o.target_vertices = options.vertices;
   o.tolerance = options.tolerance;
+  o.progress = polls;
   try {
     const RemeshResult r = remesh(repaired.mesh, o);
     const AngleStats out = angle_stats(r.mesh);
@@ -75,19 +82,24 @@ std::string remesh_key(const std::string& path, const ResampleOptions& options) 
   return cache_key({"resampled-mesh-v2", file_content_hash(path), options_key(options)});
 }
 
-// The cached remesh of one file (computed on a miss); nothing when the file cannot be read (the reader
-// downstream says why).
-std::optional<json> cached_remesh(const DiskCache& cache, const std::string& path,
-                                  const ResampleOptions& options, bool* was_cached) {
-  std::string key;
+// remesh_key, or nothing when the file cannot be read (the reader downstream says why).
+std::optional<std::string> remesh_key_of(const std::string& path, const ResampleOptions& options) {
   try {
-    key = remesh_key(path, options);
+    return remesh_key(path, options);
   } catch (const WriteError&) {
     throw;
   } catch (const Error&) {
     return std::nullopt;
   }
-  if (std::optional<json> hit = cache.get_json(key)) {
+}
+
+// The cached remesh of one file under its key (computed on a miss, polls: compute_remesh's); nothing when the
+// file cannot be read (no key, or the reader failed: the reader downstream says why).
+std::optional<json> cached_remesh(const DiskCache& cache, const std::optional<std::string>& key,
+                                  const std::string& path, const ResampleOptions& options,
+                                  const ProgressFn& polls, bool* was_cached) {
+  if (!key) return std::nullopt;
+  if (std::optional<json> hit = cache.get_json(*key)) {
     *was_cached = true;
     return hit;
   }
@@ -99,28 +111,35 @@ std::optional<json> cached_remesh(const DiskCache& cache, const std::string& pat
   } catch (const Error&) {
     return std::nullopt;
   }
-  json value = compute_remesh(input, options, path);
-  cache.put_json(key, value);
+  json value = compute_remesh(input, options, path, polls);
+  cache.put_json(*key, value);
   *was_cached = false;
   return value;
+}
+
+// The entries `which` (indices into d.entries) by file size, largest first; equal sizes in their order.
+std::vector<size_t> largest_first(const Dataset& d, std::vector<size_t> which) {
+  std::vector<std::uintmax_t> size(d.entries.size(), 0);
+  for (size_t i : which) {
+    std::error_code ec;
+    size[i] = fs::file_size(d.entries[i].path, ec);
+  }
+  std::stable_sort(which.begin(), which.end(), [&](size_t a, size_t b) { return size[a] > size[b]; });
+  return which;
 }
 
 // Each rank remeshes its share into the cache, silently: the largest files first, dealt round-robin. Returns
 // the remeshes this rank computed.
 long remesh_share(const Dataset& d, const ResampleOptions& options, const DiskCache& cache,
                   const Communicator& comm) {
-  std::vector<size_t> order(d.entries.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::vector<std::uintmax_t> size(d.entries.size(), 0);
-  for (size_t i = 0; i < size.size(); ++i) {
-    std::error_code ec;
-    size[i] = fs::file_size(d.entries[i].path, ec);
-  }
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return size[a] > size[b]; });
+  std::vector<size_t> all(d.entries.size());
+  std::iota(all.begin(), all.end(), size_t{0});
+  const std::vector<size_t> order = largest_first(d, std::move(all));
   long computed = 0;
   for (size_t k = static_cast<size_t>(comm.rank()); k < order.size(); k += static_cast<size_t>(comm.size())) {
     bool cached = true;
-    if (cached_remesh(cache, d.entries[order[k]].path, options, &cached) && !cached) ++computed;
+    const std::string& path = d.entries[order[k]].path;
+    if (cached_remesh(cache, remesh_key_of(path, options), path, options, {}, &cached) && !cached) ++computed;
   }
   return computed;
 }
@@ -161,6 +180,164 @@ void write_resample_csv(const std::string& path, const ResampledDataset& r) {
   });
 }
 
+// What one entry became: its manifest entry (the remesh, or the input as it is) and its record (none for a
+// file that cannot be read).
+struct ShapeOutcome {
+  bool done = false;
+  DatasetEntry entry;
+  std::optional<ResampledShape> shape;
+};
+
+// One entry through the cache (computed on a miss; polls: compute_remesh's), its remesh written into `folder`
+// when `writes` (the root's part).
+ShapeOutcome resample_entry(const DatasetEntry& e, const std::optional<std::string>& key,
+                            const ResampleOptions& options, const std::string& folder, const DiskCache& cache,
+                            bool writes, const ProgressFn& polls) {
+  ShapeOutcome outcome{true, e, std::nullopt};
+  bool cached = false;
+  const std::optional<json> value = cached_remesh(cache, key, e.path, options, polls, &cached);
+  const bool remeshed = value && !value->contains("kept");
+  outcome.entry.path =
+      remeshed ? (fs::path(folder) / (e.name + ".off")).string() : fs::absolute(e.path).string();
+  if (!value) return outcome;  // unreadable: listed as it is, the reader downstream says why
+  outcome.shape = shape_record(e, *value, outcome.entry.path);
+  outcome.shape->cached = cached;
+  if (writes && remeshed)
+    write_mesh(outcome.entry.path, Mesh{points_from_json(value->at("V")), faces_from_json(value->at("F"))});
+  return outcome;
+}
+
+// The progress note of a shape, the k-th of n done: a line, and a second for what was repaired first.
+std::vector<std::string> shape_notes(const ResampledShape& s, size_t k, size_t n) {
+  if (!s.remeshed) return {"  " + s.name + ": " + s.note};
+  // For people: three significant figures (report.md's table and resample.csv keep theirs).
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "  [%zu/%zu] %s: %ld -> %ld vertices, Hausdorff %.3g%% of the diagonal, "
+                "smallest angle %.3g deg%s",
+                k, n, s.name.c_str(), static_cast<long>(s.input_vertices), static_cast<long>(s.vertices),
+                100 * s.hausdorff, s.min_angle, s.cached ? " (cached)" : "");
+  std::vector<std::string> lines{line};
+  if (!s.note.empty()) lines.push_back("    " + s.note);
+  return lines;
+}
+
+// How many shapes to remesh at once: `wanted`, or fewer when the memory does not hold that many remeshes
+// (remesh_memory_bytes each, by require_memory's rule); one at least (checked before any work).
+int shapes_at_once(int wanted, Index vertices) {
+  for (int threads = wanted; threads > 1; --threads) {
+    try {
+      require_memory(threads * remesh_memory_bytes(vertices), "remeshing shapes at once");
+      return threads;
+    } catch (const Error&) {
+    }
+  }
+  return 1;
+}
+
+// One call's remeshing: each entry's outcome in the dataset's order, the notes said as shapes finish.
+class ResampleRun {
+ public:
+  ResampleRun(const Dataset& d, const ResampleOptions& options, const std::string& folder,
+              const DiskCache& cache, bool writes, const NoteFn& note)
+      : d_(d), options_(options), folder_(folder), cache_(cache), writes_(writes), note_(note) {
+    outcomes_.resize(d.entries.size());
+    stop_polls_ = [this](const std::string&, double, double) {
+      if (stop_) throw Cancelled();  // another shape failed or the note stopped the run: abandon this remesh
+    };
+  }
+
+  // Single process: the first entry of each content, several at once (one per thread), the largest files
+  // first, in blocks with the thread count chosen again before each (support/threads.h). The later entries
+  // of a content are left to remesh_the_rest, which reads the first one's remesh from the cache as one
+  // after the other would. The first failure is rethrown once every thread has stopped.
+  void remesh_concurrently() {
+    keys_.resize(d_.entries.size());
+    std::set<std::string> keys_seen;
+    std::vector<size_t> firsts;
+    for (size_t i = 0; i < d_.entries.size(); ++i) {
+      keys_[i] = remesh_key_of(d_.entries[i].path, options_);
+      if (keys_[i] && keys_seen.insert(*keys_[i]).second) firsts.push_back(i);
+    }
+    keyed_ = true;
+    const std::vector<size_t> order = largest_first(d_, std::move(firsts));
+    const long count = static_cast<long>(order.size());
+    const long block = std::max(32L, 16L * refresh_threads());
+    for (long first = 0; first < count && !stop_; first += block) {
+      const long last = std::min(count, first + block);
+      const int wanted = static_cast<int>(std::min<long>(refresh_threads(), last - first));
+      const int threads = shapes_at_once(wanted, options_.vertices);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+      for (long k = first; k < last; ++k) {
+        if (stop_) continue;
+        try {
+          resample(order[static_cast<size_t>(k)], stop_polls_);
+        } catch (...) {
+          keep_error();
+        }
+      }
+    }
+    if (error_) std::rethrow_exception(error_);
+  }
+
+  // The entries not done yet, one after the other in the dataset's order: on ranks all of them (each read
+  // from the cache the ranks filled), else the later entries of a content and the files with no key.
+  void remesh_the_rest() {
+    for (size_t i = 0; i < d_.entries.size(); ++i)
+      if (!outcomes_[i].done) resample(i, {});
+  }
+
+  const std::vector<ShapeOutcome>& outcomes() const {
+    return outcomes_;
+  }
+
+ private:
+  void resample(size_t i, const ProgressFn& polls) {
+    const DatasetEntry& e = d_.entries[i];
+    ShapeOutcome outcome = resample_entry(e, keyed_ ? keys_[i] : remesh_key_of(e.path, options_), options_,
+                                          folder_, cache_, writes_, polls);
+    tell(outcome);
+    outcomes_[i] = std::move(outcome);  // each thread its own entries: no race
+  }
+
+  // The shape's notes, one shape at a time; none once the run is stopping. What the note throws (a stop)
+  // leaves the critical section before it propagates.
+  void tell(const ShapeOutcome& outcome) {
+    std::exception_ptr failure;
+#pragma omp critical(cshapes_resample_notes)
+    if (!stop_) {
+      const size_t k = ++done_;
+      try {
+        if (outcome.shape)
+          for (const std::string& line : shape_notes(*outcome.shape, k, d_.entries.size())) say(note_, line);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+  }
+
+  void keep_error() {
+#pragma omp critical(cshapes_resample_error)
+    if (!error_) error_ = std::current_exception();
+    stop_ = true;
+  }
+
+  const Dataset& d_;
+  const ResampleOptions& options_;
+  const std::string& folder_;
+  const DiskCache& cache_;
+  const bool writes_;
+  const NoteFn& note_;
+  std::vector<ShapeOutcome> outcomes_;
+  std::vector<std::optional<std::string>> keys_;  // each entry's remesh_key_of, once keyed_
+  bool keyed_ = false;
+  size_t done_ = 0;  // entries done, the notes' k
+  std::atomic<bool> stop_{false};
+  std::exception_ptr error_;
+  ProgressFn stop_polls_;  // the concurrent remeshes' polls: abandon when stop_
+};
+
 }  // namespace
 
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
@@ -194,37 +371,17 @@ ResampledDataset resample_dataset(const Dataset& d, const ResampleOptions& optio
   r.folder = folder;
   r.left_out = d.left_out;
   r.data = (fs::path(folder) / "manifest.csv").string();
-  std::vector<DatasetEntry> entries;
   say(note, "== resampling " + std::to_string(d.entries.size()) + " shapes to about " +
                 std::to_string(options.vertices) + " vertices (cached in " + cache.directory() + ")");
-  for (size_t i = 0; i < d.entries.size(); ++i) {
-    const DatasetEntry& e = d.entries[i];
-    bool cached = false;
-    std::optional<json> value = cached_remesh(cache, e.path, options, &cached);
-    DatasetEntry out = e;
-    if (!value) {  // unreadable: listed as it is, the reader downstream says why
-      out.path = fs::absolute(e.path).string();
-      entries.push_back(out);
-      continue;
-    }
-    const bool remeshed = !value->contains("kept");
-    out.path = remeshed ? (fs::path(folder) / (e.name + ".off")).string() : fs::absolute(e.path).string();
-    ResampledShape s = shape_record(e, *value, out.path);
-    s.cached = cached;
-    (cached ? r.cached : r.computed)++;
-    if (comm.is_root() && remeshed) write_mesh(out.path, Mesh{points_from_json(value->at("V")),
-                                                             faces_from_json(value->at("F"))});
-    // A progress note for people: three significant figures (report.md's table and resample.csv keep theirs).
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "  [%zu/%zu] %s: %ld -> %ld vertices, Hausdorff %.3g%% of the diagonal, "
-                  "smallest angle %.3g deg%s",
-                  i + 1, d.entries.size(), e.name.c_str(), static_cast<long>(s.input_vertices),
-                  static_cast<long>(s.vertices), 100 * s.hausdorff, s.min_angle, cached ? " (cached)" : "");
-    say(note, remeshed ? std::string(line) : "  " + e.name + ": " + s.note);
-    if (remeshed && !s.note.empty()) say(note, "    " + s.note);
-    r.shapes.push_back(std::move(s));
-    entries.push_back(out);
+  ResampleRun run(d, options, folder, cache, comm.is_root(), note);
+  if (comm.size() == 1) run.remesh_concurrently();
+  run.remesh_the_rest();
+  std::vector<DatasetEntry> entries;
+  for (const ShapeOutcome& outcome : run.outcomes()) {
+    entries.push_back(outcome.entry);
+    if (!outcome.shape) continue;
+    (outcome.shape->cached ? r.cached : r.computed)++;
+    r.shapes.push_back(*outcome.shape);
   }
   // The ranks computed their shares: count those as computed (they were read from the cache above).
   if (comm.size() > 1) {

@@ -16,8 +16,23 @@
 //
 // Output folder: NAME.off per shape, manifest.csv (the input's classes, poses and noisy flags, in its
 // order: data/dataset.h) and resample.csv (the measures per shape). Distributed (R > 1 ranks): each rank
-// remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0 writes the folder; every
-// rank returns the same paths (the folder must be one that every rank sees).
+// remeshes its share (the inputs by file size, largest first, dealt round-robin) into the cache, then rank 0
+// writes the folder; every rank returns the same paths (the folder must be one that every rank sees).
+//
+// One process: several shapes are remeshed at once, one per thread, since CGAL's remeshing of one mesh is
+// serial and remeshing is most of a large collection's first stage. The largest files go first (as the ranks
+// deal them), in blocks with the thread count chosen again before each (support/threads.h: refresh_threads),
+// and only as many at once as the memory holds (remesh_memory_bytes each): fewer threads, down to one, when
+// it is short. A remesh is a function of its input alone, and entries of the same content are left to the
+// end, where they read the first one's remesh from the cache; so the files, manifest.csv, resample.csv, the
+// cache entries and the computed/cached counts are those of one shape after the other, for any thread count.
+// The notes ("[k/N] NAME: ...", k the entries done so far) are said as shapes finish, so their order follows
+// the threads; the folder's files keep the dataset's order. A note callback that throws (the user's stop)
+// or a shape that fails stops the run: no thread starts another shape, a remesh under way is abandoned at
+// its next poll (mesh/remesh.h polls within each attempt; nothing of it is cached), and the first failure
+// is rethrown once every thread has stopped. manifest.csv and resample.csv are written only when every
+// shape is done; the NAME.off files written by then are complete (written atomically) and their remeshes
+// cached, so a rerun reuses them.
 #pragma once
 
 #include <limits>
@@ -77,8 +92,9 @@ struct ResampledDataset {
 
 // Remeshes every shape of `data` (a folder, manifest.csv or .cla: data/dataset.h) into `folder`, through
 // `cache`. options.vertices must be >= 4, and a remesh of that size must fit in the memory available
-// (remesh_memory_bytes): refused before any work, never a fallback for every shape. Throws cshapes::Error for
-// a dataset that cannot be read, and cshapes::WriteError for a folder or cache that cannot be written.
+// (remesh_memory_bytes): refused before any work, never a fallback for every shape (several at once only as
+// far as the memory holds them: above). Throws cshapes::Error for a dataset that cannot be read, and
+// cshapes::WriteError for a folder or cache that cannot be written; what `note` throws stops the run.
 ResampledDataset resample_dataset(const std::string& data, const ResampleOptions& options,
                                   const std::string& folder, const DiskCache& cache,
                                   const Communicator* communicator = nullptr, const NoteFn& note = {},
