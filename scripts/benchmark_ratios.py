@@ -7,7 +7,7 @@
                                                several runs of scripts/benchmarks.sh: each row with a ratio
                                                from the run of the median ratio, the runs' ratios beside it
                                                (rows without a ratio, and the other tables, from OUT1)
-  [OUT ...] --collection RUN [--collection RUN2 ...]
+  [OUT ...] --collection [LABEL=]RUN [--collection [LABEL=]RUN2 ...]
                                                also (alone, without OUT) the section "A whole collection": the profile of each
                                                `cshapes experiment retrieval` run folder (its retrieval.json),
                                                e.g. the exact run and a two-stage run of the 400-shape collection
@@ -342,15 +342,16 @@ def collection_section(runs):
     p("the time went\", `retrieval.json`'s `\"profile\"`): wall and CPU seconds (CPU / wall: the cores kept busy).")
     p("The collection is made by `scripts/make_benchmark400.py ../shared/data COLLECTION` (20 classes of 20 shapes")
     p("at 700–28,000 vertices, with near-duplicates and glued shapes); each run starts from an empty output folder.\n")
-    for run in runs:
+    for item in runs:
+        label, _, run = item.rpartition("=")
         j = json.load(open(os.path.join(run, "retrieval.json")))
         methods = [m["method"] for m in j["methods"]]
         two = j.get("protocol", {}).get("two_stage_k")
         resample = j.get("protocol", {}).get("resample_vertices", 0)
         command = (f"cshapes experiment retrieval --data COLLECTION --out OUT --methods {','.join(methods)}" +
                    (f" --resample {resample}" if resample else "") + (f" --two-stage-k {two}" if two else ""))
-        p(f"**{j['shapes']} shapes, {len(methods)} methods" + (f", two-stage K = {two}" if two else ", exact (all pairs)") +
-          f":** `{command}`\n")
+        p(f"**{label + ': ' if label else ''}{j['shapes']} shapes, {len(methods)} methods" +
+          (f", two-stage K = {two}" if two else ", exact (all pairs)") + f":** `{command}`\n")
         p("| stage | " + " | ".join(["remesh"] + methods + ["figures", "total"]) + " |")
         p("| --- | " + " | ".join("---:" for _ in range(len(methods) + 3)) + " |")
         prof = j.get("profile", [])

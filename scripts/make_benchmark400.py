@@ -15,8 +15,9 @@ Classes (each 20 shapes):
   poses remeshed, and poses 0-3 glued.
 
 Every size is drawn from a seeded generator, so the same seed gives the same collection (to the remesher's
-determinism). Writes OUT/NAME.off and OUT/manifest.csv (file,class), and OUT/sizes.csv. A shape already in OUT
-is kept (a killed run resumes).
+determinism). Writes OUT/NAME.off, OUT/manifest.csv (file,class), OUT/manifest-100.csv (five shapes of each
+class, those numbered 00, 04, 08, 12, 16: a quarter of the collection, a sixteenth of its pairs) and
+OUT/sizes.csv. A shape already in OUT is kept (a killed run resumes).
 
 Usage: make_benchmark400.py DATA OUT [--seed S] [--cshapes BINARY] [--per-class N]
   (run with the Python that has the cshapes module: PYTHONPATH=build/python /usr/bin/python3 ...)
@@ -169,6 +170,12 @@ def main():
         for f, c, _, _ in rows:
             m.write(f"{f},{c}\n")
     os.replace(os.path.join(args.out, "manifest.csv.tmp"), os.path.join(args.out, "manifest.csv"))
+    with open(os.path.join(args.out, "manifest-100.csv.tmp"), "w") as m:
+        m.write("file,class\n")
+        for f, c, _, _ in rows:
+            if int(f[:-4].rsplit("_", 1)[1]) % 4 == 0:
+                m.write(f"{f},{c}\n")
+    os.replace(os.path.join(args.out, "manifest-100.csv.tmp"), os.path.join(args.out, "manifest-100.csv"))
     with open(os.path.join(args.out, "sizes.csv"), "w") as s:
         s.write("file,class,vertices,how\n")
         for f, c, n, how in rows:
