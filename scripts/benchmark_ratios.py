@@ -341,14 +341,17 @@ def collection_section(runs):
     p("`cshapes experiment retrieval` over a collection, every stage timed by the run itself (the report's \"Where")
     p("the time went\", `retrieval.json`'s `\"profile\"`): wall and CPU seconds (CPU / wall: the cores kept busy).")
     p("The collection is made by `scripts/make_benchmark400.py ../shared/data COLLECTION` (20 classes of 20 shapes")
-    p("at 700–28,000 vertices, with near-duplicates and glued shapes); each run starts from an empty output folder.\n")
+    p("at 700–28,000 vertices, with near-duplicates and glued shapes); each run starts from an empty output folder.")
+    p("This section is written by `scripts/benchmark_ratios.py --collection [LABEL=]RUN ...`; the account below its")
+    p("tables by hand.\n")
     for item in runs:
         label, _, run = item.rpartition("=")
         j = json.load(open(os.path.join(run, "retrieval.json")))
         methods = [m["method"] for m in j["methods"]]
         two = j.get("protocol", {}).get("two_stage_k")
         resample = j.get("protocol", {}).get("resample_vertices", 0)
-        command = (f"cshapes experiment retrieval --data COLLECTION --out OUT --methods {','.join(methods)}" +
+        manifest = "manifest-100.csv" if j["shapes"] == 100 else "manifest.csv"
+        command = (f"cshapes experiment retrieval --data COLLECTION/{manifest} --out OUT --methods {','.join(methods)}" +
                    (f" --resample {resample}" if resample else "") + (f" --two-stage-k {two}" if two else ""))
         p(f"**{label + ': ' if label else ''}{j['shapes']} shapes, {len(methods)} methods" +
           (f", two-stage K = {two}" if two else ", exact (all pairs)") + f":** `{command}`\n")
@@ -370,6 +373,13 @@ def collection_section(runs):
         c = sum(t["cpu_seconds"] for t in prof)
         p(f"| **all** | {cell('resample', None)} | " + " | ".join("" for _ in methods) +
           f" | {cell('figures', None)} | **{w / 60:.1f} min** ({c / w:.1f}) |")
+        n = j["shapes"]
+        if n < 400:  # what the same stages would take on the whole collection: per shape ×400/n, per pair more
+            # exact: all n(n-1)/2 pairs; two-stage: about n·K pairs
+            pair_factor = 400 / n if two else 400 * 399 / (n * (n - 1))
+            scaled = sum(t["wall_seconds"] * (pair_factor if t["stage"] == "pairs" else 400 / n) for t in prof)
+            p(f"\nExtrapolated to 400 shapes (remeshes, forms and measures ×{400 / n:g}, pairs ×{pair_factor:.1f}): "
+              f"about {scaled / 60:.0f} min.")
         if two:
             recalls = [(m["method"], m.get("two_stage", {}).get("recall_at_k")) for m in j["methods"]]
             p("\nrecall@K: " + ", ".join(f"{m} {r:.3f}" if r is not None else f"{m} —" for m, r in recalls) + ".")
