@@ -56,3 +56,26 @@ def test_python_and_cli_runs_of_the_retrieval_experiment_write_the_same_files(cl
     assert differing == [], f"written differently by the CLI and Python: {differing}"
     metrics = json.loads((tmp_path / "py" / "coulomb" / "hausdorff" / "metrics.json").read_text())
     assert result["measures"]["coulomb"]["hausdorff"]["map"] == metrics["map"]
+
+
+def test_two_stage_retrieval_reports_recall_and_the_exact_measures(cli, tmp_path):
+    """experiment_retrieval(two_stage_k=K, two_stage_reference=EXACT): the candidates' pairs only, recall@K in
+    [0, 1], and the exact run's measures as that run computed them; a reference that is the output folder is
+    refused before any work (the exact run would be lost)."""
+    import pytest
+
+    data = tmp_path / "data"
+    cli("generate", "dataset", "--out", data, "--classes", "2", "--poses", "3", "--noisy", "0", "--vertices", "300")
+    exact = cshapes.experiment_retrieval(str(data / "manifest.csv"), str(tmp_path / "exact"), methods=["lbo"],
+                                         draw=False)
+    assert "two_stage" not in exact
+    quick = cshapes.experiment_retrieval(str(data / "manifest.csv"), str(tmp_path / "quick"), methods=["lbo"],
+                                         draw=False, two_stage_k=1, two_stage_reference=str(tmp_path / "exact"))
+    two = quick["two_stage"]["lbo"]
+    assert two["k"] == 1 and 0 < two["pairs_aligned"] <= 6
+    assert 0 <= two["recall_at_k"] <= 1
+    assert two["exact"]["hausdorff"]["map"] == exact["measures"]["lbo"]["hausdorff"]["map"]
+    with pytest.raises(Exception, match="the exact run would be lost"):
+        cshapes.experiment_retrieval(str(data / "manifest.csv"), str(tmp_path / "exact"), methods=["lbo"],
+                                     draw=False, two_stage_k=1, two_stage_reference=str(tmp_path / "exact"))
+    assert (tmp_path / "exact" / "lbo" / "hausdorff.csv").exists()
