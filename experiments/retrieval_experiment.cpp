@@ -182,6 +182,48 @@ std::map<std::string, RetrievalScores> exact_measures(const RetrievalExperimentO
   return exact;
 }
 
+// What dataset_distances computes for `method` in this run ("" for the forms pass ahead of the methods').
+DatasetDistanceOptions distance_options(const RetrievalExperimentOptions& o, const RetrievalExperimentResult& r,
+                                        const ExperimentFolder& folder, const Communicator& comm,
+                                        const std::string& method) {
+  DatasetDistanceOptions dd;
+  dd.data = r.data;
+  dd.allow_outside = o.allow_outside || r.resampled;
+  dd.canon = o.canon;
+  if (!method.empty()) dd.canon.method = method;
+  dd.cache_dir = folder.path("cache");
+  dd.progress = o.progress;
+  if (!method.empty()) dd.note = o.note;
+  dd.communicator = &comm;
+  dd.two_stage_k = o.two_stage_k;
+  if (!o.two_stage_reference.empty() && !method.empty())
+    dd.reference = (fs::path(o.two_stage_reference) / method / "hausdorff.csv").string();
+  return dd;
+}
+
+// A method's result without its measures: shapes, counts (`computed_ahead` forms computed by the pass ahead
+// of its own, which read them from the cache), form times, and two-stage's pairs and recall.
+RetrievalMethodResult method_counts(const std::string& method, const DatasetDistances& distances,
+                                    long computed_ahead) {
+  RetrievalMethodResult m;
+  m.method = method;
+  m.names = distances.names;
+  m.classes = distances.classes;
+  m.forms_computed = distances.forms_computed + computed_ahead;
+  m.forms_cached = distances.forms_cached - computed_ahead;
+  m.pairs_computed = distances.distances.computed;
+  m.pairs_cached = distances.distances.cached;
+  if (!distances.form_seconds.empty()) {
+    std::vector<double> t = distances.form_seconds;
+    std::nth_element(t.begin(), t.begin() + static_cast<long>(t.size() / 2), t.end());
+    m.form_seconds_median = t[t.size() / 2];
+    for (double b : distances.form_peak_bytes) m.form_peak_bytes_max = std::max(m.form_peak_bytes_max, b);
+  }
+  m.pairs_aligned = distances.distances.pairs;
+  m.recall = distances.two_stage.recall;
+  return m;
+}
+
 }  // namespace
 
 RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOptions& o) {
@@ -229,56 +271,20 @@ RetrievalExperimentResult run_retrieval_experiment(const RetrievalExperimentOpti
     r.inputs = dataset_checksums(r.resampled ? read_dataset(o.data, o.allow_outside) : data);
   }
   // cmds and SMACOF: each shape's geodesic matrix computed once for both, before their passes.
-  DatasetDistanceOptions shared;
-  shared.data = r.data;
-  shared.allow_outside = o.allow_outside || r.resampled;
-  shared.canon = o.canon;
-  shared.cache_dir = folder.path("cache");
-  shared.progress = o.progress;
-  shared.communicator = &comm;
   const std::map<std::string, long> computed_ahead =
-      precompute_shared_geodesic_forms(shared, o.methods, &r.profile);
+      precompute_shared_geodesic_forms(distance_options(o, r, folder, comm, ""), o.methods, &r.profile);
   std::set<std::string> unreadable;  // said once, not once per method
   for (const std::string& method : o.methods) {
     say(o.note, "== " + canonical_form_method_title(method) + ": canonical forms and ICP distances");
     const auto method_start = WallClock::now();
-    DatasetDistanceOptions dd;
-    dd.data = r.data;
-    dd.allow_outside = o.allow_outside || r.resampled;
-    dd.canon = o.canon;
-    dd.canon.method = method;
-    dd.cache_dir = folder.path("cache");
-    dd.progress = o.progress;
-    dd.note = o.note;
-    dd.communicator = &comm;
-    dd.two_stage_k = o.two_stage_k;
-    if (!o.two_stage_reference.empty())
-      dd.reference = (fs::path(o.two_stage_reference) / method / "hausdorff.csv").string();
-    const DatasetDistances distances = dataset_distances(dd);
+    const DatasetDistances distances = dataset_distances(distance_options(o, r, folder, comm, method));
     r.profile.insert(r.profile.end(), distances.profile.begin(), distances.profile.end());
     const Stopwatch measures;
     for (const ShapeFailure& f : distances.failures)
       if (!f.method.empty() || unreadable.insert(f.path).second) r.failures.push_back(f);
-    RetrievalMethodResult m;
-    m.method = method;
-    m.names = distances.names;
-    m.classes = distances.classes;
-    m.forms_computed = distances.forms_computed;
-    m.forms_cached = distances.forms_cached;
-    if (const auto ahead = computed_ahead.find(method); ahead != computed_ahead.end()) {
-      m.forms_computed += ahead->second;  // computed before this pass, read from the cache in it
-      m.forms_cached -= ahead->second;
-    }
-    m.pairs_computed = distances.distances.computed;
-    m.pairs_cached = distances.distances.cached;
-    if (!distances.form_seconds.empty()) {
-      std::vector<double> t = distances.form_seconds;
-      std::nth_element(t.begin(), t.begin() + static_cast<long>(t.size() / 2), t.end());
-      m.form_seconds_median = t[t.size() / 2];
-      for (double b : distances.form_peak_bytes) m.form_peak_bytes_max = std::max(m.form_peak_bytes_max, b);
-    }
-    m.pairs_aligned = distances.distances.pairs;
-    m.recall = distances.two_stage.recall;
+    const auto ahead = computed_ahead.find(method);
+    RetrievalMethodResult m =
+        method_counts(method, distances, ahead == computed_ahead.end() ? 0 : ahead->second);
     if (comm.is_root()) write_method_files(folder, o, distances, m);
     if (comm.is_root() && !o.two_stage_reference.empty()) m.exact = exact_measures(o, method);
     r.profile.push_back(stage_time("measures", method, measures));

@@ -64,7 +64,7 @@ inline const OptionDeclaration kDraw =
     negated_option("draw", "--no-draw", "draw the figures (drawing needs Python with matplotlib)");
 inline const OptionDeclaration kTwoStageReference{
     "two_stage_reference", "--two-stage-reference",
-    "two-stage: the output folder of an exact run (K = 0) of the same collection and methods, read, never "
+    "two-stage: the folder an exact run (K = 0) of the same collection and methods wrote, read, never "
     "written; each method's recall@K and its exact measures are reported beside the two-stage ones"};
 inline const std::vector<const OptionDeclaration*> kAll = {&kEDepth, &kMinClassSize, &kDraw,
                                                            &kTwoStageReference};

@@ -111,8 +111,8 @@ py::dict experiment_retrieval_py(const py::object& data, const py::object& out, 
   o.two_stage_k = k.int32("two_stage_k", o.two_stage_k);
   CSHAPES_REQUIRE(o.two_stage_k >= 0, "experiment_retrieval(): two_stage_k: expected an integer >= 0, got ",
                   o.two_stage_k);
-  if (k.given("two_stage_reference"))
-    o.two_stage_reference = to_path(k.object("two_stage_reference"), "two_stage_reference");
+  if (const py::object reference = k.object("two_stage_reference"); !reference.is_none())
+    o.two_stage_reference = to_path(reference, "two_stage_reference");
   o.figure_format = parse_figure_format(k.text("figure_format", to_string(o.figure_format)));
   o.force = k.flag("force", o.force);
   o.allow_outside = k.flag("allow_outside", o.allow_outside);
