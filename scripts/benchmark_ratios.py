@@ -355,24 +355,29 @@ def collection_section(runs):
                    (f" --resample {resample}" if resample else "") + (f" --two-stage-k {two}" if two else ""))
         p(f"**{label + ': ' if label else ''}{j['shapes']} shapes, {len(methods)} methods" +
           (f", two-stage K = {two}" if two else ", exact (all pairs)") + f":** `{command}`\n")
-        p("| stage | " + " | ".join(["remesh"] + methods + ["figures", "total"]) + " |")
-        p("| --- | " + " | ".join("---:" for _ in range(len(methods) + 3)) + " |")
         prof = j.get("profile", [])
-        def cell(stage, method):
+
+        def seconds(stage, method=None):
             rows = [t for t in prof if t["stage"] == stage and (method is None or t["method"] == method or
                                                               method in t["method"].split("+"))]
-            if not rows:
-                return "—"
-            w = sum(t["wall_seconds"] for t in rows)
-            c = sum(t["cpu_seconds"] for t in rows)
-            return f"{w:.0f} s ({c / w:.1f})" if w > 0 else "0 s"
-        for stage in ("forms", "pairs", "measures"):
-            total_w = sum(t["wall_seconds"] for t in prof if t["stage"] == stage)
-            p(f"| {stage} | — | " + " | ".join(cell(stage, m) for m in methods) + f" | — | {total_w:.0f} s |")
+            return sum(t["wall_seconds"] for t in rows), sum(t["cpu_seconds"] for t in rows), bool(rows)
+
+        def text(w, c, any_rows=True):
+            return (f"{w:.0f} s ({c / w:.1f})" if w > 0 else "0 s") if any_rows else "—"
+
+        p("| | forms | pairs | measures | together |")
+        p("| --- | ---: | ---: | ---: | ---: |")
+        w, c, seen = seconds("resample")
+        p(f"| remeshing | | | | {text(w, c, seen)} |")
+        for m in methods:
+            cells = [seconds(stage, m) for stage in ("forms", "pairs", "measures")]
+            p(f"| {m} | " + " | ".join(text(*x) for x in cells) + " | |")
+        w, c, seen = seconds("figures")
+        p(f"| figures | | | | {text(w, c, seen)} |")
+        totals = [seconds(stage) for stage in ("forms", "pairs", "measures")]
         w = sum(t["wall_seconds"] for t in prof)
         c = sum(t["cpu_seconds"] for t in prof)
-        p(f"| **all** | {cell('resample', None)} | " + " | ".join("" for _ in methods) +
-          f" | {cell('figures', None)} | **{w / 60:.1f} min** ({c / w:.1f}) |")
+        p("| **all** | " + " | ".join(text(*x) for x in totals) + f" | **{w / 60:.1f} min** ({c / w:.1f}) |")
         n = j["shapes"]
         if n < 400:  # what the same stages would take on the whole collection: per shape ×400/n, per pair more
             # exact: all n(n-1)/2 pairs; two-stage: about n·K pairs
