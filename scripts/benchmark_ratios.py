@@ -387,7 +387,11 @@ def collection_section(runs):
               f"about {scaled / 60:.0f} min.")
         if two:
             recalls = [(m["method"], m.get("two_stage", {}).get("recall_at_k")) for m in j["methods"]]
-            p("\nrecall@K: " + ", ".join(f"{m} {r:.3f}" if r is not None else f"{m} —" for m, r in recalls) + ".")
+            if all(r is None for _, r in recalls):
+                p("\nrecall@K: not measured (the run was given no exact run of the same collection).")
+            else:
+                p("\nrecall@K: " + ", ".join(f"{m} {r:.3f}" if r is not None else f"{m} —" for m, r in recalls) +
+                  ".")
         p("")
     p("A cell of a method's forms shared with another (classical MDS and SMACOF compute each shape's geodesic")
     p("matrix once for both) shows their joint stage in both columns.")
