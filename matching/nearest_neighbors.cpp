@@ -21,10 +21,11 @@ namespace {
 // a vector at a time (4 or 8 doubles, by instruction set) without a branch per point; splits put a multiple
 // of kLeaf points on the left, so every leaf but the last is full. Large leaves suit ICP: a query lies off
 // the other surface by about the RMSE, several point spacings, so its search ball meets many small cells and
-// a deep tree costs a mispredicted branch per node: the time falls as the leaves grow, up to 64. Tried and dropped, both slower: a tight bounding box per
-// leaf checked before its scan (one more unpredictable branch per leaf), and a single-precision first scan of
-// each leaf with an exact rescan when it might hold a better point (most leaves a query meets need the
-// rescan). The measurements: docs/design.md, "Measured figures behind choices in the code".
+// a deep tree costs a mispredicted branch per node: the time falls as the leaves grow, up to 64. Tried and
+// dropped, both slower: a tight bounding box per leaf checked before its scan (one more unpredictable branch
+// per leaf), and a single-precision first scan of each leaf with an exact rescan when it might hold a better
+// point (most leaves a query meets need the rescan). The measurements: docs/design.md, "Measured figures
+// behind choices in the code".
 constexpr int kLeaf = 64;
 static_assert(kLeaf % 32 == 0, "leaves are scanned 4 vectors of up to 8 at a time");
 
