@@ -119,17 +119,6 @@ TEST(CorrespondenceError, ToscaGroundTruthThroughAlignment) {
   EXPECT_EQ(r.errors.maxCoeff(), 0.0);
 }
 
-// The message of the Error that f throws ("" when it throws none).
-template <typename F>
-std::string error_message(F f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(CorrespondencePairs, ReadsShrecFiles) {
   std::string dir = test::scratch_dir("pairs");
   // SHREC'16's layout: right-aligned columns, a trailing space; blank lines skipped; not every vertex listed.
@@ -159,10 +148,10 @@ TEST(CorrespondencePairs, ErrorsNameFileAndLine) {
   for (size_t k = 0; k < cases.size(); ++k) {
     const std::string path = dir + "/bad" + std::to_string(k) + ".txt";
     test::write_text(path, cases[k].text);
-    const std::string message = error_message([&] { read_correspondence_pairs(path, 5, 10); });
+    const std::string message = test::error_of([&] { read_correspondence_pairs(path, 5, 10); });
     EXPECT_EQ(message, path + cases[k].expected) << "case " << k;
   }
-  const std::string missing = error_message([&] { read_correspondence_pairs(dir + "/none.txt"); });
+  const std::string missing = test::error_of([&] { read_correspondence_pairs(dir + "/none.txt"); });
   EXPECT_NE(missing.find(dir + "/none.txt"), std::string::npos) << missing;
   std::filesystem::remove_all(dir);
 }

@@ -89,22 +89,11 @@ TEST(DistanceCsv, TheLabelsFileDescribesTheMatrix) {
   std::filesystem::remove_all(dir);
 }
 
-// The message of the Error f throws ("" when none).
-template <typename F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(DistanceCsv, ConflictingLabelsAreRefusedNamingBothLines) {
   // Issue 22: `evaluate` accepted a shape given two classes.
   const std::string dir = test::scratch_dir("labels-conflict");
   test::write_text(dir + "/conflict.csv", "name,class\ncat0,cat\ndog1,dog\ncat0,dog\n");
-  const std::string message = error_of([&] { read_labels_csv(dir + "/conflict.csv", {"cat0", "dog1"}); });
+  const std::string message = test::error_of([&] { read_labels_csv(dir + "/conflict.csv", {"cat0", "dog1"}); });
   EXPECT_NE(message.find("conflict.csv:4"), std::string::npos) << message;
   EXPECT_NE(message.find("'cat0'"), std::string::npos) << message;
   EXPECT_NE(message.find("line 2"), std::string::npos) << message;
@@ -120,15 +109,15 @@ TEST(DistanceCsv, ConflictingLabelsAreRefusedNamingBothLines) {
 TEST(DistanceCsv, ANulByteInANumberAndEmptyClassesAreRefused) {
   const std::string dir = test::scratch_dir("nul-and-empty");
   test::write_text(dir + "/nul.csv", std::string("a0,a1\n0,5") + '\0' + "448\n5,0\n");
-  const std::string nul = error_of([&] { read_distance_csv(dir + "/nul.csv"); });
+  const std::string nul = test::error_of([&] { read_distance_csv(dir + "/nul.csv"); });
   EXPECT_NE(nul.find("nul.csv"), std::string::npos) << nul;
   test::write_text(dir + "/ok.csv", "a0,a1\n0,5448\n5448,0\n");
   EXPECT_EQ(read_distance_csv(dir + "/ok.csv").D(0, 1), 5448);
   test::write_text(dir + "/empty_named.csv", "cat0,\ndog1,\n");
-  const std::string named = error_of([&] { read_labels_csv(dir + "/empty_named.csv", {"cat0", "dog1"}); });
+  const std::string named = test::error_of([&] { read_labels_csv(dir + "/empty_named.csv", {"cat0", "dog1"}); });
   EXPECT_NE(named.find("empty_named.csv:1: empty class name"), std::string::npos) << named;
   test::write_text(dir + "/empty_name.csv", ",cat\ndog1,dog\n");
-  const std::string name = error_of([&] { read_labels_csv(dir + "/empty_name.csv", {"cat0", "dog1"}); });
+  const std::string name = test::error_of([&] { read_labels_csv(dir + "/empty_name.csv", {"cat0", "dog1"}); });
   EXPECT_NE(name.find("empty_name.csv:1: empty shape name"), std::string::npos) << name;
   std::filesystem::remove_all(dir);
 }
@@ -143,14 +132,14 @@ TEST(DistanceCsv, MatrixChecksRefuseOrWarnByRule) {
 
   NamedDistances negative = m;
   negative.D(0, 2) = -0.5;
-  std::string message = error_of([&] { check_distance_matrix(negative, "m.csv"); });
+  std::string message = test::error_of([&] { check_distance_matrix(negative, "m.csv"); });
   EXPECT_NE(message.find("m.csv"), std::string::npos) << message;
   EXPECT_NE(message.find("'a0' to 'b0'"), std::string::npos) << message;
   EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
 
   NamedDistances twice = m;
   twice.names[2] = "a0";
-  message = error_of([&] { check_distance_matrix(twice, "m.csv"); });
+  message = test::error_of([&] { check_distance_matrix(twice, "m.csv"); });
   EXPECT_NE(message.find("'a0' appears twice"), std::string::npos) << message;
 
   NamedDistances asymmetric = m;

@@ -38,15 +38,6 @@ OutsideDoor command(const std::string& text) {
   return door;
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(OutsideMethods, ACommandDoorGivesTheFormItsProgramWrites) {
   const Mesh ball = icosphere(2);
   OutsideMethod m("ident", command("cp {mesh} {form.off}"));
@@ -64,11 +55,11 @@ TEST(OutsideMethods, ACommandDoorGivesTheFormItsProgramWrites) {
 TEST(OutsideMethods, TheNameIsGoneAfterTheRunAndABuiltInNameIsRefused) {
   { OutsideMethod m("gone", command("cp {mesh} {form.off}")); }
   EXPECT_EQ(find_canonical_form_method("gone"), nullptr);
-  EXPECT_NE(error_of([] { OutsideMethod m("lbo", command("cp {mesh} {form.off}")); }).find("cshapes's own"),
+  EXPECT_NE(test::error_of([] { OutsideMethod m("lbo", command("cp {mesh} {form.off}")); }).find("cshapes's own"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_outside_method("x=sh:true"); }).find("cmd:COMMAND or forms:DIR"), std::string::npos);
-  EXPECT_NE(error_of([] { parse_outside_method("x=cmd:true {mesh}"); }).find("no {form}"), std::string::npos);
-  EXPECT_NE(error_of([] { parse_outside_method("a b=cmd:cp {mesh} {form}"); }).find("letters, digits"),
+  EXPECT_NE(test::error_of([] { parse_outside_method("x=sh:true"); }).find("cmd:COMMAND or forms:DIR"), std::string::npos);
+  EXPECT_NE(test::error_of([] { parse_outside_method("x=cmd:true {mesh}"); }).find("no {form}"), std::string::npos);
+  EXPECT_NE(test::error_of([] { parse_outside_method("a b=cmd:cp {mesh} {form}"); }).find("letters, digits"),
             std::string::npos);
 }
 
@@ -94,7 +85,7 @@ TEST(OutsideMethods, EachBrokenFormOrProgramIsRefusedByNameWithTheReason) {
     const std::string name = "broken" + std::to_string(k++);
     OutsideMethod m(name, command(text.find("{mesh}") == std::string::npos ? text + " # {mesh} {form}" : text),
                     quick);
-    const std::string message = error_of([&] { canonical_form(ball, options_for(name)); });
+    const std::string message = test::error_of([&] { canonical_form(ball, options_for(name)); });
     EXPECT_NE(message.find("ball.off: method " + name), std::string::npos) << message;
     EXPECT_NE(message.find(expected), std::string::npos) << text << "\n" << message;
   }
@@ -129,7 +120,7 @@ TEST(OutsideMethods, ProgramsRunSeveralAtATimeAheadAndThePassTakesTheirResults) 
     EXPECT_EQ((form.X - meshes[k].V).cwiseAbs().maxCoeff(), 0.0);
     EXPECT_EQ(form.details.value("door", ""), "command");
   }
-  const std::string message = error_of([&] { canonical_form(meshes[2], options_for("ahead", "bad.off")); });
+  const std::string message = test::error_of([&] { canonical_form(meshes[2], options_for("ahead", "bad.off")); });
   EXPECT_NE(message.find("bad.off: method ahead: the command exited with status 7"), std::string::npos) << message;
   EXPECT_NE(message.find("bad shape"), std::string::npos) << message;
   // Each program ran once: the pass took the results.
@@ -150,7 +141,7 @@ TEST(OutsideMethods, ProgramsRunSeveralAtATimeAheadAndThePassTakesTheirResults) 
 TEST(OutsideMethods, AnyPointSetWhereNoCorrespondenceIsNeededAndOnlyThere) {
   const Mesh ball = icosphere(2);
   OutsideMethod m("half", command("awk 'NR > 2 && NR % 2 == 0 && NF == 3' {mesh} > {form.xyz}"));
-  const std::string message = error_of([&] { canonical_form(ball, options_for("half")); });
+  const std::string message = test::error_of([&] { canonical_form(ball, options_for("half")); });
   EXPECT_NE(message.find("expected one per vertex of the mesh given"), std::string::npos) << message;
   CanonicalFormOptions o = options_for("half");
   o.point_set = true;
@@ -164,20 +155,20 @@ TEST(OutsideMethods, AnyPointSetWhereNoCorrespondenceIsNeededAndOnlyThere) {
   bool cached = false;
   EXPECT_EQ(cached_canonical_form(cache, ball, o, &cached).X, form.X);
   EXPECT_TRUE(cached);
-  const std::string refused = error_of([&] { cached_canonical_form(cache, ball, options_for("half")); });
+  const std::string refused = test::error_of([&] { cached_canonical_form(cache, ball, options_for("half")); });
   EXPECT_NE(refused.find("ball.off: method half: the cached form is a point set of"), std::string::npos) << refused;
   // Too few points are refused even where a point set does.
   OutsideMethod few("few", command("head -n 5 {mesh} | tail -n 3 > {form.xyz}"));
   CanonicalFormOptions f = options_for("few");
   f.point_set = true;
-  EXPECT_NE(error_of([&] { canonical_form(ball, f); }).find("expected at least 4 points"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { canonical_form(ball, f); }).find("expected at least 4 points"), std::string::npos);
 }
 
 TEST(OutsideMethods, CommasSeparateMethodsAndAnEscapedCommaStaysInTheCommand) {
   const std::vector<std::string> items = split_method_items("lbo,p=cmd:echo a\\,b {mesh} {form},cmds", "--methods");
   ASSERT_EQ(items.size(), 3u);
   EXPECT_EQ(items[1], "p=cmd:echo a,b {mesh} {form}");
-  EXPECT_NE(error_of([] { split_method_items("lbo,,cmds", "--methods"); }).find("--methods: empty item"),
+  EXPECT_NE(test::error_of([] { split_method_items("lbo,,cmds", "--methods"); }).find("--methods: empty item"),
             std::string::npos);
 }
 
@@ -193,7 +184,7 @@ TEST(OutsideMethods, AFormsDoorReadsByShapeNameAndListsTheShapesItLacks) {
   OutsideMethod m("given", door);
   const CanonicalForm form = canonical_form(ball, options_for("given", "data/ball.off"));
   EXPECT_LT((form.X - moved.V).cwiseAbs().maxCoeff(), 1e-12);
-  const std::string message = error_of([&] { canonical_form(ball, options_for("given", "data/cube3.off")); });
+  const std::string message = test::error_of([&] { canonical_form(ball, options_for("given", "data/cube3.off")); });
   EXPECT_NE(message.find("no form 'cube3.{ply,off,obj,xyz,npy}'"), std::string::npos) << message;
   const std::vector<std::string> written = write_forms_needed({"lbo", "given"}, dir + "/out");
   ASSERT_EQ(written.size(), 2u);
@@ -253,7 +244,7 @@ TEST(OutsideMethods, ANpyFormIsReadInEitherOrderAndWidth) {
   EXPECT_EQ(c(1, 0), 4.0);
   EXPECT_EQ(c(0, 2), 3.0);
   npy(dir + "/i.npy", "<i8", false, bytes({1, 2, 3, 4, 5, 6}));
-  EXPECT_NE(error_of([&] { read_form_file(dir + "/i.npy"); }).find("expected little-endian float64"),
+  EXPECT_NE(test::error_of([&] { read_form_file(dir + "/i.npy"); }).find("expected little-endian float64"),
             std::string::npos);
 }
 

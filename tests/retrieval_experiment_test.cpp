@@ -186,17 +186,6 @@ TEST(RetrievalExperiment, TwoStageReportsRecallAndTheExactMeasures) {
   EXPECT_EQ(all.methods[0].by_distance.at("hausdorff").result.mean.ap, exact_scores.ap);
 }
 
-// The message of the cshapes::Error that f throws ("" when it throws none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(RetrievalExperiment, TwoStageRefusesAReferenceItWouldOverwriteOrCannotUse) {
   const std::string dir = test::scratch_dir("retrieval-experiment-two-stage-refusals");
   RetrievalExperimentOptions exact = fast_options(dir);
@@ -206,17 +195,17 @@ TEST(RetrievalExperiment, TwoStageRefusesAReferenceItWouldOverwriteOrCannotUse) 
   o.two_stage_reference = exact.out;
   o.out = dir + "/two-stage";
   // Without K.
-  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("applies to the two-stage mode only"),
+  EXPECT_NE(test::error_of([&] { retrieval_experiment(o); }).find("applies to the two-stage mode only"),
             std::string::npos);
   o.two_stage_k = 2;
   // Into the reference's own folder: the rerun would remove the exact run's outputs.
   o.out = exact.out;
-  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("the exact run would be lost"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { retrieval_experiment(o); }).find("the exact run would be lost"), std::string::npos);
   EXPECT_TRUE(fs::exists(exact.out + "/cmds/hausdorff.csv"));
   // A method the reference did not run.
   o.out = dir + "/two-stage";
   o.methods = {"lbo"};
-  EXPECT_NE(error_of([&] { retrieval_experiment(o); }).find("no lbo/hausdorff.csv"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { retrieval_experiment(o); }).find("no lbo/hausdorff.csv"), std::string::npos);
   EXPECT_FALSE(fs::exists(o.out + "/lbo"));
 }
 

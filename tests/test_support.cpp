@@ -1,5 +1,7 @@
 #include "tests/test_support.h"
 
+#include "cshapes/support/error.h"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +22,15 @@
 #include "cshapes/mesh/remesh.h"
 
 namespace cshapes::test {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
 
 namespace fs = std::filesystem;
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ std::string data_dir();
 // Path of a tosca5k shape, e.g. tosca5k("cat0") -> ".../tosca5k/cat0.off". Skips the test when absent
 // (use inside a TEST body via CSHAPES_REQUIRE_DATA).
 std::string tosca5k(const std::string& name);
+
+// The message of the cshapes::Error that f throws ("" when it throws none; any other exception passes).
+std::string error_of(const std::function<void()>& f);
 
 // A fresh empty directory under the build's temp area, unique per call.
 std::string scratch_dir(const std::string& tag);
